@@ -1,0 +1,400 @@
+//! Regular 2-D grids and height fields.
+
+use crate::{CoreError, MemoryBudget, PointSet, TriMesh};
+
+/// Regular 2-D grid, x fastest: value (i, j) is `data[i + nx * j]`, and
+/// sample (i, j) sits at `origin + [i·spacing[0], j·spacing[1]]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid2<T> {
+    dims: [usize; 2],
+    spacing: [f64; 2],
+    origin: [f64; 2],
+    data: Vec<T>,
+}
+
+/// Heights z(i, j) over the (x, y) plane, in the same length unit as the spacing.
+pub type HeightField = Grid2<f64>;
+
+/// Which diagonal splits each grid cell when a height field becomes triangles.
+///
+/// Cell (i, j) has corners a = (i, j), b = (i+1, j), c = (i+1, j+1), d = (i, j+1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Diagonal {
+    /// Every cell split along a–c (the "/" diagonal in x-right, y-up view).
+    #[default]
+    Forward,
+    /// Every cell split along b–d ("\").
+    Backward,
+    /// a–c where i + j is even, b–d where odd: the alternating-diagonal facets of
+    /// peridier (Figure 7), where interior nodes belong to 4 or 8 triangles.
+    Alternating,
+}
+
+pub(crate) fn check_spacing(spacing: &[f64]) -> crate::Result<()> {
+    if spacing.iter().all(|s| s.is_finite() && *s > 0.0) {
+        Ok(())
+    } else {
+        Err(CoreError::BadSpacing(spacing.to_vec()))
+    }
+}
+
+impl<T: Clone> Grid2<T> {
+    /// A grid of `dims = [nx, ny]` filled with `value`, unit spacing, origin 0.
+    ///
+    /// # Panics
+    /// If a dimension is zero; use [`Grid2::try_filled`] for user-controlled sizes.
+    pub fn filled(dims: [usize; 2], value: T) -> Self {
+        Self::try_filled(dims, value, &MemoryBudget::unlimited()).expect("non-zero grid dimensions")
+    }
+
+    /// Like [`Grid2::filled`] but checks dimensions and the memory budget first.
+    ///
+    /// # Errors
+    /// [`CoreError::GridSize`] for a zero dimension, [`CoreError::MemoryLimit`] if too big.
+    pub fn try_filled(dims: [usize; 2], value: T, budget: &MemoryBudget) -> crate::Result<Self> {
+        if dims.contains(&0) {
+            return Err(CoreError::GridSize {
+                dims: dims.to_vec(),
+                expected: 0,
+                got: 0,
+            });
+        }
+        let n = dims[0] as u128 * dims[1] as u128;
+        budget.check_elements(
+            n,
+            size_of::<T>() as u64,
+            &format!("a {}×{} grid", dims[0], dims[1]),
+        )?;
+        Ok(Self {
+            dims,
+            spacing: [1.0, 1.0],
+            origin: [0.0, 0.0],
+            data: vec![value; dims[0] * dims[1]],
+        })
+    }
+}
+
+impl<T> Grid2<T> {
+    /// Wraps `data` (x fastest) as an `nx × ny` grid with unit spacing and zero origin.
+    ///
+    /// # Errors
+    /// [`CoreError::GridSize`] if a dimension is 0 or `data.len() != nx·ny`.
+    pub fn from_vec(dims: [usize; 2], data: Vec<T>) -> crate::Result<Self> {
+        let expected = dims[0].checked_mul(dims[1]).unwrap_or(usize::MAX);
+        if dims.contains(&0) || data.len() != expected {
+            return Err(CoreError::GridSize {
+                dims: dims.to_vec(),
+                expected,
+                got: data.len(),
+            });
+        }
+        Ok(Self {
+            dims,
+            spacing: [1.0, 1.0],
+            origin: [0.0, 0.0],
+            data,
+        })
+    }
+
+    /// Sets the physical spacing (dx, dy).
+    ///
+    /// # Errors
+    /// [`CoreError::BadSpacing`] unless both are positive and finite.
+    pub fn with_spacing(mut self, spacing: [f64; 2]) -> crate::Result<Self> {
+        check_spacing(&spacing)?;
+        self.spacing = spacing;
+        Ok(self)
+    }
+
+    /// Sets the position of sample (0, 0).
+    ///
+    /// # Errors
+    /// [`CoreError::NonFinite`] if the origin is not finite.
+    pub fn with_origin(mut self, origin: [f64; 2]) -> crate::Result<Self> {
+        if let Some(a) = origin.iter().position(|v| !v.is_finite()) {
+            return Err(CoreError::NonFinite {
+                what: "origin coordinate",
+                index: a,
+                value: origin[a],
+            });
+        }
+        self.origin = origin;
+        Ok(self)
+    }
+
+    /// `[nx, ny]`.
+    pub fn dims(&self) -> [usize; 2] {
+        self.dims
+    }
+    /// Samples along x.
+    pub fn nx(&self) -> usize {
+        self.dims[0]
+    }
+    /// Samples along y.
+    pub fn ny(&self) -> usize {
+        self.dims[1]
+    }
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.data.len()
+    }
+    /// Always false: grids have at least one sample.
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+    /// `[dx, dy]`.
+    pub fn spacing(&self) -> [f64; 2] {
+        self.spacing
+    }
+    /// Position of sample (0, 0).
+    pub fn origin(&self) -> [f64; 2] {
+        self.origin
+    }
+    /// Physical extent `[(nx−1)·dx, (ny−1)·dy]` between the outermost samples.
+    pub fn extent(&self) -> [f64; 2] {
+        [0, 1].map(|a| (self.dims[a] - 1) as f64 * self.spacing[a])
+    }
+    /// The samples, x fastest.
+    pub fn data(&self) -> &[T] {
+        &self.data
+    }
+    /// Mutable samples, x fastest.
+    pub fn data_mut(&mut self) -> &mut [T] {
+        &mut self.data
+    }
+    /// Takes the samples out.
+    pub fn into_data(self) -> Vec<T> {
+        self.data
+    }
+    /// Linear index of (i, j).
+    #[inline]
+    pub fn index(&self, i: usize, j: usize) -> usize {
+        debug_assert!(i < self.dims[0] && j < self.dims[1]);
+        i + self.dims[0] * j
+    }
+    /// Sample (i, j).
+    ///
+    /// # Panics
+    /// If (i, j) is outside the grid.
+    #[inline]
+    pub fn get(&self, i: usize, j: usize) -> &T {
+        assert!(
+            i < self.dims[0] && j < self.dims[1],
+            "({i}, {j}) outside {:?} grid",
+            self.dims
+        );
+        &self.data[i + self.dims[0] * j]
+    }
+    /// Mutable sample (i, j).
+    ///
+    /// # Panics
+    /// If (i, j) is outside the grid.
+    #[inline]
+    pub fn get_mut(&mut self, i: usize, j: usize) -> &mut T {
+        assert!(
+            i < self.dims[0] && j < self.dims[1],
+            "({i}, {j}) outside {:?} grid",
+            self.dims
+        );
+        &mut self.data[i + self.dims[0] * j]
+    }
+    /// Physical (x, y) of sample (i, j).
+    pub fn position(&self, i: usize, j: usize) -> [f64; 2] {
+        [
+            self.origin[0] + i as f64 * self.spacing[0],
+            self.origin[1] + j as f64 * self.spacing[1],
+        ]
+    }
+    /// Row j (all i), contiguous.
+    pub fn row(&self, j: usize) -> &[T] {
+        &self.data[j * self.dims[0]..(j + 1) * self.dims[0]]
+    }
+    /// A grid of the same geometry with `f` applied to every sample.
+    pub fn map<U>(&self, f: impl FnMut(&T) -> U) -> Grid2<U> {
+        Grid2 {
+            dims: self.dims,
+            spacing: self.spacing,
+            origin: self.origin,
+            data: self.data.iter().map(f).collect(),
+        }
+    }
+}
+
+impl HeightField {
+    /// The first non-finite height, as an error.
+    ///
+    /// # Errors
+    /// [`CoreError::NonFinite`] naming the sample.
+    pub fn validate(&self) -> crate::Result<()> {
+        match self.data.iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(k) => Err(CoreError::NonFinite {
+                what: "height",
+                index: k,
+                value: self.data[k],
+            }),
+        }
+    }
+
+    /// (min, max) of the heights (NaNs ignored; `(+∞, −∞)` if all are NaN).
+    pub fn min_max(&self) -> (f64, f64) {
+        self.data
+            .iter()
+            .filter(|v| !v.is_nan())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            })
+    }
+
+    /// Mean height.
+    pub fn mean(&self) -> f64 {
+        self.data.iter().sum::<f64>() / self.data.len() as f64
+    }
+
+    /// 3-D position of sample (i, j).
+    pub fn point(&self, i: usize, j: usize) -> [f64; 3] {
+        let [x, y] = self.position(i, j);
+        [x, y, self.data[self.index(i, j)]]
+    }
+
+    /// Triangulates the height field: one vertex per sample, two triangles per cell,
+    /// split as `diagonal` says, counter-clockwise seen from +z, with UVs in [0, 1]².
+    ///
+    /// # Errors
+    /// [`CoreError::NonFinite`] for a NaN height, [`CoreError::Empty`] if the grid
+    /// has fewer than 2 samples along an axis.
+    pub fn to_trimesh(&self, diagonal: Diagonal) -> crate::Result<TriMesh> {
+        self.validate()?;
+        let [nx, ny] = self.dims;
+        if nx < 2 || ny < 2 {
+            return Err(CoreError::Empty("height field with fewer than 2×2 samples"));
+        }
+        let positions: Vec<[f64; 3]> = (0..ny)
+            .flat_map(|j| (0..nx).map(move |i| (i, j)))
+            .map(|(i, j)| self.point(i, j))
+            .collect();
+        let uvs = (0..ny)
+            .flat_map(|j| {
+                (0..nx).map(move |i| [i as f64 / (nx - 1) as f64, j as f64 / (ny - 1) as f64])
+            })
+            .collect();
+        let mut triangles = Vec::with_capacity(2 * (nx - 1) * (ny - 1));
+        let id = |i: usize, j: usize| (i + nx * j) as u32;
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+                let along_ac = match diagonal {
+                    Diagonal::Forward => true,
+                    Diagonal::Backward => false,
+                    Diagonal::Alternating => (i + j) % 2 == 0,
+                };
+                if along_ac {
+                    triangles.push([a, b, c]);
+                    triangles.push([a, c, d]);
+                } else {
+                    triangles.push([a, b, d]);
+                    triangles.push([b, c, d]);
+                }
+            }
+        }
+        TriMesh::new(positions, triangles)?.with_uvs(uvs)
+    }
+
+    /// One point per sample at (x, y, z), with the height also as attribute `"height"`.
+    pub fn to_point_set(&self) -> PointSet {
+        let [nx, ny] = self.dims;
+        let positions = (0..ny)
+            .flat_map(|j| (0..nx).map(move |i| (i, j)))
+            .map(|(i, j)| self.point(i, j))
+            .collect();
+        let mut ps = PointSet::new(positions);
+        ps.add_attribute("height", self.data.clone())
+            .expect("one height per point");
+        ps
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ramp(nx: usize, ny: usize) -> HeightField {
+        let data = (0..nx * ny)
+            .map(|k| (k % nx) as f64 + 10.0 * (k / nx) as f64)
+            .collect();
+        HeightField::from_vec([nx, ny], data).unwrap()
+    }
+
+    #[test]
+    fn indexing_is_x_fastest() {
+        let g = ramp(3, 2)
+            .with_spacing([0.5, 2.0])
+            .unwrap()
+            .with_origin([1.0, -1.0])
+            .unwrap();
+        assert_eq!(*g.get(2, 1), 12.0);
+        assert_eq!(g.index(2, 1), 5);
+        assert_eq!(g.position(2, 1), [2.0, 1.0]);
+        assert_eq!(g.row(1), &[10.0, 11.0, 12.0]);
+        assert_eq!(g.extent(), [1.0, 2.0]);
+        assert_eq!(g.min_max(), (0.0, 12.0));
+    }
+
+    #[test]
+    fn rejects_bad_shapes_and_values() {
+        assert!(HeightField::from_vec([0, 3], vec![]).is_err());
+        assert!(HeightField::from_vec([2, 3], vec![0.0; 5]).is_err());
+        assert!(ramp(2, 2).with_spacing([0.0, 1.0]).is_err());
+        assert!(ramp(2, 2).with_spacing([f64::NAN, 1.0]).is_err());
+        let mut h = ramp(2, 2);
+        *h.get_mut(1, 1) = f64::NAN;
+        assert!(matches!(
+            h.validate(),
+            Err(CoreError::NonFinite { index: 3, .. })
+        ));
+        assert!(h.to_trimesh(Diagonal::Forward).is_err());
+        let budget = MemoryBudget::new(1000);
+        assert!(matches!(
+            HeightField::try_filled([100, 100], 0.0, &budget),
+            Err(CoreError::MemoryLimit { needed: 80_000, .. })
+        ));
+    }
+
+    #[test]
+    fn triangulation_counts_orientation_and_alternation() {
+        let h = ramp(5, 4);
+        for diag in [Diagonal::Forward, Diagonal::Backward, Diagonal::Alternating] {
+            let m = h.to_trimesh(diag).unwrap();
+            assert_eq!(m.n_faces(), 2 * 4 * 3);
+            // A disc: χ = 1, one boundary loop, manifold.
+            assert_eq!(m.euler_characteristic(), 1);
+            assert!(m.is_manifold());
+            assert_eq!(m.boundary_loops().len(), 1);
+            for n in m.face_normals() {
+                assert!(n[2] > 0.0, "{diag:?}: normal {n:?} must point up");
+            }
+        }
+        // Peridier's alternating facets: interior node valence (triangle count) is 4 or 8.
+        let m = ramp(6, 6).to_trimesh(Diagonal::Alternating).unwrap();
+        let mut count = vec![0usize; m.n_vertices()];
+        for t in m.triangles() {
+            for &v in t {
+                count[v as usize] += 1;
+            }
+        }
+        for j in 1..5 {
+            for i in 1..5 {
+                let c = count[i + 6 * j];
+                assert_eq!(c, if (i + j) % 2 == 0 { 8 } else { 4 }, "node ({i},{j})");
+            }
+        }
+    }
+
+    #[test]
+    fn point_set_carries_heights() {
+        let p = ramp(3, 2).to_point_set();
+        assert_eq!(p.len(), 6);
+        assert_eq!(p.positions()[5], [2.0, 1.0, 12.0]);
+        assert_eq!(p.attribute("height").unwrap()[5], 12.0);
+    }
+}

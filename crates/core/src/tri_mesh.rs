@@ -1,0 +1,627 @@
+//! Indexed triangle meshes with optional per-vertex data, and topology queries.
+
+use crate::{Aabb, CoreError, RgbaImage};
+
+/// A named per-vertex (or per-point) scalar, e.g. `"curvature"` or `"height"`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Attribute {
+    /// Name as written to file headers (PLY property name).
+    pub name: String,
+    /// One value per vertex.
+    pub values: Vec<f64>,
+}
+
+/// An undirected edge `(lo, hi)` with the number of faces that use it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EdgeUse {
+    /// Smaller vertex index.
+    pub lo: u32,
+    /// Larger vertex index.
+    pub hi: u32,
+    /// Number of incident triangles.
+    pub faces: u32,
+}
+
+/// Indexed triangle mesh. Faces are counter-clockwise seen from outside.
+///
+/// Constructors check indices and finiteness, so a `TriMesh` is always valid;
+/// per-vertex arrays (normals, colours, UVs, scalars) always have one entry per vertex.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriMesh {
+    positions: Vec<[f64; 3]>,
+    triangles: Vec<[u32; 3]>,
+    normals: Option<Vec<[f64; 3]>>,
+    colors: Option<Vec<[u8; 4]>>,
+    uvs: Option<Vec<[f64; 2]>>,
+    scalars: Vec<Attribute>,
+    texture: Option<RgbaImage>,
+}
+
+pub(crate) fn check_len(what: &str, got: usize, expected: usize) -> crate::Result<()> {
+    if got == expected {
+        Ok(())
+    } else {
+        Err(CoreError::LengthMismatch {
+            what: what.to_owned(),
+            got,
+            expected,
+        })
+    }
+}
+
+pub(crate) fn check_finite_points<const N: usize>(
+    what: &'static str,
+    pts: &[[f64; N]],
+) -> crate::Result<()> {
+    for (k, p) in pts.iter().enumerate() {
+        if let Some(a) = p.iter().position(|v| !v.is_finite()) {
+            return Err(CoreError::NonFinite {
+                what,
+                index: k,
+                value: p[a],
+            });
+        }
+    }
+    Ok(())
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn norm(a: [f64; 3]) -> f64 {
+    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
+}
+fn normalized(a: [f64; 3]) -> [f64; 3] {
+    let n = norm(a);
+    if n > 0.0 {
+        a.map(|v| v / n)
+    } else {
+        [0.0, 0.0, 0.0]
+    }
+}
+
+impl TriMesh {
+    /// A mesh of `triangles` over `positions`.
+    ///
+    /// # Errors
+    /// [`CoreError::IndexOutOfRange`] for a bad index, [`CoreError::NonFinite`] for
+    /// a NaN or infinite coordinate.
+    pub fn new(positions: Vec<[f64; 3]>, triangles: Vec<[u32; 3]>) -> crate::Result<Self> {
+        check_finite_points("vertex", &positions)?;
+        let n = positions.len();
+        for (f, t) in triangles.iter().enumerate() {
+            if let Some(&index) = t.iter().find(|&&v| v as usize >= n) {
+                return Err(CoreError::IndexOutOfRange {
+                    face: f,
+                    index: index as u64,
+                    len: n,
+                });
+            }
+        }
+        Ok(Self {
+            positions,
+            triangles,
+            ..Self::default()
+        })
+    }
+
+    /// Adds per-vertex normals.
+    ///
+    /// # Errors
+    /// [`CoreError::LengthMismatch`] or [`CoreError::NonFinite`].
+    pub fn with_normals(mut self, normals: Vec<[f64; 3]>) -> crate::Result<Self> {
+        check_len("normals", normals.len(), self.positions.len())?;
+        check_finite_points("normal", &normals)?;
+        self.normals = Some(normals);
+        Ok(self)
+    }
+    /// Adds per-vertex RGBA colours.
+    ///
+    /// # Errors
+    /// [`CoreError::LengthMismatch`].
+    pub fn with_colors(mut self, colors: Vec<[u8; 4]>) -> crate::Result<Self> {
+        check_len("colors", colors.len(), self.positions.len())?;
+        self.colors = Some(colors);
+        Ok(self)
+    }
+    /// Adds per-vertex texture coordinates (u right, v up, as in OBJ and PLY).
+    ///
+    /// # Errors
+    /// [`CoreError::LengthMismatch`] or [`CoreError::NonFinite`].
+    pub fn with_uvs(mut self, uvs: Vec<[f64; 2]>) -> crate::Result<Self> {
+        check_len("uvs", uvs.len(), self.positions.len())?;
+        check_finite_points("uv", &uvs)?;
+        self.uvs = Some(uvs);
+        Ok(self)
+    }
+    /// Attaches a texture image (sampled with the UVs).
+    pub fn with_texture(mut self, texture: RgbaImage) -> Self {
+        self.texture = Some(texture);
+        self
+    }
+    /// Adds (or replaces) a named per-vertex scalar.
+    ///
+    /// # Errors
+    /// [`CoreError::LengthMismatch`] or [`CoreError::NonFinite`].
+    pub fn with_scalar(mut self, name: &str, values: Vec<f64>) -> crate::Result<Self> {
+        check_len(name, values.len(), self.positions.len())?;
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            return Err(CoreError::NonFinite {
+                what: "scalar value",
+                index: k,
+                value: values[k],
+            });
+        }
+        self.scalars.retain(|a| a.name != name);
+        self.scalars.push(Attribute {
+            name: name.to_owned(),
+            values,
+        });
+        Ok(self)
+    }
+    /// Drops the stored normals.
+    pub fn without_normals(mut self) -> Self {
+        self.normals = None;
+        self
+    }
+
+    /// Number of vertices.
+    pub fn n_vertices(&self) -> usize {
+        self.positions.len()
+    }
+    /// Number of triangles.
+    pub fn n_faces(&self) -> usize {
+        self.triangles.len()
+    }
+    /// Vertex positions.
+    pub fn positions(&self) -> &[[f64; 3]] {
+        &self.positions
+    }
+    /// Triangles as vertex-index triples.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+    /// Per-vertex normals, if stored.
+    pub fn normals(&self) -> Option<&[[f64; 3]]> {
+        self.normals.as_deref()
+    }
+    /// Per-vertex RGBA colours, if any.
+    pub fn colors(&self) -> Option<&[[u8; 4]]> {
+        self.colors.as_deref()
+    }
+    /// Per-vertex UVs, if any.
+    pub fn uvs(&self) -> Option<&[[f64; 2]]> {
+        self.uvs.as_deref()
+    }
+    /// Named per-vertex scalars.
+    pub fn scalars(&self) -> &[Attribute] {
+        &self.scalars
+    }
+    /// The values of scalar `name`.
+    pub fn scalar(&self, name: &str) -> Option<&[f64]> {
+        self.scalars
+            .iter()
+            .find(|a| a.name == name)
+            .map(|a| a.values.as_slice())
+    }
+    /// The texture image, if any.
+    pub fn texture(&self) -> Option<&RgbaImage> {
+        self.texture.as_ref()
+    }
+    /// Bounding box of the vertices, `None` for no vertices.
+    pub fn bounds(&self) -> Option<Aabb> {
+        Aabb::from_points(&self.positions)
+    }
+
+    fn corners(&self, t: [u32; 3]) -> [[f64; 3]; 3] {
+        t.map(|v| self.positions[v as usize])
+    }
+
+    /// Unit normal of each triangle (zero for degenerate triangles).
+    pub fn face_normals(&self) -> Vec<[f64; 3]> {
+        self.triangles
+            .iter()
+            .map(|&t| {
+                let [a, b, c] = self.corners(t);
+                normalized(cross(sub(b, a), sub(c, a)))
+            })
+            .collect()
+    }
+
+    /// Area-weighted vertex normals (the normalised sum of incident face cross products).
+    pub fn vertex_normals(&self) -> Vec<[f64; 3]> {
+        let mut acc = vec![[0.0; 3]; self.positions.len()];
+        for &t in &self.triangles {
+            let [a, b, c] = self.corners(t);
+            let n = cross(sub(b, a), sub(c, a));
+            for v in t {
+                for k in 0..3 {
+                    acc[v as usize][k] += n[k];
+                }
+            }
+        }
+        acc.into_iter().map(normalized).collect()
+    }
+
+    /// Stores [`TriMesh::vertex_normals`] as the mesh's normals.
+    pub fn with_computed_normals(mut self) -> Self {
+        self.normals = Some(self.vertex_normals());
+        self
+    }
+
+    /// Total surface area.
+    pub fn area(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|&t| {
+                let [a, b, c] = self.corners(t);
+                0.5 * norm(cross(sub(b, a), sub(c, a)))
+            })
+            .sum()
+    }
+
+    /// Signed enclosed volume (divergence theorem); meaningful for closed,
+    /// consistently oriented meshes, positive when faces point outward.
+    pub fn signed_volume(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|&t| {
+                let [a, b, c] = self.corners(t);
+                let n = cross(b, c);
+                a[0] * n[0] + a[1] * n[1] + a[2] * n[2]
+            })
+            .sum::<f64>()
+            / 6.0
+    }
+
+    /// Every undirected edge with its face count, sorted by `(lo, hi)`.
+    pub fn edges(&self) -> Vec<EdgeUse> {
+        let mut half: Vec<(u32, u32)> = self
+            .triangles
+            .iter()
+            .flat_map(|&[a, b, c]| [(a, b), (b, c), (c, a)])
+            .map(|(u, v)| (u.min(v), u.max(v)))
+            .collect();
+        half.sort_unstable();
+        let mut out: Vec<EdgeUse> = Vec::with_capacity(half.len() / 2 + 1);
+        for (lo, hi) in half {
+            match out.last_mut() {
+                Some(e) if e.lo == lo && e.hi == hi => e.faces += 1,
+                _ => out.push(EdgeUse { lo, hi, faces: 1 }),
+            }
+        }
+        out
+    }
+
+    /// Euler characteristic χ = V − E + F (all stored vertices count, used or not).
+    pub fn euler_characteristic(&self) -> i64 {
+        self.positions.len() as i64 - self.edges().len() as i64 + self.triangles.len() as i64
+    }
+
+    /// Edges used by exactly one triangle.
+    pub fn boundary_edges(&self) -> Vec<[u32; 2]> {
+        self.edges()
+            .into_iter()
+            .filter(|e| e.faces == 1)
+            .map(|e| [e.lo, e.hi])
+            .collect()
+    }
+
+    /// Whether no edge is shared by more than two triangles.
+    pub fn is_edge_manifold(&self) -> bool {
+        self.edges().iter().all(|e| e.faces <= 2)
+    }
+
+    /// Whether the triangles around every used vertex form one fan (a disc or a
+    /// half-disc), i.e. no two cones touch at a single vertex.
+    pub fn is_vertex_manifold(&self) -> bool {
+        // Link of vertex v: the edges opposite v. It must be one path or one cycle.
+        let n = self.positions.len();
+        let mut link: Vec<Vec<[u32; 2]>> = vec![Vec::new(); n];
+        for &[a, b, c] in &self.triangles {
+            link[a as usize].push([b, c]);
+            link[b as usize].push([c, a]);
+            link[c as usize].push([a, b]);
+        }
+        link.iter().all(|edges| link_is_single_fan(edges))
+    }
+
+    /// Edge- and vertex-manifold.
+    pub fn is_manifold(&self) -> bool {
+        self.is_edge_manifold() && self.is_vertex_manifold()
+    }
+
+    /// Whether every interior edge is traversed once in each direction (consistent winding).
+    pub fn is_consistently_oriented(&self) -> bool {
+        let mut directed: Vec<(u32, u32)> = self
+            .triangles
+            .iter()
+            .flat_map(|&[a, b, c]| [(a, b), (b, c), (c, a)])
+            .collect();
+        directed.sort_unstable();
+        directed.windows(2).all(|w| w[0] != w[1])
+    }
+
+    /// Closed (no boundary edge), manifold and consistently oriented: it encloses a volume.
+    pub fn is_watertight(&self) -> bool {
+        !self.triangles.is_empty()
+            && self.edges().iter().all(|e| e.faces == 2)
+            && self.is_vertex_manifold()
+            && self.is_consistently_oriented()
+    }
+
+    /// Boundary loops as vertex sequences (each loop listed once, open end implied).
+    pub fn boundary_loops(&self) -> Vec<Vec<u32>> {
+        let boundary: std::collections::HashSet<(u32, u32)> = self
+            .boundary_edges()
+            .into_iter()
+            .map(|[a, b]| (a, b))
+            .collect();
+        // Directed boundary half-edges as the faces traverse them.
+        let mut next: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+        for &[a, b, c] in &self.triangles {
+            for (u, v) in [(a, b), (b, c), (c, a)] {
+                if boundary.contains(&(u.min(v), u.max(v))) {
+                    next.entry(u).or_default().push(v);
+                }
+            }
+        }
+        let mut loops = Vec::new();
+        while let Some((&start, _)) = next.iter().next() {
+            let mut lp = vec![start];
+            let mut cur = start;
+            loop {
+                let Some(outs) = next.get_mut(&cur) else {
+                    break;
+                };
+                let Some(v) = outs.pop() else { break };
+                if outs.is_empty() {
+                    next.remove(&cur);
+                }
+                if v == start {
+                    break;
+                }
+                lp.push(v);
+                cur = v;
+            }
+            loops.push(lp);
+        }
+        loops
+    }
+
+    /// Number of connected components of the triangles (isolated vertices ignored).
+    pub fn n_components(&self) -> usize {
+        let mut parent: Vec<u32> = (0..self.positions.len() as u32).collect();
+        fn find(p: &mut [u32], mut x: u32) -> u32 {
+            while p[x as usize] != x {
+                p[x as usize] = p[p[x as usize] as usize];
+                x = p[x as usize];
+            }
+            x
+        }
+        let mut used = vec![false; self.positions.len()];
+        for &[a, b, c] in &self.triangles {
+            for (u, v) in [(a, b), (b, c)] {
+                let (ru, rv) = (find(&mut parent, u), find(&mut parent, v));
+                parent[ru as usize] = rv;
+            }
+            for v in [a, b, c] {
+                used[v as usize] = true;
+            }
+        }
+        (0..self.positions.len() as u32)
+            .filter(|&v| used[v as usize] && find(&mut parent, v) == v)
+            .count()
+    }
+
+    /// Genus of an orientable manifold: g = (2c − χ − b) / 2 with c components and b
+    /// boundary loops (unused vertices excluded from χ). `None` if not manifold.
+    pub fn genus(&self) -> Option<i64> {
+        if !self.is_manifold() {
+            return None;
+        }
+        let mut used = vec![false; self.positions.len()];
+        for t in &self.triangles {
+            for &v in t {
+                used[v as usize] = true;
+            }
+        }
+        let unused = used.iter().filter(|u| !**u).count() as i64;
+        let chi = self.euler_characteristic() - unused;
+        let c = self.n_components() as i64;
+        let b = self.boundary_loops().len() as i64;
+        Some((2 * c - chi - b) / 2)
+    }
+}
+
+/// Whether the link edges of one vertex form a single path or cycle.
+fn link_is_single_fan(edges: &[[u32; 2]]) -> bool {
+    if edges.len() <= 1 {
+        return true;
+    }
+    // Degree of each link vertex and connectivity over the small link graph.
+    let mut verts: Vec<u32> = edges.iter().flatten().copied().collect();
+    verts.sort_unstable();
+    verts.dedup();
+    let pos = |v: u32| verts.binary_search(&v).expect("link vertex listed");
+    let mut degree = vec![0u32; verts.len()];
+    let mut parent: Vec<usize> = (0..verts.len()).collect();
+    fn find(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    for &[a, b] in edges {
+        let (ia, ib) = (pos(a), pos(b));
+        degree[ia] += 1;
+        degree[ib] += 1;
+        let (ra, rb) = (find(&mut parent, ia), find(&mut parent, ib));
+        parent[ra] = rb;
+    }
+    let roots = (0..verts.len())
+        .filter(|&i| find(&mut parent, i) == i)
+        .count();
+    roots == 1 && degree.iter().all(|&d| d <= 2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Unit cube, 12 outward-facing triangles.
+    pub(crate) fn cube() -> TriMesh {
+        let p = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.0, 1.0, 1.0],
+        ];
+        let t = vec![
+            [0, 2, 1],
+            [0, 3, 2],
+            [4, 5, 6],
+            [4, 6, 7],
+            [0, 1, 5],
+            [0, 5, 4],
+            [1, 2, 6],
+            [1, 6, 5],
+            [2, 3, 7],
+            [2, 7, 6],
+            [3, 0, 4],
+            [3, 4, 7],
+        ];
+        TriMesh::new(p, t).unwrap()
+    }
+
+    #[test]
+    fn cube_is_a_watertight_sphere() {
+        let m = cube();
+        assert_eq!(m.euler_characteristic(), 2);
+        assert!(m.is_watertight());
+        assert!(m.boundary_loops().is_empty());
+        assert_eq!(m.genus(), Some(0));
+        assert!((m.area() - 6.0).abs() < 1e-12);
+        assert!((m.signed_volume() - 1.0).abs() < 1e-12);
+        for (n, p) in m.vertex_normals().iter().zip(m.positions()) {
+            // Corner normals point away from the centre.
+            let d: f64 = (0..3).map(|k| n[k] * (p[k] - 0.5)).sum();
+            assert!(d > 0.0);
+        }
+    }
+
+    #[test]
+    fn open_and_broken_meshes() {
+        let m = cube();
+        let mut t = m.triangles().to_vec();
+        t.pop();
+        let open = TriMesh::new(m.positions().to_vec(), t.clone()).unwrap();
+        assert!(!open.is_watertight());
+        assert_eq!(open.boundary_loops().len(), 1);
+        assert_eq!(open.boundary_loops()[0].len(), 3);
+        assert_eq!(open.euler_characteristic(), 1);
+        // Flipping one face breaks orientation, not closure.
+        let mut flipped = m.triangles().to_vec();
+        flipped[0].swap(1, 2);
+        let f = TriMesh::new(m.positions().to_vec(), flipped).unwrap();
+        assert!(!f.is_consistently_oriented() && !f.is_watertight());
+        // Three triangles on one edge: not edge-manifold.
+        let fin = TriMesh::new(
+            vec![
+                [0.0; 3],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, -1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ],
+            vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
+        )
+        .unwrap();
+        assert!(!fin.is_edge_manifold());
+        assert_eq!(fin.genus(), None);
+        // Two triangles touching at one vertex: a bow-tie, not vertex-manifold.
+        let bow = TriMesh::new(
+            vec![
+                [0.0; 3],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [-1.0, 0.0, 0.0],
+                [-1.0, -1.0, 0.0],
+            ],
+            vec![[0, 1, 2], [0, 3, 4]],
+        )
+        .unwrap();
+        assert!(bow.is_edge_manifold() && !bow.is_vertex_manifold());
+        assert_eq!(bow.n_components(), 1);
+    }
+
+    #[test]
+    fn construction_is_validated() {
+        let err = TriMesh::new(vec![[0.0; 3]; 3], vec![[0, 1, 3]]).unwrap_err();
+        assert_eq!(
+            err,
+            CoreError::IndexOutOfRange {
+                face: 0,
+                index: 3,
+                len: 3
+            }
+        );
+        let err = TriMesh::new(vec![[0.0, f64::NAN, 0.0]], vec![]).unwrap_err();
+        assert!(matches!(err, CoreError::NonFinite { index: 0, .. }));
+        let m = cube();
+        assert!(m.clone().with_colors(vec![[0; 4]; 7]).is_err());
+        assert!(m.clone().with_scalar("k", vec![f64::INFINITY; 8]).is_err());
+        let m = m
+            .with_scalar("k", vec![1.0; 8])
+            .unwrap()
+            .with_scalar("k", vec![2.0; 8])
+            .unwrap();
+        assert_eq!(m.scalars().len(), 1);
+        assert_eq!(m.scalar("k").unwrap()[0], 2.0);
+    }
+
+    #[test]
+    fn torus_has_genus_one() {
+        // A 4×4 quad torus split into triangles: χ = 0, genus 1.
+        let (n, m) = (6usize, 5usize);
+        let mut p = Vec::new();
+        for i in 0..n {
+            for j in 0..m {
+                let (u, v) = (
+                    i as f64 / n as f64 * std::f64::consts::TAU,
+                    j as f64 / m as f64 * std::f64::consts::TAU,
+                );
+                p.push([
+                    (2.0 + v.cos()) * u.cos(),
+                    (2.0 + v.cos()) * u.sin(),
+                    v.sin(),
+                ]);
+            }
+        }
+        let id = |i: usize, j: usize| ((i % n) * m + (j % m)) as u32;
+        let mut t = Vec::new();
+        for i in 0..n {
+            for j in 0..m {
+                t.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                t.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        let torus = TriMesh::new(p, t).unwrap();
+        assert_eq!(torus.euler_characteristic(), 0);
+        assert!(torus.is_watertight());
+        assert_eq!(torus.genus(), Some(1));
+        assert!(torus.signed_volume() > 0.0, "outward orientation");
+    }
+}
