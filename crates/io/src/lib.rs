@@ -1,1 +1,617 @@
-//! placeholder
+//! File formats for asperity: meshes, point sets and height fields.
+//!
+//! The format follows the file extension. Every writer is atomic (see [`atomic`]):
+//! a failed or interrupted write leaves no partial file at the target path, and
+//! an existing file there is kept until the new one is complete.
+//!
+//! | Format | Extensions | Mesh | Points | Height field | Module |
+//! | --- | --- | --- | --- | --- | --- |
+//! | PLY (binary LE / ASCII) | `.ply` | read + write | read + write | — | [`ply`] |
+//! | Wavefront OBJ | `.obj` | read + write | — | — | [`obj`] |
+//! | STL (binary; ASCII read) | `.stl` | read + write | — | — | [`stl`] |
+//! | glTF 2.0 binary | `.glb` | write | — | — | [`glb`] |
+//! | XYZ text | `.xyz`, `.txt` | — | read + write | — | [`text`] |
+//! | NumPy | `.npy` | — | read + write `(N, 3)` | read + write `(ny, nx)` | [`npy`] |
+//! | PNG, 16-bit gray | `.png` | — | — | read + write | [`png_io`] |
+//! | OpenEXR float | `.exr` | — | — | read + write | [`exr_io`] |
+//! | Gwyddion Simple Field | `.gsf` | — | — | read + write | [`gsf`] |
+//! | CSV grid | `.csv` | — | — | read + write | [`text`] |
+//!
+//! Height fields written to a mesh format are triangulated; meshes and height
+//! fields written to a point format give their vertices / samples.
+
+pub mod atomic;
+mod error;
+pub mod exr_io;
+pub mod glb;
+pub mod gsf;
+pub mod npy;
+pub mod obj;
+pub mod ply;
+pub mod png_io;
+pub mod stl;
+pub mod text;
+
+use std::path::Path;
+
+use asperity_core::{Diagonal, HeightField, PointSet, PolyMesh, RgbaImage, TriMesh};
+
+pub use atomic::write_atomic;
+pub use error::IoError;
+use error::{FResult, FormatError};
+pub use npy::NpyDtype;
+pub use ply::PlyEncoding;
+
+/// The file formats asperity knows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    /// Stanford PLY.
+    Ply,
+    /// Wavefront OBJ.
+    Obj,
+    /// STL.
+    Stl,
+    /// glTF 2.0 binary.
+    Glb,
+    /// XYZ point text.
+    Xyz,
+    /// NumPy array.
+    Npy,
+    /// PNG image.
+    Png,
+    /// OpenEXR image.
+    Exr,
+    /// Gwyddion Simple Field.
+    Gsf,
+    /// Comma-separated grid.
+    Csv,
+}
+
+/// What a format can do with one kind of data.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Access {
+    /// Not supported.
+    None,
+    /// Read only.
+    Read,
+    /// Write only.
+    Write,
+    /// Read and write.
+    ReadWrite,
+}
+
+impl Access {
+    /// Can this be read?
+    pub fn can_read(self) -> bool {
+        matches!(self, Access::Read | Access::ReadWrite)
+    }
+    /// Can this be written?
+    pub fn can_write(self) -> bool {
+        matches!(self, Access::Write | Access::ReadWrite)
+    }
+}
+
+/// A row of the format table (`asperity formats`).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct FormatInfo {
+    /// The format.
+    pub format: Format,
+    /// Human name.
+    pub name: &'static str,
+    /// File extensions, lower case, without dots.
+    pub extensions: &'static [&'static str],
+    /// Triangle meshes.
+    pub mesh: Access,
+    /// Point sets.
+    pub points: Access,
+    /// Height fields.
+    pub height: Access,
+    /// What to know (precision, conventions).
+    pub notes: &'static str,
+}
+
+use Access::{None as No, ReadWrite as RW, Write as W};
+
+/// Every format, in the order `asperity formats` lists them.
+pub const FORMATS: &[FormatInfo] = &[
+    FormatInfo {
+        format: Format::Ply,
+        name: "PLY (binary little-endian or ASCII)",
+        extensions: &["ply"],
+        mesh: RW,
+        points: RW,
+        height: No,
+        notes: "f64 positions; normals, RGBA colours, UVs (s, t) and named scalars",
+    },
+    FormatInfo {
+        format: Format::Obj,
+        name: "Wavefront OBJ",
+        extensions: &["obj"],
+        mesh: RW,
+        points: No,
+        height: No,
+        notes: "vertex colours (v x y z r g b), UVs, normals; texture as .mtl + .png; no scalars",
+    },
+    FormatInfo {
+        format: Format::Stl,
+        name: "STL (binary; ASCII also read)",
+        extensions: &["stl"],
+        mesh: RW,
+        points: No,
+        height: No,
+        notes: "f32 corners, welded on read; geometry only",
+    },
+    FormatInfo {
+        format: Format::Glb,
+        name: "glTF 2.0 binary",
+        extensions: &["glb"],
+        mesh: W,
+        points: No,
+        height: No,
+        notes: "y-up (x, z, -y); normals, COLOR_0, TEXCOORD_0 + embedded PNG texture, scalars as _NAME",
+    },
+    FormatInfo {
+        format: Format::Xyz,
+        name: "XYZ text",
+        extensions: &["xyz", "txt"],
+        mesh: No,
+        points: RW,
+        height: No,
+        notes: "x y z per line",
+    },
+    FormatInfo {
+        format: Format::Npy,
+        name: "NumPy .npy",
+        extensions: &["npy"],
+        mesh: No,
+        points: RW,
+        height: RW,
+        notes: "height (ny, nx) <f8 (or <f4); points (N, 3) <f8; reads any float/int dtype",
+    },
+    FormatInfo {
+        format: Format::Png,
+        name: "PNG, 16-bit grayscale",
+        extensions: &["png"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "height range and spacing in tEXt chunks; 8-bit/RGB PNGs read as [0, 1]",
+    },
+    FormatInfo {
+        format: Format::Exr,
+        name: "OpenEXR, float32",
+        extensions: &["exr"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "channel Y; spacing/origin as header attributes",
+    },
+    FormatInfo {
+        format: Format::Gsf,
+        name: "Gwyddion Simple Field",
+        extensions: &["gsf"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "float32; XReal/XOffset follow Gwyddion's pixel convention",
+    },
+    FormatInfo {
+        format: Format::Csv,
+        name: "CSV grid",
+        extensions: &["csv"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "one row per line, geometry in a # comment line",
+    },
+];
+
+impl Format {
+    /// The format named by `path`'s extension (case-insensitive).
+    ///
+    /// # Errors
+    /// [`IoError::UnknownFormat`].
+    pub fn from_path(path: &Path) -> Result<Format, IoError> {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        FORMATS
+            .iter()
+            .find(|f| f.extensions.contains(&ext.as_str()))
+            .map(|f| f.format)
+            .ok_or_else(|| IoError::UnknownFormat {
+                path: path.to_path_buf(),
+                ext,
+            })
+    }
+
+    /// This format's row of [`FORMATS`].
+    pub fn info(self) -> &'static FormatInfo {
+        FORMATS
+            .iter()
+            .find(|f| f.format == self)
+            .expect("every format has a row")
+    }
+}
+
+/// Any of the three kinds of data asperity reads and writes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Surface {
+    /// A triangle mesh.
+    Mesh(TriMesh),
+    /// A point set.
+    Points(PointSet),
+    /// A height field.
+    Height(HeightField),
+}
+
+impl Surface {
+    /// "a mesh", "a point set", "a height field".
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Surface::Mesh(_) => "a mesh",
+            Surface::Points(_) => "a point set",
+            Surface::Height(_) => "a height field",
+        }
+    }
+}
+
+/// Options for writers; the defaults suit most uses.
+#[derive(Clone, Debug)]
+pub struct WriteOptions {
+    /// PLY encoding. Default: binary little-endian.
+    pub ply_encoding: PlyEncoding,
+    /// `.npy` height-field element type. Default: float64.
+    pub npy_dtype: NpyDtype,
+    /// Diagonal used when a height field is written to a mesh format.
+    pub diagonal: Diagonal,
+    /// Title stored where the format has one (GSF).
+    pub title: String,
+}
+
+impl Default for WriteOptions {
+    fn default() -> Self {
+        Self {
+            ply_encoding: PlyEncoding::BinaryLittleEndian,
+            npy_dtype: NpyDtype::Float64,
+            diagonal: Diagonal::Forward,
+            title: "asperity surface".into(),
+        }
+    }
+}
+
+fn read_bytes(path: &Path) -> Result<Vec<u8>, IoError> {
+    std::fs::read(path).map_err(|source| IoError::Os {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+fn wrong(path: &Path, f: Format, kind: &'static str) -> IoError {
+    IoError::WrongKind {
+        path: path.to_path_buf(),
+        format: f.info().name,
+        kind,
+    }
+}
+
+/// Reads whatever `path` holds, deciding by extension and content: PLY with faces,
+/// OBJ and STL give meshes; PLY without faces and XYZ give point sets; `.npy`
+/// gives a point set for shape `(N, 3)` with N ≠ 3 and a height field for other
+/// 2-D shapes; image and grid formats give height fields.
+///
+/// # Errors
+/// [`IoError`] naming the file and what is wrong.
+pub fn read(path: &Path) -> Result<Surface, IoError> {
+    let f = Format::from_path(path)?;
+    let bytes = read_bytes(path)?;
+    let at = |e: FormatError| e.at(path, f.info().name);
+    let s = match f {
+        Format::Ply => {
+            let c = ply::parse(&bytes).map_err(at)?;
+            if c.has_face_element && !c.faces.is_empty() {
+                Surface::Mesh(ply::read_mesh(&bytes).map_err(at)?)
+            } else {
+                Surface::Points(ply::read_points(&bytes).map_err(at)?)
+            }
+        }
+        Format::Obj => Surface::Mesh(obj::read_mesh(&bytes).map_err(at)?),
+        Format::Stl => Surface::Mesh(stl::read_mesh(&bytes).map_err(at)?),
+        Format::Glb => {
+            return Err(IoError::WrongKind {
+                path: path.to_path_buf(),
+                format: "glTF (write-only in asperity)",
+                kind: "data to read",
+            });
+        }
+        Format::Xyz => Surface::Points(text::read_xyz(&bytes).map_err(at)?),
+        Format::Npy => {
+            let a = npy::read(&bytes).map_err(at)?;
+            if a.shape.len() == 2 && a.shape[1] == 3 && a.shape[0] != 3 {
+                Surface::Points(npy_points(a).map_err(at)?)
+            } else {
+                Surface::Height(npy_height(a).map_err(at)?)
+            }
+        }
+        Format::Png | Format::Exr | Format::Gsf | Format::Csv => {
+            Surface::Height(read_height_bytes(&bytes, f).map_err(at)?)
+        }
+    };
+    Ok(s)
+}
+
+fn npy_points(a: npy::NpyArray) -> FResult<PointSet> {
+    if a.shape.len() != 2 || a.shape[1] != 3 {
+        return error::malformed(format!("a point set needs shape (N, 3), got {:?}", a.shape));
+    }
+    let p = PointSet::new(a.data.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
+    p.validate()?;
+    Ok(p)
+}
+
+fn npy_height(a: npy::NpyArray) -> FResult<HeightField> {
+    if a.shape.len() != 2 {
+        return error::malformed(format!(
+            "a height field needs a 2-D array (ny, nx), got shape {:?}",
+            a.shape
+        ));
+    }
+    Ok(HeightField::from_vec([a.shape[1], a.shape[0]], a.data)?)
+}
+
+fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
+    let h = match f {
+        Format::Npy => npy_height(npy::read(bytes)?)?,
+        Format::Png => png_io::read_height(bytes)?,
+        Format::Exr => exr_io::read_height(bytes)?,
+        Format::Gsf => gsf::read_height(bytes)?,
+        Format::Csv => text::read_csv(bytes)?,
+        _ => unreachable!("caller checks the format"),
+    };
+    h.validate()?;
+    Ok(h)
+}
+
+/// Reads a height field (`.npy`, `.png`, `.exr`, `.gsf`, `.csv`); NaN or infinite
+/// heights are an error.
+///
+/// # Errors
+/// [`IoError`].
+pub fn read_height(path: &Path) -> Result<HeightField, IoError> {
+    let f = Format::from_path(path)?;
+    if !f.info().height.can_read() {
+        return Err(wrong(path, f, "a height field"));
+    }
+    let bytes = read_bytes(path)?;
+    read_height_bytes(&bytes, f).map_err(|e| e.at(path, f.info().name))
+}
+
+/// Reads a triangle mesh (`.ply`, `.obj`, `.stl`); polygons are fan-triangulated.
+///
+/// # Errors
+/// [`IoError`].
+pub fn read_mesh(path: &Path) -> Result<TriMesh, IoError> {
+    let f = Format::from_path(path)?;
+    let bytes = read_bytes(path)?;
+    let r = match f {
+        Format::Ply => ply::read_mesh(&bytes),
+        Format::Obj => obj::read_mesh(&bytes),
+        Format::Stl => stl::read_mesh(&bytes),
+        _ => return Err(wrong(path, f, "a mesh to read")),
+    };
+    r.map_err(|e| e.at(path, f.info().name))
+}
+
+/// Reads a polygon mesh, faces kept as they are (`.ply`, `.obj`).
+///
+/// # Errors
+/// [`IoError`].
+pub fn read_poly_mesh(path: &Path) -> Result<PolyMesh, IoError> {
+    let f = Format::from_path(path)?;
+    let bytes = read_bytes(path)?;
+    let r = match f {
+        Format::Ply => ply::read_poly(&bytes),
+        Format::Obj => obj::read_poly(&bytes),
+        Format::Stl => stl::read_mesh(&bytes).map(|m| PolyMesh::from_trimesh(&m)),
+        _ => return Err(wrong(path, f, "a polygon mesh to read")),
+    };
+    r.map_err(|e| e.at(path, f.info().name))
+}
+
+/// Reads a point set: the points of a point format, or the vertices of a mesh or
+/// height-field file.
+///
+/// # Errors
+/// [`IoError`].
+pub fn read_points(path: &Path) -> Result<PointSet, IoError> {
+    let f = Format::from_path(path)?;
+    if f == Format::Npy {
+        let bytes = read_bytes(path)?;
+        return npy::read(&bytes)
+            .and_then(npy_points)
+            .map_err(|e| e.at(path, f.info().name));
+    }
+    Ok(match read(path)? {
+        Surface::Points(p) => p,
+        Surface::Mesh(m) => PointSet::new(m.positions().to_vec()),
+        Surface::Height(h) => h.to_point_set(),
+    })
+}
+
+/// Writes a triangle mesh; the format follows the extension. A textured mesh
+/// written as OBJ also gets `NAME.mtl` and `NAME_texture.png` beside it.
+///
+/// # Errors
+/// [`IoError`]; [`IoError::WrongKind`] for formats that hold no meshes.
+pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<(), IoError> {
+    let f = Format::from_path(path)?;
+    let os = |source| IoError::Os {
+        path: path.to_path_buf(),
+        source,
+    };
+    match f {
+        Format::Ply => write_atomic(path, |w| {
+            ply::write_mesh(w, mesh, opts.ply_encoding).map_err(os)
+        }),
+        Format::Stl => write_atomic(path, |w| stl::write_mesh(w, mesh).map_err(os)),
+        Format::Glb => write_atomic(path, |w| glb::write_mesh(w, mesh).map_err(os)),
+        Format::Obj => {
+            let mtl = match mesh.texture().filter(|_| mesh.uvs().is_some()) {
+                Some(tex) => Some(write_obj_sidecars(path, tex)?),
+                None => None,
+            };
+            write_atomic(path, |w| {
+                obj::write_mesh(w, mesh, mtl.as_deref()).map_err(os)
+            })
+        }
+        Format::Xyz | Format::Npy => {
+            write_points(path, &PointSet::new(mesh.positions().to_vec()), opts)
+        }
+        _ => Err(wrong(path, f, "a mesh")),
+    }
+}
+
+fn write_obj_sidecars(path: &Path, tex: &RgbaImage) -> Result<String, IoError> {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "mesh".into());
+    let (mtl_name, png_name) = (format!("{stem}.mtl"), format!("{stem}_texture.png"));
+    let png_path = path.with_file_name(&png_name);
+    let mtl_path = path.with_file_name(&mtl_name);
+    write_atomic(&png_path, |w| {
+        png_io::write_rgba(w, tex).map_err(|source| IoError::Os {
+            path: png_path.clone(),
+            source,
+        })
+    })?;
+    write_atomic(&mtl_path, |w| {
+        obj::write_mtl(w, &png_name).map_err(|source| IoError::Os {
+            path: mtl_path.clone(),
+            source,
+        })
+    })?;
+    Ok(mtl_name)
+}
+
+/// Writes a point set (`.ply`, `.xyz`, `.npy`).
+///
+/// # Errors
+/// [`IoError`]; [`IoError::Invalid`] for non-finite coordinates.
+pub fn write_points(path: &Path, points: &PointSet, opts: &WriteOptions) -> Result<(), IoError> {
+    let f = Format::from_path(path)?;
+    points.validate().map_err(|source| IoError::Invalid {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let os = |source| IoError::Os {
+        path: path.to_path_buf(),
+        source,
+    };
+    match f {
+        Format::Ply => write_atomic(path, |w| {
+            ply::write_points(w, points, opts.ply_encoding).map_err(os)
+        }),
+        Format::Xyz => write_atomic(path, |w| text::write_xyz(w, points).map_err(os)),
+        Format::Npy => {
+            let flat: Vec<f64> = points.positions().iter().flatten().copied().collect();
+            write_atomic(path, |w| {
+                npy::write(w, &[points.len(), 3], &flat, NpyDtype::Float64).map_err(os)
+            })
+        }
+        _ => Err(wrong(path, f, "a point set")),
+    }
+}
+
+/// Writes a height field; mesh formats get its triangulation, point formats its samples.
+///
+/// # Errors
+/// [`IoError`]; [`IoError::Invalid`] for NaN or infinite heights.
+pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result<(), IoError> {
+    let f = Format::from_path(path)?;
+    h.validate().map_err(|source| IoError::Invalid {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let os = |source| IoError::Os {
+        path: path.to_path_buf(),
+        source,
+    };
+    match f {
+        Format::Npy => write_atomic(path, |w| {
+            npy::write(w, &[h.ny(), h.nx()], h.data(), opts.npy_dtype).map_err(os)
+        }),
+        Format::Png => write_atomic(path, |w| png_io::write_height(w, h).map_err(os)),
+        Format::Exr => write_atomic(path, |w| exr_io::write_height(w, h).map_err(os)),
+        Format::Gsf => write_atomic(path, |w| gsf::write_height(w, h, &opts.title).map_err(os)),
+        Format::Csv => write_atomic(path, |w| text::write_csv(w, h).map_err(os)),
+        Format::Ply | Format::Obj | Format::Stl | Format::Glb => {
+            let mesh = h
+                .to_trimesh(opts.diagonal)
+                .map_err(|source| IoError::Invalid {
+                    path: path.to_path_buf(),
+                    source,
+                })?;
+            let mesh = mesh
+                .with_scalar("height", h.data().to_vec())
+                .map_err(|source| IoError::Invalid {
+                    path: path.to_path_buf(),
+                    source,
+                })?;
+            write_mesh(path, &mesh, opts)
+        }
+        Format::Xyz => write_points(path, &h.to_point_set(), opts),
+    }
+}
+
+/// Writes any [`Surface`].
+///
+/// # Errors
+/// As the specific writers.
+pub fn write(path: &Path, s: &Surface, opts: &WriteOptions) -> Result<(), IoError> {
+    match s {
+        Surface::Mesh(m) => write_mesh(path, m, opts),
+        Surface::Points(p) => write_points(path, p, opts),
+        Surface::Height(h) => write_height(path, h, opts),
+    }
+}
+
+/// What writing `s` to `format` loses (attributes the format has no place for).
+pub fn lost_data(s: &Surface, format: Format) -> Vec<String> {
+    let mut lost = Vec::new();
+    if let Surface::Mesh(m) = s {
+        let no_scalars = matches!(format, Format::Obj | Format::Stl);
+        if no_scalars {
+            lost.extend(m.scalars().iter().map(|a| format!("scalar '{}'", a.name)));
+        }
+        if format == Format::Stl {
+            if m.colors().is_some() {
+                lost.push("vertex colours".into());
+            }
+            if m.uvs().is_some() {
+                lost.push("UVs".into());
+            }
+        }
+        if m.texture().is_some() && matches!(format, Format::Ply | Format::Stl) {
+            lost.push("texture image".into());
+        }
+        if matches!(format, Format::Xyz | Format::Npy) {
+            lost.push("faces".into());
+        }
+    }
+    if let Surface::Height(_) = s {
+        if matches!(format, Format::Exr | Format::Gsf) {
+            lost.push("f64 precision (stored as f32)".into());
+        }
+        if format == Format::Png {
+            lost.push("precision below (max−min)/65535 (16-bit quantisation)".into());
+        }
+        if format == Format::Npy {
+            lost.push("spacing and origin (npy has no metadata)".into());
+        }
+    }
+    lost
+}

@@ -1,0 +1,128 @@
+//! Atomic file writes: temp file in the target's directory, then rename.
+//!
+//! A crash, a full disk or an error in the middle of a write leaves the target
+//! untouched: either the old file (if any) or the complete new one. The temporary
+//! file (`.NAME.XXXXXX.tmp` beside the target) is removed on failure, and by the
+//! OS-independent drop guard of `tempfile` if the process unwinds.
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use crate::IoError;
+
+/// Writes `path` by calling `fill` on a buffered temp file, then renaming it over
+/// `path`. Nothing is left at `path` unless `fill` and the flush succeed.
+///
+/// # Errors
+/// [`IoError::Os`] from the OS; errors returned by `fill` are passed through.
+pub fn write_atomic<E>(
+    path: &Path,
+    fill: impl FnOnce(&mut BufWriter<File>) -> Result<(), E>,
+) -> Result<(), E>
+where
+    E: From<IoError>,
+{
+    let os = |source: std::io::Error| IoError::Os {
+        path: path.to_path_buf(),
+        source,
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = tempfile::Builder::new()
+        .prefix(&format!(".{name}."))
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(os)?;
+    let (file, tmp_path) = tmp.into_parts();
+    let mut w = BufWriter::with_capacity(1 << 20, file);
+    fill(&mut w)?;
+    w.flush().map_err(os)?;
+    let file = w.into_inner().map_err(|e| os(e.into_error()))?;
+    file.sync_all().map_err(os)?;
+    drop(file);
+    tmp_path.persist(path).map_err(|e| os(e.error))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn leftovers(dir: &Path) -> Vec<String> {
+        std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect()
+    }
+
+    #[test]
+    fn failed_write_leaves_nothing_and_keeps_old_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("out.ply");
+        let r: Result<(), IoError> = write_atomic(&target, |w| {
+            w.write_all(b"half a file").unwrap();
+            Err(IoError::Malformed {
+                path: target.clone(),
+                format: "test",
+                message: "boom".into(),
+            })
+        });
+        assert!(r.is_err());
+        assert!(!target.exists());
+        assert!(
+            leftovers(dir.path()).is_empty(),
+            "{:?}",
+            leftovers(dir.path())
+        );
+
+        std::fs::write(&target, b"old").unwrap();
+        let _ = write_atomic::<IoError>(&target, |w| {
+            w.write_all(&[0u8; 3 << 20]).unwrap(); // more than the buffer: really hits the temp file
+            Err(IoError::Malformed {
+                path: target.clone(),
+                format: "test",
+                message: "boom".into(),
+            })
+        });
+        assert_eq!(std::fs::read(&target).unwrap(), b"old");
+        assert_eq!(leftovers(dir.path()), vec!["out.ply".to_string()]);
+    }
+
+    #[test]
+    fn panic_mid_write_leaves_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("out.npy");
+        let result = std::panic::catch_unwind(|| {
+            let _ = write_atomic::<IoError>(&target, |w| {
+                w.write_all(&[1u8; 2 << 20]).unwrap();
+                panic!("simulated crash");
+            });
+        });
+        assert!(result.is_err());
+        assert!(!target.exists());
+        assert!(leftovers(dir.path()).is_empty());
+    }
+
+    #[test]
+    fn success_replaces_target() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("a.txt");
+        std::fs::write(&target, b"old").unwrap();
+        write_atomic::<IoError>(&target, |w| {
+            w.write_all(b"new").map_err(|e| IoError::Os {
+                path: target.clone(),
+                source: e,
+            })
+        })
+        .unwrap();
+        assert_eq!(std::fs::read(&target).unwrap(), b"new");
+        assert_eq!(leftovers(dir.path()).len(), 1);
+    }
+}

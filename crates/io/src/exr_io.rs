@@ -1,0 +1,77 @@
+//! OpenEXR height fields through the `exr` crate: one `float32` channel `Y`, so
+//! image viewers show it as grayscale and Gwyddion and Python's OpenEXR read it.
+//!
+//! Heights are stored as `f32` (EXR has no `f64` samples): expect a relative
+//! error near 6e-8. The spacing and origin go into `double` header attributes
+//! `asperity.dx`, `asperity.dy`, `asperity.x0`, `asperity.y0`. Reading accepts
+//! the first layer's `Y`, `Z`, `R` or only channel, in any sample type.
+
+use std::io::{Cursor, Seek, Write};
+
+use asperity_core::HeightField;
+use exr::prelude::*;
+
+use crate::error::{FResult, FormatError, malformed};
+
+const KEYS: [&str; 4] = ["asperity.dx", "asperity.dy", "asperity.x0", "asperity.y0"];
+
+/// Writes a height field as a single-channel float EXR (ZIP-compressed, lossless).
+pub(crate) fn write_height<W: Write + Seek>(w: W, h: &HeightField) -> std::io::Result<()> {
+    let samples: Vec<f32> = h.data().iter().map(|&z| z as f32).collect();
+    let channel = AnyChannel::new("Y", FlatSamples::F32(samples));
+    let mut attrs = LayerAttributes::named("height");
+    let [dx, dy] = h.spacing();
+    let [x0, y0] = h.origin();
+    for (k, v) in KEYS.iter().zip([dx, dy, x0, y0]) {
+        attrs.other.insert(Text::from(*k), AttributeValue::F64(v));
+    }
+    let layer = Layer::new(
+        (h.nx(), h.ny()),
+        attrs,
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(SmallVec::from_vec(vec![channel])),
+    );
+    Image::from_layer(layer)
+        .write()
+        .to_buffered(w)
+        .map_err(|e| match e {
+            exr::error::Error::Io(io) => io,
+            other => std::io::Error::other(other.to_string()),
+        })
+}
+
+/// Reads a height field from the first layer of an EXR file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(Cursor::new(bytes))
+        .map_err(|e| FormatError::Malformed(e.to_string()))?;
+    let layer = &image.layer_data;
+    let list = &layer.channel_data.list;
+    let pick = ["Y", "Z", "R"]
+        .iter()
+        .find_map(|n| list.iter().find(|c| c.name.to_string() == *n))
+        .or(if list.len() == 1 { list.first() } else { None });
+    let Some(channel) = pick else {
+        return malformed("no Y, Z or R channel and more than one channel to choose from");
+    };
+    let (nx, ny) = (layer.size.width(), layer.size.height());
+    let data: Vec<f64> = channel.sample_data.values_as_f32().map(f64::from).collect();
+    let mut h = HeightField::from_vec([nx, ny], data)?;
+    let get = |k: &str| match layer.attributes.other.get(&Text::from(k)) {
+        Some(AttributeValue::F64(v)) => Some(*v),
+        Some(AttributeValue::F32(v)) => Some(f64::from(*v)),
+        _ => None,
+    };
+    if let (Some(dx), Some(dy)) = (get(KEYS[0]), get(KEYS[1])) {
+        h = h.with_spacing([dx, dy])?;
+    }
+    if let (Some(x0), Some(y0)) = (get(KEYS[2]), get(KEYS[3])) {
+        h = h.with_origin([x0, y0])?;
+    }
+    Ok(h)
+}

@@ -1,0 +1,183 @@
+//! glTF 2.0 binary (`.glb`) writer: positions, normals, vertex colours, UVs with an
+//! embedded PNG texture, and named scalars as custom `_NAME` attributes.
+//!
+//! The JSON is assembled with `serde_json` rather than `gltf-json`: it is a few
+//! dozen fixed fields, and the output is checked in tests by the independent
+//! `gltf` crate (which validates on load) and by Python's `trimesh`.
+//!
+//! # Conventions
+//! glTF is **y-up**, asperity is z-up: a point (x, y, z) is written as
+//! (x, z, −y), a rotation that keeps faces front-facing, so Blender's importer
+//! (which turns y-up back into z-up) shows the surface as asperity does.
+//! glTF's texture origin is the top-left, so `v` is written as `1 − v`.
+
+use std::io::Write;
+
+use asperity_core::TriMesh;
+use serde_json::{Value, json};
+
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+const FLOAT: u32 = 5126;
+const UNSIGNED_BYTE: u32 = 5121;
+const UNSIGNED_INT: u32 = 5125;
+
+fn to_y_up(p: [f64; 3]) -> [f32; 3] {
+    [p[0] as f32, p[2] as f32, -p[1] as f32]
+}
+
+/// Collects buffer views and accessors over one binary chunk.
+#[derive(Default)]
+struct Bin {
+    data: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Bin {
+    fn view(&mut self, bytes: &[u8], target: Option<u32>) -> usize {
+        while self.data.len() % 4 != 0 {
+            self.data.push(0);
+        }
+        let mut v = json!({"buffer": 0, "byteOffset": self.data.len(), "byteLength": bytes.len()});
+        if let Some(t) = target {
+            v["target"] = json!(t);
+        }
+        self.data.extend_from_slice(bytes);
+        self.views.push(v);
+        self.views.len() - 1
+    }
+
+    fn accessor(&mut self, bytes: &[u8], target: u32, mut acc: Value) -> usize {
+        let view = self.view(bytes, Some(target));
+        acc["bufferView"] = json!(view);
+        self.accessors.push(acc);
+        self.accessors.len() - 1
+    }
+
+    fn floats<const N: usize>(&mut self, items: &[[f32; N]], ty: &str, bounds: bool) -> usize {
+        let bytes: Vec<u8> = items
+            .iter()
+            .flatten()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        let mut acc = json!({"componentType": FLOAT, "count": items.len(), "type": ty});
+        if bounds {
+            let mut lo = [f32::INFINITY; N];
+            let mut hi = [f32::NEG_INFINITY; N];
+            for it in items {
+                for k in 0..N {
+                    lo[k] = lo[k].min(it[k]);
+                    hi[k] = hi[k].max(it[k]);
+                }
+            }
+            acc["min"] = json!(lo.to_vec());
+            acc["max"] = json!(hi.to_vec());
+        }
+        self.accessor(&bytes, ARRAY_BUFFER, acc)
+    }
+}
+
+/// Writes `m` as a single-mesh, single-node `.glb`.
+pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> {
+    let mut bin = Bin::default();
+    let pos: Vec<[f32; 3]> = m.positions().iter().map(|&p| to_y_up(p)).collect();
+    let mut attributes = json!({"POSITION": bin.floats(&pos, "VEC3", true)});
+    // glTF requires unit normals; degenerate vertices get the up vector.
+    let normals: Vec<[f32; 3]> = m
+        .normals()
+        .map(<[_]>::to_vec)
+        .unwrap_or_else(|| m.vertex_normals())
+        .into_iter()
+        .map(|n| {
+            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            if l > 1e-12 {
+                to_y_up(n.map(|v| v / l))
+            } else {
+                [0.0, 1.0, 0.0]
+            }
+        })
+        .collect();
+    attributes["NORMAL"] = json!(bin.floats(&normals, "VEC3", false));
+    if let Some(c) = m.colors() {
+        let bytes: Vec<u8> = c.iter().flatten().copied().collect();
+        let acc = json!({"componentType": UNSIGNED_BYTE, "normalized": true, "count": c.len(), "type": "VEC4"});
+        attributes["COLOR_0"] = json!(bin.accessor(&bytes, ARRAY_BUFFER, acc));
+    }
+    if let Some(uv) = m.uvs() {
+        let t: Vec<[f32; 2]> = uv
+            .iter()
+            .map(|t| [t[0] as f32, 1.0 - t[1] as f32])
+            .collect();
+        attributes["TEXCOORD_0"] = json!(bin.floats(&t, "VEC2", false));
+    }
+    for a in m.scalars() {
+        let vals: Vec<[f32; 1]> = a.values.iter().map(|&v| [v as f32]).collect();
+        let name: String = a
+            .name
+            .chars()
+            .map(|c| {
+                if c.is_ascii_alphanumeric() {
+                    c.to_ascii_uppercase()
+                } else {
+                    '_'
+                }
+            })
+            .collect();
+        attributes[format!("_{name}")] = json!(bin.floats(&vals, "SCALAR", false));
+    }
+    let idx: Vec<u8> = m
+        .triangles()
+        .iter()
+        .flatten()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    let indices = bin.accessor(
+        &idx,
+        ELEMENT_ARRAY_BUFFER,
+        json!({"componentType": UNSIGNED_INT, "count": 3 * m.n_faces(), "type": "SCALAR"}),
+    );
+
+    let mut pbr = json!({"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8});
+    let mut doc = json!({
+        "asset": {"version": "2.0", "generator": format!("asperity {}", env!("CARGO_PKG_VERSION"))},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "name": "surface"}],
+        "meshes": [{"name": "surface", "primitives": [{"attributes": attributes, "indices": indices, "material": 0, "mode": 4}]}],
+    });
+    if let Some(tex) = m.texture().filter(|_| m.uvs().is_some()) {
+        let png = crate::png_io::encode_rgba(tex).map_err(std::io::Error::other)?;
+        let view = bin.view(&png, None);
+        doc["images"] = json!([{"bufferView": view, "mimeType": "image/png"}]);
+        doc["samplers"] =
+            json!([{"magFilter": 9729, "minFilter": 9987, "wrapS": 33071, "wrapT": 33071}]);
+        doc["textures"] = json!([{"source": 0, "sampler": 0}]);
+        pbr["baseColorTexture"] = json!({"index": 0, "texCoord": 0});
+    }
+    doc["materials"] =
+        json!([{"name": "surface", "pbrMetallicRoughness": pbr, "doubleSided": true}]);
+    while bin.data.len() % 4 != 0 {
+        bin.data.push(0);
+    }
+    doc["buffers"] = json!([{"byteLength": bin.data.len()}]);
+    doc["bufferViews"] = json!(bin.views);
+    doc["accessors"] = json!(bin.accessors);
+
+    let mut text = serde_json::to_vec(&doc).map_err(std::io::Error::other)?;
+    while text.len() % 4 != 0 {
+        text.push(b' ');
+    }
+    let total = 12 + 8 + text.len() + 8 + bin.data.len();
+    let total = u32::try_from(total)
+        .map_err(|_| std::io::Error::other("a .glb file is limited to 4 GiB"))?;
+    w.write_all(b"glTF")?;
+    w.write_all(&2u32.to_le_bytes())?;
+    w.write_all(&total.to_le_bytes())?;
+    w.write_all(&(text.len() as u32).to_le_bytes())?;
+    w.write_all(b"JSON")?;
+    w.write_all(&text)?;
+    w.write_all(&(bin.data.len() as u32).to_le_bytes())?;
+    w.write_all(b"BIN\0")?;
+    w.write_all(&bin.data)
+}

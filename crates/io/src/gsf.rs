@@ -1,0 +1,114 @@
+//! Gwyddion Simple Field (`.gsf`), so Gwyddion opens our height fields natively.
+//!
+//! Spec: gwyddion.net/documentation/user-guide-en/gsf.html. The file is the line
+//! `Gwyddion Simple Field 1.0`, `Key = Value` lines, 1–4 NUL bytes that pad the
+//! header to a multiple of 4, then `XRes·YRes` little-endian `float32`, row by row.
+//!
+//! Gwyddion treats samples as pixels of size `XReal/XRes` whose *edges* start at
+//! `XOffset`; asperity samples sit at `origin + i·dx`. So we write
+//! `XReal = nx·dx` and `XOffset = x0 − dx/2` (likewise y), and invert that on
+//! reading. Heights are `f32` (relative error near 6e-8). Units are written as
+//! `XYUnits = m`, `ZUnits = m` unless the height field is unitless in practice;
+//! asperity does not track units, so this is a labelling convention.
+
+use std::io::Write;
+
+use asperity_core::HeightField;
+
+use crate::error::{FResult, FormatError, malformed};
+
+const MAGIC: &[u8] = b"Gwyddion Simple Field 1.0\n";
+
+/// Writes a GSF file.
+pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> std::io::Result<()> {
+    let [dx, dy] = h.spacing();
+    let [x0, y0] = h.origin();
+    let mut head = String::from_utf8_lossy(MAGIC).into_owned();
+    head += &format!("XRes = {}\nYRes = {}\n", h.nx(), h.ny());
+    head += &format!(
+        "XReal = {:e}\nYReal = {:e}\n",
+        h.nx() as f64 * dx,
+        h.ny() as f64 * dy
+    );
+    head += &format!(
+        "XOffset = {:e}\nYOffset = {:e}\n",
+        x0 - 0.5 * dx,
+        y0 - 0.5 * dy
+    );
+    head += "XYUnits = m\nZUnits = m\n";
+    let title: String = title.chars().filter(|c| !c.is_control()).collect();
+    head += &format!(
+        "Title = {title}\nGenerator = asperity {}\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    let pad = 4 - head.len() % 4; // 1..=4 NULs, as Gwyddion's reader expects
+    w.write_all(head.as_bytes())?;
+    w.write_all(&[0u8; 4][..pad])?;
+    let data: Vec<u8> = h
+        .data()
+        .iter()
+        .flat_map(|&z| (z as f32).to_le_bytes())
+        .collect();
+    w.write_all(&data)
+}
+
+/// Reads a GSF file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    if !bytes.starts_with(MAGIC) {
+        return malformed("missing the `Gwyddion Simple Field 1.0` line");
+    }
+    let nul = bytes.iter().position(|&b| b == 0).ok_or_else(|| {
+        FormatError::Malformed("header is not NUL-terminated (truncated?)".into())
+    })?;
+    let data_start = nul + (4 - nul % 4);
+    let text = std::str::from_utf8(&bytes[MAGIC.len()..nul])
+        .map_err(|_| FormatError::Malformed("header is not UTF-8".into()))?;
+    let mut keys = std::collections::HashMap::new();
+    for line in text.lines().filter(|l| !l.trim().is_empty()) {
+        let (k, v) = line
+            .split_once('=')
+            .ok_or_else(|| FormatError::Malformed(format!("header line {line:?} has no '='")))?;
+        keys.insert(k.trim().to_owned(), v.trim().to_owned());
+    }
+    let res = |k: &str| -> FResult<usize> {
+        let v = keys
+            .get(k)
+            .ok_or_else(|| FormatError::Malformed(format!("header has no {k}")))?;
+        v.parse()
+            .ok()
+            .filter(|&n| n > 0)
+            .ok_or_else(|| FormatError::Malformed(format!("{k} = {v:?} is not a positive integer")))
+    };
+    let real = |k: &str, default: f64| -> FResult<f64> {
+        match keys.get(k) {
+            None => Ok(default),
+            Some(v) => v
+                .parse()
+                .map_err(|_| FormatError::Malformed(format!("{k} = {v:?} is not a number"))),
+        }
+    };
+    let (nx, ny) = (res("XRes")?, res("YRes")?);
+    let need = nx
+        .checked_mul(ny)
+        .and_then(|n| n.checked_mul(4))
+        .ok_or_else(|| FormatError::Malformed("XRes·YRes too large".into()))?;
+    let body = bytes.get(data_start..).unwrap_or(&[]);
+    if body.len() != need {
+        return malformed(format!(
+            "{nx}×{ny} floats need {need} data bytes but the file has {} (truncated?)",
+            body.len()
+        ));
+    }
+    let data = body
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64)
+        .collect();
+    let (dx, dy) = (
+        real("XReal", nx as f64)? / nx as f64,
+        real("YReal", ny as f64)? / ny as f64,
+    );
+    let (xo, yo) = (real("XOffset", 0.0)?, real("YOffset", 0.0)?);
+    Ok(HeightField::from_vec([nx, ny], data)?
+        .with_spacing([dx.abs(), dy.abs()])?
+        .with_origin([xo + 0.5 * dx, yo + 0.5 * dy])?)
+}

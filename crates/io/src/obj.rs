@@ -1,0 +1,191 @@
+//! Wavefront OBJ: written here, read with the `tobj` crate.
+//!
+//! Written: `v x y z [r g b]` (the vertex-colour extension that MeshLab and
+//! Blender read), `vt u v`, `vn x y z`, triangles as `f a/b/c`. A texture is
+//! written as a sidecar `NAME.mtl` with `map_Kd NAME_texture.png`. OBJ has no
+//! place for named scalars: they are dropped (the CLI warns).
+//!
+//! Read: all objects and groups merged into one mesh, polygons kept for
+//! [`read_poly`] or fan-triangulated for [`read_mesh`]; corners with different
+//! `v/vt/vn` combinations become separate vertices (tobj's `single_index`).
+
+use std::io::Write;
+
+use asperity_core::{PolyMesh, TriMesh};
+
+use crate::error::{FResult, FormatError};
+
+/// Polygon soup read from an OBJ file, with the per-vertex data tobj found.
+struct ObjContents {
+    poly: PolyMesh,
+    normals: Option<Vec<[f64; 3]>>,
+    colors: Option<Vec<[u8; 4]>>,
+    uvs: Option<Vec<[f64; 2]>>,
+}
+
+fn parse(bytes: &[u8]) -> FResult<ObjContents> {
+    let opts = tobj::LoadOptions {
+        single_index: true,
+        triangulate: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    // Materials are not needed for geometry; a missing .mtl must not fail the read.
+    let (models, _materials) = tobj::load_obj_buf(&mut std::io::Cursor::new(bytes), &opts, |_| {
+        Ok((Vec::new(), Default::default()))
+    })
+    .map_err(|e| FormatError::Malformed(e.to_string()))?;
+    let (mut positions, mut faces) = (Vec::new(), Vec::<Vec<u32>>::new());
+    let (mut normals, mut colors, mut uvs) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut all_n, mut all_c, mut all_uv) = (true, true, true);
+    for model in &models {
+        let m = &model.mesh;
+        let base = positions.len() as u32;
+        let nv = m.positions.len() / 3;
+        positions.extend(m.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+        all_n &= m.normals.len() == 3 * nv;
+        all_c &= m.vertex_color.len() == 3 * nv;
+        all_uv &= m.texcoords.len() == 2 * nv;
+        normals.extend(m.normals.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+        colors.extend(m.vertex_color.chunks_exact(3).map(|c| {
+            let q = |v: f64| (v * 255.0).round().clamp(0.0, 255.0) as u8;
+            [q(c[0]), q(c[1]), q(c[2]), 255]
+        }));
+        uvs.extend(m.texcoords.chunks_exact(2).map(|t| [t[0], t[1]]));
+        let mut at = 0usize;
+        let arities: Vec<u32> = if m.face_arities.is_empty() {
+            vec![3; m.indices.len() / 3]
+        } else {
+            m.face_arities.clone()
+        };
+        for a in arities {
+            let a = a as usize;
+            let Some(f) = m.indices.get(at..at + a) else {
+                return Err(FormatError::Malformed("face list is inconsistent".into()));
+            };
+            faces.push(f.iter().map(|&i| i + base).collect());
+            at += a;
+        }
+    }
+    if faces.is_empty() {
+        return Err(FormatError::Malformed("has no faces".into()));
+    }
+    Ok(ObjContents {
+        poly: PolyMesh::new(positions, &faces)?,
+        normals: all_n.then_some(normals),
+        colors: all_c.then_some(colors),
+        uvs: all_uv.then_some(uvs),
+    })
+}
+
+/// Reads a triangle mesh (polygons fan-triangulated).
+pub(crate) fn read_mesh(bytes: &[u8]) -> FResult<TriMesh> {
+    let c = parse(bytes)?;
+    let mut m = c.poly.triangulate();
+    if let Some(n) = c.normals {
+        m = m.with_normals(n)?;
+    }
+    if let Some(col) = c.colors {
+        m = m.with_colors(col)?;
+    }
+    if let Some(uv) = c.uvs {
+        m = m.with_uvs(uv)?;
+    }
+    Ok(m)
+}
+
+/// Reads a polygon mesh.
+pub(crate) fn read_poly(bytes: &[u8]) -> FResult<PolyMesh> {
+    Ok(parse(bytes)?.poly)
+}
+
+/// Writes `m`; `mtl` names the material library to reference (when textured).
+pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh, mtl: Option<&str>) -> std::io::Result<()> {
+    writeln!(w, "# written by asperity {}", env!("CARGO_PKG_VERSION"))?;
+    writeln!(
+        w,
+        "# {} vertices, {} triangles",
+        m.n_vertices(),
+        m.n_faces()
+    )?;
+    if let Some(lib) = mtl {
+        writeln!(w, "mtllib {lib}")?;
+    }
+    writeln!(w, "o surface")?;
+    for (i, p) in m.positions().iter().enumerate() {
+        match m.colors() {
+            Some(c) => {
+                let c = c[i];
+                let f = |v: u8| v as f64 / 255.0;
+                writeln!(
+                    w,
+                    "v {} {} {} {:.6} {:.6} {:.6}",
+                    p[0],
+                    p[1],
+                    p[2],
+                    f(c[0]),
+                    f(c[1]),
+                    f(c[2])
+                )?
+            }
+            None => writeln!(w, "v {} {} {}", p[0], p[1], p[2])?,
+        }
+    }
+    for t in m.uvs().unwrap_or(&[]) {
+        writeln!(w, "vt {} {}", t[0], t[1])?;
+    }
+    for n in m.normals().unwrap_or(&[]) {
+        writeln!(w, "vn {} {} {}", n[0], n[1], n[2])?;
+    }
+    if mtl.is_some() {
+        writeln!(w, "usemtl surface")?;
+    }
+    let (has_uv, has_n) = (m.uvs().is_some(), m.normals().is_some());
+    for t in m.triangles() {
+        let [a, b, c] = t.map(|v| v + 1);
+        match (has_uv, has_n) {
+            (true, true) => writeln!(w, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}")?,
+            (true, false) => writeln!(w, "f {a}/{a} {b}/{b} {c}/{c}")?,
+            (false, true) => writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}")?,
+            (false, false) => writeln!(w, "f {a} {b} {c}")?,
+        }
+    }
+    Ok(())
+}
+
+/// The material library for a textured mesh.
+pub(crate) fn write_mtl(w: &mut dyn Write, texture_file: &str) -> std::io::Result<()> {
+    writeln!(w, "# written by asperity")?;
+    writeln!(
+        w,
+        "newmtl surface\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\nmap_Kd {texture_file}"
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quads_groups_and_colors() {
+        let src = b"v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\ng a\nf 1 2 3 4\ng b\nf 1 3 4\n";
+        let m = read_mesh(src).unwrap();
+        assert_eq!(m.n_faces(), 3);
+        assert_eq!(m.colors().unwrap()[1], [0, 255, 0, 255]);
+        let p = read_poly(src).unwrap();
+        assert_eq!(p.n_faces(), 2);
+        assert!(p.faces().any(|f| f.len() == 4));
+    }
+
+    #[test]
+    fn bad_indices_are_errors() {
+        for src in [
+            &b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n"[..],
+            b"v 0 0 0\nf 1 x 2\n",
+            b"v 0 0 0\n",
+            b"v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        ] {
+            assert!(read_mesh(src).is_err(), "{}", String::from_utf8_lossy(src));
+        }
+    }
+}

@@ -1,0 +1,136 @@
+//! PNG: 16-bit grayscale height maps (with their height range recorded) and RGBA
+//! textures, through the `png` crate.
+//!
+//! A height map stores `round((z − z_min) / (z_max − z_min) · 65535)`; `z_min`,
+//! `z_max`, the spacing and the origin go into `tEXt` chunks with keywords
+//! `asperity:z_min`, `asperity:z_max`, `asperity:dx`, `asperity:dy`,
+//! `asperity:x0`, `asperity:y0`, so reading restores heights to within
+//! (z_max − z_min)/131070. Any other PNG (8-bit, RGB, palette) is read as
+//! heights in [0, 1] from its Rec. 709 luminance.
+
+use std::io::{Cursor, Write};
+
+use asperity_core::{HeightField, RgbaImage};
+
+use crate::error::{FResult, FormatError, malformed};
+
+/// Encodes an RGBA8 image as PNG bytes.
+pub(crate) fn encode_rgba(img: &RgbaImage) -> Result<Vec<u8>, png::EncodingError> {
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, img.width(), img.height());
+    enc.set_color(png::ColorType::Rgba);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut w = enc.write_header()?;
+    w.write_image_data(img.pixels())?;
+    w.finish()?;
+    Ok(out)
+}
+
+/// Writes an RGBA8 image as PNG.
+pub(crate) fn write_rgba(w: &mut dyn Write, img: &RgbaImage) -> std::io::Result<()> {
+    w.write_all(&encode_rgba(img).map_err(std::io::Error::other)?)
+}
+
+fn dims_u32(h: &HeightField) -> std::io::Result<(u32, u32)> {
+    let c = |v: usize| {
+        u32::try_from(v).map_err(|_| std::io::Error::other("PNG sides are limited to 2^31 pixels"))
+    };
+    Ok((c(h.nx())?, c(h.ny())?))
+}
+
+/// Writes a height field as a 16-bit grayscale PNG with its range in tEXt chunks.
+pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField) -> std::io::Result<()> {
+    let (nx, ny) = dims_u32(h)?;
+    let (lo, hi) = h.min_max();
+    let scale = if hi > lo { 65535.0 / (hi - lo) } else { 0.0 };
+    let mut enc = png::Encoder::new(w, nx, ny);
+    enc.set_color(png::ColorType::Grayscale);
+    enc.set_depth(png::BitDepth::Sixteen);
+    let [dx, dy] = h.spacing();
+    let [x0, y0] = h.origin();
+    for (k, v) in [
+        ("z_min", lo),
+        ("z_max", hi),
+        ("dx", dx),
+        ("dy", dy),
+        ("x0", x0),
+        ("y0", y0),
+    ] {
+        enc.add_text_chunk(format!("asperity:{k}"), format!("{v:e}"))
+            .map_err(std::io::Error::other)?;
+    }
+    let mut out = enc.write_header().map_err(std::io::Error::other)?;
+    let data: Vec<u8> = h
+        .data()
+        .iter()
+        .flat_map(|&z| (((z - lo) * scale).round().clamp(0.0, 65535.0) as u16).to_be_bytes())
+        .collect();
+    out.write_image_data(&data).map_err(std::io::Error::other)?;
+    out.finish().map_err(std::io::Error::other)
+}
+
+/// Reads any PNG as a height field (see the module docs).
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    let err = |e: png::DecodingError| match e {
+        png::DecodingError::IoError(io) => FormatError::from(io),
+        other => FormatError::Malformed(other.to_string()),
+    };
+    let mut dec = png::Decoder::new(Cursor::new(bytes));
+    dec.set_transformations(png::Transformations::EXPAND);
+    let mut reader = dec.read_info().map_err(err)?;
+    let text: Vec<(String, String)> = reader
+        .info()
+        .uncompressed_latin1_text
+        .iter()
+        .map(|t| (t.keyword.clone(), t.text.clone()))
+        .collect();
+    let size = reader
+        .output_buffer_size()
+        .ok_or_else(|| FormatError::Malformed("image too large".into()))?;
+    let mut buf = vec![0u8; size];
+    let info = reader.next_frame(&mut buf).map_err(err)?;
+    let (nx, ny) = (info.width as usize, info.height as usize);
+    let channels = info.color_type.samples();
+    let sixteen = info.bit_depth == png::BitDepth::Sixteen;
+    let max = if sixteen { 65535.0 } else { 255.0 };
+    let sample = |k: usize| -> f64 {
+        if sixteen {
+            u16::from_be_bytes([buf[2 * k], buf[2 * k + 1]]) as f64
+        } else {
+            buf[k] as f64
+        }
+    };
+    let lum = |p: usize| -> f64 {
+        let b = p * channels;
+        match channels {
+            1 | 2 => sample(b),
+            _ => 0.2126 * sample(b) + 0.7152 * sample(b + 1) + 0.0722 * sample(b + 2),
+        }
+    };
+    let get = |key: &str| -> FResult<Option<f64>> {
+        match text.iter().find(|(k, _)| k == &format!("asperity:{key}")) {
+            None => Ok(None),
+            Some((_, v)) => v.trim().parse().map(Some).map_err(|_| {
+                FormatError::Malformed(format!("tEXt asperity:{key} = {v:?} is not a number"))
+            }),
+        }
+    };
+    let (lo, hi) = match (get("z_min")?, get("z_max")?) {
+        (Some(lo), Some(hi)) => (lo, hi),
+        _ => (0.0, 1.0),
+    };
+    if !(lo.is_finite() && hi.is_finite()) {
+        return malformed("recorded height range is not finite");
+    }
+    let data = (0..nx * ny)
+        .map(|p| lo + lum(p) / max * (hi - lo))
+        .collect();
+    let mut h = HeightField::from_vec([nx, ny], data)?;
+    if let (Some(dx), Some(dy)) = (get("dx")?, get("dy")?) {
+        h = h.with_spacing([dx, dy])?;
+    }
+    if let (Some(x0), Some(y0)) = (get("x0")?, get("y0")?) {
+        h = h.with_origin([x0, y0])?;
+    }
+    Ok(h)
+}

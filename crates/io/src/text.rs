@@ -1,0 +1,169 @@
+//! Plain-text formats: CSV height grids and XYZ point lists.
+//!
+//! **CSV** height fields: one line per grid row j, values separated by commas, in
+//! Rust's shortest round-trip decimal form (so reading gives back the same `f64`).
+//! A first comment line `# asperity height field: nx=… ny=… dx=… dy=… x0=… y0=…`
+//! records the geometry; `numpy.loadtxt(f, delimiter=",")` skips it. Reading
+//! accepts commas, semicolons, tabs or spaces, and `#` comment lines.
+//!
+//! **XYZ** point sets: `x y z` per line; reading takes the first three columns of
+//! each non-comment line (extra columns, e.g. colours, are ignored).
+
+use std::io::Write;
+
+use asperity_core::{HeightField, PointSet};
+
+use crate::error::{FResult, FormatError, malformed};
+
+fn text(bytes: &[u8]) -> FResult<&str> {
+    std::str::from_utf8(bytes).map_err(|_| FormatError::Malformed("not UTF-8 text".into()))
+}
+
+fn numbers<'a>(line: &'a str) -> impl Iterator<Item = &'a str> {
+    line.split([',', ';', ' ', '\t'])
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+}
+
+/// Writes a CSV height field.
+pub(crate) fn write_csv(w: &mut dyn Write, h: &HeightField) -> std::io::Result<()> {
+    let [dx, dy] = h.spacing();
+    let [x0, y0] = h.origin();
+    writeln!(
+        w,
+        "# asperity height field: nx={} ny={} dx={dx} dy={dy} x0={x0} y0={y0}",
+        h.nx(),
+        h.ny()
+    )?;
+    let mut line = String::new();
+    for j in 0..h.ny() {
+        line.clear();
+        for (i, z) in h.row(j).iter().enumerate() {
+            if i > 0 {
+                line.push(',');
+            }
+            line += &z.to_string();
+        }
+        line.push('\n');
+        w.write_all(line.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Reads a CSV height field.
+pub(crate) fn read_csv(bytes: &[u8]) -> FResult<HeightField> {
+    let mut meta = std::collections::HashMap::new();
+    let mut data = Vec::new();
+    let (mut nx, mut ny) = (0usize, 0usize);
+    for (n, line) in text(bytes)?.lines().enumerate() {
+        let line = line.trim();
+        if let Some(c) = line.strip_prefix('#') {
+            for kv in c.split_whitespace() {
+                if let Some((k, v)) = kv.split_once('=') {
+                    meta.insert(k.to_owned(), v.to_owned());
+                }
+            }
+            continue;
+        }
+        if line.is_empty() {
+            continue;
+        }
+        let before = data.len();
+        for tok in numbers(line) {
+            data.push(tok.parse::<f64>().map_err(|_| {
+                FormatError::Malformed(format!("line {}: {tok:?} is not a number", n + 1))
+            })?);
+        }
+        let count = data.len() - before;
+        if ny == 0 {
+            nx = count;
+        } else if count != nx {
+            return malformed(format!(
+                "line {} has {count} values but the first row has {nx}",
+                n + 1
+            ));
+        }
+        ny += 1;
+    }
+    if ny == 0 {
+        return malformed("no data rows");
+    }
+    let get = |k: &str| -> FResult<Option<f64>> {
+        meta.get(k)
+            .map(|v| {
+                v.parse().map_err(|_| {
+                    FormatError::Malformed(format!("header {k}={v:?} is not a number"))
+                })
+            })
+            .transpose()
+    };
+    let mut h = HeightField::from_vec([nx, ny], data)?;
+    if let (Some(dx), Some(dy)) = (get("dx")?, get("dy")?) {
+        h = h.with_spacing([dx, dy])?;
+    }
+    if let (Some(x0), Some(y0)) = (get("x0")?, get("y0")?) {
+        h = h.with_origin([x0, y0])?;
+    }
+    Ok(h)
+}
+
+/// Writes an XYZ point list.
+pub(crate) fn write_xyz(w: &mut dyn Write, p: &PointSet) -> std::io::Result<()> {
+    for q in p.positions() {
+        writeln!(w, "{} {} {}", q[0], q[1], q[2])?;
+    }
+    Ok(())
+}
+
+/// Reads an XYZ point list.
+pub(crate) fn read_xyz(bytes: &[u8]) -> FResult<PointSet> {
+    let mut pts = Vec::new();
+    for (n, line) in text(bytes)?.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') || line.starts_with("//") {
+            continue;
+        }
+        let mut it = numbers(line);
+        let mut p = [0.0; 3];
+        for v in &mut p {
+            let tok = it.next().ok_or_else(|| {
+                FormatError::Malformed(format!("line {}: fewer than 3 columns", n + 1))
+            })?;
+            *v = tok.parse().map_err(|_| {
+                FormatError::Malformed(format!("line {}: {tok:?} is not a number", n + 1))
+            })?;
+        }
+        pts.push(p);
+    }
+    let ps = PointSet::new(pts);
+    ps.validate()?;
+    Ok(ps)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_ragged_and_bad_numbers() {
+        let FormatError::Malformed(m) = read_csv(b"1,2,3\n4,5\n").unwrap_err() else {
+            panic!()
+        };
+        assert!(m.contains("line 2 has 2 values"), "{m}");
+        let FormatError::Malformed(m) = read_csv(b"1,2\n3,x\n").unwrap_err() else {
+            panic!()
+        };
+        assert!(m.contains("line 2: \"x\""), "{m}");
+        let h = read_csv(b"# dx=0.5 dy=2\n1 2\n3 4\n").unwrap();
+        assert_eq!(h.spacing(), [0.5, 2.0]);
+        assert_eq!(*h.get(0, 1), 3.0);
+    }
+
+    #[test]
+    fn xyz_columns() {
+        let p = read_xyz(b"# c\n1 2 3 255 0 0\n4,5,6\n").unwrap();
+        assert_eq!(p.positions(), &[[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]);
+        assert!(read_xyz(b"1 2\n").is_err());
+        assert!(read_xyz(b"1 2 nan\n").is_err());
+    }
+}
