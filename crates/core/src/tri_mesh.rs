@@ -112,6 +112,30 @@ impl TriMesh {
         })
     }
 
+    /// A mesh from polygons, each fan-triangulated from its first corner (exact for
+    /// convex polygons). Unlike [`crate::PolyMesh::new`], repeated corners are
+    /// allowed (they give degenerate triangles, as files sometimes contain).
+    ///
+    /// # Errors
+    /// [`CoreError::TooFewCorners`], and as [`TriMesh::new`].
+    pub fn from_polygons<F: AsRef<[u32]>>(
+        positions: Vec<[f64; 3]>,
+        faces: &[F],
+    ) -> crate::Result<Self> {
+        let mut triangles = Vec::with_capacity(faces.len());
+        for (f, face) in faces.iter().enumerate() {
+            let face = face.as_ref();
+            if face.len() < 3 {
+                return Err(CoreError::TooFewCorners {
+                    face: f,
+                    corners: face.len(),
+                });
+            }
+            triangles.extend((1..face.len() - 1).map(|k| [face[0], face[k], face[k + 1]]));
+        }
+        Self::new(positions, triangles)
+    }
+
     /// Adds per-vertex normals.
     ///
     /// # Errors

@@ -8,6 +8,11 @@
 //! Read: all objects and groups merged into one mesh, polygons kept for
 //! [`read_poly`] or fan-triangulated for [`read_mesh`]; corners with different
 //! `v/vt/vn` combinations become separate vertices (tobj's `single_index`).
+//!
+//! **Vertex order:** tobj numbers vertices in order of first use by a face and
+//! drops vertices no face uses. asperity's own OBJ files list vertices in that
+//! order only when faces use them in order, so compare OBJ geometry by triangle
+//! corners, not by vertex index; use PLY where vertex identity matters.
 
 use std::io::Write;
 
@@ -17,7 +22,8 @@ use crate::error::{FResult, FormatError};
 
 /// Polygon soup read from an OBJ file, with the per-vertex data tobj found.
 struct ObjContents {
-    poly: PolyMesh,
+    positions: Vec<[f64; 3]>,
+    faces: Vec<Vec<u32>>,
     normals: Option<Vec<[f64; 3]>>,
     colors: Option<Vec<[u8; 4]>>,
     uvs: Option<Vec<[f64; 2]>>,
@@ -71,7 +77,8 @@ fn parse(bytes: &[u8]) -> FResult<ObjContents> {
         return Err(FormatError::Malformed("has no faces".into()));
     }
     Ok(ObjContents {
-        poly: PolyMesh::new(positions, &faces)?,
+        positions,
+        faces,
         normals: all_n.then_some(normals),
         colors: all_c.then_some(colors),
         uvs: all_uv.then_some(uvs),
@@ -81,7 +88,7 @@ fn parse(bytes: &[u8]) -> FResult<ObjContents> {
 /// Reads a triangle mesh (polygons fan-triangulated).
 pub(crate) fn read_mesh(bytes: &[u8]) -> FResult<TriMesh> {
     let c = parse(bytes)?;
-    let mut m = c.poly.triangulate();
+    let mut m = TriMesh::from_polygons(c.positions, &c.faces)?;
     if let Some(n) = c.normals {
         m = m.with_normals(n)?;
     }
@@ -96,7 +103,8 @@ pub(crate) fn read_mesh(bytes: &[u8]) -> FResult<TriMesh> {
 
 /// Reads a polygon mesh.
 pub(crate) fn read_poly(bytes: &[u8]) -> FResult<PolyMesh> {
-    Ok(parse(bytes)?.poly)
+    let c = parse(bytes)?;
+    Ok(PolyMesh::new(c.positions, &c.faces)?)
 }
 
 /// Writes `m`; `mtl` names the material library to reference (when textured).

@@ -441,10 +441,8 @@ pub(crate) fn read_mesh(bytes: &[u8]) -> FResult<TriMesh> {
     if c.faces.is_empty() {
         return malformed("has no faces (it is a point set; read it as points)");
     }
-    let poly = PolyMesh::new(std::mem::take(&mut c.positions), &c.faces)?;
     let faces = std::mem::take(&mut c.faces);
-    drop(faces);
-    let mesh = poly.triangulate();
+    let mesh = TriMesh::from_polygons(std::mem::take(&mut c.positions), &faces)?;
     Ok(apply_vertex_data(mesh, c)?)
 }
 

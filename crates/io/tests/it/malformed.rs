@@ -1,0 +1,146 @@
+//! Bad files give one clear error naming the file, never a panic.
+
+use std::path::Path;
+
+use asperity_io::{IoError, WriteOptions};
+
+use crate::fixtures::{height, octahedron};
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> std::path::PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, bytes).unwrap();
+    p
+}
+
+fn message(r: Result<impl Sized, IoError>) -> String {
+    match r {
+        Ok(_) => panic!("expected an error"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn truncated_ply() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.ply");
+    asperity_io::write_mesh(&good, &octahedron(), &WriteOptions::default()).unwrap();
+    let bytes = std::fs::read(&good).unwrap();
+    for cut in [bytes.len() - 1, bytes.len() - 20, bytes.len() / 2, 30] {
+        let p = write(dir.path(), "cut.ply", &bytes[..cut]);
+        let m = message(asperity_io::read_mesh(&p));
+        assert!(m.contains("cut.ply") && m.contains("PLY"), "{m}");
+        assert!(
+            m.contains("truncated") || m.contains("end_header"),
+            "cut at {cut}: {m}"
+        );
+    }
+}
+
+#[test]
+fn obj_with_bad_indices() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(
+        dir.path(),
+        "bad.obj",
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n",
+    );
+    let m = message(asperity_io::read_mesh(&p));
+    assert!(m.contains("bad.obj") && m.contains("out of bounds"), "{m}");
+}
+
+#[test]
+fn nan_in_height_fields_is_refused_on_read_and_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(dir.path(), "nan.csv", b"1,2,3\n4,nan,6\n");
+    let m = message(asperity_io::read_height(&p));
+    assert!(
+        m.contains("nan.csv") && m.contains("height 4 is not finite"),
+        "{m}"
+    );
+    let mut h = height();
+    *h.get_mut(2, 3) = f64::NAN;
+    for ext in ["npy", "png", "exr", "gsf", "csv", "ply"] {
+        let target = dir.path().join(format!("out.{ext}"));
+        let m = message(asperity_io::write_height(
+            &target,
+            &h,
+            &WriteOptions::default(),
+        ));
+        assert!(m.contains("not finite"), "{ext}: {m}");
+        assert!(!target.exists(), "{ext}: nothing written");
+    }
+}
+
+#[test]
+fn wrong_npy_dtype_and_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut f = b"\x93NUMPY\x01\x00".to_vec();
+    let h = "{'descr': '<c8', 'fortran_order': False, 'shape': (2, 2), }\n";
+    f.extend_from_slice(&(h.len() as u16).to_le_bytes());
+    f.extend_from_slice(h.as_bytes());
+    f.extend_from_slice(&[0u8; 32]);
+    let p = write(dir.path(), "complex.npy", &f);
+    let m = message(asperity_io::read_height(&p));
+    assert!(
+        m.contains("complex.npy") && m.contains("dtype \"<c8\" is not supported"),
+        "{m}"
+    );
+    let p = dir.path().join("v.npy");
+    asperity_io::write_points(&p, &crate::fixtures::points(), &WriteOptions::default()).unwrap();
+    // A (20, 3) array is fine as points, and read_height refuses nothing about it
+    // (it is a legal 3×20 grid); a 1-D array is refused as a height field.
+    let mut f = b"\x93NUMPY\x01\x00".to_vec();
+    let h = "{'descr': '<f8', 'fortran_order': False, 'shape': (4,), }\n";
+    f.extend_from_slice(&(h.len() as u16).to_le_bytes());
+    f.extend_from_slice(h.as_bytes());
+    f.extend_from_slice(&[0u8; 32]);
+    let p = write(dir.path(), "flat.npy", &f);
+    assert!(message(asperity_io::read_height(&p)).contains("needs a 2-D array"));
+}
+
+#[test]
+fn missing_unknown_and_wrong_kind() {
+    let dir = tempfile::tempdir().unwrap();
+    let m = message(asperity_io::read_mesh(&dir.path().join("nope.ply")));
+    assert!(m.contains("nope.ply") && m.contains("No such file"), "{m}");
+    let m = message(asperity_io::read(&write(dir.path(), "x.docx", b"hi")));
+    assert!(m.contains("unknown file type \"docx\""), "{m}");
+    let m = message(asperity_io::write_mesh(
+        &dir.path().join("m.png"),
+        &octahedron(),
+        &WriteOptions::default(),
+    ));
+    assert!(m.contains("cannot hold a mesh"), "{m}");
+    let m = message(asperity_io::read_height(&write(dir.path(), "e.stl", b"")));
+    assert!(m.contains("cannot hold a height field"), "{m}");
+    let p = write(dir.path(), "empty.stl", b"");
+    assert!(message(asperity_io::read_mesh(&p)).contains("too short"));
+    let p = write(
+        dir.path(),
+        "g.gsf",
+        b"Gwyddion Simple Field 1.0\nXRes = 4\nYRes = 4\n\0\0\0\0\0\0",
+    );
+    assert!(message(asperity_io::read_height(&p)).contains("truncated"));
+    let p = write(dir.path(), "junk.exr", b"not an exr at all");
+    assert!(message(asperity_io::read_height(&p)).contains("junk.exr"));
+    let p = write(dir.path(), "junk.png", b"\x89PNG\r\n\x1a\nxx");
+    assert!(message(asperity_io::read_height(&p)).contains("junk.png"));
+}
+
+#[test]
+fn failed_write_keeps_existing_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("keep.npy");
+    std::fs::write(&target, b"precious").unwrap();
+    let mut h = height();
+    *h.get_mut(0, 0) = f64::INFINITY;
+    assert!(asperity_io::write_height(&target, &h, &WriteOptions::default()).is_err());
+    assert_eq!(std::fs::read(&target).unwrap(), b"precious");
+    // Writing into a directory that does not exist fails cleanly too.
+    let m = message(asperity_io::write_height(
+        &dir.path().join("no/such/dir/h.npy"),
+        &height(),
+        &WriteOptions::default(),
+    ));
+    assert!(m.contains("h.npy"), "{m}");
+}

@@ -1,0 +1,129 @@
+//! Every writer read back by Python's reference readers: numpy, plyfile, trimesh,
+//! Pillow and OpenEXR (`tests/python/check_formats.py`).
+//!
+//! The interpreter is `$ASPERITY_PYTHON`, else `.venv/bin/python` at the workspace
+//! root, else a virtual environment created under `target/asperity-pyenv` from
+//! `tests/python/requirements.txt` (needs PyPI once). Set `ASPERITY_SKIP_PYTHON=1`
+//! to skip on a machine without Python; CI never sets it.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use asperity_io::{NpyDtype, PlyEncoding, WriteOptions};
+use serde_json::json;
+
+use crate::fixtures::{flat3, height, octahedron, points, rich_mesh};
+
+fn workspace() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap()
+}
+
+fn has_modules(py: &Path) -> bool {
+    Command::new(py)
+        .args(["-c", "import numpy, plyfile, trimesh, PIL, OpenEXR"])
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+fn python() -> PathBuf {
+    if let Ok(p) = std::env::var("ASPERITY_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let root = workspace();
+    let venv = root.join(".venv/bin/python");
+    if has_modules(&venv) {
+        return venv;
+    }
+    let own = root.join("target/asperity-pyenv");
+    let py = own.join("bin/python");
+    if !has_modules(&py) {
+        let ok = Command::new("python3")
+            .args(["-m", "venv"])
+            .arg(&own)
+            .status()
+            .is_ok_and(|s| s.success())
+            && Command::new(&py)
+                .args(["-m", "pip", "install", "-q", "-r"])
+                .arg(root.join("tests/python/requirements.txt"))
+                .status()
+                .is_ok_and(|s| s.success());
+        assert!(
+            ok,
+            "could not set up Python readers; install tests/python/requirements.txt or set ASPERITY_PYTHON"
+        );
+    }
+    py
+}
+
+#[test]
+fn python_reference_readers_accept_every_writer() {
+    if std::env::var_os("ASPERITY_SKIP_PYTHON").is_some() {
+        eprintln!("skipped: ASPERITY_SKIP_PYTHON is set");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let h = height();
+    let mesh = rich_mesh();
+    let closed = octahedron();
+    let pts = points();
+    let def = WriteOptions::default();
+    let ascii = WriteOptions {
+        ply_encoding: PlyEncoding::Ascii,
+        ..Default::default()
+    };
+    let f32opt = WriteOptions {
+        npy_dtype: NpyDtype::Float32,
+        ..Default::default()
+    };
+    for (name, opts) in [
+        ("h.npy", &def),
+        ("h32.npy", &f32opt),
+        ("h.csv", &def),
+        ("h.png", &def),
+        ("h.exr", &def),
+        ("h.gsf", &def),
+    ] {
+        asperity_io::write_height(&d.join(name), &h, opts).unwrap();
+    }
+    asperity_io::write_mesh(&d.join("m.ply"), &mesh, &def).unwrap();
+    asperity_io::write_mesh(&d.join("m_ascii.ply"), &mesh, &ascii).unwrap();
+    asperity_io::write_mesh(&d.join("m.obj"), &mesh, &def).unwrap();
+    asperity_io::write_mesh(&d.join("m.glb"), &mesh, &def).unwrap();
+    asperity_io::write_mesh(&d.join("c.stl"), &closed, &def).unwrap();
+    for name in ["p.npy", "p.xyz", "p.ply"] {
+        asperity_io::write_points(&d.join(name), &pts, &def).unwrap();
+    }
+    let (lo, hi) = h.min_max();
+    let manifest = json!({
+        "height": {"nx": h.nx(), "ny": h.ny(), "data": h.data(), "spacing": h.spacing(), "origin": h.origin(), "min": lo, "max": hi},
+        "mesh": {
+            "positions": flat3(mesh.positions()),
+            "triangles": mesh.triangles(),
+            "colors": mesh.colors(),
+            "curvature": mesh.scalar("curvature"),
+            "uvs": mesh.uvs(),
+            "area": mesh.area(),
+        },
+        "closed": {"positions": flat3(closed.positions()), "n_faces": closed.n_faces(), "volume": closed.signed_volume()},
+        "points": {"positions": flat3(pts.positions()), "age": pts.attribute("age")},
+    });
+    std::fs::write(d.join("manifest.json"), manifest.to_string()).unwrap();
+    let script = workspace().join("tests/python/check_formats.py");
+    let out = Command::new(python())
+        .arg(&script)
+        .arg(d)
+        .output()
+        .expect("run python");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "python readers disagree:\n{text}");
+    // The script prints one OK line per file it checked.
+    assert_eq!(text.matches("OK ").count(), 14, "{text}");
+}

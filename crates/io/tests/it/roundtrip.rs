@@ -1,0 +1,187 @@
+//! write → read → equal, for every reader/writer pair, by our own reader.
+
+use asperity_core::{HeightField, TriMesh, strategies};
+use asperity_io::{NpyDtype, PlyEncoding, Surface, WriteOptions};
+use proptest::prelude::*;
+
+use crate::fixtures::{assert_close, flat3, height, octahedron, points, rich_mesh};
+
+fn mesh_roundtrip(ext: &str, opts: &WriteOptions, m: &TriMesh) -> TriMesh {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(format!("m.{ext}"));
+    asperity_io::write_mesh(&path, m, opts).unwrap();
+    asperity_io::read_mesh(&path).unwrap()
+}
+
+fn height_roundtrip(ext: &str, opts: &WriteOptions, h: &HeightField) -> HeightField {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(format!("h.{ext}"));
+    asperity_io::write_height(&path, h, opts).unwrap();
+    asperity_io::read_height(&path).unwrap()
+}
+
+#[test]
+fn ply_keeps_everything_but_the_texture() {
+    let m = rich_mesh();
+    for enc in [PlyEncoding::BinaryLittleEndian, PlyEncoding::Ascii] {
+        let opts = WriteOptions {
+            ply_encoding: enc,
+            ..Default::default()
+        };
+        let r = mesh_roundtrip("ply", &opts, &m);
+        assert_eq!(
+            r.positions(),
+            m.positions(),
+            "{enc:?}: f64 positions are exact"
+        );
+        assert_eq!(r.triangles(), m.triangles());
+        assert_eq!(r.colors(), m.colors());
+        assert_close(
+            &r.scalar("curvature").unwrap(),
+            m.scalar("curvature").unwrap(),
+            0.0,
+            "scalar",
+        );
+        assert_close(
+            &flat3(r.normals().unwrap()),
+            &flat3(m.normals().unwrap()),
+            1e-7,
+            "normals (f32)",
+        );
+        let uv = |m: &TriMesh| {
+            m.uvs()
+                .unwrap()
+                .iter()
+                .flatten()
+                .copied()
+                .collect::<Vec<_>>()
+        };
+        assert_close(&uv(&r), &uv(&m), 1e-7, "uvs (f32)");
+    }
+}
+
+/// Equal geometry up to vertex renumbering (OBJ readers number by first use):
+/// every triangle's corners have the same positions and colours, in order.
+fn assert_same_corners(r: &TriMesh, m: &TriMesh) {
+    assert_eq!(r.n_faces(), m.n_faces());
+    for (a, b) in r.triangles().iter().zip(m.triangles()) {
+        for k in 0..3 {
+            assert_eq!(r.positions()[a[k] as usize], m.positions()[b[k] as usize]);
+            if let (Some(ca), Some(cb)) = (r.colors(), m.colors()) {
+                assert_eq!(ca[a[k] as usize], cb[b[k] as usize]);
+            }
+        }
+    }
+    assert_eq!(r.colors().is_some(), m.colors().is_some());
+}
+
+#[test]
+fn obj_keeps_geometry_colours_uvs_and_writes_texture_sidecars() {
+    let m = rich_mesh();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("rock.obj");
+    asperity_io::write_mesh(&path, &m, &WriteOptions::default()).unwrap();
+    assert!(dir.path().join("rock.mtl").exists() && dir.path().join("rock_texture.png").exists());
+    let r = asperity_io::read_mesh(&path).unwrap();
+    assert_same_corners(&r, &m);
+    assert!(r.uvs().is_some() && r.normals().is_some());
+}
+
+#[test]
+fn stl_welds_back_to_a_closed_mesh() {
+    let m = octahedron();
+    let r = mesh_roundtrip("stl", &WriteOptions::default(), &m);
+    assert_eq!((r.n_vertices(), r.n_faces()), (6, 8));
+    assert!(r.is_watertight());
+    assert_eq!(r.euler_characteristic(), 2);
+    assert!((r.signed_volume() - m.signed_volume()).abs() < 1e-6);
+}
+
+#[test]
+fn height_formats_roundtrip_within_their_precision() {
+    let h = height();
+    let (lo, hi) = h.min_max();
+    let cases = [
+        ("npy", 0.0, true),
+        ("csv", 0.0, true),
+        ("gsf", 1e-6, true),
+        ("exr", 1e-6, true),
+        ("png", (hi - lo) / 65535.0 * 0.5 + 1e-12, true),
+    ];
+    for (ext, tol, geometry) in cases {
+        let r = height_roundtrip(ext, &WriteOptions::default(), &h);
+        assert_eq!(r.dims(), h.dims(), "{ext}");
+        assert_close(r.data(), h.data(), tol, ext);
+        if geometry && ext != "npy" {
+            assert_close(&r.spacing(), &h.spacing(), 1e-12, &format!("{ext} spacing"));
+            assert_close(&r.origin(), &h.origin(), 1e-12, &format!("{ext} origin"));
+        }
+    }
+    let r = height_roundtrip(
+        "npy",
+        &WriteOptions {
+            npy_dtype: NpyDtype::Float32,
+            ..Default::default()
+        },
+        &h,
+    );
+    assert_close(r.data(), h.data(), 1e-6, "npy f32");
+}
+
+#[test]
+fn point_formats_roundtrip() {
+    let p = points();
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["ply", "xyz", "npy"] {
+        let path = dir.path().join(format!("p.{ext}"));
+        asperity_io::write_points(&path, &p, &WriteOptions::default()).unwrap();
+        let r = asperity_io::read_points(&path).unwrap();
+        assert_eq!(r.positions(), p.positions(), "{ext}");
+        if ext == "ply" {
+            assert_eq!(r.attribute("age"), p.attribute("age"));
+            assert!(matches!(
+                asperity_io::read(&path).unwrap(),
+                Surface::Points(_)
+            ));
+        }
+    }
+}
+
+#[test]
+fn height_field_to_mesh_formats_triangulates() {
+    let h = height();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("h.ply");
+    asperity_io::write_height(&path, &h, &WriteOptions::default()).unwrap();
+    let m = asperity_io::read_mesh(&path).unwrap();
+    assert_eq!(m.n_faces(), 2 * 6 * 4);
+    assert_eq!(m.scalar("height").unwrap(), h.data());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+
+    #[test]
+    fn any_mesh_roundtrips_through_ply_and_obj(m in strategies::tri_mesh(30, 40)) {
+        let r = mesh_roundtrip("ply", &WriteOptions::default(), &m);
+        prop_assert_eq!(r.triangles(), m.triangles());
+        prop_assert_eq!(r.positions(), m.positions());
+        assert_same_corners(&mesh_roundtrip("obj", &WriteOptions::default(), &m), &m);
+        let opts = WriteOptions { ply_encoding: PlyEncoding::Ascii, ..Default::default() };
+        let r = mesh_roundtrip("ply", &opts, &m);
+        prop_assert_eq!(r.positions(), m.positions());
+    }
+
+    #[test]
+    fn any_height_field_roundtrips(h in strategies::height_field(12)) {
+        for ext in ["npy", "csv", "gsf", "exr", "png"] {
+            let r = height_roundtrip(ext, &WriteOptions::default(), &h);
+            let (lo, hi) = h.min_max();
+            let tol = match ext { "npy" | "csv" => 0.0, "png" => (hi - lo) / 65535.0, _ => 1e-4 };
+            prop_assert_eq!(r.dims(), h.dims());
+            for (a, b) in r.data().iter().zip(h.data()) {
+                prop_assert!((a - b).abs() <= tol, "{}: {} vs {}", ext, a, b);
+            }
+        }
+    }
+}
