@@ -1,1 +1,44 @@
-fn main() {}
+//! `asperity`: generate, analyse, render and export rough surfaces.
+//!
+//! The binary is a thin layer over the library crates: it parses arguments (clap),
+//! sets up threads, memory limits and progress bars, composes pipelines, and
+//! reports. Errors print as one `error:` line with their causes and exit code 2.
+
+mod cli;
+mod convert;
+mod demo;
+mod progress;
+mod report;
+mod synth;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+fn main() -> ExitCode {
+    let args = cli::Cli::parse();
+    match run(args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            // A closed pipe (e.g. `asperity formats | head`) is not an error.
+            if err.chain().any(|c| {
+                c.downcast_ref::<std::io::Error>()
+                    .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
+            }) {
+                return ExitCode::SUCCESS;
+            }
+            eprintln!("error: {err:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(args: cli::Cli) -> anyhow::Result<()> {
+    let ctx = cli::Context::new(&args.global)?;
+    match args.command {
+        cli::Command::Demo(a) => demo::run(&ctx, &a),
+        cli::Command::Convert(a) => convert::run(&ctx, &a),
+        cli::Command::Info(a) => convert::info(&ctx, &a),
+        cli::Command::Formats => convert::formats(&ctx),
+    }
+}

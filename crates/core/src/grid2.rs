@@ -80,7 +80,7 @@ impl<T> Grid2<T> {
     /// # Errors
     /// [`CoreError::GridSize`] if a dimension is 0 or `data.len() != nx·ny`.
     pub fn from_vec(dims: [usize; 2], data: Vec<T>) -> crate::Result<Self> {
-        let expected = dims[0].checked_mul(dims[1]).unwrap_or(usize::MAX);
+        let expected = dims[0].saturating_mul(dims[1]);
         if dims.contains(&0) || data.len() != expected {
             return Err(CoreError::GridSize {
                 dims: dims.to_vec(),

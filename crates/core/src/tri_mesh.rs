@@ -401,10 +401,7 @@ impl TriMesh {
         while let Some((&start, _)) = next.iter().next() {
             let mut lp = vec![start];
             let mut cur = start;
-            loop {
-                let Some(outs) = next.get_mut(&cur) else {
-                    break;
-                };
+            while let Some(outs) = next.get_mut(&cur) {
                 let Some(v) = outs.pop() else { break };
                 if outs.is_empty() {
                     next.remove(&cur);

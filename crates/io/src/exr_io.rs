@@ -13,7 +13,7 @@ use exr::prelude::*;
 
 use crate::error::{FResult, FormatError, malformed};
 
-const KEYS: [&str; 4] = ["asperity.dx", "asperity.dy", "asperity.x0", "asperity.y0"];
+const GEOMETRY: &str = "asperity.geometry";
 
 /// Writes a height field as a single-channel float EXR (ZIP-compressed, lossless).
 pub(crate) fn write_height<W: Write + Seek>(w: W, h: &HeightField) -> std::io::Result<()> {
@@ -22,9 +22,11 @@ pub(crate) fn write_height<W: Write + Seek>(w: W, h: &HeightField) -> std::io::R
     let mut attrs = LayerAttributes::named("height");
     let [dx, dy] = h.spacing();
     let [x0, y0] = h.origin();
-    for (k, v) in KEYS.iter().zip([dx, dy, x0, y0]) {
-        attrs.other.insert(Text::from(*k), AttributeValue::F64(v));
-    }
+    let geometry = format!("{dx:e} {dy:e} {x0:e} {y0:e}");
+    attrs.other.insert(
+        Text::from(GEOMETRY),
+        AttributeValue::Text(Text::from(geometry.as_str())),
+    );
     let layer = Layer::new(
         (h.nx(), h.ny()),
         attrs,
@@ -62,16 +64,16 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let (nx, ny) = (layer.size.width(), layer.size.height());
     let data: Vec<f64> = channel.sample_data.values_as_f32().map(f64::from).collect();
     let mut h = HeightField::from_vec([nx, ny], data)?;
-    let get = |k: &str| match layer.attributes.other.get(&Text::from(k)) {
-        Some(AttributeValue::F64(v)) => Some(*v),
-        Some(AttributeValue::F32(v)) => Some(f64::from(*v)),
-        _ => None,
-    };
-    if let (Some(dx), Some(dy)) = (get(KEYS[0]), get(KEYS[1])) {
-        h = h.with_spacing([dx, dy])?;
-    }
-    if let (Some(x0), Some(y0)) = (get(KEYS[2]), get(KEYS[3])) {
-        h = h.with_origin([x0, y0])?;
+    if let Some(AttributeValue::Text(t)) = layer.attributes.other.get(&Text::from(GEOMETRY)) {
+        let v: Vec<f64> = t
+            .to_string()
+            .split_whitespace()
+            .filter_map(|s| s.parse().ok())
+            .collect();
+        let [dx, dy, x0, y0] = v[..] else {
+            return malformed(format!("attribute {GEOMETRY} = {t:?} is not four numbers"));
+        };
+        h = h.with_spacing([dx, dy])?.with_origin([x0, y0])?;
     }
     Ok(h)
 }

@@ -36,7 +36,7 @@ struct Bin {
 
 impl Bin {
     fn view(&mut self, bytes: &[u8], target: Option<u32>) -> usize {
-        while self.data.len() % 4 != 0 {
+        while !self.data.len().is_multiple_of(4) {
             self.data.push(0);
         }
         let mut v = json!({"buffer": 0, "byteOffset": self.data.len(), "byteLength": bytes.len()});
@@ -157,7 +157,7 @@ pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> 
     }
     doc["materials"] =
         json!([{"name": "surface", "pbrMetallicRoughness": pbr, "doubleSided": true}]);
-    while bin.data.len() % 4 != 0 {
+    while !bin.data.len().is_multiple_of(4) {
         bin.data.push(0);
     }
     doc["buffers"] = json!([{"byteLength": bin.data.len()}]);
@@ -165,7 +165,7 @@ pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> 
     doc["accessors"] = json!(bin.accessors);
 
     let mut text = serde_json::to_vec(&doc).map_err(std::io::Error::other)?;
-    while text.len() % 4 != 0 {
+    while !text.len().is_multiple_of(4) {
         text.push(b' ');
     }
     let total = 12 + 8 + text.len() + 8 + bin.data.len();

@@ -567,6 +567,19 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
     }
 }
 
+/// Writes an 8-bit RGBA picture (a render, a colour map, a texture) as PNG.
+///
+/// # Errors
+/// [`IoError::Os`].
+pub fn write_png(path: &Path, img: &RgbaImage) -> Result<(), IoError> {
+    write_atomic(path, |w| {
+        png_io::write_rgba(w, img).map_err(|source| IoError::Os {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
 /// Writes any [`Surface`].
 ///
 /// # Errors

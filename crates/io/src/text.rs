@@ -19,7 +19,7 @@ fn text(bytes: &[u8]) -> FResult<&str> {
     std::str::from_utf8(bytes).map_err(|_| FormatError::Malformed("not UTF-8 text".into()))
 }
 
-fn numbers<'a>(line: &'a str) -> impl Iterator<Item = &'a str> {
+fn numbers(line: &str) -> impl Iterator<Item = &str> {
     line.split([',', ';', ' ', '\t'])
         .map(str::trim)
         .filter(|s| !s.is_empty())

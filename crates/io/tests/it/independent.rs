@@ -69,9 +69,9 @@ fn stl_is_read_by_stl_io() {
     assert_eq!(other.faces.len(), 8);
     assert_eq!(other.vertices.len(), 6, "stl_io welds to the 6 corners");
     for (face, tri) in other.faces.iter().zip(m.triangles()) {
-        for k in 0..3 {
-            let v = other.vertices[face.vertices[k]];
-            let p = m.positions()[tri[k] as usize];
+        for (&vi, &ti) in face.vertices.iter().zip(tri) {
+            let v = other.vertices[vi];
+            let p = m.positions()[ti as usize];
             assert!((0..3).all(|a| (v[a] as f64 - p[a]).abs() < 1e-7));
         }
         // The stored normal is the outward face normal.

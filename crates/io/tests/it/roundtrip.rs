@@ -37,7 +37,7 @@ fn ply_keeps_everything_but_the_texture() {
         assert_eq!(r.triangles(), m.triangles());
         assert_eq!(r.colors(), m.colors());
         assert_close(
-            &r.scalar("curvature").unwrap(),
+            r.scalar("curvature").unwrap(),
             m.scalar("curvature").unwrap(),
             0.0,
             "scalar",

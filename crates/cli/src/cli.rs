@@ -1,0 +1,184 @@
+//! Command-line definition and the context shared by every command.
+
+use std::path::PathBuf;
+
+use anyhow::Context as _;
+use asperity_core::MemoryBudget;
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+const ABOUT: &str = "Generate, analyse, render and export rough surfaces.";
+
+const LONG_ABOUT: &str = "\
+asperity generates, analyses, renders and exports rough surfaces: the irregular,
+fractal and weathered surfaces of rock, ice, corroded metal, terrain and machined
+parts. It implements five papers (see the README): discrete growth with level-set
+reconstruction (Kim, Machiraju & Thompson), cellular-automaton height fields
+(Peridier), multiresolution subdivision with procedural detail (Velho, Perlin et
+al.), projected-IFS fractal surfaces (Poull, Gentil et al.) and cellular automata
+on meshes (Gobron & Chiba).
+
+Method families arrive as their own commands (growth, reconstruct, ca, subdiv,
+ifs, surfca, analyze, render) as they are implemented; `asperity demo` runs every
+method that exists and writes a gallery.";
+
+const AFTER_HELP: &str = "\
+Examples:
+  asperity demo                       write gallery/index.html with every method
+  asperity demo --quick --out /tmp/g  a smaller, faster gallery
+  asperity convert rock.ply rock.glb  any mesh format to any other
+  asperity convert dem.gsf dem.npy    any height-field format to any other
+  asperity convert dem.npy dem.stl    triangulate a height field
+  asperity info surface.ply --json    counts, bounds, topology as JSON
+  asperity formats                    what can be read and written";
+
+/// The `asperity` command line.
+#[derive(Parser, Debug)]
+#[command(name = "asperity", version, about = ABOUT, long_about = LONG_ABOUT, after_help = AFTER_HELP)]
+#[command(propagate_version = true, max_term_width = 100)]
+pub struct Cli {
+    #[command(flatten)]
+    pub global: Global,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Options every command accepts.
+#[derive(Args, Debug, Clone)]
+pub struct Global {
+    /// Random seed; the same seed gives byte-identical output at any thread count.
+    #[arg(long, global = true, default_value_t = 7, value_name = "U64")]
+    pub seed: u64,
+    /// Output file or directory (commands say which); the format follows the extension.
+    #[arg(short = 'o', long = "output", global = true, value_name = "PATH")]
+    pub output: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub threads: Option<u16>,
+    /// Print a machine-readable JSON report of what was done and measured on stdout.
+    #[arg(long, global = true)]
+    pub json: bool,
+    /// No progress bars or informational messages (errors still print).
+    #[arg(short, long, global = true)]
+    pub quiet: bool,
+    /// Refuse allocations estimated above this size, e.g. 512M, 4G (default: half of RAM).
+    #[arg(long, global = true, value_name = "SIZE", value_parser = parse_memory)]
+    pub max_memory: Option<u64>,
+}
+
+fn parse_memory(s: &str) -> Result<u64, String> {
+    asperity_core::memory::parse_size(s).map_err(|e| e.to_string())
+}
+
+/// The commands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Run every available method on small built-in defaults and write a gallery (index.html).
+    Demo(DemoArgs),
+    /// Convert between mesh, point-set and height-field formats (by extension).
+    Convert(ConvertArgs),
+    /// Describe a file: kind, sizes, bounds, topology, height range.
+    Info(InfoArgs),
+    /// List the file formats asperity reads and writes.
+    Formats,
+}
+
+/// `asperity demo`
+#[derive(Args, Debug)]
+pub struct DemoArgs {
+    /// Gallery directory (same as -o).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Smaller sizes for a fast run (CI uses this).
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// What to treat the input as.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// A triangle mesh (height fields are triangulated).
+    Mesh,
+    /// A point set (mesh vertices, height-field samples).
+    Points,
+    /// A height field.
+    Height,
+}
+
+/// Cell diagonal used when a height field becomes triangles.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DiagonalArg {
+    /// Every cell split along the same diagonal.
+    Forward,
+    /// Every cell split along the other diagonal.
+    Backward,
+    /// Alternating diagonals (Peridier's facets).
+    Alternating,
+}
+
+/// `asperity convert`
+#[derive(Args, Debug)]
+pub struct ConvertArgs {
+    /// Input file.
+    pub input: PathBuf,
+    /// Output file (or -o); its extension picks the format.
+    #[arg(value_name = "OUTPUT")]
+    pub out_file: Option<PathBuf>,
+    /// Treat the input as this kind (default: what the file holds).
+    #[arg(long = "as", value_name = "KIND")]
+    pub as_kind: Option<Kind>,
+    /// Write PLY as ASCII instead of binary.
+    #[arg(long)]
+    pub ascii: bool,
+    /// Write .npy height fields as float32 instead of float64.
+    #[arg(long)]
+    pub f32: bool,
+    /// Diagonal for height field → mesh.
+    #[arg(long, value_enum, default_value_t = DiagonalArg::Forward)]
+    pub diagonal: DiagonalArg,
+    /// Set the height-field spacing (dx[,dy]) before writing.
+    #[arg(long, value_name = "DX[,DY]", value_delimiter = ',', num_args = 1..=2)]
+    pub spacing: Option<Vec<f64>>,
+}
+
+/// `asperity info`
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// The file to describe.
+    pub input: PathBuf,
+}
+
+/// Settings shared by every command after parsing.
+pub struct Context {
+    pub seed: u64,
+    pub output: Option<PathBuf>,
+    pub json: bool,
+    pub quiet: bool,
+    pub budget: MemoryBudget,
+    pub threads: usize,
+}
+
+impl Context {
+    pub fn new(g: &Global) -> anyhow::Result<Self> {
+        if let Some(n) = g.threads {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n as usize)
+                .build_global()
+                .context("starting the thread pool")?;
+        }
+        Ok(Self {
+            seed: g.seed,
+            output: g.output.clone(),
+            json: g.json,
+            quiet: g.quiet,
+            budget: g.max_memory.map(MemoryBudget::new).unwrap_or_default(),
+            threads: rayon::current_num_threads(),
+        })
+    }
+
+    /// Prints an informational line on stderr unless `--quiet` or `--json`.
+    pub fn note(&self, msg: impl AsRef<str>) {
+        if !self.quiet && !self.json {
+            eprintln!("{}", msg.as_ref());
+        }
+    }
+}

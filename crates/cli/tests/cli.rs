@@ -1,0 +1,236 @@
+//! End-to-end tests of the `asperity` binary: exit codes, messages, outputs.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn asperity(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run asperity")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A failure: exit code 2, one `error:` line with the cause, never a panic.
+fn assert_clean_failure(o: &Output, needle: &str) {
+    let e = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {e}");
+    assert!(!e.contains("panicked"), "panic: {e}");
+    assert!(e.contains(needle), "expected {needle:?} in: {e}");
+}
+
+#[test]
+fn help_and_version() {
+    let d = tempfile::tempdir().unwrap();
+    let o = asperity(&["--help"], d.path());
+    assert!(o.status.success());
+    let text = String::from_utf8_lossy(&o.stdout);
+    for cmd in [
+        "demo",
+        "convert",
+        "info",
+        "formats",
+        "--seed",
+        "--threads",
+        "--json",
+        "--max-memory",
+    ] {
+        assert!(text.contains(cmd), "help lists {cmd}");
+    }
+    assert!(asperity(&["--version"], d.path()).status.success());
+}
+
+#[test]
+fn bad_arguments_are_clear_errors() {
+    let d = tempfile::tempdir().unwrap();
+    assert_clean_failure(
+        &asperity(&["formats", "--frobnicate"], d.path()),
+        "unexpected argument '--frobnicate'",
+    );
+    assert_clean_failure(
+        &asperity(&["--seed", "abc", "formats"], d.path()),
+        "invalid value 'abc'",
+    );
+    assert_clean_failure(
+        &asperity(&["--threads", "0", "formats"], d.path()),
+        "invalid value '0'",
+    );
+    assert_clean_failure(
+        &asperity(&["--max-memory", "lots", "formats"], d.path()),
+        "not a size",
+    );
+    assert_clean_failure(
+        &asperity(&["convert", "missing.ply", "out.obj"], d.path()),
+        "error: cannot read missing.ply",
+    );
+    assert_clean_failure(&asperity(&["convert", "a.ply"], d.path()), "no output file");
+}
+
+#[test]
+fn malformed_inputs_through_the_cli() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(d.path().join("t.ply"), b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n").unwrap();
+    assert_clean_failure(
+        &asperity(&["convert", "t.ply", "t.obj"], d.path()),
+        "truncated",
+    );
+    assert!(!d.path().join("t.obj").exists());
+    std::fs::write(d.path().join("n.csv"), b"1,2\nnan,4\n").unwrap();
+    assert_clean_failure(
+        &asperity(&["convert", "n.csv", "n.npy"], d.path()),
+        "height 2 is not finite",
+    );
+    std::fs::write(
+        d.path().join("b.obj"),
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 5\n",
+    )
+    .unwrap();
+    assert_clean_failure(&asperity(&["info", "b.obj"], d.path()), "out of bounds");
+    std::fs::write(d.path().join("e.ply"), b"").unwrap();
+    assert_clean_failure(&asperity(&["info", "e.ply"], d.path()), "magic");
+}
+
+#[test]
+fn convert_height_fields_and_meshes() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(
+        d.path().join("h.csv"),
+        b"# dx=0.5 dy=0.5\n0,1,2\n3,4,5\n6,7,8.25\n",
+    )
+    .unwrap();
+    for (a, b) in [("h.csv", "h.gsf"), ("h.gsf", "h.npy"), ("h.npy", "h2.csv")] {
+        let o = asperity(&["convert", a, b], d.path());
+        assert!(o.status.success(), "{a} → {b}: {}", stderr(&o));
+    }
+    let back = std::fs::read_to_string(d.path().join("h2.csv")).unwrap();
+    assert!(back.lines().nth(3) == Some("6,7,8.25"), "{back}");
+    // Height field → mesh formats, then mesh → mesh.
+    let o = asperity(
+        &["convert", "h.csv", "h.ply", "--diagonal", "alternating"],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = asperity(&["--json", "info", "h.ply"], d.path());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("info --json is JSON");
+    assert_eq!(v["measurements"]["triangles"], 8);
+    assert_eq!(v["measurements"]["euler_characteristic"], 1);
+    let o = asperity(&["--json", "convert", "h.ply", "-o", "h.stl"], d.path());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("convert --json is JSON");
+    assert_eq!(v["outputs"][0]["bytes"], 84 + 50 * 8);
+    assert!(
+        v["warnings"][0]
+            .as_str()
+            .unwrap()
+            .contains("scalar 'height'"),
+        "{v}"
+    );
+    // A point set cannot become a height field without a method.
+    let o = asperity(&["convert", "h.csv", "p.xyz"], d.path());
+    assert!(o.status.success());
+    assert_clean_failure(
+        &asperity(&["convert", "p.xyz", "p.gsf"], d.path()),
+        "cannot hold a point set",
+    );
+}
+
+#[test]
+fn memory_limit_refuses_with_the_estimate() {
+    let d = tempfile::tempdir().unwrap();
+    let o = asperity(
+        &["--max-memory", "32K", "demo", "--quick", "--out", "g"],
+        d.path(),
+    );
+    assert_clean_failure(&o, "a 65×65 grid would need about 33.01 KiB");
+    let o = asperity(
+        &["--max-memory", "16K", "demo", "--quick", "--out", "g"],
+        d.path(),
+    );
+    assert_clean_failure(
+        &o,
+        "but the memory limit is 16.00 KiB (raise it with --max-memory)",
+    );
+    std::fs::write(d.path().join("big.xyz"), "1 2 3\n".repeat(1000)).unwrap();
+    assert_clean_failure(
+        &asperity(&["--max-memory", "1K", "info", "big.xyz"], d.path()),
+        "reading big.xyz would need",
+    );
+}
+
+#[test]
+fn demo_is_byte_identical_across_thread_counts() {
+    let d = tempfile::tempdir().unwrap();
+    for (threads, out) in [("1", "g1"), ("2", "g2")] {
+        let o = asperity(
+            &[
+                "--threads",
+                threads,
+                "--seed",
+                "11",
+                "demo",
+                "--quick",
+                "--out",
+                out,
+            ],
+            d.path(),
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let g1 = d.path().join("g1");
+    let mut names: Vec<_> = std::fs::read_dir(&g1)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert!(names.iter().any(|n| n == "index.html"));
+    assert!(names.len() >= 15, "{names:?}");
+    for n in &names {
+        if n == "report.json" {
+            continue; // holds timings and the thread count
+        }
+        let a = std::fs::read(g1.join(n)).unwrap();
+        let b = std::fs::read(d.path().join("g2").join(n)).unwrap();
+        assert!(a == b, "{n:?} differs between 1 and 2 threads");
+    }
+    // A different seed gives a different surface.
+    let o = asperity(
+        &["--seed", "12", "demo", "--quick", "--out", "g3"],
+        d.path(),
+    );
+    assert!(o.status.success());
+    assert_ne!(
+        std::fs::read(g1.join("sample_height.npy")).unwrap(),
+        std::fs::read(d.path().join("g3/sample_height.npy")).unwrap()
+    );
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(g1.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["seed"], 11);
+    assert_eq!(report["threads"], 1);
+}
+
+#[test]
+fn formats_lists_everything() {
+    let d = tempfile::tempdir().unwrap();
+    let o = asperity(&["formats", "--json"], d.path());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let exts: Vec<&str> = v
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|f| {
+            f["extensions"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|e| e.as_str().unwrap())
+        })
+        .collect();
+    for e in [
+        "ply", "obj", "stl", "glb", "xyz", "npy", "png", "exr", "gsf", "csv",
+    ] {
+        assert!(exts.contains(&e), "{e}");
+    }
+}
