@@ -135,7 +135,7 @@ pub struct ConvertArgs {
     /// Diagonal for height field → mesh.
     #[arg(long, value_enum, default_value_t = DiagonalArg::Forward)]
     pub diagonal: DiagonalArg,
-    /// Set the height-field spacing (dx[,dy]) before writing.
+    /// Set the height-field spacing before writing: DX, or DX,DY.
     #[arg(long, value_name = "DX[,DY]", value_delimiter = ',', num_args = 1..=2)]
     pub spacing: Option<Vec<f64>>,
 }

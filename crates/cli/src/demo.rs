@@ -9,13 +9,13 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use anyhow::Context as _;
+use asperity_core::fourier_surface::{FourierParams, fourier_surface};
 use asperity_core::{Diagonal, HeightField, Progress, RgbaImage, TriMesh};
 use asperity_io::{Surface, WriteOptions};
 
 use crate::cli::{Context, DemoArgs};
 use crate::progress::Bar;
 use crate::report::Report;
-use crate::synth::{FourierParams, fourier_surface};
 
 /// What a section function gets.
 pub struct Env<'a> {

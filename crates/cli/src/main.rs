@@ -9,7 +9,6 @@ mod convert;
 mod demo;
 mod progress;
 mod report;
-mod synth;
 
 use std::process::ExitCode;
 

@@ -14,6 +14,7 @@
 //! | [`memory`] | [`MemoryBudget`]: estimate-then-refuse for large allocations | every grid allocation |
 //! | [`progress`] | [`Progress`]: progress reporting without a UI dependency | long-running methods |
 //! | [`error`] | [`CoreError`]: typed errors with numbers in their messages | everything |
+//! | [`fourier_surface`] | Reference self-affine surface with a known spectrum | demo, analysis tests, benchmarks |
 //!
 //! # Global conventions
 //! - **Axes**: right-handed, **z up**. Height fields store z over the (x, y) plane.
@@ -34,6 +35,7 @@
 
 pub mod aabb;
 pub mod error;
+pub mod fourier_surface;
 pub mod grid2;
 pub mod grid3;
 pub mod image;

@@ -6,7 +6,7 @@
 //! place for named scalars: they are dropped (the CLI warns).
 //!
 //! Read: all objects and groups merged into one mesh, polygons kept for
-//! [`read_poly`] or fan-triangulated for [`read_mesh`]; corners with different
+//! [`crate::read_poly_mesh`] or fan-triangulated for [`crate::read_mesh`]; corners with different
 //! `v/vt/vn` combinations become separate vertices (tobj's `single_index`).
 //!
 //! **Vertex order:** tobj numbers vertices in order of first use by a face and

@@ -16,7 +16,7 @@
 //!
 //! Faces are `element face` with `property list uchar uint vertex_indices`
 //! (`vertex_index` is also read). Polygons with more than three corners are kept
-//! by [`read_poly`] and fan-triangulated by [`read_mesh`]. A file without faces
+//! by [`crate::read_poly_mesh`] and fan-triangulated by [`crate::read_mesh`]. A file without faces
 //! is a point set.
 
 use std::io::Write;
