@@ -6,7 +6,9 @@ use asperity_io::{FORMATS, Format, NpyDtype, PlyEncoding, Surface, WriteOptions}
 use serde_json::json;
 
 use crate::cli::{Context, ConvertArgs, DiagonalArg, InfoArgs, Kind};
+use crate::progress::Bar;
 use crate::report::Report;
+use asperity_core::Progress;
 
 /// Rough peak memory of reading a file, as a multiple of its size: text formats
 /// shrink when parsed, STL's welded f32 corners grow about threefold into f64
@@ -63,7 +65,10 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
         .context("no output file: give OUT or -o PATH")?;
     let out_format = Format::from_path(&out)?;
     let mut report = Report::new("convert", ctx);
+    let bar = Bar::new(ctx.quiet || ctx.json);
+    bar.start(2, "converting");
     let mut s = load(ctx, &a.input)?;
+    bar.advance(1);
     let diag = diagonal(a.diagonal);
     if let Some(k) = a.as_kind {
         s = to_kind(s, k, diag)?;
@@ -113,6 +118,7 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
             .unwrap_or_default(),
     };
     asperity_io::write(&out, &s, &opts)?;
+    bar.finish();
     report.output(&out);
     report.measure("input", a.input.display().to_string());
     report.measure("kind", s.kind());

@@ -15,7 +15,8 @@
 //! # Algorithm
 //! Separable evaluation: with S_n(x) = Σ_m A e^{i(q_m x + φ_mn)}, each height is
 //! z(x, y) = Re Σ_n e^{i q_n y} S_n(x), so the cost is O(N·M² + N²·M) for an
-//! N×N grid and M modes per axis instead of O(N²·M²). Sequential, so the output
+//! N×N grid and M modes per axis instead of O(N²·M²); every phase factor is an
+//! entry of one table of N-th roots of unity. Sequential, so the output
 //! is the same bytes on any machine with IEEE-754 arithmetic and any thread count.
 
 use rand::Rng;
@@ -94,34 +95,36 @@ pub fn fourier_surface(
             coeff[j as usize * width + (i + m) as usize] = (amp * phase.cos(), amp * phase.sin());
         }
     }
+    // e^{2πi·k/n} for k = 0..n: every phase factor below is an exact table entry,
+    // since e^{i q_m x} = e^{2πi·(m·x mod n)/n} on the grid.
+    let roots: Vec<(f64, f64)> = (0..n)
+        .map(|k| {
+            let (sn, cs) = (tau * k as f64 / n as f64).sin_cos();
+            (cs, sn)
+        })
+        .collect();
+    let root = |k: i64| roots[k.rem_euclid(n as i64) as usize];
     // S_n(x) for every column x: complex row sums over m.
     let rows = m as usize + 1;
     let mut s = vec![(0.0f64, 0.0f64); rows * n];
-    for x in 0..n {
-        let theta = tau * x as f64 / n as f64;
+    for x in 0..n as i64 {
         for (jn, row) in coeff.chunks_exact(width).enumerate() {
             let (mut re, mut im) = (0.0, 0.0);
             for (k, &(cr, ci)) in row.iter().enumerate() {
-                let (sn, cs) = ((k as i64 - m) as f64 * theta).sin_cos();
+                let (cs, sn) = root((k as i64 - m) * x);
                 re += cr * cs - ci * sn;
                 im += cr * sn + ci * cs;
             }
-            s[jn * n + x] = (re, im);
+            s[jn * n + x as usize] = (re, im);
         }
     }
     for y in 0..n {
-        let theta = tau * y as f64 / n as f64;
-        let e: Vec<(f64, f64)> = (0..rows)
-            .map(|j| {
-                let (sn, cs) = (j as f64 * theta).sin_cos();
-                (cs, sn)
-            })
-            .collect();
         for x in 0..n {
             let z: f64 = (0..rows)
                 .map(|j| {
+                    let (cs, sn) = root((j * y) as i64);
                     let (sr, si) = s[j * n + x];
-                    e[j].0 * sr - e[j].1 * si
+                    cs * sr - sn * si
                 })
                 .sum();
             *h.get_mut(x, y) = z;

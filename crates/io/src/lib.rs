@@ -34,7 +34,7 @@ pub mod text;
 
 use std::path::Path;
 
-use asperity_core::{Diagonal, HeightField, PointSet, PolyMesh, RgbaImage, TriMesh};
+use asperity_core::{CoreError, Diagonal, HeightField, PointSet, PolyMesh, RgbaImage, TriMesh};
 
 pub use atomic::write_atomic;
 pub use error::IoError;
@@ -445,9 +445,16 @@ pub fn read_points(path: &Path) -> Result<PointSet, IoError> {
 /// written as OBJ also gets `NAME.mtl` and `NAME_texture.png` beside it.
 ///
 /// # Errors
-/// [`IoError`]; [`IoError::WrongKind`] for formats that hold no meshes.
+/// [`IoError`]; [`IoError::WrongKind`] for formats that hold no meshes;
+/// [`IoError::Invalid`] for a mesh without triangles (glTF cannot even express one).
 pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<(), IoError> {
     let f = Format::from_path(path)?;
+    if mesh.n_faces() == 0 {
+        return Err(IoError::Invalid {
+            path: path.to_path_buf(),
+            source: CoreError::Empty("the mesh (no triangles)"),
+        });
+    }
     let os = |source| IoError::Os {
         path: path.to_path_buf(),
         source,
@@ -500,9 +507,15 @@ fn write_obj_sidecars(path: &Path, tex: &RgbaImage) -> Result<String, IoError> {
 /// Writes a point set (`.ply`, `.xyz`, `.npy`).
 ///
 /// # Errors
-/// [`IoError`]; [`IoError::Invalid`] for non-finite coordinates.
+/// [`IoError`]; [`IoError::Invalid`] for an empty set or non-finite coordinates.
 pub fn write_points(path: &Path, points: &PointSet, opts: &WriteOptions) -> Result<(), IoError> {
     let f = Format::from_path(path)?;
+    if points.is_empty() {
+        return Err(IoError::Invalid {
+            path: path.to_path_buf(),
+            source: CoreError::Empty("the point set"),
+        });
+    }
     points.validate().map_err(|source| IoError::Invalid {
         path: path.to_path_buf(),
         source,

@@ -144,3 +144,30 @@ fn failed_write_keeps_existing_file() {
     ));
     assert!(m.contains("h.npy"), "{m}");
 }
+
+#[test]
+fn empty_meshes_and_point_sets() {
+    let dir = tempfile::tempdir().unwrap();
+    let empty = asperity_core::TriMesh::new(vec![[0.0; 3]], vec![]).unwrap();
+    for ext in ["ply", "obj", "stl", "glb"] {
+        let target = dir.path().join(format!("e.{ext}"));
+        let m = message(asperity_io::write_mesh(
+            &target,
+            &empty,
+            &WriteOptions::default(),
+        ));
+        assert!(m.contains("the mesh (no triangles) is empty"), "{ext}: {m}");
+        assert!(!target.exists());
+    }
+    let m = message(asperity_io::write_points(
+        &dir.path().join("e.xyz"),
+        &asperity_core::PointSet::new(vec![]),
+        &WriteOptions::default(),
+    ));
+    assert!(m.contains("the point set is empty"), "{m}");
+    // A PLY with a face element but no faces, and an OBJ with no faces, are not meshes.
+    let p = write(dir.path(), "nofaces.ply", b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n");
+    assert!(message(asperity_io::read_mesh(&p)).contains("has no faces"));
+    let p = write(dir.path(), "nofaces.obj", b"v 0 0 0\n");
+    assert!(message(asperity_io::read_mesh(&p)).contains("has no faces"));
+}
