@@ -9,7 +9,7 @@
 //! z(x, y) = Σ_(m,n) A(q) cos(q_m x + q_n y + φ_mn),  A(q) = |q|^(−(1+H)),
 //! q = 2π(m, n)/L over the half-plane of modes n > 0, or n = 0 and m > 0, with
 //! |m|, |n| ≤ `modes`; phases φ are uniform, drawn in that mode order from
-//! [`seeded`](crate::seeded)`(seed)`; finally the mean is removed and the
+//! [`seeded`]`(seed)`; finally the mean is removed and the
 //! surface scaled to the requested rms height.
 //!
 //! # Algorithm
