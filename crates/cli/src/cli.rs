@@ -78,6 +78,8 @@ pub enum Command {
     Convert(ConvertArgs),
     /// Describe a file: kind, sizes, bounds, topology, height range.
     Info(InfoArgs),
+    /// Render a mesh, point set or height field to PNG (headless, CPU).
+    Render(RenderArgs),
     /// List the file formats asperity reads and writes.
     Formats,
 }
@@ -138,6 +140,128 @@ pub struct ConvertArgs {
     /// Set the height-field spacing before writing: DX, or DX,DY.
     #[arg(long, value_name = "DX[,DY]", value_delimiter = ',', num_args = 1..=2)]
     pub spacing: Option<Vec<f64>>,
+}
+
+/// Camera placement for `render`.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ViewArg {
+    /// From the (+1, −1, +1) diagonal.
+    Iso,
+    /// Straight down.
+    Top,
+    /// From −y.
+    Front,
+    /// From +x.
+    Side,
+    /// Height fields only: a 2-D map (colour + relief) with a legend.
+    Map,
+    /// Height fields only: grayscale shaded relief (hillshade).
+    Hillshade,
+}
+
+/// Shader for `render`.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShaderArg {
+    /// Smooth normals, material colour, the gobron-chiba light model.
+    Phong,
+    /// Per-facet normals.
+    Flat,
+    /// World normals as RGB.
+    Normals,
+    /// Height through the colour map (default for height fields).
+    Height,
+    /// Mean curvature (or --scalar) through a diverging map.
+    Curvature,
+    /// The mesh's vertex colours.
+    VertexColor,
+    /// The mesh's texture.
+    Texture,
+}
+
+/// `asperity render`
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Mesh, point-set or height-field file.
+    pub input: PathBuf,
+    /// Image size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "1024x768", value_parser = parse_size_wh)]
+    pub size: (u32, u32),
+    /// Camera placement.
+    #[arg(long, value_enum, default_value_t = ViewArg::Iso)]
+    pub view: ViewArg,
+    /// Explicit camera position x,y,z (overrides --view).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        num_args = 3,
+        value_name = "X,Y,Z",
+        allow_negative_numbers = true
+    )]
+    pub eye: Option<Vec<f64>>,
+    /// Point looked at with --eye (default: the centre).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        num_args = 3,
+        value_name = "X,Y,Z",
+        allow_negative_numbers = true
+    )]
+    pub target: Option<Vec<f64>>,
+    /// Vertical field of view in degrees.
+    #[arg(long, default_value_t = 30.0)]
+    pub fov: f64,
+    /// Orthographic instead of perspective projection.
+    #[arg(long)]
+    pub ortho: bool,
+    /// Colouring (default: phong; height for height fields; vertex-color for coloured points).
+    #[arg(long, value_enum)]
+    pub shader: Option<ShaderArg>,
+    /// Key light as AZIMUTH,ALTITUDE in degrees, azimuth clockwise from +y (default:
+    /// over the viewer's left shoulder; 315,45 for hillshade).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        num_args = 2,
+        value_name = "AZ,ALT",
+        allow_negative_numbers = true
+    )]
+    pub light: Option<Vec<f64>>,
+    /// Render N frames around the object (FILE_000.png …).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=3600))]
+    pub turntable: Option<u32>,
+    /// Draw triangle edges.
+    #[arg(long)]
+    pub wireframe: bool,
+    /// No shadows from the key light.
+    #[arg(long)]
+    pub no_shadows: bool,
+    /// Ambient-occlusion strength, 0 (off) to 1.
+    #[arg(long, default_value_t = 0.6)]
+    pub ao: f32,
+    /// Supersampling per axis (2 = 4 samples per pixel).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub supersample: u32,
+    /// Colour map: viridis, magma, coolwarm, gray, labels.
+    #[arg(long, default_value = "viridis")]
+    pub colormap: String,
+    /// Scalar attribute for the height/curvature shaders.
+    #[arg(long)]
+    pub scalar: Option<String>,
+    /// Vertical exaggeration for height fields.
+    #[arg(long, default_value_t = 1.0)]
+    pub z_scale: f64,
+}
+
+fn parse_size_wh(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT, e.g. 1024x768"))?;
+    let p = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("{s:?} is not WIDTHxHEIGHT, e.g. 1024x768"))
+    };
+    Ok((p(w)?, p(h)?))
 }
 
 /// `asperity info`

@@ -23,7 +23,7 @@ pub fn diagonal(d: DiagonalArg) -> Diagonal {
     }
 }
 
-fn load(ctx: &Context, path: &std::path::Path) -> anyhow::Result<Surface> {
+pub fn load(ctx: &Context, path: &std::path::Path) -> anyhow::Result<Surface> {
     let size = std::fs::metadata(path)
         .with_context(|| format!("cannot read {}", path.display()))?
         .len();

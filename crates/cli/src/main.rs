@@ -8,6 +8,7 @@ mod cli;
 mod convert;
 mod demo;
 mod progress;
+mod render_cmd;
 mod report;
 
 use std::process::ExitCode;
@@ -38,6 +39,7 @@ fn run(args: cli::Cli) -> anyhow::Result<()> {
         cli::Command::Demo(a) => demo::run(&ctx, &a),
         cli::Command::Convert(a) => convert::run(&ctx, &a),
         cli::Command::Info(a) => convert::info(&ctx, &a),
+        cli::Command::Render(a) => render_cmd::run(&ctx, &a),
         cli::Command::Formats => convert::formats(&ctx),
     }
 }
