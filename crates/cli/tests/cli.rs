@@ -234,3 +234,128 @@ fn formats_lists_everything() {
         assert!(exts.contains(&e), "{e}");
     }
 }
+
+#[test]
+fn demo_images_are_non_empty_and_non_uniform() {
+    let d = tempfile::tempdir().unwrap();
+    let o = asperity(&["demo", "--quick", "--out", "g"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let g = d.path().join("g");
+    let html = std::fs::read_to_string(g.join("index.html")).unwrap();
+    let mut pngs = 0;
+    for e in std::fs::read_dir(&g).unwrap() {
+        let p = e.unwrap().path();
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        if p.extension().is_some_and(|x| x == "png")
+            && !name.ends_with("_texture.png")
+            && name != "sample_height.png"
+        {
+            // Every picture is shown on the page…
+            assert!(
+                html.contains(&format!("src=\"{name}\"")),
+                "{name} is not on the page"
+            );
+            // …and is a real picture: PNGs read as heights are luminance in [0, 1].
+            let h = asperity_io::read_height(&p).unwrap();
+            let (lo, hi) = h.min_max();
+            assert!(
+                h.nx() >= 64 && h.ny() >= 64,
+                "{name}: {}×{}",
+                h.nx(),
+                h.ny()
+            );
+            assert!(hi - lo > 0.2, "{name} is nearly uniform ({lo}..{hi})");
+            let mean = h.mean();
+            let sd =
+                (h.data().iter().map(|v| (v - mean).powi(2)).sum::<f64>() / h.len() as f64).sqrt();
+            assert!(sd > 0.02, "{name}: contrast {sd}");
+            pngs += 1;
+        }
+    }
+    assert!(pngs >= 10, "{pngs} pictures");
+    for section in ["Foundation", "Renderer"] {
+        assert!(html.contains(section), "section {section}");
+    }
+    let svg = std::fs::read_to_string(g.join("plot_rock_curvature.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("<path") || svg.contains("<polyline"));
+}
+
+#[test]
+fn render_command() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(
+        d.path().join("h.csv"),
+        "0,1,2,3\n1,2,3,4\n2,3,4,5.5\n3,4,5,6\n",
+    )
+    .unwrap();
+    let o = asperity(
+        &[
+            "render", "h.csv", "-o", "v.png", "--size", "160x120", "--view", "top", "--shader",
+            "height",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let img = asperity_io::read_height(&d.path().join("v.png")).unwrap();
+    assert_eq!(img.dims(), [160, 120]);
+    let o = asperity(
+        &["render", "h.csv", "-o", "m.png", "--view", "map"],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = asperity(
+        &[
+            "render",
+            "h.csv",
+            "-o",
+            "t.png",
+            "--size",
+            "64x48",
+            "--turntable",
+            "3",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    for k in 0..3 {
+        assert!(d.path().join(format!("t_{k:03}.png")).exists());
+    }
+    assert_clean_failure(
+        &asperity(
+            &["render", "h.csv", "-o", "v.png", "--size", "0x10"],
+            d.path(),
+        ),
+        "invalid",
+    );
+    assert_clean_failure(
+        &asperity(
+            &["render", "h.csv", "-o", "v.png", "--size", "big"],
+            d.path(),
+        ),
+        "WIDTHxHEIGHT",
+    );
+    assert_clean_failure(
+        &asperity(&["render", "h.csv", "-o", "v.jpg"], d.path()),
+        "PNG",
+    );
+    assert_clean_failure(
+        &asperity(
+            &["render", "h.csv", "-o", "v.png", "--shader", "texture"],
+            d.path(),
+        ),
+        "UVs and a texture",
+    );
+    std::fs::write(d.path().join("p.xyz"), "0 0 0\n1 0 0\n0 1 1\n").unwrap();
+    assert_clean_failure(
+        &asperity(
+            &["render", "p.xyz", "-o", "v.png", "--view", "map"],
+            d.path(),
+        ),
+        "need a height field",
+    );
+    let o = asperity(
+        &["render", "p.xyz", "-o", "p.png", "--size", "100x80"],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+}

@@ -64,6 +64,19 @@ impl Camera {
 
     /// A camera that frames `bounds` from `view` for an image of `aspect` = width/height.
     pub fn frame(bounds: &Aabb, view: View, projection: Projection, aspect: f64) -> Camera {
+        Self::frame_points(bounds, None, view, projection, aspect)
+    }
+
+    /// Like [`Camera::frame`], but fits the silhouette of `points` (world
+    /// positions inside `bounds`) instead of the box's corners, so round objects
+    /// fill the frame as well as boxy ones.
+    pub fn frame_points(
+        bounds: &Aabb,
+        points: Option<&[Vec3]>,
+        view: View,
+        projection: Projection,
+        aspect: f64,
+    ) -> Camera {
         let c = bounds.center();
         let center = Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
         let radius = (0.5 * bounds.diagonal()).max(1e-9) as f32;
@@ -97,12 +110,19 @@ impl Camera {
         let back = dir;
         let right = up.cross(back).normalize();
         let cam_up = back.cross(right);
-        let corners: Vec<Vec3> = (0..8)
+        let box_corners: Vec<Vec3>;
+        let corners: &[Vec3] = match points {
+            Some(p) if !p.is_empty() => p,
+            _ => {
+                box_corners = (0..8)
             .map(|k| {
                 let pick = |bit: usize, a: usize| if k >> bit & 1 == 1 { bounds.max[a] } else { bounds.min[a] } as f32;
-                Vec3::new(pick(0, 0), pick(1, 1), pick(2, 2)) - center
-            })
-            .collect();
+                        Vec3::new(pick(0, 0), pick(1, 1), pick(2, 2))
+                    })
+                    .collect();
+                &box_corners
+            }
+        };
         let margin = 1.06;
         match projection {
             Projection::Perspective { fov_deg } => {
@@ -127,7 +147,10 @@ impl Camera {
             Projection::Orthographic => {
                 let half = corners
                     .iter()
-                    .map(|c| (c.dot(right).abs() / aspect32).max(c.dot(cam_up).abs()))
+                    .map(|&p| {
+                        let c = p - center;
+                        (c.dot(right).abs() / aspect32).max(c.dot(cam_up).abs())
+                    })
                     .fold(radius * 1e-3, f32::max)
                     * margin;
                 let dist = 3.0 * radius;

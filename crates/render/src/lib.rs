@@ -9,6 +9,7 @@
 //! | [`ao`] | screen-space ambient obscurance | — |
 //! | [`render`] | the 3-D pipeline: [`render_mesh`], [`render_points`], [`render_height`] | — |
 //! | [`hillshade`] | shaded relief and colour-mapped height with legend | GDAL `hillshade` formula |
+//! | [`plot`] | SVG plots (scaling curves with fits, histograms) through plotters | — |
 //! | [`colormap`] | viridis, magma, coolwarm, gray, labels | matplotlib |
 //! | [`font`] | a 5×7 bitmap font for legend numbers | — |
 //!
@@ -23,6 +24,7 @@ pub mod colormap;
 pub mod font;
 pub mod hillshade;
 pub mod light;
+pub mod plot;
 pub mod raster;
 pub mod render;
 

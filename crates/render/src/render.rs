@@ -179,8 +179,10 @@ fn check_size(o: &RenderOptions) -> Result<(), RenderError> {
 }
 
 /// Discrete mean curvature per vertex: half the norm of the cotangent Laplacian
-/// of the positions divided by the mixed area, signed by the vertex normal
-/// (Meyer et al. 2003). A placeholder for the analysis crate's curvature.
+/// of the positions over the barycentric vertex area, positive where the
+/// surface is convex toward its normal (Meyer et al. 2003, with barycentric
+/// instead of mixed areas). The analysis crate will own curvature; the renderer
+/// needs one for its curvature shader now.
 pub fn mean_curvature(m: &TriMesh) -> Vec<f64> {
     let p = m.positions();
     let n = p.len();
@@ -223,7 +225,9 @@ pub fn mean_curvature(m: &TriMesh) -> Vec<f64> {
             }
             let hn = lap[v].map(|c| c / area[v]);
             let h = 0.5 * dot(hn, hn).sqrt();
-            if dot(hn, normals[v]) < 0.0 { -h } else { h }
+            // Δx = −2H·n: positive H where the surface bends away from its normal
+            // (a sphere with outward normals has H = 1/r).
+            if dot(hn, normals[v]) > 0.0 { -h } else { h }
         })
         .collect()
 }
@@ -340,8 +344,8 @@ pub fn render_mesh(m: &TriMesh, o: &RenderOptions) -> Result<RgbaImage, RenderEr
         return Err(RenderError::Empty("mesh (no triangles)"));
     }
     let bounds = m.bounds().ok_or(RenderError::Empty("mesh"))?;
-    let cam = frame(&bounds, o);
     let prep = prepare(m, o, bounds.center())?;
+    let cam = frame(&bounds, Some(&prep.positions), o);
     Ok(render_prepared(&prep, &bounds, &cam, o))
 }
 
@@ -376,13 +380,20 @@ pub fn render_points(p: &PointSet, o: &RenderOptions) -> Result<RgbaImage, Rende
     check_size(o)?;
     p.validate()?;
     let bounds = p.bounds().ok_or(RenderError::Empty("point set"))?;
-    let cam = frame(&bounds, o);
+    let c = bounds.center();
+    let centred: Vec<Vec3> = p
+        .positions()
+        .iter()
+        .map(|q| v3([q[0] - c[0], q[1] - c[1], q[2] - c[2]]))
+        .collect();
+    let cam = frame(&bounds, Some(&centred), o);
     let radius = o.point_radius.unwrap_or_else(|| {
-        // Half the spacing of the points if they filled the box's largest face.
+        // Three quarters of the spacing the points would have on the box's largest
+        // face, so neighbouring splats overlap a little.
         let e = bounds.extent();
         let mut s = [e[0], e[1], e[2]];
         s.sort_by(|a, b| b.total_cmp(a));
-        0.5 * (s[0] * s[1].max(s[0] * 1e-3) / p.len() as f64).sqrt()
+        0.75 * (s[0] * s[1].max(s[0] * 1e-3) / p.len() as f64).sqrt()
     }) as f32;
     let (right, up) = {
         let inv = cam.view.inverse();
@@ -392,7 +403,6 @@ pub fn render_points(p: &PointSet, o: &RenderOptions) -> Result<RgbaImage, Rende
         )
     };
     let toward_eye = -cam.forward;
-    let c = bounds.center();
     let mut positions = Vec::with_capacity(4 * p.len());
     let mut normals = Vec::with_capacity(4 * p.len());
     let mut triangles = Vec::with_capacity(2 * p.len());
@@ -438,7 +448,8 @@ pub fn render_points(p: &PointSet, o: &RenderOptions) -> Result<RgbaImage, Rende
     Ok(render_prepared(&prep, &bounds, &cam, &opts))
 }
 
-fn frame(bounds: &Aabb, o: &RenderOptions) -> Camera {
+/// Frames the centred `points` (or the centred box) as `o` asks.
+fn frame(bounds: &Aabb, points: Option<&[Vec3]>, o: &RenderOptions) -> Camera {
     // Frame around the centred box: positions are shifted by the centre first.
     let c = bounds.center();
     let centred = Aabb {
@@ -452,8 +463,9 @@ fn frame(bounds: &Aabb, o: &RenderOptions) -> Camera {
         },
         v => v,
     };
-    Camera::frame(
+    Camera::frame_points(
         &centred,
+        points,
         view,
         o.projection,
         o.width as f64 / o.height as f64,

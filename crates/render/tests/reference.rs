@@ -316,3 +316,32 @@ fn points_and_wireframe_draw_something() {
         .count();
     assert!(reddened > 100, "{reddened}");
 }
+
+#[test]
+fn mean_curvature_of_a_sphere_is_one_over_r() {
+    let r = 2.5;
+    let s = sphere(160, 80);
+    let scaled = TriMesh::new(
+        s.positions().iter().map(|p| p.map(|c| c * r)).collect(),
+        s.triangles().to_vec(),
+    )
+    .unwrap();
+    let mut h = asperity_render::render::mean_curvature(&scaled);
+    h.sort_by(f64::total_cmp);
+    let median = h[h.len() / 2];
+    assert!(
+        (median - 1.0 / r).abs() < 0.01 / r,
+        "median H = {median}, expected {}",
+        1.0 / r
+    );
+    // Away from the poles' fans every vertex is within 3 %.
+    let within = h
+        .iter()
+        .filter(|&&v| (v - 1.0 / r).abs() < 0.03 / r)
+        .count();
+    assert!(
+        within as f64 > 0.9 * h.len() as f64,
+        "{within} of {}",
+        h.len()
+    );
+}
