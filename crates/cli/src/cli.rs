@@ -80,6 +80,8 @@ pub enum Command {
     Info(InfoArgs),
     /// Render a mesh, point set or height field to PNG (headless, CPU).
     Render(RenderArgs),
+    /// Time the workloads named in the issues and print throughput.
+    Bench(BenchArgs),
     /// List the file formats asperity reads and writes.
     Formats,
 }
@@ -250,6 +252,25 @@ pub struct RenderArgs {
     /// Vertical exaggeration for height fields.
     #[arg(long, default_value_t = 1.0)]
     pub z_scale: f64,
+    /// Background: gradient (default), white, black, or a colour #RRGGBB.
+    #[arg(long, default_value = "gradient", value_parser = parse_background)]
+    pub background: [[u8; 3]; 2],
+}
+
+fn parse_background(s: &str) -> Result<[[u8; 3]; 2], String> {
+    match s {
+        "gradient" => Ok([[250, 250, 252], [205, 210, 222]]),
+        "white" => Ok([[255; 3]; 2]),
+        "black" => Ok([[0; 3]; 2]),
+        hex if hex.len() == 7 && hex.starts_with('#') => {
+            let c = |k: usize| {
+                u8::from_str_radix(&hex[k..k + 2], 16).map_err(|_| format!("{s:?} is not #RRGGBB"))
+            };
+            let rgb = [c(1)?, c(3)?, c(5)?];
+            Ok([rgb, rgb])
+        }
+        _ => Err(format!("{s:?}: use gradient, white, black or #RRGGBB")),
+    }
 }
 
 fn parse_size_wh(s: &str) -> Result<(u32, u32), String> {
@@ -262,6 +283,19 @@ fn parse_size_wh(s: &str) -> Result<(u32, u32), String> {
             .map_err(|_| format!("{s:?} is not WIDTHxHEIGHT, e.g. 1024x768"))
     };
     Ok((p(w)?, p(h)?))
+}
+
+/// `asperity bench`
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Run only workloads whose name contains this text.
+    pub filter: Option<String>,
+    /// Small inputs (checks that the workloads run; not for figures).
+    #[arg(long)]
+    pub quick: bool,
+    /// Timed repetitions per workload (the minimum and median are reported).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub repeat: u32,
 }
 
 /// `asperity info`

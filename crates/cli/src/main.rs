@@ -4,6 +4,7 @@
 //! sets up threads, memory limits and progress bars, composes pipelines, and
 //! reports. Errors print as one `error:` line with their causes and exit code 2.
 
+mod bench_cmd;
 mod cli;
 mod convert;
 mod demo;
@@ -41,5 +42,6 @@ fn run(args: cli::Cli) -> anyhow::Result<()> {
         cli::Command::Info(a) => convert::info(&ctx, &a),
         cli::Command::Render(a) => render_cmd::run(&ctx, &a),
         cli::Command::Formats => convert::formats(&ctx),
+        cli::Command::Bench(a) => bench_cmd::run(&ctx, &a),
     }
 }

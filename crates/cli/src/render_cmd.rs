@@ -124,6 +124,7 @@ pub fn run(ctx: &Context, a: &RenderArgs) -> anyhow::Result<()> {
         wireframe: a.wireframe.then_some([20, 20, 30, 200]),
         scalar: a.scalar.clone(),
         z_scale: a.z_scale,
+        background: a.background,
         budget: ctx.budget,
         ..RenderOptions::default()
     };

@@ -359,3 +359,22 @@ fn render_command() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+#[test]
+fn bench_runs_every_workload() {
+    let d = tempfile::tempdir().unwrap();
+    let o = asperity(&["--json", "bench", "--quick", "--repeat", "1"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let w = v["measurements"]["workloads"].as_array().unwrap();
+    assert_eq!(w.len(), 3);
+    assert!(
+        w.iter()
+            .all(|x| x["median_s"].as_f64().unwrap() > 0.0
+                && x["per_second"].as_f64().unwrap() > 0.0)
+    );
+    assert_clean_failure(
+        &asperity(&["bench", "--quick", "nothing-matches"], d.path()),
+        "no workload matches",
+    );
+}

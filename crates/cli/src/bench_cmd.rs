@@ -1,0 +1,189 @@
+//! `asperity bench`: the workloads the issues name, timed end to end.
+//!
+//! criterion (`cargo bench -p asperity-benches`) gives statistically careful
+//! figures for developers; this command lets a user measure the same workloads
+//! on their own machine from the installed binary. Each workload builds its
+//! input once (untimed), runs once to warm up, then `--repeat` timed runs; the
+//! minimum and median are reported with throughput.
+
+use std::time::Instant;
+
+use anyhow::Context as _;
+use asperity_core::fourier_surface::{FourierParams, fourier_surface};
+use asperity_core::{Diagonal, MemoryBudget, TriMesh};
+use asperity_render::{RenderOptions, render_mesh};
+use serde_json::json;
+
+use crate::cli::{BenchArgs, Context};
+use crate::report::Report;
+
+type Job = Box<dyn FnMut() -> anyhow::Result<()>>;
+
+struct Workload {
+    name: &'static str,
+    what: String,
+    /// Elements per run and their unit, for throughput.
+    elements: u64,
+    unit: &'static str,
+    /// Target from the issue, if any (seconds per run).
+    target_s: Option<f64>,
+    job: Job,
+}
+
+fn surface_mesh(n: usize, budget: &MemoryBudget) -> anyhow::Result<TriMesh> {
+    let h = fourier_surface(
+        &FourierParams {
+            n,
+            hurst: 0.8,
+            modes: (n / 8).max(1),
+            rms: 0.05,
+            spacing: 1.0 / n as f64,
+        },
+        7,
+        budget,
+    )?;
+    Ok(h.to_trimesh(Diagonal::Alternating)?.with_computed_normals())
+}
+
+type MakeWorkload = Box<dyn Fn() -> anyhow::Result<Workload>>;
+
+fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
+    let budget = ctx.budget;
+    let mut v: Vec<(&'static str, MakeWorkload)> = Vec::new();
+    v.push((
+        "render/2m-triangles-1080p",
+        Box::new(move || {
+            // 1001² samples → 2 000 000 triangles (issue #3's workload).
+            let n = if quick { 101 } else { 1001 };
+            let (w, h) = if quick { (320, 180) } else { (1920, 1080) };
+            let m = surface_mesh(n, &budget)?;
+            let tris = m.n_faces() as u64;
+            let opts = RenderOptions {
+                width: w,
+                height: h,
+                supersample: 2,
+                shadows: true,
+                budget,
+                ..RenderOptions::default()
+            };
+            Ok(Workload {
+                name: "render/2m-triangles-1080p",
+                what: format!(
+                    "{tris} triangles at {w}×{h}, 4× supersampling, shadow map, ambient obscurance"
+                ),
+                elements: tris,
+                unit: "triangles",
+                target_s: (!quick).then_some(2.0),
+                job: Box::new(move || render_mesh(&m, &opts).map(|_| ()).map_err(Into::into)),
+            })
+        }),
+    ));
+    v.push((
+        "core/fourier-surface",
+        Box::new(move || {
+            let n = if quick { 129 } else { 1025 };
+            let p = FourierParams {
+                n,
+                hurst: 0.8,
+                modes: n / 8,
+                rms: 0.05,
+                spacing: 1.0 / n as f64,
+            };
+            Ok(Workload {
+                name: "core/fourier-surface",
+                what: format!("{n}×{n} reference surface, {} modes per axis", n / 8),
+                elements: (n * n) as u64,
+                unit: "samples",
+                target_s: None,
+                job: Box::new(move || {
+                    fourier_surface(&p, 7, &budget)
+                        .map(|_| ())
+                        .map_err(Into::into)
+                }),
+            })
+        }),
+    ));
+    v.push((
+        "io/write-ply",
+        Box::new(move || {
+            let n = if quick { 65 } else { 513 };
+            let m = surface_mesh(n, &budget)?;
+            let dir = tempfile_dir()?;
+            let path = dir.join("bench.ply");
+            let tris = m.n_faces() as u64;
+            Ok(Workload {
+                name: "io/write-ply",
+                what: format!("{tris} triangles, binary PLY with normals, atomic write + fsync"),
+                elements: tris,
+                unit: "triangles",
+                target_s: None,
+                job: Box::new(move || {
+                    asperity_io::write_mesh(&path, &m, &asperity_io::WriteOptions::default())?;
+                    Ok(())
+                }),
+            })
+        }),
+    ));
+    v
+}
+
+fn tempfile_dir() -> anyhow::Result<std::path::PathBuf> {
+    let d = std::env::temp_dir().join(format!("asperity-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&d).with_context(|| format!("creating {}", d.display()))?;
+    Ok(d)
+}
+
+pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
+    let mut report = Report::new("bench", ctx);
+    let mut results = Vec::new();
+    for (name, make) in workloads(ctx, a.quick) {
+        if a.filter.as_deref().is_some_and(|f| !name.contains(f)) {
+            continue;
+        }
+        let mut w = make()?;
+        (w.job)()?; // warm-up
+        let mut times = Vec::with_capacity(a.repeat as usize);
+        for _ in 0..a.repeat {
+            let t = Instant::now();
+            (w.job)()?;
+            times.push(t.elapsed().as_secs_f64());
+        }
+        times.sort_by(f64::total_cmp);
+        let (min, median) = (times[0], times[times.len() / 2]);
+        let rate = w.elements as f64 / median;
+        let verdict = w.target_s.map(|t| {
+            if median <= t {
+                format!(" (target < {t} s: met)")
+            } else {
+                format!(" (target < {t} s: MISSED)")
+            }
+        });
+        if !ctx.json {
+            println!(
+                "{:<28} median {:>9.3} ms  min {:>9.3} ms  {:>8.2} M {}/s{}",
+                w.name,
+                median * 1e3,
+                min * 1e3,
+                rate / 1e6,
+                w.unit,
+                verdict.unwrap_or_default()
+            );
+            println!("{:<28} {}", "", w.what);
+        }
+        results.push(json!({"name": w.name, "what": w.what, "median_s": median, "min_s": min, "runs": times.len(), "elements": w.elements, "unit": w.unit, "per_second": rate, "target_s": w.target_s}));
+    }
+    let _ = std::fs::remove_dir_all(
+        std::env::temp_dir().join(format!("asperity-bench-{}", std::process::id())),
+    );
+    anyhow::ensure!(
+        !results.is_empty(),
+        "no workload matches {:?}",
+        a.filter.as_deref().unwrap_or("")
+    );
+    report.measure("workloads", results);
+    report.measure(
+        "machine",
+        json!({"threads": ctx.threads, "os": std::env::consts::OS, "arch": std::env::consts::ARCH}),
+    );
+    report.finish(ctx)
+}
