@@ -1,14 +1,38 @@
-//! Cellular-automaton height fields from [peridier].
+//! Cellular-automaton height fields with alternating-diagonal facets, from [peridier].
 //!
-//! **Status: planned** (issue "Cellular-automaton height fields"). The
-//! alternating-diagonal triangulation already lives in
-//! `asperity_core::HeightField::to_trimesh(Diagonal::Alternating)`.
-//!
-//! | Module (planned) | What | Paper |
+//! | Module | What | Paper |
 //! | --- | --- | --- |
-//! | `rule` | Wolfram totalistic / outer-totalistic codes, B/S strings | Figure 2 |
-//! | `evolve` | Cyclic and infinite-background evolution | Figure 3 |
-//! | `accumulate` | Sum of steps into a height field | Figures 1, 4–6 |
-//! | `facets` | Alternating-diagonal facets and their interpolation | Figure 7 |
+//! | [`rule`] | Wolfram codes: totalistic 9/5-neighbour (k colours), outer-totalistic 9/5, B/S strings | Figure 2, enumeration after it |
+//! | [`evolve`] | cyclic and infinite-background evolution; byte and bit-sliced paths | "Cellular Automaton Basics", Figure 3 |
+//! | [`accumulate`] | sum of the steps into a height field, weights, initial grids | Figures 1, 3, 4 |
+//! | [`facets`] | alternating-diagonal facets and the consistent triangulated interpolation | Figures 7, 8, 9 |
 //!
 //! [peridier]: ../shared/papers/peridier_ca-rough-surfaces-facet-visualization.txt
+
+pub mod accumulate;
+pub mod evolve;
+pub mod facets;
+pub mod rule;
+
+pub use accumulate::{
+    CaOutput, CaParams, Init, Weights, accumulate, evolve_and_accumulate, initial_grid,
+};
+pub use evolve::Boundary;
+pub use rule::{Family, Rule};
+
+use asperity_core::CoreError;
+
+/// Why a CA run was refused.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum CaError {
+    /// A rule number or string out of range for its family.
+    #[error("invalid rule: {0}")]
+    BadRule(String),
+    /// Initial conditions or run parameters that cannot be used.
+    #[error("{0}")]
+    BadInit(String),
+    /// Sizes, memory limit, invalid geometry.
+    #[error(transparent)]
+    Core(#[from] CoreError),
+}
