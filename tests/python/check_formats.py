@@ -99,3 +99,15 @@ a = np.loadtxt(d / "p.xyz")
 ok("p.xyz", np.array_equal(a, Q))
 v = plyfile.PlyData.read(str(d / "p.ply"))["vertex"]
 ok("p.ply", np.array_equal(np.stack([v["x"], v["y"], v["z"]], axis=1), Q) and np.array_equal(v["age"], m["points"]["age"]))
+
+# --- CA states and polylines -----------------------------------------------
+a = np.load(d / "s.npy")
+ok("s.npy", a.dtype == np.uint8 and a.shape == (2, 3, 4) and np.array_equal(a.ravel(), np.arange(24) % 3))
+ply = plyfile.PlyData.read(str(d / "l.ply"))
+e = ply["edge"]
+v = ply["vertex"]
+ok("l.ply", len(e) == 2 and list(e["vertex1"]) == [6, 7] and list(e["vertex2"]) == [7, 8]
+   and abs(v["z"][8] - 2.0) < 1e-12 and len(ply["face"]) == 8)
+lines = [l.split() for l in (d / "l.obj").read_text().splitlines() if l.startswith("l ")]
+verts = [l.split() for l in (d / "l.obj").read_text().splitlines() if l.startswith("v ")]
+ok("l.obj", lines == [["l", "7", "8", "9"]] and [float(x) for x in verts[8][1:4]] == [1.0, 0.0, 2.0])

@@ -79,6 +79,80 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
         }),
     ));
     v.push((
+        "ca/evolve-bits-8192",
+        Box::new(move || {
+            let n = if quick { 512 } else { 8192 };
+            let rule = asperity_ca::Rule::new(asperity_ca::Family::Totalistic9, 2, 450)?;
+            let init = asperity_ca::initial_grid(
+                &asperity_ca::Init::Random {
+                    density: 0.3,
+                    seed: 7,
+                },
+                Some([n, n]),
+                2,
+                &budget,
+            )?;
+            let a = asperity_ca::evolve::BitGrid::from_bytes(init.data(), n, n);
+            let mut b = a.clone();
+            let steps = 8;
+            Ok(Workload {
+                name: "ca/evolve-bits-8192",
+                what: format!(
+                    "{n}×{n} cyclic, rule 450, {steps} steps, bit-sliced (64 cells a word)"
+                ),
+                elements: (n * n * steps) as u64,
+                unit: "cell-updates",
+                target_s: None,
+                job: Box::new(move || {
+                    let mut cur = a.clone();
+                    for _ in 0..steps {
+                        cur.step_into(&rule, &mut b);
+                        std::mem::swap(&mut cur, &mut b);
+                    }
+                    Ok(())
+                }),
+            })
+        }),
+    ));
+    v.push((
+        "ca/evolve-bytes-8192",
+        Box::new(move || {
+            let n = if quick { 512 } else { 8192 };
+            let rule = asperity_ca::Rule::new(asperity_ca::Family::Totalistic9, 2, 450)?;
+            let init = asperity_ca::initial_grid(&asperity_ca::Init::Random { density: 0.3, seed: 7 }, Some([n, n]), 2, &budget)?;
+            let src = init.data().to_vec();
+            let mut dst = src.clone();
+            Ok(Workload {
+                name: "ca/evolve-bytes-8192",
+                what: format!("{n}×{n} cyclic, rule 450, 1 step, one byte per cell (the straightforward baseline)"),
+                elements: (n * n) as u64,
+                unit: "cell-updates",
+                target_s: None,
+                job: Box::new(move || {
+                    asperity_ca::evolve::step_bytes(&rule, &src, &mut dst, n, n);
+                    Ok(())
+                }),
+            })
+        }),
+    ));
+    v.push((
+        "ca/accumulate-8192x256",
+        Box::new(move || {
+            let (n, steps) = if quick { (256, 16) } else { (8192, 256) };
+            let rule = asperity_ca::Rule::new(asperity_ca::Family::Totalistic9, 2, 450)?;
+            let init = asperity_ca::initial_grid(&asperity_ca::Init::Random { density: 0.3, seed: 7 }, Some([n, n]), 2, &budget)?;
+            let p = asperity_ca::CaParams::new(rule, steps);
+            Ok(Workload {
+                name: "ca/accumulate-8192x256",
+                what: format!("{n}×{n} cyclic, rule 450, {steps} steps evolved and accumulated into a height field"),
+                elements: (n * n * steps) as u64,
+                unit: "cell-updates",
+                target_s: (!quick).then_some(5.0),
+                job: Box::new(move || asperity_ca::accumulate(&init, &p, &budget).map(|_| ()).map_err(Into::into)),
+            })
+        }),
+    ));
+    v.push((
         "core/fourier-surface",
         Box::new(move || {
             let n = if quick { 129 } else { 1025 };

@@ -593,6 +593,118 @@ pub fn write_png(path: &Path, img: &RgbaImage) -> Result<(), IoError> {
     })
 }
 
+/// Writes a `uint8` array of `shape` (C order) as `.npy`, e.g. a CA evolution
+/// `(T+1, ny, nx)`.
+///
+/// # Errors
+/// [`IoError::Os`]; [`IoError::Invalid`] if `data` does not fill `shape`.
+pub fn write_npy_u8(path: &Path, shape: &[usize], data: &[u8]) -> Result<(), IoError> {
+    let n: usize = shape.iter().product();
+    if n != data.len() {
+        return Err(IoError::Invalid {
+            path: path.to_path_buf(),
+            source: CoreError::GridSize {
+                dims: shape.to_vec(),
+                expected: n,
+                got: data.len(),
+            },
+        });
+    }
+    write_atomic(path, |w| {
+        npy::write_u8(w, shape, data).map_err(|source| IoError::Os {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
+/// Writes a mesh with polylines drawn on it: OBJ `l` elements or a PLY `edge`
+/// element (MeshLab and Blender read both). The polyline points are appended
+/// to the vertices (with zero/default attributes) and referenced by the lines.
+///
+/// # Errors
+/// [`IoError::WrongKind`] for formats other than OBJ and PLY; as [`write_mesh`].
+pub fn write_mesh_with_polylines(
+    path: &Path,
+    mesh: &TriMesh,
+    lines: &[Vec<[f64; 3]>],
+    opts: &WriteOptions,
+) -> Result<(), IoError> {
+    let f = Format::from_path(path)?;
+    if !matches!(f, Format::Obj | Format::Ply) {
+        return Err(wrong(path, f, "polylines (use .obj or .ply)"));
+    }
+    let invalid = |source| IoError::Invalid {
+        path: path.to_path_buf(),
+        source,
+    };
+    let extra: usize = lines.iter().map(Vec::len).sum();
+    let mut positions = mesh.positions().to_vec();
+    let mut edges = Vec::new();
+    for l in lines {
+        let start = positions.len() as u32;
+        positions.extend_from_slice(l);
+        edges.extend((1..l.len() as u32).map(|k| [start + k - 1, start + k]));
+    }
+    let mut m = TriMesh::new(positions, mesh.triangles().to_vec()).map_err(invalid)?;
+    if let Some(n) = mesh.normals() {
+        m = m
+            .with_normals(
+                n.iter()
+                    .copied()
+                    .chain(std::iter::repeat_n([0.0, 0.0, 1.0], extra))
+                    .collect(),
+            )
+            .map_err(invalid)?;
+    }
+    if let Some(c) = mesh.colors() {
+        m = m
+            .with_colors(
+                c.iter()
+                    .copied()
+                    .chain(std::iter::repeat_n([0, 0, 0, 255], extra))
+                    .collect(),
+            )
+            .map_err(invalid)?;
+    }
+    if let Some(uv) = mesh.uvs() {
+        m = m
+            .with_uvs(
+                uv.iter()
+                    .copied()
+                    .chain(std::iter::repeat_n([0.0, 0.0], extra))
+                    .collect(),
+            )
+            .map_err(invalid)?;
+    }
+    for a in mesh.scalars() {
+        m = m
+            .with_scalar(
+                &a.name,
+                a.values
+                    .iter()
+                    .copied()
+                    .chain(std::iter::repeat_n(0.0, extra))
+                    .collect(),
+            )
+            .map_err(invalid)?;
+    }
+    let os = |source| IoError::Os {
+        path: path.to_path_buf(),
+        source,
+    };
+    match f {
+        Format::Ply => write_atomic(path, |w| {
+            ply::write_mesh_edges(w, &m, &edges, opts.ply_encoding).map_err(os)
+        }),
+        _ => write_atomic(path, |w| {
+            obj::write_mesh(w, &m, None)
+                .and_then(|()| obj::write_lines(w, lines, mesh.n_vertices()))
+                .map_err(os)
+        }),
+    }
+}
+
 /// Writes any [`Surface`].
 ///
 /// # Errors

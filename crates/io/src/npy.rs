@@ -168,13 +168,7 @@ pub enum NpyDtype {
     Float64,
 }
 
-/// Writes a C-order array of `shape` from `values`.
-pub(crate) fn write(
-    w: &mut dyn Write,
-    shape: &[usize],
-    values: &[f64],
-    dtype: NpyDtype,
-) -> std::io::Result<()> {
+fn header(shape: &[usize], descr: &str) -> (u8, String) {
     let shape_txt = match shape {
         [n] => format!("({n},)"),
         s => format!(
@@ -184,10 +178,6 @@ pub(crate) fn write(
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
-    };
-    let descr = match dtype {
-        NpyDtype::Float32 => "<f4",
-        NpyDtype::Float64 => "<f8",
     };
     let mut header =
         format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape_txt}, }}");
@@ -200,6 +190,11 @@ pub(crate) fn write(
     let unpadded = MAGIC.len() + 2 + len_bytes + header.len() + 1;
     header.extend(std::iter::repeat_n(' ', (64 - unpadded % 64) % 64));
     header.push('\n');
+    (version, header)
+}
+
+fn write_header(w: &mut dyn Write, shape: &[usize], descr: &str) -> std::io::Result<()> {
+    let (version, header) = header(shape, descr);
     w.write_all(MAGIC)?;
     w.write_all(&[version, 0])?;
     if version == 1 {
@@ -207,7 +202,27 @@ pub(crate) fn write(
     } else {
         w.write_all(&(header.len() as u32).to_le_bytes())?;
     }
-    w.write_all(header.as_bytes())?;
+    w.write_all(header.as_bytes())
+}
+
+/// Writes a C-order `uint8` array.
+pub(crate) fn write_u8(w: &mut dyn Write, shape: &[usize], data: &[u8]) -> std::io::Result<()> {
+    write_header(w, shape, "|u1")?;
+    w.write_all(data)
+}
+
+/// Writes a C-order array of `shape` from `values`.
+pub(crate) fn write(
+    w: &mut dyn Write,
+    shape: &[usize],
+    values: &[f64],
+    dtype: NpyDtype,
+) -> std::io::Result<()> {
+    let descr = match dtype {
+        NpyDtype::Float32 => "<f4",
+        NpyDtype::Float64 => "<f8",
+    };
+    write_header(w, shape, descr)?;
     let mut buf = Vec::with_capacity(1 << 16);
     for chunk in values.chunks(8192) {
         buf.clear();

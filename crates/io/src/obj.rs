@@ -161,6 +161,22 @@ pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh, mtl: Option<&str>) -> s
     Ok(())
 }
 
+/// Appends polylines as `l` elements; their points are the vertices numbered
+/// from `first_vertex` (0-based) on, in order, as `write_mesh` wrote them.
+pub(crate) fn write_lines(
+    w: &mut dyn Write,
+    lines: &[Vec<[f64; 3]>],
+    first_vertex: usize,
+) -> std::io::Result<()> {
+    let mut next = first_vertex + 1;
+    for l in lines {
+        let ids: Vec<String> = (next..next + l.len()).map(|i| i.to_string()).collect();
+        writeln!(w, "l {}", ids.join(" "))?;
+        next += l.len();
+    }
+    Ok(())
+}
+
 /// The material library for a textured mesh.
 pub(crate) fn write_mtl(w: &mut dyn Write, texture_file: &str) -> std::io::Result<()> {
     writeln!(w, "# written by asperity")?;

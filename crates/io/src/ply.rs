@@ -545,6 +545,7 @@ fn write_ply(
     w: &mut dyn Write,
     v: &VertexData,
     faces: Option<&[[u32; 3]]>,
+    edges: &[[u32; 2]],
     enc: PlyEncoding,
 ) -> std::io::Result<()> {
     let ascii = enc == PlyEncoding::Ascii;
@@ -602,6 +603,12 @@ fn write_ply(
             f.len()
         );
     }
+    if !edges.is_empty() {
+        h += &format!(
+            "element edge {}\nproperty int vertex1\nproperty int vertex2\n",
+            edges.len()
+        );
+    }
     h += "end_header\n";
     w.write_all(h.as_bytes())?;
     let mut row = Vec::with_capacity(256);
@@ -628,6 +635,14 @@ fn write_ply(
             w.write_all(&row)?;
         }
     }
+    for e in edges {
+        if ascii {
+            writeln!(w, "{} {}", e[0], e[1])?;
+        } else {
+            w.write_all(&(e[0] as i32).to_le_bytes())?;
+            w.write_all(&(e[1] as i32).to_le_bytes())?;
+        }
+    }
     Ok(())
 }
 
@@ -644,7 +659,28 @@ pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh, enc: PlyEncoding) -> st
             .map(|a| (a.name.as_str(), a.values.as_slice()))
             .collect(),
     };
-    write_ply(w, &v, Some(m.triangles()), enc)
+    write_ply(w, &v, Some(m.triangles()), &[], enc)
+}
+
+/// Writes a triangle mesh plus an `edge` element (polylines drawn on it).
+pub(crate) fn write_mesh_edges(
+    w: &mut dyn Write,
+    m: &TriMesh,
+    edges: &[[u32; 2]],
+    enc: PlyEncoding,
+) -> std::io::Result<()> {
+    let v = VertexData {
+        positions: m.positions(),
+        normals: m.normals(),
+        colors: m.colors(),
+        uvs: m.uvs(),
+        scalars: m
+            .scalars()
+            .iter()
+            .map(|a| (a.name.as_str(), a.values.as_slice()))
+            .collect(),
+    };
+    write_ply(w, &v, Some(m.triangles()), edges, enc)
 }
 
 /// Writes a point set (vertices only).
@@ -664,7 +700,7 @@ pub(crate) fn write_points(
             .map(|a| (a.name.as_str(), a.values.as_slice()))
             .collect(),
     };
-    write_ply(w, &v, None, enc)
+    write_ply(w, &v, None, &[], enc)
 }
 
 #[cfg(test)]

@@ -94,6 +94,11 @@ fn python_reference_readers_accept_every_writer() {
     asperity_io::write_mesh(&d.join("m.obj"), &mesh, &def).unwrap();
     asperity_io::write_mesh(&d.join("m.glb"), &mesh, &def).unwrap();
     asperity_io::write_mesh(&d.join("c.stl"), &closed, &def).unwrap();
+    let states: Vec<u8> = (0..24).map(|k| (k % 3) as u8).collect();
+    asperity_io::write_npy_u8(&d.join("s.npy"), &[2, 3, 4], &states).unwrap();
+    let line = vec![vec![[0.0, 0.0, 1.0], [0.5, 0.5, 1.5], [1.0, 0.0, 2.0]]];
+    asperity_io::write_mesh_with_polylines(&d.join("l.ply"), &closed, &line, &def).unwrap();
+    asperity_io::write_mesh_with_polylines(&d.join("l.obj"), &closed, &line, &def).unwrap();
     for name in ["p.npy", "p.xyz", "p.ply"] {
         asperity_io::write_points(&d.join(name), &pts, &def).unwrap();
     }
@@ -125,5 +130,5 @@ fn python_reference_readers_accept_every_writer() {
     );
     assert!(out.status.success(), "python readers disagree:\n{text}");
     // The script prints one OK line per file it checked.
-    assert_eq!(text.matches("OK ").count(), 14, "{text}");
+    assert_eq!(text.matches("OK ").count(), 17, "{text}");
 }
