@@ -80,6 +80,13 @@ pub enum Command {
     Info(InfoArgs),
     /// Render a mesh, point set or height field to PNG (headless, CPU).
     Render(RenderArgs),
+    /// Cellular-automaton height fields (peridier): run, rule tables, rule galleries.
+    #[command(subcommand)]
+    Ca(CaCommand),
+    /// Alternating-diagonal facet mesh of a height field (peridier, Figure 7).
+    Facet(FacetArgs),
+    /// Heights on the facets at (x, y) points (peridier's TriangulatedInterpolation).
+    Interpolate(InterpolateArgs),
     /// Time the workloads named in the issues and print throughput.
     Bench(BenchArgs),
     /// List the file formats asperity reads and writes.
@@ -140,7 +147,7 @@ pub struct ConvertArgs {
     #[arg(long, value_enum, default_value_t = DiagonalArg::Forward)]
     pub diagonal: DiagonalArg,
     /// Set the height-field spacing before writing: DX, or DX,DY.
-    #[arg(long, value_name = "DX[,DY]", value_delimiter = ',', num_args = 1..=2)]
+    #[arg(long, value_name = "DX[,DY]", value_delimiter = ',')]
     pub spacing: Option<Vec<f64>>,
 }
 
@@ -195,7 +202,6 @@ pub struct RenderArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        num_args = 3,
         value_name = "X,Y,Z",
         allow_negative_numbers = true
     )]
@@ -204,7 +210,6 @@ pub struct RenderArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        num_args = 3,
         value_name = "X,Y,Z",
         allow_negative_numbers = true
     )]
@@ -223,7 +228,6 @@ pub struct RenderArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        num_args = 2,
         value_name = "AZ,ALT",
         allow_negative_numbers = true
     )]
@@ -283,6 +287,138 @@ fn parse_size_wh(s: &str) -> Result<(u32, u32), String> {
             .map_err(|_| format!("{s:?} is not WIDTHxHEIGHT, e.g. 1024x768"))
     };
     Ok((p(w)?, p(h)?))
+}
+
+/// `asperity ca …`
+#[derive(Subcommand, Debug)]
+pub enum CaCommand {
+    /// Evolve a CA and write the accumulated height field (and optionally every step).
+    Run(CaRunArgs),
+    /// Print a rule's look-up table (as the paper's Figure 2).
+    Rule(CaRuleArgs),
+    /// Render a grid of surfaces: rows = rules, columns = initial conditions (Figure 4).
+    Gallery(CaGalleryArgs),
+}
+
+/// Rule selection shared by the `ca` commands.
+#[derive(Args, Debug, Clone)]
+pub struct RuleArgs {
+    /// Rule family.
+    #[arg(long, default_value = "totalistic9", value_parser = ["totalistic9", "totalistic5", "outer9", "outer5"])]
+    pub family: String,
+    /// Number of states k (totalistic families only).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=12))]
+    pub states: u8,
+}
+
+/// `asperity ca run`
+#[derive(Args, Debug)]
+pub struct CaRunArgs {
+    /// Wolfram code (e.g. 450) or a B/S string (e.g. B3/S23).
+    #[arg(long)]
+    pub rule: String,
+    #[command(flatten)]
+    pub rule_args: RuleArgs,
+    /// Number of steps T.
+    #[arg(long)]
+    pub steps: usize,
+    /// Initial grid: seed, random:DENSITY, or a file (.npy states, or an image thresholded at 50 %).
+    #[arg(long, default_value = "seed")]
+    pub init: String,
+    /// Grid size WxH (columns x rows); without it a seed sits on an infinite background.
+    #[arg(long, value_parser = parse_size_wh)]
+    pub size: Option<(u32, u32)>,
+    /// cyclic (wrap-around) or infinite (growing region on a background).
+    #[arg(long, value_parser = ["cyclic", "infinite"])]
+    pub boundary: Option<String>,
+    /// Leave step 0 (the initial grid) out of the sum.
+    #[arg(long)]
+    pub no_step0: bool,
+    /// Weight step t by R^t (geometric decay).
+    #[arg(long, value_name = "R")]
+    pub decay: Option<f64>,
+    /// Height of each state, comma-separated (k values; default 0, 1, …).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "V0,V1,…",
+        allow_negative_numbers = true
+    )]
+    pub values: Option<Vec<f64>>,
+    /// Write every step as a (T+1)×H×W uint8 .npy array.
+    #[arg(long, value_name = "FILE")]
+    pub states_out: Option<PathBuf>,
+    /// Write every step as a PNG image into this directory (the paper's Figure 3).
+    #[arg(long, value_name = "DIR")]
+    pub steps_png: Option<PathBuf>,
+}
+
+/// `asperity ca rule`
+#[derive(Args, Debug)]
+pub struct CaRuleArgs {
+    /// Wolfram code or B/S string.
+    pub rule: String,
+    #[command(flatten)]
+    pub rule_args: RuleArgs,
+}
+
+/// `asperity ca gallery`
+#[derive(Args, Debug)]
+pub struct CaGalleryArgs {
+    /// Rules, one row each.
+    #[arg(long, value_delimiter = ',', default_value = "8,480,450")]
+    pub rules: Vec<String>,
+    #[command(flatten)]
+    pub rule_args: RuleArgs,
+    /// Initial conditions, one column each: seed, random:DENSITY[@SEED], or files.
+    #[arg(long, value_delimiter = ',', default_value = "seed,random:0.3")]
+    pub inits: Vec<String>,
+    /// Steps per run.
+    #[arg(long, default_value_t = 10)]
+    pub steps: usize,
+    /// Cyclic grid size WxH for every run.
+    #[arg(long, default_value = "41x41", value_parser = parse_size_wh)]
+    pub size: (u32, u32),
+    /// Size of each tile, WxH.
+    #[arg(long, default_value = "320x240", value_parser = parse_size_wh)]
+    pub tile: (u32, u32),
+}
+
+/// `asperity facet`
+#[derive(Args, Debug)]
+pub struct FacetArgs {
+    /// Height field file.
+    pub input: PathBuf,
+    /// Share vertices between facets (smooth shading in viewers) instead of flat facets.
+    #[arg(long)]
+    pub shared: bool,
+    /// Ordinary triangulation (same diagonal in every cell) for comparison.
+    #[arg(long)]
+    pub smooth: bool,
+    /// Draw a circle CX,CY,R (physical units) on the surface (Figure 9).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "CX,CY,R",
+        allow_negative_numbers = true
+    )]
+    pub circle: Option<Vec<f64>>,
+    /// Draw the polyline of x,y rows in this CSV file on the surface.
+    #[arg(long, value_name = "FILE")]
+    pub polyline: Option<PathBuf>,
+    /// Also render the mesh (with the curves) to this PNG.
+    #[arg(long, value_name = "PNG")]
+    pub render: Option<PathBuf>,
+}
+
+/// `asperity interpolate`
+#[derive(Args, Debug)]
+pub struct InterpolateArgs {
+    /// Height field file.
+    pub input: PathBuf,
+    /// CSV of x,y rows (physical units); prints x,y,z rows.
+    #[arg(long)]
+    pub points: PathBuf,
 }
 
 /// `asperity bench`

@@ -74,6 +74,10 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
         s = to_kind(s, k, diag)?;
     }
     if let (Some(sp), Surface::Height(h)) = (&a.spacing, &mut s) {
+        anyhow::ensure!(
+            matches!(sp.len(), 1 | 2),
+            "--spacing takes DX or DX,DY, got {sp:?}"
+        );
         let sp = [sp[0], *sp.get(1).unwrap_or(&sp[0])];
         *h = h.clone().with_spacing(sp)?;
     }

@@ -5,6 +5,7 @@
 //! reports. Errors print as one `error:` line with their causes and exit code 2.
 
 mod bench_cmd;
+mod ca_cmd;
 mod cli;
 mod convert;
 mod demo;
@@ -43,5 +44,8 @@ fn run(args: cli::Cli) -> anyhow::Result<()> {
         cli::Command::Render(a) => render_cmd::run(&ctx, &a),
         cli::Command::Formats => convert::formats(&ctx),
         cli::Command::Bench(a) => bench_cmd::run(&ctx, &a),
+        cli::Command::Ca(c) => ca_cmd::run(&ctx, c),
+        cli::Command::Facet(a) => ca_cmd::facet(&ctx, &a),
+        cli::Command::Interpolate(a) => ca_cmd::interpolate(&ctx, &a),
     }
 }

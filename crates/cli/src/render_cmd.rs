@@ -48,6 +48,18 @@ pub fn run(ctx: &Context, a: &RenderArgs) -> anyhow::Result<()> {
             out.display()
         );
     }
+    for (name, v, n) in [
+        ("--eye", &a.eye, 3),
+        ("--target", &a.target, 3),
+        ("--light", &a.light, 2),
+    ] {
+        if let Some(v) = v {
+            anyhow::ensure!(
+                v.len() == n && v.iter().all(|x| x.is_finite()),
+                "{name} takes {n} comma-separated numbers, got {v:?}"
+            );
+        }
+    }
     let surface = crate::convert::load(ctx, &a.input)?;
     let mut report = Report::new("render", ctx);
     let colormap = ColorMap::from_name(&a.colormap).with_context(|| {
