@@ -154,107 +154,114 @@ impl BitGrid {
     pub fn step_into(&self, rule: &Rule, dst: &mut BitGrid) {
         assert!(rule.states() == 2 && dst.bits.len() == self.bits.len());
         let luts = Luts::new(rule);
-        let (w, ny) = (self.words, self.ny);
-        let src = &self.bits;
+        let w = self.words;
+        let simd = Simd::detect();
         dst.bits
             .par_chunks_mut(BLOCK * w)
             .enumerate()
-            .for_each(|(b, out)| {
-                let j0 = b * BLOCK;
-                let rows = out.len() / w;
-                let mut hs: [Vec<(u64, u64)>; 3] = std::array::from_fn(|_| vec![(0, 0); w]);
-                let row = |j: usize| &src[(j % ny) * w..][..w];
-                horizontal(row(j0 + ny - 1), &mut hs[0], luts.moore);
-                horizontal(row(j0), &mut hs[1], luts.moore);
-                for r in 0..rows {
-                    let j = j0 + r;
-                    horizontal(row(j + 1), &mut hs[(r + 2) % 3], luts.moore);
-                    let (up, mid, down) = (&hs[r % 3], &hs[(r + 1) % 3], &hs[(r + 2) % 3]);
-                    let (above, centre, below) = (row(j + ny - 1), row(j), row(j + 1));
-                    let dst_row = &mut out[r * w..][..w];
-                    for k in 0..w {
-                        dst_row[k] =
-                            luts.apply(up[k], mid[k], down[k], [above[k], centre[k], below[k]]);
-                    }
-                }
-            });
+            .for_each(|(b, out)| simd.block(&luts, self, b, out));
     }
 }
 
-/// Horizontal neighbourhood of each word: for Moore, the 3-sum (west + centre +
-/// east) as two bit planes; for von Neumann, (west + east) as two planes.
-#[inline]
-fn horizontal(row: &[u64], out: &mut [(u64, u64)], moore: bool) {
-    let w = row.len();
-    for k in 0..w {
-        let c = row[k];
-        let prev = row[(k + w - 1) % w];
-        let next = row[(k + 1) % w];
-        let west = c << 1 | prev >> 63;
-        let east = c >> 1 | next << 63;
-        out[k] = if moore {
-            (west ^ c ^ east, (west & c) | (east & (west ^ c)))
-        } else {
-            (west ^ east, west & east)
-        };
-    }
+/// The widest vector unit this CPU offers, chosen once per step. The kernel
+/// is the same source compiled three times; the results are identical bit for
+/// bit (integer logic only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Simd {
+    Baseline,
+    #[cfg(target_arch = "x86_64")]
+    Avx2,
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
 }
 
-/// The table as sums of products over the neighbourhood sum's bit planes.
-struct Luts {
-    moore: bool,
-    /// Whether the new state depends on the centre beyond the total sum.
-    outer: bool,
-    /// Bit v set: new state 1 for total sum v when the centre is 0 / 1.
-    when0: u16,
-    when1: u16,
-}
-
-impl Luts {
-    fn new(rule: &Rule) -> Self {
-        let t = rule.table();
-        let fam = rule.family();
-        let outer = matches!(fam, Family::Outer9 | Family::Outer5);
-        let max = if fam.moore() { 9 } else { 5 };
-        let (mut when0, mut when1) = (0u16, 0u16);
-        for s in 0..=max {
-            // Total sum s with centre 0: others = s; with centre 1: others = s − 1.
-            let (i0, i1) = if outer {
-                (Some(2 * s), (s >= 1).then(|| 2 * s - 1))
-            } else {
-                (Some(s), Some(s))
-            };
-            if i0.and_then(|i| t.get(i)) == Some(&1) {
-                when0 |= 1 << s;
+impl Simd {
+    fn detect() -> Self {
+        if std::env::var_os("ASPERITY_NO_SIMD").is_some() {
+            return Simd::Baseline;
+        }
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Simd::Avx512;
             }
-            if s >= 1 && i1.and_then(|i| t.get(i)) == Some(&1) {
-                when1 |= 1 << s;
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Simd::Avx2;
             }
         }
-        // Totalistic rules: centre 1 needs total ≥ 1, so the two tables agree
-        // wherever both are reachable.
-        Self {
-            moore: fam.moore(),
-            outer,
-            when0,
-            when1: if outer { when1 } else { when0 },
-        }
+        Simd::Baseline
     }
 
-    #[inline(always)]
-    fn apply(&self, up: (u64, u64), mid: (u64, u64), down: (u64, u64), raw: [u64; 3]) -> u64 {
-        let [up_c, centre, down_c] = raw;
-        let p = if self.moore {
-            sum3x2(up, mid, down)
-        } else {
-            sum_von_neumann(mid, centre, up_c, down_c)
-        };
-        let f0 = lookup(p, self.when0);
-        if !self.outer {
-            return f0;
+    #[inline]
+    fn block(self, luts: &Luts, grid: &BitGrid, b: usize, out: &mut [u64]) {
+        match self {
+            Simd::Baseline => block(luts, grid, b, out),
+            // SAFETY: `detect` verified at run time that the CPU supports the
+            // feature each function is compiled for; that is their only requirement.
+            #[cfg(target_arch = "x86_64")]
+            #[allow(unsafe_code)]
+            Simd::Avx2 => unsafe { block_avx2(luts, grid, b, out) },
+            #[cfg(target_arch = "x86_64")]
+            #[allow(unsafe_code)]
+            Simd::Avx512 => unsafe { block_avx512(luts, grid, b, out) },
         }
-        let f1 = lookup(p, self.when1);
-        (f0 & !centre) | (f1 & centre)
+    }
+}
+
+/// [`block`] compiled for AVX2 (four 64-bit lanes).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn block_avx2(luts: &Luts, grid: &BitGrid, b: usize, out: &mut [u64]) {
+    block(luts, grid, b, out);
+}
+
+/// [`block`] compiled for AVX-512 (eight 64-bit lanes).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn block_avx512(luts: &Luts, grid: &BitGrid, b: usize, out: &mut [u64]) {
+    block(luts, grid, b, out);
+}
+
+/// Output rows `b·BLOCK …` of one step. Per row: the horizontal sums of the
+/// next row (kept in a ring of three), then one fused pass that adds the three
+/// rows' sums into bit planes and evaluates the table on them; both loops are
+/// elementwise over the row's words, so the compiler vectorises them.
+#[inline(always)]
+fn block(luts: &Luts, grid: &BitGrid, b: usize, out: &mut [u64]) {
+    let (src, w, ny) = (&grid.bits[..], grid.words, grid.ny);
+    let j0 = b * BLOCK;
+    let rows = out.len() / w;
+    let row = |j: usize| &src[(j % ny) * w..][..w];
+    let mut h: [(Vec<u64>, Vec<u64>); 3] = std::array::from_fn(|_| (vec![0; w], vec![0; w]));
+    horizontal(row(j0 + ny - 1), &mut h[0], luts.moore);
+    horizontal(row(j0), &mut h[1], luts.moore);
+    for r in 0..rows {
+        let j = j0 + r;
+        horizontal(row(j + 1), &mut h[(r + 2) % 3], luts.moore);
+        let (above, centre, below) = (row(j + ny - 1), row(j), row(j + 1));
+        let (up, mid, down) = (&h[r % 3], &h[(r + 1) % 3], &h[(r + 2) % 3]);
+        // Equal-length slices let the compiler drop bounds checks and vectorise.
+        let (u0, u1, m0, m1, d0, d1) = (
+            &up.0[..w],
+            &up.1[..w],
+            &mid.0[..w],
+            &mid.1[..w],
+            &down.0[..w],
+            &down.1[..w],
+        );
+        let (above, centre, below) = (&above[..w], &centre[..w], &below[..w]);
+        let dst = &mut out[r * w..][..w];
+        if luts.moore {
+            for k in 0..w {
+                let p = sum3x2((u0[k], u1[k]), (m0[k], m1[k]), (d0[k], d1[k]));
+                dst[k] = luts.eval(p, centre[k]);
+            }
+        } else {
+            for k in 0..w {
+                let p = sum_von_neumann((m0[k], m1[k]), centre[k], above[k], below[k]);
+                dst[k] = luts.eval(p, centre[k]);
+            }
+        }
     }
 }
 
@@ -265,9 +272,8 @@ fn sum3x2((a0, a1): (u64, u64), (b0, b1): (u64, u64), (c0, c1): (u64, u64)) -> [
     let k0 = (a0 & b0) | (c0 & (a0 ^ b0));
     let t = a1 ^ b1 ^ c1;
     let m = (a1 & b1) | (c1 & (a1 ^ b1));
-    let s1 = t ^ k0;
     let cc = t & k0;
-    [s0, s1, m ^ cc, m & cc]
+    [s0, t ^ k0, m ^ cc, m & cc]
 }
 
 /// (west + east) + centre + up + down (0..=5) as bit planes.
@@ -275,29 +281,146 @@ fn sum3x2((a0, a1): (u64, u64), (b0, b1): (u64, u64), (c0, c1): (u64, u64)) -> [
 fn sum_von_neumann((a0, a1): (u64, u64), c: u64, u: u64, d: u64) -> [u64; 4] {
     let x = c ^ u ^ d;
     let y = (c & u) | (d & (c ^ u));
-    let s0 = a0 ^ x;
     let k0 = a0 & x;
     let t = a1 ^ y;
-    [s0, t ^ k0, (a1 & y) | (t & k0), 0]
+    [a0 ^ x, t ^ k0, (a1 & y) | (t & k0), 0]
 }
 
-/// OR over the sums v with bit v of `table` set of [planes == v].
+/// Horizontal neighbourhood of each word into two planes: for Moore the 3-sum
+/// west + centre + east, for von Neumann west + east.
 #[inline(always)]
-fn lookup(p: [u64; 4], table: u16) -> u64 {
-    let n = [!p[0], !p[1], !p[2], !p[3]];
-    let mut acc = 0;
-    let mut bits = table;
-    while bits != 0 {
-        let v = bits.trailing_zeros();
-        bits &= bits - 1;
-        let pick = |b: u32| {
-            if v >> b & 1 == 1 {
-                p[b as usize]
-            } else {
-                n[b as usize]
-            }
-        };
-        acc |= pick(0) & pick(1) & pick(2) & pick(3);
+fn horizontal(row: &[u64], out: &mut (Vec<u64>, Vec<u64>), moore: bool) {
+    let w = row.len();
+    let (o0, o1) = (&mut out.0[..w], &mut out.1[..w]);
+    let mut put = |k: usize, prev: u64, c: u64, next: u64| {
+        let west = c << 1 | prev >> 63;
+        let east = c >> 1 | next << 63;
+        if moore {
+            o0[k] = west ^ c ^ east;
+            o1[k] = (west & c) | (east & (west ^ c));
+        } else {
+            o0[k] = west ^ east;
+            o1[k] = west & east;
+        }
+    };
+    if w == 1 {
+        put(0, row[0], row[0], row[0]);
+        return;
     }
-    acc
+    put(0, row[w - 1], row[0], row[1]);
+    for k in 1..w - 1 {
+        put(k, row[k - 1], row[k], row[k + 1]);
+    }
+    put(w - 1, row[w - 2], row[w - 1], row[0]);
+}
+
+/// The rule as a boolean function of the neighbourhood sum's bit planes
+/// p0…p3, in a fixed-shape form that needs no branches: with a_i the four
+/// combinations of (p0, p1) and b_i the three reachable combinations of (p2, p3)
+/// (sums 0–3, 4–7, 8–9), f = Σ_i b_i · (Σ_j a_j · M[i][j]) where the mask
+/// M[i][j] is all ones when the table gives 1 for the sum 4i + j.
+struct Luts {
+    moore: bool,
+    /// Whether the new state depends on the centre beyond the total sum.
+    outer: bool,
+    /// Masks for centre 0 and centre 1.
+    m0: [[u64; 4]; 3],
+    m1: [[u64; 4]; 3],
+}
+
+impl Luts {
+    fn new(rule: &Rule) -> Self {
+        let t = rule.table();
+        let fam = rule.family();
+        let outer = matches!(fam, Family::Outer9 | Family::Outer5);
+        let max = if fam.moore() { 9 } else { 5 };
+        let (mut m0, mut m1) = ([[0u64; 4]; 3], [[0u64; 4]; 3]);
+        for s in 0..=max {
+            // Total sum s with centre 0: others = s; with centre 1: others = s − 1.
+            let (i0, i1) = if outer {
+                (Some(2 * s), (s >= 1).then(|| 2 * s - 1))
+            } else {
+                (Some(s), Some(s))
+            };
+            if i0.and_then(|i| t.get(i)) == Some(&1) {
+                m0[s / 4][s % 4] = !0;
+            }
+            if s >= 1 && i1.and_then(|i| t.get(i)) == Some(&1) {
+                m1[s / 4][s % 4] = !0;
+            }
+        }
+        // Totalistic rules: the two tables agree wherever both are reachable.
+        let m1 = if outer { m1 } else { m0 };
+        Self {
+            moore: fam.moore(),
+            outer,
+            m0,
+            m1,
+        }
+    }
+
+    #[inline(always)]
+    fn eval(&self, p: [u64; 4], centre: u64) -> u64 {
+        let (n0, n1, n2, n3) = (!p[0], !p[1], !p[2], !p[3]);
+        let a = [n0 & n1, p[0] & n1, n0 & p[1], p[0] & p[1]];
+        let b = [n2 & n3, p[2] & n3, n2 & p[3]];
+        let f = |m: &[[u64; 4]; 3]| {
+            let g = |i: usize| {
+                (a[0] & m[i][0]) | (a[1] & m[i][1]) | (a[2] & m[i][2]) | (a[3] & m[i][3])
+            };
+            (b[0] & g(0)) | (b[1] & g(1)) | (b[2] & g(2))
+        };
+        let f0 = f(&self.m0);
+        if !self.outer {
+            return f0;
+        }
+        (f0 & !centre) | (f(&self.m1) & centre)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use asperity_core::seeded;
+    use rand::Rng;
+
+    #[test]
+    fn vector_kernels_equal_the_baseline() {
+        let mut rng = seeded(5);
+        for (family, code) in [
+            (Family::Totalistic9, 450u128),
+            (Family::Outer9, 224),
+            (Family::Totalistic5, 37),
+            (Family::Outer5, 777),
+        ] {
+            let rule = Rule::new(family, 2, code).unwrap();
+            let (nx, ny) = (256, 70);
+            let cells: Vec<u8> = (0..nx * ny).map(|_| rng.random_range(0..2)).collect();
+            let g = BitGrid::from_bytes(&cells, nx, ny);
+            let luts = Luts::new(&rule);
+            let w = g.words;
+            let mut base = vec![0u64; g.bits.len()];
+            let mut fast = vec![0u64; g.bits.len()];
+            for (b, out) in base.chunks_mut(BLOCK * w).enumerate() {
+                Simd::Baseline.block(&luts, &g, b, out);
+            }
+            let simd = Simd::detect();
+            for (b, out) in fast.chunks_mut(BLOCK * w).enumerate() {
+                simd.block(&luts, &g, b, out);
+            }
+            assert_eq!(base, fast, "{family:?} {code} with {simd:?}");
+            // And both equal the byte-per-cell step.
+            let mut bytes = vec![0u8; nx * ny];
+            step_bytes(&rule, &cells, &mut bytes, nx, ny);
+            assert_eq!(
+                BitGrid {
+                    words: w,
+                    ny,
+                    bits: base
+                }
+                .to_bytes(),
+                bytes
+            );
+        }
+    }
 }

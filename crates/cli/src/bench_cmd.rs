@@ -233,7 +233,7 @@ pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
             }
         });
         if !ctx.json {
-            println!(
+            outln!(
                 "{:<28} median {:>9.3} ms  min {:>9.3} ms  {:>8.2} M {}/s{}",
                 w.name,
                 median * 1e3,
@@ -242,9 +242,24 @@ pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
                 w.unit,
                 verdict.unwrap_or_default()
             );
-            println!("{:<28} {}", "", w.what);
+            outln!("{:<28} {}", "", w.what);
         }
         results.push(json!({"name": w.name, "what": w.what, "median_s": median, "min_s": min, "runs": times.len(), "elements": w.elements, "unit": w.unit, "per_second": rate, "target_s": w.target_s}));
+    }
+    let rate = |n: &str| {
+        results
+            .iter()
+            .find(|r| r["name"] == n)
+            .and_then(|r| r["per_second"].as_f64())
+    };
+    if let (Some(bits), Some(bytes)) = (rate("ca/evolve-bits-8192"), rate("ca/evolve-bytes-8192")) {
+        if !ctx.json {
+            outln!(
+                "ca: bit-sliced / byte-per-cell evolution = {:.1}× (same run)",
+                bits / bytes
+            );
+        }
+        report.measure("ca_bits_over_bytes", bits / bytes);
     }
     let _ = std::fs::remove_dir_all(
         std::env::temp_dir().join(format!("asperity-bench-{}", std::process::id())),

@@ -182,7 +182,7 @@ fn ca_rule(ctx: &Context, a: &CaRuleArgs) -> anyhow::Result<()> {
         report.measure("table", r.table());
         return report.finish(ctx);
     }
-    print!("{}", r.describe());
+    out!("{}", r.describe());
     Ok(())
 }
 

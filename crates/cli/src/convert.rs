@@ -199,10 +199,10 @@ pub fn info(ctx: &Context, a: &InfoArgs) -> anyhow::Result<()> {
         }
         return r.finish(ctx);
     }
-    println!("{}", a.input.display());
+    outln!("{}", a.input.display());
     if let serde_json::Value::Object(map) = facts {
         for (k, v) in map {
-            println!("  {k:22} {v}");
+            outln!("  {k:22} {v}");
         }
     }
     Ok(())
@@ -210,7 +210,7 @@ pub fn info(ctx: &Context, a: &InfoArgs) -> anyhow::Result<()> {
 
 pub fn formats(ctx: &Context) -> anyhow::Result<()> {
     if ctx.json {
-        println!("{}", serde_json::to_string_pretty(FORMATS)?);
+        outln!("{}", serde_json::to_string_pretty(FORMATS)?);
         return Ok(());
     }
     let cell = |a: asperity_io::Access| match (a.can_read(), a.can_write()) {
@@ -219,12 +219,16 @@ pub fn formats(ctx: &Context) -> anyhow::Result<()> {
         (false, true) => "write",
         (false, false) => "-",
     };
-    println!(
+    outln!(
         "{:<38} {:<10} {:<11} {:<11} {:<11} notes",
-        "format", "extension", "mesh", "points", "height"
+        "format",
+        "extension",
+        "mesh",
+        "points",
+        "height"
     );
     for f in FORMATS {
-        println!(
+        outln!(
             "{:<38} {:<10} {:<11} {:<11} {:<11} {}",
             f.name,
             f.extensions

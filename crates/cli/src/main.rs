@@ -4,6 +4,23 @@
 //! sets up threads, memory limits and progress bars, composes pipelines, and
 //! reports. Errors print as one `error:` line with their causes and exit code 2.
 
+/// `println!` that returns the I/O error instead of panicking (a closed pipe,
+/// as in `asperity formats | head`, ends the command cleanly).
+macro_rules! outln {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($t)*)?;
+    }};
+}
+
+/// `print!` that returns the I/O error instead of panicking.
+macro_rules! out {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        write!(std::io::stdout().lock(), $($t)*)?;
+    }};
+}
+
 mod bench_cmd;
 mod ca_cmd;
 mod cli;

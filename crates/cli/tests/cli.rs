@@ -378,3 +378,204 @@ fn bench_runs_every_workload() {
         "no workload matches",
     );
 }
+
+#[test]
+fn ca_commands() {
+    let d = tempfile::tempdir().unwrap();
+    let o = asperity(&["ca", "rule", "450"], d.path());
+    assert!(String::from_utf8_lossy(&o.stdout).contains("0 1 1 1 0 0 0 0 1 0"));
+    let o = asperity(
+        &[
+            "--json",
+            "ca",
+            "run",
+            "--rule",
+            "450",
+            "--steps",
+            "5",
+            "--init",
+            "seed",
+            "-o",
+            "h.npy",
+            "--states-out",
+            "s.npy",
+            "--steps-png",
+            "steps",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["measurements"]["size"], serde_json::json!([11, 11]));
+    assert_eq!(v["measurements"]["boundary"], "infinite");
+    // (T+1)·H·W bytes of states after the 128-byte .npy header.
+    assert_eq!(
+        std::fs::metadata(d.path().join("s.npy")).unwrap().len(),
+        128 + 6 * 121
+    );
+    assert!(d.path().join("steps/step_005.png").exists());
+    let h = asperity_io::read_height(&d.path().join("h.npy")).unwrap();
+    assert_eq!(
+        *h.get(5, 5),
+        1.0 + 1.0 + 0.0 + h.get(5, 5) - 2.0,
+        "seed cell counted at step 0 and 1"
+    );
+    // Cyclic random run through a bit-sliced width, then facets with a circle and interpolation.
+    let o = asperity(
+        &[
+            "ca",
+            "run",
+            "--rule",
+            "B3/S23",
+            "--family",
+            "outer9",
+            "--steps",
+            "8",
+            "--init",
+            "random:0.4",
+            "--size",
+            "64x20",
+            "-o",
+            "life.gsf",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = asperity(
+        &["facet", "h.npy", "-o", "m.obj", "--circle", "5,5,3"],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        std::fs::read_to_string(d.path().join("m.obj"))
+            .unwrap()
+            .lines()
+            .any(|l| l.starts_with("l "))
+    );
+    std::fs::write(d.path().join("pts.csv"), "5,5\n5.5,5.25\n99,0\n").unwrap();
+    let o = asperity(&["interpolate", "h.npy", "--points", "pts.csv"], d.path());
+    let text = String::from_utf8_lossy(&o.stdout);
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], format!("5,5,{}", h.get(5, 5)));
+    assert_eq!(lines[2], "99,0,nan");
+    let o = asperity(
+        &[
+            "ca",
+            "gallery",
+            "--rules",
+            "8,480",
+            "--inits",
+            "random:0.3,random:0.6",
+            "--steps",
+            "3",
+            "--size",
+            "16x16",
+            "--tile",
+            "64x48",
+            "-o",
+            "g.png",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        asperity_io::read_height(&d.path().join("g.png"))
+            .unwrap()
+            .dims(),
+        [128, 96]
+    );
+    // Bad input.
+    assert_clean_failure(
+        &asperity(
+            &["ca", "run", "--rule", "1024", "--steps", "5", "-o", "x.npy"],
+            d.path(),
+        ),
+        "out of range",
+    );
+    assert_clean_failure(
+        &asperity(
+            &["ca", "run", "--rule", "450", "--steps", "0", "-o", "x.npy"],
+            d.path(),
+        ),
+        "at least 1",
+    );
+    assert_clean_failure(
+        &asperity(
+            &[
+                "ca",
+                "run",
+                "--rule",
+                "450",
+                "--steps",
+                "3",
+                "--size",
+                "0x5",
+                "--init",
+                "random:0.5",
+                "-o",
+                "x.npy",
+            ],
+            d.path(),
+        ),
+        "zero side",
+    );
+    assert_clean_failure(
+        &asperity(
+            &[
+                "ca",
+                "run",
+                "--rule",
+                "450",
+                "--steps",
+                "3",
+                "--init",
+                "missing.npy",
+                "-o",
+                "x.npy",
+            ],
+            d.path(),
+        ),
+        "missing.npy",
+    );
+    assert_clean_failure(
+        &asperity(
+            &[
+                "ca", "run", "--rule", "300000", "--family", "outer9", "--steps", "3", "-o",
+                "x.npy",
+            ],
+            d.path(),
+        ),
+        "out of range",
+    );
+    assert_clean_failure(
+        &asperity(
+            &[
+                "ca", "run", "--rule", "450", "--steps", "3", "--init", "random:2", "--size",
+                "8x8", "-o", "x.npy",
+            ],
+            d.path(),
+        ),
+        "density",
+    );
+    assert!(!d.path().join("x.npy").exists());
+}
+
+#[test]
+fn closed_stdout_is_not_a_crash() {
+    let d = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["formats"])
+        .current_dir(d.path())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
+}
