@@ -4,7 +4,7 @@
 //! | --- | --- | --- |
 //! | [`rule`] | Wolfram codes: totalistic 9/5-neighbour (k colours), outer-totalistic 9/5, B/S strings | Figure 2, enumeration after it |
 //! | [`evolve`] | cyclic and infinite-background evolution; byte and bit-sliced paths | "Cellular Automaton Basics", Figure 3 |
-//! | [`accumulate`] | sum of the steps into a height field, weights, initial grids | Figures 1, 3, 4 |
+//! | [`mod@accumulate`] | sum of the steps into a height field, weights, initial grids | Figures 1, 3, 4 |
 //! | [`facets`] | alternating-diagonal facets and the consistent triangulated interpolation | Figures 7, 8, 9 |
 //!
 //! [peridier]: ../shared/papers/peridier_ca-rough-surfaces-facet-visualization.txt

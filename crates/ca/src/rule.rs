@@ -3,7 +3,7 @@
 //!
 //! Paper: [peridier] §"Cellular Automaton Basics", Figure 2 (the look-up table of
 //! rule 450) and the enumeration paragraph after it ("rules numbered 0, 1, …,
-//! 1023", after Wolfram's ref. [10]).
+//! 1023", after Wolfram's ref. \[10\]).
 //!
 //! # Families
 //! A rule maps a weighted sum of the 3×3 (or 5-cell) neighbourhood to the new

@@ -370,7 +370,7 @@ pub struct CaGalleryArgs {
     pub rules: Vec<String>,
     #[command(flatten)]
     pub rule_args: RuleArgs,
-    /// Initial conditions, one column each: seed, random:DENSITY[@SEED], or files.
+    /// Initial conditions, one column each: seed, random:DENSITY or random:DENSITY@SEED, or files.
     #[arg(long, value_delimiter = ',', default_value = "seed,random:0.3")]
     pub inits: Vec<String>,
     /// Steps per run.

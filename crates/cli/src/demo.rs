@@ -93,7 +93,11 @@ pub struct Section {
 type SectionFn = fn(&Env) -> anyhow::Result<Section>;
 
 /// The gallery, in page order. Method issues add their section here.
-const SECTIONS: &[(&str, SectionFn)] = &[("foundation", foundation), ("renderer", renderer)];
+const SECTIONS: &[(&str, SectionFn)] = &[
+    ("foundation", foundation),
+    ("renderer", renderer),
+    ("peridier", peridier),
+];
 
 pub fn run(ctx: &Context, a: &DemoArgs) -> anyhow::Result<()> {
     let dir = a
@@ -630,6 +634,275 @@ fn renderer(env: &Env) -> anyhow::Result<Section> {
         source: "asperity-render — light model from gobron-chiba §\"Simple Light Model\"".into(),
         blurb: "Headless CPU rendering with 4× supersampling, shadows from the key light and ambient obscurance. \
                 Every picture in this gallery comes from `asperity render` code paths."
+            .into(),
+        items,
+    })
+}
+
+/// Peridier's cellular-automaton surfaces, figure by figure.
+fn peridier(env: &Env) -> anyhow::Result<Section> {
+    use asperity_ca::facets::{circle, drape, facet_mesh};
+    use asperity_ca::{Boundary, CaParams, Family, Init, Rule, accumulate, initial_grid};
+    let budget = env.ctx.budget;
+    let rule450 = Rule::new(Family::Totalistic9, 2, 450)?;
+    let mut items = Vec::new();
+    let small = RenderOptions {
+        shader: Shader::Flat,
+        ..env.view()
+    };
+
+    // Figures 1–3: rule 450 on a 21×15 grid, 5 steps.
+    let init = initial_grid(&Init::Seed, Some([21, 15]), 2, &budget)?;
+    let run = accumulate(
+        &init,
+        &CaParams {
+            keep_states: true,
+            ..CaParams::new(rule450.clone(), 5)
+        },
+        &budget,
+    )?;
+    env.write(
+        "ca_rule450_21x15.npy",
+        &Surface::Height(run.heights.clone()),
+        &WriteOptions::default(),
+    )?;
+    let fig1 = env.picture(
+        "ca_fig1_rule450.png",
+        &crate::ca_cmd::render_facets(&run.heights, &small)?,
+    )?;
+    items.push(Item {
+        title: "Figure 1: rule 450, 21×15 grid, 5 steps, facets".into(),
+        image: Some(fig1),
+        files: vec!["ca_rule450_21x15.npy".into()],
+        facts: vec![
+            fact("rule", "two-state nine-neighbour totalistic 450"),
+            fact(
+                "initial grid",
+                "one centre cell (the paper's default is not stated)",
+            ),
+            fact(
+                "heights",
+                format!("{} … {}", run.heights.min_max().0, run.heights.min_max().1),
+            ),
+        ],
+    });
+    let table = rule450.describe();
+    items.push(Item {
+        title: "Figure 2: the look-up table of rule 450".into(),
+        image: None,
+        files: vec![],
+        facts: table
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let (k, v) = l.split_once(':').unwrap_or((l, ""));
+                fact(k.trim(), v.trim())
+            })
+            .collect(),
+    });
+    let states = run.states.as_deref().unwrap_or(&[]);
+    let (nx, ny, scale) = (21u32, 15u32, 8u32);
+    let mut strip = RgbaImage::filled(6 * (nx * scale + 6), ny * scale, [255, 255, 255, 255]);
+    for (t, step) in states.chunks((nx * ny) as usize).enumerate() {
+        for (n, &v) in step.iter().enumerate() {
+            let c = if v == 1 {
+                [0, 0, 0, 255]
+            } else {
+                [235, 235, 235, 255]
+            };
+            let (x, y) = (
+                t as u32 * (nx * scale + 6) + (n as u32 % nx) * scale,
+                (n as u32 / nx) * scale,
+            );
+            for dy in 0..scale - 1 {
+                for dx in 0..scale - 1 {
+                    strip.put(x + dx, y + dy, c);
+                }
+            }
+        }
+    }
+    let fig3 = env.picture("ca_fig3_steps.png", &strip)?;
+    items.push(Item {
+        title: "Figure 3: steps 0–5, summed cell by cell into Figure 1".into(),
+        image: Some(fig3),
+        files: vec![],
+        facts: vec![fact("state 1", "black")],
+    });
+
+    // Figure 4: rules 8 and 480 × two initial conditions.
+    let args = crate::cli::CaGalleryArgs {
+        rules: vec!["8".into(), "480".into()],
+        rule_args: crate::cli::RuleArgs {
+            family: "totalistic9".into(),
+            states: 2,
+        },
+        inits: vec![
+            format!("random:0.2@{}", env.ctx.seed),
+            format!("random:0.5@{}", env.ctx.seed),
+        ],
+        steps: 10,
+        size: (41, 41),
+        tile: if env.quick { (240, 180) } else { (400, 300) },
+    };
+    let fig4 = env.picture(
+        "ca_fig4_gallery.png",
+        &crate::ca_cmd::gallery_image(env.ctx, &args)?,
+    )?;
+    items.push(Item {
+        title: "Figure 4: rows = rules 8, 480; columns = two initial conditions".into(),
+        image: Some(fig4),
+        files: vec![],
+        facts: vec![
+            fact("grid", "41×41 cyclic, 10 steps"),
+            fact("columns", "random densities 0.2 and 0.5"),
+            fact("CLI", "asperity ca gallery --rules 8,480 …"),
+        ],
+    });
+
+    // Figures 5/6 and 9: smooth plot versus facets on random data, a circle on it.
+    let mut rng = asperity_core::seeded(env.ctx.seed);
+    let rand_h = HeightField::from_vec(
+        [15, 15],
+        (0..225)
+            .map(|_| rand::Rng::random::<f64>(&mut rng) * 3.0)
+            .collect(),
+    )?;
+    let smooth = rand_h.to_trimesh(Diagonal::Forward)?;
+    let fig6a = env.picture(
+        "ca_fig6_smooth.png",
+        &render_mesh(
+            &smooth,
+            &RenderOptions {
+                shader: Shader::Phong,
+                ..env.view()
+            },
+        )?,
+    )?;
+    let facets = facet_mesh(&rand_h, true)?;
+    let fig6b = env.picture("ca_fig6_facets.png", &render_mesh(&facets, &small)?)?;
+    items.push(Item {
+        title: "Figure 6: irregular data, smoothly shaded".into(),
+        image: Some(fig6a),
+        files: vec![],
+        facts: vec![fact(
+            "what",
+            "one diagonal everywhere, smooth normals: interpolation artefacts",
+        )],
+    });
+    items.push(Item {
+        title: "Figure 6: the same data as alternating-diagonal facets".into(),
+        image: Some(fig6b),
+        files: vec![],
+        facts: vec![fact(
+            "what",
+            "flat facets, nodes in 4 or 8 facets (Figure 7)",
+        )],
+    });
+    let ring = drape(&rand_h, &circle(7.0, 7.0, 5.0, 180))?;
+    env.write(
+        "ca_fig9_circle.ply",
+        &Surface::Mesh(facets.clone()),
+        &WriteOptions::default(),
+    )?;
+    asperity_io::write_mesh_with_polylines(
+        &env.dir.join("ca_fig9_circle.obj"),
+        &facet_mesh(&rand_h, false)?,
+        std::slice::from_ref(&ring),
+        &WriteOptions::default(),
+    )?;
+    env.report
+        .borrow_mut()
+        .output(&env.dir.join("ca_fig9_circle.obj"));
+    let fig9 = env.picture(
+        "ca_fig9_circle.png",
+        &render_mesh(
+            &facets,
+            &RenderOptions {
+                polylines: vec![Polyline {
+                    points: ring.clone(),
+                    color: [220, 30, 30, 255],
+                    closed: true,
+                }],
+                ..small.clone()
+            },
+        )?,
+    )?;
+    items.push(Item {
+        title: "Figure 9: a circle drawn on the facets".into(),
+        image: Some(fig9),
+        files: vec!["ca_fig9_circle.obj".into()],
+        facts: vec![
+            fact("curve points", ring.len()),
+            fact(
+                "method",
+                "split at every grid line and facet diagonal, z by the four-case interpolation",
+            ),
+        ],
+    });
+
+    // A large surface.
+    let n = if env.quick { 128 } else { 256 };
+    let steps = if env.quick { 24 } else { 48 };
+    let init = initial_grid(
+        &Init::Random {
+            density: 0.3,
+            seed: env.ctx.seed,
+        },
+        Some([n, n]),
+        2,
+        &budget,
+    )?;
+    let t = std::time::Instant::now();
+    let big = accumulate(
+        &init,
+        &CaParams {
+            boundary: Boundary::Cyclic,
+            ..CaParams::new(rule450, steps)
+        },
+        &budget,
+    )?;
+    let secs = t.elapsed().as_secs_f64();
+    env.write(
+        "ca_rule450_large.gsf",
+        &Surface::Height(big.heights.clone()),
+        &WriteOptions::default(),
+    )?;
+    let view = env.picture(
+        "ca_large_3d.png",
+        &crate::ca_cmd::render_facets(&big.heights, &small)?,
+    )?;
+    let map = env.picture(
+        "ca_large_map.png",
+        &hillshade::height_map(&big.heights, ColorMap::Magma, 0.4, true),
+    )?;
+    items.push(Item {
+        title: format!("Rule 450, {n}×{n} cyclic, {steps} steps"),
+        image: Some(view),
+        files: vec!["ca_rule450_large.gsf".into()],
+        facts: vec![
+            fact("initial grid", "random, density 0.3"),
+            fact(
+                "CLI",
+                format!(
+                    "asperity ca run --rule 450 --steps {steps} --init random:0.3 --size {n}x{n}"
+                ),
+            ),
+        ],
+    });
+    // Timings go to report.json only: the page must be the same bytes on every run.
+    env.report.borrow_mut().measure("ca_large_seconds", secs);
+    items.push(Item {
+        title: "The same surface as a map".into(),
+        image: Some(map),
+        files: vec![],
+        facts: vec![fact("colour map", "magma with relief")],
+    });
+
+    Ok(Section {
+        title: "Cellular-automaton surfaces (peridier)".into(),
+        source: "asperity-ca — peridier, Figures 1–4, 6, 7, 9".into(),
+        blurb: "Elevations are the cell-by-cell sum of the steps of a 2-D totalistic cellular automaton (Wolfram numbering), drawn with \
+                flat triangular facets on alternating diagonals, with an interpolation consistent with them."
             .into(),
         items,
     })

@@ -804,7 +804,7 @@ impl Overlay<'_> {
             return;
         }
         let steps = (len * 2.0).ceil().max(1.0) as usize;
-        let alpha = col[3] as f32 / 255.0 * 0.5;
+        let alpha = col[3] as f32 / 255.0 * 0.85;
         for s in 0..=steps {
             let q = pa + (pb - pa) * (s as f32 / steps as f32);
             let (fx, fy) = (q.x - 0.5, q.y - 0.5);
