@@ -94,7 +94,11 @@ fn ca_run(ctx: &Context, a: &CaRunArgs) -> anyhow::Result<()> {
     let params = CaParams {
         boundary,
         include_step0: !a.no_step0,
-        weights: a.decay.map_or(Weights::Uniform, Weights::Geometric),
+        weights: match (&a.weights, a.decay) {
+            (Some(w), _) => Weights::Explicit(w.clone()),
+            (None, Some(r)) => Weights::Geometric(r),
+            (None, None) => Weights::Uniform,
+        },
         values: a.values.clone(),
         keep_states: a.states_out.is_some() || a.steps_png.is_some(),
         ..CaParams::new(rule.clone(), a.steps)

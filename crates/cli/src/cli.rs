@@ -335,8 +335,16 @@ pub struct CaRunArgs {
     #[arg(long)]
     pub no_step0: bool,
     /// Weight step t by R^t (geometric decay).
-    #[arg(long, value_name = "R")]
+    #[arg(long, value_name = "R", conflicts_with = "weights")]
     pub decay: Option<f64>,
+    /// Explicit weight of each step 0…T, comma-separated (T+1 values).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "W0,W1,…",
+        allow_negative_numbers = true
+    )]
+    pub weights: Option<Vec<f64>>,
     /// Height of each state, comma-separated (k values; default 0, 1, …).
     #[arg(
         long,
