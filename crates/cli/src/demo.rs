@@ -53,14 +53,7 @@ impl Env<'_> {
     /// Writes an SVG document (a plot) and records it.
     pub fn svg(&self, name: &str, svg: &str) -> anyhow::Result<String> {
         let path = self.dir.join(name);
-        asperity_io::write_atomic(&path, |w| {
-            std::io::Write::write_all(w, svg.as_bytes()).map_err(|source| {
-                asperity_io::IoError::Os {
-                    path: path.clone(),
-                    source,
-                }
-            })
-        })?;
+        asperity_io::write_text(&path, svg)?;
         self.report.borrow_mut().output(&path);
         Ok(name.to_owned())
     }
@@ -128,12 +121,7 @@ pub fn run(ctx: &Context, a: &DemoArgs) -> anyhow::Result<()> {
     bar.finish();
     let index = dir.join("index.html");
     let html = page(&sections, ctx.seed, a.quick);
-    asperity_io::write_atomic(&index, |w| {
-        std::io::Write::write_all(w, html.as_bytes()).map_err(|source| asperity_io::IoError::Os {
-            path: index.clone(),
-            source,
-        })
-    })?;
+    asperity_io::write_text(&index, &html)?;
     let mut report = env.report.into_inner();
     report.output(&index);
     report.measure(
@@ -142,12 +130,7 @@ pub fn run(ctx: &Context, a: &DemoArgs) -> anyhow::Result<()> {
     );
     let json = serde_json::to_string_pretty(&report)?;
     let report_path = dir.join("report.json");
-    asperity_io::write_atomic(&report_path, |w| {
-        std::io::Write::write_all(w, json.as_bytes()).map_err(|source| asperity_io::IoError::Os {
-            path: report_path.clone(),
-            source,
-        })
-    })?;
+    asperity_io::write_text(&report_path, &json)?;
     ctx.note(format!("gallery written to {}", index.display()));
     report.finish(ctx)
 }

@@ -56,6 +56,24 @@ pub enum IoError {
     },
 }
 
+impl IoError {
+    /// An OS error on `path`.
+    pub fn os(path: &std::path::Path, source: std::io::Error) -> Self {
+        IoError::Os {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    /// Invalid geometry read from or about to be written to `path`.
+    pub fn invalid(path: &std::path::Path, source: CoreError) -> Self {
+        IoError::Invalid {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+}
+
 /// An error inside one format's code, before the path is known.
 #[derive(Debug)]
 pub(crate) enum FormatError {

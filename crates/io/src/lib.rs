@@ -284,10 +284,7 @@ impl Default for WriteOptions {
 }
 
 fn read_bytes(path: &Path) -> Result<Vec<u8>, IoError> {
-    std::fs::read(path).map_err(|source| IoError::Os {
-        path: path.to_path_buf(),
-        source,
-    })
+    std::fs::read(path).map_err(|e| IoError::os(path, e))
 }
 
 fn wrong(path: &Path, f: Format, kind: &'static str) -> IoError {
@@ -450,15 +447,12 @@ pub fn read_points(path: &Path) -> Result<PointSet, IoError> {
 pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<(), IoError> {
     let f = Format::from_path(path)?;
     if mesh.n_faces() == 0 {
-        return Err(IoError::Invalid {
-            path: path.to_path_buf(),
-            source: CoreError::Empty("the mesh (no triangles)"),
-        });
+        return Err(IoError::invalid(
+            path,
+            CoreError::Empty("the mesh (no triangles)"),
+        ));
     }
-    let os = |source| IoError::Os {
-        path: path.to_path_buf(),
-        source,
-    };
+    let os = |e| IoError::os(path, e);
     match f {
         Format::Ply => write_atomic(path, |w| {
             ply::write_mesh(w, mesh, opts.ply_encoding).map_err(os)
@@ -490,16 +484,10 @@ fn write_obj_sidecars(path: &Path, tex: &RgbaImage) -> Result<String, IoError> {
     let png_path = path.with_file_name(&png_name);
     let mtl_path = path.with_file_name(&mtl_name);
     write_atomic(&png_path, |w| {
-        png_io::write_rgba(w, tex).map_err(|source| IoError::Os {
-            path: png_path.clone(),
-            source,
-        })
+        png_io::write_rgba(w, tex).map_err(|e| IoError::os(&png_path, e))
     })?;
     write_atomic(&mtl_path, |w| {
-        obj::write_mtl(w, &png_name).map_err(|source| IoError::Os {
-            path: mtl_path.clone(),
-            source,
-        })
+        obj::write_mtl(w, &png_name).map_err(|e| IoError::os(&mtl_path, e))
     })?;
     Ok(mtl_name)
 }
@@ -511,19 +499,10 @@ fn write_obj_sidecars(path: &Path, tex: &RgbaImage) -> Result<String, IoError> {
 pub fn write_points(path: &Path, points: &PointSet, opts: &WriteOptions) -> Result<(), IoError> {
     let f = Format::from_path(path)?;
     if points.is_empty() {
-        return Err(IoError::Invalid {
-            path: path.to_path_buf(),
-            source: CoreError::Empty("the point set"),
-        });
+        return Err(IoError::invalid(path, CoreError::Empty("the point set")));
     }
-    points.validate().map_err(|source| IoError::Invalid {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let os = |source| IoError::Os {
-        path: path.to_path_buf(),
-        source,
-    };
+    points.validate().map_err(|e| IoError::invalid(path, e))?;
+    let os = |e| IoError::os(path, e);
     match f {
         Format::Ply => write_atomic(path, |w| {
             ply::write_points(w, points, opts.ply_encoding).map_err(os)
@@ -545,14 +524,8 @@ pub fn write_points(path: &Path, points: &PointSet, opts: &WriteOptions) -> Resu
 /// [`IoError`]; [`IoError::Invalid`] for NaN or infinite heights.
 pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result<(), IoError> {
     let f = Format::from_path(path)?;
-    h.validate().map_err(|source| IoError::Invalid {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let os = |source| IoError::Os {
-        path: path.to_path_buf(),
-        source,
-    };
+    h.validate().map_err(|e| IoError::invalid(path, e))?;
+    let os = |e| IoError::os(path, e);
     match f {
         Format::Npy => write_atomic(path, |w| {
             npy::write(w, &[h.ny(), h.nx()], h.data(), opts.npy_dtype).map_err(os)
@@ -564,20 +537,24 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
         Format::Ply | Format::Obj | Format::Stl | Format::Glb => {
             let mesh = h
                 .to_trimesh(opts.diagonal)
-                .map_err(|source| IoError::Invalid {
-                    path: path.to_path_buf(),
-                    source,
-                })?;
+                .map_err(|e| IoError::invalid(path, e))?;
             let mesh = mesh
                 .with_scalar("height", h.data().to_vec())
-                .map_err(|source| IoError::Invalid {
-                    path: path.to_path_buf(),
-                    source,
-                })?;
+                .map_err(|e| IoError::invalid(path, e))?;
             write_mesh(path, &mesh, opts)
         }
         Format::Xyz => write_points(path, &h.to_point_set(), opts),
     }
+}
+
+/// Writes text (HTML, JSON, SVG…) atomically.
+///
+/// # Errors
+/// [`IoError::Os`].
+pub fn write_text(path: &Path, text: &str) -> Result<(), IoError> {
+    write_atomic(path, |w| {
+        std::io::Write::write_all(w, text.as_bytes()).map_err(|e| IoError::os(path, e))
+    })
 }
 
 /// Writes an 8-bit RGBA picture (a render, a colour map, a texture) as PNG.
@@ -586,10 +563,7 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
 /// [`IoError::Os`].
 pub fn write_png(path: &Path, img: &RgbaImage) -> Result<(), IoError> {
     write_atomic(path, |w| {
-        png_io::write_rgba(w, img).map_err(|source| IoError::Os {
-            path: path.to_path_buf(),
-            source,
-        })
+        png_io::write_rgba(w, img).map_err(|e| IoError::os(path, e))
     })
 }
 
@@ -601,20 +575,15 @@ pub fn write_png(path: &Path, img: &RgbaImage) -> Result<(), IoError> {
 pub fn write_npy_u8(path: &Path, shape: &[usize], data: &[u8]) -> Result<(), IoError> {
     let n: usize = shape.iter().product();
     if n != data.len() {
-        return Err(IoError::Invalid {
-            path: path.to_path_buf(),
-            source: CoreError::GridSize {
-                dims: shape.to_vec(),
-                expected: n,
-                got: data.len(),
-            },
-        });
+        let source = CoreError::GridSize {
+            dims: shape.to_vec(),
+            expected: n,
+            got: data.len(),
+        };
+        return Err(IoError::invalid(path, source));
     }
     write_atomic(path, |w| {
-        npy::write_u8(w, shape, data).map_err(|source| IoError::Os {
-            path: path.to_path_buf(),
-            source,
-        })
+        npy::write_u8(w, shape, data).map_err(|e| IoError::os(path, e))
     })
 }
 
@@ -634,10 +603,7 @@ pub fn write_mesh_with_polylines(
     if !matches!(f, Format::Obj | Format::Ply) {
         return Err(wrong(path, f, "polylines (use .obj or .ply)"));
     }
-    let invalid = |source| IoError::Invalid {
-        path: path.to_path_buf(),
-        source,
-    };
+    let invalid = |e| IoError::invalid(path, e);
     let extra: usize = lines.iter().map(Vec::len).sum();
     let mut positions = mesh.positions().to_vec();
     let mut edges = Vec::new();
@@ -689,10 +655,7 @@ pub fn write_mesh_with_polylines(
             )
             .map_err(invalid)?;
     }
-    let os = |source| IoError::Os {
-        path: path.to_path_buf(),
-        source,
-    };
+    let os = |e| IoError::os(path, e);
     match f {
         Format::Ply => write_atomic(path, |w| {
             ply::write_mesh_edges(w, &m, &edges, opts.ply_encoding).map_err(os)
