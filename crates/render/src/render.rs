@@ -732,9 +732,24 @@ fn shade_point(
     let albedo = if let Some(a) = &p.albedo {
         a[i] * b[0] + a[j] * b[1] + a[k] * b[2]
     } else if let Some((v, lo, hi, map)) = &p.scalar {
-        let s = v[i] * b[0] + v[j] * b[1] + v[k] * b[2];
-        let tt = if hi > lo { (s - lo) / (hi - lo) } else { 0.5 };
-        let c = map.map(tt as f64);
+        let c = if *map == ColorMap::Labels {
+            // Labels are categories: take the label of the nearest corner, unscaled.
+            let nearest = if b[0] >= b[1] && b[0] >= b[2] {
+                i
+            } else if b[1] >= b[2] {
+                j
+            } else {
+                k
+            };
+            map.map(v[nearest] as f64)
+        } else {
+            let s = v[i] * b[0] + v[j] * b[1] + v[k] * b[2];
+            map.map(if hi > lo {
+                ((s - lo) / (hi - lo)) as f64
+            } else {
+                0.5
+            })
+        };
         Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) / 255.0
     } else if let (Some(uv), Some(tex)) = (&p.uvs, &p.texture) {
         sample_texture(tex, uv[i] * b[0] + uv[j] * b[1] + uv[k] * b[2])

@@ -345,3 +345,30 @@ fn mean_curvature_of_a_sphere_is_one_over_r() {
         h.len()
     );
 }
+
+#[test]
+fn label_colour_map_shows_categories_unscaled() {
+    // Left half label 3, right half label 7: each half shows its tab10 colour.
+    let h = HeightField::from_vec([20, 20], vec![0.0; 400]).unwrap();
+    let m = h.to_trimesh(asperity_core::Diagonal::Forward).unwrap();
+    let labels: Vec<f64> = (0..400)
+        .map(|k| if k % 20 < 10 { 3.0 } else { 7.0 })
+        .collect();
+    let m = m.with_scalar("region", labels).unwrap();
+    let unlit = LightModel {
+        ambient: 1.0,
+        diffuse: 0.0,
+        specular: 0.0,
+        ..LightModel::default()
+    };
+    let o = RenderOptions {
+        shader: Shader::Height,
+        colormap: ColorMap::Labels,
+        scalar: Some("region".into()),
+        light: unlit,
+        ..top_ortho(100)
+    };
+    let img = render_mesh(&m, &o).unwrap();
+    assert_eq!(&img.get(20, 50)[..3], &ColorMap::Labels.map(3.0));
+    assert_eq!(&img.get(80, 50)[..3], &ColorMap::Labels.map(7.0));
+}
