@@ -122,6 +122,25 @@ impl<T> Grid2<T> {
         Ok(self)
     }
 
+    /// Applies the spacing and origin that a file recorded, where it recorded them.
+    ///
+    /// # Errors
+    /// As [`Grid2::with_spacing`] and [`Grid2::with_origin`].
+    pub fn with_geometry(
+        self,
+        spacing: Option<[f64; 2]>,
+        origin: Option<[f64; 2]>,
+    ) -> crate::Result<Self> {
+        let g = match spacing {
+            Some(s) => self.with_spacing(s)?,
+            None => self,
+        };
+        match origin {
+            Some(o) => g.with_origin(o),
+            None => Ok(g),
+        }
+    }
+
     /// `[nx, ny]`.
     pub fn dims(&self) -> [usize; 2] {
         self.dims

@@ -648,18 +648,7 @@ fn write_ply(
 
 /// Writes a triangle mesh with all its per-vertex data.
 pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh, enc: PlyEncoding) -> std::io::Result<()> {
-    let v = VertexData {
-        positions: m.positions(),
-        normals: m.normals(),
-        colors: m.colors(),
-        uvs: m.uvs(),
-        scalars: m
-            .scalars()
-            .iter()
-            .map(|a| (a.name.as_str(), a.values.as_slice()))
-            .collect(),
-    };
-    write_ply(w, &v, Some(m.triangles()), &[], enc)
+    write_mesh_edges(w, m, &[], enc)
 }
 
 /// Writes a triangle mesh plus an `edge` element (polylines drawn on it).

@@ -97,14 +97,10 @@ pub(crate) fn read_csv(bytes: &[u8]) -> FResult<HeightField> {
             })
             .transpose()
     };
-    let mut h = HeightField::from_vec([nx, ny], data)?;
-    if let (Some(dx), Some(dy)) = (get("dx")?, get("dy")?) {
-        h = h.with_spacing([dx, dy])?;
-    }
-    if let (Some(x0), Some(y0)) = (get("x0")?, get("y0")?) {
-        h = h.with_origin([x0, y0])?;
-    }
-    Ok(h)
+    let pair = |a: Option<f64>, b: Option<f64>| a.zip(b).map(|(a, b)| [a, b]);
+    let spacing = pair(get("dx")?, get("dy")?);
+    let origin = pair(get("x0")?, get("y0")?);
+    Ok(HeightField::from_vec([nx, ny], data)?.with_geometry(spacing, origin)?)
 }
 
 /// Writes an XYZ point list.
