@@ -1,7 +1,32 @@
-//! Roughness analysis of height fields, point sets and meshes.
+//! Roughness analysis of height fields and meshes.
 //!
-//! **Status: planned** (issue "Roughness analysis"). Will provide ISO 25178 areal
-//! parameters, PSDs and Hurst exponents, interface-width fits (α, β) for
-//! [kim-machiraju-thompson] §4.1, cluster fractal dimensions, and mesh curvature.
+//! | Module | What | Reference |
+//! | --- | --- | --- |
+//! | [`level`] | levelling: mean, least-squares plane, quadratic | ISO 25178-2 (F-operator) |
+//! | [`areal`] | Sa, Sq, Sp, Sv, Sz, Ssk, Sku, Sdq, Sdr; profile Ra, Rq, … | ISO 25178-2, ISO 4287 |
+//! | [`psd`] | 2-D PSD, radially averaged log-binned 1-D PSD, Hurst exponent | SurfaceTopography conventions |
+//! | [`mesh`] | curvature (mean, Gaussian) with the Gauss–Bonnet check | Meyer et al. 2003 |
 //!
-//! [kim-machiraju-thompson]: ../shared/papers/kim-machiraju-thompson_modeling-rough-surfaces.txt
+//! Status: partial (issue "Roughness analysis"). Still to come: Sal/Str and the
+//! autocorrelation/height-height correlation functions, triangulation and
+//! partitioning fractal dimensions, interface-width fits (α, β), cluster
+//! dimensions, smoothed-mesh roughness, box counting, `--plot`.
+
+pub mod areal;
+pub mod level;
+pub mod mesh;
+pub mod psd;
+
+use asperity_core::CoreError;
+
+/// Why an analysis was refused.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum AnalysisError {
+    /// The input cannot be analysed (empty, constant, too small, NaN).
+    #[error("{0}")]
+    BadInput(String),
+    /// Invalid geometry.
+    #[error(transparent)]
+    Core(#[from] CoreError),
+}

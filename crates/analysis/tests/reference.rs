@@ -1,0 +1,176 @@
+//! Analysis against known answers: self-affine surfaces of known H, spheres and tori.
+
+use asperity_analysis::{areal, level, mesh, psd};
+use asperity_core::fourier_surface::{FourierParams, fourier_surface};
+use asperity_core::{MemoryBudget, TriMesh};
+
+#[test]
+fn hurst_exponent_is_recovered_from_self_affine_surfaces() {
+    let n = 1024;
+    for (h_true, seed) in [(0.3, 1), (0.5, 2), (0.5, 3), (0.8, 4)] {
+        {
+            let p = FourierParams {
+                n,
+                hurst: h_true,
+                modes: n / 2,
+                rms: 1.0,
+                spacing: 1.0 / n as f64,
+            };
+            let h = fourier_surface(&p, seed, &MemoryBudget::unlimited()).unwrap();
+            let r = psd::radial_psd(&h, 40).unwrap();
+            let est = psd::hurst(&r, &h, None).unwrap();
+            assert!(
+                (est.hurst - h_true).abs() < 0.05,
+                "H = {h_true}, seed {seed}: estimated {}",
+                est.hurst
+            );
+            assert!((est.fractal_dimension - (3.0 - est.hurst)).abs() < 1e-15);
+            assert!(est.fit.r2 > 0.99, "r² = {}", est.fit.r2);
+            // The PSD integrates to the mean square height (Parseval, SurfaceTopography convention).
+            let c = psd::psd_2d(&h);
+            let area = (n as f64 / n as f64).powi(2);
+            let ms = h.data().iter().map(|v| v * v).sum::<f64>() / h.len() as f64;
+            assert!((c.iter().sum::<f64>() / area - ms).abs() < 1e-9 * ms);
+        }
+    }
+}
+
+#[test]
+fn levelling_then_areal_on_a_tilted_sine() {
+    let n = 128;
+    let tau = std::f64::consts::TAU;
+    // sin·sin is orthogonal to 1, x and y on the grid, so plane levelling of
+    // sin·sin + a tilt gives back sin·sin exactly: Sku = 2.25, Sq = 1/2.
+    let s2 = |k: usize| {
+        (tau * (k % n) as f64 / n as f64).sin() * (tau * (k / n) as f64 / n as f64).sin()
+    };
+    let f = asperity_core::HeightField::from_vec(
+        [n, n],
+        (0..n * n)
+            .map(|k| s2(k) + 0.3 + 0.01 * (k / n) as f64 - 0.02 * (k % n) as f64)
+            .collect(),
+    )
+    .unwrap();
+    let plane = level::level(&f, level::Level::Plane).unwrap();
+    let s = areal::areal(&plane).unwrap();
+    assert!(
+        (s.Sku - 2.25).abs() < 1e-9 && (s.Sq - 0.5).abs() < 1e-12,
+        "{} {}",
+        s.Sku,
+        s.Sq
+    );
+}
+
+fn icosphere(level: u32, r: f64) -> TriMesh {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut p: Vec<[f64; 3]> = vec![
+        [-1.0, t, 0.0],
+        [1.0, t, 0.0],
+        [-1.0, -t, 0.0],
+        [1.0, -t, 0.0],
+        [0.0, -1.0, t],
+        [0.0, 1.0, t],
+        [0.0, -1.0, -t],
+        [0.0, 1.0, -t],
+        [t, 0.0, -1.0],
+        [t, 0.0, 1.0],
+        [-t, 0.0, -1.0],
+        [-t, 0.0, 1.0],
+    ];
+    let unit = |v: [f64; 3]| {
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        v.map(|c| c / l)
+    };
+    p.iter_mut().for_each(|v| *v = unit(*v));
+    let mut f: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..level {
+        let mut mid = std::collections::HashMap::new();
+        let mut next = Vec::new();
+        for &[a, b, c] in &f {
+            let mut m = |u: u32, v: u32| {
+                *mid.entry((u.min(v), u.max(v))).or_insert_with(|| {
+                    let (x, y) = (p[u as usize], p[v as usize]);
+                    p.push(unit([x[0] + y[0], x[1] + y[1], x[2] + y[2]]));
+                    (p.len() - 1) as u32
+                })
+            };
+            let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
+            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        f = next;
+    }
+    TriMesh::new(p.into_iter().map(|v| v.map(|c| c * r)).collect(), f).unwrap()
+}
+
+#[test]
+fn sphere_gauss_bonnet_and_mean_curvature() {
+    let r = 3.0;
+    let s = icosphere(4, r);
+    assert_eq!(s.euler_characteristic(), 2);
+    let c = mesh::curvature(&s);
+    assert!(
+        (c.total_gaussian - 4.0 * std::f64::consts::PI).abs() < 1e-9,
+        "{}",
+        c.total_gaussian
+    );
+    let h = mesh::stats(&c.mean, &c.area);
+    assert!((h.mean - 1.0 / r).abs() < 0.01 / r, "mean H = {}", h.mean);
+    let k = mesh::stats(&c.gaussian, &c.area);
+    assert!(
+        (k.mean - 1.0 / (r * r)).abs() < 0.02 / (r * r),
+        "mean K = {}",
+        k.mean
+    );
+}
+
+#[test]
+fn torus_has_genus_one_and_zero_total_curvature() {
+    let (nu, nv) = (48, 24);
+    let tau = std::f64::consts::TAU;
+    let mut p = Vec::new();
+    for i in 0..nu {
+        for j in 0..nv {
+            let (u, v) = (tau * i as f64 / nu as f64, tau * j as f64 / nv as f64);
+            p.push([
+                (2.0 + 0.6 * v.cos()) * u.cos(),
+                (2.0 + 0.6 * v.cos()) * u.sin(),
+                0.6 * v.sin(),
+            ]);
+        }
+    }
+    let id = |i: usize, j: usize| ((i % nu) * nv + j % nv) as u32;
+    let t = (0..nu)
+        .flat_map(|i| {
+            (0..nv).flat_map(move |j| {
+                [
+                    [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
+                    [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
+                ]
+            })
+        })
+        .collect();
+    let torus = TriMesh::new(p, t).unwrap();
+    assert_eq!(torus.genus(), Some(1));
+    assert!(mesh::curvature(&torus).total_gaussian.abs() < 1e-9);
+}
