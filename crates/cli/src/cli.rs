@@ -87,6 +87,11 @@ pub enum Command {
     Facet(FacetArgs),
     /// Heights on the facets at (x, y) points (peridier's TriangulatedInterpolation).
     Interpolate(InterpolateArgs),
+    /// Roughness numbers of a height field or mesh (ISO 25178, PSD, Hurst, curvature).
+    Analyze(AnalyzeArgs),
+    /// Generate surfaces from built-in models.
+    #[command(subcommand)]
+    Generate(GenerateCommand),
     /// Time the workloads named in the issues and print throughput.
     Bench(BenchArgs),
     /// List the file formats asperity reads and writes.
@@ -427,6 +432,46 @@ pub struct InterpolateArgs {
     /// CSV of x,y rows (physical units); prints x,y,z rows.
     #[arg(long)]
     pub points: PathBuf,
+}
+
+/// `asperity analyze`
+#[derive(Args, Debug)]
+pub struct AnalyzeArgs {
+    /// Height-field or mesh file.
+    pub input: PathBuf,
+    /// Reference surface removed first: none, mean, plane, quadratic.
+    #[arg(long, default_value = "plane")]
+    pub level: String,
+    /// Log-spaced bins of the radially averaged PSD.
+    #[arg(long, default_value_t = 40)]
+    pub bins: usize,
+    /// Hurst fit window QMIN,QMAX in rad/length (default 2·q_min to the Nyquist wavenumber).
+    #[arg(long, value_delimiter = ',', value_name = "QMIN,QMAX")]
+    pub fit_window: Option<Vec<f64>>,
+}
+
+/// `asperity generate …`
+#[derive(Subcommand, Debug)]
+pub enum GenerateCommand {
+    /// Self-affine (fractional Brownian) surface by Fourier filtering with random phases.
+    Fbm(FbmArgs),
+}
+
+/// `asperity generate fbm`
+#[derive(Args, Debug)]
+pub struct FbmArgs {
+    /// Samples per side.
+    #[arg(long, default_value_t = 256)]
+    pub size: usize,
+    /// Hurst exponent H in (0, 1] (fractal dimension 3 − H).
+    #[arg(long, default_value_t = 0.8)]
+    pub hurst: f64,
+    /// Root-mean-square height.
+    #[arg(long, default_value_t = 1.0)]
+    pub rms: f64,
+    /// Grid spacing (the field is periodic with period size·spacing).
+    #[arg(long, default_value_t = 1.0)]
+    pub spacing: f64,
 }
 
 /// `asperity bench`

@@ -21,6 +21,7 @@ macro_rules! out {
     }};
 }
 
+mod analyze_cmd;
 mod bench_cmd;
 mod ca_cmd;
 mod cli;
@@ -61,6 +62,8 @@ fn run(args: cli::Cli) -> anyhow::Result<()> {
         cli::Command::Render(a) => render_cmd::run(&ctx, &a),
         cli::Command::Formats => convert::formats(&ctx),
         cli::Command::Bench(a) => bench_cmd::run(&ctx, &a),
+        cli::Command::Analyze(a) => analyze_cmd::analyze(&ctx, &a),
+        cli::Command::Generate(cli::GenerateCommand::Fbm(a)) => analyze_cmd::fbm(&ctx, &a),
         cli::Command::Ca(c) => ca_cmd::run(&ctx, c),
         cli::Command::Facet(a) => ca_cmd::facet(&ctx, &a),
         cli::Command::Interpolate(a) => ca_cmd::interpolate(&ctx, &a),

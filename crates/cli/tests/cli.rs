@@ -588,3 +588,71 @@ fn closed_stdout_is_not_a_crash() {
     );
     assert!(!String::from_utf8_lossy(&out.stderr).contains("panicked"));
 }
+
+#[test]
+fn analyze_and_generate() {
+    let d = tempfile::tempdir().unwrap();
+    let o = asperity(
+        &[
+            "--seed", "3", "generate", "fbm", "--size", "256", "--hurst", "0.7", "--rms", "0.5",
+            "-o", "f.npy",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = asperity(&["--json", "analyze", "f.npy", "--level", "mean"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let m = &v["measurements"];
+    for k in [
+        "Sa", "Sq", "Sp", "Sv", "Sz", "Ssk", "Sku", "Sdq", "Sdr", "hurst",
+    ] {
+        assert!(m[k].is_number(), "{k} missing");
+    }
+    assert!((m["Sq"].as_f64().unwrap() - 0.5).abs() < 1e-9);
+    assert!(
+        (m["hurst"].as_f64().unwrap() - 0.7).abs() < 0.05,
+        "{}",
+        m["hurst"]
+    );
+    assert!(m["fractal_dimension"]["psd"]["D"].is_number());
+    assert_eq!(
+        m["psd"]["q"].as_array().unwrap().len(),
+        m["psd"]["C"].as_array().unwrap().len()
+    );
+    // Meshes: topology and Gauss–Bonnet.
+    let o = asperity(&["demo", "--quick", "--out", "g"], d.path());
+    assert!(o.status.success());
+    let o = asperity(&["--json", "analyze", "g/torus.ply"], d.path());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["measurements"]["genus"], 1);
+    assert!(
+        v["measurements"]["curvature"]["total_gaussian"]
+            .as_f64()
+            .unwrap()
+            .abs()
+            < 1e-9
+    );
+    // Bad input.
+    std::fs::write(
+        d.path().join("flat.csv"),
+        "1,1,1,1\n1,1,1,1\n1,1,1,1\n1,1,1,1\n",
+    )
+    .unwrap();
+    assert_clean_failure(&asperity(&["analyze", "flat.csv"], d.path()), "constant");
+    assert_clean_failure(
+        &asperity(&["analyze", "f.npy", "--fit-window", "5,1"], d.path()),
+        "QMIN,QMAX",
+    );
+    assert_clean_failure(
+        &asperity(&["analyze", "f.npy", "--fit-window", "1e6,2e6"], d.path()),
+        "fit window",
+    );
+    assert_clean_failure(
+        &asperity(
+            &["generate", "fbm", "--hurst", "1.5", "-o", "x.npy"],
+            d.path(),
+        ),
+        "Hurst",
+    );
+}

@@ -1,0 +1,147 @@
+//! `asperity analyze` and `asperity generate fbm`.
+
+use anyhow::Context as _;
+use asperity_analysis::{areal, level, mesh, psd};
+use asperity_core::fourier_surface::{FourierParams, fourier_surface};
+use asperity_io::{Surface, WriteOptions};
+use serde_json::{Value, json};
+
+use crate::cli::{AnalyzeArgs, Context, FbmArgs};
+use crate::report::Report;
+
+fn height_report(h: &asperity_core::HeightField, a: &AnalyzeArgs) -> anyhow::Result<Value> {
+    let how = level::Level::from_name(&a.level).with_context(|| {
+        format!(
+            "unknown levelling {:?} (none, mean, plane, quadratic)",
+            a.level
+        )
+    })?;
+    let lv = level::level(h, how)?;
+    let s = areal::areal(&lv)?;
+    let px = areal::profile(&lv, false).ok();
+    let py = areal::profile(&lv, true).ok();
+    let r = psd::radial_psd(&lv, a.bins)?;
+    let window = match &a.fit_window {
+        Some(w) => {
+            anyhow::ensure!(
+                w.len() == 2 && w[0] > 0.0 && w[1] > w[0],
+                "--fit-window takes QMIN,QMAX with 0 < QMIN < QMAX, got {w:?}"
+            );
+            Some([w[0], w[1]])
+        }
+        None => None,
+    };
+    let hu = psd::hurst(&r, &lv, window)?;
+    let mut v = serde_json::to_value(s)?;
+    let m = v
+        .as_object_mut()
+        .context("areal parameters serialise to an object")?;
+    m.insert("kind".into(), json!("height field"));
+    m.insert("size".into(), json!(h.dims()));
+    m.insert("spacing".into(), json!(h.spacing()));
+    m.insert("levelling".into(), json!(how));
+    m.insert("profile_x".into(), json!(px));
+    m.insert("profile_y".into(), json!(py));
+    m.insert("hurst".into(), json!(hu.hurst));
+    m.insert(
+        "fractal_dimension".into(),
+        json!({"psd": {"D": hu.fractal_dimension, "fit_range": hu.fit.range, "r2": hu.fit.r2, "points": hu.fit.points}}),
+    );
+    m.insert("psd".into(), json!({"q": r.q, "C": r.c, "convention": "C(q) = A/N^2 |DFT|^2 (SurfaceTopography), radially averaged in log bins"}));
+    Ok(v)
+}
+
+fn mesh_report(m: &asperity_core::TriMesh) -> Value {
+    let c = mesh::curvature(m);
+    let chi = m.euler_characteristic();
+    let watertight = m.is_watertight();
+    json!({
+        "kind": "mesh",
+        "vertices": m.n_vertices(),
+        "triangles": m.n_faces(),
+        "area": m.area(),
+        "volume": if watertight { Some(m.signed_volume()) } else { None },
+        "euler_characteristic": chi,
+        "genus": m.genus(),
+        "boundary_loops": m.boundary_loops().len(),
+        "manifold": m.is_manifold(),
+        "watertight": watertight,
+        "curvature": {
+            "mean": mesh::stats(&c.mean, &c.area),
+            "gaussian": mesh::stats(&c.gaussian, &c.area),
+            "total_gaussian": c.total_gaussian,
+            "gauss_bonnet_2pi_chi": 2.0 * std::f64::consts::PI * chi as f64,
+        },
+    })
+}
+
+pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
+    let s = crate::convert::load(ctx, &a.input)?;
+    let facts = match &s {
+        Surface::Height(h) => height_report(h, a)?,
+        Surface::Mesh(m) => mesh_report(m),
+        Surface::Points(_) => anyhow::bail!(
+            "{}: point-set analysis (cluster dimensions) is not implemented yet; analyse a height field or a mesh",
+            a.input.display()
+        ),
+    };
+    if ctx.json {
+        let mut r = Report::new("analyze", ctx);
+        r.measure("file", a.input.display().to_string());
+        if let Value::Object(map) = facts {
+            r.measurements.extend(map);
+        }
+        return r.finish(ctx);
+    }
+    outln!("{}", a.input.display());
+    if let Value::Object(map) = facts {
+        for (k, v) in map {
+            if k == "psd" {
+                outln!(
+                    "  {k:22} {} log-binned points (see --json)",
+                    v["q"].as_array().map_or(0, Vec::len)
+                );
+            } else {
+                outln!("  {k:22} {v}");
+            }
+        }
+    }
+    Ok(())
+}
+
+pub fn fbm(ctx: &Context, a: &FbmArgs) -> anyhow::Result<()> {
+    let out = ctx
+        .output
+        .clone()
+        .context("no output file: give -o field.npy")?;
+    let p = FourierParams {
+        n: a.size,
+        hurst: a.hurst,
+        modes: a.size / 2,
+        rms: a.rms,
+        spacing: a.spacing,
+    };
+    let h = fourier_surface(&p, ctx.seed, &ctx.budget)?;
+    asperity_io::write_height(
+        &out,
+        &h,
+        &WriteOptions {
+            title: format!("fBm H={}", a.hurst),
+            ..WriteOptions::default()
+        },
+    )?;
+    let mut r = Report::new("generate fbm", ctx);
+    r.output(&out);
+    r.measure("size", a.size);
+    r.measure("hurst", a.hurst);
+    r.measure("rms", a.rms);
+    ctx.note(format!(
+        "wrote {} ({}×{}, H = {}, rms {})",
+        out.display(),
+        a.size,
+        a.size,
+        a.hurst,
+        a.rms
+    ));
+    r.finish(ctx)
+}
