@@ -5,17 +5,22 @@
 //! | [`level`] | levelling: mean, least-squares plane, quadratic | ISO 25178-2 (F-operator) |
 //! | [`areal`] | Sa, Sq, Sp, Sv, Sz, Ssk, Sku, Sdq, Sdr; profile Ra, Rq, … | ISO 25178-2, ISO 4287 |
 //! | [`psd`] | 2-D PSD, radially averaged log-binned 1-D PSD, Hurst exponent | SurfaceTopography conventions |
+//! | [`correlation`] | ACF, HHCF, Sal, Str | ISO 25178-2 |
+//! | [`fractal`] | triangulation and partitioning dimensions | Clarke 1986; variance method |
+//! | [`scaling`] | β (plain, intrinsic width), α, cluster dimensions (R_g, mass–radius) | kim-machiraju-thompson §4 |
 //! | [`mesh`] | curvature (mean, Gaussian) with the Gauss–Bonnet check | Meyer et al. 2003 |
 //!
-//! Status: partial (issue "Roughness analysis"). Still to come: Sal/Str and the
-//! autocorrelation/height-height correlation functions, triangulation and
-//! partitioning fractal dimensions, interface-width fits (α, β), cluster
-//! dimensions, smoothed-mesh roughness, box counting, `--plot`.
+//! Status: partial (issue "Roughness analysis"). Still to come: roughness relative
+//! to a smoothed mesh, box-counting dimension of voxelised surfaces, density
+//! profiles, `--plot` PNG output, and the 4096² benchmark.
 
 pub mod areal;
+pub mod correlation;
+pub mod fractal;
 pub mod level;
 pub mod mesh;
 pub mod psd;
+pub mod scaling;
 
 use asperity_core::CoreError;
 

@@ -1,7 +1,7 @@
 //! `asperity analyze` and `asperity generate fbm`.
 
 use anyhow::Context as _;
-use asperity_analysis::{areal, level, mesh, psd};
+use asperity_analysis::{areal, correlation, fractal, level, mesh, psd, scaling};
 use asperity_core::fourier_surface::{FourierParams, fourier_surface};
 use asperity_io::{Surface, WriteOptions};
 use serde_json::{Value, json};
@@ -43,10 +43,24 @@ fn height_report(h: &asperity_core::HeightField, a: &AnalyzeArgs) -> anyhow::Res
     m.insert("profile_x".into(), json!(px));
     m.insert("profile_y".into(), json!(py));
     m.insert("hurst".into(), json!(hu.hurst));
+    let dim = |d: Result<fractal::Dimension, asperity_analysis::AnalysisError>| match d {
+        Ok(d) => {
+            json!({"D": d.d, "fit_range": d.fit.range, "r2": d.fit.r2, "points": d.fit.points})
+        }
+        Err(e) => json!({"error": e.to_string()}),
+    };
     m.insert(
         "fractal_dimension".into(),
-        json!({"psd": {"D": hu.fractal_dimension, "fit_range": hu.fit.range, "r2": hu.fit.r2, "points": hu.fit.points}}),
+        json!({
+            "psd": {"D": hu.fractal_dimension, "fit_range": hu.fit.range, "r2": hu.fit.r2, "points": hu.fit.points},
+            "triangulation": dim(fractal::triangulation(&lv)),
+            "partitioning": dim(fractal::partitioning(&lv)),
+        }),
     );
+    let sp = correlation::spatial(&lv)?;
+    m.insert("Sal".into(), json!(sp.Sal));
+    m.insert("Str".into(), json!(sp.Str));
+    m.insert("Str_capped".into(), json!(sp.capped));
     m.insert("psd".into(), json!({"q": r.q, "C": r.c, "convention": "C(q) = A/N^2 |DFT|^2 (SurfaceTopography), radially averaged in log bins"}));
     Ok(v)
 }
@@ -80,10 +94,26 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
     let facts = match &s {
         Surface::Height(h) => height_report(h, a)?,
         Surface::Mesh(m) => mesh_report(m),
-        Surface::Points(_) => anyhow::bail!(
-            "{}: point-set analysis (cluster dimensions) is not implemented yet; analyse a height field or a mesh",
-            a.input.display()
-        ),
+        Surface::Points(p) => {
+            anyhow::ensure!(
+                p.len() >= 256,
+                "{}: {} points are too few for cluster dimensions (need ≥ 256)",
+                a.input.display(),
+                p.len()
+            );
+            let rg = scaling::radius_of_gyration(p.positions());
+            let g = scaling::gyration_dimension(p.positions())?;
+            let m = scaling::mass_radius_dimension(p.positions(), 0.05 * rg)?;
+            json!({
+                "kind": "point set",
+                "points": p.len(),
+                "radius_of_gyration": rg,
+                "fractal_dimension": {
+                    "gyration": {"D": g.d, "r2": g.fit.r2, "note": "R_g of the first n points in file order (deposition order)"},
+                    "mass_radius": {"D": m.d, "fit_range": m.fit.range, "r2": m.fit.r2},
+                },
+            })
+        }
     };
     if ctx.json {
         let mut r = Report::new("analyze", ctx);

@@ -1,0 +1,272 @@
+//! Growth and cluster scaling: interface-width exponents and cluster fractal
+//! dimensions (kim-machiraju-thompson §4; Family–Vicsek scaling; Witten–Sander DLA).
+//!
+//! - Growth exponent β from W(t) ∝ t^β: a plain log–log fit, and a fit with an
+//!   intrinsic width, W² = W_i² + A t^(2β) (W_i² chosen by a scan that maximises
+//!   the straightness of log(W² − W_i²) against log t), as BD needs.
+//! - Roughness exponent α from the saturated width W_sat ∝ L^α.
+//! - Cluster dimension from the radius of gyration of the first n particles,
+//!   R_g(n) ∝ n^(1/D), and from the mass within radius r of the particle
+//!   nearest the centroid, M(r) ∝ r^D.
+
+use serde::Serialize;
+
+use crate::AnalysisError;
+use crate::psd::{LogFit, log_fit};
+
+/// β with its fit (and the intrinsic width when fitted).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct GrowthFit {
+    /// The exponent.
+    pub exponent: f64,
+    /// Intrinsic width W_i (0 for the plain fit).
+    pub intrinsic_width: f64,
+    /// The fit.
+    pub fit: LogFit,
+}
+
+/// Plain log–log fit of W(t) ∝ t^β over `window` (in t).
+///
+/// # Errors
+/// [`AnalysisError::BadInput`] with fewer than 3 points in the window.
+pub fn growth_exponent(t: &[f64], w: &[f64], window: [f64; 2]) -> Result<GrowthFit, AnalysisError> {
+    let fit = log_fit(t, w, window)?;
+    Ok(GrowthFit {
+        exponent: fit.slope,
+        intrinsic_width: 0.0,
+        fit,
+    })
+}
+
+/// β from W² = W_i² + A t^(2β), scanning W_i² in [0, min W²).
+///
+/// # Errors
+/// As [`growth_exponent`].
+pub fn growth_exponent_intrinsic(
+    t: &[f64],
+    w: &[f64],
+    window: [f64; 2],
+) -> Result<GrowthFit, AnalysisError> {
+    let w2: Vec<f64> = w.iter().map(|v| v * v).collect();
+    let min = t
+        .iter()
+        .zip(&w2)
+        .filter(|(x, _)| **x >= window[0] && **x <= window[1])
+        .map(|(_, v)| *v)
+        .fold(f64::INFINITY, f64::min);
+    if !min.is_finite() {
+        return Err(AnalysisError::BadInput(
+            "no points in the fit window".into(),
+        ));
+    }
+    // Residual sum of squares of the log–log line for a given W_i².
+    let sse = |wi2: f64| -> Result<(f64, LogFit), AnalysisError> {
+        let y: Vec<f64> = w2.iter().map(|v| v - wi2).collect();
+        let f = log_fit(t, &y, window)?;
+        let r: f64 = t
+            .iter()
+            .zip(&y)
+            .filter(|(x, v)| **x >= window[0] && **x <= window[1] && **v > 0.0)
+            .map(|(x, v)| (v.ln() - f.intercept - f.slope * x.ln()).powi(2))
+            .sum();
+        Ok((r, f))
+    };
+    // Coarse scan, then a fine scan around the best coarse value.
+    let mut best = (0.0, sse(0.0)?);
+    for pass in 0..2 {
+        let (lo, hi) = if pass == 0 {
+            (0.0, min)
+        } else {
+            (
+                (best.0 - min / 400.0).max(0.0),
+                (best.0 + min / 400.0).min(min),
+            )
+        };
+        for k in 0..400 {
+            let wi2 = lo + (hi - lo) * k as f64 / 400.0;
+            if wi2 >= min {
+                break;
+            }
+            let cand = sse(wi2)?;
+            if cand.0 < best.1.0 {
+                best = (wi2, cand);
+            }
+        }
+    }
+    let (wi2, (_, fit)) = best;
+    Ok(GrowthFit {
+        exponent: fit.slope / 2.0,
+        intrinsic_width: wi2.sqrt(),
+        fit,
+    })
+}
+
+/// α from saturated widths W_sat(L) ∝ L^α.
+///
+/// # Errors
+/// With fewer than 3 sizes.
+pub fn roughness_exponent(sizes: &[f64], w_sat: &[f64]) -> Result<LogFit, AnalysisError> {
+    log_fit(sizes, w_sat, [0.0, f64::INFINITY])
+}
+
+/// A cluster dimension estimate.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ClusterDimension {
+    /// D.
+    pub d: f64,
+    /// The fit.
+    pub fit: LogFit,
+}
+
+fn centroid(p: &[[f64; 3]]) -> [f64; 3] {
+    let n = p.len() as f64;
+    [0, 1, 2].map(|a| p.iter().map(|q| q[a]).sum::<f64>() / n)
+}
+
+/// Radius of gyration of `points`.
+pub fn radius_of_gyration(points: &[[f64; 3]]) -> f64 {
+    let c = centroid(points);
+    (points
+        .iter()
+        .map(|q| (0..3).map(|a| (q[a] - c[a]).powi(2)).sum::<f64>())
+        .sum::<f64>()
+        / points.len() as f64)
+        .sqrt()
+}
+
+/// D from R_g of the first n particles (in deposition order), n over powers of two
+/// from 64 to all.
+///
+/// # Errors
+/// [`AnalysisError::BadInput`] for fewer than 256 points.
+pub fn gyration_dimension(points: &[[f64; 3]]) -> Result<ClusterDimension, AnalysisError> {
+    if points.len() < 256 {
+        return Err(AnalysisError::BadInput(format!(
+            "{} points are too few for a dimension fit (need ≥ 256)",
+            points.len()
+        )));
+    }
+    let ns: Vec<usize> = (6..)
+        .map(|k| 1usize << k)
+        .take_while(|&n| n <= points.len())
+        .collect();
+    let rg: Vec<f64> = ns
+        .iter()
+        .map(|&n| radius_of_gyration(&points[..n]))
+        .collect();
+    let fit = log_fit(
+        &ns.iter().map(|&n| n as f64).collect::<Vec<_>>(),
+        &rg,
+        [0.0, f64::INFINITY],
+    )?;
+    Ok(ClusterDimension {
+        d: 1.0 / fit.slope,
+        fit,
+    })
+}
+
+/// D from the mass within radius r of the particle nearest the centroid, for r
+/// from `r_min` to half the radius of gyration.
+///
+/// # Errors
+/// [`AnalysisError::BadInput`] for fewer than 256 points.
+pub fn mass_radius_dimension(
+    points: &[[f64; 3]],
+    r_min: f64,
+) -> Result<ClusterDimension, AnalysisError> {
+    if points.len() < 256 {
+        return Err(AnalysisError::BadInput(format!(
+            "{} points are too few for a dimension fit (need ≥ 256)",
+            points.len()
+        )));
+    }
+    // Centre: the particle nearest the centroid (the centroid itself may lie off
+    // the cluster, e.g. above a rough sheet).
+    let g = centroid(points);
+    let dist =
+        |q: &[f64; 3], c: &[f64; 3]| (0..3).map(|a| (q[a] - c[a]).powi(2)).sum::<f64>().sqrt();
+    let c = *points
+        .iter()
+        .min_by(|p, q| dist(p, &g).total_cmp(&dist(q, &g)))
+        .expect("non-empty");
+    let mut d: Vec<f64> = points.iter().map(|q| dist(q, &c)).collect();
+    d.sort_by(f64::total_cmp);
+    let r_max = 0.5 * radius_of_gyration(points);
+    if r_max <= r_min {
+        return Err(AnalysisError::BadInput(
+            "the cluster is too small for the requested minimum radius".into(),
+        ));
+    }
+    let radii: Vec<f64> = (0..16)
+        .map(|k| r_min * (r_max / r_min).powf(k as f64 / 15.0))
+        .collect();
+    let mass: Vec<f64> = radii
+        .iter()
+        .map(|&r| d.partition_point(|&x| x <= r) as f64)
+        .collect();
+    let fit = log_fit(&radii, &mass, [r_min, r_max])?;
+    Ok(ClusterDimension { d: fit.slope, fit })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use asperity_core::seeded;
+    use rand::Rng;
+
+    #[test]
+    fn exponents_from_synthetic_widths() {
+        let t: Vec<f64> = (0..30).map(|k| 2f64.powf(k as f64 * 0.5)).collect();
+        let w: Vec<f64> = t.iter().map(|x| 0.7 * x.powf(0.25)).collect();
+        assert!((growth_exponent(&t, &w, [1.0, 1e9]).unwrap().exponent - 0.25).abs() < 1e-12);
+        // With an intrinsic width the plain fit is biased low; the intrinsic fit is not.
+        let w: Vec<f64> = t
+            .iter()
+            .map(|x| (0.5f64.powi(2) + 0.7 * x.powf(2.0 / 3.0)).sqrt())
+            .collect();
+        let plain = growth_exponent(&t, &w, [1.0, 1e9]).unwrap().exponent;
+        let fit = growth_exponent_intrinsic(&t, &w, [1.0, 1e9]).unwrap();
+        assert!((plain - 1.0 / 3.0).abs() > 0.008, "{plain}");
+        assert!((fit.exponent - 1.0 / 3.0).abs() < 0.002, "{}", fit.exponent);
+        assert!(
+            (fit.intrinsic_width - 0.5).abs() < 0.05,
+            "{}",
+            fit.intrinsic_width
+        );
+        let a = roughness_exponent(
+            &[64.0, 128.0, 256.0, 512.0],
+            &[2.0, 2.0 * 2f64.sqrt(), 4.0, 4.0 * 2f64.sqrt()],
+        )
+        .unwrap();
+        assert!((a.slope - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn dimensions_of_uniform_clusters() {
+        let mut rng = seeded(9);
+        let ball: Vec<[f64; 3]> = std::iter::repeat_with(|| {
+            [
+                rng.random::<f64>() * 2.0 - 1.0,
+                rng.random::<f64>() * 2.0 - 1.0,
+                rng.random::<f64>() * 2.0 - 1.0,
+            ]
+        })
+        .filter(|p| p[0] * p[0] + p[1] * p[1] + p[2] * p[2] <= 1.0)
+        .take(20_000)
+        .collect();
+        let disc: Vec<[f64; 3]> = ball.iter().map(|p| [p[0], p[1], 0.0]).collect();
+        let m3 = mass_radius_dimension(&ball, 0.15).unwrap().d;
+        let m2 = mass_radius_dimension(&disc, 0.15).unwrap().d;
+        assert!((m3 - 3.0).abs() < 0.1, "{m3}");
+        assert!((m2 - 2.0).abs() < 0.1, "{m2}");
+        // A cluster that grows outward: particles sorted by radius (as DLA deposits them).
+        let mut grown = ball.clone();
+        grown.sort_by(|a, b| {
+            (a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+                .total_cmp(&(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]))
+        });
+        let g = gyration_dimension(&grown).unwrap().d;
+        assert!((g - 3.0).abs() < 0.1, "{g}");
+        assert!(gyration_dimension(&ball[..10]).is_err());
+    }
+}
