@@ -90,6 +90,7 @@ fn mesh_report(m: &asperity_core::TriMesh) -> Value {
 }
 
 pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
+    let mut report = Report::new("analyze", ctx);
     let s = crate::convert::load(ctx, &a.input)?;
     let facts = match &s {
         Surface::Height(h) => height_report(h, a)?,
@@ -116,12 +117,11 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
         }
     };
     if ctx.json {
-        let mut r = Report::new("analyze", ctx);
-        r.measure("file", a.input.display().to_string());
+        report.measure("file", a.input.display().to_string());
         if let Value::Object(map) = facts {
-            r.measurements.extend(map);
+            report.measurements.extend(map);
         }
-        return r.finish(ctx);
+        return report.finish(ctx);
     }
     outln!("{}", a.input.display());
     if let Value::Object(map) = facts {
