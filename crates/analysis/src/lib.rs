@@ -8,11 +8,10 @@
 //! | [`correlation`] | ACF, HHCF, Sal, Str | ISO 25178-2 |
 //! | [`fractal`] | triangulation and partitioning dimensions | Clarke 1986; variance method |
 //! | [`scaling`] | β (plain, intrinsic width), α, cluster dimensions (R_g, mass–radius) | kim-machiraju-thompson §4 |
-//! | [`mesh`] | curvature (mean, Gaussian) with the Gauss–Bonnet check | Meyer et al. 2003 |
+//! | [`mesh`] | curvature (mean, Gaussian) with the Gauss–Bonnet check, roughness against a Taubin-smoothed copy, box counting | Meyer et al. 2003; Taubin 1995 |
 //!
-//! Status: partial (issue "Roughness analysis"). Still to come: roughness relative
-//! to a smoothed mesh, box-counting dimension of voxelised surfaces, density
-//! profiles, `--plot` PNG output, and the 4096² benchmark.
+//! Status: partial (issue "Roughness analysis"). Still to come: density profiles
+//! ρ(z) of grown deposits and `--plot` PNG output.
 
 pub mod areal;
 pub mod correlation;

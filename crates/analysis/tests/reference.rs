@@ -192,3 +192,36 @@ fn torus_has_genus_one_and_zero_total_curvature() {
     assert_eq!(torus.genus(), Some(1));
     assert!(mesh::curvature(&torus).total_gaussian.abs() < 1e-9);
 }
+
+#[test]
+fn smoothing_roughness_sees_noise_and_box_counting_sees_a_surface() {
+    let s = icosphere(4, 1.0);
+    let smooth = mesh::smoothed_roughness(&s, 10);
+    // Radial noise of ±0.03 (rms 0.03/√3) on every vertex.
+    let mut rng = asperity_core::seeded(3);
+    let noisy_p: Vec<[f64; 3]> = s
+        .positions()
+        .iter()
+        .map(|p| {
+            let r = 1.0 + 0.03 * (2.0 * rand::Rng::random::<f64>(&mut rng) - 1.0);
+            p.map(|c| c * r)
+        })
+        .collect();
+    let noisy = TriMesh::new(noisy_p, s.triangles().to_vec()).unwrap();
+    let rough = mesh::smoothed_roughness(&noisy, 10);
+    let noise_rms = 0.03 / 3f64.sqrt();
+    assert!(
+        rough.rms > 5.0 * smooth.rms,
+        "{} vs {}",
+        rough.rms,
+        smooth.rms
+    );
+    assert!(
+        rough.rms > 0.5 * noise_rms && rough.rms < 1.5 * noise_rms,
+        "{} vs noise {noise_rms}",
+        rough.rms
+    );
+    // A smooth closed surface has box-counting dimension 2.
+    let d = mesh::box_counting(&s).unwrap();
+    assert!((d.d - 2.0).abs() < 0.1, "sphere D = {}", d.d);
+}

@@ -86,6 +86,11 @@ fn mesh_report(m: &asperity_core::TriMesh) -> Value {
             "total_gaussian": c.total_gaussian,
             "gauss_bonnet_2pi_chi": 2.0 * std::f64::consts::PI * chi as f64,
         },
+        "roughness_vs_smoothed": mesh::smoothed_roughness(m, 10),
+        "fractal_dimension": {"box_counting": match mesh::box_counting(m) {
+            Ok(d) => json!({"D": d.d, "fit_range": d.fit.range, "r2": d.fit.r2}),
+            Err(e) => json!({"error": e.to_string()}),
+        }},
     })
 }
 
