@@ -633,10 +633,10 @@ fn analyze_and_generate() {
             .abs()
             < 1e-9
     );
-    let d = v["measurements"]["fractal_dimension"]["box_counting"]["D"]
+    let box_d = v["measurements"]["fractal_dimension"]["box_counting"]["D"]
         .as_f64()
         .unwrap();
-    assert!((d - 2.0).abs() < 0.15, "torus box-counting D = {d}");
+    assert!((box_d - 2.0).abs() < 0.15, "torus box-counting D = {box_d}");
     assert!(
         v["measurements"]["roughness_vs_smoothed"]["rms"]
             .as_f64()
