@@ -103,6 +103,18 @@ fn check(h: &HeightField) -> Result<(), AnalysisError> {
     Ok(())
 }
 
+/// Area of the triangle (a, b, c).
+pub(crate) fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let cr = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    0.5 * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]).sqrt()
+}
+
 /// Areal parameters of `h`, which should already be levelled.
 ///
 /// # Errors
@@ -122,16 +134,6 @@ pub fn areal(h: &HeightField) -> Result<Areal, AnalysisError> {
         }
     }
     let sdq = (g2 / ((nx - 2) * (ny - 2)) as f64).sqrt();
-    let tri = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
-        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-        let cr = [
-            u[1] * v[2] - u[2] * v[1],
-            u[2] * v[0] - u[0] * v[2],
-            u[0] * v[1] - u[1] * v[0],
-        ];
-        0.5 * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]).sqrt()
-    };
     let mut area = 0.0;
     for j in 0..ny - 1 {
         for i in 0..nx - 1 {
@@ -141,7 +143,11 @@ pub fn areal(h: &HeightField) -> Result<Areal, AnalysisError> {
                 h.point(i + 1, j + 1),
                 h.point(i, j + 1),
             );
-            area += 0.5 * (tri(a, b, c) + tri(a, c, d) + tri(a, b, d) + tri(b, c, d));
+            area += 0.5
+                * (triangle_area(a, b, c)
+                    + triangle_area(a, c, d)
+                    + triangle_area(a, b, d)
+                    + triangle_area(b, c, d));
         }
     }
     let projected = (nx - 1) as f64 * dx * (ny - 1) as f64 * dy;

@@ -13,37 +13,12 @@
 //!   samples; for a self-affine surface H(τ) ∝ τ^(2H).
 
 use asperity_core::HeightField;
-use rustfft::{FftPlanner, num_complex::Complex};
+use rustfft::num_complex::Complex;
+
+use crate::psd::fft2;
 use serde::Serialize;
 
 use crate::AnalysisError;
-
-fn fft2(data: &mut [Complex<f64>], nx: usize, ny: usize, inverse: bool) {
-    let mut planner = FftPlanner::new();
-    let fx = if inverse {
-        planner.plan_fft_inverse(nx)
-    } else {
-        planner.plan_fft_forward(nx)
-    };
-    for row in data.chunks_exact_mut(nx) {
-        fx.process(row);
-    }
-    let fy = if inverse {
-        planner.plan_fft_inverse(ny)
-    } else {
-        planner.plan_fft_forward(ny)
-    };
-    let mut col = vec![Complex::new(0.0, 0.0); ny];
-    for i in 0..nx {
-        for j in 0..ny {
-            col[j] = data[i + nx * j];
-        }
-        fy.process(&mut col);
-        for j in 0..ny {
-            data[i + nx * j] = col[j];
-        }
-    }
-}
 
 /// Normalised circular autocorrelation (R(0) = 1), on the grid of lags (x fastest,
 /// lag 0 at index 0, negative lags wrapped).

@@ -15,6 +15,7 @@ use asperity_core::HeightField;
 use serde::Serialize;
 
 use crate::AnalysisError;
+use crate::areal::triangle_area;
 use crate::psd::{LogFit, log_fit};
 
 /// A dimension estimate with its fit.
@@ -55,21 +56,11 @@ pub fn triangulation(h: &HeightField) -> Result<Dimension, AnalysisError> {
     for s in std::iter::once(1).chain(scales(h)?) {
         let sub = |i: usize, j: usize| h.point(i * s, j * s);
         let (mx, my) = ((nx - 1) / s, (ny - 1) / s);
-        let tri = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
-            let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-            let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-            let cr = [
-                u[1] * v[2] - u[2] * v[1],
-                u[2] * v[0] - u[0] * v[2],
-                u[0] * v[1] - u[1] * v[0],
-            ];
-            0.5 * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]).sqrt()
-        };
         let mut a = 0.0;
         for j in 0..my {
             for i in 0..mx {
-                a += tri(sub(i, j), sub(i + 1, j), sub(i + 1, j + 1))
-                    + tri(sub(i, j), sub(i + 1, j + 1), sub(i, j + 1));
+                a += triangle_area(sub(i, j), sub(i + 1, j), sub(i + 1, j + 1))
+                    + triangle_area(sub(i, j), sub(i + 1, j + 1), sub(i, j + 1));
             }
         }
         // Normalise to the same projected area, so coarse grids that lose an edge strip compare.

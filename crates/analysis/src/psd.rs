@@ -21,17 +21,22 @@ use serde::Serialize;
 
 use crate::AnalysisError;
 
-/// The 2-D PSD on the FFT grid (x fastest, zero frequency at index 0).
-pub fn psd_2d(h: &HeightField) -> Vec<f64> {
-    let [nx, ny] = h.dims();
-    let [dx, dy] = h.spacing();
-    let mut data: Vec<Complex<f64>> = h.data().iter().map(|&v| Complex::new(v, 0.0)).collect();
+/// In-place 2-D FFT (rows, then columns) of an `nx × ny` grid, x fastest.
+pub(crate) fn fft2(data: &mut [Complex<f64>], nx: usize, ny: usize, inverse: bool) {
     let mut planner = FftPlanner::new();
-    let fx = planner.plan_fft_forward(nx);
+    let fx = if inverse {
+        planner.plan_fft_inverse(nx)
+    } else {
+        planner.plan_fft_forward(nx)
+    };
     for row in data.chunks_exact_mut(nx) {
         fx.process(row);
     }
-    let fy = planner.plan_fft_forward(ny);
+    let fy = if inverse {
+        planner.plan_fft_inverse(ny)
+    } else {
+        planner.plan_fft_forward(ny)
+    };
     let mut col = vec![Complex::new(0.0, 0.0); ny];
     for i in 0..nx {
         for j in 0..ny {
@@ -42,6 +47,14 @@ pub fn psd_2d(h: &HeightField) -> Vec<f64> {
             data[i + nx * j] = col[j];
         }
     }
+}
+
+/// The 2-D PSD on the FFT grid (x fastest, zero frequency at index 0).
+pub fn psd_2d(h: &HeightField) -> Vec<f64> {
+    let [nx, ny] = h.dims();
+    let [dx, dy] = h.spacing();
+    let mut data: Vec<Complex<f64>> = h.data().iter().map(|&v| Complex::new(v, 0.0)).collect();
+    fft2(&mut data, nx, ny, false);
     let n = (nx * ny) as f64;
     let area = nx as f64 * dx * ny as f64 * dy;
     data.iter().map(|c| area / (n * n) * c.norm_sqr()).collect()

@@ -79,72 +79,10 @@ fn levelling_then_areal_on_a_tilted_sine() {
     );
 }
 
-fn icosphere(level: u32, r: f64) -> TriMesh {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut p: Vec<[f64; 3]> = vec![
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ];
-    let unit = |v: [f64; 3]| {
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        v.map(|c| c / l)
-    };
-    p.iter_mut().for_each(|v| *v = unit(*v));
-    let mut f: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..level {
-        let mut mid = std::collections::HashMap::new();
-        let mut next = Vec::new();
-        for &[a, b, c] in &f {
-            let mut m = |u: u32, v: u32| {
-                *mid.entry((u.min(v), u.max(v))).or_insert_with(|| {
-                    let (x, y) = (p[u as usize], p[v as usize]);
-                    p.push(unit([x[0] + y[0], x[1] + y[1], x[2] + y[2]]));
-                    (p.len() - 1) as u32
-                })
-            };
-            let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
-            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        f = next;
-    }
-    TriMesh::new(p.into_iter().map(|v| v.map(|c| c * r)).collect(), f).unwrap()
-}
-
 #[test]
 fn sphere_gauss_bonnet_and_mean_curvature() {
     let r = 3.0;
-    let s = icosphere(4, r);
+    let s = asperity_core::shapes::icosphere(4, r);
     assert_eq!(s.euler_characteristic(), 2);
     let c = mesh::curvature(&s);
     assert!(
@@ -195,7 +133,7 @@ fn torus_has_genus_one_and_zero_total_curvature() {
 
 #[test]
 fn smoothing_roughness_sees_noise_and_box_counting_sees_a_surface() {
-    let s = icosphere(4, 1.0);
+    let s = asperity_core::shapes::icosphere(4, 1.0);
     let smooth = mesh::smoothed_roughness(&s, 10);
     // Radial noise of ±0.03 (rms 0.03/√3) on every vertex.
     let mut rng = asperity_core::seeded(3);

@@ -342,81 +342,12 @@ fn foundation(env: &Env) -> anyhow::Result<Section> {
     })
 }
 
-/// A unit icosphere: the icosahedron with every triangle split in four `level`
-/// times and the vertices pushed onto the sphere (no poles, near-uniform faces).
-fn icosphere(level: u32) -> TriMesh {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut p: Vec<[f64; 3]> = [
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ]
-    .to_vec();
-    let mut f: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    let unit = |v: [f64; 3]| {
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        v.map(|c| c / l)
-    };
-    p.iter_mut().for_each(|v| *v = unit(*v));
-    for _ in 0..level {
-        let mut mid = std::collections::HashMap::new();
-        let mut split = |a: u32, b: u32, p: &mut Vec<[f64; 3]>| -> u32 {
-            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                let (u, v) = (p[a as usize], p[b as usize]);
-                p.push(unit([u[0] + v[0], u[1] + v[1], u[2] + v[2]]));
-                (p.len() - 1) as u32
-            })
-        };
-        let mut next = Vec::with_capacity(4 * f.len());
-        for &[a, b, c] in &f {
-            let (ab, bc, ca) = (
-                split(a, b, &mut p),
-                split(b, c, &mut p),
-                split(c, a, &mut p),
-            );
-            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        f = next;
-    }
-    TriMesh::new(p, f).expect("indices in range")
-}
-
 /// An icosphere displaced radially by 3-D random-phase Fourier noise with a
 /// power-law spectrum (amplitude ∝ |k|^−(1+H)): a rough "rock" for the renderer's
 /// shader gallery.
 fn rock(level: u32, seed: u64) -> anyhow::Result<TriMesh> {
     use rand::Rng;
-    let sphere = icosphere(level);
+    let sphere = asperity_core::shapes::icosphere(level, 1.0);
     let mut rng = asperity_core::seeded(seed);
     let waves: Vec<([f64; 3], f64, f64)> = (0..160)
         .map(|_| {

@@ -14,6 +14,7 @@
 //! | [`memory`] | [`MemoryBudget`]: estimate-then-refuse for large allocations | every grid allocation |
 //! | [`progress`] | [`Progress`]: progress reporting without a UI dependency | long-running methods |
 //! | [`error`] | [`CoreError`]: typed errors with numbers in their messages | everything |
+//! | [`shapes`] | built-in meshes (icosphere) | demo, tests |
 //! | [`fourier_surface`] | Reference self-affine surface with a known spectrum | demo, analysis tests, benchmarks |
 //!
 //! # Global conventions
@@ -44,6 +45,7 @@ pub mod point_set;
 pub mod poly_mesh;
 pub mod progress;
 pub mod rng;
+pub mod shapes;
 pub mod tri_mesh;
 
 #[cfg(feature = "proptest")]
