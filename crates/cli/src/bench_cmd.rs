@@ -11,6 +11,8 @@ use std::time::Instant;
 use anyhow::Context as _;
 use asperity_core::fourier_surface::{FourierParams, fourier_surface};
 use asperity_core::{Diagonal, MemoryBudget, TriMesh};
+use asperity_growth::dla::{DlaParams, SeedShape, dla};
+use asperity_growth::{DepositionParams, Lattice, Model, deposit_ensemble};
 use asperity_render::{RenderOptions, render_mesh};
 use serde_json::json;
 
@@ -27,6 +29,8 @@ struct Workload {
     unit: &'static str,
     /// Target from the issue, if any (seconds per run).
     target_s: Option<f64>,
+    /// Long workloads run once, without warm-up, whatever `--repeat` says.
+    once: bool,
     job: Job,
 }
 
@@ -74,6 +78,7 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
                 elements: tris,
                 unit: "triangles",
                 target_s: (!quick).then_some(2.0),
+                once: false,
                 job: Box::new(move || render_mesh(&m, &opts).map(|_| ()).map_err(Into::into)),
             })
         }),
@@ -103,6 +108,7 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
                 elements: (n * n * steps) as u64,
                 unit: "cell-updates",
                 target_s: None,
+                once: false,
                 job: Box::new(move || {
                     let mut cur = a.clone();
                     for _ in 0..steps {
@@ -128,6 +134,7 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
                 elements: (n * n) as u64,
                 unit: "cell-updates",
                 target_s: None,
+                once: false,
                 job: Box::new(move || {
                     asperity_ca::evolve::step_bytes(&rule, &src, &mut dst, n, n);
                     Ok(())
@@ -148,6 +155,7 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
                 elements: (n * n * steps) as u64,
                 unit: "cell-updates",
                 target_s: (!quick).then_some(5.0),
+                once: false,
                 job: Box::new(move || asperity_ca::accumulate(&init, &p, &budget).map(|_| ()).map_err(Into::into)),
             })
         }),
@@ -169,6 +177,7 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
                 elements: (n * n) as u64,
                 unit: "samples",
                 target_s: None,
+                once: false,
                 job: Box::new(move || {
                     fourier_surface(&p, 7, &budget)
                         .map(|_| ())
@@ -191,6 +200,7 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
                 elements: tris,
                 unit: "triangles",
                 target_s: None,
+                once: false,
                 job: Box::new(move || {
                     asperity_io::write_mesh(&path, &m, &asperity_io::WriteOptions::default())?;
                     Ok(())
@@ -198,6 +208,78 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
             })
         }),
     ));
+    for (model, name, target_rate) in [
+        (Model::Rd, "growth/rd-2d", Some(50e6)),
+        (Model::Rdsr { radius: 1 }, "growth/rdsr-2d", Some(50e6)),
+        (Model::Bd, "growth/bd-2d", None),
+    ] {
+        v.push((
+            name,
+            Box::new(move || {
+                let (l, layers) = if quick { (64, 20.0) } else { (256, 1000.0) };
+                let p = DepositionParams::new(model, Lattice::new(l, 2)?, layers);
+                // One run per core (an ensemble, as W(t) averages use): each run
+                // is sequential, so this is how a simulation uses both cores.
+                let runs = rayon::current_num_threads();
+                let n = p.depositions() * runs as u64;
+                Ok(Workload {
+                    name,
+                    what: format!(
+                        "{} on {l}×{l} columns, {layers} monolayers, {runs} runs in parallel ({n} depositions)",
+                        model.name()
+                    ),
+                    elements: n,
+                    unit: "depositions",
+                    target_s: target_rate.filter(|_| !quick).map(|r| n as f64 / r),
+                    once: false,
+                    job: Box::new(move || {
+                        deposit_ensemble(&p, 7, runs, &budget, &asperity_core::NoProgress)?;
+                        Ok(())
+                    }),
+                })
+            }),
+        ));
+    }
+    for (name, plane, n_full) in [
+        ("growth/dla-point-1e5", false, 100_000usize),
+        ("growth/dla-plane-1e5", true, 100_000),
+        ("growth/dla-point-1e6", false, 1_000_000),
+        ("growth/dla-plane-1e6", true, 1_000_000),
+    ] {
+        v.push((
+            name,
+            Box::new(move || {
+                let n = if quick { n_full / 100 } else { n_full };
+                let mut p = DlaParams::point(3, n);
+                if plane {
+                    p.seed_shape = SeedShape::Plane;
+                    let side = if n_full >= 1_000_000 { 512 } else { 256 };
+                    let side = if quick { side / 4 } else { side };
+                    p.size = [side, side, side];
+                }
+                let target = if n_full >= 1_000_000 { 20.0 } else { 2.0 };
+                Ok(Workload {
+                    name,
+                    what: format!(
+                        "3-D lattice DLA, {n} particles, p = 1, {} seed, {}x{}x{} lattice",
+                        if plane { "plane" } else { "point" },
+                        p.size[0],
+                        p.size[1],
+                        p.size[2]
+                    ),
+                    elements: n as u64,
+                    unit: "particles",
+                    target_s: (!quick).then_some(target),
+                    once: n_full >= 1_000_000,
+                    job: Box::new(move || {
+                        let c = dla(&p, 7, 0, &budget, &asperity_core::NoProgress)?;
+                        anyhow::ensure!(c.stopped.is_none(), "{:?}", c.stopped);
+                        Ok(())
+                    }),
+                })
+            }),
+        ));
+    }
     v
 }
 
@@ -215,9 +297,12 @@ pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
             continue;
         }
         let mut w = make()?;
-        (w.job)()?; // warm-up
-        let mut times = Vec::with_capacity(a.repeat as usize);
-        for _ in 0..a.repeat {
+        let repeat = if w.once { 1 } else { a.repeat };
+        if !w.once {
+            (w.job)()?; // warm-up
+        }
+        let mut times = Vec::with_capacity(repeat as usize);
+        for _ in 0..repeat {
             let t = Instant::now();
             (w.job)()?;
             times.push(t.elapsed().as_secs_f64());

@@ -89,6 +89,9 @@ pub enum Command {
     Interpolate(InterpolateArgs),
     /// Roughness numbers of a height field or mesh (ISO 25178, PSD, Hurst, curvature).
     Analyze(AnalyzeArgs),
+    /// Discrete surface growth (kim-machiraju-thompson §4): RD, RDSR, ballistic deposition, DLA.
+    #[command(subcommand)]
+    Growth(GrowthCommand),
     /// Generate surfaces from built-in models.
     #[command(subcommand)]
     Generate(GenerateCommand),
@@ -455,6 +458,139 @@ pub struct AnalyzeArgs {
 pub enum GenerateCommand {
     /// Self-affine (fractional Brownian) surface by Fourier filtering with random phases.
     Fbm(FbmArgs),
+}
+
+/// `asperity growth …`
+#[derive(Subcommand, Debug)]
+pub enum GrowthCommand {
+    /// Random deposition: each particle lands on top of a random column.
+    Rd(DepositArgs),
+    /// Random deposition with surface relaxation (Family model) to the lowest nearby column.
+    Rdsr(DepositArgs),
+    /// Ballistic deposition: sticks at first contact with a nearest neighbour (porous, KPZ class).
+    Bd(DepositArgs),
+    /// Diffusion-limited aggregation on the cubic (or square) lattice.
+    Dla(DlaArgs),
+}
+
+/// Substrates for RD, RDSR and BD.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SubstrateArg {
+    /// Periodic L (1+1D) or L×L (2+1D) lattice of columns.
+    Flat,
+    /// A ball of --radius cells; particles arrive radially.
+    Sphere,
+    /// A closed mesh (--mesh) voxelised at --resolution; particles arrive along its normals.
+    Mesh,
+}
+
+/// `asperity growth rd|rdsr|bd`
+#[derive(Args, Debug)]
+pub struct DepositArgs {
+    /// Columns per side L of the flat substrate.
+    #[arg(long, default_value_t = 256)]
+    pub size: usize,
+    /// Substrate dimension d: 1 (a row of L columns) or 2 (L×L).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=2))]
+    pub dim: u8,
+    /// Monolayers T to deposit (depositions = T × columns).
+    #[arg(long, default_value_t = 100.0)]
+    pub layers: f64,
+    /// Independent runs averaged for W(t) (in parallel; each reproducible from --seed).
+    #[arg(long, default_value_t = 1)]
+    pub runs: usize,
+    /// RDSR relaxation radius in columns (1 is Family's nearest-neighbour rule).
+    #[arg(long, default_value_t = 1)]
+    pub relax: u32,
+    /// Max-height binning side ε for a coarse-grained width (must divide L); BD needs it.
+    #[arg(long, value_name = "EPS")]
+    pub bin: Option<usize>,
+    /// Width samples per decade of time.
+    #[arg(long, default_value_t = 10)]
+    pub samples_per_decade: usize,
+    /// Fit window for β in monolayers: TMIN,TMAX (default: 10 to T, or 1 to T when T < 100).
+    #[arg(long, value_delimiter = ',', value_name = "TMIN,TMAX")]
+    pub fit_window: Option<Vec<f64>>,
+    /// Also measure α: saturated widths for these sizes (comma list), each run to 2·L^z monolayers.
+    #[arg(long, value_delimiter = ',', value_name = "L1,L2,...")]
+    pub alpha_sizes: Option<Vec<usize>>,
+    /// Substrate shape.
+    #[arg(long, value_enum, default_value_t = SubstrateArg::Flat)]
+    pub substrate: SubstrateArg,
+    /// Radius of the sphere substrate, in cells.
+    #[arg(long, default_value_t = 40.0)]
+    pub radius: f64,
+    /// Closed mesh used as the substrate (OBJ, PLY, STL, GLB …).
+    #[arg(long, value_name = "FILE")]
+    pub mesh: Option<PathBuf>,
+    /// Cells along the mesh's longest axis.
+    #[arg(long, default_value_t = 64)]
+    pub resolution: usize,
+    /// Also write the occupied cells as a point set (flat substrate; PLY, XYZ, CSV, npy).
+    #[arg(long, value_name = "FILE")]
+    pub points: Option<PathBuf>,
+    /// Write the width series as CSV (t, W, W_binned, stderr, mean height).
+    #[arg(long, value_name = "FILE")]
+    pub width_csv: Option<PathBuf>,
+    /// Write plots (SVG) of W(t) with the β fits into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
+}
+
+/// DLA seeds.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SeedShapeArg {
+    /// One cell at the lattice centre (the classic cluster).
+    Point,
+    /// The whole bottom plane (terrain; periodic in x and y).
+    Plane,
+    /// A solid ball of --seed-radius cells.
+    Sphere,
+    /// A closed mesh (--mesh) voxelised at --resolution.
+    Mesh,
+    /// Seeds on the bottom plane with density from an image's grey levels (--image).
+    Image,
+}
+
+/// `asperity growth dla`
+#[derive(Args, Debug)]
+pub struct DlaArgs {
+    /// Seed shape.
+    #[arg(long, value_enum, default_value_t = SeedShapeArg::Point)]
+    pub seed_shape: SeedShapeArg,
+    /// Lattice size NXxNYxNZ (2-D: NXxNZ); default: sized for --particles (radial) or 128x128x128 (plane).
+    #[arg(long, value_name = "NXxNYxNZ")]
+    pub size: Option<String>,
+    /// Lattice dimension: 3 (cubic, 6 neighbours) or 2 (square in the x–z plane, 4 neighbours).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(2..=3))]
+    pub dim: u8,
+    /// Particles to deposit (seeds not counted).
+    #[arg(long, default_value_t = 20_000)]
+    pub particles: usize,
+    /// Sticking probability p in (0, 1]: 1 dendritic, small p moss-like.
+    #[arg(long, default_value_t = 1.0)]
+    pub stick: f64,
+    /// Radius of the sphere seed, in cells.
+    #[arg(long, default_value_t = 10.0)]
+    pub seed_radius: f64,
+    /// Closed mesh used as the seed.
+    #[arg(long, value_name = "FILE")]
+    pub mesh: Option<PathBuf>,
+    /// Cells along the seed mesh's longest axis.
+    #[arg(long, default_value_t = 32)]
+    pub resolution: usize,
+    /// Image whose grey levels give the seed density on the bottom plane (PNG, EXR, npy, GSF …).
+    #[arg(long, value_name = "FILE")]
+    pub image: Option<PathBuf>,
+    /// Seed probability of a white pixel's column (image seeds).
+    #[arg(long, default_value_t = 0.02)]
+    pub seed_density: f64,
+    /// Gap δ between the cluster and the launch sphere or plane, in cells.
+    #[arg(long, default_value_t = 2.0)]
+    pub launch_gap: f64,
+    /// Write plots (SVG): R_g(n), and the density profile ρ(z) in plane modes.
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<PathBuf>,
 }
 
 /// `asperity generate fbm`

@@ -90,6 +90,7 @@ const SECTIONS: &[(&str, SectionFn)] = &[
     ("foundation", foundation),
     ("renderer", renderer),
     ("peridier", peridier),
+    ("growth", growth),
 ];
 
 pub fn run(ctx: &Context, a: &DemoArgs) -> anyhow::Result<()> {
@@ -873,4 +874,230 @@ td:first-child{{color:#555}} .files a{{margin-right:.6rem;font-size:.9rem}}</sty
     }
     h += "</body></html>\n";
     h
+}
+
+/// Points coloured by a per-point value in [0, 1] (deposition order, height).
+fn colored_points(
+    pts: Vec<[f64; 3]>,
+    t: impl Fn(usize, &[f64; 3]) -> f64,
+    map: ColorMap,
+) -> anyhow::Result<asperity_core::PointSet> {
+    let cols: Vec<[u8; 4]> = pts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let c = map.map(t(k, p).clamp(0.0, 1.0));
+            [c[0], c[1], c[2], 255]
+        })
+        .collect();
+    let mut ps = asperity_core::PointSet::new(pts);
+    ps.set_colors(cols)?;
+    Ok(ps)
+}
+
+/// kim-machiraju-thompson §4: RD, RDSR, BD, DLA and curved substrates.
+fn growth(env: &Env) -> anyhow::Result<Section> {
+    use asperity_analysis::scaling::{
+        density_dimension, density_profile, growth_exponent, gyration_dimension,
+    };
+    use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
+    use asperity_growth::dla::{DlaParams, SeedShape, dla};
+    use asperity_growth::{DepositionParams, Lattice, Model, deposit_ensemble};
+    use asperity_render::plot::{Plot, Series, Style, plot_svg};
+    let budget = env.ctx.budget;
+    let seed = env.ctx.seed;
+    let none = asperity_core::NoProgress;
+    let mut items = Vec::new();
+    let l = if env.quick { 64 } else { 128 };
+
+    // Figure 3: RD versus RDSR (and BD) height fields, same time.
+    let mut width_series = Vec::new();
+    for (model, name) in [
+        (Model::Rd, "rd"),
+        (Model::Rdsr { radius: 1 }, "rdsr"),
+        (Model::Bd, "bd"),
+    ] {
+        let p = DepositionParams::new(model, Lattice::new(l, 2)?, 100.0);
+        let (d, s) = deposit_ensemble(&p, seed, 1, &budget, &none)?;
+        let h = d.height_field();
+        let file = env.write(
+            &format!("growth_{name}.npy"),
+            &Surface::Height(h.clone()),
+            &WriteOptions::default(),
+        )?;
+        let img = render_height(
+            &h,
+            &RenderOptions {
+                shader: Shader::Height,
+                z_scale: 0.5,
+                ..env.view()
+            },
+        )?;
+        let pic = env.picture(&format!("growth_{name}.png"), &img)?;
+        let beta = growth_exponent(&s.t, &s.width(), [1.0, 100.0])
+            .map(|f| f.exponent)
+            .unwrap_or(f64::NAN);
+        items.push(Item {
+            title: format!("{}: {l}×{l} columns, 100 monolayers", name.to_uppercase()),
+            image: Some(pic),
+            files: vec![file],
+            facts: vec![
+                fact(
+                    "interface width W",
+                    format!("{:.3}", s.w2.last().copied().unwrap_or(0.0).sqrt()),
+                ),
+                fact("β (log–log, t ∈ [1, 100])", format!("{beta:.3}")),
+                fact(
+                    "CLI",
+                    format!("asperity growth {name} --size {l} --layers 100 -o h.npy"),
+                ),
+            ],
+        });
+        width_series.push((name, s));
+    }
+    let plot = Plot {
+        title: "Interface width W(t), 2+1D".into(),
+        x_label: "t (monolayers)".into(),
+        y_label: "W".into(),
+        log_x: true,
+        log_y: true,
+        series: width_series
+            .iter()
+            .map(|(n, s)| Series {
+                name: n.to_uppercase(),
+                points: s.t.iter().copied().zip(s.width()).collect(),
+                style: Style::Line,
+            })
+            .collect(),
+    };
+    let svg = env.svg("growth_width.svg", &plot_svg(&plot, 800, 560)?)?;
+    items.push(Item {
+        title: "W(t): RD grows as t^½, RDSR logarithmically (2+1D EW), BD as KPZ".into(),
+        image: Some(svg),
+        files: vec![],
+        facts: vec![fact("exponent checks", "crates/growth/tests/reference.rs")],
+    });
+
+    // Figure 4 / Figure 1: a DLA cluster from a point seed.
+    let n = if env.quick { 5_000 } else { 30_000 };
+    let c = dla(&DlaParams::point(3, n), seed, 0, &budget, &none)?;
+    let pts = c.points();
+    let d = gyration_dimension(&pts).map(|d| d.d).unwrap_or(f64::NAN);
+    let total = pts.len() as f64;
+    let ps = colored_points(pts, |k, _| k as f64 / total, ColorMap::Magma)?;
+    let file = env.write(
+        "growth_dla_point.ply",
+        &Surface::Points(ps.clone()),
+        &WriteOptions::default(),
+    )?;
+    let pic = env.picture("growth_dla_point.png", &render_points(&ps, &env.view())?)?;
+    items.push(Item {
+        title: format!("DLA from a point seed, {n} particles, p = 1"),
+        image: Some(pic),
+        files: vec![file],
+        facts: vec![
+            fact(
+                "fractal dimension (R_g fit)",
+                format!("{d:.3} (3-D DLA ≈ 2.5)"),
+            ),
+            fact("colour", "deposition order"),
+            fact(
+                "CLI",
+                format!("asperity growth dla --particles {n} -o pts.ply"),
+            ),
+        ],
+    });
+
+    // Figures 9–11: DLA terrain on the bottom plane, moss-like with small p.
+    let side = if env.quick { 48 } else { 96 };
+    for (stick, tag) in [(1.0, "dendritic"), (0.1, "moss")] {
+        let params = DlaParams {
+            dim: 3,
+            size: [side, side, 2 * side],
+            particles: side * side * 3 / 2,
+            stick,
+            seed_shape: SeedShape::Plane,
+            launch_gap: 2.0,
+        };
+        let c = dla(&params, seed, 0, &budget, &none)?;
+        let parts: Vec<[f64; 3]> = c.particles().iter().map(|p| p.map(f64::from)).collect();
+        let rho = density_profile(&parts, (side * side) as f64);
+        let dd = density_dimension(&rho, 3)
+            .map(|d| format!("{:.2}", d.d))
+            .unwrap_or_else(|e| e.to_string());
+        let top = parts.iter().map(|p| p[2]).fold(1.0, f64::max);
+        let ps = colored_points(c.points(), |_, p| p[2] / top, ColorMap::Viridis)?;
+        let file = env.write(
+            &format!("growth_dla_plane_{tag}.ply"),
+            &Surface::Points(ps.clone()),
+            &WriteOptions::default(),
+        )?;
+        let pic = env.picture(
+            &format!("growth_dla_plane_{tag}.png"),
+            &render_points(&ps, &env.view())?,
+        )?;
+        items.push(Item {
+            title: format!("DLA terrain on a plane, p = {stick} ({tag})"),
+            image: Some(pic),
+            files: vec![file],
+            facts: vec![
+                fact("lattice", format!("{side}×{side}×{}, periodic in x and y", 2 * side)),
+                fact("particles", c.particles().len()),
+                fact("D from ρ(z) ∝ z^(D−3)", dd),
+                fact("CLI", format!("asperity growth dla --seed-shape plane --size {side}x{side}x{} --stick {stick} -o pts.ply", 2 * side)),
+            ],
+        });
+    }
+
+    // Figure 8: RDSR on a sphere.
+    let (radius, layers) = if env.quick { (12.0, 6.0) } else { (24.0, 12.0) };
+    let d = deposit_curved(
+        &CurvedParams {
+            model: Model::Rdsr { radius: 1 },
+            substrate: CurvedSubstrate::Sphere(radius),
+            layers,
+            samples_per_decade: 5,
+        },
+        seed,
+        0,
+        &budget,
+        &none,
+    )?;
+    let c0 = (d.size[0] / 2) as f64;
+    let pts: Vec<[f64; 3]> = d.points();
+    let rmax = radius + d.thickness;
+    let ps = colored_points(
+        pts,
+        |_, p| {
+            (((p[0] - c0).powi(2) + (p[1] - c0).powi(2) + (p[2] - c0).powi(2)).sqrt() - radius)
+                / (rmax - radius).max(1.0)
+        },
+        ColorMap::Viridis,
+    )?;
+    let file = env.write(
+        "growth_rdsr_sphere.ply",
+        &Surface::Points(ps.clone()),
+        &WriteOptions::default(),
+    )?;
+    let pic = env.picture("growth_rdsr_sphere.png", &render_points(&ps, &env.view())?)?;
+    items.push(Item {
+        title: format!("Figure 8: RDSR on a sphere of radius {radius}, {layers} monolayers"),
+        image: Some(pic),
+        files: vec![file],
+        facts: vec![
+            fact("particles", d.cells.len() - d.seeds),
+            fact("thickness", format!("{:.1} cells", d.thickness)),
+            fact("CLI", format!("asperity growth rdsr --substrate sphere --radius {radius} --layers {layers} -o pts.ply")),
+        ],
+    });
+
+    Ok(Section {
+        title: "Surface growth (kim-machiraju-thompson §4)".into(),
+        source: "asperity-growth — §4.1 Fig. 3, §4.2 Fig. 4, §6 Figs. 8–11".into(),
+        blurb: "Random deposition, deposition with surface relaxation (Family), ballistic deposition and diffusion-limited \
+                aggregation on the lattice, on a plane, a sphere or any closed mesh. The point sets feed the level-set \
+                reconstruction; the exponents are checked against theory in the tests."
+            .into(),
+        items,
+    })
 }

@@ -27,6 +27,7 @@ mod ca_cmd;
 mod cli;
 mod convert;
 mod demo;
+mod growth_cmd;
 mod progress;
 mod render_cmd;
 mod report;
@@ -44,6 +45,8 @@ fn main() -> ExitCode {
             if err.chain().any(|c| {
                 c.downcast_ref::<std::io::Error>()
                     .is_some_and(|e| e.kind() == std::io::ErrorKind::BrokenPipe)
+                    || c.downcast_ref::<serde_json::Error>()
+                        .is_some_and(|e| e.io_error_kind() == Some(std::io::ErrorKind::BrokenPipe))
             }) {
                 return ExitCode::SUCCESS;
             }
@@ -64,6 +67,7 @@ fn run(args: cli::Cli) -> anyhow::Result<()> {
         cli::Command::Bench(a) => bench_cmd::run(&ctx, &a),
         cli::Command::Analyze(a) => analyze_cmd::analyze(&ctx, &a),
         cli::Command::Generate(cli::GenerateCommand::Fbm(a)) => analyze_cmd::fbm(&ctx, &a),
+        cli::Command::Growth(c) => growth_cmd::run(&ctx, c),
         cli::Command::Ca(c) => ca_cmd::run(&ctx, c),
         cli::Command::Facet(a) => ca_cmd::facet(&ctx, &a),
         cli::Command::Interpolate(a) => ca_cmd::interpolate(&ctx, &a),

@@ -367,7 +367,7 @@ fn bench_runs_every_workload() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let w = v["measurements"]["workloads"].as_array().unwrap();
-    assert_eq!(w.len(), 6);
+    assert_eq!(w.len(), 13);
     assert!(v["measurements"]["ca_bits_over_bytes"].as_f64().unwrap() > 1.0);
     assert!(
         w.iter()
@@ -665,4 +665,156 @@ fn analyze_and_generate() {
         ),
         "Hurst",
     );
+}
+
+#[test]
+fn growth_commands_as_documented() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // The contract: a height field and a JSON report with the width series and β.
+    let o = asperity(
+        &[
+            "growth", "rdsr", "--size", "64", "--layers", "200", "--seed", "7", "-o", "h.npy",
+            "--json",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let m = &v["measurements"];
+    let series = m["width_series"].as_array().unwrap();
+    assert!(series.len() > 10);
+    assert!(
+        series
+            .iter()
+            .all(|p| p["t"].as_f64().unwrap() > 0.0 && p["w"].as_f64().unwrap() > 0.0)
+    );
+    let beta = m["beta"].as_f64().unwrap();
+    assert!(beta > 0.0 && beta < 0.5, "β = {beta}");
+    let h = asperity_io::read_height(&d.join("h.npy")).unwrap();
+    assert_eq!(h.dims(), [64, 64]);
+    assert!(
+        (h.mean() - 200.0).abs() < 1e-9,
+        "mass: mean height {}",
+        h.mean()
+    );
+    // 1+1D gives a 1-D array.
+    let o = asperity(
+        &[
+            "growth", "rd", "--dim", "1", "--size", "100", "--layers", "5", "-o", "r.npy",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bytes = std::fs::read(d.join("r.npy")).unwrap();
+    assert!(String::from_utf8_lossy(&bytes[..128]).contains("'shape': (100,)"));
+    // DLA on a plane and on a sphere substrate, with the documented flags.
+    let o = asperity(
+        &[
+            "growth",
+            "dla",
+            "--seed-shape",
+            "plane",
+            "--size",
+            "32x32x64",
+            "--particles",
+            "3000",
+            "--stick",
+            "0.5",
+            "-o",
+            "pts.ply",
+            "--json",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["measurements"]["particles"], 3000);
+    assert!(v["measurements"]["radius_of_gyration"].as_f64().unwrap() > 1.0);
+    let p = asperity_io::read_points(&d.join("pts.ply")).unwrap();
+    assert_eq!(p.len(), 32 * 32 + 3000);
+    let o = asperity(
+        &[
+            "growth",
+            "rdsr",
+            "--substrate",
+            "sphere",
+            "--radius",
+            "8",
+            "--layers",
+            "3",
+            "-o",
+            "s.ply",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = asperity(
+        &[
+            "growth",
+            "dla",
+            "--particles",
+            "2000",
+            "--plot",
+            "plots",
+            "-o",
+            "c.xyz",
+            "--json",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["measurements"]["fractal_dimension"].as_f64().unwrap() > 1.8);
+    assert!(d.join("plots/gyration.svg").exists());
+    // Bad input: clear one-line errors.
+    assert_clean_failure(
+        &asperity(&["growth", "dla", "--stick", "0", "-o", "x.ply"], d),
+        "(0, 1]",
+    );
+    assert_clean_failure(
+        &asperity(&["growth", "dla", "--size", "0x4x4", "-o", "x.ply"], d),
+        "zero",
+    );
+    assert_clean_failure(
+        &asperity(
+            &[
+                "growth",
+                "dla",
+                "--size",
+                "8x8x8",
+                "--particles",
+                "1000",
+                "-o",
+                "x.ply",
+            ],
+            d,
+        ),
+        "do not fit",
+    );
+    assert_clean_failure(
+        &asperity(
+            &[
+                "growth",
+                "rd",
+                "--size",
+                "4096",
+                "--layers",
+                "10",
+                "--points",
+                "p.ply",
+                "--max-memory",
+                "1M",
+                "-o",
+                "x.npy",
+            ],
+            d,
+        ),
+        "memory",
+    );
+    assert_clean_failure(
+        &asperity(&["growth", "rd", "--size", "0", "-o", "x.npy"], d),
+        "size",
+    );
+    assert!(!d.join("x.ply").exists() && !d.join("x.npy").exists());
 }

@@ -15,6 +15,7 @@
 //! | [`progress`] | [`Progress`]: progress reporting without a UI dependency | long-running methods |
 //! | [`error`] | [`CoreError`]: typed errors with numbers in their messages | everything |
 //! | [`shapes`] | built-in meshes (icosphere) | demo, tests |
+//! | [`voxelize`] | Solid voxelisation of a closed mesh | growth substrates |
 //! | [`fourier_surface`] | Reference self-affine surface with a known spectrum | demo, analysis tests, benchmarks |
 //!
 //! # Global conventions
@@ -47,6 +48,7 @@ pub mod progress;
 pub mod rng;
 pub mod shapes;
 pub mod tri_mesh;
+pub mod voxelize;
 
 #[cfg(feature = "proptest")]
 pub mod strategies;

@@ -1,14 +1,34 @@
-//! Discrete surface-growth simulators from [kim-machiraju-thompson] §4.
+//! Discrete surface-growth simulators from [kim-machiraju-thompson] §4: the
+//! physically derived point sets from which rough surfaces are reconstructed.
 //!
-//! **Status: planned** (issue "Discrete surface-growth simulators"). Nothing is
-//! implemented yet; this crate reserves the place in the workspace.
-//!
-//! | Module (planned) | Algorithm | Paper section |
+//! | Module | Algorithm | Paper section |
 //! | --- | --- | --- |
-//! | `random_deposition` | Random deposition (RD) | §4.1, Fig. 3(a) |
-//! | `rdsr` | RD with surface relaxation (Family model) | §4.1, Fig. 3(b) |
-//! | `ballistic` | Ballistic deposition (KPZ class) | refs. of §4.1 |
-//! | `dla` | Diffusion-limited aggregation | §4.2, Fig. 4 |
-//! | `interface_width` | W(L, t) and the exponents α, β | §4.1 |
+//! | [`random_deposition`] | Random deposition (RD) | §4.1, Fig. 3(a) |
+//! | [`rdsr`] | RD with surface relaxation (Family model) | §4.1, Fig. 3(b) |
+//! | [`ballistic`] | Ballistic deposition (KPZ class) | §2 refs. \[17\], \[22\]; §4.1 |
+//! | [`deposition`] | The flat periodic lattice driver, ensembles of runs | §4.1 |
+//! | [`curved`] | RD/RDSR/BD on a sphere or a voxelised closed mesh | §6 Fig. 8, §7 |
+//! | [`dla`] | Diffusion-limited aggregation with big jumps | §4.2, Fig. 4; §6 Figs. 9–11 |
+//! | [`occupancy`] | Bit-packed voxel occupancy and its coarse distance map | — |
+//! | [`interface_width`] | W(L, t), schedules, max-height binning | §4.1 |
+//!
+//! Every simulation takes a `u64` seed and a run number and is sequential inside
+//! a run; ensembles run in parallel, one run per task, so results do not depend
+//! on the thread count (see [`rng`]).
 //!
 //! [kim-machiraju-thompson]: ../shared/papers/kim-machiraju-thompson_modeling-rough-surfaces.txt
+
+pub mod ballistic;
+pub mod curved;
+pub mod deposition;
+pub mod dla;
+pub mod error;
+pub mod interface_width;
+pub mod occupancy;
+pub mod random_deposition;
+pub mod rdsr;
+pub mod rng;
+
+pub use deposition::{Deposit, DepositionParams, Lattice, Model, deposit, deposit_ensemble};
+pub use error::GrowthError;
+pub use interface_width::WidthSeries;

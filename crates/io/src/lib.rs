@@ -587,6 +587,26 @@ pub fn write_npy_u8(path: &Path, shape: &[usize], data: &[u8]) -> Result<(), IoE
     })
 }
 
+/// Writes a C-order float64 `.npy` array of any `shape` (e.g. a 1-D profile),
+/// atomically.
+///
+/// # Errors
+/// [`IoError::Invalid`] when `shape` does not match the data; I/O errors.
+pub fn write_npy_f64(path: &Path, shape: &[usize], data: &[f64]) -> Result<(), IoError> {
+    let n: usize = shape.iter().product();
+    if n != data.len() {
+        let source = CoreError::GridSize {
+            dims: shape.to_vec(),
+            expected: n,
+            got: data.len(),
+        };
+        return Err(IoError::invalid(path, source));
+    }
+    write_atomic(path, |w| {
+        npy::write(w, shape, data, npy::NpyDtype::Float64).map_err(|e| IoError::os(path, e))
+    })
+}
+
 /// Writes a mesh with polylines drawn on it: OBJ `l` elements or a PLY `edge`
 /// element (MeshLab and Blender read both). The polyline points are appended
 /// to the vertices (with zero/default attributes) and referenced by the lines.

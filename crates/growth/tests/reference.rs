@@ -1,0 +1,583 @@
+//! Growth models against physical ground truth (exact results and published
+//! exponents; see `../shared/notes/growth.md` §1.2 for the table and sources).
+//! Tolerances are about 3σ of the run-to-run scatter measured at these sizes.
+
+use std::collections::HashSet;
+
+use asperity_analysis::psd::log_fit;
+use asperity_analysis::scaling::{
+    growth_exponent, growth_exponent_intrinsic, gyration_dimension, radius_of_gyration,
+    roughness_exponent,
+};
+use asperity_core::{MemoryBudget, NoProgress};
+use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
+use asperity_growth::deposition::deposit_on_schedule;
+use asperity_growth::dla::{DlaParams, SeedShape, dla};
+use asperity_growth::interface_width::uniform_schedule;
+use asperity_growth::{DepositionParams, Lattice, Model, deposit, deposit_ensemble};
+use rayon::prelude::*;
+
+fn unlimited() -> MemoryBudget {
+    MemoryBudget::unlimited()
+}
+
+fn ensemble(
+    model: Model,
+    l: usize,
+    dim: usize,
+    layers: f64,
+    runs: usize,
+    bin: Option<usize>,
+) -> asperity_growth::WidthSeries {
+    let mut p = DepositionParams::new(model, Lattice::new(l, dim).unwrap(), layers);
+    p.bin = bin;
+    deposit_ensemble(&p, 11, runs, &unlimited(), &NoProgress)
+        .unwrap()
+        .1
+}
+
+#[test]
+fn rd_width_is_exact() {
+    // ⟨W²⟩ = t (1 − 1/N) for N columns (binomial column counts).
+    for (l, dim, runs) in [(1024, 1, 24), (48, 2, 24)] {
+        let s = ensemble(Model::Rd, l, dim, 500.0, runs, None);
+        let n = (l as f64).powi(dim as i32);
+        for (t, w2) in s.t.iter().zip(&s.w2) {
+            let exact = t * (1.0 - 1.0 / n);
+            assert!(
+                (w2 / exact - 1.0).abs() < 0.05,
+                "L={l} d={dim} t={t}: W²={w2} vs {exact}"
+            );
+        }
+    }
+}
+
+#[test]
+fn mass_is_conserved_and_rd_rdsr_have_no_overhangs() {
+    for model in [
+        Model::Rd,
+        Model::Rdsr { radius: 1 },
+        Model::Rdsr { radius: 3 },
+    ] {
+        for dim in [1, 2] {
+            let mut p = DepositionParams::new(model, Lattice::new(24, dim).unwrap(), 30.0);
+            p.keep_particles = true;
+            let d = deposit(&p, 5, 0, &unlimited(), &NoProgress).unwrap();
+            let n = p.depositions();
+            assert_eq!(d.heights.iter().map(|&h| h as u64).sum::<u64>(), n);
+            // Replay: every particle lands exactly on top of its column.
+            let mut h = vec![0u32; d.heights.len()];
+            for c in d.particles.as_ref().unwrap() {
+                let i = c[0] as usize + 24 * c[1] as usize;
+                assert_eq!(c[2], h[i], "{model:?} d={dim}: overhang at {c:?}");
+                h[i] += 1;
+            }
+            assert_eq!(h, d.heights);
+            assert_eq!(d.point_set().len() as u64, n);
+        }
+    }
+}
+
+#[test]
+fn rdsr_settles_no_higher_than_its_neighbours() {
+    // Family's rule, checked on every deposit by replay: the landing column is
+    // the lowest of the drop column's neighbourhood, which contains the landing
+    // column and one of its neighbours, so it is never higher than both of its
+    // neighbours. Random deposition breaks this on most deposits.
+    let l = 64;
+    let mut p = DepositionParams::new(
+        Model::Rdsr { radius: 1 },
+        Lattice::new(l, 1).unwrap(),
+        200.0,
+    );
+    p.keep_particles = true;
+    let d = deposit(&p, 3, 0, &unlimited(), &NoProgress).unwrap();
+    let mut h = vec![0u32; l];
+    for c in d.particles.as_ref().unwrap() {
+        let i = c[0] as usize;
+        // The landing column is no higher than both of its neighbours.
+        let (a, b) = (h[(i + l - 1) % l], h[(i + 1) % l]);
+        assert!(
+            h[i] <= a.max(b) + 1,
+            "column {i} at {} next to {a}, {b}",
+            h[i]
+        );
+        h[i] += 1;
+    }
+    // RDSR is much smoother than RD at the same time.
+    let rd = ensemble(Model::Rd, 1024, 1, 200.0, 4, None);
+    let rdsr = ensemble(Model::Rdsr { radius: 1 }, 1024, 1, 200.0, 4, None);
+    assert!(rdsr.w2.last().unwrap() * 20.0 < *rd.w2.last().unwrap());
+}
+
+#[test]
+fn ballistic_contact_rule_holds_for_every_deposit() {
+    for dim in [1, 2] {
+        let l = 16;
+        let mut p = DepositionParams::new(Model::Bd, Lattice::new(l, dim).unwrap(), 20.0);
+        p.keep_particles = true;
+        let d = deposit(&p, 9, 0, &unlimited(), &NoProgress).unwrap();
+        let mut occ: HashSet<[i64; 3]> = HashSet::new();
+        let wrap = |v: i64| v.rem_euclid(l as i64);
+        let lateral = |c: [i64; 3]| -> Vec<[i64; 3]> {
+            let mut v = vec![[wrap(c[0] - 1), c[1], c[2]], [wrap(c[0] + 1), c[1], c[2]]];
+            if dim == 2 {
+                v.push([c[0], wrap(c[1] - 1), c[2]]);
+                v.push([c[0], wrap(c[1] + 1), c[2]]);
+            }
+            v
+        };
+        for c in d.particles.as_ref().unwrap() {
+            let c = c.map(|v| v as i64);
+            assert!(!occ.contains(&c));
+            let below = c[2] == 0 || occ.contains(&[c[0], c[1], c[2] - 1]);
+            let side = lateral(c).iter().any(|n| occ.contains(n));
+            assert!(below || side, "{c:?} floats");
+            // First contact: no cell above it in the column touched anything.
+            for z in c[2] + 1..c[2] + 40 {
+                let q = [c[0], c[1], z];
+                assert!(!occ.contains(&q) && !occ.contains(&[c[0], c[1], z - 1]) || z - 1 == c[2]);
+                assert!(
+                    lateral(q).iter().all(|n| !occ.contains(n)),
+                    "{c:?} passed contact at z={z}"
+                );
+            }
+            occ.insert(c);
+        }
+        // BD is porous: fewer particles than the volume under its surface.
+        let volume: u64 = d.heights.iter().map(|&h| h as u64).sum();
+        assert!(
+            volume > occ.len() as u64 * 3 / 2,
+            "density {}",
+            occ.len() as f64 / volume as f64
+        );
+    }
+}
+
+#[test]
+fn rdsr_1d_exponents() {
+    // β = 1/4 (Edwards–Wilkinson) at L = 8192, fit over [10, 1000].
+    let s = ensemble(Model::Rdsr { radius: 1 }, 8192, 1, 1000.0, 8, None);
+    let beta = growth_exponent(&s.t, &s.width(), [10.0, 1000.0])
+        .unwrap()
+        .exponent;
+    assert!((beta - 0.25).abs() < 0.02, "β = {beta}");
+    // α = 1/2 from saturated widths, time-averaged over t ∈ [L²/2, 2L²].
+    let sizes = [16usize, 32, 64, 128];
+    let wsat: Vec<f64> = sizes
+        .par_iter()
+        .map(|&l| {
+            let p = DepositionParams::new(
+                Model::Rdsr { radius: 1 },
+                Lattice::new(l, 1).unwrap(),
+                (2 * l * l) as f64,
+            );
+            let n = l as u64;
+            let sched = uniform_schedule(n * (l * l / 2) as u64, n * (2 * l * l) as u64, 64);
+            let w2: f64 = (0..24)
+                .map(|r| {
+                    let d = deposit_on_schedule(&p, 21, r, &sched, &NoProgress);
+                    d.series.w2.iter().sum::<f64>() / d.series.w2.len() as f64
+                })
+                .sum::<f64>()
+                / 24.0;
+            w2.sqrt()
+        })
+        .collect();
+    let alpha = roughness_exponent(&sizes.map(|l| l as f64), &wsat)
+        .unwrap()
+        .slope;
+    assert!((alpha - 0.5).abs() < 0.04, "α = {alpha}, W_sat = {wsat:?}");
+}
+
+#[test]
+fn rdsr_2d_width_grows_logarithmically() {
+    let s = ensemble(Model::Rdsr { radius: 1 }, 256, 2, 1000.0, 4, None);
+    // W² = a + b ln t: straight against ln t …
+    let pts: Vec<(f64, f64)> =
+        s.t.iter()
+            .zip(&s.w2)
+            .filter(|(t, _)| **t >= 10.0)
+            .map(|(t, w)| (t.ln(), *w))
+            .collect();
+    let n = pts.len() as f64;
+    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let syy: f64 = pts.iter().map(|p| (p.1 - my).powi(2)).sum();
+    let r2 = sxy * sxy / (sxx * syy);
+    let b = sxy / sxx;
+    assert!(r2 > 0.95, "r² = {r2}");
+    assert!(b > 0.03 && b < 0.09, "slope of W² against ln t: {b}");
+    // … and no power law: the effective β is near 0.
+    let beta = growth_exponent(&s.t, &s.width(), [10.0, 1000.0])
+        .unwrap()
+        .exponent;
+    assert!(beta < 0.08, "β_eff = {beta}");
+}
+
+#[test]
+fn ballistic_exponents() {
+    // 1+1D: β = 1/3 after max-height binning (ε = 4).
+    let s = ensemble(Model::Bd, 8192, 1, 1000.0, 8, Some(4));
+    let beta = growth_exponent(&s.t, &s.width_binned(), [10.0, 1000.0])
+        .unwrap()
+        .exponent;
+    assert!((beta - 1.0 / 3.0).abs() < 0.03, "β (binned) = {beta}");
+    let plain = growth_exponent(&s.t, &s.width(), [10.0, 1000.0])
+        .unwrap()
+        .exponent;
+    assert!(plain < beta, "plain {plain} should be biased low");
+    // 2+1D: β ≈ 0.24 (KPZ) with the intrinsic-width fit, W² = W_i² + A t^(2β);
+    // the plain fit is far below (β_eff ≈ 0.14, notes §1.4).
+    let mut p = DepositionParams::new(Model::Bd, Lattice::new(512, 2).unwrap(), 400.0);
+    p.samples_per_decade = 20;
+    let s = deposit_ensemble(&p, 11, 10, &unlimited(), &NoProgress)
+        .unwrap()
+        .1;
+    let fit = growth_exponent_intrinsic(&s.t, &s.width(), [30.0, 400.0]).unwrap();
+    assert!(
+        (0.20..=0.29).contains(&fit.exponent),
+        "β (intrinsic) = {}",
+        fit.exponent
+    );
+    assert!(fit.intrinsic_width > 2.0, "W_i = {}", fit.intrinsic_width);
+    let plain = growth_exponent(&s.t, &s.width(), [30.0, 400.0])
+        .unwrap()
+        .exponent;
+    assert!(plain < 0.17, "plain β = {plain}");
+}
+
+fn assert_touching(c: &asperity_growth::dla::DlaCluster) {
+    let mut occ: HashSet<[i32; 3]> = c.cells[..c.seeds].iter().copied().collect();
+    // Solid seeds occupy more than the listed surface: accept contact with those.
+    let plane = c.cells[..c.seeds].iter().all(|p| p[2] == 0);
+    for p in c.particles() {
+        let n = [
+            [p[0] - 1, p[1], p[2]],
+            [p[0] + 1, p[1], p[2]],
+            [p[0], p[1] - 1, p[2]],
+            [p[0], p[1] + 1, p[2]],
+            [p[0], p[1], p[2] - 1],
+            [p[0], p[1], p[2] + 1],
+        ];
+        let wrap = |q: [i32; 3]| {
+            if plane {
+                [
+                    q[0].rem_euclid(c.size[0] as i32),
+                    q[1].rem_euclid(c.size[1] as i32),
+                    q[2],
+                ]
+            } else {
+                q
+            }
+        };
+        assert!(
+            n.iter().any(|q| occ.contains(&wrap(*q))),
+            "particle {p:?} touches nothing"
+        );
+        assert!(occ.insert(*p), "particle {p:?} deposited twice");
+    }
+}
+
+#[test]
+fn dla_3d_dimension_and_contact() {
+    let ds: Vec<f64> = (0..3u64)
+        .into_par_iter()
+        .map(|s| {
+            let c = dla(
+                &DlaParams::point(3, 100_000),
+                100 + s,
+                0,
+                &unlimited(),
+                &NoProgress,
+            )
+            .unwrap();
+            assert!(c.stopped.is_none());
+            assert_eq!(c.particles().len(), 100_000);
+            assert_touching(&c);
+            let d = gyration_dimension(&c.points()).unwrap().d;
+            assert!((2.35..=2.65).contains(&d), "seed {s}: D = {d}");
+            d
+        })
+        .collect();
+    let mean = ds.iter().sum::<f64>() / 3.0;
+    assert!((2.40..=2.60).contains(&mean), "mean D = {mean} ({ds:?})");
+}
+
+#[test]
+fn dla_2d_dimension() {
+    let c = dla(
+        &DlaParams::point(2, 100_000),
+        5,
+        0,
+        &unlimited(),
+        &NoProgress,
+    )
+    .unwrap();
+    assert_touching(&c);
+    let d = gyration_dimension(&c.points()).unwrap().d;
+    assert!((d - 1.71).abs() < 0.06, "D = {d}");
+}
+
+#[test]
+fn low_sticking_probability_gives_compact_clusters() {
+    let rg = |p: f64| {
+        let mut params = DlaParams::point(3, 20_000);
+        params.stick = p;
+        let c = dla(&params, 8, 0, &unlimited(), &NoProgress).unwrap();
+        assert_touching(&c);
+        radius_of_gyration(&c.points())
+    };
+    let ratio = rg(0.1) / rg(1.0);
+    assert!(ratio < 0.8, "R_g(0.1)/R_g(1) = {ratio}");
+}
+
+#[test]
+fn dla_on_a_plane_sphere_and_image() {
+    // Plane: the density profile ρ(z) ∝ z^(D−3) with D ≈ 2.5 in the growth zone.
+    let params = DlaParams {
+        dim: 3,
+        size: [128, 128, 256],
+        particles: 60_000,
+        stick: 1.0,
+        seed_shape: SeedShape::Plane,
+        launch_gap: 2.0,
+    };
+    let c = dla(&params, 4, 0, &unlimited(), &NoProgress).unwrap();
+    assert!(c.stopped.is_none(), "{:?}", c.stopped);
+    assert_eq!(c.seeds, 128 * 128);
+    assert_touching(&c);
+    let top = c.particles().iter().map(|p| p[2]).max().unwrap() as usize;
+    let mut count = vec![0f64; top + 1];
+    for p in c.particles() {
+        count[p[2] as usize] += 1.0;
+    }
+    let z: Vec<f64> = (0..=top).map(|z| z as f64).collect();
+    let rho: Vec<f64> = count.iter().map(|n| n / (128.0 * 128.0)).collect();
+    let fit = log_fit(&z, &rho, [4.0, top as f64 / 3.0]).unwrap();
+    let d = 3.0 + fit.slope;
+    assert!(
+        (2.2..=2.8).contains(&d),
+        "D from ρ(z) = {d} (slope {})",
+        fit.slope
+    );
+    // Sphere: particles surround the ball.
+    let params = DlaParams {
+        dim: 3,
+        size: [96, 96, 96],
+        particles: 5_000,
+        stick: 1.0,
+        seed_shape: SeedShape::Sphere(10.0),
+        launch_gap: 2.0,
+    };
+    let c = dla(&params, 4, 0, &unlimited(), &NoProgress).unwrap();
+    let center = c.center;
+    for p in c.particles() {
+        let r = (0..3)
+            .map(|a| (p[a] as f64 - center[a]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        assert!(r > 10.0, "{p:?} inside the seed ball");
+    }
+    let octants: HashSet<[bool; 3]> = c
+        .particles()
+        .iter()
+        .map(|p| [0, 1, 2].map(|a| p[a] as f64 > center[a]))
+        .collect();
+    assert_eq!(octants.len(), 8);
+    // Image: seeds only where the density is positive (left half).
+    let density: Vec<f64> = (0..64 * 64)
+        .map(|k| if k % 64 < 32 { 0.05 } else { 0.0 })
+        .collect();
+    let params = DlaParams {
+        dim: 3,
+        size: [64, 64, 64],
+        particles: 2_000,
+        stick: 1.0,
+        seed_shape: SeedShape::Density(density),
+        launch_gap: 2.0,
+    };
+    let c = dla(&params, 4, 0, &unlimited(), &NoProgress).unwrap();
+    assert!(c.seeds > 50 && c.seeds < 200, "{} seeds", c.seeds);
+    assert!(c.cells[..c.seeds].iter().all(|p| p[0] < 32 && p[2] == 0));
+    assert_touching(&c);
+}
+
+#[test]
+fn same_seed_same_output_at_any_thread_count() {
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut p = DepositionParams::new(Model::Bd, Lattice::new(64, 2).unwrap(), 20.0);
+            p.bin = Some(4);
+            let (d, s) = deposit_ensemble(&p, 3, 4, &unlimited(), &NoProgress).unwrap();
+            let c = dla(&DlaParams::point(3, 3000), 3, 0, &unlimited(), &NoProgress).unwrap();
+            (d.heights, s, c.cells)
+        })
+    };
+    let a = run(1);
+    let b = run(2);
+    assert_eq!(a.0, b.0);
+    assert_eq!(a.1, b.1);
+    assert_eq!(a.2, b.2);
+    // A different seed gives a different cluster.
+    let c = dla(&DlaParams::point(3, 3000), 4, 0, &unlimited(), &NoProgress).unwrap();
+    assert_ne!(c.cells, a.2);
+}
+
+#[test]
+fn curved_substrates() {
+    for model in [Model::Rd, Model::Rdsr { radius: 1 }, Model::Bd] {
+        let params = CurvedParams {
+            model,
+            substrate: CurvedSubstrate::Sphere(12.0),
+            layers: 4.0,
+            samples_per_decade: 5,
+        };
+        let d = deposit_curved(&params, 2, 0, &unlimited(), &NoProgress).unwrap();
+        let n = d.cells.len() - d.seeds;
+        assert_eq!(n as f64, (4.0 * d.seeds as f64).round(), "{model:?}");
+        // Every particle touches the substrate or an earlier particle.
+        let c = d.size[0] as i32 / 2;
+        let mut occ: HashSet<[i32; 3]> = HashSet::new();
+        let solid = |p: [i32; 3]| {
+            ((p[0] - c).pow(2) + (p[1] - c).pow(2) + (p[2] - c).pow(2)) as f64 <= 144.0
+        };
+        let mut radii = [0f64; 8];
+        let mut counts = [0f64; 8];
+        for p in &d.cells[d.seeds..] {
+            let n = [
+                [1, 0, 0],
+                [-1, 0, 0],
+                [0, 1, 0],
+                [0, -1, 0],
+                [0, 0, 1],
+                [0, 0, -1],
+            ]
+            .map(|e| [p[0] + e[0], p[1] + e[1], p[2] + e[2]]);
+            assert!(!solid(*p), "{model:?}: {p:?} inside the substrate");
+            assert!(
+                n.iter().any(|q| solid(*q) || occ.contains(q)),
+                "{model:?}: {p:?} floats"
+            );
+            assert!(occ.insert(*p));
+            if p.contains(&c) {
+                continue; // on an octant boundary plane
+            }
+            let o = (p[0] > c) as usize + 2 * (p[1] > c) as usize + 4 * (p[2] > c) as usize;
+            radii[o] += (((p[0] - c).pow(2) + (p[1] - c).pow(2) + (p[2] - c).pow(2)) as f64).sqrt();
+            counts[o] += 1.0;
+        }
+        // Radial deposition is isotropic: the octants fill alike.
+        let mean_count = counts.iter().sum::<f64>() / 8.0;
+        for k in 0..8 {
+            assert!(
+                (counts[k] / mean_count - 1.0).abs() < 0.1,
+                "{model:?}: octant counts {counts:?}"
+            );
+            let r = radii[k] / counts[k];
+            assert!(
+                r > 12.0 && r < 12.0 + 4.0 * 2.5 + 2.0,
+                "{model:?}: mean radius {r}"
+            );
+        }
+        assert!(d.series.w2.iter().all(|w| w.is_finite()));
+    }
+    // A voxelised mesh (an icosphere scaled to radius 10) as the substrate.
+    let mesh = asperity_core::shapes::icosphere(3, 10.0);
+    let m = asperity_growth::curved::margin(Model::Bd, 3.0);
+    let vox = asperity_core::voxelize::voxelize(&mesh, 20, m, &unlimited()).unwrap();
+    let to_lattice = |p: [f64; 3]| [0, 1, 2].map(|a| (p[a] - vox.origin[a]) / vox.spacing);
+    let lattice_mesh = asperity_core::TriMesh::new(
+        mesh.positions().iter().map(|&p| to_lattice(p)).collect(),
+        mesh.triangles().to_vec(),
+    )
+    .unwrap();
+    let params = CurvedParams {
+        model: Model::Bd,
+        substrate: CurvedSubstrate::Mesh {
+            mesh: lattice_mesh,
+            size: vox.dims,
+            cells: vox.cells(),
+        },
+        layers: 3.0,
+        samples_per_decade: 5,
+    };
+    let d = deposit_curved(&params, 2, 0, &unlimited(), &NoProgress).unwrap();
+    let solid: HashSet<[i32; 3]> = vox.cells().into_iter().collect();
+    let mut occ: HashSet<[i32; 3]> = HashSet::new();
+    for p in &d.cells[d.seeds..] {
+        let n = [
+            [1, 0, 0],
+            [-1, 0, 0],
+            [0, 1, 0],
+            [0, -1, 0],
+            [0, 0, 1],
+            [0, 0, -1],
+        ]
+        .map(|e| [p[0] + e[0], p[1] + e[1], p[2] + e[2]]);
+        assert!(!solid.contains(p));
+        assert!(
+            n.iter().any(|q| solid.contains(q) || occ.contains(q)),
+            "{p:?} floats"
+        );
+        occ.insert(*p);
+    }
+    assert!(
+        d.thickness > 2.0 && d.thickness < 15.0,
+        "thickness {}",
+        d.thickness
+    );
+}
+
+#[test]
+fn bad_input_is_refused_clearly() {
+    let budget = unlimited();
+    let mut p = DlaParams::point(3, 100);
+    p.stick = 0.0;
+    assert!(
+        dla(&p, 1, 0, &budget, &NoProgress)
+            .unwrap_err()
+            .to_string()
+            .contains("(0, 1]")
+    );
+    p.stick = 1.5;
+    assert!(dla(&p, 1, 0, &budget, &NoProgress).is_err());
+    let mut p = DlaParams::point(3, 100);
+    p.size = [0, 10, 10];
+    assert!(
+        dla(&p, 1, 0, &budget, &NoProgress)
+            .unwrap_err()
+            .to_string()
+            .contains("zero")
+    );
+    let mut p = DlaParams::point(3, 2000);
+    p.size = [10, 10, 10];
+    let e = dla(&p, 1, 0, &budget, &NoProgress).unwrap_err().to_string();
+    assert!(e.contains("do not fit"), "{e}");
+    let p = DlaParams::point(3, 1_000_000);
+    let e = dla(&p, 1, 0, &MemoryBudget::new(1 << 20), &NoProgress)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("memory limit"), "{e}");
+    assert!(Lattice::new(0, 2).is_err());
+    assert!(Lattice::new(16, 3).is_err());
+    let p = DepositionParams::new(Model::Rd, Lattice::new(16, 2).unwrap(), -1.0);
+    assert!(
+        deposit(&p, 1, 0, &budget, &NoProgress)
+            .unwrap_err()
+            .to_string()
+            .contains("layers")
+    );
+    let p = DepositionParams::new(Model::Rdsr { radius: 0 }, Lattice::new(16, 2).unwrap(), 1.0);
+    assert!(deposit(&p, 1, 0, &budget, &NoProgress).is_err());
+    let p = DepositionParams::new(Model::Rd, Lattice::new(1 << 15, 2).unwrap(), 100.0);
+    let mut q = p.clone();
+    q.keep_particles = true;
+    assert!(deposit(&q, 1, 0, &MemoryBudget::new(1 << 30), &NoProgress).is_err());
+}
