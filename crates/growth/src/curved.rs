@@ -205,14 +205,7 @@ impl Dda {
     }
 }
 
-const FACES: [[i32; 3]; 6] = [
-    [-1, 0, 0],
-    [1, 0, 0],
-    [0, -1, 0],
-    [0, 1, 0],
-    [0, 0, -1],
-    [0, 0, 1],
-];
+const FACES: [[i32; 3]; 6] = crate::occupancy::FACE_NEIGHBOURS;
 
 fn add(p: [i32; 3], e: [i32; 3]) -> [i32; 3] {
     [p[0] + e[0], p[1] + e[1], p[2] + e[2]]

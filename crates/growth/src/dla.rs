@@ -289,14 +289,7 @@ fn coarse_shift(size: [usize; 3], periodic: bool) -> u32 {
     }
 }
 
-const DIRS3: [[i32; 3]; 6] = [
-    [-1, 0, 0],
-    [1, 0, 0],
-    [0, -1, 0],
-    [0, 1, 0],
-    [0, 0, -1],
-    [0, 0, 1],
-];
+const DIRS3: [[i32; 3]; 6] = crate::occupancy::FACE_NEIGHBOURS;
 const DIRS2: [[i32; 3]; 4] = [[-1, 0, 0], [1, 0, 0], [0, 0, -1], [0, 0, 1]];
 
 struct Walk<'a> {

@@ -24,6 +24,16 @@ use asperity_core::MemoryBudget;
 
 use crate::GrowthError;
 
+/// The six face neighbours of a cell on the cubic lattice.
+pub const FACE_NEIGHBOURS: [[i32; 3]; 6] = [
+    [-1, 0, 0],
+    [1, 0, 0],
+    [0, -1, 0],
+    [0, 1, 0],
+    [0, 0, -1],
+    [0, 0, 1],
+];
+
 /// Occupancy of a lattice of cells, one bit per cell, in 4×4×4 blocks.
 #[derive(Clone, Debug)]
 pub struct Occupancy {
