@@ -99,7 +99,8 @@ fn write_svg(dir: &Path, name: &str, plot: &Plot, report: &mut Report) -> anyhow
 }
 
 /// A fit line y = e^c x^slope over the fit window, for plots.
-fn fit_line(name: String, range: [f64; 2], intercept: f64, slope: f64) -> Series {
+fn fit_line(name: String, f: &asperity_analysis::psd::LogFit) -> Series {
+    let (range, intercept, slope) = (f.range, f.intercept, f.slope);
     let pts = (0..=20)
         .map(|k| {
             let x = range[0] * (range[1] / range[0]).powf(k as f64 / 20.0);
@@ -125,12 +126,7 @@ fn width_plot(
         style: Style::Points,
     }];
     if let Some(f) = fit {
-        series.push(fit_line(
-            format!("β = {:.3}", f.exponent),
-            f.fit.range,
-            f.fit.intercept,
-            f.fit.slope,
-        ));
+        series.push(fit_line(format!("β = {:.3}", f.exponent), &f.fit));
     }
     if !s.w2_binned.is_empty() {
         series.push(Series {
@@ -139,12 +135,7 @@ fn width_plot(
             style: Style::Points,
         });
         if let Some(f) = binned {
-            series.push(fit_line(
-                format!("binned β = {:.3}", f.exponent),
-                f.fit.range,
-                f.fit.intercept,
-                f.fit.slope,
-            ));
+            series.push(fit_line(format!("binned β = {:.3}", f.exponent), &f.fit));
         }
     }
     Plot {
@@ -256,12 +247,7 @@ fn deposit_cmd(ctx: &Context, model: Model, a: &DepositArgs) -> anyhow::Result<(
                             .collect(),
                         style: Style::Points,
                     },
-                    fit_line(
-                        format!("α = {:.3}", fit.slope),
-                        fit.range,
-                        fit.intercept,
-                        fit.slope,
-                    ),
+                    fit_line(format!("α = {:.3}", fit.slope), fit),
                 ],
             };
             write_svg(dir, "saturation.svg", &plot, &mut report)?;

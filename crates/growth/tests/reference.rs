@@ -14,8 +14,14 @@ use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::deposition::deposit_on_schedule;
 use asperity_growth::dla::{DlaParams, SeedShape, dla};
 use asperity_growth::interface_width::uniform_schedule;
+use asperity_growth::occupancy::FACE_NEIGHBOURS;
 use asperity_growth::{DepositionParams, Lattice, Model, deposit, deposit_ensemble};
 use rayon::prelude::*;
+
+/// The six face neighbours of `p`.
+fn faces(p: [i32; 3]) -> [[i32; 3]; 6] {
+    FACE_NEIGHBOURS.map(|e| [p[0] + e[0], p[1] + e[1], p[2] + e[2]])
+}
 
 fn unlimited() -> MemoryBudget {
     MemoryBudget::unlimited()
@@ -254,14 +260,7 @@ fn assert_touching(c: &asperity_growth::dla::DlaCluster) {
     // Solid seeds occupy more than the listed surface: accept contact with those.
     let plane = c.cells[..c.seeds].iter().all(|p| p[2] == 0);
     for p in c.particles() {
-        let n = [
-            [p[0] - 1, p[1], p[2]],
-            [p[0] + 1, p[1], p[2]],
-            [p[0], p[1] - 1, p[2]],
-            [p[0], p[1] + 1, p[2]],
-            [p[0], p[1], p[2] - 1],
-            [p[0], p[1], p[2] + 1],
-        ];
+        let n = faces(*p);
         let wrap = |q: [i32; 3]| {
             if plane {
                 [
@@ -451,15 +450,7 @@ fn curved_substrates() {
         let mut radii = [0f64; 8];
         let mut counts = [0f64; 8];
         for p in &d.cells[d.seeds..] {
-            let n = [
-                [1, 0, 0],
-                [-1, 0, 0],
-                [0, 1, 0],
-                [0, -1, 0],
-                [0, 0, 1],
-                [0, 0, -1],
-            ]
-            .map(|e| [p[0] + e[0], p[1] + e[1], p[2] + e[2]]);
+            let n = faces(*p);
             assert!(!solid(*p), "{model:?}: {p:?} inside the substrate");
             assert!(
                 n.iter().any(|q| solid(*q) || occ.contains(q)),
@@ -512,15 +503,7 @@ fn curved_substrates() {
     let solid: HashSet<[i32; 3]> = vox.cells().into_iter().collect();
     let mut occ: HashSet<[i32; 3]> = HashSet::new();
     for p in &d.cells[d.seeds..] {
-        let n = [
-            [1, 0, 0],
-            [-1, 0, 0],
-            [0, 1, 0],
-            [0, -1, 0],
-            [0, 0, 1],
-            [0, 0, -1],
-        ]
-        .map(|e| [p[0] + e[0], p[1] + e[1], p[2] + e[2]]);
+        let n = faces(*p);
         assert!(!solid.contains(p));
         assert!(
             n.iter().any(|q| solid.contains(q) || occ.contains(q)),

@@ -567,21 +567,27 @@ pub fn write_png(path: &Path, img: &RgbaImage) -> Result<(), IoError> {
     })
 }
 
+/// `Ok` when `len` values fill `shape` exactly.
+fn check_shape(path: &Path, shape: &[usize], len: usize) -> Result<(), IoError> {
+    let n: usize = shape.iter().product();
+    if n != len {
+        let source = CoreError::GridSize {
+            dims: shape.to_vec(),
+            expected: n,
+            got: len,
+        };
+        return Err(IoError::invalid(path, source));
+    }
+    Ok(())
+}
+
 /// Writes a `uint8` array of `shape` (C order) as `.npy`, e.g. a CA evolution
 /// `(T+1, ny, nx)`.
 ///
 /// # Errors
 /// [`IoError::Os`]; [`IoError::Invalid`] if `data` does not fill `shape`.
 pub fn write_npy_u8(path: &Path, shape: &[usize], data: &[u8]) -> Result<(), IoError> {
-    let n: usize = shape.iter().product();
-    if n != data.len() {
-        let source = CoreError::GridSize {
-            dims: shape.to_vec(),
-            expected: n,
-            got: data.len(),
-        };
-        return Err(IoError::invalid(path, source));
-    }
+    check_shape(path, shape, data.len())?;
     write_atomic(path, |w| {
         npy::write_u8(w, shape, data).map_err(|e| IoError::os(path, e))
     })
@@ -593,15 +599,7 @@ pub fn write_npy_u8(path: &Path, shape: &[usize], data: &[u8]) -> Result<(), IoE
 /// # Errors
 /// [`IoError::Invalid`] when `shape` does not match the data; I/O errors.
 pub fn write_npy_f64(path: &Path, shape: &[usize], data: &[f64]) -> Result<(), IoError> {
-    let n: usize = shape.iter().product();
-    if n != data.len() {
-        let source = CoreError::GridSize {
-            dims: shape.to_vec(),
-            expected: n,
-            got: data.len(),
-        };
-        return Err(IoError::invalid(path, source));
-    }
+    check_shape(path, shape, data.len())?;
     write_atomic(path, |w| {
         npy::write(w, shape, data, npy::NpyDtype::Float64).map_err(|e| IoError::os(path, e))
     })
