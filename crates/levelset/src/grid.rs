@@ -1,0 +1,241 @@
+//! The computational grid around a point set (§5.2, "Computing the Distance Function").
+//!
+//! The paper computes every field on a regular grid around the data (its Fig. 8 uses a
+//! 112×115×114 grid for an RDSR sphere, Fig. 9 a 115×115×49 grid for a 64³ DLA run). The
+//! grid here is cubic (one spacing `h` on every axis) and padded so that nothing the
+//! pipeline does reaches the domain boundary: the offset surface lies at distance ε
+//! from the data and the narrow tube reaches γ beyond it, so the padding is
+//! `⌈(ε + γ)/h⌉ + 3` nodes on every side. Nodes are stored x fastest, as in
+//! [`asperity_core::Grid3`].
+
+use asperity_core::{CoreError, MemoryBudget};
+
+/// How the spacing is chosen.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Sizing {
+    /// This many cells along the longest axis of the points' bounding box.
+    Resolution(usize),
+    /// This spacing, in the points' units.
+    Spacing(f64),
+}
+
+/// Bytes per grid node the whole pipeline holds at its peak (distance `f32` and
+/// packed closest point `u64` during the distance stage; distance, φ, tags and
+/// the tube marks during evolution).
+pub const BYTES_PER_NODE: u64 = 4 + 8 + 4 + 1 + 4;
+
+/// A cubic-cell grid: node (i, j, k) is at `origin + h·(i, j, k)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GridSpec {
+    /// Position of node (0, 0, 0).
+    pub origin: [f64; 3],
+    /// Spacing h.
+    pub spacing: f64,
+    /// Nodes per axis.
+    pub dims: [usize; 3],
+}
+
+impl GridSpec {
+    /// The grid around `points` with the spacing from `sizing` and `pad` nodes of
+    /// padding on every side (see [`padding_nodes`]), after checking the points and
+    /// that [`BYTES_PER_NODE`] per node fits in `budget`.
+    ///
+    /// # Errors
+    /// An empty set, a non-finite coordinate, identical points, a bad sizing, or
+    /// the memory estimate above the budget.
+    pub fn around(
+        points: &[[f64; 3]],
+        sizing: Sizing,
+        pad: impl Fn(f64) -> usize,
+        budget: &MemoryBudget,
+    ) -> asperity_core::Result<Self> {
+        if points.is_empty() {
+            return Err(CoreError::Empty("the point set"));
+        }
+        for (index, p) in points.iter().enumerate() {
+            if let Some(&value) = p.iter().find(|v| !v.is_finite()) {
+                return Err(CoreError::NonFinite {
+                    what: "point",
+                    index,
+                    value,
+                });
+            }
+        }
+        let mut lo = points[0];
+        let mut hi = points[0];
+        for p in points {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        let extent = [0, 1, 2].map(|a| hi[a] - lo[a]);
+        let longest = extent.iter().copied().fold(0.0, f64::max);
+        if longest <= 0.0 {
+            return Err(CoreError::InvalidParameter {
+                name: "points",
+                reason: format!(
+                    "all {} points are identical ({:?}); a surface needs points that span a volume or a sheet",
+                    points.len(),
+                    lo
+                ),
+            });
+        }
+        let spacing = match sizing {
+            Sizing::Resolution(n) => {
+                if !(2..=65_536).contains(&n) {
+                    return Err(CoreError::InvalidParameter {
+                        name: "resolution",
+                        reason: format!("must be between 2 and 65536 cells, got {n}"),
+                    });
+                }
+                longest / n as f64
+            }
+            Sizing::Spacing(h) => {
+                if !(h.is_finite() && h > 0.0) {
+                    return Err(CoreError::InvalidParameter {
+                        name: "spacing",
+                        reason: format!("must be positive and finite, got {h}"),
+                    });
+                }
+                h
+            }
+        };
+        let pad = pad(spacing);
+        let mut dims = [0usize; 3];
+        for a in 0..3 {
+            let cells = (extent[a] / spacing).ceil();
+            if cells.is_nan() || cells >= 1e7 {
+                return Err(CoreError::InvalidParameter {
+                    name: "spacing",
+                    reason: format!(
+                        "{spacing} gives {cells} cells along axis {a}; choose a coarser grid"
+                    ),
+                });
+            }
+            dims[a] = cells as usize + 1 + 2 * pad;
+        }
+        let count = dims.iter().fold(1u128, |acc, &d| acc * d as u128);
+        budget.check_elements(
+            count,
+            BYTES_PER_NODE,
+            &format!(
+                "level-set reconstruction on a {}×{}×{} grid",
+                dims[0], dims[1], dims[2]
+            ),
+        )?;
+        if count > u32::MAX as u128 / 4 {
+            return Err(CoreError::InvalidParameter {
+                name: "resolution",
+                reason: format!("{count} grid nodes is more than this build indexes (2³⁰)"),
+            });
+        }
+        let origin = [0, 1, 2].map(|a| {
+            // Centre the points in the grid.
+            let span = (dims[a] - 1) as f64 * spacing;
+            0.5 * (lo[a] + hi[a]) - 0.5 * span
+        });
+        Ok(Self {
+            origin,
+            spacing,
+            dims,
+        })
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.dims[0] * self.dims[1] * self.dims[2]
+    }
+
+    /// Whether the grid has no nodes (never true for a built grid).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Linear index of node (i, j, k).
+    #[inline]
+    pub fn index(&self, i: usize, j: usize, k: usize) -> usize {
+        i + self.dims[0] * (j + self.dims[1] * k)
+    }
+
+    /// Node coordinates of a linear index.
+    #[inline]
+    pub fn coords(&self, index: usize) -> [usize; 3] {
+        let i = index % self.dims[0];
+        let rest = index / self.dims[0];
+        [i, rest % self.dims[1], rest / self.dims[1]]
+    }
+
+    /// World position of node (i, j, k).
+    #[inline]
+    pub fn position(&self, i: usize, j: usize, k: usize) -> [f64; 3] {
+        [
+            self.origin[0] + i as f64 * self.spacing,
+            self.origin[1] + j as f64 * self.spacing,
+            self.origin[2] + k as f64 * self.spacing,
+        ]
+    }
+
+    /// Index strides along x, y, z.
+    #[inline]
+    pub fn strides(&self) -> [usize; 3] {
+        [1, self.dims[0], self.dims[0] * self.dims[1]]
+    }
+
+    /// Whether node `c` lies on the outer faces of the grid.
+    #[inline]
+    pub fn on_boundary(&self, c: [usize; 3]) -> bool {
+        (0..3).any(|a| c[a] == 0 || c[a] + 1 == self.dims[a])
+    }
+}
+
+/// Padding nodes for an offset `eps` and tube half-width `gamma` (world units) at
+/// spacing `h`: `⌈(ε + γ)/h⌉ + 3`.
+pub fn padding_nodes(eps: f64, gamma: f64, h: f64) -> usize {
+    ((eps + gamma) / h).ceil() as usize + 3
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pts() -> Vec<[f64; 3]> {
+        vec![[0.0, 0.0, 0.0], [10.0, 5.0, 2.0]]
+    }
+
+    #[test]
+    fn resolution_sets_the_spacing_from_the_longest_axis() {
+        let g = GridSpec::around(
+            &pts(),
+            Sizing::Resolution(20),
+            |_| 4,
+            &MemoryBudget::unlimited(),
+        )
+        .unwrap();
+        assert!((g.spacing - 0.5).abs() < 1e-12);
+        assert_eq!(g.dims, [20 + 1 + 8, 10 + 1 + 8, 4 + 1 + 8]);
+        // Points are centred: the first point is 4 nodes in.
+        let p = g.position(4, 4, 4);
+        assert!((p[0] - 0.0).abs() < 1e-9 && (p[1] - 0.0).abs() < 1e-9);
+        assert_eq!(g.coords(g.index(3, 7, 2)), [3, 7, 2]);
+    }
+
+    #[test]
+    fn bad_input_is_refused_with_a_reason() {
+        let b = MemoryBudget::unlimited();
+        let e = GridSpec::around(&[], Sizing::Resolution(10), |_| 1, &b).unwrap_err();
+        assert!(e.to_string().contains("empty"), "{e}");
+        let e = GridSpec::around(&[[0.0, f64::NAN, 0.0]], Sizing::Resolution(10), |_| 1, &b)
+            .unwrap_err();
+        assert!(e.to_string().contains("not finite"), "{e}");
+        let e =
+            GridSpec::around(&[[1.0; 3], [1.0; 3]], Sizing::Resolution(10), |_| 1, &b).unwrap_err();
+        assert!(e.to_string().contains("identical"), "{e}");
+        let e = GridSpec::around(&pts(), Sizing::Spacing(-1.0), |_| 1, &b).unwrap_err();
+        assert!(e.to_string().contains("spacing"), "{e}");
+        let small = MemoryBudget::new(1 << 20);
+        let e = GridSpec::around(&pts(), Sizing::Resolution(1000), |_| 1, &small).unwrap_err();
+        assert!(matches!(e, CoreError::MemoryLimit { .. }), "{e}");
+        assert!(e.to_string().contains("limit"), "{e}");
+    }
+}
