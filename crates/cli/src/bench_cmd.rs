@@ -280,6 +280,71 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
             }),
         ));
     }
+    // Level-set reconstruction of an RDSR sphere (kim-machiraju-thompson Fig. 8):
+    // distance + tagging + 30 RK2 steps + marching cubes, and the naive full grid.
+    for (name, res, full, target) in [
+        ("levelset/pipeline-128", 128usize, false, Some(0.5)),
+        ("levelset/full-grid-128", 128, true, None),
+        ("levelset/pipeline-256-1e6", 256, false, Some(3.0)),
+    ] {
+        v.push((
+            name,
+            Box::new(move || {
+                use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
+                use asperity_levelset::{Band, ReconstructParams, Sizing, reconstruct};
+                let (radius, layers, res) = match (quick, res) {
+                    (true, _) => (8.0, 3.0, 32),
+                    (false, 128) => (30.0, 11.0, 128),
+                    _ => (60.0, 26.0, 256),
+                };
+                let points = deposit_curved(
+                    &CurvedParams {
+                        model: Model::Rdsr { radius: 1 },
+                        substrate: CurvedSubstrate::Sphere(radius),
+                        layers,
+                        samples_per_decade: 2,
+                    },
+                    7,
+                    0,
+                    &budget,
+                    &asperity_core::NoProgress,
+                )?
+                .points();
+                let params = ReconstructParams {
+                    sizing: Sizing::Resolution(res),
+                    band: if full { Band::Full } else { Band::Narrow },
+                    ..ReconstructParams::default()
+                };
+                let n = points.len() as u64;
+                Ok(Workload {
+                    name,
+                    what: format!(
+                        "RDSR sphere, {n} points, {res} cells across, 30 ENO2/RK2 steps{}",
+                        if full { ", every node every step (naive)" } else { ", narrow band" }
+                    ),
+                    elements: n,
+                    unit: "points",
+                    target_s: target.filter(|_| !quick),
+                    once: res >= 256,
+                    job: Box::new(move || {
+                        let r = reconstruct(
+                            &points,
+                            &params,
+                            &budget,
+                            &asperity_core::NoProgress,
+                            &mut |_, _| {},
+                        )?;
+                        let t = r.timings;
+                        eprintln!(
+                            "  {name}: grid {:?}, distance {:.3} s, tagging {:.3} s, initial {:.3} s, flow {:.3} s, marching cubes {:.3} s",
+                            r.grid.dims, t.distance, t.tagging, t.initial, t.evolution, t.extraction
+                        );
+                        Ok(())
+                    }),
+                })
+            }),
+        ));
+    }
     v
 }
 

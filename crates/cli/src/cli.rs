@@ -95,6 +95,8 @@ pub enum Command {
     /// Generate surfaces from built-in models.
     #[command(subcommand)]
     Generate(GenerateCommand),
+    /// Watertight surface from a point set by the level-set convection flow (kim-machiraju-thompson §5).
+    Reconstruct(ReconstructArgs),
     /// Time the workloads named in the issues and print throughput.
     Bench(BenchArgs),
     /// List the file formats asperity reads and writes.
@@ -458,6 +460,156 @@ pub struct AnalyzeArgs {
 pub enum GenerateCommand {
     /// Self-affine (fractional Brownian) surface by Fourier filtering with random phases.
     Fbm(FbmArgs),
+    /// DLA from the plane, then level-set reconstruction: a terrain with arches (kim-machiraju-thompson Figs. 9–11).
+    DlaTerrain(DlaTerrainArgs),
+    /// RDSR on a sphere, then level-set reconstruction: a rough ball (kim-machiraju-thompson Fig. 8).
+    RdsrSphere(RdsrSphereArgs),
+}
+
+/// Space discretisation of the flow.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SchemeArg {
+    /// Second-order ENO (the paper's).
+    Eno2,
+    /// First-order upwind.
+    Upwind,
+}
+
+/// The level-set flow.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FlowArg {
+    /// φ_t = d|∇φ| (Eq. 6): keeps the roughness.
+    Convection,
+    /// Convection plus a curvature term weighted by d (Zhao's weighted minimal surface): smoother.
+    Regularized,
+}
+
+/// Unsigned-distance method.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DistanceArg {
+    /// Closest-point wavefront in the band (nearly exact, fast).
+    ClosestPoint,
+    /// Godunov fast sweeping over the whole grid (the paper's, first order).
+    Godunov,
+}
+
+/// Tagging rule of Algorithm 1.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TagRuleArg {
+    /// As published: never step onto a node with a farther interior neighbour.
+    Paper,
+    /// The ε rule only: flood fill of {d ≥ ε} from the box.
+    Threshold,
+}
+
+/// Settings of the level-set reconstruction, shared by `reconstruct` and the pipelines.
+#[derive(Args, Debug, Clone)]
+pub struct LevelSetArgs {
+    /// Cells along the longest axis of the points' bounding box.
+    #[arg(long, conflicts_with = "spacing")]
+    pub resolution: Option<usize>,
+    /// Grid spacing h in the points' units (instead of --resolution).
+    #[arg(long)]
+    pub spacing: Option<f64>,
+    /// Offset ε of the initial surface from the points, in their units (default: 3h; pipelines: 3).
+    #[arg(long, value_name = "EPS")]
+    pub offset: Option<f64>,
+    /// Time steps of the flow (default 30; pipelines 60).
+    #[arg(long)]
+    pub iterations: Option<usize>,
+    /// Stop early once the front moves less than this many cells per step.
+    #[arg(long, value_name = "CELLS")]
+    pub tolerance: Option<f64>,
+    /// Radius δ at which the front stops around each point (default: 0.75 × sample spacing, ≥ h/2; 0 = the paper's model).
+    #[arg(long, value_name = "R")]
+    pub point_radius: Option<f64>,
+    /// Space discretisation.
+    #[arg(long, value_enum, default_value_t = SchemeArg::Eno2)]
+    pub scheme: SchemeArg,
+    /// The flow.
+    #[arg(long, value_enum, default_value_t = FlowArg::Convection)]
+    pub flow: FlowArg,
+    /// Curvature weight λ of the regularised flow, in cells.
+    #[arg(long, default_value_t = 1.0)]
+    pub curvature_weight: f64,
+    /// Unsigned-distance method.
+    #[arg(long, value_enum, default_value_t = DistanceArg::ClosestPoint)]
+    pub distance: DistanceArg,
+    /// Tagging rule.
+    #[arg(long, value_enum, default_value_t = TagRuleArg::Paper)]
+    pub tagging: TagRuleArg,
+    /// Tube half-width γ in cells.
+    #[arg(long, default_value_t = 3.0)]
+    pub tube: f64,
+    /// Full-speed half-width β of the cut-off, in cells (< γ).
+    #[arg(long, default_value_t = 2.0)]
+    pub beta: f64,
+    /// CFL number of the time step.
+    #[arg(long, default_value_t = 0.9)]
+    pub cfl: f64,
+    /// Redistancing iterations per step (Eq. 11).
+    #[arg(long, default_value_t = 2)]
+    pub redistance: usize,
+    /// Update every node every step (the naive scheme, for comparison) instead of the tubes.
+    #[arg(long)]
+    pub full_grid: bool,
+    /// Store the mean curvature H (Eq. 2) per vertex as `mean_curvature`.
+    #[arg(long)]
+    pub curvature: bool,
+    /// Drop connected pieces with fewer triangles than this (single-node voids the flow opens
+    /// inside a deposit have 8); 0 keeps everything.
+    #[arg(long, default_value_t = 32, value_name = "TRIANGLES")]
+    pub min_shell: usize,
+    /// Also write the surface every K steps (and the initial one) as OUT_stepNNNN.EXT.
+    #[arg(long, value_name = "K")]
+    pub save_every: Option<usize>,
+}
+
+/// `asperity reconstruct`
+#[derive(Args, Debug)]
+pub struct ReconstructArgs {
+    /// Point set (PLY, XYZ, CSV, OBJ/STL vertices …).
+    pub input: PathBuf,
+    #[command(flatten)]
+    pub level_set: LevelSetArgs,
+}
+
+/// `asperity generate dla-terrain`
+#[derive(Args, Debug)]
+pub struct DlaTerrainArgs {
+    /// Lattice NXxNYxNZ.
+    #[arg(long, default_value = "64x64x64", value_name = "NXxNYxNZ")]
+    pub size: String,
+    /// DLA particles released from above the plane.
+    #[arg(long, default_value_t = 8_000)]
+    pub particles: usize,
+    /// Sticking probability p in (0, 1].
+    #[arg(long, default_value_t = 1.0)]
+    pub stick: f64,
+    /// Also write the particles (PLY, XYZ, CSV).
+    #[arg(long, value_name = "FILE")]
+    pub points: Option<PathBuf>,
+    #[command(flatten)]
+    pub level_set: LevelSetArgs,
+}
+
+/// `asperity generate rdsr-sphere`
+#[derive(Args, Debug)]
+pub struct RdsrSphereArgs {
+    /// Radius of the substrate ball, in cells.
+    #[arg(long, default_value_t = 20.0)]
+    pub radius: f64,
+    /// Monolayers deposited.
+    #[arg(long, default_value_t = 10.0)]
+    pub layers: f64,
+    /// RDSR relaxation radius in cells.
+    #[arg(long, default_value_t = 1)]
+    pub relax: u32,
+    /// Also write the particles (PLY, XYZ, CSV).
+    #[arg(long, value_name = "FILE")]
+    pub points: Option<PathBuf>,
+    #[command(flatten)]
+    pub level_set: LevelSetArgs,
 }
 
 /// `asperity growth …`

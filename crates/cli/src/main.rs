@@ -29,6 +29,7 @@ mod convert;
 mod demo;
 mod growth_cmd;
 mod progress;
+mod reconstruct_cmd;
 mod render_cmd;
 mod report;
 
@@ -67,6 +68,13 @@ fn run(args: cli::Cli) -> anyhow::Result<()> {
         cli::Command::Bench(a) => bench_cmd::run(&ctx, &a),
         cli::Command::Analyze(a) => analyze_cmd::analyze(&ctx, &a),
         cli::Command::Generate(cli::GenerateCommand::Fbm(a)) => analyze_cmd::fbm(&ctx, &a),
+        cli::Command::Generate(cli::GenerateCommand::DlaTerrain(a)) => {
+            reconstruct_cmd::dla_terrain(&ctx, &a)
+        }
+        cli::Command::Generate(cli::GenerateCommand::RdsrSphere(a)) => {
+            reconstruct_cmd::rdsr_sphere(&ctx, &a)
+        }
+        cli::Command::Reconstruct(a) => reconstruct_cmd::run(&ctx, &a),
         cli::Command::Growth(c) => growth_cmd::run(&ctx, c),
         cli::Command::Ca(c) => ca_cmd::run(&ctx, c),
         cli::Command::Facet(a) => ca_cmd::facet(&ctx, &a),

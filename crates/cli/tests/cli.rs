@@ -367,7 +367,7 @@ fn bench_runs_every_workload() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let w = v["measurements"]["workloads"].as_array().unwrap();
-    assert_eq!(w.len(), 13);
+    assert_eq!(w.len(), 16);
     assert!(v["measurements"]["ca_bits_over_bytes"].as_f64().unwrap() > 1.0);
     assert!(
         w.iter()
@@ -817,4 +817,144 @@ fn growth_commands_as_documented() {
         "size",
     );
     assert!(!d.join("x.ply").exists() && !d.join("x.npy").exists());
+}
+
+/// The level-set contract: `reconstruct … --json` with grid, spacing, per-stage
+/// timings and counts; the two pipelines as written; clear errors on bad points.
+#[test]
+fn reconstruct_and_pipelines_as_documented() {
+    let d = tempfile::tempdir().unwrap();
+    // Points on a sphere of radius 1 as an ASCII XYZ file.
+    let mut text = String::new();
+    let n = 4000;
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    for i in 0..n {
+        let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+        let s = (1.0 - z * z).sqrt();
+        let t = golden * i as f64;
+        text.push_str(&format!("{} {} {}\n", s * t.cos(), s * t.sin(), z));
+    }
+    std::fs::write(d.path().join("pts.xyz"), text).unwrap();
+    let o = asperity(
+        &[
+            "reconstruct",
+            "pts.xyz",
+            "--resolution",
+            "32",
+            "--offset",
+            "0.2",
+            "--iterations",
+            "20",
+            "--save-every",
+            "10",
+            "--curvature",
+            "-o",
+            "mesh.ply",
+            "--json",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let m = &v["measurements"];
+    assert_eq!(m["grid"].as_array().unwrap().len(), 3);
+    assert!(m["spacing"].as_f64().unwrap() > 0.0);
+    for stage in [
+        "distance",
+        "tagging",
+        "evolution",
+        "marching_cubes",
+        "total",
+    ] {
+        assert!(
+            m["timings_s"][stage].as_f64().is_some(),
+            "timings_s.{stage}"
+        );
+    }
+    assert!(m["vertices"].as_u64().unwrap() > 100);
+    assert!(m["triangles"].as_u64().unwrap() > 100);
+    assert_eq!(m["euler_characteristic"], 2);
+    assert_eq!(m["watertight"], true);
+    assert_eq!(m["iterations"], 20);
+    for step in [
+        "mesh_step0000.ply",
+        "mesh_step0010.ply",
+        "mesh_step0020.ply",
+    ] {
+        assert!(d.path().join(step).exists(), "{step}");
+    }
+    let mesh = std::fs::read(d.path().join("mesh.ply")).unwrap();
+    assert!(String::from_utf8_lossy(&mesh[..400]).contains("mean_curvature"));
+
+    let o = asperity(
+        &[
+            "generate",
+            "dla-terrain",
+            "--size",
+            "24x24x24",
+            "--particles",
+            "800",
+            "--seed",
+            "5",
+            "-o",
+            "terrain.glb",
+            "--json",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["measurements"]["watertight"], true);
+    assert!(d.path().join("terrain.glb").exists());
+
+    let o = asperity(
+        &[
+            "generate",
+            "rdsr-sphere",
+            "--radius",
+            "8",
+            "--layers",
+            "4",
+            "--seed",
+            "5",
+            "-o",
+            "sphere.glb",
+            "--json",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["measurements"]["watertight"], true);
+    assert_eq!(v["measurements"]["components"], 1);
+
+    // Bad input: empty file, NaN, identical points, memory, a non-mesh output.
+    std::fs::write(d.path().join("nan.xyz"), "0 0 0\n1 nan 0\n").unwrap();
+    std::fs::write(d.path().join("same.xyz"), "1 1 1\n1 1 1\n1 1 1\n").unwrap();
+    std::fs::write(d.path().join("empty.xyz"), "").unwrap();
+    for (file, needle) in [
+        ("nan.xyz", "finite"),
+        ("same.xyz", "identical"),
+        ("empty.xyz", ""),
+    ] {
+        let o = asperity(&["reconstruct", file, "-o", "x.ply"], d.path());
+        assert_clean_failure(&o, needle);
+        assert!(!d.path().join("x.ply").exists());
+    }
+    let o = asperity(
+        &[
+            "--max-memory",
+            "1M",
+            "reconstruct",
+            "pts.xyz",
+            "--resolution",
+            "400",
+            "-o",
+            "x.ply",
+        ],
+        d.path(),
+    );
+    assert_clean_failure(&o, "memory limit");
+    let o = asperity(&["reconstruct", "pts.xyz", "-o", "x.npy"], d.path());
+    assert_clean_failure(&o, "cannot hold a triangle mesh");
 }

@@ -9,7 +9,7 @@
 //! | [`grid`] | Padded cubic grid around the points, memory estimate | §5.2 |
 //! | [`distance`] | Unsigned distance: Godunov fast sweeping (8 orderings, hyperplane-parallel) or a closest-point wavefront | §5.2, Eqs. 7–9 |
 //! | [`tagging`] | Initial offset surface {d = ε} by region growing from the box | §5.2, Algorithm 1 |
-//! | [`evolve`] | Narrow-band convection flow φ_t = d\|∇φ\|, ENO2 + TVD-RK2, cut-off, redistancing, clamping | §5.1–5.2, Eqs. 6, 10–12 |
+//! | [`evolve`](mod@evolve) | Narrow-band convection flow φ_t = d\|∇φ\|, ENO2 + TVD-RK2, cut-off, redistancing, clamping | §5.1–5.2, Eqs. 6, 10–12 |
 //! | [`marching_cubes`] | Watertight, manifold marching cubes with normals (Eq. 1) and mean curvature (Eq. 2) | §6, ref. \[13\] |
 //! | [`pipeline`] | The whole reconstruction, timed per stage | Fig. 5 |
 //!
