@@ -71,6 +71,7 @@ fn params(a: &LevelSetArgs, d: &Defaults) -> ReconstructParams {
             curvature: a.curvature,
             min_shell_triangles: a.min_shell,
         },
+        snapshot_every: a.save_every,
     }
 }
 

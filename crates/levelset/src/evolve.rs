@@ -50,6 +50,8 @@
 //! [`Band::Full`] updates every node at every step (same physics, no tubes): the
 //! naive scheme the tubes are measured against.
 
+use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
+
 use asperity_core::Progress;
 use rayon::prelude::*;
 
@@ -120,6 +122,8 @@ pub struct EvolveParams {
     /// Nodes closer than this to the data do not move (world units; 0 is the
     /// paper's model, see the module docs).
     pub arrest: f64,
+    /// Call `on_step` with the level set every this many steps (`None`: never).
+    pub snapshot_every: Option<usize>,
 }
 
 impl EvolveParams {
@@ -136,6 +140,7 @@ impl EvolveParams {
             tolerance: None,
             band: Band::Narrow,
             arrest: ARREST_CELLS * h,
+            snapshot_every: None,
         }
     }
 }
@@ -290,17 +295,42 @@ fn eno_pick(a: f64, b: f64) -> f64 {
     if a.abs() <= b.abs() { a } else { b }
 }
 
+/// Read access to φ, plain (`[f32]`) or shared for parallel writes (`[AtomicU32]`).
+pub(crate) trait Phi: Sync {
+    /// φ at node `u`.
+    fn at(&self, u: usize) -> f64;
+}
+
+impl Phi for [f32] {
+    #[inline]
+    fn at(&self, u: usize) -> f64 {
+        f64::from(self[u])
+    }
+}
+
+impl Phi for [AtomicU32] {
+    #[inline]
+    fn at(&self, u: usize) -> f64 {
+        f64::from(f32::from_bits(self[u].load(Relaxed)))
+    }
+}
+
 /// One-sided differences (D⁻, D⁺) along stride `s`.
 #[inline]
-fn one_sided(phi: &[f32], u: usize, s: usize, inv_h: f64, scheme: Scheme) -> (f64, f64) {
-    let p = |x: usize| f64::from(phi[x]);
-    let (pm, p0, pp) = (p(u - s), p(u), p(u + s));
+fn one_sided<P: Phi + ?Sized>(
+    phi: &P,
+    u: usize,
+    s: usize,
+    inv_h: f64,
+    scheme: Scheme,
+) -> (f64, f64) {
+    let (pm, p0, pp) = (phi.at(u - s), phi.at(u), phi.at(u + s));
     let dm = (p0 - pm) * inv_h;
     let dp = (pp - p0) * inv_h;
     match scheme {
         Scheme::Upwind => (dm, dp),
         Scheme::Eno2 => {
-            let (pmm, ppp) = (p(u - 2 * s), p(u + 2 * s));
+            let (pmm, ppp) = (phi.at(u - 2 * s), phi.at(u + 2 * s));
             let c0 = pp - 2.0 * p0 + pm;
             let cm = p0 - 2.0 * pm + pmm;
             let cp = ppp - 2.0 * pp + p0;
@@ -314,7 +344,13 @@ fn one_sided(phi: &[f32], u: usize, s: usize, inv_h: f64, scheme: Scheme) -> (f6
 
 /// |∇φ| upwinded for an inward-moving front (F < 0): √Σ min(D⁻,0)² + max(D⁺,0)².
 #[inline]
-fn grad_inward(phi: &[f32], u: usize, strides: [usize; 3], inv_h: f64, scheme: Scheme) -> f64 {
+fn grad_inward<P: Phi + ?Sized>(
+    phi: &P,
+    u: usize,
+    strides: [usize; 3],
+    inv_h: f64,
+    scheme: Scheme,
+) -> f64 {
     let mut g2 = 0.0;
     for &s in &strides {
         let (dm, dp) = one_sided(phi, u, s, inv_h, scheme);
@@ -325,7 +361,7 @@ fn grad_inward(phi: &[f32], u: usize, strides: [usize; 3], inv_h: f64, scheme: S
 
 /// κ|∇φ| by central differences (Eq. 2 times |∇φ|).
 #[inline]
-fn curvature_term(phi: &[f32], u: usize, strides: [usize; 3], h: f64) -> f64 {
+fn curvature_term<P: Phi + ?Sized>(phi: &P, u: usize, strides: [usize; 3], h: f64) -> f64 {
     let (kappa, grad) = crate::marching_cubes::curvature_and_gradient(phi, u, strides, h);
     kappa * grad
 }
@@ -335,33 +371,39 @@ struct Tubes {
     n: Vec<u32>,
 }
 
-fn dilate(grid: &GridSpec, t: &[u32], mark: &mut [u32], epoch: u32) -> Vec<u32> {
+/// N = T plus its 6 neighbours. Threads claim nodes by swapping in the epoch, so
+/// the list's order depends on timing — nothing downstream does: every use is a
+/// per-node update, a maximum or an integer sum.
+fn dilate(grid: &GridSpec, t: &[u32], mark: &[AtomicU32], epoch: u32) -> Vec<u32> {
     let strides = grid.strides();
-    let mut n = Vec::with_capacity(t.len() * 3 / 2);
-    for &u in t {
-        let u = u as usize;
-        for v in [
-            u,
-            u - 1,
-            u + 1,
-            u - strides[1],
-            u + strides[1],
-            u - strides[2],
-            u + strides[2],
-        ] {
-            if mark[v] != epoch {
-                mark[v] = epoch;
-                n.push(v as u32);
+    let parts: Vec<Vec<u32>> = t
+        .par_chunks(4096)
+        .map(|chunk| {
+            let mut n = Vec::with_capacity(chunk.len() * 3 / 2);
+            for &u in chunk {
+                let u = u as usize;
+                for v in [
+                    u,
+                    u - 1,
+                    u + 1,
+                    u - strides[1],
+                    u + strides[1],
+                    u - strides[2],
+                    u + strides[2],
+                ] {
+                    if mark[v].load(Relaxed) != epoch && mark[v].swap(epoch, Relaxed) != epoch {
+                        n.push(v as u32);
+                    }
+                }
             }
-        }
-    }
-    // No sort: the order follows T deterministically, and T follows the previous N.
-    // Sorting every step cost more than the locality it buys.
-    n
+            n
+        })
+        .collect();
+    parts.concat()
 }
 
 /// Evolves `ls` by the flow for `params.iterations` steps with the speed `dist`;
-/// `on_step` sees the level set after every step.
+/// `on_step` sees the level set every `params.snapshot_every` steps.
 pub fn evolve(
     ls: &mut LevelSet,
     dist: &DistanceField,
@@ -373,10 +415,23 @@ pub fn evolve(
     let h = grid.spacing;
     let inv_h = 1.0 / h;
     let gamma = f64::from(ls.gamma);
+    let g32 = ls.gamma;
     let beta = params.beta.clamp(0.0, gamma * 0.999);
     let strides = grid.strides();
     let full = params.band == Band::Full;
-    let mut mark = vec![0u32; grid.len()];
+    // φ is shared by the threads during the flow: each pass computes new values for
+    // its list of nodes (Jacobi), then stores them in parallel.
+    let phi: Vec<AtomicU32> = ls
+        .phi
+        .par_iter()
+        .map(|&x| AtomicU32::new(x.to_bits()))
+        .collect();
+    let phi: &[AtomicU32] = &phi;
+    let store = |u: u32, v: f32| phi[u as usize].store(v.to_bits(), Relaxed);
+    let mark: Vec<AtomicU32> = (0..grid.len())
+        .into_par_iter()
+        .map(|_| AtomicU32::new(0))
+        .collect();
     let mut epoch = 1u32;
     let safe: Vec<u32> = if full {
         (0..grid.len() as u32)
@@ -386,15 +441,14 @@ pub fn evolve(
     } else {
         Vec::new()
     };
-    let build = |phi: &[f32], from: Option<&[u32]>, mark: &mut [u32], epoch: u32| -> Tubes {
+    let build = |from: Option<&[u32]>, epoch: u32| -> Tubes {
         if full {
             return Tubes {
                 t: safe.clone(),
                 n: safe.clone(),
             };
         }
-        let keep =
-            |&u: &u32| f64::from(phi[u as usize]).abs() < gamma && stencil_fits(&grid, u as usize);
+        let keep = |&u: &u32| phi.at(u as usize).abs() < gamma && stencil_fits(&grid, u as usize);
         let t: Vec<u32> = match from {
             Some(n) => n.par_iter().copied().filter(keep).collect(),
             None => (0..grid.len() as u32)
@@ -402,20 +456,20 @@ pub fn evolve(
                 .filter(keep)
                 .collect(),
         };
-        let n = dilate(&grid, &t, mark, epoch);
+        let n = dilate(&grid, &t, &mark, epoch);
         Tubes { t, n }
     };
-    let mut tubes = build(&ls.phi, None, &mut mark, epoch);
+    let mut tubes = build(None, epoch);
     let arrest = params.arrest;
-    let speed = |phi: &[f32], u: usize| -> f64 {
+    let speed = |u: usize| -> f64 {
         let d = f64::from(dist.values[u]);
         if d < arrest {
             return 0.0;
         }
-        cutoff(f64::from(phi[u]), beta, gamma) * d
+        cutoff(phi.at(u), beta, gamma) * d
     };
-    let rate = |phi: &[f32], u: usize| -> f64 {
-        let s = speed(phi, u);
+    let rate = |u: usize| -> f64 {
+        let s = speed(u);
         if s == 0.0 {
             return 0.0;
         }
@@ -430,14 +484,13 @@ pub fn evolve(
         steps: Vec::new(),
         converged: false,
     };
-    let mut old = Vec::new();
-    let mut rates = Vec::new();
-    let mut redist = Vec::new();
+    let mut old: Vec<f32> = Vec::new();
+    let mut new: Vec<f32> = Vec::new();
     for step in 1..=params.iterations {
         let vmax = tubes
             .t
             .par_iter()
-            .map(|&u| speed(&ls.phi, u as usize))
+            .map(|&u| speed(u as usize))
             .reduce(|| 0.0, f64::max);
         if vmax <= 0.0 || tubes.t.is_empty() {
             stats.converged = true;
@@ -447,57 +500,78 @@ pub fn evolve(
         if let Flow::Regularized { weight } = params.flow {
             dt = dt.min(0.9 * h * h / (6.0 * weight.max(1e-300) * vmax));
         }
-        // Stage 1.
+        // Stage 1: φ¹ = φⁿ + Δt L(φⁿ).
         tubes
             .t
             .par_iter()
-            .map(|&u| rate(&ls.phi, u as usize))
-            .collect_into_vec(&mut rates);
-        tubes
-            .t
-            .par_iter()
-            .map(|&u| ls.phi[u as usize])
+            .map(|&u| phi.at(u as usize) as f32)
             .collect_into_vec(&mut old);
-        for ((&u, &r), &o) in tubes.t.iter().zip(&rates).zip(&old) {
-            ls.phi[u as usize] = (f64::from(o) + dt * r) as f32;
-        }
-        // Stage 2.
         tubes
             .t
             .par_iter()
-            .map(|&u| rate(&ls.phi, u as usize))
-            .collect_into_vec(&mut rates);
-        for ((&u, &r), &o) in tubes.t.iter().zip(&rates).zip(&old) {
-            let p1 = f64::from(ls.phi[u as usize]);
-            ls.phi[u as usize] = (0.5 * (f64::from(o) + p1 + dt * r)) as f32;
-        }
-        // Redistance on N (Eq. 11), Jacobi iterations.
-        for _ in 0..params.redistance_iterations {
+            .zip(old.par_iter())
+            .map(|(&u, &o)| (f64::from(o) + dt * rate(u as usize)) as f32)
+            .collect_into_vec(&mut new);
+        tubes
+            .t
+            .par_iter()
+            .zip(new.par_iter())
+            .for_each(|(&u, &v)| store(u, v));
+        // Stage 2: φⁿ⁺¹ = ½φⁿ + ½(φ¹ + Δt L(φ¹)).
+        tubes
+            .t
+            .par_iter()
+            .zip(old.par_iter())
+            .map(|(&u, &o)| {
+                let u = u as usize;
+                (0.5 * (f64::from(o) + phi.at(u) + dt * rate(u))) as f32
+            })
+            .collect_into_vec(&mut new);
+        tubes
+            .t
+            .par_iter()
+            .zip(new.par_iter())
+            .for_each(|(&u, &v)| store(u, v));
+        // Redistance on N (Eq. 11), Jacobi iterations; the last one also clamps (Eq. 12).
+        let passes = params.redistance_iterations.max(1);
+        for pass in 0..passes {
+            let redistance = pass < params.redistance_iterations;
             tubes
                 .n
                 .par_iter()
-                .map(|&u| redistance_value(&ls.phi, u as usize, strides, h))
-                .collect_into_vec(&mut redist);
-            for (&u, &v) in tubes.n.iter().zip(&redist) {
-                ls.phi[u as usize] = v;
-            }
+                .map(|&u| {
+                    let v = if redistance {
+                        redistance_value(phi, u as usize, strides, h)
+                    } else {
+                        phi.at(u as usize) as f32
+                    };
+                    if pass + 1 == passes {
+                        v.clamp(-g32, g32)
+                    } else {
+                        v
+                    }
+                })
+                .collect_into_vec(&mut new);
+            tubes
+                .n
+                .par_iter()
+                .zip(new.par_iter())
+                .for_each(|(&u, &v)| store(u, v));
         }
-        // Clamp (Eq. 12).
-        let g32 = ls.gamma;
-        for &u in &tubes.n {
-            let p = &mut ls.phi[u as usize];
-            *p = p.clamp(-g32, g32);
-        }
-        // Front movement: nodes within a cell of the old front.
+        // Front movement: nodes within a cell of the old front, summed in fixed
+        // point so that the order of the sum does not matter.
         let (moved, count) = tubes
             .t
             .par_iter()
             .zip(old.par_iter())
             .filter(|(_, o)| f64::from(**o).abs() < h)
-            .map(|(&u, &o)| (f64::from((ls.phi[u as usize] - o).abs()), 1usize))
-            .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+            .map(|(&u, &o)| {
+                let m = ((phi.at(u as usize) - f64::from(o)).abs() * inv_h).min(1e3);
+                ((m * 4_294_967_296.0) as u64, 1u64)
+            })
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
         let front_movement = if count > 0 {
-            moved / count as f64 / h
+            moved as f64 / 4_294_967_296.0 / count as f64
         } else {
             0.0
         };
@@ -509,27 +583,40 @@ pub fn evolve(
         };
         stats.steps.push(s);
         epoch += 1;
-        tubes = build(&ls.phi, Some(&tubes.n), &mut mark, epoch);
-        on_step(&s, ls);
+        tubes = build(Some(&tubes.n), epoch);
+        if params
+            .snapshot_every
+            .is_some_and(|k| k > 0 && step.is_multiple_of(k))
+        {
+            ls.phi
+                .par_iter_mut()
+                .zip(phi.par_iter())
+                .for_each(|(a, b)| *a = f32::from_bits(b.load(Relaxed)));
+            on_step(&s, ls);
+        }
         progress.advance(1);
         if params.tolerance.is_some_and(|tol| front_movement < tol) {
             stats.converged = true;
             break;
         }
     }
+    ls.phi
+        .par_iter_mut()
+        .zip(phi.par_iter())
+        .for_each(|(a, b)| *a = f32::from_bits(b.load(Relaxed)));
     progress.finish();
     stats
 }
 
 /// One first-order Godunov iteration of Eq. 11 at node `u`.
 #[inline]
-fn redistance_value(phi: &[f32], u: usize, strides: [usize; 3], h: f64) -> f32 {
-    let p0 = f64::from(phi[u]);
+fn redistance_value<P: Phi + ?Sized>(phi: &P, u: usize, strides: [usize; 3], h: f64) -> f32 {
+    let p0 = phi.at(u);
     let inv_h = 1.0 / h;
     let mut g2 = 0.0;
     for &s in &strides {
-        let a = (p0 - f64::from(phi[u - s])) * inv_h;
-        let b = (f64::from(phi[u + s]) - p0) * inv_h;
+        let a = (p0 - phi.at(u - s)) * inv_h;
+        let b = (phi.at(u + s) - p0) * inv_h;
         g2 += if p0 > 0.0 {
             a.max(0.0).powi(2).max(b.min(0.0).powi(2))
         } else {
@@ -587,13 +674,13 @@ mod tests {
     #[test]
     fn eno2_differences_are_exact_on_a_quadratic() {
         let phi: Vec<f32> = (0..10).map(|i| (i as f32 * 0.5).powi(2)).collect();
-        let (dm, dp) = one_sided(&phi, 5, 1, 2.0, Scheme::Eno2);
+        let (dm, dp) = one_sided(phi.as_slice(), 5, 1, 2.0, Scheme::Eno2);
         // d/dx x² at x = 2.5 is 5.
         assert!(
             (dm - 5.0).abs() < 1e-5 && (dp - 5.0).abs() < 1e-5,
             "{dm} {dp}"
         );
-        let (dm, dp) = one_sided(&phi, 5, 1, 2.0, Scheme::Upwind);
+        let (dm, dp) = one_sided(phi.as_slice(), 5, 1, 2.0, Scheme::Upwind);
         assert!((dm - 4.5).abs() < 1e-5 && (dp - 5.5).abs() < 1e-5);
     }
 
@@ -618,6 +705,7 @@ mod tests {
             params.scheme = scheme;
             params.iterations = 20;
             params.cfl = 0.5;
+            params.snapshot_every = Some(1);
             let mut time = 0.0;
             let stats = evolve(
                 &mut ls,

@@ -458,13 +458,13 @@ pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMe
 
 /// κ = ∇·(∇φ/|∇φ|) (Eq. 2) and |∇φ| at node `u` by central differences:
 /// κ = (|∇φ|² tr H − ∇φᵀ H ∇φ) / |∇φ|³ with H the Hessian.
-pub(crate) fn curvature_and_gradient(
-    phi: &[f32],
+pub(crate) fn curvature_and_gradient<P: crate::evolve::Phi + ?Sized>(
+    phi: &P,
     u: usize,
     strides: [usize; 3],
     h: f64,
 ) -> (f64, f64) {
-    let p = |x: usize| f64::from(phi[x]);
+    let p = |x: usize| phi.at(x);
     let mut g = [0.0; 3];
     let mut hess = [[0.0; 3]; 3];
     for a in 0..3 {

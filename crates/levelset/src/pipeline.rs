@@ -47,6 +47,8 @@ pub struct ReconstructParams {
     pub point_radius: Option<f64>,
     /// Mesh options.
     pub extract: ExtractOptions,
+    /// Show `on_step` the level set every this many steps (step 0 is always shown).
+    pub snapshot_every: Option<usize>,
 }
 
 impl Default for ReconstructParams {
@@ -67,6 +69,7 @@ impl Default for ReconstructParams {
             band: Band::Narrow,
             point_radius: None,
             extract: ExtractOptions::default(),
+            snapshot_every: None,
         }
     }
 }
@@ -208,7 +211,7 @@ impl ReconstructParams {
 }
 
 /// Reconstructs a watertight surface from `points`; `on_step` sees the initial level
-/// set (step 0) and the level set after every time step.
+/// set (step 0) and the level set every `params.snapshot_every` steps.
 ///
 /// # Errors
 /// Bad points (empty, non-finite, identical), bad settings, or a grid above the
@@ -290,6 +293,7 @@ pub fn reconstruct(
         tolerance: params.tolerance,
         band: params.band,
         arrest: point_radius,
+        snapshot_every: params.snapshot_every,
     };
     let evolution = evolve(&mut ls, &dist, &evolve_params, progress, on_step);
     timings.evolution = t.elapsed().as_secs_f64();
