@@ -29,6 +29,8 @@ Examples:
   asperity convert dem.gsf dem.npy    any height-field format to any other
   asperity convert dem.npy dem.stl    triangulate a height field
   asperity info surface.ply --json    counts, bounds, topology as JSON
+  asperity reconstruct pts.ply -o surface.ply        watertight surface from points
+  asperity generate dla-terrain -o terrain.glb       DLA, then level-set reconstruction
   asperity formats                    what can be read and written";
 
 /// The `asperity` command line.
