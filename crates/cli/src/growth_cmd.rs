@@ -57,7 +57,7 @@ fn fit_json(f: &Result<GrowthFit, asperity_analysis::AnalysisError>) -> serde_js
     }
 }
 
-fn write_points(path: &Path, pts: Vec<[f64; 3]>, title: &str) -> anyhow::Result<()> {
+pub(crate) fn write_points(path: &Path, pts: Vec<[f64; 3]>, title: &str) -> anyhow::Result<()> {
     anyhow::ensure!(!pts.is_empty(), "no particle to write");
     asperity_io::write_points(
         path,
@@ -462,7 +462,7 @@ fn curved_cmd(
 }
 
 /// Parses NXxNYxNZ (or NXxNZ in 2-D) into a lattice size.
-fn parse_size(text: &str, dim: usize) -> anyhow::Result<[usize; 3]> {
+pub(crate) fn parse_size(text: &str, dim: usize) -> anyhow::Result<[usize; 3]> {
     let parts: Vec<usize> = text
         .split(['x', 'X', '×'])
         .map(|s| s.trim().parse::<usize>())

@@ -20,6 +20,7 @@ use crate::cli::{
     Context, DistanceArg, DlaTerrainArgs, FlowArg, LevelSetArgs, RdsrSphereArgs, ReconstructArgs,
     SchemeArg, TagRuleArg,
 };
+use crate::growth_cmd::write_points;
 use crate::progress::Bar;
 use crate::report::Report;
 
@@ -243,17 +244,6 @@ pub fn run(ctx: &Context, a: &ReconstructArgs) -> anyhow::Result<()> {
     report.finish(ctx)
 }
 
-fn write_points(path: &Path, pts: &[[f64; 3]], report: &mut Report) -> anyhow::Result<()> {
-    asperity_io::write_points(
-        path,
-        &asperity_core::PointSet::new(pts.to_vec()),
-        &WriteOptions::default(),
-    )
-    .with_context(|| format!("writing {}", path.display()))?;
-    report.output(path);
-    Ok(())
-}
-
 /// The pipelines' defaults: the paper's ε = 3 lattice units, h = 0.7 (a 64-cell
 /// lattice gives about the paper's 115-node grid with its padding), 60 steps.
 const PIPELINE: Defaults = Defaults {
@@ -265,7 +255,7 @@ const PIPELINE: Defaults = Defaults {
 /// `asperity generate dla-terrain`
 pub fn dla_terrain(ctx: &Context, a: &DlaTerrainArgs) -> anyhow::Result<()> {
     let out = mesh_output(ctx)?;
-    let size = parse_size(&a.size)?;
+    let size = crate::growth_cmd::parse_size(&a.size, 3)?;
     let mut report = Report::new("generate dla-terrain", ctx);
     let bar = Bar::new(ctx.quiet || ctx.json);
     let params_dla = DlaParams {
@@ -285,7 +275,8 @@ pub fn dla_terrain(ctx: &Context, a: &DlaTerrainArgs) -> anyhow::Result<()> {
     report.measure("particles", cluster.particles().len());
     report.measure("lattice", size);
     if let Some(pp) = &a.points {
-        write_points(pp, &pts, &mut report)?;
+        write_points(pp, pts.clone(), "dla")?;
+        report.output(pp);
     }
     let p = params(&a.level_set, &PIPELINE);
     reconstruct_and_write(ctx, &pts, &a.level_set, &p, &out, &mut report, &bar)?;
@@ -308,22 +299,10 @@ pub fn rdsr_sphere(ctx: &Context, a: &RdsrSphereArgs) -> anyhow::Result<()> {
     report.measure("particles", pts.len() - deposit.seeds);
     report.measure("thickness", deposit.thickness);
     if let Some(pp) = &a.points {
-        write_points(pp, &pts, &mut report)?;
+        write_points(pp, pts.clone(), "rdsr")?;
+        report.output(pp);
     }
     let p = params(&a.level_set, &PIPELINE);
     reconstruct_and_write(ctx, &pts, &a.level_set, &p, &out, &mut report, &bar)?;
     report.finish(ctx)
-}
-
-fn parse_size(text: &str) -> anyhow::Result<[usize; 3]> {
-    let parts: Vec<usize> = text
-        .split(['x', 'X', '×'])
-        .map(|s| s.trim().parse::<usize>())
-        .collect::<Result<_, _>>()
-        .with_context(|| format!("--size {text:?}: expected NXxNYxNZ"))?;
-    match parts.as_slice() {
-        [x, y, z] => Ok([*x, *y, *z]),
-        [n] => Ok([*n; 3]),
-        _ => anyhow::bail!("--size {text:?}: expected three numbers separated by x"),
-    }
 }
