@@ -14,7 +14,7 @@
 //!
 //! One step, as in the paper's outline (after Peng et al.'s fast local level set):
 //! 1. **Tubes.** T = {|φ| < γ} (where φ advances) and N = T plus one node along each
-//!    axis (where φ is redistanced). Both are sorted node lists, rebuilt after every
+//!    axis (where φ is redistanced). Both are node lists, rebuilt after every
 //!    step from the previous N (the front moves less than a cell per step, so T′ ⊂ N).
 //! 2. **Advance** φ in T by the Godunov upwind Hamiltonian (Osher & Sethian 1988)
 //!    with first-order or second-order ENO one-sided differences (Osher & Shu 1991)
@@ -27,6 +27,11 @@
 //!    upwinding (Sussman, Smereka & Osher 1994), pseudo-time step 0.3h, a few
 //!    iterations (the paper: "one or two").
 //! 4. **Clamp** φ to [−γ, γ] (Eq. 12); nodes outside N keep ±γ.
+//!
+//! Every pass computes the new values of its node list from the old ones (Jacobi)
+//! and then stores them; φ is held in atomics during the flow so both cores store.
+//! Each pass is per node, a maximum or an integer (fixed-point) sum, so the result
+//! does not depend on the thread count or on the order of the lists.
 //!
 //! **Arrest.** With the unsigned d of Eq. 6 the continuous front approaches the data
 //! asymptotically, but on the grid it has no steady state: the nodes on both sides
