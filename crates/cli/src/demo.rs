@@ -85,8 +85,6 @@ pub struct Section {
 
 /// Kim et al. §5–6: the two-pass pipeline (growth, then level-set reconstruction).
 fn reconstruction(env: &Env) -> anyhow::Result<Section> {
-    use asperity_growth::Model;
-    use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
     use asperity_growth::dla::{DlaParams, SeedShape, dla};
     use asperity_levelset::{ReconstructParams, Sizing, extract, reconstruct};
     use asperity_render::plot::{Plot, Series, Style, plot_svg};
@@ -99,19 +97,7 @@ fn reconstruction(env: &Env) -> anyhow::Result<Section> {
 
     // Fig. 8: RDSR on a sphere; Fig. 9: DLA from the plane.
     let (radius, layers) = if env.quick { (10.0, 5.0) } else { (20.0, 10.0) };
-    let sphere = deposit_curved(
-        &CurvedParams {
-            model: Model::Rdsr { radius: 1 },
-            substrate: CurvedSubstrate::Sphere(radius),
-            layers,
-            samples_per_decade: 5,
-        },
-        seed,
-        0,
-        &budget,
-        &none,
-    )?
-    .points();
+    let sphere = rdsr_sphere(radius, layers, env)?.points();
     let (side, particles) = if env.quick { (32, 1_500) } else { (64, 8_000) };
     let terrain = dla(
         &DlaParams {
@@ -306,6 +292,28 @@ fn reconstruction(env: &Env) -> anyhow::Result<Section> {
             .into(),
         items,
     })
+}
+
+/// An RDSR (Family) deposit of `layers` monolayers on a ball of `radius` cells
+/// (kim-machiraju-thompson Fig. 8), shared by the growth and reconstruction sections.
+fn rdsr_sphere(
+    radius: f64,
+    layers: f64,
+    env: &Env,
+) -> anyhow::Result<asperity_growth::curved::CurvedDeposit> {
+    use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
+    Ok(deposit_curved(
+        &CurvedParams {
+            model: asperity_growth::Model::Rdsr { radius: 1 },
+            substrate: CurvedSubstrate::Sphere(radius),
+            layers,
+            samples_per_decade: 5,
+        },
+        env.ctx.seed,
+        0,
+        &env.ctx.budget,
+        &asperity_core::NoProgress,
+    )?)
 }
 
 type SectionFn = fn(&Env) -> anyhow::Result<Section>;
@@ -1126,7 +1134,6 @@ fn growth(env: &Env) -> anyhow::Result<Section> {
     use asperity_analysis::scaling::{
         density_dimension, density_profile, growth_exponent, gyration_dimension,
     };
-    use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
     use asperity_growth::dla::{DlaParams, SeedShape, dla};
     use asperity_growth::{DepositionParams, Lattice, Model, deposit_ensemble};
     use asperity_render::plot::{Plot, Series, Style, plot_svg};
@@ -1277,18 +1284,7 @@ fn growth(env: &Env) -> anyhow::Result<Section> {
 
     // Figure 8: RDSR on a sphere.
     let (radius, layers) = if env.quick { (12.0, 6.0) } else { (24.0, 12.0) };
-    let d = deposit_curved(
-        &CurvedParams {
-            model: Model::Rdsr { radius: 1 },
-            substrate: CurvedSubstrate::Sphere(radius),
-            layers,
-            samples_per_decade: 5,
-        },
-        seed,
-        0,
-        &budget,
-        &none,
-    )?;
+    let d = rdsr_sphere(radius, layers, env)?;
     let c0 = (d.size[0] / 2) as f64;
     let pts: Vec<[f64; 3]> = d.points();
     let rmax = radius + d.thickness;

@@ -665,6 +665,12 @@ mod tests {
         }
     }
 
+    /// The radius of the ball with the volume of the inside nodes.
+    fn volume_radius(ls: &LevelSet) -> f64 {
+        let inside = ls.phi.iter().filter(|&&p| p < 0.0).count() as f64 * ls.grid.spacing.powi(3);
+        (inside * 3.0 / (4.0 * std::f64::consts::PI)).cbrt()
+    }
+
     #[test]
     fn cutoff_is_smooth_and_bounded() {
         let (b, g) = (2.0, 3.0);
@@ -721,8 +727,7 @@ mod tests {
             );
             assert_eq!(stats.steps.len(), 20);
             // Radius from the enclosed volume (count of negative nodes).
-            let inside = ls.phi.iter().filter(|&&p| p < 0.0).count() as f64 * h.powi(3);
-            let r = (inside * 3.0 / (4.0 * std::f64::consts::PI)).cbrt();
+            let r = volume_radius(&ls);
             let expected = 0.8 - time;
             assert!(
                 (r - expected).abs() < 0.5 * h,
@@ -768,8 +773,7 @@ mod tests {
                 &asperity_core::NoProgress,
                 &mut |_, _| {},
             );
-            let inside = ls.phi.iter().filter(|&&p| p < 0.0).count() as f64 * h.powi(3);
-            results.push((inside * 3.0 / (4.0 * std::f64::consts::PI)).cbrt());
+            results.push(volume_radius(&ls));
         }
         // Both converge onto the data sphere r = 0.5, stopping about δ = h/2 outside
         // it, and agree.
@@ -790,8 +794,7 @@ mod tests {
             &asperity_core::NoProgress,
             &mut |_, _| {},
         );
-        let inside = ls.phi.iter().filter(|&&p| p < 0.0).count() as f64 * h.powi(3);
-        let r = (inside * 3.0 / (4.0 * std::f64::consts::PI)).cbrt();
+        let r = volume_radius(&ls);
         assert!(r < 0.5 - 0.5 * h, "pure convection stopped at {r}");
     }
 }
