@@ -522,7 +522,7 @@ pub struct LevelSetArgs {
     /// Stop early once the front moves less than this many cells per step.
     #[arg(long, value_name = "CELLS")]
     pub tolerance: Option<f64>,
-    /// Radius δ at which the front stops around each point (default: 0.75 × sample spacing, ≥ h/2; 0 = the paper's model).
+    /// Radius δ at which the front stops around each point (default: 0.75 × sample spacing, ≥ 0.6h; 0 = the paper's model).
     #[arg(long, value_name = "R")]
     pub point_radius: Option<f64>,
     /// Space discretisation.

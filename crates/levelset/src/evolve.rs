@@ -38,9 +38,11 @@
 //! of the data surface keep a speed of up to h/2, so the zero level creeps through
 //! S and then accelerates inward (d grows again inside). The tests show it on a
 //! sphere. Here nodes closer than an arrest distance δ to a data point have speed 0
-//! (default δ = h/2): the front then stops about δ outside the data and stays there
-//! (measured on a sphere, at every orientation of its surface). δ = 0 gives the
-//! paper's model exactly, whose only stop is the iteration count.
+//! (default δ = h/2 for a continuous surface): the front then stops about δ outside
+//! the data and stays there (measured on a sphere, at every orientation of its
+//! surface). For sampled surfaces the pipeline sets δ from the sample spacing, at
+//! least 0.6h ([`crate::ReconstructParams::point_radius`]). δ = 0 gives the paper's
+//! model exactly, whose only stop is the iteration count.
 //!
 //! Progress is measured by the front movement: the mean |Δφ| over the nodes within
 //! one cell of the front, in cells per step; a tolerance on it ends the evolution

@@ -43,7 +43,8 @@ pub struct ReconstructParams {
     /// Narrow band or the full grid.
     pub band: Band,
     /// Point radius δ, world units: the front stops this far from the data (0 is
-    /// the paper's model). `None`: 0.75 × the measured sample spacing, at least h/2.
+    /// the paper's model). `None`: 0.75 × the measured sample spacing, at least 0.6h
+    /// (below that the node shell leaks where the grid is coarser than the samples).
     pub point_radius: Option<f64>,
     /// Mesh options.
     pub extract: ExtractOptions,
@@ -102,7 +103,9 @@ pub struct Reconstruction {
     pub offset: f64,
     /// δ used.
     pub point_radius: f64,
-    /// The median distance between Voronoi-adjacent points near the surface (closest-point method).
+    /// The typical sample spacing: the median distance between Voronoi-adjacent points
+    /// near the surface (closest-point method) or the median nearest-neighbour distance
+    /// (Godunov).
     pub sample_spacing: Option<f64>,
     /// Stage timings.
     pub timings: Timings,
@@ -272,13 +275,13 @@ pub fn reconstruct(
         &ls,
     );
 
-    let sample_spacing = dist
-        .nearest
-        .as_deref()
-        .and_then(|near| sample_spacing(points, &dist, near, 2.0 * h));
+    let sample_spacing = match dist.nearest.as_deref() {
+        Some(near) => sample_spacing(points, &dist, near, 2.0 * h),
+        None => nearest_neighbour_spacing(points, h),
+    };
     let point_radius = params
         .point_radius
-        .unwrap_or_else(|| (0.75 * sample_spacing.unwrap_or(0.0)).max(0.5 * h));
+        .unwrap_or_else(|| (0.75 * sample_spacing.unwrap_or(0.0)).max(0.6 * h));
     let t = Instant::now();
     let evolve_params = EvolveParams {
         iterations: params.iterations,
@@ -360,4 +363,63 @@ fn sample_spacing(
     let mid = gaps.len() / 2;
     let (_, m, _) = gaps.select_nth_unstable_by(mid, f32::total_cmp);
     Some(f64::from(*m))
+}
+
+/// The median nearest-neighbour distance of up to 10 000 evenly strided points, by a
+/// hash grid of cell `h` (for the Godunov method, which carries no nearest points).
+fn nearest_neighbour_spacing(points: &[[f64; 3]], h: f64) -> Option<f64> {
+    use rayon::prelude::*;
+    use std::collections::HashMap;
+    if points.len() < 2 {
+        return None;
+    }
+    let key = |p: &[f64; 3]| p.map(|x| (x / h).floor() as i64);
+    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
+    for (i, p) in points.iter().enumerate() {
+        cells.entry(key(p)).or_default().push(i as u32);
+    }
+    let stride = points.len().div_ceil(10_000);
+    let mut gaps: Vec<f64> = (0..points.len())
+        .into_par_iter()
+        .step_by(stride)
+        .filter_map(|i| {
+            let q = points[i];
+            let k = key(&q);
+            let mut best = f64::INFINITY;
+            for ring in 0..32i64 {
+                for dz in -ring..=ring {
+                    for dy in -ring..=ring {
+                        for dx in -ring..=ring {
+                            if dx.abs().max(dy.abs()).max(dz.abs()) != ring {
+                                continue;
+                            }
+                            for &j in cells
+                                .get(&[k[0] + dx, k[1] + dy, k[2] + dz])
+                                .into_iter()
+                                .flatten()
+                            {
+                                let p = points[j as usize];
+                                let d2 = (p[0] - q[0]).powi(2)
+                                    + (p[1] - q[1]).powi(2)
+                                    + (p[2] - q[2]).powi(2);
+                                if j as usize != i && d2 > 0.0 {
+                                    best = best.min(d2.sqrt());
+                                }
+                            }
+                        }
+                    }
+                }
+                if best <= ring as f64 * h {
+                    break;
+                }
+            }
+            best.is_finite().then_some(best)
+        })
+        .collect();
+    if gaps.is_empty() {
+        return None;
+    }
+    let mid = gaps.len() / 2;
+    let (_, m, _) = gaps.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(*m)
 }

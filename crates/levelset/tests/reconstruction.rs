@@ -128,6 +128,27 @@ fn sphere_points_give_a_closed_sphere_within_one_and_a_half_cells() {
     assert!(rec.evolution.steps.len() == 30);
 }
 
+/// The paper's distance method gives the same kind of surface; its sample spacing
+/// comes from nearest neighbours instead of the closest-point field.
+#[test]
+fn godunov_distance_reconstructs_the_sphere_too() {
+    let pts = sphere(8000, 1.0, [0.0; 3]);
+    let rec = run(
+        &pts,
+        &ReconstructParams {
+            sizing: Sizing::Resolution(32),
+            distance: asperity_levelset::DistanceMethod::GODUNOV,
+            ..Default::default()
+        },
+    );
+    closed_manifold(&rec.mesh);
+    assert_eq!(rec.mesh.euler_characteristic(), 2);
+    assert_eq!(rec.extraction.components, 1);
+    // Fibonacci points on the unit sphere: spacing ≈ √(4π/n) ≈ 0.040 (nearest neighbours a bit less).
+    let s = rec.sample_spacing.unwrap();
+    assert!((0.025..0.045).contains(&s), "spacing {s}");
+}
+
 #[test]
 fn torus_points_keep_genus_one() {
     let pts = torus(240, 80, 1.0, 0.35);
