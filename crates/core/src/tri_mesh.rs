@@ -419,27 +419,7 @@ impl TriMesh {
 
     /// Number of connected components of the triangles (isolated vertices ignored).
     pub fn n_components(&self) -> usize {
-        let mut parent: Vec<u32> = (0..self.positions.len() as u32).collect();
-        fn find(p: &mut [u32], mut x: u32) -> u32 {
-            while p[x as usize] != x {
-                p[x as usize] = p[p[x as usize] as usize];
-                x = p[x as usize];
-            }
-            x
-        }
-        let mut used = vec![false; self.positions.len()];
-        for &[a, b, c] in &self.triangles {
-            for (u, v) in [(a, b), (b, c)] {
-                let (ru, rv) = (find(&mut parent, u), find(&mut parent, v));
-                parent[ru as usize] = rv;
-            }
-            for v in [a, b, c] {
-                used[v as usize] = true;
-            }
-        }
-        (0..self.positions.len() as u32)
-            .filter(|&v| used[v as usize] && find(&mut parent, v) == v)
-            .count()
+        component_labels(self.positions.len(), &self.triangles).0
     }
 
     /// Genus of an orientable manifold: g = (2c − χ − b) / 2 with c components and b
@@ -492,6 +472,48 @@ fn link_is_single_fan(edges: &[[u32; 2]]) -> bool {
         .filter(|&i| find(&mut parent, i) == i)
         .count();
     roots == 1 && degree.iter().all(|&d| d <= 2)
+}
+
+/// Connected components of `triangles` over `n` vertices (by shared vertices): the
+/// count and a label per vertex, numbered in order of first appearance by vertex
+/// index; vertices no triangle uses get `u32::MAX` and are not counted.
+pub fn component_labels(n: usize, triangles: &[[u32; 3]]) -> (usize, Vec<u32>) {
+    fn find(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    }
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    let mut used = vec![false; n];
+    for &[a, b, c] in triangles {
+        for (u, v) in [(a, b), (b, c)] {
+            let (ru, rv) = (find(&mut parent, u), find(&mut parent, v));
+            if ru != rv {
+                parent[ru.max(rv) as usize] = ru.min(rv);
+            }
+        }
+        for v in [a, b, c] {
+            used[v as usize] = true;
+        }
+    }
+    let mut label_of_root = vec![u32::MAX; n];
+    let mut count = 0u32;
+    let labels = (0..n as u32)
+        .map(|v| {
+            if !used[v as usize] {
+                return u32::MAX;
+            }
+            let r = find(&mut parent, v) as usize;
+            if label_of_root[r] == u32::MAX {
+                label_of_root[r] = count;
+                count += 1;
+            }
+            label_of_root[r]
+        })
+        .collect();
+    (count as usize, labels)
 }
 
 #[cfg(test)]

@@ -395,7 +395,8 @@ pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMe
     let mut normals: Vec<[f64; 3]> = verts.iter().map(|v| v.1).collect();
     let mut curv: Vec<f64> = verts.iter().map(|v| v.2).collect();
     let mut triangles = triangles;
-    let (components, labels) = components_of(positions.len(), &triangles);
+    let (components, labels) =
+        asperity_core::tri_mesh::component_labels(positions.len(), &triangles);
     let mut stats = ExtractStats {
         components,
         shells_removed: 0,
@@ -491,41 +492,6 @@ pub(crate) fn curvature_and_gradient<P: crate::evolve::Phi + ?Sized>(
     }
     let len = g2.sqrt();
     (num / (g2 * len), len)
-}
-
-/// Connected components of the triangles (by shared vertices): count and a label
-/// per vertex, numbered in order of first appearance.
-fn components_of(n: usize, triangles: &[[u32; 3]]) -> (usize, Vec<u32>) {
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
-    for t in triangles {
-        let a = find(&mut parent, t[0]);
-        for &v in &t[1..] {
-            let b = find(&mut parent, v);
-            if a != b {
-                let (lo, hi) = (a.min(b), a.max(b));
-                parent[hi as usize] = lo;
-            }
-        }
-    }
-    let mut label = vec![u32::MAX; n];
-    let mut count = 0u32;
-    let mut out = vec![0u32; n];
-    for (v, slot) in out.iter_mut().enumerate() {
-        let r = find(&mut parent, v as u32) as usize;
-        if label[r] == u32::MAX {
-            label[r] = count;
-            count += 1;
-        }
-        *slot = label[r];
-    }
-    (count as usize, out)
 }
 
 #[cfg(test)]
