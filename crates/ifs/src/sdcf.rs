@@ -1,0 +1,109 @@
+//! Evaluating DCFs and SDCFs as geometry (poull-gentil §2.3 Fig. 2, §3 Fig. 4).
+//!
+//! DCF(T, q, t) for t ∈ [0, 1] runs from the fixed point of T (t = 0) to the
+//! starting point q (t = 1); the SDCF of 𝒯 = T⊗T′ at Q = q⊗q′ is the tensor
+//! product DCF(T, q, s) ⊗ DCF(T′, q′, t), projected with the control grid —
+//! evaluated like the attractor, as P(a(s) ⊗ b(t)).
+
+use nalgebra::DVector;
+
+use asperity_core::{MemoryBudget, TriMesh};
+
+use crate::dcf::OperatorAnalysis;
+use crate::error::{IfsError, Result, invalid};
+use crate::pifs::{CurveIfs, Pifs, SurfaceIfs, grid_mesh};
+
+/// Which member of the family to draw.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Start {
+    /// The attractor point at this parameter.
+    Parameter(f64),
+    /// The lower-bound member (smallest c₂).
+    Lower,
+    /// The upper-bound member (largest c₂).
+    Upper,
+}
+
+fn no_dcf(a: &OperatorAnalysis, name: &str) -> IfsError {
+    IfsError::NoDcf {
+        operator: name.to_owned(),
+        reason: a
+            .reason
+            .clone()
+            .unwrap_or_else(|| "no family member".to_owned()),
+    }
+}
+
+/// The barycentric starting point for `start`.
+///
+/// # Errors
+/// No DCF for this operator; a parameter outside [0, 1].
+pub fn start_point(pifs: &Pifs, a: &OperatorAnalysis, start: Start) -> Result<DVector<f64>> {
+    let name = format!("T{}", a.operator);
+    let dcf = a.dcf.as_ref().ok_or_else(|| no_dcf(a, &name))?;
+    match start {
+        Start::Parameter(s) => pifs.point_at(s),
+        Start::Lower => Ok(dcf.lower().ok_or_else(|| no_dcf(a, &name))?.point.clone()),
+        Start::Upper => Ok(dcf.upper().ok_or_else(|| no_dcf(a, &name))?.point.clone()),
+    }
+}
+
+/// Barycentric DCF samples t = j/samples, j = 0…samples, flattened.
+fn dcf_samples(a: &OperatorAnalysis, q: &DVector<f64>, samples: usize) -> Result<Vec<f64>> {
+    let dcf = a
+        .dcf
+        .as_ref()
+        .ok_or_else(|| no_dcf(a, &format!("T{}", a.operator)))?;
+    if !(1..=1 << 20).contains(&samples) {
+        return Err(invalid("samples", format!("{samples} is outside 1..=2^20")));
+    }
+    Ok((0..=samples)
+        .flat_map(|j| {
+            dcf.evaluate(q, j as f64 / samples as f64)
+                .iter()
+                .copied()
+                .collect::<Vec<_>>()
+        })
+        .collect())
+}
+
+/// The DCF of a curve operator from its fixed point (t = 0) to `q` (t = 1),
+/// projected into the modelling space.
+///
+/// # Errors
+/// No DCF for this operator; `samples` outside 1..=2²⁰.
+pub fn dcf_polyline(
+    curve: &CurveIfs,
+    a: &OperatorAnalysis,
+    q: &DVector<f64>,
+    samples: usize,
+) -> Result<Vec<[f64; 3]>> {
+    let n = curve.pifs.size();
+    Ok(dcf_samples(a, q, samples)?
+        .chunks_exact(n)
+        .map(|b| curve.project(b))
+        .collect())
+}
+
+/// The SDCF of 𝒯ᵢⱼ = Tᵢ⊗T′ⱼ (operators `a`, `b`) at Q = q⊗q′ on a (resolution + 1)² grid of (s, t) ∈ [0, 1]²,
+/// as a mesh with uv = (s, t).
+///
+/// # Errors
+/// No DCF for an operator; resolution outside 1..=4096; the memory budget.
+pub fn sdcf_mesh(
+    surface: &SurfaceIfs,
+    (a, q): (&OperatorAnalysis, &DVector<f64>),
+    (b, q2): (&OperatorAnalysis, &DVector<f64>),
+    resolution: usize,
+    budget: &MemoryBudget,
+) -> Result<TriMesh> {
+    if !(1..=4096).contains(&resolution) {
+        return Err(invalid(
+            "resolution",
+            format!("{resolution} is outside 1..=4096"),
+        ));
+    }
+    let bs = dcf_samples(a, q, resolution)?;
+    let bt = dcf_samples(b, q2, resolution)?;
+    grid_mesh(surface, &bs, &bt, budget, true)
+}
