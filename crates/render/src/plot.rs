@@ -170,6 +170,93 @@ pub fn plot_svg(plot: &Plot, width: u32, height: u32) -> Result<String, RenderEr
     Ok(svg)
 }
 
+/// One stroke of a [`Drawing`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stroke {
+    /// Vertices (x, y).
+    pub points: Vec<(f64, f64)>,
+    /// RGB colour.
+    pub color: [u8; 3],
+    /// Line width in pixels.
+    pub width: u32,
+    /// Legend entry (strokes without one are not listed).
+    pub label: Option<String>,
+}
+
+/// A line drawing in the plane at equal scale on both axes (curves, their DCFs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drawing {
+    /// Title above the drawing.
+    pub title: String,
+    /// Strokes, drawn in order.
+    pub strokes: Vec<Stroke>,
+}
+
+/// Renders `d` as SVG with one unit the same length on both axes.
+///
+/// # Errors
+/// [`RenderError::Empty`] when no stroke has a finite point.
+pub fn drawing_svg(d: &Drawing, width: u32, height: u32) -> Result<String, RenderError> {
+    let keep = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
+    let pts = || d.strokes.iter().flat_map(|s| s.points.iter().filter(keep));
+    let (Some(xr), Some(yr)) = (
+        range(pts().map(|p| p.0), false),
+        range(pts().map(|p| p.1), false),
+    ) else {
+        return Err(RenderError::Empty("drawing (no finite points)"));
+    };
+    // Plot area after the margins, caption and label areas set below.
+    let (pw, ph) = (
+        (width as f64 - 24.0 - 50.0).max(10.0),
+        (height as f64 - 24.0 - 30.0 - 30.0).max(10.0),
+    );
+    let scale = ((xr.1 - xr.0) / pw).max((yr.1 - yr.0) / ph);
+    let (cx, cy) = (0.5 * (xr.0 + xr.1), 0.5 * (yr.0 + yr.1));
+    let (hx, hy) = (0.5 * scale * pw, 0.5 * scale * ph);
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(&d.title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(30)
+            .y_label_area_size(50)
+            .build_cartesian_2d(cx - hx..cx + hx, cy - hy..cy + hy)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .light_line_style(WHITE.mix(0.0))
+            .draw()
+            .map_err(err)?;
+        let mut labelled = false;
+        for s in &d.strokes {
+            let color = RGBColor(s.color[0], s.color[1], s.color[2]);
+            let data: Vec<(f64, f64)> = s.points.iter().filter(keep).copied().collect();
+            let anno = chart
+                .draw_series(LineSeries::new(data, color.stroke_width(s.width)))
+                .map_err(err)?;
+            if let Some(l) = &s.label {
+                labelled = true;
+                let w = s.width;
+                anno.label(l).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(w.max(2)))
+                });
+            }
+        }
+        if labelled {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK.mix(0.3))
+                .draw()
+                .map_err(err)?;
+        }
+        root.present().map_err(err)?;
+    }
+    Ok(svg)
+}
+
 /// A histogram of `values` in `bins` equal bins, as an SVG plot of counts.
 ///
 /// # Errors
