@@ -280,6 +280,83 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
             }),
         ));
     }
+    // Projected IFS (poull-gentil): a depth-10 tensor-product attractor (≈ 1M
+    // vertices) built and written as binary PLY; and the pseudo-curvature ranges of
+    // every operator of every preset.
+    v.push((
+        "ifs/surface-depth10",
+        Box::new(move || {
+            use asperity_ifs::{Model, PresetParams, preset};
+            let depth = if quick { 6 } else { 10 };
+            let Model::Surface(s) =
+                preset("takagi-landsberg-surface", &PresetParams::default())?.build()?
+            else {
+                anyhow::bail!("takagi-landsberg-surface is a surface preset")
+            };
+            let dir = tempfile_dir()?;
+            let path = dir.join("attractor.ply");
+            let n = ((1u64 << depth) + 1).pow(2);
+            Ok(Workload {
+                name: "ifs/surface-depth10",
+                what: format!("Takagi ⊗ Takagi attractor at depth {depth} ({n} vertices), built and written as binary PLY"),
+                elements: n,
+                unit: "vertices",
+                target_s: (!quick).then_some(1.0),
+                once: false,
+                job: Box::new(move || {
+                    let m = s.attractor_mesh(depth, &budget)?;
+                    asperity_io::write_mesh(&path, &m, &asperity_io::WriteOptions::default())?;
+                    Ok(())
+                }),
+            })
+        }),
+    ));
+    v.push((
+        "ifs/curvature-presets",
+        Box::new(move || {
+            use asperity_ifs::curvature::{curve_report, surface_report};
+            use asperity_ifs::{DirectionAnalysis, FamilyOptions, Model, PresetParams, preset, preset_names};
+            let models: Vec<Model> = preset_names()
+                .iter()
+                .map(|(n, _)| Ok(preset(n, &PresetParams::default())?.build()?))
+                .collect::<anyhow::Result<_>>()?;
+            let ops: u64 = models
+                .iter()
+                .map(|m| match m {
+                    Model::Curve(_) => 2,
+                    Model::Surface(_) => 4,
+                })
+                .sum();
+            Ok(Workload {
+                name: "ifs/curvature-presets",
+                what: format!(
+                    "eigen-decomposition, DCF family (dyadic depth 10 + periods ≤ 12) and pseudo-curvature ranges of all {ops} operators of the {} presets",
+                    models.len()
+                ),
+                elements: ops,
+                unit: "operators",
+                target_s: None,
+                once: false,
+                job: Box::new(move || {
+                    let opts = FamilyOptions::default();
+                    for m in &models {
+                        match m {
+                            Model::Curve(c) => {
+                                let an = DirectionAnalysis::new(&c.pifs, &opts);
+                                std::hint::black_box(curve_report(c, &an));
+                            }
+                            Model::Surface(s) => {
+                                let a = DirectionAnalysis::new(&s.s, &opts);
+                                let b = DirectionAnalysis::new(&s.t, &opts);
+                                std::hint::black_box(surface_report(s, &a, &b));
+                            }
+                        }
+                    }
+                    Ok(())
+                }),
+            })
+        }),
+    ));
     // Level-set reconstruction of an RDSR sphere (kim-machiraju-thompson Fig. 8):
     // distance + tagging + 30 RK2 steps + marching cubes, and the naive full grid.
     for (name, res, full, target) in [

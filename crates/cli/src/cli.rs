@@ -31,6 +31,8 @@ Examples:
   asperity info surface.ply --json    counts, bounds, topology as JSON
   asperity reconstruct pts.ply -o surface.ply        watertight surface from points
   asperity generate dla-terrain -o terrain.glb       DLA, then level-set reconstruction
+  asperity ifs surface --preset takagi-landsberg-surface --depth 8 -o t.ply
+  asperity ifs curvature --preset bezier-bicubic --at 0.5,0.25 --json
   asperity formats                    what can be read and written";
 
 /// The `asperity` command line.
@@ -99,6 +101,9 @@ pub enum Command {
     Generate(GenerateCommand),
     /// Watertight surface from a point set by the level-set convection flow (kim-machiraju-thompson §5).
     Reconstruct(ReconstructArgs),
+    /// Projected-IFS fractal curves and surfaces with DCF/SDCF pseudo-curvature (poull-gentil).
+    #[command(subcommand)]
+    Ifs(IfsCommand),
     /// Time the workloads named in the issues and print throughput.
     Bench(BenchArgs),
     /// List the file formats asperity reads and writes.
@@ -762,6 +767,169 @@ pub struct FbmArgs {
     /// Grid spacing (the field is periodic with period size·spacing).
     #[arg(long, default_value_t = 1.0)]
     pub spacing: f64,
+}
+
+/// `asperity ifs …`
+#[derive(Subcommand, Debug)]
+pub enum IfsCommand {
+    /// List the built-in presets.
+    Presets,
+    /// Write a preset as an editable model file (JSON; stdout without -o).
+    Preset(IfsPresetArgs),
+    /// Attractor of a curve model: polyline (.obj/.ply), table (.csv) or figure with DCFs (.svg, Fig. 2).
+    Curve(IfsCurveArgs),
+    /// Attractor of a tensor-product surface as a mesh, with per-vertex pseudo-curvature
+    /// (a 2-D curve model is squared: z ≈ h(f(s) + f(t))).
+    Surface(IfsSurfaceArgs),
+    /// One DCF of a curve operator (and, in .svg, its family) from the fixed point to a start point.
+    Dcf(IfsDcfArgs),
+    /// One SDCF of a surface operator 𝒯ᵢⱼ as a mesh (Fig. 4).
+    Sdcf(IfsSdcfArgs),
+    /// Pseudo-curvature ranges at the fixed points of every operator and at dyadic points.
+    Curvature(IfsCurvatureArgs),
+}
+
+/// Preset parameters.
+#[derive(Args, Debug, Clone, Default)]
+pub struct IfsPresetParams {
+    /// Takagi–Landsberg roughness w, |w| < 1 (takagi presets; default 1/√2 ≈ 0.7071).
+    #[arg(long, allow_hyphen_values = true)]
+    pub w: Option<f64>,
+    /// Degree of the `bezier` preset (default 3).
+    #[arg(long)]
+    pub degree: Option<usize>,
+    /// Height scale of the surface presets (default 0.25 for takagi-landsberg-surface, 0.5 otherwise).
+    #[arg(long, allow_hyphen_values = true)]
+    pub height: Option<f64>,
+}
+
+/// Where a model comes from and how it is edited.
+#[derive(Args, Debug, Clone)]
+pub struct IfsModelArgs {
+    /// Built-in preset (`asperity ifs presets` lists them).
+    #[arg(
+        long,
+        value_name = "NAME",
+        required_unless_present = "ifs",
+        conflicts_with = "ifs"
+    )]
+    pub preset: Option<String>,
+    /// Model file (JSON), e.g. one written by `asperity ifs preset NAME -o FILE` and edited.
+    #[arg(long, value_name = "FILE")]
+    pub ifs: Option<PathBuf>,
+    #[command(flatten)]
+    pub params: IfsPresetParams,
+    /// Replace the control points: JSON (a list of points, or N rows of M points) or
+    /// CSV (x,y or x,y,z per line; surfaces row-major).
+    #[arg(long, value_name = "FILE")]
+    pub control: Option<PathBuf>,
+    /// Move a control point: I=x,y or I=x,y,z (curves), I,J=x,y,z (surfaces). Repeatable.
+    #[arg(long = "move", value_name = "SPEC", allow_hyphen_values = true)]
+    pub moves: Vec<String>,
+    /// Family of DCFs: dyadic starting points k/2^D in the fundamental domain.
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=20))]
+    pub family_depth: u32,
+    /// Family of DCFs: periodic starting points of every period up to P.
+    #[arg(long, default_value_t = 12, value_parser = clap::value_parser!(u32).range(0..=20))]
+    pub family_period: u32,
+}
+
+/// `asperity ifs preset`
+#[derive(Args, Debug)]
+pub struct IfsPresetArgs {
+    /// Preset name.
+    pub name: String,
+    #[command(flatten)]
+    pub params: IfsPresetParams,
+}
+
+/// `asperity ifs curve`
+#[derive(Args, Debug)]
+pub struct IfsCurveArgs {
+    #[command(flatten)]
+    pub model: IfsModelArgs,
+    /// Dyadic depth: 2^D + 1 points.
+    #[arg(long, default_value_t = 12)]
+    pub depth: u32,
+}
+
+/// `asperity ifs surface`
+#[derive(Args, Debug)]
+pub struct IfsSurfaceArgs {
+    #[command(flatten)]
+    pub model: IfsModelArgs,
+    /// Dyadic depth: (2^D + 1)² vertices (10 ≈ 1M).
+    #[arg(long, default_value_t = 8)]
+    pub depth: u32,
+    /// Also write the control grid as lines (.obj or .ply).
+    #[arg(long, value_name = "FILE")]
+    pub control_net: Option<PathBuf>,
+    /// Skip the per-vertex pseudo-curvature attributes.
+    #[arg(long)]
+    pub no_curvature: bool,
+}
+
+/// Which member of the family.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoundArg {
+    /// Smallest c₂ (lower bound DCF).
+    Lower,
+    /// Largest c₂ (upper bound DCF).
+    Upper,
+}
+
+/// `asperity ifs dcf`
+#[derive(Args, Debug)]
+pub struct IfsDcfArgs {
+    #[command(flatten)]
+    pub model: IfsModelArgs,
+    /// Operator (0 or 1).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=1))]
+    pub operator: u8,
+    /// Starting point as an attractor parameter (default: the other operator's fixed point).
+    #[arg(long, conflicts_with = "bound")]
+    pub start: Option<f64>,
+    /// Start from the lower- or upper-bound member of the family instead.
+    #[arg(long)]
+    pub bound: Option<BoundArg>,
+    /// Samples along t ∈ [0, 1].
+    #[arg(long, default_value_t = 256)]
+    pub samples: usize,
+    /// Family members drawn in an .svg figure.
+    #[arg(long, default_value_t = 12)]
+    pub family: usize,
+}
+
+/// `asperity ifs sdcf`
+#[derive(Args, Debug)]
+pub struct IfsSdcfArgs {
+    #[command(flatten)]
+    pub model: IfsModelArgs,
+    /// Tensor operator I,J (each 0 or 1).
+    #[arg(long, default_value = "0,0")]
+    pub operator: String,
+    /// Starting point S,T as attractor parameters (default: the opposite corner).
+    #[arg(long, conflicts_with = "bound")]
+    pub start: Option<String>,
+    /// Start from the lower- or upper-bound members of both families instead.
+    #[arg(long)]
+    pub bound: Option<BoundArg>,
+    /// Grid resolution of the SDCF mesh (cells per side).
+    #[arg(long, default_value_t = 64)]
+    pub resolution: usize,
+    /// Also include the attractor at this depth (grey; the SDCF is blue), for viewing.
+    #[arg(long, value_name = "DEPTH")]
+    pub with_attractor: Option<u32>,
+}
+
+/// `asperity ifs curvature`
+#[derive(Args, Debug)]
+pub struct IfsCurvatureArgs {
+    #[command(flatten)]
+    pub model: IfsModelArgs,
+    /// Dyadic point(s) to evaluate: S for curves, S,T for surfaces (repeatable).
+    #[arg(long, value_name = "S[,T]")]
+    pub at: Vec<String>,
 }
 
 /// `asperity bench`

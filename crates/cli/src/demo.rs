@@ -316,6 +316,204 @@ fn rdsr_sphere(
     )?)
 }
 
+/// poull-gentil: projected-IFS curves and surfaces, DCFs, SDCFs and pseudo-curvature.
+fn ifs(env: &Env) -> anyhow::Result<Section> {
+    use asperity_ifs::curvature::{curve_report, surface_report};
+    use asperity_ifs::{DirectionAnalysis, FamilyOptions, Model, PresetParams, preset};
+    let opts = FamilyOptions::default();
+    let wo = WriteOptions::default();
+    let load = |name: &str| -> anyhow::Result<Model> {
+        Ok(preset(name, &PresetParams::default())?.build()?)
+    };
+    let fmt =
+        |r: Option<[f64; 2]>| r.map_or("—".to_owned(), |[a, b]| format!("[{a:.6}, {b:.6}]"));
+    let mut items = Vec::new();
+
+    // Fig. 2: the Takagi–Landsberg curve (w = 1/√2) and its families of DCFs.
+    let Model::Curve(curve) = load("takagi-landsberg")? else {
+        anyhow::bail!("takagi-landsberg is a curve preset")
+    };
+    let an = DirectionAnalysis::new(&curve.pifs, &opts);
+    let svg = crate::ifs_cmd::figure(&curve, &an, "Takagi–Landsberg w = 1/√2", 10, None)?;
+    let fig = env.svg("ifs_takagi_dcf.svg", &svg)?;
+    let rep = curve_report(&curve, &an);
+    let json = env.svg(
+        "ifs_takagi_curvature.json",
+        &serde_json::to_string_pretty(&rep)?,
+    )?;
+    items.push(Item {
+        title: "Takagi–Landsberg curve and its families of DCFs (Fig. 2)".into(),
+        image: Some(fig),
+        files: vec![json],
+        facts: vec![
+            fact("α (T0)", "0, 1, 2 — α₂ = 2: a finite range"),
+            fact("curvature at s = 0", fmt(rep[0].curvature)),
+            fact("closed form", "[−(6 − 4√2), −(102 − 72√2)]"),
+            fact(
+                "CLI",
+                "asperity ifs dcf --preset takagi-landsberg --bound upper -o dcf.svg",
+            ),
+        ],
+    });
+
+    // Figs. 1/4: the Takagi ⊗ Takagi surface with per-vertex pseudo-curvature.
+    let Model::Surface(surf) = load("takagi-landsberg-surface")? else {
+        anyhow::bail!("takagi-landsberg-surface is a surface preset")
+    };
+    let depth = if env.quick { 6 } else { 8 };
+    let (mesh, note, _) = crate::ifs_cmd::surface_mesh(&surf, &opts, depth, true, &env.ctx.budget)?;
+    if let Some(n) = note {
+        anyhow::bail!("{n}");
+    }
+    let file = env.write("ifs_takagi_surface.ply", &Surface::Mesh(mesh.clone()), &wo)?;
+    let pic = env.picture("ifs_takagi_surface.png", &render_mesh(&mesh, &env.view())?)?;
+    let (an_s, an_t) = (
+        DirectionAnalysis::new(&surf.s, &opts),
+        DirectionAnalysis::new(&surf.t, &opts),
+    );
+    let srep = surface_report(&surf, &an_s, &an_t);
+    let sjson = env.svg(
+        "ifs_takagi_surface_curvature.json",
+        &serde_json::to_string_pretty(&srep)?,
+    )?;
+    items.push(Item {
+        title: "Takagi ⊗ Takagi attractor (Figs. 1 and 4)".into(),
+        image: Some(pic),
+        files: vec![file, sjson],
+        facts: vec![
+            fact("vertices", mesh.n_vertices()),
+            fact("depth", depth),
+            fact("𝒦 at (0,0)", fmt(srep[0].gaussian)),
+            fact("ℋ at (0,0)", fmt(srep[0].mean)),
+            fact(
+                "at every dyadic point",
+                "the same ranges: for w = 1/√2 the maps preserve them (see the PLY attributes)",
+            ),
+            fact(
+                "CLI",
+                "asperity ifs surface --preset takagi-landsberg-surface --depth 8 -o t.ply",
+            ),
+        ],
+    });
+
+    // Fig. 4: the attractor with one SDCF of T0⊗T'0 (from the opposite corner).
+    let sd = crate::ifs_cmd::sdcf_for(
+        &surf,
+        &opts,
+        (0, 0),
+        (
+            asperity_ifs::sdcf::Start::Parameter(1.0),
+            asperity_ifs::sdcf::Start::Parameter(1.0),
+        ),
+        if env.quick { 32 } else { 64 },
+        &env.ctx.budget,
+    )?;
+    let att = surf.attractor_mesh(if env.quick { 5 } else { 6 }, &env.ctx.budget)?;
+    let both = {
+        let mut pos = att.positions().to_vec();
+        let base = pos.len() as u32;
+        pos.extend_from_slice(sd.positions());
+        let mut tris = att.triangles().to_vec();
+        tris.extend(sd.triangles().iter().map(|t| t.map(|v| v + base)));
+        let mut cols = vec![[200, 200, 200, 255]; att.n_vertices()];
+        cols.extend(std::iter::repeat_n([40, 90, 220, 255], sd.n_vertices()));
+        TriMesh::new(pos, tris)?
+            .with_colors(cols)?
+            .with_computed_normals()
+    };
+    let sfile = env.write("ifs_sdcf.ply", &Surface::Mesh(both.clone()), &wo)?;
+    let spic = env.picture(
+        "ifs_sdcf.png",
+        &render_mesh(
+            &both,
+            &RenderOptions {
+                shader: Shader::VertexColor,
+                ..env.view()
+            },
+        )?,
+    )?;
+    items.push(Item {
+        title: "An SDCF (blue) of T0⊗T′0 on the attractor (Fig. 4)".into(),
+        image: Some(spic),
+        files: vec![sfile],
+        facts: vec![
+            fact("start", "Q = c₁ ⊗ c′₁ (the opposite corner)"),
+            fact(
+                "CLI",
+                "asperity ifs sdcf --preset takagi-landsberg-surface --with-attractor 6 -o sdcf.ply",
+            ),
+        ],
+    });
+
+    // A surface with a smooth and a rough direction, with its control net.
+    let Model::Surface(mixed) = load("bezier-takagi")? else {
+        anyhow::bail!("bezier-takagi is a surface preset")
+    };
+    let (mesh, note, _) = crate::ifs_cmd::surface_mesh(
+        &mixed,
+        &opts,
+        if env.quick { 6 } else { 8 },
+        true,
+        &env.ctx.budget,
+    )?;
+    if let Some(n) = note {
+        anyhow::bail!("{n}");
+    }
+    let (n, m) = mixed.grid_size();
+    let p = mixed.control();
+    let mut net: Vec<Polyline> = (0..n)
+        .map(|a| Polyline {
+            points: p[a * m..(a + 1) * m].to_vec(),
+            color: [200, 40, 40, 255],
+            closed: false,
+        })
+        .collect();
+    net.extend((0..m).map(|b| Polyline {
+        points: (0..n).map(|a| p[a * m + b]).collect(),
+        color: [200, 40, 40, 255],
+        closed: false,
+    }));
+    let mfile = env.write("ifs_bezier_takagi.ply", &Surface::Mesh(mesh.clone()), &wo)?;
+    let mpic = env.picture(
+        "ifs_bezier_takagi.png",
+        &render_mesh(
+            &mesh,
+            &RenderOptions {
+                polylines: net,
+                shader: Shader::Curvature,
+                scalar: Some("gaussian_max".into()),
+                ..env.view()
+            },
+        )?,
+    )?;
+    let (a, b) = (
+        DirectionAnalysis::new(&mixed.s, &opts),
+        DirectionAnalysis::new(&mixed.t, &opts),
+    );
+    let mrep = surface_report(&mixed, &a, &b);
+    items.push(Item {
+        title: "Smooth along s (Bézier), rough along t (Takagi): Gaussian pseudo-curvature (max) and control net"
+            .into(),
+        image: Some(mpic),
+        files: vec![mfile],
+        facts: vec![
+            fact("𝒦 at (0,0)", fmt(mrep[0].gaussian)),
+            fact("CLI", "asperity ifs surface --preset bezier-takagi --control-net net.obj -o s.ply"),
+        ],
+    });
+
+    Ok(Section {
+        title: "Projected-IFS fractal surfaces and pseudo-curvature (poull-gentil)".into(),
+        source: "asperity-ifs — §2 P-IFS and DCF, §3 SDCF, §4 ranges of pseudo-curvature".into(),
+        blurb: "Self-similar curves and tensor-product surfaces from two barycentric operators per direction, \
+                deformed by their control points. Each operator's DCF family gives the pseudo-curvature at its \
+                fixed point — infinite, zero, or a finite range when α₂ = 2 — and the self-similarity carries \
+                it to every dyadic point."
+            .into(),
+        items,
+    })
+}
+
 type SectionFn = fn(&Env) -> anyhow::Result<Section>;
 
 /// The gallery, in page order. Method issues add their section here.
@@ -325,6 +523,7 @@ const SECTIONS: &[(&str, SectionFn)] = &[
     ("peridier", peridier),
     ("growth", growth),
     ("levelset", reconstruction),
+    ("ifs", ifs),
 ];
 
 pub fn run(ctx: &Context, a: &DemoArgs) -> anyhow::Result<()> {

@@ -28,6 +28,7 @@ mod cli;
 mod convert;
 mod demo;
 mod growth_cmd;
+mod ifs_cmd;
 mod progress;
 mod reconstruct_cmd;
 mod render_cmd;
@@ -75,6 +76,7 @@ fn run(args: cli::Cli) -> anyhow::Result<()> {
             reconstruct_cmd::rdsr_sphere(&ctx, &a)
         }
         cli::Command::Reconstruct(a) => reconstruct_cmd::run(&ctx, &a),
+        cli::Command::Ifs(c) => ifs_cmd::run(&ctx, c),
         cli::Command::Growth(c) => growth_cmd::run(&ctx, c),
         cli::Command::Ca(c) => ca_cmd::run(&ctx, c),
         cli::Command::Facet(a) => ca_cmd::facet(&ctx, &a),
