@@ -1,11 +1,16 @@
-//! Plots as SVG through `plotters`: scaling curves with fits (W(t), PSDs,
-//! mass–radius), histograms (curvature), CA change curves.
+//! Plots through `plotters`: scaling curves with fits (W(t), PSDs,
+//! mass–radius), histograms (curvature), CA change curves, line drawings.
 //!
-//! SVG rather than PNG because it needs no font files: plotters lays text out
-//! with approximate metrics and the browser (or Inkscape) draws it with real
-//! fonts, so plots look right in the gallery on a machine without any fonts.
+//! Every plot renders to SVG ([`plot_svg`]) or to a bitmap ([`plot_png`], an
+//! [`RgbaImage`] for the PNG writer). Text is laid out and rasterised with a
+//! bundled subset of DejaVu Sans (`fonts/`, Bitstream Vera licence), registered
+//! once as plotters' "sans-serif", so bitmaps carry real labels on a machine
+//! without any fonts; SVGs name the family and the viewer draws it.
 
+use asperity_core::RgbaImage;
+use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::FontStyle;
 
 use crate::RenderError;
 
@@ -48,6 +53,24 @@ pub struct Plot {
     pub series: Vec<Series>,
 }
 
+/// DejaVu Sans, subset (see `fonts/LICENSE`).
+static FONT: &[u8] = include_bytes!("../fonts/DejaVuSans-subset.ttf");
+
+/// Registers the bundled font as "sans-serif" (once per process).
+fn ensure_font() -> Result<(), RenderError> {
+    static DONE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let ok = *DONE.get_or_init(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok()
+    });
+    if ok {
+        Ok(())
+    } else {
+        Err(RenderError::BadOption(
+            "plot: the bundled font could not be loaded".into(),
+        ))
+    }
+}
+
 const PALETTE: [RGBColor; 6] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
@@ -86,11 +109,8 @@ fn range(v: impl Iterator<Item = f64>, log: bool) -> Option<(f64, f64)> {
     })
 }
 
-/// Renders `plot` as an SVG document of `width × height` pixels.
-///
-/// # Errors
-/// [`RenderError::Empty`] when no series has a drawable point.
-pub fn plot_svg(plot: &Plot, width: u32, height: u32) -> Result<String, RenderError> {
+/// Data ranges of a plot (None when nothing is drawable).
+fn plot_ranges(plot: &Plot) -> Option<((f64, f64), (f64, f64))> {
     let keep = |&(x, y): &(f64, f64)| {
         x.is_finite() && y.is_finite() && (!plot.log_x || x > 0.0) && (!plot.log_y || y > 0.0)
     };
@@ -99,75 +119,120 @@ pub fn plot_svg(plot: &Plot, width: u32, height: u32) -> Result<String, RenderEr
             .iter()
             .flat_map(|s| s.points.iter().copied().filter(keep))
     };
-    let (Some(xr), Some(yr)) = (
-        range(pts().map(|p| p.0), plot.log_x),
-        range(pts().map(|p| p.1), plot.log_y),
-    ) else {
-        return Err(RenderError::Empty("plot (no finite points)"));
+    Some((
+        range(pts().map(|p| p.0), plot.log_x)?,
+        range(pts().map(|p| p.1), plot.log_y)?,
+    ))
+}
+
+/// Draws `plot` on any plotters backend.
+fn draw_plot<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    plot: &Plot,
+    xr: (f64, f64),
+    yr: (f64, f64),
+) -> Result<(), RenderError> {
+    let keep = |&(x, y): &(f64, f64)| {
+        x.is_finite() && y.is_finite() && (!plot.log_x || x > 0.0) && (!plot.log_y || y > 0.0)
     };
+    root.fill(&WHITE).map_err(err)?;
+    let mut b = ChartBuilder::on(root);
+    b.caption(&plot.title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60);
+    macro_rules! draw {
+        ($chart:expr) => {{
+            let mut chart = $chart;
+            chart
+                .configure_mesh()
+                .x_desc(&plot.x_label)
+                .y_desc(&plot.y_label)
+                .light_line_style(WHITE.mix(0.0))
+                .draw()
+                .map_err(err)?;
+            for (k, s) in plot.series.iter().enumerate() {
+                let color = PALETTE[k % PALETTE.len()];
+                let data: Vec<(f64, f64)> = s.points.iter().copied().filter(keep).collect();
+                let anno = match s.style {
+                    Style::Points => chart
+                        .draw_series(data.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                        .map_err(err)?,
+                    Style::Line => chart
+                        .draw_series(LineSeries::new(data, color.stroke_width(2)))
+                        .map_err(err)?,
+                    Style::Fit => chart
+                        .draw_series(LineSeries::new(data, color.stroke_width(1)))
+                        .map_err(err)?,
+                };
+                anno.label(&s.name).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
+                });
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK.mix(0.3))
+                .draw()
+                .map_err(err)?;
+        }};
+    }
+    match (plot.log_x, plot.log_y) {
+        (false, false) => draw!(b.build_cartesian_2d(xr.0..xr.1, yr.0..yr.1).map_err(err)?),
+        (true, false) => draw!(
+            b.build_cartesian_2d((xr.0..xr.1).log_scale(), yr.0..yr.1)
+                .map_err(err)?
+        ),
+        (false, true) => draw!(
+            b.build_cartesian_2d(xr.0..xr.1, (yr.0..yr.1).log_scale())
+                .map_err(err)?
+        ),
+        (true, true) => draw!(
+            b.build_cartesian_2d((xr.0..xr.1).log_scale(), (yr.0..yr.1).log_scale())
+                .map_err(err)?
+        ),
+    }
+    root.present().map_err(err)?;
+    Ok(())
+}
+
+/// Renders `plot` as an SVG document of `width × height` pixels.
+///
+/// # Errors
+/// [`RenderError::Empty`] when no series has a drawable point.
+pub fn plot_svg(plot: &Plot, width: u32, height: u32) -> Result<String, RenderError> {
+    ensure_font()?;
+    let (xr, yr) = plot_ranges(plot).ok_or(RenderError::Empty("plot (no finite points)"))?;
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let mut b = ChartBuilder::on(&root);
-        b.caption(&plot.title, ("sans-serif", 18))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60);
-        macro_rules! draw {
-            ($chart:expr) => {{
-                let mut chart = $chart;
-                chart
-                    .configure_mesh()
-                    .x_desc(&plot.x_label)
-                    .y_desc(&plot.y_label)
-                    .light_line_style(WHITE.mix(0.0))
-                    .draw()
-                    .map_err(err)?;
-                for (k, s) in plot.series.iter().enumerate() {
-                    let color = PALETTE[k % PALETTE.len()];
-                    let data: Vec<(f64, f64)> = s.points.iter().copied().filter(keep).collect();
-                    let anno = match s.style {
-                        Style::Points => chart
-                            .draw_series(data.iter().map(|&p| Circle::new(p, 3, color.filled())))
-                            .map_err(err)?,
-                        Style::Line => chart
-                            .draw_series(LineSeries::new(data, color.stroke_width(2)))
-                            .map_err(err)?,
-                        Style::Fit => chart
-                            .draw_series(LineSeries::new(data, color.stroke_width(1)))
-                            .map_err(err)?,
-                    };
-                    anno.label(&s.name).legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 16, y)], color.stroke_width(2))
-                    });
-                }
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK.mix(0.3))
-                    .draw()
-                    .map_err(err)?;
-            }};
-        }
-        match (plot.log_x, plot.log_y) {
-            (false, false) => draw!(b.build_cartesian_2d(xr.0..xr.1, yr.0..yr.1).map_err(err)?),
-            (true, false) => draw!(
-                b.build_cartesian_2d((xr.0..xr.1).log_scale(), yr.0..yr.1)
-                    .map_err(err)?
-            ),
-            (false, true) => draw!(
-                b.build_cartesian_2d(xr.0..xr.1, (yr.0..yr.1).log_scale())
-                    .map_err(err)?
-            ),
-            (true, true) => draw!(
-                b.build_cartesian_2d((xr.0..xr.1).log_scale(), (yr.0..yr.1).log_scale())
-                    .map_err(err)?
-            ),
-        }
-        root.present().map_err(err)?;
+        draw_plot(&root, plot, xr, yr)?;
     }
     Ok(svg)
+}
+
+/// Renders `plot` as a `width × height` bitmap (write it with the PNG writer).
+///
+/// # Errors
+/// [`RenderError::Empty`] when no series has a drawable point;
+/// [`RenderError::BadSize`] for a zero or huge size.
+pub fn plot_png(plot: &Plot, width: u32, height: u32) -> Result<RgbaImage, RenderError> {
+    ensure_font()?;
+    if width == 0 || height == 0 || width > 8192 || height > 8192 {
+        return Err(RenderError::BadSize { width, height });
+    }
+    let (xr, yr) = plot_ranges(plot).ok_or(RenderError::Empty("plot (no finite points)"))?;
+    let mut rgb = vec![255u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
+        draw_plot(&root, plot, xr, yr)?;
+    }
+    let rgba: Vec<u8> = rgb
+        .chunks_exact(3)
+        .flat_map(|p| [p[0], p[1], p[2], 255])
+        .collect();
+    RgbaImage::from_pixels(width, height, rgba)
+        .map_err(|e| RenderError::BadOption(format!("plot: {e}")))
 }
 
 /// One stroke of a [`Drawing`].
@@ -197,6 +262,7 @@ pub struct Drawing {
 /// # Errors
 /// [`RenderError::Empty`] when no stroke has a finite point.
 pub fn drawing_svg(d: &Drawing, width: u32, height: u32) -> Result<String, RenderError> {
+    ensure_font()?;
     let keep = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
     let pts = || d.strokes.iter().flat_map(|s| s.points.iter().filter(keep));
     let (Some(xr), Some(yr)) = (
@@ -257,18 +323,16 @@ pub fn drawing_svg(d: &Drawing, width: u32, height: u32) -> Result<String, Rende
     Ok(svg)
 }
 
-/// A histogram of `values` in `bins` equal bins, as an SVG plot of counts.
+/// A histogram of `values` in `bins` equal bins as a [`Plot`] of counts (a step line).
 ///
 /// # Errors
 /// [`RenderError::Empty`] when no value is finite; [`RenderError::BadOption`] for 0 bins.
-pub fn histogram_svg(
+pub fn histogram_plot(
     values: &[f64],
     bins: usize,
     title: &str,
     x_label: &str,
-    width: u32,
-    height: u32,
-) -> Result<String, RenderError> {
+) -> Result<Plot, RenderError> {
     if bins == 0 {
         return Err(RenderError::BadOption(
             "a histogram needs at least one bin".into(),
@@ -276,7 +340,7 @@ pub fn histogram_svg(
     }
     let counts =
         histogram(values, bins).ok_or(RenderError::Empty("histogram (no finite values)"))?;
-    // Drawn as a step line over the bin edges, so it shares plot_svg's layout.
+    // Drawn as a step line over the bin edges, so it shares the plots' layout.
     let mut pts = Vec::with_capacity(2 * bins + 2);
     for (k, &(lo, hi, c)) in counts.iter().enumerate() {
         if k == 0 {
@@ -286,7 +350,7 @@ pub fn histogram_svg(
         pts.push((hi, c as f64));
     }
     pts.push((counts[bins - 1].1, 0.0));
-    let plot = Plot {
+    Ok(Plot {
         title: title.into(),
         x_label: x_label.into(),
         y_label: "count".into(),
@@ -297,8 +361,26 @@ pub fn histogram_svg(
             points: pts,
             style: Style::Line,
         }],
-    };
-    plot_svg(&plot, width, height)
+    })
+}
+
+/// A histogram of `values` in `bins` equal bins, as an SVG plot of counts.
+///
+/// # Errors
+/// As [`histogram_plot`].
+pub fn histogram_svg(
+    values: &[f64],
+    bins: usize,
+    title: &str,
+    x_label: &str,
+    width: u32,
+    height: u32,
+) -> Result<String, RenderError> {
+    plot_svg(
+        &histogram_plot(values, bins, title, x_label)?,
+        width,
+        height,
+    )
 }
 
 /// (lower edge, upper edge, count) of `bins` equal bins over the finite values.
@@ -329,6 +411,50 @@ pub fn histogram(values: &[f64], bins: usize) -> Option<Vec<(f64, f64, usize)>> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn png_draws_lines_and_text() {
+        let p = Plot {
+            title: "PSD".into(),
+            x_label: "q".into(),
+            y_label: "C(q)".into(),
+            log_x: true,
+            log_y: true,
+            series: vec![Series {
+                name: "data".into(),
+                points: (1..50).map(|t| (t as f64, (t as f64).powf(-2.6))).collect(),
+                style: Style::Line,
+            }],
+        };
+        let img = plot_png(&p, 400, 300).unwrap();
+        assert_eq!((img.width(), img.height()), (400, 300));
+        let px = img.pixels();
+        let white = px
+            .chunks_exact(4)
+            .filter(|c| c[..3] == [255, 255, 255])
+            .count();
+        let dark = px
+            .chunks_exact(4)
+            .filter(|c| c[0] < 80 && c[1] < 80 && c[2] < 80)
+            .count();
+        let blue = px
+            .chunks_exact(4)
+            .filter(|c| c[2] > 150 && c[0] < 80)
+            .count();
+        // Mostly background, with axis text (dark, anti-aliased glyphs) and the blue series.
+        assert!(white > 400 * 300 / 2, "{white}");
+        assert!(dark > 300, "text and axes: {dark}");
+        assert!(blue > 100, "series: {blue}");
+        assert!(plot_png(&p, 0, 10).is_err());
+        let empty = Plot {
+            series: vec![],
+            ..p
+        };
+        assert!(matches!(
+            plot_png(&empty, 10, 10),
+            Err(RenderError::Empty(_))
+        ));
+    }
 
     #[test]
     fn svg_has_the_data_and_labels() {
