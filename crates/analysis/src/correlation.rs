@@ -113,11 +113,16 @@ pub fn spatial(h: &HeightField) -> Result<Spatial, AnalysisError> {
     })
 }
 
-/// Height–height correlation along x: (lag in length units, H(τ)) for τ = 1…nx/2 samples.
+/// Height–height correlation along x: (lag in length units, H(τ)) at every lag
+/// τ = 1…nx/2 samples when nx/2 ≤ 64, otherwise at 64 log-spaced integer lags in
+/// that range (each lag costs a pass over the field, so all nx/2 lags would be
+/// O(nx²·ny)). Lags are evaluated in parallel; each sum is sequential, so the
+/// result is the same at any thread count.
 ///
 /// # Errors
 /// [`AnalysisError::BadInput`] for NaN heights or fewer than 4 columns.
 pub fn hhcf_x(h: &HeightField) -> Result<Vec<(f64, f64)>, AnalysisError> {
+    use rayon::prelude::*;
     h.validate()?;
     let [nx, ny] = h.dims();
     if nx < 4 {
@@ -126,7 +131,18 @@ pub fn hhcf_x(h: &HeightField) -> Result<Vec<(f64, f64)>, AnalysisError> {
         )));
     }
     let dx = h.spacing()[0];
-    Ok((1..=nx / 2)
+    let max = nx / 2;
+    const LAGS: usize = 64;
+    let mut lags: Vec<usize> = if max <= LAGS {
+        (1..=max).collect()
+    } else {
+        (0..LAGS)
+            .map(|k| (max as f64).powf(k as f64 / (LAGS - 1) as f64).round() as usize)
+            .collect()
+    };
+    lags.dedup();
+    Ok(lags
+        .into_par_iter()
         .map(|t| {
             let mut s = 0.0;
             for j in 0..ny {

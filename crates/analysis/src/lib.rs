@@ -8,10 +8,12 @@
 //! | [`correlation`] | ACF, HHCF, Sal, Str | ISO 25178-2 |
 //! | [`fractal`] | triangulation and partitioning dimensions | Clarke 1986; variance method |
 //! | [`scaling`] | β (plain, intrinsic width), α, cluster dimensions (R_g, mass–radius) | kim-machiraju-thompson §4 |
+//! | [`synthesis`] | self-affine surfaces by FFT Fourier filtering (`asperity generate fbm`) | kim-machiraju-thompson §2 (fractal methods) |
 //! | [`mesh`] | curvature (mean, Gaussian) with the Gauss–Bonnet check, roughness against a Taubin-smoothed copy, box counting | Meyer et al. 2003; Taubin 1995 |
 //!
-//! Status: partial (issue "Roughness analysis"). Still to come: density profiles
-//! ρ(z) of grown deposits and `--plot` PNG output.
+//! Plots of these results (PSD with the Hurst fit, H(τ), histograms, W(t)) are
+//! drawn by `asperity_render::plot` as PNG and SVG; `asperity analyze --plot DIR`
+//! writes them.
 
 pub mod areal;
 pub mod correlation;
@@ -20,6 +22,7 @@ pub mod level;
 pub mod mesh;
 pub mod psd;
 pub mod scaling;
+pub mod synthesis;
 
 use asperity_core::CoreError;
 

@@ -16,37 +16,57 @@
 //! [2 q_min, q_N]; the PSD fractal dimension is D = 3 − H.
 
 use asperity_core::HeightField;
+use rayon::prelude::*;
 use rustfft::{FftPlanner, num_complex::Complex};
 use serde::Serialize;
 
 use crate::AnalysisError;
 
 /// In-place 2-D FFT (rows, then columns) of an `nx × ny` grid, x fastest.
+/// Rows are transformed in parallel; columns through a blocked transpose, so
+/// they too are contiguous rows. Each line is transformed alone: the result is
+/// the same bytes at any thread count.
 pub(crate) fn fft2(data: &mut [Complex<f64>], nx: usize, ny: usize, inverse: bool) {
     let mut planner = FftPlanner::new();
-    let fx = if inverse {
-        planner.plan_fft_inverse(nx)
-    } else {
-        planner.plan_fft_forward(nx)
-    };
-    for row in data.chunks_exact_mut(nx) {
-        fx.process(row);
-    }
-    let fy = if inverse {
-        planner.plan_fft_inverse(ny)
-    } else {
-        planner.plan_fft_forward(ny)
-    };
-    let mut col = vec![Complex::new(0.0, 0.0); ny];
-    for i in 0..nx {
-        for j in 0..ny {
-            col[j] = data[i + nx * j];
+    let mut plan = |n: usize| {
+        if inverse {
+            planner.plan_fft_inverse(n)
+        } else {
+            planner.plan_fft_forward(n)
         }
-        fy.process(&mut col);
-        for j in 0..ny {
-            data[i + nx * j] = col[j];
-        }
-    }
+    };
+    let (fx, fy) = (plan(nx), plan(ny));
+    let lines =
+        |buf: &mut [Complex<f64>], len: usize, f: &std::sync::Arc<dyn rustfft::Fft<f64>>| {
+            buf.par_chunks_exact_mut(len).for_each_init(
+                || vec![Complex::new(0.0, 0.0); f.get_inplace_scratch_len()],
+                |scratch, line| f.process_with_scratch(line, scratch),
+            );
+        };
+    lines(data, nx, &fx);
+    let mut t = vec![Complex::new(0.0, 0.0); nx * ny];
+    transpose(data, &mut t, nx, ny);
+    lines(&mut t, ny, &fy);
+    transpose(&t, data, ny, nx);
+}
+
+/// `dst[j + ny·i] = src[i + nx·j]` in 32×32 tiles, parallel over tile rows of `dst`.
+fn transpose(src: &[Complex<f64>], dst: &mut [Complex<f64>], nx: usize, ny: usize) {
+    const B: usize = 32;
+    dst.par_chunks_mut(ny * B)
+        .enumerate()
+        .for_each(|(bi, out)| {
+            let i0 = bi * B;
+            let rows = out.len() / ny;
+            for j0 in (0..ny).step_by(B) {
+                for di in 0..rows {
+                    let i = i0 + di;
+                    for j in j0..(j0 + B).min(ny) {
+                        out[j + ny * di] = src[i + nx * j];
+                    }
+                }
+            }
+        });
 }
 
 /// The 2-D PSD on the FFT grid (x fastest, zero frequency at index 0).

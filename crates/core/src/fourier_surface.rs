@@ -38,6 +38,70 @@ pub struct FourierParams {
     pub spacing: f64,
 }
 
+impl FourierParams {
+    /// Checks every parameter's range.
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidParameter`] naming the parameter.
+    pub fn validate(&self) -> crate::Result<()> {
+        let p = self;
+        if p.n < 2 {
+            return Err(invalid(
+                "size",
+                format!("need at least 2 samples per side, got {}", p.n),
+            ));
+        }
+        if !(p.hurst > 0.0 && p.hurst <= 1.0) {
+            return Err(invalid(
+                "Hurst exponent",
+                format!("must be in (0, 1], got {}", p.hurst),
+            ));
+        }
+        if p.modes < 1 || p.modes > p.n / 2 {
+            return Err(invalid(
+                "modes",
+                format!("must be in 1..={}, got {}", p.n / 2, p.modes),
+            ));
+        }
+        if !(p.rms.is_finite() && p.rms >= 0.0) {
+            return Err(invalid(
+                "rms",
+                format!("must be finite and non-negative, got {}", p.rms),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Removes the mean and scales to the requested rms height (a flat field stays 0).
+    pub fn normalise(&self, h: &mut HeightField) {
+        let mean = h.mean();
+        let var = h.data().iter().map(|z| (z - mean).powi(2)).sum::<f64>() / h.len() as f64;
+        let scale = if var > 0.0 {
+            self.rms / var.sqrt()
+        } else {
+            0.0
+        };
+        h.data_mut()
+            .iter_mut()
+            .for_each(|z| *z = (*z - mean) * scale);
+    }
+
+    /// The modes (m, n) of the half-plane n > 0 or (n = 0, m > 0), |m|, |n| ≤ `modes`,
+    /// in the order their phases are drawn, with their amplitudes |q|^(−(1+H)).
+    pub fn mode_amplitudes(&self) -> impl Iterator<Item = (i64, i64, f64)> + '_ {
+        let m = self.modes as i64;
+        let l = self.n as f64 * self.spacing;
+        (0..=m).flat_map(move |j| {
+            (-m..=m)
+                .filter(move |&i| !(j == 0 && i <= 0))
+                .map(move |i| {
+                    let q = std::f64::consts::TAU * ((i * i + j * j) as f64).sqrt() / l;
+                    (i, j, q.powf(-(1.0 + self.hurst)))
+                })
+        })
+    }
+}
+
 fn invalid(name: &'static str, reason: String) -> CoreError {
     CoreError::InvalidParameter { name, reason }
 }
@@ -52,30 +116,7 @@ pub fn fourier_surface(
     seed: u64,
     budget: &MemoryBudget,
 ) -> crate::Result<HeightField> {
-    if p.n < 2 {
-        return Err(invalid(
-            "size",
-            format!("need at least 2 samples per side, got {}", p.n),
-        ));
-    }
-    if !(p.hurst > 0.0 && p.hurst <= 1.0) {
-        return Err(invalid(
-            "Hurst exponent",
-            format!("must be in (0, 1], got {}", p.hurst),
-        ));
-    }
-    if p.modes < 1 || p.modes > p.n / 2 {
-        return Err(invalid(
-            "modes",
-            format!("must be in 1..={}, got {}", p.n / 2, p.modes),
-        ));
-    }
-    if !(p.rms.is_finite() && p.rms >= 0.0) {
-        return Err(invalid(
-            "rms",
-            format!("must be finite and non-negative, got {}", p.rms),
-        ));
-    }
+    p.validate()?;
     let mut h = HeightField::try_filled([p.n, p.n], 0.0, budget)?.with_spacing([p.spacing; 2])?;
     let (n, m) = (p.n, p.modes as i64);
     let tau = std::f64::consts::TAU;
@@ -130,12 +171,7 @@ pub fn fourier_surface(
             *h.get_mut(x, y) = z;
         }
     }
-    let mean = h.mean();
-    let var = h.data().iter().map(|z| (z - mean).powi(2)).sum::<f64>() / h.len() as f64;
-    let scale = if var > 0.0 { p.rms / var.sqrt() } else { 0.0 };
-    h.data_mut()
-        .iter_mut()
-        .for_each(|z| *z = (*z - mean) * scale);
+    p.normalise(&mut h);
     Ok(h)
 }
 
