@@ -2,14 +2,19 @@
 
 use anyhow::Context as _;
 use asperity_analysis::{areal, correlation, fractal, level, mesh, psd, scaling};
-use asperity_core::fourier_surface::{FourierParams, fourier_surface};
+use asperity_core::fourier_surface::FourierParams;
 use asperity_io::{Surface, WriteOptions};
+use asperity_render::plot::{Plot, Series, Style, histogram_plot, plot_png};
 use serde_json::{Value, json};
 
 use crate::cli::{AnalyzeArgs, Context, FbmArgs};
 use crate::report::Report;
 
-fn height_report(h: &asperity_core::HeightField, a: &AnalyzeArgs) -> anyhow::Result<Value> {
+fn height_report(
+    h: &asperity_core::HeightField,
+    a: &AnalyzeArgs,
+    plots: &mut Vec<(&'static str, Plot)>,
+) -> anyhow::Result<Value> {
     let how = level::Level::from_name(&a.level).with_context(|| {
         format!(
             "unknown levelling {:?} (none, mean, plane, quadratic)",
@@ -62,14 +67,104 @@ fn height_report(h: &asperity_core::HeightField, a: &AnalyzeArgs) -> anyhow::Res
     m.insert("Str".into(), json!(sp.Str));
     m.insert("Str_capped".into(), json!(sp.capped));
     m.insert("psd".into(), json!({"q": r.q, "C": r.c, "convention": "C(q) = A/N^2 |DFT|^2 (SurfaceTopography), radially averaged in log bins"}));
+    if a.plot.is_some() {
+        let fit = &hu.fit;
+        let line: Vec<(f64, f64)> = [fit.range[0], fit.range[1]]
+            .iter()
+            .map(|&q| (q, (fit.intercept + fit.slope * q.ln()).exp()))
+            .collect();
+        plots.push((
+            "psd.png",
+            Plot {
+                title: format!(
+                    "Radially averaged PSD: H = {:.3}, D = {:.3} (r² = {:.4})",
+                    hu.hurst, hu.fractal_dimension, fit.r2
+                ),
+                x_label: "q (rad / length)".into(),
+                y_label: "C(q)".into(),
+                log_x: true,
+                log_y: true,
+                series: vec![
+                    Series {
+                        name: "C(q), log bins".into(),
+                        points: r.q.iter().copied().zip(r.c.iter().copied()).collect(),
+                        style: Style::Points,
+                    },
+                    Series {
+                        name: format!("fit, slope {:.3} = −2(1 + H)", fit.slope),
+                        points: line,
+                        style: Style::Fit,
+                    },
+                ],
+            },
+        ));
+        if let Ok(hh) = correlation::hhcf_x(&lv) {
+            plots.push((
+                "hhcf.png",
+                Plot {
+                    title: "Height-height correlation along x".into(),
+                    x_label: "lag τ".into(),
+                    y_label: "H(τ) = ⟨(z(x+τ) − z(x))²⟩".into(),
+                    log_x: true,
+                    log_y: true,
+                    series: vec![Series {
+                        name: "H(τ)".into(),
+                        points: hh,
+                        style: Style::Points,
+                    }],
+                },
+            ));
+        }
+        plots.push((
+            "heights.png",
+            histogram_plot(lv.data(), 60, "Height distribution (levelled)", "z")?,
+        ));
+    }
     Ok(v)
 }
 
-fn mesh_report(m: &asperity_core::TriMesh) -> Value {
+/// The finite values between the 1st and 99th percentiles (curvature on rough or
+/// fractal meshes has tails that would squash a histogram into one bin).
+fn central(values: &[f64]) -> Vec<f64> {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.len() < 100 {
+        return v;
+    }
+    v.sort_by(f64::total_cmp);
+    let (lo, hi) = (v[v.len() / 100], v[v.len() - 1 - v.len() / 100]);
+    v.retain(|&x| x >= lo && x <= hi);
+    v
+}
+
+fn mesh_report(
+    m: &asperity_core::TriMesh,
+    a: &AnalyzeArgs,
+    plots: &mut Vec<(&'static str, Plot)>,
+) -> anyhow::Result<Value> {
     let c = mesh::curvature(m);
+    if a.plot.is_some() {
+        plots.push((
+            "curvature_mean.png",
+            histogram_plot(
+                &central(&c.mean),
+                60,
+                "Mean curvature per vertex (central 98 %)",
+                "H",
+            )?,
+        ));
+        plots.push((
+            "curvature_gaussian.png",
+            histogram_plot(
+                &central(&c.gaussian),
+                60,
+                "Gaussian curvature per vertex (central 98 %)",
+                "K",
+            )?,
+        ));
+    }
     let chi = m.euler_characteristic();
     let watertight = m.is_watertight();
-    json!({
+    Ok(json!({
         "kind": "mesh",
         "vertices": m.n_vertices(),
         "triangles": m.n_faces(),
@@ -91,15 +186,16 @@ fn mesh_report(m: &asperity_core::TriMesh) -> Value {
             Ok(d) => json!({"D": d.d, "fit_range": d.fit.range, "r2": d.fit.r2}),
             Err(e) => json!({"error": e.to_string()}),
         }},
-    })
+    }))
 }
 
 pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
     let mut report = Report::new("analyze", ctx);
     let s = crate::convert::load(ctx, &a.input)?;
+    let mut plots = Vec::new();
     let facts = match &s {
-        Surface::Height(h) => height_report(h, a)?,
-        Surface::Mesh(m) => mesh_report(m),
+        Surface::Height(h) => height_report(h, a, &mut plots)?,
+        Surface::Mesh(m) => mesh_report(m, a, &mut plots)?,
         Surface::Points(p) => {
             anyhow::ensure!(
                 p.len() >= 256,
@@ -121,6 +217,19 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
             })
         }
     };
+    if let Some(dir) = &a.plot {
+        if plots.is_empty() {
+            ctx.note("no plots for point sets (growth commands plot R_g(n) and ρ(z) with --plot)");
+        }
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create plot directory {}", dir.display()))?;
+        for (name, plot) in &plots {
+            let path = dir.join(name);
+            asperity_io::write_png(&path, &plot_png(plot, 900, 640)?)?;
+            report.output(&path);
+            ctx.note(format!("plot written to {}", path.display()));
+        }
+    }
     if ctx.json {
         report.measure("file", a.input.display().to_string());
         if let Value::Object(map) = facts {
@@ -156,7 +265,8 @@ pub fn fbm(ctx: &Context, a: &FbmArgs) -> anyhow::Result<()> {
         rms: a.rms,
         spacing: a.spacing,
     };
-    let h = fourier_surface(&p, ctx.seed, &ctx.budget)?;
+    // The FFT synthesis (O(N² log N)); the same field as core's direct sum.
+    let h = asperity_analysis::synthesis::fbm(&p, ctx.seed, &ctx.budget)?;
     asperity_io::write_height(
         &out,
         &h,

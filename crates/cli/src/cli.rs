@@ -460,6 +460,10 @@ pub struct AnalyzeArgs {
     /// Hurst fit window QMIN,QMAX in rad/length (default 2·q_min to the Nyquist wavenumber).
     #[arg(long, value_delimiter = ',', value_name = "QMIN,QMAX")]
     pub fit_window: Option<Vec<f64>>,
+    /// Write PNG plots into DIR: the PSD with its Hurst fit, the height-height
+    /// correlation and the height histogram (height fields); curvature histograms (meshes).
+    #[arg(long, value_name = "DIR")]
+    pub plot: Option<std::path::PathBuf>,
 }
 
 /// `asperity generate …`
@@ -691,7 +695,7 @@ pub struct DepositArgs {
     /// Write the width series as CSV (t, W, W_binned, stderr, mean height).
     #[arg(long, value_name = "FILE")]
     pub width_csv: Option<PathBuf>,
-    /// Write plots (SVG) of W(t) with the β fits into this directory.
+    /// Write plots of W(t) with the β fits into this directory (SVG and PNG).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
 }
@@ -747,7 +751,7 @@ pub struct DlaArgs {
     /// Gap δ between the cluster and the launch sphere or plane, in cells.
     #[arg(long, default_value_t = 2.0)]
     pub launch_gap: f64,
-    /// Write plots (SVG): R_g(n), and the density profile ρ(z) in plane modes.
+    /// Write plots (SVG and PNG): R_g(n), and the density profile ρ(z) in plane modes.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
 }

@@ -15,7 +15,7 @@ use asperity_growth::dla::{DlaParams, SeedShape, auto_size, dla};
 use asperity_growth::interface_width::uniform_schedule;
 use asperity_growth::{DepositionParams, Lattice, Model, WidthSeries, deposit_ensemble};
 use asperity_io::{Format, WriteOptions};
-use asperity_render::plot::{Plot, Series, Style, plot_svg};
+use asperity_render::plot::{Plot, Series, Style, plot_png, plot_svg};
 use rayon::prelude::*;
 use serde_json::json;
 
@@ -90,11 +90,15 @@ fn width_csv(path: &Path, s: &WidthSeries) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Writes `plot` as `name` (SVG, scalable) and as the same name with `.png`.
 fn write_svg(dir: &Path, name: &str, plot: &Plot, report: &mut Report) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let path = dir.join(name);
     asperity_io::write_text(&path, &plot_svg(plot, 800, 560)?)?;
     report.output(&path);
+    let png = path.with_extension("png");
+    asperity_io::write_png(&png, &plot_png(plot, 800, 560)?)?;
+    report.output(&png);
     Ok(())
 }
 

@@ -620,9 +620,28 @@ fn analyze_and_generate() {
         m["psd"]["q"].as_array().unwrap().len(),
         m["psd"]["C"].as_array().unwrap().len()
     );
+    // PNG plots: decodable images of the right size, with content.
+    let o = asperity(&["analyze", "f.npy", "--plot", "plots", "-q"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    for name in ["psd.png", "hhcf.png", "heights.png"] {
+        let img = asperity_io::read_height(&d.path().join("plots").join(name));
+        assert!(img.is_ok(), "{name} is not a readable PNG");
+        let bytes = std::fs::read(d.path().join("plots").join(name)).unwrap();
+        assert!(
+            bytes.starts_with(b"\x89PNG") && bytes.len() > 10_000,
+            "{name}"
+        );
+    }
     // Meshes: topology and Gauss–Bonnet.
     let o = asperity(&["demo", "--quick", "--out", "g"], d.path());
     assert!(o.status.success());
+    let o = asperity(
+        &["analyze", "g/torus.ply", "--plot", "mplots", "-q"],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(d.path().join("mplots/curvature_mean.png").exists());
+    assert!(d.path().join("mplots/curvature_gaussian.png").exists());
     let o = asperity(&["--json", "analyze", "g/torus.ply"], d.path());
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["measurements"]["genus"], 1);
