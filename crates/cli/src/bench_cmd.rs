@@ -280,6 +280,79 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
             }),
         ));
     }
+    // Surface CA (gobron-chiba): 1000 Voronoi steps on a million-cell sphere.
+    v.push((
+        "surfca/voronoi-1m-1000",
+        Box::new(move || {
+            use asperity_surfca::engine::{RunOptions, run};
+            use asperity_surfca::voronoi::{PAPER_P, UNLABELLED, VoronoiRule, random_sites};
+            use asperity_surfca::{CellSize, build};
+            let (n, steps) = if quick { (20_000, 50) } else { (1_000_000, 1000) };
+            let mesh = asperity_core::shapes::icosphere(4, 1.0);
+            let cells = build(&mesh, CellSize::Count(n), &budget)?;
+            let sites = random_sites(&cells, 12, 7);
+            let count = cells.len() as u64;
+            Ok(Workload {
+                name: "surfca/voronoi-1m-1000",
+                what: format!(
+                    "surface Voronoi (12 sites, P = √2/2 − ½) on an icosphere with {count} cells, {steps} steps"
+                ),
+                elements: count * steps,
+                unit: "cell-updates",
+                target_s: (!quick).then_some(5.0),
+                once: !quick,
+                job: Box::new(move || {
+                    let mut states = vec![UNLABELLED; cells.len()];
+                    for (l, &c) in sites.iter().enumerate() {
+                        states[c] = l as u32;
+                    }
+                    run(
+                        &cells,
+                        &VoronoiRule { diagonal_p: PAPER_P },
+                        &mut states,
+                        &RunOptions {
+                            seed: 7,
+                            max_steps: steps,
+                            stop_when_stable: false,
+                        },
+                        |_, _| true,
+                    );
+                    Ok(())
+                }),
+            })
+        }),
+    ));
+    v.push((
+        "surfca/corrosion-1m-1000",
+        Box::new(move || {
+            use asperity_surfca::corrosion::{CorrosionParams, corrode, initial};
+            use asperity_surfca::{CellSize, build};
+            let (n, steps) = if quick {
+                (20_000, 50)
+            } else {
+                (1_000_000, 1000)
+            };
+            let mesh = asperity_core::shapes::cup(48);
+            let cells = build(&mesh, CellSize::Count(n), &budget)?;
+            let count = cells.len() as u64;
+            let p = CorrosionParams::default();
+            Ok(Workload {
+                name: "surfca/corrosion-1m-1000",
+                what: format!(
+                    "copper corrosion on the cup, {count} cells, {steps} steps (default constants)"
+                ),
+                elements: count * steps,
+                unit: "cell-updates",
+                target_s: (!quick).then_some(15.0),
+                once: !quick,
+                job: Box::new(move || {
+                    let mut s = initial(&cells, &p, 7);
+                    corrode(&cells, &p, &mut s, 7, steps, |_, _| true);
+                    Ok(())
+                }),
+            })
+        }),
+    ));
     // Projected IFS (poull-gentil): a depth-10 tensor-product attractor (≈ 1M
     // vertices) built and written as binary PLY; and the pseudo-curvature ranges of
     // every operator of every preset.

@@ -104,6 +104,8 @@ pub enum Command {
     /// Projected-IFS fractal curves and surfaces with DCF/SDCF pseudo-curvature (poull-gentil).
     #[command(subcommand)]
     Ifs(IfsCommand),
+    /// Cellular automata on any triangle mesh: surface Voronoi diagrams (gobron-chiba).
+    SurfaceCa(SurfaceCaArgs),
     /// Time the workloads named in the issues and print throughput.
     Bench(BenchArgs),
     /// List the file formats asperity reads and writes.
@@ -771,6 +773,83 @@ pub struct FbmArgs {
     /// Grid spacing (the field is periodic with period size·spacing).
     #[arg(long, default_value_t = 1.0)]
     pub spacing: f64,
+}
+
+/// Surface-CA applications.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SurfaceApp {
+    /// Surface Voronoi diagram by regular probabilistic growth.
+    Voronoi,
+    /// Copper corrosion and its green patina.
+    Corrosion,
+}
+
+/// `asperity surface-ca`
+#[derive(Args, Debug)]
+pub struct SurfaceCaArgs {
+    /// Mesh file (OBJ, PLY, STL, …) or builtin:sphere, builtin:cube, builtin:cup.
+    pub mesh: String,
+    /// The application.
+    #[arg(long, value_enum, default_value = "voronoi")]
+    pub app: SurfaceApp,
+    /// Approximate number of cells (h = √(area / C)).
+    #[arg(long, default_value_t = 100_000, conflicts_with = "cell_size")]
+    pub cells: usize,
+    /// Cell side h in mesh units (instead of --cells).
+    #[arg(long)]
+    pub cell_size: Option<f64>,
+    /// Voronoi: number of random sites (area-weighted).
+    #[arg(long, default_value_t = 12)]
+    pub sites: usize,
+    /// Voronoi: probability that a corner neighbour passes its label (default √2/2 − ½, the
+    /// paper's; (√2 − 1)² ≈ 0.1716 is isotropic at large radii).
+    #[arg(long)]
+    pub diagonal_p: Option<f64>,
+    /// Step limit (Voronoi stops earlier when no cell changes).
+    #[arg(long, default_value_t = 100_000)]
+    pub max_steps: u64,
+    /// Corrosion: steps to run.
+    #[arg(long, default_value_t = 600)]
+    pub steps: u64,
+    /// Corrosion: metal lost per corroded step (k1).
+    #[arg(long, default_value_t = 0.0005)]
+    pub k1: f32,
+    /// Corrosion: oxide gained per corroded step (k2).
+    #[arg(long, default_value_t = 0.01)]
+    pub k2: f32,
+    /// Corrosion: oxide cap (k3).
+    #[arg(long, default_value_t = 1.0)]
+    pub k3: f32,
+    /// Corrosion: probability per step that a metal cell becomes a new seed.
+    #[arg(long, default_value_t = 2e-5)]
+    pub seed_rate: f64,
+    /// Corrosion: most seeds over the run.
+    #[arg(long, default_value_t = 400)]
+    pub max_seeds: usize,
+    /// Corrosion: share of strong (resistant) cells.
+    #[arg(long, default_value_t = 0.35)]
+    pub strong_fraction: f64,
+    /// Corrosion: strong cells from a value-noise field of this feature size (mesh units).
+    #[arg(long, value_name = "SCALE")]
+    pub strong_noise: Option<f64>,
+    /// Corrosion: most neighbours one corroded cell attacks per step (1–7).
+    #[arg(long, default_value_t = 4)]
+    pub max_attacked: u32,
+    /// Corrosion: attack strength of a mature corroded cell (defence: 0.35 weak, 0.8 strong).
+    #[arg(long, default_value_t = 0.12)]
+    pub attack: f64,
+    /// Corrosion: age (steps) at which a corroded cell attacks at full strength.
+    #[arg(long, default_value_t = 40)]
+    pub maturity: u32,
+    /// Point set of cell centres with integer `label` and float `area` (PLY).
+    #[arg(long, value_name = "FILE")]
+    pub labels_out: Option<PathBuf>,
+    /// Per-step statistics: .csv (step, changed, changed_fraction, class fractions) or .json.
+    #[arg(long, value_name = "FILE")]
+    pub stats_out: Option<PathBuf>,
+    /// PNG plot of the per-step statistics (the paper's Figure 16).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
 }
 
 /// `asperity ifs …`

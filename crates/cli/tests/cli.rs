@@ -367,7 +367,7 @@ fn bench_runs_every_workload() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let w = v["measurements"]["workloads"].as_array().unwrap();
-    assert_eq!(w.len(), 18);
+    assert_eq!(w.len(), 20);
     assert!(v["measurements"]["ca_bits_over_bytes"].as_f64().unwrap() > 1.0);
     assert!(
         w.iter()
@@ -1252,4 +1252,137 @@ fn ifs_commands_as_documented() {
     );
     assert_clean_failure(&o, "--w applies");
     assert!(!dir.join("x.ply").exists() && !dir.join("x.csv").exists());
+}
+
+#[test]
+fn surface_ca_as_documented() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    let o = asperity(
+        &[
+            "surface-ca",
+            "builtin:sphere",
+            "--app",
+            "voronoi",
+            "--sites",
+            "5",
+            "--cells",
+            "5000",
+            "--seed",
+            "3",
+            "-o",
+            "out.glb",
+            "--labels-out",
+            "labels.ply",
+            "--stats-out",
+            "steps.csv",
+            "--plot",
+            "steps.png",
+            "--json",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let m = &v["measurements"];
+    let cells = m["cells"].as_u64().unwrap() as usize;
+    assert!(cells > 4000 && cells < 6000, "{cells}");
+    let steps = m["steps"].as_u64().unwrap() as usize;
+    assert_eq!(m["changed_fraction"].as_array().unwrap().len(), steps);
+    assert_eq!(m["sites"].as_array().unwrap().len(), 5);
+    assert!(std::fs::metadata(dir.join("out.glb")).unwrap().len() > 10_000);
+    let header = std::fs::read(dir.join("labels.ply")).unwrap();
+    let text = String::from_utf8_lossy(&header[..400]);
+    assert!(text.contains("property int label") && text.contains("property double area"));
+    let pts = asperity_io::read_points(&dir.join("labels.ply")).unwrap();
+    assert_eq!(pts.len(), cells);
+    let labels = pts.attribute("label").unwrap();
+    assert!(
+        labels
+            .iter()
+            .all(|&l| (0.0..5.0).contains(&l) && l.fract() == 0.0)
+    );
+    let area: f64 = pts.attribute("area").unwrap().iter().sum();
+    let sphere = asperity_core::shapes::icosphere(3, 1.0).area();
+    assert!((area - sphere).abs() < 1e-9 * sphere, "{area} vs {sphere}");
+    let csv = std::fs::read_to_string(dir.join("steps.csv")).unwrap();
+    assert_eq!(csv.lines().count(), steps + 1);
+    assert!(dir.join("steps.png").exists());
+
+    // Corrosion, as documented.
+    let o = asperity(
+        &[
+            "surface-ca",
+            "builtin:cup",
+            "--app",
+            "corrosion",
+            "--cells",
+            "20000",
+            "--steps",
+            "150",
+            "--seed",
+            "3",
+            "-o",
+            "patina.glb",
+            "--json",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["measurements"]["steps"], 150);
+    assert!(v["measurements"]["corroded"].as_u64().unwrap() > 0);
+    assert!(std::fs::metadata(dir.join("patina.glb")).unwrap().len() > 10_000);
+    assert_clean_failure(
+        &asperity(
+            &[
+                "surface-ca",
+                "builtin:cup",
+                "--app",
+                "corrosion",
+                "--max-attacked",
+                "9",
+                "-o",
+                "x.glb",
+            ],
+            dir,
+        ),
+        "max-attacked",
+    );
+    for (args, needle) in [
+        (
+            vec!["surface-ca", "builtin:teapot", "-o", "x.glb"],
+            "known: sphere, cube, cup",
+        ),
+        (
+            vec!["surface-ca", "builtin:cube", "--sites", "0", "-o", "x.glb"],
+            "--sites",
+        ),
+        (
+            vec![
+                "surface-ca",
+                "builtin:cube",
+                "--diagonal-p",
+                "2",
+                "-o",
+                "x.glb",
+            ],
+            "diagonal-p",
+        ),
+        (
+            vec!["surface-ca", "builtin:cube", "-o", "x.npy"],
+            "cannot hold a mesh",
+        ),
+        (
+            vec!["surface-ca", "builtin:cube", "--cells", "0", "-o", "x.glb"],
+            "cells",
+        ),
+        (
+            vec!["surface-ca", "missing.obj", "-o", "x.glb"],
+            "missing.obj",
+        ),
+    ] {
+        assert_clean_failure(&asperity(&args, dir), needle);
+    }
+    assert!(!dir.join("x.glb").exists());
 }

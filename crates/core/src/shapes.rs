@@ -73,8 +73,153 @@ pub fn icosphere(level: u32, radius: f64) -> TriMesh {
         .expect("indices in range")
 }
 
+/// A closed surface of revolution about the z axis: the `profile` (r, z) runs
+/// from one point on the axis (r = 0) to another, and is swept through
+/// `segments` angular steps. Poles become triangle fans; faces are oriented
+/// outward when the profile goes up the outside (counter-clockwise in the r–z
+/// half-plane seen with the axis on the left).
+///
+/// # Panics
+/// Never for valid input; profiles that do not start and end on the axis, or
+/// have fewer than three points or segments, give an empty mesh.
+pub fn revolve(profile: &[[f64; 2]], segments: usize) -> TriMesh {
+    let n = profile.len();
+    if n < 3 || segments < 3 || profile[0][0] != 0.0 || profile[n - 1][0] != 0.0 {
+        return TriMesh::default();
+    }
+    let mut pos = vec![[0.0, 0.0, profile[0][1]]];
+    let ring = |k: usize| 1 + (k - 1) * segments;
+    for p in &profile[1..n - 1] {
+        for s in 0..segments {
+            let a = std::f64::consts::TAU * s as f64 / segments as f64;
+            pos.push([p[0] * a.cos(), p[0] * a.sin(), p[1]]);
+        }
+    }
+    let top = pos.len() as u32;
+    pos.push([0.0, 0.0, profile[n - 1][1]]);
+    let mut tris = Vec::new();
+    let seg = segments as u32;
+    for s in 0..seg {
+        let t = (s + 1) % seg;
+        tris.push([0, 1 + t, 1 + s]);
+    }
+    for k in 1..n - 2 {
+        let (a, b) = (ring(k) as u32, ring(k + 1) as u32);
+        for s in 0..seg {
+            let t = (s + 1) % seg;
+            tris.push([a + s, a + t, b + t]);
+            tris.push([a + s, b + t, b + s]);
+        }
+    }
+    let last = ring(n - 2) as u32;
+    for s in 0..seg {
+        let t = (s + 1) % seg;
+        tris.push([last + s, last + t, top]);
+    }
+    TriMesh::new(pos, tris).unwrap_or_default()
+}
+
+/// A cup like gobron-chiba's (Figure 2): a closed surface of revolution with an
+/// outer wall, a rim and an inner wall, about 1.2 units tall.
+pub fn cup(segments: usize) -> TriMesh {
+    revolve(
+        &[
+            [0.0, 0.0],
+            [0.42, 0.0],
+            [0.5, 0.08],
+            [0.56, 0.6],
+            [0.62, 1.2],
+            [0.58, 1.22],
+            [0.54, 1.18],
+            [0.48, 0.6],
+            [0.42, 0.14],
+            [0.0, 0.12],
+        ],
+        segments,
+    )
+}
+
+/// The axis-aligned cube [−1, 1]³, each face split into `n × n` squares of two
+/// triangles, oriented outward.
+pub fn cube(n: usize) -> TriMesh {
+    let n = n.max(1);
+    let mut pos = Vec::new();
+    let mut tris = Vec::new();
+    // (normal axis, sign): the face spans the other two axes (u, v) with u × v = normal.
+    for (axis, sign) in [
+        (0, 1.0),
+        (0, -1.0),
+        (1, 1.0),
+        (1, -1.0),
+        (2, 1.0),
+        (2, -1.0),
+    ] {
+        let (u, v) = match axis {
+            0 => (1, 2),
+            1 => (2, 0),
+            _ => (0, 1),
+        };
+        let base = pos.len() as u32;
+        for j in 0..=n {
+            for i in 0..=n {
+                let mut p = [0.0; 3];
+                p[axis] = sign;
+                let (a, b) = (
+                    -1.0 + 2.0 * i as f64 / n as f64,
+                    -1.0 + 2.0 * j as f64 / n as f64,
+                );
+                // Mirror u on the negative faces so they stay outward.
+                p[u] = if sign > 0.0 { a } else { -a };
+                p[v] = b;
+                pos.push(p);
+            }
+        }
+        let w = n as u32 + 1;
+        for j in 0..n as u32 {
+            for i in 0..n as u32 {
+                let c = base + j * w + i;
+                tris.push([c, c + 1, c + w + 1]);
+                tris.push([c, c + w + 1, c + w]);
+            }
+        }
+    }
+    // Weld the shared edge vertices.
+    let mut index = std::collections::HashMap::new();
+    let mut welded = Vec::new();
+    let remap: Vec<u32> = pos
+        .iter()
+        .map(|p| {
+            let key = p.map(|x| (x * 1e9).round() as i64);
+            *index.entry(key).or_insert_with(|| {
+                welded.push(*p);
+                welded.len() as u32 - 1
+            })
+        })
+        .collect();
+    let tris = tris.iter().map(|t| t.map(|v| remap[v as usize])).collect();
+    TriMesh::new(welded, tris).unwrap_or_default()
+}
+
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn cube_and_cup_are_closed_and_outward() {
+        let c = cube(3);
+        assert!(c.is_watertight() && c.is_consistently_oriented());
+        assert_eq!(c.euler_characteristic(), 2);
+        assert!((c.signed_volume() - 8.0).abs() < 1e-12);
+        assert!((c.area() - 24.0).abs() < 1e-12);
+        let k = cup(48);
+        assert!(k.is_watertight() && k.is_consistently_oriented());
+        assert_eq!(k.euler_characteristic(), 2);
+        assert!(k.signed_volume() > 0.0);
+        // A cylinder by revolve: volume πr²h within the polygon's deficit.
+        let cyl = revolve(&[[0.0, 0.0], [1.0, 0.0], [1.0, 2.0], [0.0, 2.0]], 256);
+        let v = cyl.signed_volume();
+        assert!((v / (2.0 * std::f64::consts::PI) - 1.0).abs() < 1e-3, "{v}");
+        assert!(revolve(&[[1.0, 0.0], [0.0, 1.0]], 8).n_faces() == 0);
+    }
     use super::*;
 
     #[test]

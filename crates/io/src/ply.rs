@@ -13,6 +13,7 @@
 //! | colour | `uchar red, green, blue, alpha` | float colours in [0, 1]; alpha optional |
 //! | texture coordinate | `float s, t` | `u, v`, `texture_u, texture_v`, `texture_s, texture_t` |
 //! | named scalar | `double NAME` | any other scalar vertex property |
+//! | integer label | `int NAME` for `label`, `…_label`, `…_id`, `…_index` with integer values | as above |
 //!
 //! Faces are `element face` with `property list uchar uint vertex_indices`
 //! (`vertex_index` is also read). Polygons with more than three corners are kept
@@ -490,6 +491,19 @@ enum Column<'a> {
     Uv(&'static str, &'a [[f64; 2]], usize),
     U8(&'static str, &'a [[u8; 4]], usize),
     Scalar(String, &'a [f64]),
+    Int(String, &'a [f64]),
+}
+
+/// Whether a named scalar is written as PLY `int`: names `label`, `…_label`,
+/// `…_id` or `…_index` whose values are all integers that fit in 32 bits.
+fn is_integer_column(name: &str, data: &[f64]) -> bool {
+    (name == "label"
+        || name.ends_with("_label")
+        || name.ends_with("_id")
+        || name.ends_with("_index"))
+        && data
+            .iter()
+            .all(|&v| v.fract() == 0.0 && v >= i32::MIN as f64 && v <= i32::MAX as f64)
 }
 
 impl Column<'_> {
@@ -499,6 +513,7 @@ impl Column<'_> {
             Column::F32(n, ..) | Column::Uv(n, ..) => format!("property float {n}"),
             Column::U8(n, ..) => format!("property uchar {n}"),
             Column::Scalar(n, _) => format!("property double {n}"),
+            Column::Int(n, _) => format!("property int {n}"),
         }
     }
     fn write(&self, i: usize, ascii: bool, out: &mut Vec<u8>) {
@@ -514,6 +529,14 @@ impl Column<'_> {
                 }
             }
             Column::Scalar(_, d) => put_f64(d[i], ascii, out),
+            Column::Int(_, d) => {
+                let v = d[i] as i32;
+                if ascii {
+                    let _ = write!(out, "{v} ");
+                } else {
+                    out.extend_from_slice(&v.to_le_bytes());
+                }
+            }
         }
     }
 }
@@ -580,7 +603,11 @@ fn write_ply(
         if reserved.contains(&n.as_str()) {
             n = format!("{n}_scalar");
         }
-        cols.push(Column::Scalar(n, data));
+        if is_integer_column(&n, data) {
+            cols.push(Column::Int(n, data));
+        } else {
+            cols.push(Column::Scalar(n, data));
+        }
     }
     let mut h = String::from("ply\n");
     h += if ascii {

@@ -1,13 +1,25 @@
-//! Cellular automata on triangle meshes from [gobron-chiba].
+//! Cellular automata on any triangle mesh, after Gobron & Chiba, *3D surface
+//! cellular automata and their applications* (1999) — [gobron-chiba].
 //!
-//! **Status: planned** (issue "Cellular automata on any triangle mesh"). Meshes are
-//! `asperity_core::TriMesh`.
+//! **Status: partial** (issue "Cellular automata on any triangle mesh"): the cell
+//! structure, the general engine, the surface Voronoi diagram and copper
+//! corrosion with its patina colour are done; a third application, texture-atlas
+//! output and thickness displacement are still to come.
 //!
-//! | Module (planned) | What | Paper section |
+//! | Module | What | Paper section |
 //! | --- | --- | --- |
-//! | `cells` | Per-triangle cell grids and edge pairing | "3D Surface Cellular Automata" |
-//! | `voronoi` | Surface Voronoi diagrams | "Voronoi" |
-//! | `corrosion` | Copper corrosion and patina | "Corrosion" |
-//! | `light` | Two-layer light model | "Simple Light Model" |
+//! | [`cells`] | per-triangle cell grids, in/out flags, links across edges and vertices | "Triangle Division and Cell Properties", "Data Communication in CA" |
+//! | [`engine`] | rule trait, synchronous parallel updates, counter-based randomness, per-step statistics | Appendix 2 |
+//! | [`voronoi`](mod@voronoi) | surface Voronoi diagrams by regular probabilistic growth | "3D Surface Voronoi Diagram", Figure 14 |
+//! | [`corrosion`] | copper corrosion: strong cells, seeds, attack/defence, metal and oxide thickness | "Corrosion and Patina Generation", Appendix I |
 //!
 //! [gobron-chiba]: ../shared/papers/gobron-chiba_3d-surface-cellular-automata.txt
+
+pub mod cells;
+pub mod corrosion;
+pub mod engine;
+pub mod voronoi;
+
+pub use cells::{CellSize, Cells, InFlag, build};
+pub use engine::{CellRng, Rule, RunOptions, RunStats, View, run};
+pub use voronoi::{VoronoiRule, voronoi};

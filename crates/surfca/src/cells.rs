@@ -1,0 +1,686 @@
+//! Per-triangle cell grids and their communication across edges and vertices
+//! (gobron-chiba, "Triangle Division and Cell Properties" and "Data Communication
+//! in CA").
+//!
+//! **Division.** Each input triangle ABC is laid in its own plane frame — A at the
+//! origin, AB along the x axis, C above it (the paper puts B on an axis and C on
+//! the other; any such frame is equivalent) — and covered by square cells of one
+//! size h. A cell is *active* when it overlaps the triangle with positive area,
+//! otherwise it is an OUT-CELL and does not exist; an active cell is COMP-IN when
+//! its centre is inside the triangle and PART-IN otherwise (Figure 3). The cell's
+//! part inside the triangle is kept as a polygon (the triangle clipped by the
+//! square): the polygons of a triangle's cells tile it exactly, so cell areas sum
+//! to the mesh area and the cells can be drawn without gaps.
+//!
+//! **Neighbourhood.** Inside a triangle a cell has its 8 surrounding cells (4 sides,
+//! 4 corners). Where a neighbour position falls outside the triangle:
+//! - *across an edge*: the neighbour triangle is unfolded about the shared edge
+//!   and the position is mapped to the cell of the neighbour's grid that contains
+//!   it (or the nearest active one) — the paper's pairing of edge cells with the
+//!   nearest cell of the opposite grid along the oriented shared edge (Figure 7),
+//!   computed once;
+//! - *beyond a vertex* (outside two edges): the nearest cell, in 3-D, among the
+//!   cells near that vertex in the other triangles around it, so information
+//!   crosses every vertex;
+//! - on a boundary edge there is no neighbour.
+//!
+//! Links are then made symmetric (if a sees b, b sees a), so conservative rules
+//! stay conservative: every exchange has two ends. The paper transfers edge data
+//! at the end of each step instead; the symmetric graph gives the same reach
+//! without the duplicated cells (deviation, documented).
+//!
+//! **Redundancy.** When the two grids are rotated against each other several cells
+//! map to one cell across the edge (the paper's average 1 − 2√2/π ≈ 9.9 % for
+//! random orientations). [`CellStats::pairing_redundancy`] measures it: the share
+//! of side links across edges (per source triangle and direction) that land on a
+//! cell another such link already reaches.
+
+use asperity_core::{CoreError, MemoryBudget, TriMesh};
+
+/// Where a cell lies relative to its triangle (Figure 3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InFlag {
+    /// Centre inside the triangle.
+    CompIn,
+    /// Overlaps the triangle, centre outside.
+    PartIn,
+}
+
+/// How the cell size is chosen.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CellSize {
+    /// Side h in mesh units.
+    Size(f64),
+    /// About this many cells, border cells included: h solves A/h² + 0.64·P/h = n
+    /// (A the area, P the summed triangle perimeters).
+    Count(usize),
+}
+
+/// Neighbour directions in a cell's own grid: sides first, then corners.
+pub const DIRECTIONS: [(i32, i32); 8] = [
+    (1, 0),
+    (0, 1),
+    (-1, 0),
+    (0, -1),
+    (1, 1),
+    (-1, 1),
+    (-1, -1),
+    (1, -1),
+];
+
+/// Whether direction `k` is a side (`k < 4`) or a corner.
+pub fn is_side(k: u8) -> bool {
+    k < 4
+}
+
+/// The opposite direction.
+pub fn opposite(k: u8) -> u8 {
+    if k < 4 {
+        (k + 2) % 4
+    } else {
+        4 + (k - 4 + 2) % 4
+    }
+}
+
+/// Counts and measurements of a cell structure.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct CellStats {
+    /// Active cells.
+    pub cells: usize,
+    /// COMP-IN cells.
+    pub comp_in: usize,
+    /// PART-IN cells.
+    pub part_in: usize,
+    /// Grid squares of the triangles' bounding boxes that are OUT-CELLs.
+    pub out_cells: usize,
+    /// Cell side h.
+    pub cell_size: f64,
+    /// Shortest triangle edge (h above it gives the paper's Figure 9 failure).
+    pub shortest_edge: f64,
+    /// Directed links created across edges.
+    pub edge_links: usize,
+    /// Directed links created around vertices.
+    pub vertex_links: usize,
+    /// Share of side links across edges (one direction, one source triangle) that
+    /// land on a cell another such link already reaches: the cell receives the same
+    /// edge data twice (the paper's ≈ 9.9 % for random orientations; 0 for grids on
+    /// one lattice).
+    pub pairing_redundancy: f64,
+    /// Human-readable warnings (cell size versus edges, boundaries).
+    pub warnings: Vec<String>,
+}
+
+/// The cell structure of a mesh.
+#[derive(Clone, Debug)]
+pub struct Cells {
+    /// Cell side.
+    pub h: f64,
+    /// Owning triangle per cell.
+    pub triangle: Vec<u32>,
+    /// Grid position (i, j) in the owning triangle's grid.
+    pub ij: Vec<[u32; 2]>,
+    /// Centroid of the cell's part of the triangle (3-D).
+    pub centre: Vec<[f64; 3]>,
+    /// Area of the cell's part of the triangle.
+    pub area: Vec<f64>,
+    /// COMP-IN or PART-IN.
+    pub flag: Vec<InFlag>,
+    /// Unit normal of the owning triangle, per triangle.
+    pub triangle_normal: Vec<[f64; 3]>,
+    poly_offsets: Vec<u32>,
+    poly_points: Vec<[f64; 3]>,
+    nbr_offsets: Vec<u32>,
+    nbr: Vec<u32>,
+    nbr_dir: Vec<u8>,
+    /// Measurements.
+    pub stats: CellStats,
+}
+
+impl Cells {
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.area.len()
+    }
+
+    /// Whether there are no cells.
+    pub fn is_empty(&self) -> bool {
+        self.area.is_empty()
+    }
+
+    /// The neighbours of cell `c` with their directions in `c`'s grid.
+    pub fn neighbours(&self, c: usize) -> impl Iterator<Item = (usize, u8)> + '_ {
+        let (a, b) = (
+            self.nbr_offsets[c] as usize,
+            self.nbr_offsets[c + 1] as usize,
+        );
+        self.nbr[a..b]
+            .iter()
+            .zip(&self.nbr_dir[a..b])
+            .map(|(&n, &d)| (n as usize, d))
+    }
+
+    /// The cell's part of its triangle as a convex polygon (3-D, counter-clockwise
+    /// seen from the triangle's normal).
+    pub fn polygon(&self, c: usize) -> &[[f64; 3]] {
+        &self.poly_points[self.poly_offsets[c] as usize..self.poly_offsets[c + 1] as usize]
+    }
+
+    /// Total area (equals the mesh area up to rounding).
+    pub fn total_area(&self) -> f64 {
+        self.area.iter().sum()
+    }
+}
+
+type V2 = [f64; 2];
+
+fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn norm3(a: [f64; 3]) -> f64 {
+    dot3(a, a).sqrt()
+}
+fn scale3(a: [f64; 3], s: f64) -> [f64; 3] {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
+
+/// A triangle's plane frame and grid.
+#[derive(Clone, Debug)]
+struct Frame {
+    verts: [u32; 3],
+    origin: [f64; 3],
+    e1: [f64; 3],
+    e2: [f64; 3],
+    /// Local corners A, B, C.
+    local: [V2; 3],
+    x0: f64,
+    nx: usize,
+    ny: usize,
+    /// Global cell id per grid square, or u32::MAX (OUT-CELL).
+    lookup: Vec<u32>,
+}
+
+impl Frame {
+    fn to_local(&self, p: [f64; 3]) -> V2 {
+        let d = sub3(p, self.origin);
+        [dot3(d, self.e1), dot3(d, self.e2)]
+    }
+    fn to_world(&self, q: V2) -> [f64; 3] {
+        std::array::from_fn(|k| self.origin[k] + q[0] * self.e1[k] + q[1] * self.e2[k])
+    }
+    fn cell_at(&self, q: V2, h: f64) -> Option<(i64, i64)> {
+        let i = ((q[0] - self.x0) / h).floor() as i64;
+        let j = (q[1] / h).floor() as i64;
+        (i >= 0 && j >= 0 && (i as usize) < self.nx && (j as usize) < self.ny).then_some((i, j))
+    }
+    fn get(&self, i: i64, j: i64) -> Option<u32> {
+        if i < 0 || j < 0 || i as usize >= self.nx || j as usize >= self.ny {
+            return None;
+        }
+        let v = self.lookup[j as usize * self.nx + i as usize];
+        (v != u32::MAX).then_some(v)
+    }
+    /// Signed distance of q inside edge k (edge k runs from corner k to corner k+1).
+    fn edge_inside(&self, q: V2, k: usize) -> f64 {
+        let (a, b) = (self.local[k], self.local[(k + 1) % 3]);
+        let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
+        let len = ex.hypot(ey);
+        // Counter-clockwise triangle: the inside is on the left.
+        (ex * (q[1] - a[1]) - ey * (q[0] - a[0])) / len
+    }
+}
+
+/// Clips a convex polygon by the half-plane `keep(p) ≥ 0`, where keep is affine.
+fn clip(poly: &[V2], keep: impl Fn(V2) -> f64) -> Vec<V2> {
+    let mut out = Vec::with_capacity(poly.len() + 2);
+    for k in 0..poly.len() {
+        let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+        let (fp, fq) = (keep(p), keep(q));
+        if fp >= 0.0 {
+            out.push(p);
+        }
+        if (fp >= 0.0) != (fq >= 0.0) {
+            let t = fp / (fp - fq);
+            out.push([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])]);
+        }
+    }
+    out
+}
+
+fn area_centroid(poly: &[V2]) -> (f64, V2) {
+    let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for k in 0..poly.len() {
+        let (p, q) = (poly[k], poly[(k + 1) % poly.len()]);
+        let c = p[0] * q[1] - q[0] * p[1];
+        a += c;
+        cx += (p[0] + q[0]) * c;
+        cy += (p[1] + q[1]) * c;
+    }
+    let a = 0.5 * a;
+    if a.abs() < 1e-300 {
+        return (0.0, poly.first().copied().unwrap_or([0.0, 0.0]));
+    }
+    (a, [cx / (6.0 * a), cy / (6.0 * a)])
+}
+
+fn invalid(name: &'static str, reason: String) -> CoreError {
+    CoreError::InvalidParameter { name, reason }
+}
+
+/// Builds the cell structure of `mesh` (see the module docs). With
+/// [`CellSize::Count`] the size is estimated, and corrected once by the measured
+/// count when it is more than 10 % off.
+///
+/// # Errors
+/// [`CoreError::InvalidParameter`] for an empty mesh, a degenerate triangle, an
+/// edge shared by more than two triangles or a bad cell size;
+/// [`CoreError::MemoryLimit`] when the estimate exceeds `budget`.
+pub fn build(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<Cells, CoreError> {
+    let first = build_once(mesh, size, budget)?;
+    match size {
+        CellSize::Count(n) if (first.len() as f64 / n as f64 - 1.0).abs() > 0.1 => {
+            let h = first.h * (first.len() as f64 / n as f64).sqrt();
+            build_once(mesh, CellSize::Size(h), budget)
+        }
+        _ => Ok(first),
+    }
+}
+
+fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<Cells, CoreError> {
+    let pos = mesh.positions();
+    let tris = mesh.triangles();
+    if tris.is_empty() {
+        return Err(invalid("mesh", "has no triangles".into()));
+    }
+    let mut total_area = 0.0;
+    let mut perimeter = 0.0;
+    let mut shortest = f64::INFINITY;
+    for (t, tri) in tris.iter().enumerate() {
+        let [a, b, c] = tri.map(|v| pos[v as usize]);
+        let n = cross3(sub3(b, a), sub3(c, a));
+        let area = 0.5 * norm3(n);
+        let longest = norm3(sub3(b, a))
+            .max(norm3(sub3(c, b)))
+            .max(norm3(sub3(a, c)));
+        if area.is_nan() || area <= 1e-12 * longest * longest {
+            return Err(invalid(
+                "mesh",
+                format!(
+                    "triangle {t} is degenerate (area {area:e}); remove it or run with --repair"
+                ),
+            ));
+        }
+        total_area += area;
+        for (p, q) in [(a, b), (b, c), (c, a)] {
+            let l = norm3(sub3(q, p));
+            shortest = shortest.min(l);
+            perimeter += l;
+        }
+    }
+    let h = match size {
+        CellSize::Size(h) => h,
+        CellSize::Count(n) => {
+            if n == 0 {
+                return Err(invalid("cells", "must be at least 1".into()));
+            }
+            // Cells ≈ A/h² + k·P/h: every triangle adds a border of PART-IN cells
+            // along its perimeter P (k ≈ 2/π for random orientations, measured
+            // 0.6–0.7). Solve for 1/h.
+            let k = 0.64;
+            let x = (-k * perimeter
+                + (k * k * perimeter * perimeter + 4.0 * total_area * n as f64).sqrt())
+                / (2.0 * total_area);
+            1.0 / x
+        }
+    };
+    if !(h.is_finite() && h > 0.0) {
+        return Err(invalid("cell size", format!("must be positive, got {h}")));
+    }
+    // ≈ 260 bytes per cell (record, polygon, links); cells ≈ area/h² plus a border.
+    let estimate = (total_area / (h * h)) * 1.3 + 4.0 * tris.len() as f64;
+    budget.check_elements(estimate as u128 + 1, 260, "the surface-CA cells")?;
+
+    // Edge → triangles.
+    let mut edges: std::collections::HashMap<(u32, u32), Vec<(u32, usize)>> =
+        std::collections::HashMap::new();
+    for (t, tri) in tris.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            edges
+                .entry((a.min(b), a.max(b)))
+                .or_default()
+                .push((t as u32, k));
+        }
+    }
+    let mut boundary_edges = 0usize;
+    for (e, list) in &edges {
+        if list.len() > 2 {
+            return Err(invalid(
+                "mesh",
+                format!(
+                    "edge ({}, {}) is shared by {} triangles; surface cells need a manifold mesh",
+                    e.0,
+                    e.1,
+                    list.len()
+                ),
+            ));
+        }
+        if list.len() == 1 {
+            boundary_edges += 1;
+        }
+    }
+
+    // Frames and cells.
+    let mut frames = Vec::with_capacity(tris.len());
+    let mut cells = Cells {
+        h,
+        triangle: Vec::new(),
+        ij: Vec::new(),
+        centre: Vec::new(),
+        area: Vec::new(),
+        flag: Vec::new(),
+        triangle_normal: Vec::with_capacity(tris.len()),
+        poly_offsets: vec![0],
+        poly_points: Vec::new(),
+        nbr_offsets: Vec::new(),
+        nbr: Vec::new(),
+        nbr_dir: Vec::new(),
+        stats: CellStats::default(),
+    };
+    let mut out_cells = 0usize;
+    for (t, tri) in tris.iter().enumerate() {
+        let [a, b, c] = tri.map(|v| pos[v as usize]);
+        let ab = sub3(b, a);
+        let e1 = scale3(ab, 1.0 / norm3(ab));
+        let n = cross3(ab, sub3(c, a));
+        let n = scale3(n, 1.0 / norm3(n));
+        let e2 = cross3(n, e1);
+        cells.triangle_normal.push(n);
+        let mut f = Frame {
+            verts: *tri,
+            origin: a,
+            e1,
+            e2,
+            local: [[0.0, 0.0], [0.0; 2], [0.0; 2]],
+            x0: 0.0,
+            nx: 0,
+            ny: 0,
+            lookup: Vec::new(),
+        };
+        f.local = [[0.0, 0.0], f.to_local(b), f.to_local(c)];
+        let [_, lb, lc] = f.local;
+        f.x0 = lc[0].min(0.0);
+        let xmax = lb[0].max(lc[0]);
+        f.nx = (((xmax - f.x0) / h).ceil() as usize).max(1);
+        f.ny = ((lc[1] / h).ceil() as usize).max(1);
+        f.lookup = vec![u32::MAX; f.nx * f.ny];
+        let tri2 = [f.local[0], lb, lc];
+        for j in 0..f.ny {
+            for i in 0..f.nx {
+                let (xa, ya) = (f.x0 + i as f64 * h, j as f64 * h);
+                let (xb, yb) = (xa + h, ya + h);
+                let mut poly = tri2.to_vec();
+                poly = clip(&poly, |p| p[0] - xa);
+                poly = clip(&poly, |p| xb - p[0]);
+                poly = clip(&poly, |p| p[1] - ya);
+                poly = clip(&poly, |p| yb - p[1]);
+                let (area, centroid) = if poly.len() >= 3 {
+                    area_centroid(&poly)
+                } else {
+                    (0.0, [0.0, 0.0])
+                };
+                if area <= 1e-12 * h * h {
+                    out_cells += 1;
+                    continue;
+                }
+                let id = cells.area.len() as u32;
+                f.lookup[j * f.nx + i] = id;
+                let centre = [xa + 0.5 * h, ya + 0.5 * h];
+                let inside = (0..3).all(|k| f.edge_inside(centre, k) >= 0.0);
+                cells.triangle.push(t as u32);
+                cells.ij.push([i as u32, j as u32]);
+                cells.centre.push(f.to_world(centroid));
+                cells.area.push(area);
+                cells.flag.push(if inside {
+                    InFlag::CompIn
+                } else {
+                    InFlag::PartIn
+                });
+                cells
+                    .poly_points
+                    .extend(poly.iter().map(|&q| f.to_world(q)));
+                cells.poly_offsets.push(cells.poly_points.len() as u32);
+            }
+        }
+        frames.push(f);
+    }
+
+    // Cells near each vertex (for links beyond vertices).
+    let reach = 2.5 * h;
+    let mut near_vertex: std::collections::HashMap<u32, Vec<u32>> =
+        std::collections::HashMap::new();
+    for (t, f) in frames.iter().enumerate() {
+        for k in 0..3 {
+            let v = f.verts[k];
+            let q = f.local[k];
+            let r = (reach / h).ceil() as i64 + 1;
+            let (ci, cj) = (
+                ((q[0] - f.x0) / h).floor() as i64,
+                (q[1] / h).floor() as i64,
+            );
+            for j in cj - r..=cj + r {
+                for i in ci - r..=ci + r {
+                    if let Some(c) = f.get(i, j) {
+                        let d = norm3(sub3(cells.centre[c as usize], pos[v as usize]));
+                        if d <= reach {
+                            near_vertex.entry(v).or_default().push(c);
+                        }
+                    }
+                }
+            }
+            let _ = t;
+        }
+    }
+
+    // Links.
+    let n_cells = cells.area.len();
+    let mut links: Vec<Vec<(u32, u8)>> = vec![Vec::with_capacity(8); n_cells];
+    let mut cross: Vec<(u32, u8, u32, u32)> = Vec::new(); // (src triangle, direction, dst, src)
+    let mut vertex_links = 0usize;
+    let mut edge_links = 0usize;
+    #[allow(clippy::needless_range_loop)] // c indexes several arrays and is stored
+    for c in 0..n_cells {
+        let t = cells.triangle[c] as usize;
+        let f = &frames[t];
+        let [i, j] = cells.ij[c].map(i64::from);
+        for (k, &(dx, dy)) in DIRECTIONS.iter().enumerate() {
+            let k = k as u8;
+            if let Some(n) = f.get(i + dx as i64, j + dy as i64) {
+                links[c].push((n, k));
+                continue;
+            }
+            let q = [
+                f.x0 + (i as f64 + dx as f64 + 0.5) * h,
+                (j as f64 + dy as f64 + 0.5) * h,
+            ];
+            let outside: Vec<usize> = (0..3).filter(|&e| f.edge_inside(q, e) < 0.0).collect();
+            match outside.as_slice() {
+                [e] => {
+                    let (va, vb) = (f.verts[*e], f.verts[(*e + 1) % 3]);
+                    let Some(other) = edges
+                        .get(&(va.min(vb), va.max(vb)))
+                        .and_then(|l| l.iter().find(|(tt, _)| *tt as usize != t))
+                    else {
+                        continue; // boundary edge
+                    };
+                    let g = &frames[other.0 as usize];
+                    // Unfold about the shared edge.
+                    let (a2, b2) = (f.local[*e], f.local[(*e + 1) % 3]);
+                    let u = [b2[0] - a2[0], b2[1] - a2[1]];
+                    let len = u[0].hypot(u[1]);
+                    let u = [u[0] / len, u[1] / len];
+                    let s = (q[0] - a2[0]) * u[0] + (q[1] - a2[1]) * u[1];
+                    let d = -f.edge_inside(q, *e); // > 0: distance beyond the edge
+                    let (ga, gb) = (g.to_local(pos[va as usize]), g.to_local(pos[vb as usize]));
+                    let w = [gb[0] - ga[0], gb[1] - ga[1]];
+                    let wl = w[0].hypot(w[1]);
+                    let w = [w[0] / wl, w[1] / wl];
+                    // Into the other triangle: the side of its third corner.
+                    let third = g.local[(0..3)
+                        .find(|&m| g.verts[m] != va && g.verts[m] != vb)
+                        .unwrap_or(0)];
+                    let mut m = [-w[1], w[0]];
+                    if (third[0] - ga[0]) * m[0] + (third[1] - ga[1]) * m[1] < 0.0 {
+                        m = [w[1], -w[0]];
+                    }
+                    let q2 = [ga[0] + s * w[0] + d * m[0], ga[1] + s * w[1] + d * m[1]];
+                    if let Some(n) = nearest_in(g, q2, h, &cells.centre) {
+                        links[c].push((n, k));
+                        edge_links += 1;
+                        if is_side(k) {
+                            cross.push((t as u32, k, n, c as u32));
+                        }
+                    }
+                }
+                [e1, e2] => {
+                    // Beyond the vertex shared by the two edges.
+                    let v = if (*e1 + 1) % 3 == *e2 {
+                        f.verts[*e2]
+                    } else {
+                        f.verts[*e1]
+                    };
+                    let p = f.to_world(q);
+                    let best = near_vertex.get(&v).and_then(|list| {
+                        list.iter()
+                            .filter(|&&n| cells.triangle[n as usize] as usize != t)
+                            .min_by(|&&a, &&b| {
+                                let da = norm3(sub3(cells.centre[a as usize], p));
+                                let db = norm3(sub3(cells.centre[b as usize], p));
+                                da.total_cmp(&db).then(a.cmp(&b))
+                            })
+                            .copied()
+                    });
+                    if let Some(n) = best {
+                        links[c].push((n, k));
+                        vertex_links += 1;
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    // Redundancy: side links across an edge, in one direction from one triangle,
+    // that land on a cell another such link already reaches (it receives twice).
+    let side_links = cross.len();
+    cross.sort_unstable();
+    let redundant = cross
+        .windows(2)
+        .filter(|w| (w[0].0, w[0].1, w[0].2) == (w[1].0, w[1].1, w[1].2))
+        .count();
+    // Symmetrise.
+    let forward: Vec<(usize, u32, u8)> = links
+        .iter()
+        .enumerate()
+        .flat_map(|(c, l)| l.iter().map(move |&(n, k)| (c, n, k)))
+        .collect();
+    for (c, n, k) in forward {
+        let back = &mut links[n as usize];
+        if !back.iter().any(|&(m, _)| m as usize == c) {
+            back.push((c as u32, opposite(k)));
+        }
+    }
+    cells.nbr_offsets.reserve(n_cells + 1);
+    cells.nbr_offsets.push(0);
+    for l in &mut links {
+        l.sort_by_key(|&(n, k)| (k, n));
+        let mut seen: Vec<u32> = Vec::with_capacity(l.len());
+        for &(n, k) in l.iter() {
+            if n as usize == cells.nbr_offsets.len() - 1 || seen.contains(&n) {
+                continue;
+            }
+            seen.push(n);
+            cells.nbr.push(n);
+            cells.nbr_dir.push(k);
+        }
+        cells.nbr_offsets.push(cells.nbr.len() as u32);
+    }
+    let comp_in = cells.flag.iter().filter(|f| **f == InFlag::CompIn).count();
+    let mut warnings = Vec::new();
+    if h > shortest {
+        warnings.push(format!(
+            "cell size {h:.4} exceeds the shortest triangle edge {shortest:.4}: \
+             neighbours can skip across thin triangles (gobron-chiba Figure 9); use more cells"
+        ));
+    }
+    if boundary_edges > 0 {
+        warnings.push(format!(
+            "the mesh has {boundary_edges} boundary edges; nothing crosses them"
+        ));
+    }
+    cells.stats = CellStats {
+        cells: n_cells,
+        comp_in,
+        part_in: n_cells - comp_in,
+        out_cells,
+        cell_size: h,
+        shortest_edge: shortest,
+        edge_links,
+        vertex_links,
+        pairing_redundancy: if side_links > 0 {
+            redundant as f64 / side_links as f64
+        } else {
+            0.0
+        },
+        warnings,
+    };
+    Ok(cells)
+}
+
+/// The active cell of `g` containing `q`, or the nearest active one (by centroid).
+fn nearest_in(g: &Frame, q: V2, h: f64, centres: &[[f64; 3]]) -> Option<u32> {
+    if let Some((i, j)) = g.cell_at(q, h)
+        && let Some(c) = g.get(i, j)
+    {
+        return Some(c);
+    }
+    let p = g.to_world(q);
+    let (ci, cj) = (
+        ((q[0] - g.x0) / h).floor() as i64,
+        (q[1] / h).floor() as i64,
+    );
+    for r in 1..=3i64 {
+        let mut best: Option<(f64, u32)> = None;
+        for j in cj - r..=cj + r {
+            for i in ci - r..=ci + r {
+                if let Some(c) = g.get(i, j) {
+                    let d = norm3(sub3(centres[c as usize], p));
+                    if best.is_none_or(|(bd, bc)| d < bd || (d == bd && c < bc)) {
+                        best = Some((d, c));
+                    }
+                }
+            }
+        }
+        if let Some((_, c)) = best {
+            return Some(c);
+        }
+    }
+    // A thin triangle far from q: scan it.
+    g.lookup
+        .iter()
+        .filter(|&&c| c != u32::MAX)
+        .min_by(|&&a, &&b| {
+            norm3(sub3(centres[a as usize], p))
+                .total_cmp(&norm3(sub3(centres[b as usize], p)))
+                .then(a.cmp(&b))
+        })
+        .copied()
+}

@@ -1,0 +1,428 @@
+//! Checks against independent references: a plain 2-D grid, exact spherical
+//! distances, conservation, thread-count determinism.
+#![allow(clippy::needless_range_loop)] // cells are indexed across several parallel arrays
+
+use asperity_core::{MemoryBudget, TriMesh, shapes::icosphere};
+use asperity_surfca::Cells;
+use asperity_surfca::cells::{CellSize, build};
+use asperity_surfca::engine::{CellRng, Rule, RunOptions, View, run};
+use asperity_surfca::voronoi::{UNLABELLED, VoronoiRule, voronoi};
+
+fn unlimited() -> MemoryBudget {
+    MemoryBudget::unlimited()
+}
+
+/// The same growth rule on a plain square grid (independent implementation).
+fn plain_grid_disc(steps: usize, p: f64, seed: u64) -> (usize, f64) {
+    let n = 2 * steps + 11;
+    let c = n / 2;
+    let mut g = vec![false; n * n];
+    g[c * n + c] = true;
+    let mut state = seed | 1;
+    let mut rand = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for _ in 0..steps {
+        let old = g.clone();
+        for y in 1..n - 1 {
+            for x in 1..n - 1 {
+                if old[y * n + x] {
+                    continue;
+                }
+                let side = old[y * n + x + 1]
+                    || old[y * n + x - 1]
+                    || old[(y + 1) * n + x]
+                    || old[(y - 1) * n + x];
+                if side {
+                    g[y * n + x] = true;
+                    continue;
+                }
+                for (dx, dy) in [(1i64, 1i64), (-1, 1), (-1, -1), (1, -1)] {
+                    let (xx, yy) = ((x as i64 + dx) as usize, (y as i64 + dy) as usize);
+                    if old[yy * n + xx] && rand() < p {
+                        g[y * n + x] = true;
+                        break;
+                    }
+                }
+            }
+        }
+    }
+    let count = g.iter().filter(|&&b| b).count();
+    // Completeness inside radius steps − 2.
+    let r = steps as f64 - 2.0;
+    let (mut inside, mut hit) = (0usize, 0usize);
+    for y in 0..n {
+        for x in 0..n {
+            let d = ((x as f64 - c as f64).powi(2) + (y as f64 - c as f64).powi(2)).sqrt();
+            if d < r {
+                inside += 1;
+                hit += usize::from(g[y * n + x]);
+            }
+        }
+    }
+    (count, hit as f64 / inside as f64)
+}
+
+fn disc_on(mesh: &TriMesh, seed_at: [f64; 3], steps: u64) -> (f64, f64, Cells) {
+    let cells = build(mesh, CellSize::Size(1.0), &unlimited()).unwrap();
+    let site = asperity_surfca::voronoi::sites_at(&cells, &[seed_at]);
+    let centre = cells.centre[site[0]];
+    let (labels, _) = voronoi(
+        &cells,
+        &site,
+        &VoronoiRule {
+            diagonal_p: asperity_surfca::voronoi::PAPER_P,
+        },
+        5,
+        steps,
+        |_, _| true,
+    );
+    let r = steps as f64;
+    let (mut area, mut inside, mut inside_hit) = (0.0, 0.0, 0.0);
+    for c in 0..cells.len() {
+        let q = cells.centre[c];
+        let d = ((q[0] - centre[0]).powi(2) + (q[1] - centre[1]).powi(2)).sqrt();
+        let labelled = labels[c] != UNLABELLED;
+        if labelled {
+            area += cells.area[c];
+        }
+        if d < r - 2.0 {
+            inside += cells.area[c];
+            if labelled {
+                inside_hit += cells.area[c];
+            }
+        }
+    }
+    (area, inside_hit / inside, cells)
+}
+
+#[test]
+fn growth_on_flat_triangles_matches_the_plain_grid_disc() {
+    let steps = 70;
+    let (plain_area, plain_complete) = plain_grid_disc(steps, asperity_surfca::voronoi::PAPER_P, 9);
+    let disc = std::f64::consts::PI * (steps as f64).powi(2);
+    assert!(plain_complete > 0.99, "{plain_complete}");
+    assert!(
+        (plain_area as f64 / disc - 1.0).abs() < 0.05,
+        "plain grid {plain_area} vs πr² {disc}"
+    );
+
+    // Two coplanar triangles: a square split by its diagonal.
+    let s = 90.0;
+    let square = TriMesh::new(
+        vec![[-s, -s, 0.0], [s, -s, 0.0], [s, s, 0.0], [-s, s, 0.0]],
+        vec![[0, 1, 2], [0, 2, 3]],
+    )
+    .unwrap();
+    let (area, complete, cells) = disc_on(&square, [3.3, -2.1, 0.0], steps as u64);
+    assert!(complete >= 0.99, "two triangles: {complete}");
+    assert!(
+        (area / plain_area as f64 - 1.0).abs() < 0.05,
+        "two triangles: {area} vs {plain_area}"
+    );
+    assert!((cells.total_area() - 4.0 * s * s).abs() < 1e-6 * s * s);
+
+    // The same square split so both grids lie on one lattice (axes along ±x, 2s/h
+    // integer): no redundancy, as the paper notes for well-organised triangles.
+    let aligned = TriMesh::new(
+        vec![[-s, -s, 0.0], [s, -s, 0.0], [s, s, 0.0], [-s, s, 0.0]],
+        vec![[0, 1, 2], [2, 3, 0]],
+    )
+    .unwrap();
+    let (area, complete, cells) = disc_on(&aligned, [3.3, -2.1, 0.0], steps as u64);
+    assert!(complete >= 0.99 && (area / plain_area as f64 - 1.0).abs() < 0.05);
+    assert!(cells.stats.pairing_redundancy < 1e-9, "{:?}", cells.stats);
+
+    // Twelve triangles around a point: grids rotated by 30° steps against each other.
+    let mut pos = vec![[0.0, 0.0, 0.0]];
+    for k in 0..12 {
+        let a = std::f64::consts::TAU * (k as f64 + 0.37) / 12.0;
+        pos.push([105.0 * a.cos(), 105.0 * a.sin(), 0.0]);
+    }
+    let tris = (0..12u32).map(|k| [0, 1 + k, 1 + (k + 1) % 12]).collect();
+    let fan = TriMesh::new(pos, tris).unwrap();
+    let (area, complete, cells) = disc_on(&fan, [15.0, 8.0, 0.0], steps as u64);
+    assert!(complete >= 0.99, "fan: {complete}");
+    assert!(
+        (area / disc - 1.0).abs() < 0.06,
+        "fan: {area} vs πr² {disc}"
+    );
+    let red = cells.stats.pairing_redundancy;
+    assert!(red > 0.0 && red < 0.5, "redundancy {red}");
+}
+
+#[test]
+fn sphere_voronoi_agrees_with_exact_spherical_distance() {
+    let mesh = icosphere(3, 1.0);
+    let cells = build(&mesh, CellSize::Count(40_000), &unlimited()).unwrap();
+    assert!((cells.total_area() - mesh.area()).abs() < 1e-9 * mesh.area());
+    let sites = asperity_surfca::voronoi::random_sites(&cells, 12, 3);
+    let (labels, stats) = voronoi(
+        &cells,
+        &sites,
+        &VoronoiRule {
+            diagonal_p: asperity_surfca::voronoi::PAPER_P,
+        },
+        3,
+        10_000,
+        |_, _| true,
+    );
+    assert!(stats.stable);
+    assert!(
+        labels.iter().all(|&l| l != UNLABELLED),
+        "closed surface: every cell reached"
+    );
+    let unit = |p: [f64; 3]| {
+        let n = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+        [p[0] / n, p[1] / n, p[2] / n]
+    };
+    let site_dirs: Vec<[f64; 3]> = sites.iter().map(|&c| unit(cells.centre[c])).collect();
+    let (mut agree, mut total) = (0.0, 0.0);
+    for c in 0..cells.len() {
+        let p = unit(cells.centre[c]);
+        let exact = (0..site_dirs.len())
+            .max_by(|&a, &b| {
+                let d = |s: [f64; 3]| s[0] * p[0] + s[1] * p[1] + s[2] * p[2];
+                d(site_dirs[a]).total_cmp(&d(site_dirs[b]))
+            })
+            .unwrap();
+        total += cells.area[c];
+        if labels[c] as usize == exact {
+            agree += cells.area[c];
+        }
+    }
+    assert!(agree / total >= 0.95, "agreement {:.4}", agree / total);
+}
+
+/// Mass diffusion: m_i ← m_i + D Σ_j (m_j − m_i), conservative on a symmetric graph.
+struct Diffusion;
+
+impl Rule for Diffusion {
+    type State = f64;
+    fn next(&self, cell: usize, view: &View<'_, f64>, _rng: &mut CellRng) -> f64 {
+        let m = view.states[cell];
+        m + 0.05
+            * view
+                .cells
+                .neighbours(cell)
+                .map(|(n, _)| view.states[n] - m)
+                .sum::<f64>()
+    }
+}
+
+#[test]
+fn nothing_is_lost_or_duplicated_across_edges() {
+    let mesh = icosphere(2, 1.0);
+    let cells = build(&mesh, CellSize::Count(6_000), &unlimited()).unwrap();
+    // Symmetric links, at least 3 per cell, none to itself.
+    for c in 0..cells.len() {
+        let n: Vec<usize> = cells.neighbours(c).map(|(n, _)| n).collect();
+        assert!(
+            n.len() >= 3 && n.len() <= 16,
+            "cell {c}: {} neighbours",
+            n.len()
+        );
+        for &m in &n {
+            assert_ne!(m, c);
+            assert!(
+                cells.neighbours(m).any(|(k, _)| k == c),
+                "{c} → {m} not mutual"
+            );
+        }
+    }
+    let mut states: Vec<f64> = (0..cells.len())
+        .map(|c| if c % 97 == 0 { 100.0 } else { 0.0 })
+        .collect();
+    let before: f64 = states.iter().sum();
+    run(
+        &cells,
+        &Diffusion,
+        &mut states,
+        &RunOptions {
+            seed: 1,
+            max_steps: 1000,
+            stop_when_stable: false,
+        },
+        |_, _| true,
+    );
+    let after: f64 = states.iter().sum();
+    assert!((after - before).abs() < 1e-9 * before, "{before} → {after}");
+    // And it spread everywhere.
+    let mean = after / states.len() as f64;
+    assert!(states.iter().all(|&m| (m - mean).abs() < 0.5 * mean));
+}
+
+#[test]
+fn same_seed_same_labels_at_any_thread_count() {
+    let mesh = icosphere(2, 1.0);
+    let cells = build(&mesh, CellSize::Count(8_000), &unlimited()).unwrap();
+    let sites = asperity_surfca::voronoi::random_sites(&cells, 7, 11);
+    let go = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                voronoi(
+                    &cells,
+                    &sites,
+                    &VoronoiRule { diagonal_p: 0.2 },
+                    11,
+                    10_000,
+                    |_, _| true,
+                )
+                .0
+            })
+    };
+    assert_eq!(go(1), go(2));
+}
+
+#[test]
+fn bad_meshes_and_sizes_are_refused() {
+    let flat = TriMesh::new(
+        vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]],
+        vec![[0, 1, 2]],
+    )
+    .unwrap();
+    let e = build(&flat, CellSize::Count(10), &unlimited())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("degenerate"), "{e}");
+    let mesh = icosphere(1, 1.0);
+    assert!(build(&mesh, CellSize::Size(0.0), &unlimited()).is_err());
+    assert!(build(&mesh, CellSize::Count(0), &unlimited()).is_err());
+    let e = build(
+        &mesh,
+        CellSize::Count(100_000_000),
+        &MemoryBudget::new(1 << 20),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("surface-CA cells"), "{e}");
+    // A cell bigger than the edges warns (Figure 9).
+    let c = build(&mesh, CellSize::Size(0.9), &unlimited()).unwrap();
+    assert!(c.stats.warnings.iter().any(|w| w.contains("Figure 9")));
+}
+
+mod corrosion {
+    use super::*;
+    use asperity_surfca::corrosion::{Behaviour, CorrosionParams, corrode, initial};
+
+    fn sphere_cells() -> Cells {
+        build(&icosphere(2, 1.0), CellSize::Count(8_000), &unlimited()).unwrap()
+    }
+
+    #[test]
+    fn layers_follow_appendix_one() {
+        let cells = sphere_cells();
+        let p = CorrosionParams {
+            seed_rate: 0.0,
+            attack: 0.0,
+            k1: 0.01,
+            k2: 0.03,
+            k3: 0.5,
+            ..CorrosionParams::default()
+        };
+        let mut s = initial(&cells, &p, 1);
+        s[123].behaviour = Behaviour::Corroded;
+        corrode(&cells, &p, &mut s, 1, 60, |_, _| true);
+        let c = s[123];
+        assert_eq!(c.behaviour, Behaviour::Corroded);
+        assert!((c.metal - (1.0 - 60.0 * 0.01)).abs() < 1e-5, "{c:?}");
+        assert!((c.oxide - 0.5).abs() < 1e-6, "capped at k3: {c:?}");
+        assert_eq!(c.age, 60);
+        // Without attack nothing else corrodes.
+        assert_eq!(
+            s.iter().filter(|x| x.behaviour != Behaviour::Metal).count(),
+            1
+        );
+        corrode(&cells, &p, &mut s, 1, 40, |_, _| true);
+        assert_eq!(
+            s[123].behaviour,
+            Behaviour::NonExistent,
+            "metal used up after 100 steps"
+        );
+        assert_eq!(s[123].metal, 0.0);
+    }
+
+    #[test]
+    fn strong_cells_slow_the_spread_and_runs_are_deterministic() {
+        let cells = sphere_cells();
+        let spread = |strong: f64| {
+            let p = CorrosionParams {
+                strong_fraction: strong,
+                ..CorrosionParams::default()
+            };
+            let mut s = initial(&cells, &p, 4);
+            for c in [10, 2000, 5000] {
+                s[c].behaviour = Behaviour::Corroded;
+            }
+            corrode(&cells, &p, &mut s, 4, 120, |_, _| true);
+            s.iter()
+                .filter(|x| x.behaviour == Behaviour::Corroded)
+                .count()
+        };
+        let (weak, strong) = (spread(0.0), spread(1.0));
+        assert!(
+            weak > 2 * strong && strong >= 3,
+            "weak {weak}, strong {strong}"
+        );
+        let go = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    let p = CorrosionParams {
+                        seed_rate: 1e-3,
+                        strong_noise_scale: Some(0.3),
+                        ..CorrosionParams::default()
+                    };
+                    let mut s = initial(&cells, &p, 9);
+                    corrode(&cells, &p, &mut s, 9, 100, |_, _| true);
+                    s
+                })
+        };
+        assert_eq!(go(1), go(2));
+    }
+
+    #[test]
+    fn bad_parameters_are_named() {
+        let bad = |p: CorrosionParams, needle: &str| {
+            let e = p.validate().unwrap_err();
+            assert!(e.contains(needle), "{e}");
+        };
+        bad(
+            CorrosionParams {
+                max_attacked: 8,
+                ..Default::default()
+            },
+            "max-attacked",
+        );
+        bad(
+            CorrosionParams {
+                seed_rate: 2.0,
+                ..Default::default()
+            },
+            "seed-rate",
+        );
+        bad(
+            CorrosionParams {
+                k1: f32::NAN,
+                ..Default::default()
+            },
+            "k1",
+        );
+        bad(
+            CorrosionParams {
+                sigma: 0.0,
+                ..Default::default()
+            },
+            "sigma",
+        );
+        assert!(CorrosionParams::default().validate().is_ok());
+    }
+}
