@@ -127,6 +127,8 @@ pub struct Cells {
     pub flag: Vec<InFlag>,
     /// Unit normal of the owning triangle, per triangle.
     pub triangle_normal: Vec<[f64; 3]>,
+    /// Sum of the cell areas (the mesh area up to rounding).
+    pub total_area: f64,
     poly_offsets: Vec<u32>,
     poly_points: Vec<[f64; 3]>,
     nbr_offsets: Vec<u32>,
@@ -163,11 +165,6 @@ impl Cells {
     /// seen from the triangle's normal).
     pub fn polygon(&self, c: usize) -> &[[f64; 3]] {
         &self.poly_points[self.poly_offsets[c] as usize..self.poly_offsets[c + 1] as usize]
-    }
-
-    /// Total area (equals the mesh area up to rounding).
-    pub fn total_area(&self) -> f64 {
-        self.area.iter().sum()
     }
 }
 
@@ -389,6 +386,7 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
         area: Vec::new(),
         flag: Vec::new(),
         triangle_normal: Vec::with_capacity(tris.len()),
+        total_area: 0.0,
         poly_offsets: vec![0],
         poly_points: Vec::new(),
         nbr_offsets: Vec::new(),
@@ -613,6 +611,7 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
         }
         cells.nbr_offsets.push(cells.nbr.len() as u32);
     }
+    cells.total_area = cells.area.iter().sum();
     let comp_in = cells.flag.iter().filter(|f| **f == InFlag::CompIn).count();
     let mut warnings = Vec::new();
     if h > shortest {

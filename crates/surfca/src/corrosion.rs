@@ -246,6 +246,13 @@ impl Rule for CorrosionRule {
                 s
             }
             Behaviour::Metal => {
+                if !view
+                    .cells
+                    .neighbours(cell)
+                    .any(|(n, _)| view.states[n].behaviour == Behaviour::Corroded)
+                {
+                    return s;
+                }
                 // Defence from the cell and its neighbourhood.
                 let (mut strong, mut count) = (0usize, 0usize);
                 for (n, _) in view.cells.neighbours(cell) {

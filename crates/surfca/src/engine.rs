@@ -126,31 +126,6 @@ pub struct RunStats {
 /// the thread count.
 const CHUNK: usize = 4096;
 
-fn fractions<R: Rule>(rule: &R, cells: &Cells, states: &[R::State], total: f64) -> Vec<f64> {
-    let k = rule.classes().len();
-    if k == 0 {
-        return Vec::new();
-    }
-    let parts: Vec<Vec<f64>> = states
-        .par_chunks(CHUNK)
-        .zip(cells.area.par_chunks(CHUNK))
-        .map(|(s, a)| {
-            let mut acc = vec![0.0; k];
-            for (s, a) in s.iter().zip(a) {
-                acc[rule.class(s).min(k - 1)] += a;
-            }
-            acc
-        })
-        .collect();
-    let mut acc = vec![0.0; k];
-    for p in parts {
-        for (x, y) in acc.iter_mut().zip(p) {
-            *x += y;
-        }
-    }
-    acc.iter().map(|x| x / total).collect()
-}
-
 /// One synchronous step: `next` receives the new states (update and change count
 /// in one parallel pass over fixed chunks), then the buffers are swapped so
 /// `states` holds them.
@@ -167,26 +142,41 @@ pub fn step<R: Rule>(
         states,
         step,
     };
-    let changed: u64 = next
+    let k = rule.classes().len();
+    // Per chunk: cells changed and area per class of the new states, added in
+    // chunk order afterwards (the same sums at any thread count).
+    let parts: Vec<(u64, Vec<f64>)> = next
         .par_chunks_mut(CHUNK)
         .enumerate()
-        .map(|(k, out)| {
-            let base = k * CHUNK;
+        .map(|(chunk, out)| {
+            let base = chunk * CHUNK;
             let mut changed = 0u64;
+            let mut area = vec![0.0; k];
             for (i, slot) in out.iter_mut().enumerate() {
                 let c = base + i;
                 *slot = rule.next(c, &view, &mut CellRng::new(seed, step, c as u64));
                 changed += u64::from(*slot != view.states[c]);
+                if k > 0 {
+                    area[rule.class(slot).min(k - 1)] += cells.area[c];
+                }
             }
-            changed
+            (changed, area)
         })
-        .sum();
+        .collect();
     std::mem::swap(states, next);
-    let total_area: f64 = cells.area.iter().sum();
+    let mut changed = 0;
+    let mut area = vec![0.0; k];
+    for (c, a) in parts {
+        changed += c;
+        for (x, y) in area.iter_mut().zip(a) {
+            *x += y;
+        }
+    }
+    let total = cells.total_area;
     StepStats {
         step,
         changed,
-        class_fraction: fractions(rule, cells, states, total_area),
+        class_fraction: area.iter().map(|x| x / total).collect(),
     }
 }
 
