@@ -782,6 +782,8 @@ pub enum SurfaceApp {
     Voronoi,
     /// Copper corrosion and its green patina.
     Corrosion,
+    /// Gray–Scott reaction–diffusion (spots, stripes) on the surface.
+    GrayScott,
 }
 
 /// `asperity surface-ca`
@@ -801,6 +803,21 @@ pub struct SurfaceCaArgs {
     /// Voronoi: number of random sites (area-weighted).
     #[arg(long, default_value_t = 12)]
     pub sites: usize,
+    /// Voronoi: sites at these points instead (any point-set file; the nearest cell each).
+    #[arg(long, value_name = "FILE", conflicts_with = "sites")]
+    pub site_points: Option<PathBuf>,
+    /// Write the coloured cell mesh every K steps as OUT_stepNNNN.EXT (animation frames).
+    #[arg(long, value_name = "K")]
+    pub frames: Option<u64>,
+    /// Gray–Scott: feed rate F.
+    #[arg(long, default_value_t = 0.0367)]
+    pub feed: f32,
+    /// Gray–Scott: kill rate k.
+    #[arg(long, default_value_t = 0.0649)]
+    pub kill: f32,
+    /// Gray–Scott: number of seeded patches.
+    #[arg(long, default_value_t = 20)]
+    pub patches: usize,
     /// Voronoi: probability that a corner neighbour passes its label (default √2/2 − ½, the
     /// paper's; (√2 − 1)² ≈ 0.1716 is isotropic at large radii).
     #[arg(long)]
@@ -808,7 +825,7 @@ pub struct SurfaceCaArgs {
     /// Step limit (Voronoi stops earlier when no cell changes).
     #[arg(long, default_value_t = 100_000)]
     pub max_steps: u64,
-    /// Corrosion: steps to run.
+    /// Corrosion and Gray–Scott: steps to run.
     #[arg(long, default_value_t = 600)]
     pub steps: u64,
     /// Corrosion: metal lost per corroded step (k1).

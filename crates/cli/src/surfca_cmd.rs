@@ -108,6 +108,49 @@ pub fn cell_mesh(
         .with_normals(normals)?)
 }
 
+/// `dir/stem_stepNNNN.ext` next to `out`.
+fn frame_path(out: &Path, step: u64) -> std::path::PathBuf {
+    let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
+    let ext = out.extension().and_then(|s| s.to_str()).unwrap_or("ply");
+    out.with_file_name(format!("{stem}_step{step:04}.{ext}"))
+}
+
+/// Writes an animation frame when `--frames K` asks for this step; the first
+/// error is kept and reported after the run.
+struct Frames<'a> {
+    every: Option<u64>,
+    out: &'a Path,
+    written: Vec<std::path::PathBuf>,
+    error: Option<anyhow::Error>,
+}
+
+impl Frames<'_> {
+    fn maybe(&mut self, step: u64, mesh: impl FnOnce() -> anyhow::Result<TriMesh>) {
+        let Some(k) = self.every else { return };
+        if self.error.is_some() || !step.is_multiple_of(k) {
+            return;
+        }
+        let path = frame_path(self.out, step);
+        match mesh().and_then(|m| {
+            asperity_io::write_mesh(&path, &m, &WriteOptions::default())
+                .with_context(|| format!("writing {}", path.display()))
+        }) {
+            Ok(()) => self.written.push(path),
+            Err(e) => self.error = Some(e),
+        }
+    }
+
+    fn finish(self, report: &mut Report) -> anyhow::Result<()> {
+        if let Some(e) = self.error {
+            return Err(e);
+        }
+        for p in &self.written {
+            report.output(p);
+        }
+        Ok(())
+    }
+}
+
 fn stats_csv(s: &RunStats, n: usize, classes: &[&str]) -> String {
     let mut t = String::from("step,changed,changed_fraction");
     for c in classes {
@@ -159,8 +202,12 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
     ));
     match a.app {
         SurfaceApp::Corrosion => corrosion(ctx, a, &mesh, &cells, &out, &mut report)?,
+        SurfaceApp::GrayScott => gray_scott(ctx, a, &mesh, &cells, &out, &mut report)?,
         SurfaceApp::Voronoi => {
-            anyhow::ensure!(a.sites >= 1, "--sites must be at least 1");
+            anyhow::ensure!(
+                a.sites >= 1 || a.site_points.is_some(),
+                "--sites must be at least 1"
+            );
             anyhow::ensure!(
                 a.sites <= cells.len(),
                 "--sites {} exceeds the {} cells; use more cells",
@@ -172,22 +219,40 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
                 (0.0..=1.0).contains(&p),
                 "--diagonal-p must be in [0, 1], got {p}"
             );
-            let sites = random_sites(&cells, a.sites, ctx.seed);
+            let sites = match &a.site_points {
+                Some(path) => {
+                    let pts = asperity_io::read_points(path)
+                        .with_context(|| format!("reading sites from {}", path.display()))?;
+                    anyhow::ensure!(!pts.is_empty(), "{}: no site points", path.display());
+                    asperity_surfca::voronoi::sites_at(&cells, pts.positions())
+                }
+                None => random_sites(&cells, a.sites, ctx.seed),
+            };
             let bar = Bar::new(ctx.quiet || ctx.json);
             bar.start(0, "surface Voronoi");
             let t = Instant::now();
+            let mut frames = Frames {
+                every: a.frames,
+                out: &out,
+                written: Vec::new(),
+                error: None,
+            };
             let (labels, stats) = voronoi(
                 &cells,
                 &sites,
                 &VoronoiRule { diagonal_p: p },
                 ctx.seed,
                 a.max_steps,
-                |_, _| {
+                |step, labels| {
                     bar.advance(1);
+                    frames.maybe(step, || {
+                        cell_mesh(&mesh, &cells, |c| label_color(labels[c]))
+                    });
                     true
                 },
             );
             bar.finish();
+            frames.finish(&mut report)?;
             let secs = t.elapsed().as_secs_f64();
             report.measure("run_s", secs);
             report.measure(
@@ -303,11 +368,26 @@ fn corrosion(
     let bar = Bar::new(ctx.quiet || ctx.json);
     bar.start(a.steps, "corrosion");
     let t = Instant::now();
-    let stats = corrode(cells, &params, &mut states, ctx.seed, a.steps, |_, _| {
-        bar.advance(1);
-        true
-    });
+    let mut frames = Frames {
+        every: a.frames,
+        out,
+        written: Vec::new(),
+        error: None,
+    };
+    let stats = corrode(
+        cells,
+        &params,
+        &mut states,
+        ctx.seed,
+        a.steps,
+        |step, st| {
+            bar.advance(1);
+            frames.maybe(step, || cell_mesh(mesh, cells, |c| patina_color(&st[c])));
+            true
+        },
+    );
     bar.finish();
+    frames.finish(report)?;
     let secs = t.elapsed().as_secs_f64();
     report.measure("run_s", secs);
     report.measure(
@@ -353,6 +433,91 @@ fn corrosion(
         cells.len(),
         100.0 * count(Behaviour::Corroded) as f64 / cells.len() as f64,
         100.0 * count(Behaviour::NonExistent) as f64 / cells.len() as f64,
+        out.display()
+    ));
+    Ok(())
+}
+
+/// Colour of a Gray–Scott cell: v through viridis.
+fn rd_color(s: &asperity_surfca::reaction_diffusion::Chemicals) -> [u8; 4] {
+    let c = asperity_render::ColorMap::Viridis.map((s.v as f64 / 0.45).clamp(0.0, 1.0));
+    [c[0], c[1], c[2], 255]
+}
+
+fn gray_scott(
+    ctx: &Context,
+    a: &SurfaceCaArgs,
+    mesh: &TriMesh,
+    cells: &Cells,
+    out: &Path,
+    report: &mut Report,
+) -> anyhow::Result<()> {
+    use asperity_surfca::engine::{RunOptions, run};
+    use asperity_surfca::reaction_diffusion::{GrayScott, seeded_state};
+    let rule = GrayScott {
+        feed: a.feed,
+        kill: a.kill,
+        ..GrayScott::default()
+    };
+    rule.validate()
+        .map_err(|e| anyhow::anyhow!("gray-scott: {e}"))?;
+    anyhow::ensure!(a.patches >= 1, "--patches must be at least 1");
+    let mut states = seeded_state(cells, a.patches.min(cells.len()), ctx.seed);
+    let bar = Bar::new(ctx.quiet || ctx.json);
+    bar.start(a.steps, "reaction-diffusion");
+    let mut frames = Frames {
+        every: a.frames,
+        out,
+        written: Vec::new(),
+        error: None,
+    };
+    let t = Instant::now();
+    let stats = run(
+        cells,
+        &rule,
+        &mut states,
+        &RunOptions {
+            seed: ctx.seed,
+            max_steps: a.steps,
+            stop_when_stable: false,
+        },
+        |step, st| {
+            bar.advance(1);
+            frames.maybe(step, || cell_mesh(mesh, cells, |c| rd_color(&st[c])));
+            true
+        },
+    );
+    bar.finish();
+    frames.finish(report)?;
+    let secs = t.elapsed().as_secs_f64();
+    let m = cell_mesh(mesh, cells, |c| rd_color(&states[c]))?.with_scalar(
+        "activator",
+        (0..cells.len())
+            .flat_map(|c| std::iter::repeat_n(states[c].v as f64, cells.polygon(c).len()))
+            .collect(),
+    )?;
+    asperity_io::write_mesh(out, &m, &WriteOptions::default())
+        .with_context(|| format!("writing {}", out.display()))?;
+    report.output(out);
+    write_stats(
+        a,
+        &stats,
+        cells.len(),
+        asperity_surfca::Rule::classes(&rule),
+        report,
+    )?;
+    report.measure("app", "gray-scott");
+    report.measure("cells", cells.len());
+    report.measure("steps", stats.steps);
+    report.measure("run_s", secs);
+    report.measure(
+        "activator_fraction",
+        stats.per_step.last().map_or(0.0, |s| s.class_fraction[1]),
+    );
+    ctx.note(format!(
+        "{} Gray–Scott steps over {} cells in {secs:.2} s; written to {}",
+        stats.steps,
+        cells.len(),
         out.display()
     ));
     Ok(())

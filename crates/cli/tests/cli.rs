@@ -1349,6 +1349,69 @@ fn surface_ca_as_documented() {
         ),
         "max-attacked",
     );
+    // A third application, sites from a file, animation frames.
+    let o = asperity(
+        &[
+            "surface-ca",
+            "builtin:sphere",
+            "--app",
+            "gray-scott",
+            "--cells",
+            "4000",
+            "--steps",
+            "200",
+            "--frames",
+            "100",
+            "-o",
+            "rd.ply",
+            "-q",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        asperity_io::read_mesh(&dir.join("rd.ply"))
+            .unwrap()
+            .scalar("activator")
+            .is_some()
+    );
+    assert!(dir.join("rd_step0100.ply").exists() && dir.join("rd_step0200.ply").exists());
+    std::fs::write(dir.join("sites.xyz"), "0 0 1\n0 0 -1\n1 0 0\n").unwrap();
+    let o = asperity(
+        &[
+            "surface-ca",
+            "builtin:sphere",
+            "--site-points",
+            "sites.xyz",
+            "--cells",
+            "4000",
+            "-o",
+            "s.ply",
+            "--json",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let sites = v["measurements"]["sites"].as_array().unwrap();
+    assert_eq!(sites.len(), 3);
+    assert!(sites[0][2].as_f64().unwrap() > 0.95, "{}", sites[0]);
+    assert_clean_failure(
+        &asperity(
+            &[
+                "surface-ca",
+                "builtin:cube",
+                "--app",
+                "gray-scott",
+                "--feed",
+                "0.9",
+                "-o",
+                "x.glb",
+            ],
+            dir,
+        ),
+        "feed",
+    );
     for (args, needle) in [
         (
             vec!["surface-ca", "builtin:teapot", "-o", "x.glb"],

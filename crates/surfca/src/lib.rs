@@ -2,15 +2,16 @@
 //! cellular automata and their applications* (1999) — [gobron-chiba].
 //!
 //! **Status: partial** (issue "Cellular automata on any triangle mesh"): the cell
-//! structure, the general engine, the surface Voronoi diagram and copper
-//! corrosion with its patina colour are done; a third application, texture-atlas
-//! output and thickness displacement are still to come.
+//! structure, the general engine, the surface Voronoi diagram, copper corrosion
+//! with its patina colour and Gray–Scott reaction–diffusion are done;
+//! texture-atlas output and thickness displacement are still to come.
 //!
 //! | Module | What | Paper section |
 //! | --- | --- | --- |
 //! | [`cells`] | per-triangle cell grids, in/out flags, links across edges and vertices | "Triangle Division and Cell Properties", "Data Communication in CA" |
 //! | [`engine`] | rule trait, synchronous parallel updates, counter-based randomness, per-step statistics | Appendix 2 |
 //! | [`voronoi`](mod@voronoi) | surface Voronoi diagrams by regular probabilistic growth | "3D Surface Voronoi Diagram", Figure 14 |
+//! | [`reaction_diffusion`] | Gray–Scott reaction–diffusion: a third application on the same engine | (engine generality) |
 //! | [`corrosion`] | copper corrosion: strong cells, seeds, attack/defence, metal and oxide thickness | "Corrosion and Patina Generation", Appendix I |
 //!
 //! [gobron-chiba]: ../shared/papers/gobron-chiba_3d-surface-cellular-automata.txt
@@ -18,6 +19,7 @@
 pub mod cells;
 pub mod corrosion;
 pub mod engine;
+pub mod reaction_diffusion;
 pub mod voronoi;
 
 pub use cells::{CellSize, Cells, InFlag, build};

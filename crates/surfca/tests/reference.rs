@@ -426,3 +426,179 @@ mod corrosion {
         assert!(CorrosionParams::default().validate().is_ok());
     }
 }
+
+/// A torus of radii (big, small) as a closed, outward-oriented grid mesh.
+fn torus(big: f64, small: f64, nu: usize, nv: usize) -> TriMesh {
+    let tau = std::f64::consts::TAU;
+    let mut pos = Vec::with_capacity(nu * nv);
+    for i in 0..nu {
+        for j in 0..nv {
+            let (u, v) = (tau * i as f64 / nu as f64, tau * j as f64 / nv as f64);
+            let r = big + small * v.cos();
+            pos.push([r * u.cos(), r * u.sin(), small * v.sin()]);
+        }
+    }
+    let id = |i: usize, j: usize| ((i % nu) * nv + j % nv) as u32;
+    let mut tris = Vec::new();
+    for i in 0..nu {
+        for j in 0..nv {
+            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    TriMesh::new(pos, tris).unwrap()
+}
+
+#[test]
+fn torus_voronoi_agrees_with_geodesic_distances_on_a_fine_mesh() {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let (big, small) = (1.0, 0.4);
+    let mesh = torus(big, small, 48, 16);
+    assert!(mesh.is_watertight() && mesh.signed_volume() > 0.0);
+    let cells = build(&mesh, CellSize::Count(30_000), &unlimited()).unwrap();
+    let sites = asperity_surfca::voronoi::random_sites(&cells, 8, 5);
+    let (labels, stats) = voronoi(
+        &cells,
+        &sites,
+        &VoronoiRule {
+            diagonal_p: asperity_surfca::voronoi::PAPER_P,
+        },
+        5,
+        10_000,
+        |_, _| true,
+    );
+    assert!(stats.stable && labels.iter().all(|&l| l != UNLABELLED));
+    // Reference: multi-source Dijkstra on a fine parametric grid of the smooth
+    // torus with 16 neighbours per node (axis, diagonal and knight moves: path
+    // lengths within ~3 % of geodesics), independent of the cell structure.
+    let (nu, nv) = (720usize, 288usize);
+    let tau = std::f64::consts::TAU;
+    let node = |i: usize, j: usize| {
+        let (u, v) = (tau * i as f64 / nu as f64, tau * j as f64 / nv as f64);
+        let r = big + small * v.cos();
+        [r * u.cos(), r * u.sin(), small * v.sin()]
+    };
+    let index_of = |p: [f64; 3]| {
+        let u = p[1].atan2(p[0]).rem_euclid(tau);
+        let rho = (p[0] * p[0] + p[1] * p[1]).sqrt();
+        let v = p[2].atan2(rho - big).rem_euclid(tau);
+        let i = ((u / tau * nu as f64).round() as usize) % nu;
+        let j = ((v / tau * nv as f64).round() as usize) % nv;
+        i * nv + j
+    };
+    let mut dist = vec![f64::INFINITY; nu * nv];
+    let mut owner = vec![u32::MAX; nu * nv];
+    let mut heap = BinaryHeap::new();
+    for (l, &c) in sites.iter().enumerate() {
+        let k = index_of(cells.centre[c]);
+        dist[k] = 0.0;
+        owner[k] = l as u32;
+        heap.push(Reverse((0u64, k)));
+    }
+    let moves: [(i64, i64); 16] = [
+        (1, 0),
+        (-1, 0),
+        (0, 1),
+        (0, -1),
+        (1, 1),
+        (1, -1),
+        (-1, 1),
+        (-1, -1),
+        (2, 1),
+        (2, -1),
+        (-2, 1),
+        (-2, -1),
+        (1, 2),
+        (1, -2),
+        (-1, 2),
+        (-1, -2),
+    ];
+    while let Some(Reverse((dq, k))) = heap.pop() {
+        let d = f64::from_bits(dq);
+        if d > dist[k] {
+            continue;
+        }
+        let (i, j) = (k / nv, k % nv);
+        let p = node(i, j);
+        for (di, dj) in moves {
+            let (ii, jj) = (
+                (i as i64 + di).rem_euclid(nu as i64) as usize,
+                (j as i64 + dj).rem_euclid(nv as i64) as usize,
+            );
+            let q = node(ii, jj);
+            let e = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+            let kk = ii * nv + jj;
+            if d + e < dist[kk] {
+                dist[kk] = d + e;
+                owner[kk] = owner[k];
+                heap.push(Reverse(((d + e).to_bits(), kk)));
+            }
+        }
+    }
+    let (mut agree, mut total) = (0.0, 0.0);
+    for c in 0..cells.len() {
+        total += cells.area[c];
+        if owner[index_of(cells.centre[c])] == labels[c] {
+            agree += cells.area[c];
+        }
+    }
+    assert!(agree / total >= 0.95, "agreement {:.4}", agree / total);
+}
+
+mod reaction_diffusion {
+    use super::*;
+    use asperity_surfca::reaction_diffusion::{Chemicals, GrayScott, seeded_state};
+
+    #[test]
+    fn homogeneous_state_is_fixed_and_seeds_grow_into_spots() {
+        let cells = build(&icosphere(3, 1.0), CellSize::Count(20_000), &unlimited()).unwrap();
+        let rule = GrayScott::default();
+        let opts = |steps| RunOptions {
+            seed: 1,
+            max_steps: steps,
+            stop_when_stable: false,
+        };
+        let mut flat = vec![Chemicals { u: 1.0, v: 0.0 }; cells.len()];
+        run(&cells, &rule, &mut flat, &opts(50), |_, _| true);
+        assert!(flat.iter().all(|c| *c == Chemicals { u: 1.0, v: 0.0 }));
+
+        let mut s = seeded_state(&cells, 3, 2);
+        run(&cells, &rule, &mut s, &opts(3000), |_, _| true);
+        let on: Vec<bool> = s.iter().map(|c| c.v > 0.2).collect();
+        let share = cells
+            .area
+            .iter()
+            .zip(&on)
+            .filter(|(_, o)| **o)
+            .map(|(a, _)| a)
+            .sum::<f64>()
+            / cells.total_area;
+        // Count connected spots on the cell graph.
+        let mut seen = vec![false; cells.len()];
+        let mut spots = 0;
+        for c0 in 0..cells.len() {
+            if !on[c0] || seen[c0] {
+                continue;
+            }
+            spots += 1;
+            let mut stack = vec![c0];
+            seen[c0] = true;
+            while let Some(c) = stack.pop() {
+                for (n, _) in cells.neighbours(c) {
+                    if on[n] && !seen[n] {
+                        seen[n] = true;
+                        stack.push(n);
+                    }
+                }
+            }
+        }
+        assert!(share > 0.02 && share < 0.8, "activator share {share}");
+        assert!(
+            spots > 3,
+            "3 seeds should have replicated into more spots, got {spots}"
+        );
+        assert!(rule.validate().is_ok());
+        assert!(GrayScott { du: 1.5, ..rule }.validate().is_err());
+    }
+}
