@@ -791,6 +791,9 @@ pub enum SurfaceApp {
 pub struct SurfaceCaArgs {
     /// Mesh file (OBJ, PLY, STL, …) or builtin:sphere, builtin:cube, builtin:cup.
     pub mesh: String,
+    /// Drop degenerate triangles and reorient inconsistent ones instead of refusing the mesh.
+    #[arg(long)]
+    pub repair: bool,
     /// The application.
     #[arg(long, value_enum, default_value = "voronoi")]
     pub app: SurfaceApp,
@@ -806,6 +809,14 @@ pub struct SurfaceCaArgs {
     /// Voronoi: sites at these points instead (any point-set file; the nearest cell each).
     #[arg(long, value_name = "FILE", conflicts_with = "sites")]
     pub site_points: Option<PathBuf>,
+    /// For .glb/.obj output: write the cells as their own mesh with vertex colours instead of
+    /// the original mesh with a texture atlas.
+    #[arg(long)]
+    pub cell_mesh: bool,
+    /// Displace the cell mesh along the normal by SCALE × the per-cell thickness (corrosion:
+    /// oxide; gray-scott: activator), averaged across cells and triangle edges.
+    #[arg(long, value_name = "SCALE", allow_hyphen_values = true)]
+    pub displace: Option<f64>,
     /// Write the coloured cell mesh every K steps as OUT_stepNNNN.EXT (animation frames).
     #[arg(long, value_name = "K")]
     pub frames: Option<u64>,

@@ -55,57 +55,13 @@ pub fn label_color(label: u32) -> [u8; 4] {
     [to(r), to(g), to(b), 255]
 }
 
-/// The cells as a mesh: each cell's part of its triangle, fan-triangulated, in
-/// one flat colour (the cells tile the surface exactly), with normals
-/// interpolated from the input mesh's vertex normals so it shades smoothly.
+/// The cells as a mesh with vertex colours (see `asperity_surfca::atlas::cell_mesh`).
 pub fn cell_mesh(
     mesh: &TriMesh,
     cells: &Cells,
     color: impl Fn(usize) -> [u8; 4],
 ) -> anyhow::Result<TriMesh> {
-    let vn = mesh.vertex_normals();
-    let (p, t) = (mesh.positions(), mesh.triangles());
-    let mut pos = Vec::new();
-    let mut tris = Vec::new();
-    let mut cols = Vec::new();
-    let mut normals = Vec::new();
-    for c in 0..cells.len() {
-        let poly = cells.polygon(c);
-        let base = pos.len() as u32;
-        pos.extend_from_slice(poly);
-        let col = color(c);
-        let tri = t[cells.triangle[c] as usize].map(|v| v as usize);
-        let [a, b, cc] = tri.map(|v| p[v]);
-        let sub = |x: [f64; 3], y: [f64; 3]| [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
-        let cross = |x: [f64; 3], y: [f64; 3]| {
-            [
-                x[1] * y[2] - x[2] * y[1],
-                x[2] * y[0] - x[0] * y[2],
-                x[0] * y[1] - x[1] * y[0],
-            ]
-        };
-        let fn_ = cells.triangle_normal[cells.triangle[c] as usize];
-        let dot = |x: [f64; 3]| x[0] * fn_[0] + x[1] * fn_[1] + x[2] * fn_[2];
-        let total = dot(cross(sub(b, a), sub(cc, a)));
-        for &q in poly {
-            let w0 = dot(cross(sub(b, q), sub(cc, q))) / total;
-            let w1 = dot(cross(sub(cc, q), sub(a, q))) / total;
-            let w2 = 1.0 - w0 - w1;
-            let mut n = [0.0; 3];
-            for k in 0..3 {
-                n[k] = w0 * vn[tri[0]][k] + w1 * vn[tri[1]][k] + w2 * vn[tri[2]][k];
-            }
-            let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-            normals.push(if l > 0.0 { n.map(|x| x / l) } else { fn_ });
-        }
-        cols.extend(std::iter::repeat_n(col, poly.len()));
-        for k in 1..poly.len() as u32 - 1 {
-            tris.push([base, base + k, base + k + 1]);
-        }
-    }
-    Ok(TriMesh::new(pos, tris)?
-        .with_colors(cols)?
-        .with_normals(normals)?)
+    Ok(asperity_surfca::atlas::cell_mesh(mesh, cells, color, None)?)
 }
 
 /// `dir/stem_stepNNNN.ext` next to `out`.
@@ -151,6 +107,47 @@ impl Frames<'_> {
     }
 }
 
+/// The result mesh: for glTF and OBJ the original mesh with the cells as a
+/// texture atlas (unless `--cell-mesh`); otherwise the cell mesh with per-vertex
+/// colours and the per-cell `scalar`.
+fn output_mesh(
+    a: &SurfaceCaArgs,
+    out: &Path,
+    (mesh, cells): (&TriMesh, &Cells),
+    color: impl Fn(usize) -> [u8; 4],
+    scalar: Option<(&str, &[f64])>,
+    budget: &asperity_core::MemoryBudget,
+) -> anyhow::Result<TriMesh> {
+    let textured = matches!(Format::from_path(out)?, Format::Glb | Format::Obj);
+    if let Some(k) = a.displace {
+        let (_, values) = scalar.with_context(
+            || "--displace needs a per-cell thickness (corrosion: oxide; gray-scott: activator)",
+        )?;
+        anyhow::ensure!(k.is_finite(), "--displace must be finite");
+        return Ok(asperity_surfca::atlas::cell_mesh(
+            mesh,
+            cells,
+            color,
+            Some((values, k)),
+        )?);
+    }
+    if textured && !a.cell_mesh {
+        return Ok(asperity_surfca::atlas::atlas_mesh(
+            mesh, cells, color, budget,
+        )?);
+    }
+    let mut m = cell_mesh(mesh, cells, color)?;
+    if let Some((name, values)) = scalar {
+        m = m.with_scalar(
+            name,
+            (0..cells.len())
+                .flat_map(|c| std::iter::repeat_n(values[c], cells.polygon(c).len()))
+                .collect(),
+        )?;
+    }
+    Ok(m)
+}
+
 fn stats_csv(s: &RunStats, n: usize, classes: &[&str]) -> String {
     let mut t = String::from("step,changed,changed_fraction");
     for c in classes {
@@ -179,7 +176,19 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
         out.display()
     );
     let mut report = Report::new("surface-ca", ctx);
-    let mesh = load_mesh(ctx, &a.mesh)?;
+    let mut mesh = load_mesh(ctx, &a.mesh)?;
+    if a.repair {
+        let (m, r) = asperity_surfca::repair::repair(&mesh)?;
+        if r.dropped_degenerate > 0 || r.flipped > 0 {
+            ctx.note(format!(
+                "repaired: {} degenerate triangles dropped, {} flipped",
+                r.dropped_degenerate, r.flipped
+            ));
+        }
+        report.measure("repair", &r);
+        mesh = m;
+    }
+    asperity_surfca::repair::check(&mesh).with_context(|| a.mesh.clone())?;
     let t = Instant::now();
     let size = match a.cell_size {
         Some(h) => CellSize::Size(h),
@@ -267,7 +276,14 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
                 ctx.note(format!("warning: {w}"));
                 report.warnings.push(w);
             }
-            let m = cell_mesh(&mesh, &cells, |c| label_color(labels[c]))?;
+            let m = output_mesh(
+                a,
+                &out,
+                (&mesh, &cells),
+                |c| label_color(labels[c]),
+                None,
+                &ctx.budget,
+            )?;
             asperity_io::write_mesh(&out, &m, &WriteOptions::default())
                 .with_context(|| format!("writing {}", out.display()))?;
             report.output(&out);
@@ -394,12 +410,14 @@ fn corrosion(
         "cell_updates_per_s",
         cells.len() as f64 * stats.steps as f64 / secs.max(1e-9),
     );
-    let mut m = cell_mesh(mesh, cells, |c| patina_color(&states[c]))?;
-    m = m.with_scalar(
-        "oxide",
-        (0..cells.len())
-            .flat_map(|c| std::iter::repeat_n(states[c].oxide as f64, cells.polygon(c).len()))
-            .collect(),
+    let oxide: Vec<f64> = states.iter().map(|s| s.oxide as f64).collect();
+    let m = output_mesh(
+        a,
+        out,
+        (mesh, cells),
+        |c| patina_color(&states[c]),
+        Some(("oxide", &oxide)),
+        &ctx.budget,
     )?;
     asperity_io::write_mesh(out, &m, &WriteOptions::default())
         .with_context(|| format!("writing {}", out.display()))?;
@@ -490,11 +508,14 @@ fn gray_scott(
     bar.finish();
     frames.finish(report)?;
     let secs = t.elapsed().as_secs_f64();
-    let m = cell_mesh(mesh, cells, |c| rd_color(&states[c]))?.with_scalar(
-        "activator",
-        (0..cells.len())
-            .flat_map(|c| std::iter::repeat_n(states[c].v as f64, cells.polygon(c).len()))
-            .collect(),
+    let v: Vec<f64> = states.iter().map(|s| s.v as f64).collect();
+    let m = output_mesh(
+        a,
+        out,
+        (mesh, cells),
+        |c| rd_color(&states[c]),
+        Some(("activator", &v)),
+        &ctx.budget,
     )?;
     asperity_io::write_mesh(out, &m, &WriteOptions::default())
         .with_context(|| format!("writing {}", out.display()))?;

@@ -1349,6 +1349,24 @@ fn surface_ca_as_documented() {
         ),
         "max-attacked",
     );
+    // OBJ: the original mesh with the cells as a texture atlas (.mtl + PNG).
+    let o = asperity(
+        &[
+            "surface-ca",
+            "builtin:cube",
+            "--cells",
+            "3000",
+            "-o",
+            "atlas.obj",
+            "-q",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("atlas_texture.png").exists() && dir.join("atlas.mtl").exists());
+    let cube = asperity_io::read_mesh(&dir.join("atlas.obj")).unwrap();
+    assert_eq!(cube.n_faces(), asperity_core::shapes::cube(4).n_faces());
+    assert!(cube.uvs().is_some());
     // A third application, sites from a file, animation frames.
     let o = asperity(
         &[

@@ -82,6 +82,20 @@ pub fn opposite(k: u8) -> u8 {
     }
 }
 
+/// One triangle's cell grid: square (i, j) spans x ∈ [x0 + i·h, x0 + (i+1)·h],
+/// y ∈ [j·h, (j+1)·h] in the triangle's plane frame, where its corners are `local`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TriangleGrid {
+    /// Left edge of the grid.
+    pub x0: f64,
+    /// Squares along x.
+    pub nx: usize,
+    /// Squares along y.
+    pub ny: usize,
+    /// Corners A, B, C in the frame (A at the origin, B on the x axis).
+    pub local: [[f64; 2]; 3],
+}
+
 /// Counts and measurements of a cell structure.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct CellStats {
@@ -129,6 +143,10 @@ pub struct Cells {
     pub triangle_normal: Vec<[f64; 3]>,
     /// Sum of the cell areas (the mesh area up to rounding).
     pub total_area: f64,
+    /// Each triangle's grid in its plane frame.
+    pub grids: Vec<TriangleGrid>,
+    pub(crate) frames: Vec<Frame>,
+    pub(crate) edge_map: std::collections::HashMap<(u32, u32), Vec<(u32, usize)>>,
     poly_offsets: Vec<u32>,
     poly_points: Vec<[f64; 3]>,
     nbr_offsets: Vec<u32>,
@@ -192,34 +210,34 @@ fn scale3(a: [f64; 3], s: f64) -> [f64; 3] {
 
 /// A triangle's plane frame and grid.
 #[derive(Clone, Debug)]
-struct Frame {
-    verts: [u32; 3],
-    origin: [f64; 3],
-    e1: [f64; 3],
-    e2: [f64; 3],
+pub(crate) struct Frame {
+    pub(crate) verts: [u32; 3],
+    pub(crate) origin: [f64; 3],
+    pub(crate) e1: [f64; 3],
+    pub(crate) e2: [f64; 3],
     /// Local corners A, B, C.
-    local: [V2; 3],
-    x0: f64,
-    nx: usize,
-    ny: usize,
+    pub(crate) local: [V2; 3],
+    pub(crate) x0: f64,
+    pub(crate) nx: usize,
+    pub(crate) ny: usize,
     /// Global cell id per grid square, or u32::MAX (OUT-CELL).
-    lookup: Vec<u32>,
+    pub(crate) lookup: Vec<u32>,
 }
 
 impl Frame {
-    fn to_local(&self, p: [f64; 3]) -> V2 {
+    pub(crate) fn to_local(&self, p: [f64; 3]) -> V2 {
         let d = sub3(p, self.origin);
         [dot3(d, self.e1), dot3(d, self.e2)]
     }
     fn to_world(&self, q: V2) -> [f64; 3] {
         std::array::from_fn(|k| self.origin[k] + q[0] * self.e1[k] + q[1] * self.e2[k])
     }
-    fn cell_at(&self, q: V2, h: f64) -> Option<(i64, i64)> {
+    pub(crate) fn cell_at(&self, q: V2, h: f64) -> Option<(i64, i64)> {
         let i = ((q[0] - self.x0) / h).floor() as i64;
         let j = (q[1] / h).floor() as i64;
         (i >= 0 && j >= 0 && (i as usize) < self.nx && (j as usize) < self.ny).then_some((i, j))
     }
-    fn get(&self, i: i64, j: i64) -> Option<u32> {
+    pub(crate) fn get(&self, i: i64, j: i64) -> Option<u32> {
         if i < 0 || j < 0 || i as usize >= self.nx || j as usize >= self.ny {
             return None;
         }
@@ -227,7 +245,7 @@ impl Frame {
         (v != u32::MAX).then_some(v)
     }
     /// Signed distance of q inside edge k (edge k runs from corner k to corner k+1).
-    fn edge_inside(&self, q: V2, k: usize) -> f64 {
+    pub(crate) fn edge_inside(&self, q: V2, k: usize) -> f64 {
         let (a, b) = (self.local[k], self.local[(k + 1) % 3]);
         let (ex, ey) = (b[0] - a[0], b[1] - a[1]);
         let len = ex.hypot(ey);
@@ -387,6 +405,9 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
         flag: Vec::new(),
         triangle_normal: Vec::with_capacity(tris.len()),
         total_area: 0.0,
+        grids: Vec::with_capacity(tris.len()),
+        frames: Vec::new(),
+        edge_map: std::collections::HashMap::new(),
         poly_offsets: vec![0],
         poly_points: Vec::new(),
         nbr_offsets: Vec::new(),
@@ -459,6 +480,12 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
                 cells.poly_offsets.push(cells.poly_points.len() as u32);
             }
         }
+        cells.grids.push(TriangleGrid {
+            x0: f.x0,
+            nx: f.nx,
+            ny: f.ny,
+            local: f.local,
+        });
         frames.push(f);
     }
 
@@ -641,6 +668,8 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
         },
         warnings,
     };
+    cells.frames = frames;
+    cells.edge_map = edges;
     Ok(cells)
 }
 

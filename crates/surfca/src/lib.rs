@@ -3,11 +3,13 @@
 //!
 //! **Status: partial** (issue "Cellular automata on any triangle mesh"): the cell
 //! structure, the general engine, the surface Voronoi diagram, copper corrosion
-//! with its patina colour and Gray–Scott reaction–diffusion are done;
-//! texture-atlas output and thickness displacement are still to come.
+//! with its patina colour, Gray–Scott reaction–diffusion, texture-atlas and
+//! displaced outputs are done.
 //!
 //! | Module | What | Paper section |
 //! | --- | --- | --- |
+//! | [`repair`] | the completeness check (algorithm step 1) and `--repair` | Appendix 2 |
+//! | [`atlas`] | the original mesh with the cells as a texture atlas (glTF/OBJ) | "Output for users" |
 //! | [`cells`] | per-triangle cell grids, in/out flags, links across edges and vertices | "Triangle Division and Cell Properties", "Data Communication in CA" |
 //! | [`engine`] | rule trait, synchronous parallel updates, counter-based randomness, per-step statistics | Appendix 2 |
 //! | [`voronoi`](mod@voronoi) | surface Voronoi diagrams by regular probabilistic growth | "3D Surface Voronoi Diagram", Figure 14 |
@@ -16,10 +18,12 @@
 //!
 //! [gobron-chiba]: ../shared/papers/gobron-chiba_3d-surface-cellular-automata.txt
 
+pub mod atlas;
 pub mod cells;
 pub mod corrosion;
 pub mod engine;
 pub mod reaction_diffusion;
+pub mod repair;
 pub mod voronoi;
 
 pub use cells::{CellSize, Cells, InFlag, build};

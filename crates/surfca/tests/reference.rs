@@ -602,3 +602,129 @@ mod reaction_diffusion {
         assert!(GrayScott { du: 1.5, ..rule }.validate().is_err());
     }
 }
+
+#[test]
+fn atlas_uvs_land_every_cell_on_its_own_pixel() {
+    let mesh = asperity_core::shapes::cup(24);
+    let cells = build(&mesh, CellSize::Count(20_000), &unlimited()).unwrap();
+    let color = |c: usize| {
+        [
+            (c % 251) as u8,
+            (c / 251 % 251) as u8,
+            (c % 7) as u8 * 30,
+            255,
+        ]
+    };
+    let m = asperity_surfca::atlas::atlas_mesh(&mesh, &cells, color, &unlimited()).unwrap();
+    let tex = m.texture().unwrap();
+    let (w, h) = (tex.width() as f64, tex.height() as f64);
+    let uv = m.uvs().unwrap();
+    let pos = m.positions();
+    for c in 0..cells.len() {
+        let t = cells.triangle[c] as usize;
+        let [a, b, cc] = m.triangles()[t].map(|v| v as usize);
+        // Barycentric coordinates of the cell's centroid in its triangle.
+        let p = cells.centre[c];
+        let sub = |x: [f64; 3], y: [f64; 3]| [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
+        let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+        let (e0, e1, e2) = (sub(pos[b], pos[a]), sub(pos[cc], pos[a]), sub(p, pos[a]));
+        let (d00, d01, d11, d20, d21) = (
+            dot(e0, e0),
+            dot(e0, e1),
+            dot(e1, e1),
+            dot(e2, e0),
+            dot(e2, e1),
+        );
+        let den = d00 * d11 - d01 * d01;
+        let (wb, wc) = ((d11 * d20 - d01 * d21) / den, (d00 * d21 - d01 * d20) / den);
+        let wa = 1.0 - wb - wc;
+        let u = wa * uv[a][0] + wb * uv[b][0] + wc * uv[cc][0];
+        let v = wa * uv[a][1] + wb * uv[b][1] + wc * uv[cc][1];
+        let (px, py) = ((u * w).floor() as u32, ((1.0 - v) * h).floor() as u32);
+        assert_eq!(tex.get(px, py), color(c), "cell {c} at ({px}, {py})");
+    }
+    assert_eq!(m.n_faces(), mesh.n_faces());
+}
+
+#[test]
+fn displacement_averages_thickness_across_edges() {
+    // Two triangles of a square, one with thickness 1, the other 0.
+    let s = 10.0;
+    let square = TriMesh::new(
+        vec![[-s, -s, 0.0], [s, -s, 0.0], [s, s, 0.0], [-s, s, 0.0]],
+        vec![[0, 1, 2], [0, 2, 3]],
+    )
+    .unwrap();
+    let cells = build(&square, CellSize::Size(0.7), &unlimited()).unwrap();
+    let t: Vec<f64> = (0..cells.len())
+        .map(|c| if cells.triangle[c] == 0 { 1.0 } else { 0.0 })
+        .collect();
+    let corners = asperity_surfca::atlas::corner_thickness(&cells, &t);
+    let mut k = 0;
+    for c in 0..cells.len() {
+        for q in cells.polygon(c) {
+            let on_diagonal = (q[0] - q[1]).abs() < 1e-9;
+            let inside_corner = q[0].abs() >= s - 1e-9 && q[1].abs() >= s - 1e-9;
+            let want = if on_diagonal && !inside_corner {
+                0.5
+            } else if on_diagonal {
+                // Mesh corners are shared by cells of both triangles: their mean.
+                corners[k]
+            } else {
+                t[c]
+            };
+            assert!(
+                (corners[k] - want).abs() < 1e-12,
+                "{q:?}: {} vs {want}",
+                corners[k]
+            );
+            k += 1;
+        }
+    }
+    // Uniform thickness moves every corner by exactly scale along the normal.
+    let ones = vec![1.0; cells.len()];
+    let m =
+        asperity_surfca::atlas::cell_mesh(&square, &cells, |_| [0, 0, 0, 255], Some((&ones, 0.25)))
+            .unwrap();
+    assert!(m.positions().iter().all(|p| (p[2] - 0.25).abs() < 1e-12));
+}
+
+#[test]
+fn completeness_check_and_repair() {
+    use asperity_surfca::repair::{check, repair};
+    let good = icosphere(1, 1.0);
+    check(&good).unwrap();
+    // Flip every third triangle and add a degenerate one.
+    let mut tris = good.triangles().to_vec();
+    for t in tris.iter_mut().step_by(3) {
+        t.swap(1, 2);
+    }
+    tris.push([0, 0, 1]);
+    let bad = TriMesh::new(good.positions().to_vec(), tris).unwrap();
+    let e = check(&bad).unwrap_err().to_string();
+    assert!(e.contains("degenerate") && e.contains("--repair"), "{e}");
+    let (fixed, r) = repair(&bad).unwrap();
+    assert_eq!(r.dropped_degenerate, 1);
+    assert!(r.flipped > 0);
+    check(&fixed).unwrap();
+    assert!(fixed.is_consistently_oriented() && fixed.n_faces() == good.n_faces());
+    // A non-manifold edge cannot be repaired.
+    let fin = TriMesh::new(
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ],
+        vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
+    )
+    .unwrap();
+    assert!(
+        check(&fin)
+            .unwrap_err()
+            .to_string()
+            .contains("cannot be repaired")
+    );
+    assert!(repair(&fin).is_err());
+}
