@@ -789,7 +789,7 @@ pub enum SurfaceApp {
 /// `asperity surface-ca`
 #[derive(Args, Debug)]
 pub struct SurfaceCaArgs {
-    /// Mesh file (OBJ, PLY, STL, …) or builtin:sphere, builtin:cube, builtin:cup.
+    /// Mesh file (OBJ, PLY, STL, …) or builtin:sphere, builtin:cube, builtin:cylinder, builtin:cup.
     pub mesh: String,
     /// Drop degenerate triangles and reorient inconsistent ones instead of refusing the mesh.
     #[arg(long)]

@@ -24,7 +24,21 @@ pub fn load_mesh(ctx: &Context, spec: &str) -> anyhow::Result<TriMesh> {
             "sphere" => shapes::icosphere(3, 1.0),
             "cube" => shapes::cube(4),
             "cup" => shapes::cup(48),
-            _ => anyhow::bail!("unknown built-in mesh {name:?}; known: sphere, cube, cup"),
+            "cylinder" => shapes::revolve(
+                &[
+                    [0.0, 0.0],
+                    [0.5, 0.0],
+                    [0.5, 0.5],
+                    [0.5, 1.0],
+                    [0.5, 1.5],
+                    [0.5, 2.0],
+                    [0.0, 2.0],
+                ],
+                48,
+            ),
+            _ => {
+                anyhow::bail!("unknown built-in mesh {name:?}; known: sphere, cube, cylinder, cup")
+            }
         });
     }
     match crate::convert::load(ctx, Path::new(spec))? {

@@ -1433,7 +1433,7 @@ fn surface_ca_as_documented() {
     for (args, needle) in [
         (
             vec!["surface-ca", "builtin:teapot", "-o", "x.glb"],
-            "known: sphere, cube, cup",
+            "known: sphere, cube, cylinder, cup",
         ),
         (
             vec!["surface-ca", "builtin:cube", "--sites", "0", "-o", "x.glb"],
