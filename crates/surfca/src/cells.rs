@@ -493,7 +493,7 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
     let reach = 2.5 * h;
     let mut near_vertex: std::collections::HashMap<u32, Vec<u32>> =
         std::collections::HashMap::new();
-    for (t, f) in frames.iter().enumerate() {
+    for f in &frames {
         for k in 0..3 {
             let v = f.verts[k];
             let q = f.local[k];
@@ -512,7 +512,6 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
                     }
                 }
             }
-            let _ = t;
         }
     }
 
