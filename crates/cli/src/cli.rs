@@ -104,8 +104,10 @@ pub enum Command {
     /// Projected-IFS fractal curves and surfaces with DCF/SDCF pseudo-curvature (poull-gentil).
     #[command(subcommand)]
     Ifs(IfsCommand),
-    /// Cellular automata on any triangle mesh: surface Voronoi diagrams (gobron-chiba).
+    /// Cellular automata on any triangle mesh: Voronoi, corrosion, reaction–diffusion (gobron-chiba).
     SurfaceCa(SurfaceCaArgs),
+    /// Catmull–Clark multiresolution surfaces with procedural detail (velho-perlin; in progress).
+    Subdiv(SubdivArgs),
     /// Time the workloads named in the issues and print throughput.
     Bench(BenchArgs),
     /// List the file formats asperity reads and writes.
@@ -773,6 +775,35 @@ pub struct FbmArgs {
     /// Grid spacing (the field is periodic with period size·spacing).
     #[arg(long, default_value_t = 1.0)]
     pub spacing: f64,
+}
+
+/// Open-boundary rule of Catmull–Clark subdivision.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoundaryArg {
+    /// Boundary edges sharp, boundary vertices on the boundary B-spline.
+    EdgeOnly,
+    /// As edge-only, and boundary vertices with two edges stay fixed.
+    EdgeAndCorner,
+}
+
+/// `asperity subdiv`
+#[derive(Args, Debug)]
+pub struct SubdivArgs {
+    /// Base mesh: cube, sphere (a quad sphere), torus, or a mesh file (OBJ/PLY polygons kept).
+    #[arg(long, default_value = "cube")]
+    pub base: String,
+    /// Subdivision levels.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=10))]
+    pub levels: u32,
+    /// Procedural detail, e.g. rock:amplitude=0.08,decay=0.5.
+    #[arg(long, value_name = "SPEC")]
+    pub detail: Option<String>,
+    /// Boundary rule for open meshes.
+    #[arg(long, value_enum, default_value = "edge-only")]
+    pub boundary: BoundaryArg,
+    /// Move the finest level onto the limit surface.
+    #[arg(long)]
+    pub limit: bool,
 }
 
 /// Surface-CA applications.

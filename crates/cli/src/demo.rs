@@ -514,6 +514,99 @@ fn ifs(env: &Env) -> anyhow::Result<Section> {
     })
 }
 
+/// velho-perlin: Catmull–Clark multiresolution surfaces (in progress).
+fn subdivision(env: &Env) -> anyhow::Result<Section> {
+    use asperity_subdiv::catmull_clark::{Boundary, Creased, limit_positions};
+    use asperity_subdiv::detail::Rock;
+    use asperity_subdiv::multires::synthesize;
+    let wo = WriteOptions::default();
+    let mut items = Vec::new();
+    // The cube and its limit surface, with the control cage.
+    let cube = Creased::smooth(asperity_subdiv::base::cube());
+    let levels = synthesize(&cube, &[], 4, Boundary::EdgeOnly)?;
+    let fine = &levels[4];
+    let limit = fine
+        .mesh
+        .clone()
+        .with_positions(limit_positions(fine, Boundary::EdgeOnly)?)?;
+    let tri = limit.triangulate().with_computed_normals();
+    let cage: Vec<Polyline> = cube
+        .mesh
+        .faces()
+        .map(|f| Polyline {
+            points: f
+                .iter()
+                .map(|&v| cube.mesh.positions()[v as usize])
+                .collect(),
+            color: [200, 40, 40, 255],
+            closed: true,
+        })
+        .collect();
+    let file = env.write("subdiv_cube_limit.ply", &Surface::Mesh(tri.clone()), &wo)?;
+    let pic = env.picture(
+        "subdiv_cube_limit.png",
+        &render_mesh(
+            &tri,
+            &RenderOptions {
+                polylines: cage,
+                ..env.view()
+            },
+        )?,
+    )?;
+    items.push(Item {
+        title: "Catmull–Clark: the cube's limit surface (4 levels) inside its control cage".into(),
+        image: Some(pic),
+        files: vec![file],
+        facts: vec![
+            fact("corner after 1 / 2 levels", "5/9, 55/108 (exact, tested)"),
+            fact(
+                "CLI",
+                "asperity subdiv --base cube --levels 4 --limit -o cube.ply",
+            ),
+        ],
+    });
+    // Rock (§4.2): a random value per control point per level, 1/f amplitude.
+    let sphere = Creased::smooth(asperity_subdiv::base::quad_sphere(2));
+    let rock = Rock {
+        amplitude: 0.12,
+        decay: 0.5,
+    };
+    let n_levels = if env.quick { 4 } else { 5 };
+    let mut cur = sphere;
+    for k in 1..=n_levels {
+        let m = &cur.mesh;
+        let n = m.n_vertices() + m.n_edges() + m.n_faces();
+        let d = vec![rock.details(env.ctx.seed, k, n)];
+        cur = synthesize(&cur, &d, 1, Boundary::EdgeOnly)?
+            .pop()
+            .context("one level")?;
+    }
+    let tri = cur.mesh.triangulate().with_computed_normals();
+    let file = env.write("subdiv_rock.ply", &Surface::Mesh(tri.clone()), &wo)?;
+    let pic = env.picture("subdiv_rock.png", &render_mesh(&tri, &env.view())?)?;
+    items.push(Item {
+        title: format!("Rock: {n_levels} levels of random control-point detail on a quad sphere (§4.2)"),
+        image: Some(pic),
+        files: vec![file],
+        facts: vec![
+            fact("vertices", tri.n_vertices()),
+            fact(
+                "CLI",
+                "asperity subdiv --base sphere --levels 5 --detail rock:amplitude=0.12,decay=0.5 -o rock.ply",
+            ),
+        ],
+    });
+    Ok(Section {
+        title: "Multiresolution subdivision surfaces (velho-perlin) — in progress".into(),
+        source: "asperity-subdiv — Catmull–Clark with boundaries, creases and limits; §2 multiresolution; §4.2 rock"
+            .into(),
+        blurb: "Levels of Catmull–Clark subdivision with detail offsets in local frames; procedural detail is added \
+                level by level. Berry, tentacle, mushroom, placement, editing and blending are still to come."
+            .into(),
+        items,
+    })
+}
+
 /// gobron-chiba: cellular automata on triangle meshes (surface Voronoi).
 fn surface_ca(env: &Env) -> anyhow::Result<Section> {
     use asperity_render::plot::{Plot, Series, Style, plot_png};
@@ -751,6 +844,7 @@ const SECTIONS: &[(&str, SectionFn)] = &[
     ("levelset", reconstruction),
     ("ifs", ifs),
     ("surfca", surface_ca),
+    ("subdiv", subdivision),
 ];
 
 pub fn run(ctx: &Context, a: &DemoArgs) -> anyhow::Result<()> {

@@ -33,6 +33,7 @@ mod progress;
 mod reconstruct_cmd;
 mod render_cmd;
 mod report;
+mod subdiv_cmd;
 mod surfca_cmd;
 
 use std::process::ExitCode;
@@ -79,6 +80,7 @@ fn run(args: cli::Cli) -> anyhow::Result<()> {
         cli::Command::Reconstruct(a) => reconstruct_cmd::run(&ctx, &a),
         cli::Command::Ifs(c) => ifs_cmd::run(&ctx, c),
         cli::Command::SurfaceCa(a) => surfca_cmd::run(&ctx, &a),
+        cli::Command::Subdiv(a) => subdiv_cmd::run(&ctx, &a),
         cli::Command::Growth(c) => growth_cmd::run(&ctx, c),
         cli::Command::Ca(c) => ca_cmd::run(&ctx, c),
         cli::Command::Facet(a) => ca_cmd::facet(&ctx, &a),

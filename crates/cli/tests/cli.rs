@@ -1467,3 +1467,67 @@ fn surface_ca_as_documented() {
     }
     assert!(!dir.join("x.glb").exists());
 }
+
+#[test]
+fn subdiv_as_documented_so_far() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    let o = asperity(
+        &[
+            "subdiv", "--base", "cube", "--levels", "2", "-o", "cc.ply", "--json",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let levels = v["measurements"]["levels"].as_array().unwrap();
+    assert_eq!(levels[1]["vertices"], 26);
+    assert_eq!(levels[2]["faces"], 96);
+    assert!(levels.iter().all(|l| l["euler_characteristic"] == 2));
+    let m = asperity_io::read_mesh(&dir.join("cc.ply")).unwrap();
+    assert_eq!(m.n_faces(), 192);
+    // The corner vertex point (last vertex) of the [−1, 1]³ cube: 55/108 after two levels.
+    let c = m.positions()[m.n_vertices() - 1];
+    assert!(c.iter().all(|&x| (x - 55.0 / 108.0).abs() < 1e-12), "{c:?}");
+    let o = asperity(
+        &[
+            "subdiv",
+            "--base",
+            "torus",
+            "--levels",
+            "2",
+            "--detail",
+            "rock:amplitude=0.05,decay=0.5",
+            "--seed",
+            "3",
+            "-o",
+            "rock.obj",
+            "-q",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_clean_failure(
+        &asperity(&["subdiv", "--detail", "berry", "-o", "x.ply"], dir),
+        "only rock",
+    );
+    assert_clean_failure(
+        &asperity(&["subdiv", "--base", "nothing.obj", "-o", "x.ply"], dir),
+        "nothing.obj",
+    );
+    assert_clean_failure(
+        &asperity(
+            &[
+                "subdiv",
+                "--levels",
+                "9",
+                "--max-memory",
+                "10M",
+                "-o",
+                "x.ply",
+            ],
+            dir,
+        ),
+        "memory",
+    );
+}

@@ -89,6 +89,23 @@ impl PolyMesh {
         Self::new(positions, quads)
     }
 
+    /// The same faces over new positions (one per vertex).
+    ///
+    /// # Errors
+    /// [`CoreError::LengthMismatch`] for a different count, [`CoreError::NonFinite`].
+    pub fn with_positions(mut self, positions: Vec<[f64; 3]>) -> crate::Result<Self> {
+        if positions.len() != self.positions.len() {
+            return Err(CoreError::LengthMismatch {
+                what: "positions".into(),
+                got: positions.len(),
+                expected: self.positions.len(),
+            });
+        }
+        check_finite_points("vertex", &positions)?;
+        self.positions = positions;
+        Ok(self)
+    }
+
     /// Number of vertices.
     pub fn n_vertices(&self) -> usize {
         self.positions.len()
