@@ -142,9 +142,24 @@ pub fn cup(segments: usize) -> TriMesh {
 /// The axis-aligned cube [−1, 1]³, each face split into `n × n` squares of two
 /// triangles, oriented outward.
 pub fn cube(n: usize) -> TriMesh {
+    cube_quads(n).triangulate()
+}
+
+/// The axis-aligned cube [−1, 1]³ with each face split into `n × n` outward
+/// quads and the shared edge vertices welded (a subdivided cube, or the base of a
+/// quad sphere).
+pub fn cube_quads(n: usize) -> crate::PolyMesh {
     let n = n.max(1);
-    let mut pos = Vec::new();
-    let mut tris = Vec::new();
+    let mut pos: Vec<[f64; 3]> = Vec::new();
+    let mut index = std::collections::HashMap::new();
+    let mut quads = Vec::new();
+    let mut vid = |p: [f64; 3], pos: &mut Vec<[f64; 3]>| -> u32 {
+        let key = p.map(|x| (x * 1e9).round() as i64);
+        *index.entry(key).or_insert_with(|| {
+            pos.push(p);
+            pos.len() as u32 - 1
+        })
+    };
     // (normal axis, sign): the face spans the other two axes (u, v) with u × v = normal.
     for (axis, sign) in [
         (0, 1.0),
@@ -159,45 +174,23 @@ pub fn cube(n: usize) -> TriMesh {
             1 => (2, 0),
             _ => (0, 1),
         };
-        let base = pos.len() as u32;
-        for j in 0..=n {
-            for i in 0..=n {
-                let mut p = [0.0; 3];
-                p[axis] = sign;
-                let (a, b) = (
-                    -1.0 + 2.0 * i as f64 / n as f64,
-                    -1.0 + 2.0 * j as f64 / n as f64,
-                );
-                // Mirror u on the negative faces so they stay outward.
-                p[u] = if sign > 0.0 { a } else { -a };
-                p[v] = b;
-                pos.push(p);
-            }
-        }
-        let w = n as u32 + 1;
-        for j in 0..n as u32 {
-            for i in 0..n as u32 {
-                let c = base + j * w + i;
-                tris.push([c, c + 1, c + w + 1]);
-                tris.push([c, c + w + 1, c + w]);
+        let at = |i: usize, j: usize| {
+            let mut p = [0.0; 3];
+            p[axis] = sign;
+            let a = -1.0 + 2.0 * i as f64 / n as f64;
+            // Mirror u on the negative faces so they stay outward.
+            p[u] = if sign > 0.0 { a } else { -a };
+            p[v] = -1.0 + 2.0 * j as f64 / n as f64;
+            p
+        };
+        for j in 0..n {
+            for i in 0..n {
+                let q = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+                quads.push(q.map(|p| vid(p, &mut pos)));
             }
         }
     }
-    // Weld the shared edge vertices.
-    let mut index = std::collections::HashMap::new();
-    let mut welded = Vec::new();
-    let remap: Vec<u32> = pos
-        .iter()
-        .map(|p| {
-            let key = p.map(|x| (x * 1e9).round() as i64);
-            *index.entry(key).or_insert_with(|| {
-                welded.push(*p);
-                welded.len() as u32 - 1
-            })
-        })
-        .collect();
-    let tris = tris.iter().map(|t| t.map(|v| remap[v as usize])).collect();
-    TriMesh::new(welded, tris).unwrap_or_default()
+    crate::PolyMesh::from_quads(pos, &quads).expect("valid cube")
 }
 
 #[cfg(test)]

@@ -26,47 +26,16 @@ pub fn cube() -> PolyMesh {
 
 /// A unit quad sphere: the cube with each face split n × n, pushed onto the sphere.
 pub fn quad_sphere(n: usize) -> PolyMesh {
-    let n = n.max(1);
-    let mut pos: Vec<[f64; 3]> = Vec::new();
-    let mut index = std::collections::HashMap::new();
-    let mut faces = Vec::new();
-    let mut vid = |p: [f64; 3], pos: &mut Vec<[f64; 3]>| -> u32 {
-        let key = p.map(|x| (x * 1e9).round() as i64);
-        *index.entry(key).or_insert_with(|| {
+    let c = asperity_core::shapes::cube_quads(n);
+    let pos = c
+        .positions()
+        .iter()
+        .map(|p| {
             let l = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-            pos.push([p[0] / l, p[1] / l, p[2] / l]);
-            pos.len() as u32 - 1
+            [p[0] / l, p[1] / l, p[2] / l]
         })
-    };
-    for (axis, sign) in [
-        (0, 1.0),
-        (0, -1.0),
-        (1, 1.0),
-        (1, -1.0),
-        (2, 1.0),
-        (2, -1.0),
-    ] {
-        let (u, v) = match axis {
-            0 => (1, 2),
-            1 => (2, 0),
-            _ => (0, 1),
-        };
-        let at = |i: usize, j: usize| {
-            let mut p = [0.0; 3];
-            p[axis] = sign;
-            let a = -1.0 + 2.0 * i as f64 / n as f64;
-            p[u] = if sign > 0.0 { a } else { -a };
-            p[v] = -1.0 + 2.0 * j as f64 / n as f64;
-            p
-        };
-        for j in 0..n {
-            for i in 0..n {
-                let q = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
-                faces.push(q.map(|p| vid(p, &mut pos)));
-            }
-        }
-    }
-    PolyMesh::new(pos, &faces).expect("valid quad sphere")
+        .collect();
+    c.with_positions(pos).expect("same vertex count")
 }
 
 /// A torus of radii `big` and `small` with `nu × nv` quads, outward.

@@ -531,27 +531,6 @@ mod tests {
         }
     }
 
-    fn unit_cube() -> (Vec<[f64; 3]>, Vec<[u32; 4]>) {
-        let v: Vec<[f64; 3]> = (0..8)
-            .map(|i| {
-                [
-                    2.0 * (i & 1) as f64 - 1.0,
-                    2.0 * ((i >> 1) & 1) as f64 - 1.0,
-                    2.0 * ((i >> 2) & 1) as f64 - 1.0,
-                ]
-            })
-            .collect();
-        let faces = vec![
-            [0u32, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        (v, faces)
-    }
-
     fn euler(m: &PolyMesh) -> (usize, usize, usize) {
         let mut e = std::collections::HashSet::new();
         for f in m.faces() {
@@ -564,8 +543,8 @@ mod tests {
 
     #[test]
     fn counts_euler_characteristic_and_exact_cube_values() {
-        let (v, faces) = unit_cube();
-        let cube = Creased::smooth(PolyMesh::new(v, &faces).unwrap());
+        // The [−1, 1]³ cube; its last vertex is the corner (1, 1, 1).
+        let cube = Creased::smooth(crate::base::cube());
         // The corner (1, 1, 1): 5/9 after one step, 55/108 after two, and the same
         // limit position from every level.
         let l1 = subdivide(&cube, Boundary::EdgeOnly).unwrap();
