@@ -94,6 +94,15 @@ impl PolyMesh {
     /// # Errors
     /// [`CoreError::LengthMismatch`] for a different count, [`CoreError::NonFinite`].
     pub fn with_positions(mut self, positions: Vec<[f64; 3]>) -> crate::Result<Self> {
+        self.set_positions(positions)?;
+        Ok(self)
+    }
+
+    /// Replaces the positions in place (one per vertex).
+    ///
+    /// # Errors
+    /// As [`PolyMesh::with_positions`].
+    pub fn set_positions(&mut self, positions: Vec<[f64; 3]>) -> crate::Result<()> {
         if positions.len() != self.positions.len() {
             return Err(CoreError::LengthMismatch {
                 what: "positions".into(),
@@ -103,7 +112,7 @@ impl PolyMesh {
         }
         check_finite_points("vertex", &positions)?;
         self.positions = positions;
-        Ok(self)
+        Ok(())
     }
 
     /// Number of vertices.

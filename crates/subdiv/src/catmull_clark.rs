@@ -71,6 +71,56 @@ struct Edge {
     sharpness: f64,
 }
 
+/// A multiplicative hasher for vertex-pair keys: the default SipHash dominated
+/// the edge table of large levels, and these keys need no DoS resistance.
+#[derive(Default)]
+struct PairHasher(u64);
+
+impl std::hash::Hasher for PairHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+        }
+    }
+    fn write_u32(&mut self, i: u32) {
+        self.0 = (self.0.rotate_left(32) ^ u64::from(i)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
+}
+
+type PairMap<V> = HashMap<(u32, u32), V, std::hash::BuildHasherDefault<PairHasher>>;
+
+/// Compressed adjacency: the items of vertex v are `items[start[v]..start[v + 1]]`.
+struct Csr {
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Csr {
+    fn build<I: Iterator<Item = (u32, u32)>>(n: usize, pairs: impl Fn() -> I) -> Self {
+        let mut start = vec![0u32; n + 1];
+        for (v, _) in pairs() {
+            start[v as usize + 1] += 1;
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut items = vec![0u32; start[n] as usize];
+        for (v, x) in pairs() {
+            items[fill[v as usize] as usize] = x;
+            fill[v as usize] += 1;
+        }
+        Self { start, items }
+    }
+
+    fn of(&self, v: usize) -> &[u32] {
+        &self.items[self.start[v] as usize..self.start[v + 1] as usize]
+    }
+}
+
 fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
@@ -94,7 +144,8 @@ fn lerp(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
 /// Edges in first-appearance order, and the edge index of each face corner
 /// (corner k of face f uses edge (v_k, v_{k+1})).
 fn edges(m: &Creased) -> Result<(Vec<Edge>, Vec<u32>), CoreError> {
-    let mut index: HashMap<(u32, u32), u32> = HashMap::new();
+    let mut index: PairMap<u32> = PairMap::default();
+    index.reserve(m.mesh.n_faces() * 2 + 16);
     let mut list: Vec<Edge> = Vec::new();
     let mut corner_edge = Vec::new();
     for (f, face) in m.mesh.faces().enumerate() {
@@ -169,21 +220,22 @@ pub fn subdivide(m: &Creased, boundary: Boundary) -> Result<Creased, CoreError> 
         })
         .collect();
     // Vertex neighbourhoods.
-    let mut v_edges: Vec<Vec<u32>> = vec![Vec::new(); nv];
-    for (i, e) in edges.iter().enumerate() {
-        v_edges[e.v[0] as usize].push(i as u32);
-        v_edges[e.v[1] as usize].push(i as u32);
-    }
-    let mut v_faces: Vec<Vec<u32>> = vec![Vec::new(); nv];
-    for (f, face) in m.mesh.faces().enumerate() {
-        for &v in face {
-            v_faces[v as usize].push(f as u32);
-        }
-    }
+    let v_edges = Csr::build(nv, || {
+        edges
+            .iter()
+            .enumerate()
+            .flat_map(|(i, e)| [(e.v[0], i as u32), (e.v[1], i as u32)])
+    });
+    let v_faces = Csr::build(nv, || {
+        m.mesh
+            .faces()
+            .enumerate()
+            .flat_map(|(f, face)| face.iter().map(move |&v| (v, f as u32)))
+    });
     let vert_pts: Vec<[f64; 3]> = (0..nv)
         .map(|v| {
             let pv = p[v];
-            let inc = &v_edges[v];
+            let inc = v_edges.of(v);
             if inc.is_empty() {
                 return pv;
             }
@@ -201,10 +253,11 @@ pub fn subdivide(m: &Creased, boundary: Boundary) -> Result<Creased, CoreError> 
                 .filter(|&&e| edges[e as usize].faces.len() < 2)
                 .count();
             let smooth_rule = || {
-                let q = v_faces[v]
+                let q = v_faces
+                    .of(v)
                     .iter()
                     .fold([0.0; 3], |acc, &f| add(acc, face_pts[f as usize]));
-                let q = scale(q, 1.0 / v_faces[v].len() as f64);
+                let q = scale(q, 1.0 / v_faces.of(v).len() as f64);
                 let r = inc.iter().fold([0.0; 3], |acc, &e| {
                     let e = &edges[e as usize];
                     add(acc, scale(add(p[e.v[0] as usize], p[e.v[1] as usize]), 0.5))

@@ -151,7 +151,7 @@ fn apply(level: &mut Creased, d: &[[f64; 3]], k: usize) -> Result<(), CoreError>
             [p[0] + w[0], p[1] + w[1], p[2] + w[2]]
         })
         .collect();
-    level.mesh = level.mesh.clone().with_positions(pos)?;
+    level.mesh.set_positions(pos)?;
     Ok(())
 }
 
