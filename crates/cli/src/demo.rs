@@ -65,6 +65,27 @@ impl Env<'_> {
         self.report.borrow_mut().output(&path);
         Ok(name.to_owned())
     }
+
+    /// Writes `STEM.ply` and a render of it in its vertex colours as `STEM.png`;
+    /// returns (file, picture).
+    pub fn colored_mesh(&self, stem: &str, m: &TriMesh) -> anyhow::Result<(String, String)> {
+        let file = self.write(
+            &format!("{stem}.ply"),
+            &Surface::Mesh(m.clone()),
+            &WriteOptions::default(),
+        )?;
+        let pic = self.picture(
+            &format!("{stem}.png"),
+            &render_mesh(
+                m,
+                &RenderOptions {
+                    shader: Shader::VertexColor,
+                    ..self.view()
+                },
+            )?,
+        )?;
+        Ok((file, pic))
+    }
 }
 
 /// One card in the gallery.
@@ -421,17 +442,7 @@ fn ifs(env: &Env) -> anyhow::Result<Section> {
             .with_colors(cols)?
             .with_computed_normals()
     };
-    let sfile = env.write("ifs_sdcf.ply", &Surface::Mesh(both.clone()), &wo)?;
-    let spic = env.picture(
-        "ifs_sdcf.png",
-        &render_mesh(
-            &both,
-            &RenderOptions {
-                shader: Shader::VertexColor,
-                ..env.view()
-            },
-        )?,
-    )?;
+    let (sfile, spic) = env.colored_mesh("ifs_sdcf", &both)?;
     items.push(Item {
         title: "An SDCF (blue) of T0⊗T′0 on the attractor (Fig. 4)".into(),
         image: Some(spic),
@@ -612,7 +623,6 @@ fn surface_ca(env: &Env) -> anyhow::Result<Section> {
     use asperity_render::plot::{Plot, Series, Style, plot_png};
     use asperity_surfca::voronoi::{PAPER_P, VoronoiRule, random_sites, voronoi};
     use asperity_surfca::{CellSize, build};
-    let wo = WriteOptions::default();
     let mut items = Vec::new();
     let cells_target = if env.quick { 30_000 } else { 150_000 };
     let mut steps_item = None;
@@ -635,21 +645,7 @@ fn surface_ca(env: &Env) -> anyhow::Result<Section> {
         let m = crate::surfca_cmd::cell_mesh(&mesh, &cells, |c| {
             crate::surfca_cmd::label_color(labels[c])
         })?;
-        let file = env.write(
-            &format!("surfca_voronoi_{name}.ply"),
-            &Surface::Mesh(m.clone()),
-            &wo,
-        )?;
-        let pic = env.picture(
-            &format!("surfca_voronoi_{name}.png"),
-            &render_mesh(
-                &m,
-                &RenderOptions {
-                    shader: Shader::VertexColor,
-                    ..env.view()
-                },
-            )?,
-        )?;
+        let (file, pic) = env.colored_mesh(&format!("surfca_voronoi_{name}"), &m)?;
         let mut facts = vec![
             fact("cells", cells.len()),
             fact("cell size", format!("{:.4}", cells.h)),
@@ -733,17 +729,7 @@ fn surface_ca(env: &Env) -> anyhow::Result<Section> {
         let m = crate::surfca_cmd::cell_mesh(&mesh, &cells, |c| {
             crate::surfca_cmd::patina_color(&states[c])
         })?;
-        let file = env.write("surfca_patina_cup.ply", &Surface::Mesh(m.clone()), &wo)?;
-        let pic = env.picture(
-            "surfca_patina_cup.png",
-            &render_mesh(
-                &m,
-                &RenderOptions {
-                    shader: Shader::VertexColor,
-                    ..env.view()
-                },
-            )?,
-        )?;
+        let (file, pic) = env.colored_mesh("surfca_patina_cup", &m)?;
         let corroded = states
             .iter()
             .filter(|s| s.behaviour == Behaviour::Corroded)
@@ -795,17 +781,7 @@ fn surface_ca(env: &Env) -> anyhow::Result<Section> {
             let col = ColorMap::Viridis.map((st[c].v as f64 / 0.45).clamp(0.0, 1.0));
             [col[0], col[1], col[2], 255]
         })?;
-        let file = env.write("surfca_gray_scott.ply", &Surface::Mesh(m.clone()), &wo)?;
-        let pic = env.picture(
-            "surfca_gray_scott.png",
-            &render_mesh(
-                &m,
-                &RenderOptions {
-                    shader: Shader::VertexColor,
-                    ..env.view()
-                },
-            )?,
-        )?;
+        let (file, pic) = env.colored_mesh("surfca_gray_scott", &m)?;
         items.push(Item {
             title: format!("Gray–Scott reaction–diffusion after {steps} steps: the engine is general"),
             image: Some(pic),

@@ -206,25 +206,14 @@ mod tests {
     use crate::catmull_clark::Creased;
 
     fn cube() -> Creased {
-        let v: Vec<[f64; 3]> = (0..8)
-            .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
-            .collect();
-        let faces = [
-            [0u32, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        Creased::smooth(PolyMesh::new(v, &faces).unwrap())
+        Creased::smooth(crate::base::cube())
     }
 
     #[test]
     fn frames_are_orthonormal_and_outward_on_a_cube() {
         let l = synthesize(&cube(), &[], 2, Boundary::EdgeOnly).unwrap();
         let m = &l[2].mesh;
-        let c = [0.5, 0.5, 0.5];
+        let c = [0.0, 0.0, 0.0];
         for (p, f) in m.positions().iter().zip(frames(m)) {
             for a in 0..3 {
                 assert!((dot(f[a], f[a]) - 1.0).abs() < 1e-12);
