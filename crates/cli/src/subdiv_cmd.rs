@@ -10,7 +10,6 @@ use asperity_io::{Format, WriteOptions};
 use asperity_subdiv::base;
 use asperity_subdiv::catmull_clark::{Boundary, Creased, limit_positions};
 use asperity_subdiv::detail::Rock;
-use asperity_subdiv::multires::synthesize;
 
 use crate::cli::{BoundaryArg, Context, SubdivArgs};
 use crate::report::Report;
@@ -81,22 +80,10 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
     let rock = a.detail.as_deref().map(parse_detail).transpose()?;
     let mut report = Report::new("subdiv", ctx);
     let t = std::time::Instant::now();
-    // Details are generated level by level (their counts are known only as the
-    // levels are built).
-    let mut all = vec![base.clone()];
-    for k in 1..=levels {
-        let d: Vec<Vec<[f64; 3]>> = match &rock {
-            Some(r) => {
-                // V′ = V + E + F.
-                let m = &all[k - 1].mesh;
-                let n = m.n_vertices() + m.n_edges() + m.n_faces();
-                vec![r.details(ctx.seed, k, n)]
-            }
-            None => Vec::new(),
-        };
-        let next = synthesize(&all[k - 1], &d, 1, boundary)?;
-        all.push(next.into_iter().nth(1).context("one level")?);
-    }
+    let built = asperity_subdiv::multires::build(&base, levels, boundary, |l| {
+        Ok(rock.map(|r| r.details(ctx.seed, l.level, l.mesh.mesh.n_vertices())))
+    })?;
+    let all = built.levels;
     let fine = all.last().context("levels")?;
     let mut mesh = fine.mesh.clone();
     if a.limit && levels > 0 {

@@ -31,9 +31,30 @@
 //! edge neighbours eⱼ and diagonal neighbours dⱼ; (a + 4v + b)/6 on a crease or
 //! boundary; v at a corner.
 
+//!
+//! **Limit normals** (Halstead et al. 1993; the tangent masks of Loop &
+//! Schaefer 2008): at a smooth vertex of valence n with edge neighbours eⱼ and
+//! face neighbours dⱼ in ring order, t₁ = Σ Aₙcos(2πj/n)eⱼ + (cos(2πj/n) +
+//! cos(2π(j+1)/n))dⱼ, t₂ the same mask turned by one step, Aₙ = 1 + cos(2π/n) +
+//! cos(π/n)√(2(9 + cos(2π/n))), n = t₁ × t₂ — exact. On a crease or boundary
+//! the tangent along it is b − a (exact, the cubic B-spline's), and the tangent
+//! across is the difference of the next row's limit and this one's (exact on a
+//! regular boundary of a B-spline patch, an approximation elsewhere); at a
+//! corner the mean face normal.
+//!
+//! **Speed.** The edge table is built without hashing: the twin of a face
+//! corner is found among the faces of its vertex (compressed adjacency), and
+//! every stage (twins, points, frames) runs in parallel with rayon, writing
+//! each result at its own index — the output does not depend on the thread
+//! count.
+
 use std::collections::HashMap;
 
 use asperity_core::{CoreError, PolyMesh};
+use rayon::prelude::*;
+
+/// "No face" in [`Topology::edge_faces`].
+pub const NONE: u32 = u32::MAX;
 
 /// How open boundaries behave.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -64,44 +85,56 @@ impl Creased {
     }
 }
 
-#[derive(Clone, Debug)]
-struct Edge {
-    v: [u32; 2],
-    faces: Vec<u32>,
-    sharpness: f64,
+/// Values that subdivide linearly: positions, scalars, (scalar, weight) pairs.
+pub trait Lin: Copy + Send + Sync {
+    /// The zero value.
+    fn zero() -> Self;
+    /// Sum.
+    fn plus(self, o: Self) -> Self;
+    /// Product with a number.
+    fn times(self, s: f64) -> Self;
 }
 
-/// A multiplicative hasher for vertex-pair keys: the default SipHash dominated
-/// the edge table of large levels, and these keys need no DoS resistance.
-#[derive(Default)]
-struct PairHasher(u64);
-
-impl std::hash::Hasher for PairHasher {
-    fn finish(&self) -> u64 {
-        self.0
+impl Lin for f64 {
+    fn zero() -> Self {
+        0.0
     }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
-        }
+    fn plus(self, o: Self) -> Self {
+        self + o
     }
-    fn write_u32(&mut self, i: u32) {
-        self.0 = (self.0.rotate_left(32) ^ u64::from(i)).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    fn times(self, s: f64) -> Self {
+        self * s
     }
 }
 
-type PairMap<V> = HashMap<(u32, u32), V, std::hash::BuildHasherDefault<PairHasher>>;
+impl<const N: usize> Lin for [f64; N] {
+    fn zero() -> Self {
+        [0.0; N]
+    }
+    fn plus(self, o: Self) -> Self {
+        std::array::from_fn(|k| self[k] + o[k])
+    }
+    fn times(self, s: f64) -> Self {
+        std::array::from_fn(|k| self[k] * s)
+    }
+}
+
+fn lerp<T: Lin>(a: T, b: T, t: f64) -> T {
+    // a + t(b − a), written with plus/times only.
+    a.plus(b.plus(a.times(-1.0)).times(t))
+}
 
 /// Compressed adjacency: the items of vertex v are `items[start[v]..start[v + 1]]`.
-struct Csr {
+#[derive(Clone, Debug, Default)]
+pub struct Csr {
     start: Vec<u32>,
     items: Vec<u32>,
 }
 
 impl Csr {
-    fn build<I: Iterator<Item = (u32, u32)>>(n: usize, pairs: impl Fn() -> I) -> Self {
+    fn build(n: usize, pairs: impl Iterator<Item = (u32, u32)> + Clone) -> Self {
         let mut start = vec![0u32; n + 1];
-        for (v, _) in pairs() {
+        for (v, _) in pairs.clone() {
             start[v as usize + 1] += 1;
         }
         for i in 0..n {
@@ -109,14 +142,15 @@ impl Csr {
         }
         let mut fill = start.clone();
         let mut items = vec![0u32; start[n] as usize];
-        for (v, x) in pairs() {
+        for (v, x) in pairs {
             items[fill[v as usize] as usize] = x;
             fill[v as usize] += 1;
         }
         Self { start, items }
     }
 
-    fn of(&self, v: usize) -> &[u32] {
+    /// The items of vertex `v`.
+    pub fn of(&self, v: usize) -> &[u32] {
         &self.items[self.start[v] as usize..self.start[v + 1] as usize]
     }
 }
@@ -125,53 +159,636 @@ fn key(a: u32, b: u32) -> (u32, u32) {
     (a.min(b), a.max(b))
 }
 
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+/// The connectivity of one level: edges in first-appearance order (walking the
+/// faces' corners), the edge of every corner (corner k of face f uses edge
+/// (v_k, v_{k+1})), twins across edges, and the corners of every vertex.
+/// Faces must be consistently oriented.
+#[derive(Clone, Debug)]
+pub struct Topology {
+    /// Face offsets (as [`PolyMesh::face_offsets`]).
+    pub offsets: Vec<u32>,
+    /// The face of every corner (empty for a mesh of quads: corner c is in face c / 4).
+    corner_face: Vec<u32>,
+    /// The twin corner across the corner's edge ([`NONE`] on a boundary): the
+    /// corner of the neighbouring face whose edge runs the other way.
+    pub twin: Vec<u32>,
+    /// Endpoints of every edge.
+    pub edges: Vec<[u32; 2]>,
+    /// The one or two faces of every edge (second [`NONE`] on a boundary).
+    pub edge_faces: Vec<[u32; 2]>,
+    /// Crease sharpness of every edge.
+    pub sharpness: Vec<f64>,
+    /// The edge of every corner.
+    pub corner_edge: Vec<u32>,
+    /// Corners of each vertex, in face order.
+    pub v_corners: Csr,
+    quads: bool,
+    any_sharp: bool,
 }
 
-fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
+/// Endpoints and faces of the edges a block of corners owns.
+type EdgeBlock = (Vec<[u32; 2]>, Vec<[u32; 2]>);
 
-fn lerp(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
-    [
-        a[0] + t * (b[0] - a[0]),
-        a[1] + t * (b[1] - a[1]),
-        a[2] + t * (b[2] - a[2]),
-    ]
-}
+/// Face offsets, face vertices and crease tags of a refined level.
+pub type Refined = (Vec<u32>, Vec<u32>, HashMap<(u32, u32), f64>);
 
-/// Edges in first-appearance order, and the edge index of each face corner
-/// (corner k of face f uses edge (v_k, v_{k+1})).
-fn edges(m: &Creased) -> Result<(Vec<Edge>, Vec<u32>), CoreError> {
-    let mut index: PairMap<u32> = PairMap::default();
-    index.reserve(m.mesh.n_faces() * 2 + 16);
-    let mut list: Vec<Edge> = Vec::new();
-    let mut corner_edge = Vec::new();
-    for (f, face) in m.mesh.faces().enumerate() {
-        for k in 0..face.len() {
-            let (a, b) = (face[k], face[(k + 1) % face.len()]);
-            let e = *index.entry(key(a, b)).or_insert_with(|| {
-                list.push(Edge {
-                    v: [a, b],
-                    faces: Vec::with_capacity(2),
-                    sharpness: m.creases.get(&key(a, b)).copied().unwrap_or(0.0),
-                });
-                list.len() as u32 - 1
+/// Corners per block of the parallel edge numbering.
+const BLOCK: usize = 1 << 16;
+
+impl Topology {
+    /// The connectivity of `m`, found by searching the faces around each
+    /// vertex (for a base mesh; refined levels use [`Topology::refined`]).
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidParameter`] for an edge shared by more than two
+    /// faces, faces of inconsistent orientation, or a negative or NaN crease
+    /// sharpness.
+    pub fn new(m: &Creased) -> Result<Self, CoreError> {
+        if let Some((e, s)) = m.creases.iter().find(|(_, s)| s.is_nan() || **s < 0.0) {
+            return Err(CoreError::InvalidParameter {
+                name: "crease",
+                reason: format!("edge {e:?} has sharpness {s}; sharpness is ≥ 0"),
             });
-            list[e as usize].faces.push(f as u32);
-            if list[e as usize].faces.len() > 2 {
-                return Err(CoreError::InvalidParameter {
-                    name: "mesh",
-                    reason: format!(
-                        "edge ({a}, {b}) is shared by more than two faces; Catmull–Clark needs a manifold mesh"
-                    ),
-                });
+        }
+        let offsets = m.mesh.face_offsets().to_vec();
+        let fv = m.mesh.face_vertices();
+        let nv = m.mesh.n_vertices();
+        let nc = fv.len();
+        let mut corner_face = vec![0u32; nc];
+        for f in 0..offsets.len() - 1 {
+            corner_face[offsets[f] as usize..offsets[f + 1] as usize].fill(f as u32);
+        }
+        let v_corners = Csr::build(nv, fv.iter().enumerate().map(|(c, &v)| (v, c as u32)));
+        let quads = m.mesh.faces().all(|f| f.len() == 4);
+        let mut topo = Self {
+            offsets,
+            corner_face,
+            twin: Vec::new(),
+            edges: Vec::new(),
+            edge_faces: Vec::new(),
+            sharpness: Vec::new(),
+            corner_edge: Vec::new(),
+            v_corners,
+            quads,
+            any_sharp: true,
+        };
+        // Twins: the corner of another face whose edge joins the same two vertices.
+        let t = &topo;
+        topo.twin = (0..nc)
+            .into_par_iter()
+            .map(|c| {
+                let (a, b) = (fv[c], fv[t.next(c)]);
+                let mut found = NONE;
+                for &c2 in t.v_corners.of(a as usize) {
+                    let c2 = c2 as usize;
+                    if t.face_of(c2) == t.face_of(c) {
+                        continue;
+                    }
+                    let other = if fv[t.prev(c2)] == b {
+                        t.prev(c2) as u32
+                    } else if fv[t.next(c2)] == b {
+                        return Err(CoreError::InvalidParameter {
+                            name: "mesh",
+                            reason: format!(
+                                "faces {} and {} run their shared edge ({a}, {b}) the same way: the orientation is inconsistent; reorient the mesh (e.g. asperity surface-ca --repair, or MeshLab)",
+                                t.face_of(c), t.face_of(c2)
+                            ),
+                        });
+                    } else {
+                        continue;
+                    };
+                    if found != NONE {
+                        return Err(CoreError::InvalidParameter {
+                            name: "mesh",
+                            reason: format!(
+                                "edge ({a}, {b}) is shared by more than two faces; Catmull–Clark needs a manifold mesh"
+                            ),
+                        });
+                    }
+                    found = other;
+                }
+                Ok(found)
+            })
+            .collect::<Result<_, _>>()?;
+        topo.number_edges(fv, &m.creases);
+        Ok(topo)
+    }
+
+    /// The connectivity of the next level ([`Topology::refine`]'s quads) in
+    /// closed form: child quad c has corners 4c…4c + 3, and its twins follow
+    /// from this level's twins — no searching.
+    pub fn refined(&self, child_fv: &[u32], creases: &HashMap<(u32, u32), f64>) -> Self {
+        self.refined_with(child_fv, creases, true)
+    }
+
+    /// As [`Topology::refined`]; without `edges` only the vertex adjacency is
+    /// built (enough for frames and neighbourhoods, not for refining again).
+    pub fn refined_with(
+        &self,
+        child_fv: &[u32],
+        creases: &HashMap<(u32, u32), f64>,
+        edges: bool,
+    ) -> Self {
+        let nc = self.corner_count();
+        let nv = self.n_faces() + self.edges.len() + self.n_vertices();
+        let twin: Vec<u32> = (0..if edges { 4 * nc } else { 0 })
+            .into_par_iter()
+            .map(|k| {
+                let c = k / 4;
+                let x = |t: u32| t == NONE;
+                match k % 4 {
+                    0 => {
+                        let t = self.twin[c];
+                        if x(t) {
+                            NONE
+                        } else {
+                            4 * self.next(t as usize) as u32 + 3
+                        }
+                    }
+                    1 => 4 * self.next(c) as u32 + 2,
+                    2 => 4 * self.prev(c) as u32 + 1,
+                    _ => {
+                        let t = self.twin[self.prev(c)];
+                        if x(t) { NONE } else { 4 * t }
+                    }
+                }
+            })
+            .collect();
+        let offsets: Vec<u32> = (0..=nc as u32).into_par_iter().map(|i| 4 * i).collect();
+        let v_corners = self.child_corners(nv);
+        debug_assert_eq!(child_fv.len(), 4 * nc);
+        let mut topo = Self {
+            offsets,
+            corner_face: Vec::new(),
+            twin,
+            edges: Vec::new(),
+            edge_faces: Vec::new(),
+            sharpness: Vec::new(),
+            corner_edge: Vec::new(),
+            v_corners,
+            quads: true,
+            any_sharp: true,
+        };
+        if edges {
+            topo.number_edges(child_fv, creases);
+        }
+        topo
+    }
+
+    /// Corners of every child vertex, ascending: face point F(f) is corner 2
+    /// of each child quad of f, edge point E(e) corner 1 or 3 of the quads on
+    /// either side of e, vertex point V(v) corner 0 of each quad at v.
+    fn child_corners(&self, nv: usize) -> Csr {
+        let (nf, ne) = (self.n_faces(), self.edges.len());
+        let counts: Vec<u32> = (0..nv)
+            .into_par_iter()
+            .map(|v| {
+                if v < nf {
+                    self.offsets[v + 1] - self.offsets[v]
+                } else if v < nf + ne {
+                    if self.is_boundary(v - nf) { 2 } else { 4 }
+                } else {
+                    self.v_corners.of(v - nf - ne).len() as u32
+                }
+            })
+            .collect();
+        let mut start = Vec::with_capacity(nv + 1);
+        let mut total = 0u32;
+        start.push(0);
+        for c in &counts {
+            total += c;
+            start.push(total);
+        }
+        let faces = (0..nf)
+            .into_par_iter()
+            .flat_map_iter(|f| (self.offsets[f]..self.offsets[f + 1]).map(|c| 4 * c + 2));
+        let edges = (0..ne).into_par_iter().flat_map_iter(|e| {
+            // The owning corner c and, across, its twin t.
+            let c = self.owner(e);
+            let mut k = [4 * c as u32 + 1, 4 * self.next(c) as u32 + 3, NONE, NONE];
+            let t = self.twin[c];
+            if t != NONE {
+                k[2] = 4 * t + 1;
+                k[3] = 4 * self.next(t as usize) as u32 + 3;
             }
-            corner_edge.push(e);
+            k.sort_unstable();
+            k.into_iter().filter(|&x| x != NONE)
+        });
+        let verts = (0..nv - nf - ne)
+            .into_par_iter()
+            .flat_map_iter(|v| self.v_corners.of(v).iter().map(|&c| 4 * c));
+        let mut items: Vec<u32> = Vec::with_capacity(total as usize);
+        items.par_extend(faces);
+        items.par_extend(edges);
+        items.par_extend(verts);
+        Csr { start, items }
+    }
+
+    /// The corner that owns edge `e` (its first appearance).
+    fn owner(&self, e: usize) -> usize {
+        let [a, _] = self.edges[e];
+        let f = self.edge_faces[e][0];
+        self.v_corners
+            .of(a as usize)
+            .iter()
+            .map(|&c| c as usize)
+            .find(|&c| self.face_of(c) == f && self.corner_edge[c] as usize == e)
+            .expect("an edge's first face has a corner at its first vertex")
+    }
+
+    /// Edge ids in first-appearance order (the corner of the lower face owns
+    /// an edge), numbered in parallel blocks with a prefix sum.
+    fn number_edges(&mut self, fv: &[u32], creases: &HashMap<(u32, u32), f64>) {
+        let nc = fv.len();
+        let owns = |c: usize| {
+            let t = self.twin[c];
+            t == NONE || self.face_of(t as usize) > self.face_of(c)
+        };
+        let counts: Vec<u32> = (0..nc.div_ceil(BLOCK))
+            .into_par_iter()
+            .map(|b| {
+                (b * BLOCK..((b + 1) * BLOCK).min(nc))
+                    .filter(|&c| owns(c))
+                    .count() as u32
+            })
+            .collect();
+        let mut first = Vec::with_capacity(counts.len());
+        let mut total = 0u32;
+        for c in &counts {
+            first.push(total);
+            total += c;
+        }
+        let mut corner_edge = vec![0u32; nc];
+        let blocks: Vec<EdgeBlock> = corner_edge
+            .par_chunks_mut(BLOCK)
+            .enumerate()
+            .map(|(b, chunk)| {
+                let mut id = first[b];
+                let mut e = Vec::with_capacity(counts[b] as usize);
+                let mut f = Vec::with_capacity(counts[b] as usize);
+                for (i, slot) in chunk.iter_mut().enumerate() {
+                    let c = b * BLOCK + i;
+                    if owns(c) {
+                        *slot = id;
+                        id += 1;
+                        e.push([fv[c], fv[self.next(c)]]);
+                        let t = self.twin[c];
+                        f.push([
+                            self.face_of(c),
+                            if t == NONE {
+                                NONE
+                            } else {
+                                self.face_of(t as usize)
+                            },
+                        ]);
+                    }
+                }
+                (e, f)
+            })
+            .collect();
+        let owned = corner_edge.clone();
+        corner_edge.par_iter_mut().enumerate().for_each(|(c, e)| {
+            if !owns(c) {
+                *e = owned[self.twin[c] as usize];
+            }
+        });
+        let mut edges = Vec::with_capacity(total as usize);
+        let mut edge_faces = Vec::with_capacity(total as usize);
+        for (e, f) in blocks {
+            edges.extend(e);
+            edge_faces.extend(f);
+        }
+        self.sharpness = if creases.is_empty() {
+            vec![0.0; edges.len()]
+        } else {
+            edges
+                .iter()
+                .map(|e| creases.get(&key(e[0], e[1])).copied().unwrap_or(0.0))
+                .collect()
+        };
+        self.any_sharp =
+            self.sharpness.iter().any(|&s| s > 0.0) || self.twin.par_iter().any(|&t| t == NONE);
+        self.corner_edge = corner_edge;
+        self.edges = edges;
+        self.edge_faces = edge_faces;
+    }
+
+    /// The face of corner `c`.
+    pub fn face_of(&self, c: usize) -> u32 {
+        if self.quads {
+            (c / 4) as u32
+        } else {
+            self.corner_face[c]
         }
     }
-    Ok((list, corner_edge))
+
+    /// Whether the edge table (twins, edges) has been built: the finest level
+    /// of a hierarchy has only its vertex adjacency.
+    pub fn has_edges(&self) -> bool {
+        !self.twin.is_empty() || self.corner_count() == 0
+    }
+
+    fn corner_count(&self) -> usize {
+        self.v_corners.items.len()
+    }
+
+    /// Number of faces.
+    pub fn n_faces(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Number of vertices.
+    pub fn n_vertices(&self) -> usize {
+        self.v_corners.start.len() - 1
+    }
+
+    /// The corner after `c` in its face.
+    pub fn next(&self, c: usize) -> usize {
+        if self.quads {
+            return (c & !3) | ((c + 1) & 3);
+        }
+        let f = self.face_of(c) as usize;
+        let (s, e) = (self.offsets[f] as usize, self.offsets[f + 1] as usize);
+        if c + 1 == e { s } else { c + 1 }
+    }
+
+    /// The corner before `c` in its face.
+    pub fn prev(&self, c: usize) -> usize {
+        if self.quads {
+            return (c & !3) | ((c + 3) & 3);
+        }
+        let f = self.face_of(c) as usize;
+        let (s, e) = (self.offsets[f] as usize, self.offsets[f + 1] as usize);
+        if c == s { e - 1 } else { c - 1 }
+    }
+
+    /// The edges of vertex `v`: the outgoing edge of each of its corners, plus
+    /// the incoming boundary edge where its fan opens.
+    pub fn vertex_edges(&self, v: usize) -> impl Iterator<Item = usize> + '_ {
+        self.v_corners.of(v).iter().flat_map(move |&c| {
+            let c = c as usize;
+            let p = self.prev(c);
+            let open = (self.twin[p] == NONE).then(|| self.corner_edge[p] as usize);
+            std::iter::once(self.corner_edge[c] as usize).chain(open)
+        })
+    }
+
+    /// Number of edges at vertex `v`.
+    pub fn valence(&self, v: usize) -> usize {
+        self.vertex_edges(v).count()
+    }
+
+    fn is_boundary(&self, e: usize) -> bool {
+        self.edge_faces[e][1] == NONE
+    }
+
+    fn is_sharp(&self, e: usize) -> bool {
+        self.is_boundary(e) || self.sharpness[e] > 0.0
+    }
+
+    /// Checks that every vertex's faces form one fan (a manifold vertex), as
+    /// the per-level rules assume of a base mesh.
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidParameter`] naming the first non-manifold vertex.
+    pub fn check_base(&self, fv: &[u32]) -> Result<(), CoreError> {
+        let bad = (0..self.n_vertices()).into_par_iter().find_first(|&v| {
+            let corners = self.v_corners.of(v);
+            if corners.is_empty() {
+                return false;
+            }
+            // Walk the fan from a boundary corner if there is one.
+            let start = corners
+                .iter()
+                .map(|&c| c as usize)
+                .find(|&c| self.twin[c] == NONE)
+                .unwrap_or(corners[0] as usize);
+            let mut c = start;
+            let mut seen = 0;
+            loop {
+                seen += 1;
+                // Across the edge (prev, v) into the neighbour, at v's corner there.
+                let t = self.twin[self.prev(c)];
+                if t == NONE || seen > corners.len() {
+                    break;
+                }
+                let t = t as usize;
+                c = if fv[t] == v as u32 { t } else { self.next(t) };
+                if c == start {
+                    break;
+                }
+            }
+            seen != corners.len()
+        });
+        match bad {
+            Some(v) => Err(CoreError::InvalidParameter {
+                name: "mesh",
+                reason: format!(
+                    "vertex {v} joins separate fans of faces (a non-manifold vertex); Catmull–Clark needs a manifold mesh"
+                ),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// One Catmull–Clark step of values living on the vertices (positions,
+    /// scalars): face points, edge points, vertex points (see the module docs).
+    pub fn subdivide_values<T: Lin>(&self, fv: &[u32], p: &[T], boundary: Boundary) -> Vec<T> {
+        let (nf, ne) = (self.n_faces(), self.edges.len());
+        let mut out = vec![T::zero(); nf + ne + p.len()];
+        let (face_pts, rest) = out.split_at_mut(nf);
+        let (edge_pts, vert_pts) = rest.split_at_mut(ne);
+        face_pts.par_iter_mut().enumerate().for_each(|(f, out)| {
+            let c = &fv[self.offsets[f] as usize..self.offsets[f + 1] as usize];
+            let s = c.iter().fold(T::zero(), |acc, &v| acc.plus(p[v as usize]));
+            *out = s.times(1.0 / c.len() as f64);
+        });
+        let face_pts = &*face_pts;
+        edge_pts.par_iter_mut().enumerate().for_each(|(e, out)| {
+            let [a, b] = self.edges[e];
+            let (pa, pb) = (p[a as usize], p[b as usize]);
+            let s = self.sharpness[e];
+            *out = if self.is_boundary(e) || s >= 1.0 {
+                pa.plus(pb).times(0.5)
+            } else {
+                let [f0, f1] = self.edge_faces[e];
+                let smooth = pa
+                    .plus(pb)
+                    .plus(face_pts[f0 as usize].plus(face_pts[f1 as usize]))
+                    .times(0.25);
+                if s > 0.0 {
+                    lerp(smooth, pa.plus(pb).times(0.5), s)
+                } else {
+                    smooth
+                }
+            };
+        });
+        vert_pts
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(v, out)| *out = self.vertex_point(v, fv, p, face_pts, boundary));
+        out
+    }
+
+    fn other(&self, e: usize, v: usize) -> usize {
+        let [a, b] = self.edges[e];
+        if a as usize == v {
+            b as usize
+        } else {
+            a as usize
+        }
+    }
+
+    fn vertex_point<T: Lin>(
+        &self,
+        v: usize,
+        fv: &[u32],
+        p: &[T],
+        face_pts: &[T],
+        boundary: Boundary,
+    ) -> T {
+        let pv = p[v];
+        if !self.any_sharp {
+            // Fast path without creases: an interior vertex's edges are the
+            // outgoing edges of its corners.
+            let corners = self.v_corners.of(v);
+            let mut q = T::zero();
+            let mut e = T::zero();
+            let mut interior = true;
+            for &c in corners {
+                let c = c as usize;
+                interior &= self.twin[c] != NONE;
+                q = q.plus(face_pts[self.face_of(c) as usize]);
+                e = e.plus(p[fv[self.next(c)] as usize]);
+            }
+            if interior && !corners.is_empty() {
+                let n = corners.len() as f64;
+                // R = (v + mean neighbour)/2, so 2R = v + Σe/n.
+                return q
+                    .times(1.0 / n)
+                    .plus(pv.plus(e.times(1.0 / n)))
+                    .plus(pv.times(n - 3.0))
+                    .times(1.0 / n);
+            }
+        }
+        let mut n_edges = 0usize;
+        let mut sharp = [0usize; 2];
+        let mut n_sharp = 0;
+        let mut n_boundary = 0;
+        for e in self.vertex_edges(v) {
+            n_edges += 1;
+            if self.is_sharp(e) {
+                if n_sharp < 2 {
+                    sharp[n_sharp] = e;
+                }
+                n_sharp += 1;
+            }
+            n_boundary += usize::from(self.is_boundary(e));
+        }
+        if n_edges == 0 {
+            return pv;
+        }
+        let n = n_edges as f64;
+        let smooth_rule = || {
+            let corners = self.v_corners.of(v);
+            let q = corners.iter().fold(T::zero(), |acc, &c| {
+                acc.plus(face_pts[self.face_of(c as usize) as usize])
+            });
+            let q = q.times(1.0 / corners.len() as f64);
+            let r = self.vertex_edges(v).fold(T::zero(), |acc, e| {
+                let [a, b] = self.edges[e];
+                acc.plus(p[a as usize].plus(p[b as usize]).times(0.5))
+            });
+            let r = r.times(1.0 / n);
+            q.plus(r.times(2.0)).plus(pv.times(n - 3.0)).times(1.0 / n)
+        };
+        let _ = fv;
+        let corner =
+            n_sharp > 2 || (boundary == Boundary::EdgeAndCorner && n_boundary == 2 && n_edges == 2);
+        if corner {
+            return pv;
+        }
+        if n_sharp == 2 {
+            let (a, b) = (self.other(sharp[0], v), self.other(sharp[1], v));
+            let crease = p[a].plus(p[b]).plus(pv.times(6.0)).times(1.0 / 8.0);
+            // Boundary edges are infinitely sharp; mean sharpness of tagged ones.
+            let sigma = sharp
+                .iter()
+                .map(|&e| {
+                    if self.is_boundary(e) {
+                        f64::INFINITY
+                    } else {
+                        self.sharpness[e]
+                    }
+                })
+                .sum::<f64>()
+                / 2.0;
+            if sigma >= 1.0 {
+                return crease;
+            }
+            return lerp(smooth_rule(), crease, sigma);
+        }
+        smooth_rule()
+    }
+
+    /// The connectivity of the next level: quads (V(vᵢ), E(vᵢ, vᵢ₊₁), F(f),
+    /// E(vᵢ₋₁, vᵢ)) as CSR arrays, and the children of creases.
+    pub fn refine(&self, fv: &[u32]) -> Refined {
+        let (nf, ne) = (self.n_faces() as u32, self.edges.len() as u32);
+        let nc = fv.len();
+        let mut quads = vec![0u32; 4 * nc];
+        quads.par_chunks_mut(4).enumerate().for_each(|(c, q)| {
+            let f = self.face_of(c);
+            q[0] = nf + ne + fv[c];
+            q[1] = nf + self.corner_edge[c];
+            q[2] = f;
+            q[3] = nf + self.corner_edge[self.prev(c)];
+        });
+        let offsets: Vec<u32> = (0..=nc as u32).map(|i| 4 * i).collect();
+        // Children of creases: (vertex point, edge point) halves with sharpness − 1.
+        let mut creases = HashMap::new();
+        for (i, e) in self.edges.iter().enumerate() {
+            let s = self.sharpness[i];
+            if !self.is_boundary(i) && s > 1.0 {
+                let ep = nf + i as u32;
+                for &v in e {
+                    creases.insert(key(nf + ne + v, ep), s - 1.0);
+                }
+            }
+        }
+        (offsets, quads, creases)
+    }
+
+    /// The vertex ring of `v` on a quad mesh, in order around the outward
+    /// normal: (edge neighbour, diagonal neighbour) pairs, starting after a
+    /// boundary edge if there is one. `None` when `v` is not a quad-mesh vertex.
+    fn ring(&self, v: usize, fv: &[u32]) -> Option<Vec<(u32, u32)>> {
+        let corners = self.v_corners.of(v);
+        let start = corners
+            .iter()
+            .map(|&c| c as usize)
+            .find(|&c| self.twin[c] == NONE)
+            .unwrap_or(*corners.first()? as usize);
+        let mut ring = Vec::with_capacity(corners.len());
+        let mut c = start;
+        loop {
+            let f = self.face_of(c) as usize;
+            if self.offsets[f + 1] - self.offsets[f] != 4 {
+                return None;
+            }
+            ring.push((fv[self.next(c)], fv[self.next(self.next(c))]));
+            let t = self.twin[self.prev(c)];
+            if t == NONE || ring.len() > corners.len() {
+                break;
+            }
+            let t = t as usize;
+            c = if fv[t] == v as u32 { t } else { self.next(t) };
+            if c == start {
+                break;
+            }
+        }
+        Some(ring)
+    }
 }
 
 /// One Catmull–Clark step (see the module docs).
@@ -180,157 +797,67 @@ fn edges(m: &Creased) -> Result<(Vec<Edge>, Vec<u32>), CoreError> {
 /// [`CoreError::InvalidParameter`] for a non-manifold edge or a negative or
 /// NaN crease sharpness.
 pub fn subdivide(m: &Creased, boundary: Boundary) -> Result<Creased, CoreError> {
-    if let Some((e, s)) = m.creases.iter().find(|(_, s)| s.is_nan() || **s < 0.0) {
+    let topo = Topology::new(m)?;
+    refine_with(m, &topo, boundary)
+}
+
+/// One step with the connectivity of `m` already built.
+///
+/// # Errors
+/// As [`PolyMesh::from_csr`] (not expected for a valid topology).
+pub fn refine_with(m: &Creased, topo: &Topology, boundary: Boundary) -> Result<Creased, CoreError> {
+    let fv = m.mesh.face_vertices();
+    let positions = topo.subdivide_values(fv, m.mesh.positions(), boundary);
+    let (offsets, quads, creases) = topo.refine(fv);
+    let mesh = PolyMesh::from_csr(positions, offsets, quads)?;
+    Ok(Creased { mesh, creases })
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn require_quads(m: &Creased) -> Result<(), CoreError> {
+    if m.mesh.faces().any(|f| f.len() != 4) {
         return Err(CoreError::InvalidParameter {
-            name: "crease",
-            reason: format!("edge {e:?} has sharpness {s}; sharpness is ≥ 0"),
+            name: "mesh",
+            reason: "limit positions and normals need quads; subdivide once first".into(),
         });
     }
-    let p = m.mesh.positions();
-    let (edges, corner_edge) = edges(m)?;
-    let nf = m.mesh.n_faces();
-    let ne = edges.len();
-    let nv = p.len();
-    // Face points.
-    let face_pts: Vec<[f64; 3]> = m
-        .mesh
-        .faces()
-        .map(|f| {
-            let s = f.iter().fold([0.0; 3], |acc, &v| add(acc, p[v as usize]));
-            scale(s, 1.0 / f.len() as f64)
-        })
-        .collect();
-    let sharp = |e: &Edge| e.faces.len() < 2 || e.sharpness > 0.0;
-    // Edge points.
-    let edge_pts: Vec<[f64; 3]> = edges
+    Ok(())
+}
+
+/// Which limit rule a vertex follows, with its sharp neighbours.
+enum Kind {
+    Corner,
+    Crease(usize, usize),
+    Smooth,
+}
+
+fn kind(topo: &Topology, v: usize, boundary: Boundary) -> Kind {
+    let inc: Vec<usize> = topo.vertex_edges(v).collect();
+    let sharp: Vec<usize> = inc
         .iter()
-        .map(|e| {
-            let mid = scale(add(p[e.v[0] as usize], p[e.v[1] as usize]), 0.5);
-            if e.faces.len() < 2 || e.sharpness >= 1.0 {
-                return mid;
-            }
-            let smooth = scale(
-                add(
-                    add(p[e.v[0] as usize], p[e.v[1] as usize]),
-                    add(face_pts[e.faces[0] as usize], face_pts[e.faces[1] as usize]),
-                ),
-                0.25,
-            );
-            lerp(smooth, mid, e.sharpness)
-        })
+        .copied()
+        .filter(|&e| topo.is_boundary(e) || topo.sharpness[e] >= 1.0)
         .collect();
-    // Vertex neighbourhoods.
-    let v_edges = Csr::build(nv, || {
-        edges
-            .iter()
-            .enumerate()
-            .flat_map(|(i, e)| [(e.v[0], i as u32), (e.v[1], i as u32)])
-    });
-    let v_faces = Csr::build(nv, || {
-        m.mesh
-            .faces()
-            .enumerate()
-            .flat_map(|(f, face)| face.iter().map(move |&v| (v, f as u32)))
-    });
-    let vert_pts: Vec<[f64; 3]> = (0..nv)
-        .map(|v| {
-            let pv = p[v];
-            let inc = v_edges.of(v);
-            if inc.is_empty() {
-                return pv;
-            }
-            let n = inc.len() as f64;
-            let other = |e: &Edge| {
-                if e.v[0] as usize == v { e.v[1] } else { e.v[0] }
-            };
-            let sharp_edges: Vec<&Edge> = inc
-                .iter()
-                .map(|&e| &edges[e as usize])
-                .filter(|e| sharp(e))
-                .collect();
-            let boundary_edges = inc
-                .iter()
-                .filter(|&&e| edges[e as usize].faces.len() < 2)
-                .count();
-            let smooth_rule = || {
-                let q = v_faces
-                    .of(v)
-                    .iter()
-                    .fold([0.0; 3], |acc, &f| add(acc, face_pts[f as usize]));
-                let q = scale(q, 1.0 / v_faces.of(v).len() as f64);
-                let r = inc.iter().fold([0.0; 3], |acc, &e| {
-                    let e = &edges[e as usize];
-                    add(acc, scale(add(p[e.v[0] as usize], p[e.v[1] as usize]), 0.5))
-                });
-                let r = scale(r, 1.0 / n);
-                scale(add(add(q, scale(r, 2.0)), scale(pv, n - 3.0)), 1.0 / n)
-            };
-            let corner = sharp_edges.len() > 2
-                || (boundary == Boundary::EdgeAndCorner && boundary_edges == 2 && inc.len() == 2);
-            if corner {
-                return pv;
-            }
-            if sharp_edges.len() == 2 {
-                let (a, b) = (other(sharp_edges[0]), other(sharp_edges[1]));
-                let crease = scale(
-                    add(add(p[a as usize], p[b as usize]), scale(pv, 6.0)),
-                    1.0 / 8.0,
-                );
-                // Boundary edges are infinitely sharp; mean sharpness of tagged ones.
-                let sigma = sharp_edges
-                    .iter()
-                    .map(|e| {
-                        if e.faces.len() < 2 {
-                            f64::INFINITY
-                        } else {
-                            e.sharpness
-                        }
-                    })
-                    .sum::<f64>()
-                    / 2.0;
-                if sigma >= 1.0 {
-                    return crease;
-                }
-                return lerp(smooth_rule(), crease, sigma);
-            }
-            smooth_rule()
-        })
-        .collect();
-    // New faces.
-    let mut faces: Vec<[u32; 4]> = Vec::new();
-    let mut corner = 0usize;
-    for (f, face) in m.mesh.faces().enumerate() {
-        let len = face.len();
-        for k in 0..len {
-            let e_next = corner_edge[corner + k];
-            let e_prev = corner_edge[corner + (k + len - 1) % len];
-            faces.push([
-                (nf + ne) as u32 + face[k],
-                nf as u32 + e_next,
-                f as u32,
-                nf as u32 + e_prev,
-            ]);
-        }
-        corner += len;
+    let n_boundary = inc.iter().filter(|&&e| topo.is_boundary(e)).count();
+    if sharp.len() > 2 || (boundary == Boundary::EdgeAndCorner && n_boundary == 2 && inc.len() == 2)
+    {
+        Kind::Corner
+    } else if sharp.len() == 2 {
+        Kind::Crease(topo.other(sharp[0], v), topo.other(sharp[1], v))
+    } else {
+        Kind::Smooth
     }
-    let mut positions = face_pts;
-    positions.extend(edge_pts);
-    positions.extend(vert_pts);
-    // Children of creases: (vertex point, edge point) halves with sharpness − 1.
-    let mut creases = HashMap::new();
-    for (i, e) in edges.iter().enumerate() {
-        if e.faces.len() == 2 && e.sharpness > 1.0 {
-            let s = e.sharpness - 1.0;
-            let ep = (nf + i) as u32;
-            for &v in &e.v {
-                creases.insert(key((nf + ne) as u32 + v, ep), s);
-            }
-        }
-    }
-    Ok(Creased {
-        mesh: PolyMesh::new(positions, &faces)?,
-        creases,
-    })
 }
 
 /// Limit positions of the vertices of a mesh of quads (see the module docs).
@@ -339,60 +866,127 @@ pub fn subdivide(m: &Creased, boundary: Boundary) -> Result<Creased, CoreError> 
 /// [`CoreError::InvalidParameter`] when a face is not a quad (subdivide once
 /// first) or an edge is non-manifold.
 pub fn limit_positions(m: &Creased, boundary: Boundary) -> Result<Vec<[f64; 3]>, CoreError> {
-    if m.mesh.faces().any(|f| f.len() != 4) {
-        return Err(CoreError::InvalidParameter {
-            name: "mesh",
-            reason: "limit positions need quads; subdivide once first".into(),
-        });
-    }
+    require_quads(m)?;
+    let topo = Topology::new(m)?;
     let p = m.mesh.positions();
-    let (edges, _) = edges(m)?;
-    let nv = p.len();
-    let mut v_edges: Vec<Vec<u32>> = vec![Vec::new(); nv];
-    for (i, e) in edges.iter().enumerate() {
-        v_edges[e.v[0] as usize].push(i as u32);
-        v_edges[e.v[1] as usize].push(i as u32);
-    }
-    let mut diag: Vec<Vec<u32>> = vec![Vec::new(); nv];
-    for f in m.mesh.faces() {
-        for k in 0..4 {
-            diag[f[k] as usize].push(f[(k + 2) % 4]);
+    let fv = m.mesh.face_vertices();
+    Ok((0..p.len())
+        .into_par_iter()
+        .map(|v| limit_point(&topo, fv, p, v, boundary))
+        .collect())
+}
+
+fn limit_point(
+    topo: &Topology,
+    fv: &[u32],
+    p: &[[f64; 3]],
+    v: usize,
+    boundary: Boundary,
+) -> [f64; 3] {
+    let pv = p[v];
+    match kind(topo, v, boundary) {
+        Kind::Corner => pv,
+        Kind::Crease(a, b) => p[a].plus(p[b]).plus(pv.times(4.0)).times(1.0 / 6.0),
+        Kind::Smooth => {
+            let n = topo.valence(v) as f64;
+            let e_sum = topo
+                .vertex_edges(v)
+                .fold([0.0; 3], |acc: [f64; 3], e| acc.plus(p[topo.other(e, v)]));
+            let d_sum = topo
+                .v_corners
+                .of(v)
+                .iter()
+                .fold([0.0; 3], |acc: [f64; 3], &c| {
+                    acc.plus(p[fv[topo.next(topo.next(c as usize))] as usize])
+                });
+            pv.times(n * n)
+                .plus(e_sum.times(4.0))
+                .plus(d_sum)
+                .times(1.0 / (n * (n + 5.0)))
         }
     }
-    Ok((0..nv)
+}
+
+/// Unit limit normals of the vertices of a mesh of quads (see the module docs).
+///
+/// # Errors
+/// As [`limit_positions`].
+pub fn limit_normals(m: &Creased, boundary: Boundary) -> Result<Vec<[f64; 3]>, CoreError> {
+    require_quads(m)?;
+    let topo = Topology::new(m)?;
+    let p = m.mesh.positions();
+    let fv = m.mesh.face_vertices();
+    let unit = |a: [f64; 3]| {
+        let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+        if l > 0.0 && l.is_finite() {
+            a.times(1.0 / l)
+        } else {
+            [0.0, 0.0, 1.0]
+        }
+    };
+    Ok((0..p.len())
+        .into_par_iter()
         .map(|v| {
-            let pv = p[v];
-            let inc = &v_edges[v];
-            let other = |e: &Edge| if e.v[0] as usize == v { e.v[1] } else { e.v[0] };
-            let sharp: Vec<&Edge> = inc
+            // Mean face normal: the fallback and the orientation reference.
+            let face_n = topo
+                .v_corners
+                .of(v)
                 .iter()
-                .map(|&e| &edges[e as usize])
-                .filter(|e| e.faces.len() < 2 || e.sharpness >= 1.0)
-                .collect();
-            let boundary_edges = inc
-                .iter()
-                .filter(|&&e| edges[e as usize].faces.len() < 2)
-                .count();
-            if sharp.len() > 2
-                || (boundary == Boundary::EdgeAndCorner && boundary_edges == 2 && inc.len() == 2)
-            {
-                return pv;
+                .fold([0.0; 3], |acc: [f64; 3], &c| {
+                    let c = c as usize;
+                    let (a, b) = (p[fv[topo.next(c)] as usize], p[fv[topo.prev(c)] as usize]);
+                    acc.plus(cross(sub(a, p[v]), sub(b, p[v])))
+                });
+            let Some(ring) = topo.ring(v, fv) else {
+                return unit(face_n);
+            };
+            match kind(&topo, v, boundary) {
+                Kind::Corner => unit(face_n),
+                Kind::Crease(a, b) => {
+                    let along = sub(p[b], p[a]);
+                    let here = limit_point(&topo, fv, p, v, boundary);
+                    // The next row: limit of the (edge, diagonal) neighbours off the crease.
+                    let off: Vec<[f64; 3]> = ring
+                        .iter()
+                        .filter(|(e, _)| *e as usize != a && *e as usize != b)
+                        .map(|&(e, _)| limit_point(&topo, fv, p, e as usize, boundary))
+                        .collect();
+                    if off.is_empty() {
+                        return unit(face_n);
+                    }
+                    let mean = off
+                        .iter()
+                        .fold([0.0; 3], |acc: [f64; 3], q| acc.plus(*q))
+                        .times(1.0 / off.len() as f64);
+                    let nrm = cross(along, sub(mean, here));
+                    let d = nrm[0] * face_n[0] + nrm[1] * face_n[1] + nrm[2] * face_n[2];
+                    unit(if d < 0.0 { nrm.times(-1.0) } else { nrm })
+                }
+                Kind::Smooth => {
+                    let n = ring.len();
+                    if n != topo.valence(v) {
+                        return unit(face_n);
+                    }
+                    let tau = std::f64::consts::TAU;
+                    let nf = n as f64;
+                    let a_n = 1.0
+                        + (tau / nf).cos()
+                        + (std::f64::consts::PI / nf).cos()
+                            * (2.0 * (9.0 + (tau / nf).cos())).sqrt();
+                    let tangent = |shift: usize| {
+                        (0..n).fold([0.0; 3], |acc: [f64; 3], j| {
+                            let c0 = (tau * ((j + n - shift) % n) as f64 / nf).cos();
+                            let c1 = (tau * ((j + 1 + n - shift) % n) as f64 / nf).cos();
+                            let (e, d) = ring[j];
+                            acc.plus(p[e as usize].times(a_n * c0))
+                                .plus(p[d as usize].times(c0 + c1))
+                        })
+                    };
+                    let nrm = cross(tangent(0), tangent(1));
+                    let l2 = nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2];
+                    if l2 > 0.0 { unit(nrm) } else { unit(face_n) }
+                }
             }
-            if sharp.len() == 2 {
-                let (a, b) = (p[other(sharp[0]) as usize], p[other(sharp[1]) as usize]);
-                return scale(add(add(a, b), scale(pv, 4.0)), 1.0 / 6.0);
-            }
-            let n = inc.len() as f64;
-            let e_sum = inc.iter().fold([0.0; 3], |acc, &e| {
-                add(acc, p[other(&edges[e as usize]) as usize])
-            });
-            let d_sum = diag[v]
-                .iter()
-                .fold([0.0; 3], |acc, &d| add(acc, p[d as usize]));
-            scale(
-                add(add(scale(pv, n * n), scale(e_sum, 4.0)), d_sum),
-                1.0 / (n * (n + 5.0)),
-            )
         })
         .collect())
 }
@@ -655,6 +1249,44 @@ mod tests {
                 v2 as i64 - e2 as i64 + f2 as i64,
                 v as i64 - e as i64 + f as i64
             );
+        }
+    }
+
+    #[test]
+    fn closed_form_refined_topology_equals_the_searched_one() {
+        let pos = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.5, 1.0, 0.0],
+            [2.0, 0.5, 0.0],
+            [1.8, 1.4, 0.0],
+            [1.0, 1.8, 0.0],
+        ];
+        let open = PolyMesh::new(pos, &[vec![0u32, 1, 2], vec![1, 3, 4, 5, 2]]).unwrap();
+        for m in [
+            open,
+            crate::base::cube(),
+            crate::base::torus(1.0, 0.3, 5, 4),
+        ] {
+            let mut c = Creased::smooth(m);
+            let t0 = Topology::new(&c).unwrap();
+            let inner = (0..t0.edges.len()).find(|&e| !t0.is_boundary(e)).unwrap();
+            let [a, b] = t0.edges[inner];
+            c.creases.insert(key(a, b), 2.5);
+            let mut topo = Topology::new(&c).unwrap();
+            for _ in 0..2 {
+                let next = refine_with(&c, &topo, Boundary::EdgeOnly).unwrap();
+                let closed = topo.refined(next.mesh.face_vertices(), &next.creases);
+                let searched = Topology::new(&next).unwrap();
+                assert_eq!(closed.twin, searched.twin);
+                assert_eq!(closed.edges, searched.edges);
+                assert_eq!(closed.edge_faces, searched.edge_faces);
+                assert_eq!(closed.corner_edge, searched.corner_edge);
+                assert_eq!(closed.sharpness, searched.sharpness);
+                assert!(closed.sharpness.iter().any(|&s| s > 0.0));
+                c = next;
+                topo = closed;
+            }
         }
     }
 

@@ -19,14 +19,18 @@
 //! prefers quasi-interpolation; sampling keeps synthesis∘analysis exact to
 //! rounding and needs no fitting (deviation, documented).
 
-use asperity_core::{CoreError, PolyMesh};
+use std::cell::OnceCell;
 
-use crate::catmull_clark::{Boundary, Creased, subdivide};
+use asperity_core::{CoreError, PolyMesh};
+use rayon::prelude::*;
+
+use crate::catmull_clark::{Boundary, Creased, Topology, refine_with};
 
 /// An orthonormal frame [t₁, t₂, n].
 pub type Frame = [[f64; 3]; 3];
 
-/// Detail offsets of every level after the base (level k + 1 at index k), in local frames.
+/// Detail offsets of every level after the base (level k + 1 at index k), in
+/// local frames; an empty set means no detail at that level.
 pub type Details = Vec<Vec<[f64; 3]>>;
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -46,55 +50,59 @@ fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
     let l = dot(a, a).sqrt();
     (l > 1e-300 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
 }
+fn scale3(a: [f64; 3], s: f64) -> [f64; 3] {
+    [a[0] * s, a[1] * s, a[2] * s]
+}
 
 /// Local frames of every vertex of `mesh` (see the module docs).
-pub fn frames(mesh: &PolyMesh) -> Vec<Frame> {
-    let p = mesh.positions();
-    let n = p.len();
-    let mut normal = vec![[0.0; 3]; n];
-    let mut first: Vec<Option<u32>> = vec![None; n];
-    for f in mesh.faces() {
-        let m = f.len();
-        for k in 0..m {
-            let (prev, v, next) = (f[(k + m - 1) % m], f[k], f[(k + 1) % m]);
-            let c = cross(
-                sub(p[next as usize], p[v as usize]),
-                sub(p[prev as usize], p[v as usize]),
-            );
-            let acc = &mut normal[v as usize];
-            for i in 0..3 {
-                acc[i] += c[i];
-            }
-            if first[v as usize].is_none() {
-                first[v as usize] = Some(next);
-            }
-        }
-    }
-    (0..n)
-        .map(|v| {
-            let nz = unit(normal[v]).unwrap_or([0.0, 0.0, 1.0]);
-            let t = first[v]
-                .map(|w| {
-                    let e = sub(p[w as usize], p[v]);
-                    sub(e, scale3(nz, dot(e, nz)))
-                })
-                .and_then(unit)
-                .unwrap_or_else(|| {
-                    // The world axis least aligned with n, made tangent.
-                    let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-                    let a = axes
-                        .into_iter()
-                        .min_by(|a, b| dot(*a, nz).abs().total_cmp(&dot(*b, nz).abs()))
-                        .unwrap_or([1.0, 0.0, 0.0]);
-                    unit(sub(a, scale3(nz, dot(a, nz)))).unwrap_or([1.0, 0.0, 0.0])
-                });
-            [t, cross(nz, t), nz]
-        })
+///
+/// # Errors
+/// As [`Topology::new`].
+pub fn frames(mesh: &PolyMesh) -> Result<Vec<Frame>, CoreError> {
+    let c = Creased::smooth(mesh.clone());
+    Ok(frames_with(mesh, &Topology::new(&c)?))
+}
+
+/// Local frames with the connectivity already built.
+pub fn frames_with(mesh: &PolyMesh, topo: &Topology) -> Vec<Frame> {
+    (0..mesh.n_vertices())
+        .into_par_iter()
+        .map(|v| frame_at(mesh, topo, v))
         .collect()
 }
 
-fn scale3(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
+/// The frame of vertex `v` (see the module docs).
+pub fn frame_at(mesh: &PolyMesh, topo: &Topology, v: usize) -> Frame {
+    let p = mesh.positions();
+    let fv = mesh.face_vertices();
+    let corners = topo.v_corners.of(v);
+    let mut normal = [0.0; 3];
+    for &c in corners {
+        let c = c as usize;
+        let (prev, next) = (fv[topo.prev(c)], fv[topo.next(c)]);
+        let x = cross(sub(p[next as usize], p[v]), sub(p[prev as usize], p[v]));
+        for i in 0..3 {
+            normal[i] += x[i];
+        }
+    }
+    let first = corners.first().map(|&c| fv[topo.next(c as usize)]);
+    let nz = unit(normal).unwrap_or([0.0, 0.0, 1.0]);
+    let t = first
+        .map(|w| {
+            let e = sub(p[w as usize], p[v]);
+            sub(e, scale3(nz, dot(e, nz)))
+        })
+        .and_then(unit)
+        .unwrap_or_else(|| {
+            // The world axis least aligned with n, made tangent.
+            let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+            let a = axes
+                .into_iter()
+                .min_by(|a, b| dot(*a, nz).abs().total_cmp(&dot(*b, nz).abs()))
+                .unwrap_or([1.0, 0.0, 0.0]);
+            unit(sub(a, scale3(nz, dot(a, nz)))).unwrap_or([1.0, 0.0, 0.0])
+        });
+    [t, cross(nz, t), nz]
 }
 
 /// World offset of a detail (components along t₁, t₂, n).
@@ -107,32 +115,132 @@ pub fn to_local(f: &Frame, w: [f64; 3]) -> [f64; 3] {
     [dot(w, f[0]), dot(w, f[1]), dot(w, f[2])]
 }
 
-/// Every level of a multiresolution surface: level 0 is the base; `details[k]`
-/// (one offset per vertex of level k + 1, in local frames) is added after the
-/// k-th subdivision. Levels without details are plain subdivision.
+/// What a detail procedure sees of a level: the predicted (subdivided) mesh of
+/// level `level`, its connectivity, and its frames (built on first use).
+pub struct LevelInput<'a> {
+    /// The level (1 = the first subdivision).
+    pub level: usize,
+    /// The predicted mesh of this level, before its details.
+    pub mesh: &'a Creased,
+    /// Its connectivity.
+    pub topo: &'a Topology,
+    /// Faces and edges of the coarser level: vertex v there is vertex
+    /// `coarse_faces + coarse_edges + v` here.
+    pub coarse_faces: usize,
+    /// See `coarse_faces`.
+    pub coarse_edges: usize,
+    frames: OnceCell<Vec<Frame>>,
+}
+
+impl LevelInput<'_> {
+    /// Frames of the predicted mesh.
+    pub fn frames(&self) -> &[Frame] {
+        self.frames
+            .get_or_init(|| frames_with(&self.mesh.mesh, self.topo))
+    }
+
+    /// Where coarser vertex `v` lives at this level (its vertex point).
+    pub fn descend(&self, v: u32) -> u32 {
+        (self.coarse_faces + self.coarse_edges) as u32 + v
+    }
+
+    /// Predicted positions.
+    pub fn positions(&self) -> &[[f64; 3]] {
+        self.mesh.mesh.positions()
+    }
+}
+
+/// A built multiresolution surface: every level's mesh and the details used.
+#[derive(Clone, Debug)]
+pub struct Multires {
+    /// Level 0 (the base) to level L.
+    pub levels: Vec<Creased>,
+    /// The details applied at levels 1..=L (empty = none).
+    pub details: Details,
+}
+
+impl Multires {
+    /// The finest level.
+    pub fn finest(&self) -> &Creased {
+        self.levels.last().expect("level 0 always exists")
+    }
+}
+
+/// Builds levels 1..=`levels` from `base`, asking `detail` for the offsets of
+/// every level (in local frames; `None` = no detail) after the level is
+/// predicted by subdivision. This is synthesis with procedural details
+/// (velho-perlin §3): each procedure sees the surface its level grows from.
 ///
 /// # Errors
-/// As [`subdivide`]; [`CoreError::LengthMismatch`] for a detail set of the
-/// wrong size.
+/// As [`Topology::new`]; [`CoreError::LengthMismatch`] for a detail set of the
+/// wrong size; whatever `detail` returns.
+pub fn build<F>(
+    base: &Creased,
+    levels: usize,
+    boundary: Boundary,
+    mut detail: F,
+) -> Result<Multires, CoreError>
+where
+    F: FnMut(&LevelInput<'_>) -> Result<Option<Vec<[f64; 3]>>, CoreError>,
+{
+    let mut out = vec![base.clone()];
+    let mut all = Vec::with_capacity(levels);
+    let mut topo = Topology::new(base)?;
+    topo.check_base(base.mesh.face_vertices())?;
+    for k in 1..=levels {
+        let coarse = &out[k - 1];
+        let mut next = refine_with(coarse, &topo, boundary)?;
+        // The finest level needs no edge table.
+        let next_topo = topo.refined_with(next.mesh.face_vertices(), &next.creases, k < levels);
+        let input = LevelInput {
+            level: k,
+            mesh: &next,
+            topo: &next_topo,
+            coarse_faces: topo.n_faces(),
+            coarse_edges: topo.edges.len(),
+            frames: OnceCell::new(),
+        };
+        let d = detail(&input)?;
+        if let Some(d) = &d {
+            let fr = input.frames.into_inner();
+            apply(&mut next, d, k, fr.as_deref(), &next_topo)?;
+        }
+        all.push(d.unwrap_or_default());
+        out.push(next);
+        topo = next_topo;
+    }
+    Ok(Multires {
+        levels: out,
+        details: all,
+    })
+}
+
+/// Every level of a multiresolution surface: level 0 is the base; `details[k]`
+/// (one offset per vertex of level k + 1, in local frames) is added after the
+/// k-th subdivision. Levels without details (missing or empty) are plain subdivision.
+///
+/// # Errors
+/// As [`build`].
 pub fn synthesize(
     base: &Creased,
     details: &[Vec<[f64; 3]>],
     levels: usize,
     boundary: Boundary,
 ) -> Result<Vec<Creased>, CoreError> {
-    let mut out = vec![base.clone()];
-    for k in 0..levels {
-        let mut next = subdivide(&out[k], boundary)?;
-        if let Some(d) = details.get(k) {
-            apply(&mut next, d, k + 1)?;
-        }
-        out.push(next);
-    }
-    Ok(out)
+    Ok(build(base, levels, boundary, |l| {
+        Ok(details.get(l.level - 1).filter(|d| !d.is_empty()).cloned())
+    })?
+    .levels)
 }
 
 /// Adds details (local frames of the mesh as it is) to a level.
-fn apply(level: &mut Creased, d: &[[f64; 3]], k: usize) -> Result<(), CoreError> {
+fn apply(
+    level: &mut Creased,
+    d: &[[f64; 3]],
+    k: usize,
+    fr: Option<&[Frame]>,
+    topo: &Topology,
+) -> Result<(), CoreError> {
     if d.len() != level.mesh.n_vertices() {
         return Err(CoreError::LengthMismatch {
             what: format!("details of level {k}"),
@@ -140,14 +248,19 @@ fn apply(level: &mut Creased, d: &[[f64; 3]], k: usize) -> Result<(), CoreError>
             expected: level.mesh.n_vertices(),
         });
     }
-    let fr = frames(&level.mesh);
-    let pos: Vec<[f64; 3]> = level
-        .mesh
-        .positions()
-        .iter()
-        .zip(d.iter().zip(&fr))
-        .map(|(p, (d, f))| {
-            let w = to_world(f, *d);
+    let mesh = &level.mesh;
+    let pos: Vec<[f64; 3]> = (0..mesh.n_vertices())
+        .into_par_iter()
+        .map(|v| {
+            let p = mesh.positions()[v];
+            if d[v] == [0.0; 3] {
+                return p;
+            }
+            // Frames are built on the fly unless a procedure already asked.
+            let w = match fr {
+                Some(f) => to_world(&f[v], d[v]),
+                None => to_world(&frame_at(mesh, topo, v), d[v]),
+            };
             [p[0] + w[0], p[1] + w[1], p[2] + w[2]]
         })
         .collect();
@@ -183,8 +296,8 @@ pub fn analyze(
         let coarse: Vec<[f64; 3]> = cur[cur.len() - nv..].to_vec();
         let mut c = topo[k - 1].clone();
         c.mesh = c.mesh.with_positions(coarse.clone())?;
-        let predicted = subdivide(&c, boundary)?;
-        let fr = frames(&predicted.mesh);
+        let predicted = crate::catmull_clark::subdivide(&c, boundary)?;
+        let fr = frames(&predicted.mesh)?;
         details[k - 1] = predicted
             .mesh
             .positions()
@@ -214,7 +327,7 @@ mod tests {
         let l = synthesize(&cube(), &[], 2, Boundary::EdgeOnly).unwrap();
         let m = &l[2].mesh;
         let c = [0.0, 0.0, 0.0];
-        for (p, f) in m.positions().iter().zip(frames(m)) {
+        for (p, f) in m.positions().iter().zip(frames(m).unwrap()) {
             for a in 0..3 {
                 assert!((dot(f[a], f[a]) - 1.0).abs() < 1e-12);
                 for b in a + 1..3 {
