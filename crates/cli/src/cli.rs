@@ -789,21 +789,44 @@ pub enum BoundaryArg {
 /// `asperity subdiv`
 #[derive(Args, Debug)]
 pub struct SubdivArgs {
-    /// Base mesh: cube, sphere (a quad sphere), torus, or a mesh file (OBJ/PLY polygons kept).
+    /// A scene file (TOML) describing base, levels, details, edits, blends and
+    /// shading; the options below then override nothing but the output.
+    pub scene: Option<std::path::PathBuf>,
+    /// Base mesh: cube, sphere (a quad sphere), torus, cylinder, plane, fuse, or
+    /// a mesh file (OBJ/PLY polygons kept).
     #[arg(long, default_value = "cube")]
     pub base: String,
     /// Subdivision levels.
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=10))]
     pub levels: u32,
-    /// Procedural detail, e.g. rock:amplitude=0.08,decay=0.5.
+    /// Procedural detail (repeatable): rock, fbm, berry, tentacle, mine,
+    /// mushroom or spur with key=value parameters, e.g.
+    /// rock:amplitude=0.08,decay=0.5 or berry:radius=0.3,spacing=0.6; a..b
+    /// animates a number over --frames.
     #[arg(long, value_name = "SPEC")]
-    pub detail: Option<String>,
+    pub detail: Vec<String>,
+    /// Tag a crease on the base (repeatable): A-B:SHARPNESS (inf = sharp forever).
+    #[arg(long, value_name = "A-B:S")]
+    pub crease: Vec<String>,
     /// Boundary rule for open meshes.
     #[arg(long, value_enum, default_value = "edge-only")]
     pub boundary: BoundaryArg,
-    /// Move the finest level onto the limit surface.
+    /// Move the finest level onto the limit surface (normals: exact limit normals).
     #[arg(long)]
     pub limit: bool,
+    /// Write an animation of N frames (t from 0 to 1): OUT becomes OUT_0000.ext, ….
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub frames: Option<u32>,
+    /// Animation time t ∈ [0, 1] of a single frame.
+    #[arg(long, default_value_t = 0.0, conflicts_with = "frames")]
+    pub time: f64,
+    /// Write the details of every level (local frames) to a JSON file.
+    #[arg(long, value_name = "FILE")]
+    pub export_details: Option<std::path::PathBuf>,
+    /// Re-apply exported details to this base (same connectivity) instead of
+    /// running the procedures.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "detail"])]
+    pub apply_details: Option<std::path::PathBuf>,
 }
 
 /// Surface-CA applications.

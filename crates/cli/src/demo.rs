@@ -578,10 +578,7 @@ fn subdivision(env: &Env) -> anyhow::Result<Section> {
     });
     // Rock (§4.2): a random value per control point per level, 1/f amplitude.
     let sphere = Creased::smooth(asperity_subdiv::base::quad_sphere(2));
-    let rock = Rock {
-        amplitude: 0.12,
-        decay: 0.5,
-    };
+    let rock = Rock::fractal(0.12, 0.5);
     let n_levels = if env.quick { 4 } else { 5 };
     let mut cur = sphere;
     for k in 1..=n_levels {

@@ -239,33 +239,38 @@ impl Topology {
             .map(|c| {
                 let (a, b) = (fv[c], fv[t.next(c)]);
                 let mut found = NONE;
+                let mut same_way = NONE;
+                let mut count = 0;
                 for &c2 in t.v_corners.of(a as usize) {
                     let c2 = c2 as usize;
                     if t.face_of(c2) == t.face_of(c) {
                         continue;
                     }
-                    let other = if fv[t.prev(c2)] == b {
-                        t.prev(c2) as u32
+                    if fv[t.prev(c2)] == b {
+                        found = t.prev(c2) as u32;
+                        count += 1;
                     } else if fv[t.next(c2)] == b {
-                        return Err(CoreError::InvalidParameter {
-                            name: "mesh",
-                            reason: format!(
-                                "faces {} and {} run their shared edge ({a}, {b}) the same way: the orientation is inconsistent; reorient the mesh (e.g. asperity surface-ca --repair, or MeshLab)",
-                                t.face_of(c), t.face_of(c2)
-                            ),
-                        });
-                    } else {
-                        continue;
-                    };
-                    if found != NONE {
-                        return Err(CoreError::InvalidParameter {
-                            name: "mesh",
-                            reason: format!(
-                                "edge ({a}, {b}) is shared by more than two faces; Catmull–Clark needs a manifold mesh"
-                            ),
-                        });
+                        same_way = c2 as u32;
+                        count += 1;
                     }
-                    found = other;
+                }
+                if count > 1 {
+                    return Err(CoreError::InvalidParameter {
+                        name: "mesh",
+                        reason: format!(
+                            "edge ({a}, {b}) is shared by more than two faces; Catmull–Clark needs a manifold mesh"
+                        ),
+                    });
+                }
+                if same_way != NONE {
+                    return Err(CoreError::InvalidParameter {
+                        name: "mesh",
+                        reason: format!(
+                            "faces {} and {} run their shared edge ({a}, {b}) the same way: the orientation is inconsistent; reorient the mesh (e.g. asperity surface-ca --repair, or MeshLab)",
+                            t.face_of(c),
+                            t.face_of(same_way as usize)
+                        ),
+                    });
                 }
                 Ok(found)
             })

@@ -1,26 +1,62 @@
-//! Procedural detail functions d = F(p, l) (velho-perlin §3–4). So far: **rock**
-//! (§4.2), the volumetric–fractal model — "it is only necessary to specify a
-//! random value at every control point" of every level, with a 1/f amplitude:
-//! the detail of vertex v at level l is A·decayˡ⁻¹·r(seed, l, v) along the local
-//! normal, r uniform in [−1, 1] from a counter-based hash of (seed, level,
-//! vertex index). Keys use each level's own vertex indices, so adding levels
-//! never changes the coarser ones (stable under re-subdivision), and the result
-//! is the same at any thread count.
+//! Procedural detail functions d = F(p, l) (velho-perlin §3–4), evaluated level
+//! by level on the predicted surface of each level, returning offsets in the
+//! local frames of [`crate::multires`] (t₁, t₂, n).
+//!
+//! | Procedure | Paper | Coordinates | Amplitude law (default) |
+//! | --- | --- | --- | --- |
+//! | [`Rock`] | §4.2 "Rock" | intrinsic (vertex id) or extrinsic (x, y, z) | fractal: A·decayˡ⁻¹ |
+//! | [`Fbm`] | §4.2 (the Perlin-noise rock) | extrinsic | fractal |
+//! | [`Berry`] | §4.2 "Berry": domes R·√(1 − r²/R²) | surface seeds, Euclidean r | fractal: R·ratioˡ⁻¹ |
+//! | [`Tentacle`] | §4.2 pseudo-code; the mine of Fig. 6 | intrinsic (seed vertex) | morphogenic: length·l |
+//! | [`Mushroom`] | §4.2 "Mushroom cloud" | extrinsic around surface seeds | morphogenic |
+//! | [`Spur`] | §5.1, Fig. 9 | intrinsic (seed vertex) | relative to the level's edge length |
+//!
+//! Every law is selectable: inversely proportional to scale (fractal,
+//! A·decayˡ⁻¹), proportional to scale (morphogenic, A·l), or independent (A).
+//!
+//! **Seeds** of local features are vertices ("features are placed only at the
+//! control points", §5.1): base-level vertex ids, points snapped to the nearest
+//! vertex of the level where the feature starts, or a Poisson-disk set over
+//! that level. A seed vertex v of level l lives on as its vertex point at level
+//! l + 1 (the last V entries of the finer level), so "the intrinsic
+//! coordinates of the seed point correspond at all levels".
+//!
+//! **Randomness** is counter-based — a hash of (seed, level, vertex) — so
+//! adding levels never changes coarser ones (stable under re-subdivision) and
+//! results do not depend on the thread count.
+//!
+//! Our readings where the paper gives no formula: the berry's child seeds are
+//! a Poisson-disk set of up to `children` vertices inside the parent dome with
+//! radius R·ratio; the mushroom lifts a stem along the seed's normal with a
+//! smooth radial profile and spreads a cap outward near the top, both ∝ l;
+//! the mine is the tentacle without twist or sign alternation (straight horns).
 
-/// Parameters of the rock detail.
+use noise::{NoiseFn, Perlin, Value};
+use rayon::prelude::*;
+
+use crate::multires::LevelInput;
+
+/// How the amplitude changes with the level l ≥ 1 (§4.1).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Rock {
-    /// Displacement amplitude at level 1 (mesh units).
-    pub amplitude: f64,
-    /// Factor per level (½ = 1/f, fractal).
-    pub decay: f64,
+pub enum Law {
+    /// Inversely proportional to scale: A·decayˡ⁻¹ (decay ½ is 1/f).
+    Fractal {
+        /// Factor per level.
+        decay: f64,
+    },
+    /// Proportional to the level: A·l.
+    Morphogenic,
+    /// The same at every level.
+    Independent,
 }
 
-impl Default for Rock {
-    fn default() -> Self {
-        Self {
-            amplitude: 0.08,
-            decay: 0.5,
+impl Law {
+    /// The factor at level `l`.
+    pub fn factor(&self, l: usize) -> f64 {
+        match self {
+            Law::Fractal { decay } => decay.powi(l as i32 - 1),
+            Law::Morphogenic => l as f64,
+            Law::Independent => 1.0,
         }
     }
 }
@@ -39,13 +75,256 @@ pub fn random_value(seed: u64, level: usize, vertex: usize) -> f64 {
     2.0 * u - 1.0
 }
 
+fn noise_seed(seed: u64, level: usize) -> u32 {
+    (mix(seed ^ (level as u64).wrapping_mul(0x9e37_79b9)) >> 32) as u32
+}
+
+fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)
+}
+
+/// Where rock values come from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Coords {
+    /// A random value per (level, vertex id) — the paper's intrinsic rock.
+    Intrinsic,
+    /// Value noise of (x, y, z) at `frequency`·2ˡ⁻¹ — the extrinsic rock.
+    Extrinsic {
+        /// Lattice frequency at level 1 (per mesh unit).
+        frequency: f64,
+    },
+}
+
+/// The rock (§4.2): a random value at every control point of every level,
+/// along the normal, with a 1/f amplitude by default.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rock {
+    /// Displacement amplitude at level 1 (mesh units).
+    pub amplitude: f64,
+    /// The amplitude law.
+    pub law: Law,
+    /// Intrinsic or extrinsic values.
+    pub coords: Coords,
+}
+
+impl Default for Rock {
+    fn default() -> Self {
+        Self {
+            amplitude: 0.08,
+            law: Law::Fractal { decay: 0.5 },
+            coords: Coords::Intrinsic,
+        }
+    }
+}
+
 impl Rock {
-    /// Details (local frames: along n) for level `level` ≥ 1 with `n` vertices.
+    /// Rock with amplitude `a` and decay `d` per level, intrinsic.
+    pub fn fractal(amplitude: f64, decay: f64) -> Self {
+        Self {
+            amplitude,
+            law: Law::Fractal { decay },
+            coords: Coords::Intrinsic,
+        }
+    }
+
+    /// The scalar value (along n) at every vertex of a level.
+    pub fn values(&self, seed: u64, level: usize, positions: &[[f64; 3]]) -> Vec<f64> {
+        let a = self.amplitude * self.law.factor(level);
+        match self.coords {
+            Coords::Intrinsic => (0..positions.len())
+                .into_par_iter()
+                .map(|v| a * random_value(seed, level, v))
+                .collect(),
+            Coords::Extrinsic { frequency } => {
+                let noise = Value::new(noise_seed(seed, level));
+                let f = frequency * 2f64.powi(level as i32 - 1);
+                positions
+                    .par_iter()
+                    .map(|p| a * noise.get([p[0] * f, p[1] * f, p[2] * f]))
+                    .collect()
+            }
+        }
+    }
+
+    /// Details (along n) for level `level` ≥ 1 with `n` vertices (intrinsic).
     pub fn details(&self, seed: u64, level: usize, n: usize) -> Vec<[f64; 3]> {
-        let a = self.amplitude * self.decay.powi(level as i32 - 1);
+        let a = self.amplitude * self.law.factor(level);
         (0..n)
+            .into_par_iter()
             .map(|v| [0.0, 0.0, a * random_value(seed, level, v)])
             .collect()
+    }
+}
+
+/// Noise fBm split over the levels (§3: "a procedural displacement as a sum of
+/// scale-limited components"): level l adds one Perlin octave at frequency
+/// f·2ˡ⁻¹ (the `noise` crate's Perlin), along the normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fbm {
+    /// Amplitude at level 1.
+    pub amplitude: f64,
+    /// Frequency at level 1 (per mesh unit).
+    pub frequency: f64,
+    /// The amplitude law (fractal ½ = fBm with H = 1).
+    pub law: Law,
+}
+
+impl Fbm {
+    /// The scalar value (along n) at every vertex of a level.
+    pub fn values(&self, seed: u64, level: usize, positions: &[[f64; 3]]) -> Vec<f64> {
+        let a = self.amplitude * self.law.factor(level);
+        let noise = Perlin::new(noise_seed(seed ^ 0x0066_626d, level));
+        let f = self.frequency * 2f64.powi(level as i32 - 1);
+        positions
+            .par_iter()
+            .map(|p| a * noise.get([p[0] * f, p[1] * f, p[2] * f]))
+            .collect()
+    }
+}
+
+/// Berry (§4.2): domes of height `height`·R·√(1 − r²/R²) around Poisson-disk
+/// seeds, grown again from clusters of child seeds at every level along the
+/// evolving normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Berry {
+    /// Dome radius R at the first level.
+    pub radius: f64,
+    /// Radius factor per level (½ = fractal).
+    pub ratio: f64,
+    /// At most this many child seeds per dome.
+    pub children: usize,
+    /// Dome height as a fraction of R (1 = hemisphere).
+    pub height: f64,
+}
+
+/// Tentacle (§4.2 pseudo-code): at level l the seed vertex moves by
+/// length·l·(sin(θ + πl/3), cos(θ + πl/3), 1) in its local frame, negated on
+/// even levels; the mine (Fig. 6) drops the twist and the sign.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tentacle {
+    /// Reference length.
+    pub length: f64,
+    /// Rotation angle θ (radians).
+    pub theta: f64,
+    /// Negate on even levels (the paper's pseudo-code).
+    pub alternate: bool,
+    /// Turn by π/3 per level and lean sideways (false: straight along n).
+    pub twist: bool,
+}
+
+impl Tentacle {
+    /// The offset at level `l` in the local frame.
+    pub fn offset(&self, l: usize) -> [f64; 3] {
+        let m = self.length * l as f64;
+        let p = std::f64::consts::FRAC_PI_3 * l as f64;
+        let mut d = if self.twist {
+            [(self.theta + p).sin(), (self.theta + p).cos(), 1.0]
+        } else {
+            [0.0, 0.0, 1.0]
+        };
+        if self.alternate && l.is_multiple_of(2) {
+            d = d.map(|x| -x);
+        }
+        d.map(|x| x * m)
+    }
+}
+
+/// Mushroom cloud (§4.2): around each seed, a stem lifted along the seed's
+/// normal with a smooth profile, and a cap pushed outward near the top — both
+/// growing in proportion to the level.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mushroom {
+    /// Stem lift at level 1 (grows ∝ l).
+    pub height: f64,
+    /// Stem radius.
+    pub radius: f64,
+}
+
+/// Spur (§5.1, Fig. 9): the seed vertex pushed along n by `height` times the
+/// mean length of its edges at that level — a spike whose size follows the
+/// level it is placed at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spur {
+    /// Height in edge lengths.
+    pub height: f64,
+}
+
+/// A detail procedure.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Procedure {
+    /// See [`Rock`].
+    Rock(Rock),
+    /// See [`Fbm`].
+    Fbm(Fbm),
+    /// See [`Berry`].
+    Berry(Berry),
+    /// See [`Tentacle`].
+    Tentacle(Tentacle),
+    /// See [`Mushroom`].
+    Mushroom(Mushroom),
+    /// See [`Spur`].
+    Spur(Spur),
+}
+
+impl Procedure {
+    /// Whether the procedure grows from seeds (the others cover the surface).
+    pub fn is_local(&self) -> bool {
+        !matches!(self, Procedure::Rock(_) | Procedure::Fbm(_))
+    }
+
+    /// The name used in scenes and on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Procedure::Rock(_) => "rock",
+            Procedure::Fbm(_) => "fbm",
+            Procedure::Berry(_) => "berry",
+            Procedure::Tentacle(t) if !t.twist && !t.alternate => "mine",
+            Procedure::Tentacle(_) => "tentacle",
+            Procedure::Mushroom(_) => "mushroom",
+            Procedure::Spur(_) => "spur",
+        }
+    }
+}
+
+/// Where local features grow.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Seeds {
+    /// Base-level vertex ids.
+    Vertices(Vec<u32>),
+    /// Points snapped to the nearest vertex of the level where the feature starts.
+    Points(Vec<[f64; 3]>),
+    /// A Poisson-disk set with this spacing over the level where the feature starts.
+    Poisson {
+        /// Minimum distance between seeds.
+        spacing: f64,
+    },
+}
+
+/// A procedure placed on a surface (§5.1): its seeds and the levels it acts at
+/// (`None` = every level).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Feature {
+    /// What grows.
+    pub procedure: Procedure,
+    /// Where (ignored by rock and fbm).
+    pub seeds: Seeds,
+    /// At which levels (1-based); `None` = all.
+    pub levels: Option<Vec<usize>>,
+}
+
+impl Feature {
+    /// A feature over the whole surface at every level.
+    pub fn global(procedure: Procedure) -> Self {
+        Self {
+            procedure,
+            seeds: Seeds::Poisson { spacing: 0.5 },
+            levels: None,
+        }
+    }
+
+    /// Whether it acts at level `l`.
+    pub fn acts_at(&self, l: usize) -> bool {
+        self.levels.as_ref().is_none_or(|ls| ls.contains(&l))
     }
 
     /// Checks the parameters.
@@ -53,13 +332,478 @@ impl Rock {
     /// # Errors
     /// A message naming the bad parameter.
     pub fn validate(&self) -> Result<(), String> {
-        if !self.amplitude.is_finite() {
-            return Err(format!("amplitude must be finite, got {}", self.amplitude));
+        let finite = |name: &str, x: f64| {
+            if x.is_finite() {
+                Ok(())
+            } else {
+                Err(format!("{name} must be finite, got {x}"))
+            }
+        };
+        let positive = |name: &str, x: f64| {
+            if x.is_finite() && x > 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{name} must be > 0, got {x}"))
+            }
+        };
+        let law = |l: &Law| match l {
+            Law::Fractal { decay } if !(decay.is_finite() && *decay >= 0.0) => {
+                Err(format!("decay must be finite and ≥ 0, got {decay}"))
+            }
+            _ => Ok(()),
+        };
+        match &self.procedure {
+            Procedure::Rock(r) => {
+                finite("amplitude", r.amplitude)?;
+                law(&r.law)?;
+                if let Coords::Extrinsic { frequency } = r.coords {
+                    positive("frequency", frequency)?;
+                }
+            }
+            Procedure::Fbm(f) => {
+                finite("amplitude", f.amplitude)?;
+                positive("frequency", f.frequency)?;
+                law(&f.law)?;
+            }
+            Procedure::Berry(b) => {
+                positive("radius", b.radius)?;
+                positive("ratio", b.ratio)?;
+                finite("height", b.height)?;
+                if b.ratio >= 1.0 {
+                    return Err(format!("ratio must be < 1, got {}", b.ratio));
+                }
+            }
+            Procedure::Tentacle(t) => {
+                finite("length", t.length)?;
+                finite("theta", t.theta)?;
+            }
+            Procedure::Mushroom(m) => {
+                finite("height", m.height)?;
+                positive("radius", m.radius)?;
+            }
+            Procedure::Spur(s) => finite("height", s.height)?,
         }
-        if !(self.decay.is_finite() && self.decay >= 0.0) {
-            return Err(format!("decay must be finite and ≥ 0, got {}", self.decay));
+        match &self.seeds {
+            Seeds::Poisson { spacing } => positive("spacing", *spacing)?,
+            Seeds::Points(p) if p.iter().flatten().any(|x| !x.is_finite()) => {
+                return Err("seed points must be finite".into());
+            }
+            _ => {}
+        }
+        if let Some(ls) = &self.levels
+            && ls.contains(&0)
+        {
+            return Err("levels count from 1 (level 0 is the base)".into());
         }
         Ok(())
+    }
+}
+
+/// The cubic drop-off 1 − 3x² + 2x³ on [0, 1].
+fn drop(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    1.0 - 3.0 * x * x + 2.0 * x * x * x
+}
+
+/// A uniform grid over points for radius queries.
+struct Grid {
+    cell: f64,
+    map: std::collections::HashMap<[i64; 3], Vec<u32>>,
+}
+
+impl Grid {
+    fn new(points: impl Iterator<Item = (u32, [f64; 3])>, cell: f64) -> Self {
+        let mut map: std::collections::HashMap<[i64; 3], Vec<u32>> = Default::default();
+        for (i, p) in points {
+            map.entry(Self::key(p, cell)).or_default().push(i);
+        }
+        Self { cell, map }
+    }
+    fn key(p: [f64; 3], cell: f64) -> [i64; 3] {
+        p.map(|x| (x / cell).floor() as i64)
+    }
+    /// Ids in the cells within `r` of `p` (a superset of the ball).
+    fn near(&self, p: [f64; 3], r: f64) -> impl Iterator<Item = u32> + '_ {
+        let lo = Self::key(p.map(|x| x - r), self.cell);
+        let hi = Self::key(p.map(|x| x + r), self.cell);
+        (lo[0]..=hi[0]).flat_map(move |i| {
+            (lo[1]..=hi[1]).flat_map(move |j| {
+                (lo[2]..=hi[2])
+                    .flat_map(move |k| self.map.get(&[i, j, k]).into_iter().flatten().copied())
+            })
+        })
+    }
+}
+
+/// A Poisson-disk subset of `candidates` (dart throwing in a seeded random
+/// order): no two chosen points closer than `spacing`, at most `max`.
+pub fn poisson_disk(
+    positions: &[[f64; 3]],
+    candidates: &[u32],
+    spacing: f64,
+    max: usize,
+    seed: u64,
+    level: usize,
+) -> Vec<u32> {
+    let mut order: Vec<(u64, u32)> = candidates
+        .iter()
+        .map(|&v| (mix(seed ^ mix(level as u64 ^ 0x7073) ^ u64::from(v)), v))
+        .collect();
+    order.sort_unstable();
+    let mut chosen: Vec<u32> = Vec::new();
+    let mut grid: std::collections::HashMap<[i64; 3], Vec<u32>> = Default::default();
+    let s2 = spacing * spacing;
+    for (_, v) in order {
+        if chosen.len() >= max {
+            break;
+        }
+        let p = positions[v as usize];
+        let k = Grid::key(p, spacing);
+        let mut ok = true;
+        'search: for i in -1..=1 {
+            for j in -1..=1 {
+                for l in -1..=1 {
+                    if let Some(list) = grid.get(&[k[0] + i, k[1] + j, k[2] + l])
+                        && list.iter().any(|&w| dist2(positions[w as usize], p) < s2)
+                    {
+                        ok = false;
+                        break 'search;
+                    }
+                }
+            }
+        }
+        if ok {
+            chosen.push(v);
+            grid.entry(k).or_default().push(v);
+        }
+    }
+    chosen
+}
+
+/// The vertex of `positions` nearest to `p` (lowest id on ties).
+pub fn nearest_vertex(positions: &[[f64; 3]], p: [f64; 3]) -> u32 {
+    positions
+        .par_iter()
+        .enumerate()
+        .map(|(i, q)| (dist2(*q, p), i))
+        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+        .map_or(0, |(_, i)| i as u32)
+}
+
+/// A feature with the state it carries from level to level (its seeds).
+#[derive(Clone, Debug)]
+pub struct Grower {
+    feature: Feature,
+    seed: u64,
+    /// Seed vertices at the current level, with a radius (berry) or anchor.
+    seeds: Option<Vec<SeedState>>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct SeedState {
+    vertex: u32,
+    radius: f64,
+    anchor: [f64; 3],
+    axis: [f64; 3],
+}
+
+impl Grower {
+    /// Starts a feature with the random seed `seed`.
+    pub fn new(feature: Feature, seed: u64) -> Self {
+        Self {
+            feature,
+            seed,
+            seeds: None,
+        }
+    }
+
+    /// The feature.
+    pub fn feature(&self) -> &Feature {
+        &self.feature
+    }
+
+    /// Seed vertices at the level last seen.
+    pub fn seed_vertices(&self) -> Vec<u32> {
+        self.seeds
+            .iter()
+            .flatten()
+            .map(|s| s.vertex)
+            .collect::<Vec<_>>()
+    }
+
+    /// Advances to `input`'s level and returns the details there (zero where
+    /// the feature does not act), or `None` when it adds nothing.
+    pub fn details(&mut self, input: &LevelInput<'_>) -> Option<Vec<[f64; 3]>> {
+        let l = input.level;
+        let acts = self.feature.acts_at(l);
+        let n = input.positions().len();
+        match self.feature.procedure {
+            Procedure::Rock(r) => acts.then(|| match r.coords {
+                Coords::Intrinsic => r.details(self.seed, l, n),
+                Coords::Extrinsic { .. } => r
+                    .values(self.seed, l, input.positions())
+                    .into_iter()
+                    .map(|x| [0.0, 0.0, x])
+                    .collect(),
+            }),
+            Procedure::Fbm(f) => acts.then(|| {
+                f.values(self.seed, l, input.positions())
+                    .into_iter()
+                    .map(|x| [0.0, 0.0, x])
+                    .collect()
+            }),
+            _ => {
+                self.advance_seeds(input);
+                if !acts {
+                    return None;
+                }
+                let seeds = self.seeds.as_ref()?;
+                Some(self.local_details(input, seeds))
+            }
+        }
+    }
+
+    fn resolve(&self, input: &LevelInput<'_>) -> Vec<u32> {
+        let p = input.positions();
+        match &self.feature.seeds {
+            Seeds::Vertices(v) => v.iter().map(|&v| input.descend(v)).collect(),
+            Seeds::Points(pts) => pts.iter().map(|&q| nearest_vertex(p, q)).collect(),
+            Seeds::Poisson { spacing } => {
+                let all: Vec<u32> = (0..p.len() as u32).collect();
+                poisson_disk(p, &all, *spacing, usize::MAX, self.seed, input.level)
+            }
+        }
+    }
+
+    fn advance_seeds(&mut self, input: &LevelInput<'_>) {
+        let l = input.level;
+        let p = input.positions();
+        let starts = match &self.feature.levels {
+            Some(ls) => ls.iter().min().copied().unwrap_or(1),
+            None => 1,
+        };
+        let vertices_from_base = matches!(self.feature.seeds, Seeds::Vertices(_));
+        match self.seeds.take() {
+            None if l == starts || (vertices_from_base && l == 1) => {
+                let radius = match self.feature.procedure {
+                    Procedure::Berry(b) => b.radius,
+                    Procedure::Mushroom(m) => m.radius,
+                    _ => 0.0,
+                };
+                let fr = input.frames();
+                self.seeds = Some(
+                    self.resolve(input)
+                        .into_iter()
+                        .map(|v| SeedState {
+                            vertex: v,
+                            radius,
+                            anchor: p[v as usize],
+                            axis: fr[v as usize][2],
+                        })
+                        .collect(),
+                );
+            }
+            None => {}
+            Some(prev) => {
+                let descended: Vec<SeedState> = prev
+                    .into_iter()
+                    .map(|s| SeedState {
+                        vertex: input.descend(s.vertex),
+                        ..s
+                    })
+                    .collect();
+                self.seeds = Some(match self.feature.procedure {
+                    Procedure::Berry(b) if self.feature.acts_at(l) => {
+                        self.berry_children(input, &descended, b)
+                    }
+                    _ => descended,
+                });
+            }
+        }
+    }
+
+    /// Clusters of child seeds inside each parent dome (our reading of §4.2).
+    fn berry_children(
+        &self,
+        input: &LevelInput<'_>,
+        parents: &[SeedState],
+        b: Berry,
+    ) -> Vec<SeedState> {
+        let p = input.positions();
+        let r_max = parents.iter().map(|s| s.radius).fold(0.0, f64::max);
+        if r_max <= 0.0 {
+            return Vec::new();
+        }
+        let grid = Grid::new(p.iter().enumerate().map(|(i, q)| (i as u32, *q)), r_max);
+        let fr = input.frames();
+        let mut out = Vec::new();
+        for (k, s) in parents.iter().enumerate() {
+            let c = p[s.vertex as usize];
+            let r2 = s.radius * s.radius;
+            let mut inside: Vec<u32> = grid
+                .near(c, s.radius)
+                .filter(|&v| dist2(p[v as usize], c) < r2)
+                .collect();
+            inside.sort_unstable();
+            let child_r = s.radius * b.ratio;
+            let kids = poisson_disk(
+                p,
+                &inside,
+                1.5 * child_r,
+                b.children,
+                self.seed ^ (k as u64).wrapping_mul(0x5bd1_e995),
+                input.level,
+            );
+            out.extend(kids.into_iter().map(|v| SeedState {
+                vertex: v,
+                radius: child_r,
+                anchor: p[v as usize],
+                axis: fr[v as usize][2],
+            }));
+        }
+        out
+    }
+
+    fn local_details(&self, input: &LevelInput<'_>, seeds: &[SeedState]) -> Vec<[f64; 3]> {
+        let l = input.level;
+        let p = input.positions();
+        let n = p.len();
+        let mut d = vec![[0.0; 3]; n];
+        match self.feature.procedure {
+            Procedure::Tentacle(t) => {
+                let o = t.offset(l);
+                for s in seeds {
+                    d[s.vertex as usize] = o;
+                }
+            }
+            Procedure::Spur(sp) => {
+                let fv = input.mesh.mesh.face_vertices();
+                for s in seeds {
+                    let v = s.vertex as usize;
+                    let corners = input.topo.v_corners.of(v);
+                    let mean = corners
+                        .iter()
+                        .map(|&c| dist2(p[fv[input.topo.next(c as usize)] as usize], p[v]).sqrt())
+                        .sum::<f64>()
+                        / corners.len().max(1) as f64;
+                    d[v] = [0.0, 0.0, sp.height * mean];
+                }
+            }
+            Procedure::Berry(b) => {
+                let r_max = seeds.iter().map(|s| s.radius).fold(0.0, f64::max);
+                if r_max > 0.0 {
+                    let grid = Grid::new(
+                        seeds
+                            .iter()
+                            .enumerate()
+                            .map(|(i, s)| (i as u32, p[s.vertex as usize])),
+                        r_max,
+                    );
+                    d.par_iter_mut().enumerate().for_each(|(v, out)| {
+                        // The nearest seed whose dome covers v.
+                        let mut best: Option<(f64, f64)> = None;
+                        for i in grid.near(p[v], r_max) {
+                            let s = seeds[i as usize];
+                            let r2 = dist2(p[s.vertex as usize], p[v]);
+                            if r2 < s.radius * s.radius && best.is_none_or(|(b2, _)| r2 < b2) {
+                                best = Some((r2, s.radius));
+                            }
+                        }
+                        if let Some((r2, radius)) = best {
+                            out[2] = b.height * radius * (1.0 - r2 / (radius * radius)).sqrt();
+                        }
+                    });
+                }
+            }
+            Procedure::Mushroom(m) => {
+                let fr = input.frames();
+                let lift = m.height * l as f64;
+                let grid = Grid::new(
+                    seeds.iter().enumerate().map(|(i, s)| (i as u32, s.anchor)),
+                    (m.radius * 2.0).max(1e-9),
+                );
+                let reach = 3.0 * m.radius + m.height * (l * (l + 1)) as f64;
+                // Each stem's tip height above its foot (the surface 1.5–2.5
+                // radii from the axis), along the seed's axis.
+                let axial = |s: &SeedState, q: [f64; 3]| -> (f64, f64) {
+                    let d = [q[0] - s.anchor[0], q[1] - s.anchor[1], q[2] - s.anchor[2]];
+                    let a = d[0] * s.axis[0] + d[1] * s.axis[1] + d[2] * s.axis[2];
+                    let r2 = d.iter().map(|x| x * x).sum::<f64>() - a * a;
+                    (a, r2.max(0.0).sqrt() / m.radius)
+                };
+                let vgrid = Grid::new(p.iter().enumerate().map(|(i, q)| (i as u32, *q)), m.radius);
+                let feet: Vec<f64> = seeds
+                    .iter()
+                    .map(|s| {
+                        let c = p[s.vertex as usize];
+                        let (mut sum, mut n) = (0.0, 0usize);
+                        for v in vgrid.near(c, 2.5 * m.radius) {
+                            let (a, x) = axial(s, p[v as usize]);
+                            if (1.5..2.5).contains(&x) {
+                                sum += a;
+                                n += 1;
+                            }
+                        }
+                        if n > 0 { sum / n as f64 } else { 0.0 }
+                    })
+                    .collect();
+                let tips: Vec<f64> = seeds
+                    .iter()
+                    .zip(&feet)
+                    .map(|(s, f)| axial(s, p[s.vertex as usize]).0 - f)
+                    .collect();
+                d.par_iter_mut().enumerate().for_each(|(v, out)| {
+                    let mut w = [0.0; 3];
+                    for i in grid.near(p[v], reach) {
+                        let s = seeds[i as usize];
+                        let q = [
+                            p[v][0] - s.anchor[0],
+                            p[v][1] - s.anchor[1],
+                            p[v][2] - s.anchor[2],
+                        ];
+                        let a = q[0] * s.axis[0] + q[1] * s.axis[1] + q[2] * s.axis[2];
+                        if a < -0.5 * m.radius {
+                            continue;
+                        }
+                        let rho = [
+                            q[0] - a * s.axis[0],
+                            q[1] - a * s.axis[1],
+                            q[2] - a * s.axis[2],
+                        ];
+                        let r = (rho[0] * rho[0] + rho[1] * rho[1] + rho[2] * rho[2]).sqrt();
+                        let x = r / m.radius;
+                        // Stem: a smooth bump along the seed's axis.
+                        if x < 1.0 {
+                            let k = (1.0 - x * x).powi(2);
+                            for (wc, ac) in w.iter_mut().zip(s.axis) {
+                                *wc += lift * k * ac;
+                            }
+                        }
+                        // Cap: the top of a grown stem spreads outward, widest
+                        // a little below the tip.
+                        let tip = tips[i as usize];
+                        let h = a - feet[i as usize];
+                        let band = 1.5 * m.radius;
+                        if l >= 2 && tip > band && h > tip - band && x < 3.0 && r > 1e-12 {
+                            let u = ((h - (tip - band)) / band).clamp(0.0, 1.0);
+                            let push = 0.18
+                                * m.radius
+                                * l as f64
+                                * (std::f64::consts::PI * u).sin()
+                                * drop(x / 3.0);
+                            for c in 0..3 {
+                                w[c] += push * rho[c] / r;
+                            }
+                        }
+                    }
+                    if w != [0.0; 3] {
+                        *out = crate::multires::to_local(&fr[v], w);
+                    }
+                });
+            }
+            Procedure::Rock(_) | Procedure::Fbm(_) => {}
+        }
+        d
     }
 }
 
@@ -79,6 +823,47 @@ mod tests {
         assert!((rms(&d3) / rms(&d1) - 0.25).abs() < 0.02);
         assert_eq!(r.details(3, 1, 100), d1[..100].to_vec(), "stable");
         assert_ne!(r.details(4, 1, 100), d1[..100].to_vec(), "seeded");
-        assert!(Rock { decay: -1.0, ..r }.validate().is_err());
+        let bad = Feature::global(Procedure::Rock(Rock::fractal(0.1, -1.0)));
+        assert!(bad.validate().is_err());
+    }
+
+    #[test]
+    fn laws_and_the_tentacle_pseudo_code() {
+        assert_eq!(Law::Fractal { decay: 0.5 }.factor(3), 0.25);
+        assert_eq!(Law::Morphogenic.factor(3), 3.0);
+        assert_eq!(Law::Independent.factor(7), 1.0);
+        let t = Tentacle {
+            length: 0.1,
+            theta: 0.3,
+            alternate: true,
+            twist: true,
+        };
+        // Level 2: magnitude 0.2, angle θ + 2π/3, negated (even level).
+        let o = t.offset(2);
+        let p = 0.3 + 2.0 * std::f64::consts::FRAC_PI_3;
+        assert!((o[0] + 0.2 * p.sin()).abs() < 1e-15);
+        assert!((o[1] + 0.2 * p.cos()).abs() < 1e-15);
+        assert!((o[2] + 0.2).abs() < 1e-15);
+        assert!(t.offset(3)[2] > 0.0);
+    }
+
+    #[test]
+    fn poisson_disk_keeps_its_spacing() {
+        let pts: Vec<[f64; 3]> = (0..2000)
+            .map(|i| {
+                let a = random_value(1, 0, i);
+                let b = random_value(2, 0, i);
+                [a, b, 0.0]
+            })
+            .collect();
+        let all: Vec<u32> = (0..2000).collect();
+        let s = poisson_disk(&pts, &all, 0.2, usize::MAX, 5, 1);
+        assert!(s.len() > 20, "{}", s.len());
+        for (i, &a) in s.iter().enumerate() {
+            for &b in &s[i + 1..] {
+                assert!(dist2(pts[a as usize], pts[b as usize]) >= 0.04);
+            }
+        }
+        assert_eq!(s, poisson_disk(&pts, &all, 0.2, usize::MAX, 5, 1));
     }
 }

@@ -17,5 +17,7 @@
 
 pub mod base;
 pub mod catmull_clark;
+pub mod compose;
 pub mod detail;
 pub mod multires;
+pub mod scene;

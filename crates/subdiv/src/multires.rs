@@ -132,7 +132,26 @@ pub struct LevelInput<'a> {
     frames: OnceCell<Vec<Frame>>,
 }
 
-impl LevelInput<'_> {
+impl<'a> LevelInput<'a> {
+    /// The view of level `level` (its coarser level had `coarse_faces` faces
+    /// and `coarse_edges` edges).
+    pub fn new(
+        level: usize,
+        mesh: &'a Creased,
+        topo: &'a Topology,
+        coarse_faces: usize,
+        coarse_edges: usize,
+    ) -> Self {
+        Self {
+            level,
+            mesh,
+            topo,
+            coarse_faces,
+            coarse_edges,
+            frames: OnceCell::new(),
+        }
+    }
+
     /// Frames of the predicted mesh.
     pub fn frames(&self) -> &[Frame] {
         self.frames

@@ -1,0 +1,482 @@
+//! Checks of asperity-subdiv against truths no one here chose: Euler
+//! characteristics, B-spline normals, symmetry, the paper's dome formula, and
+//! exact identities of blending, editing and determinism.
+
+use asperity_core::PolyMesh;
+use asperity_subdiv::base;
+use asperity_subdiv::catmull_clark::{
+    Boundary, Creased, Topology, limit_normals, limit_positions, subdivide,
+};
+use asperity_subdiv::compose::{
+    AlphaSource, Anchor, Blend, Edit, Layer, Planet, blend, grow, scalar_field,
+};
+use asperity_subdiv::detail::{Berry, Feature, Mushroom, Procedure, Rock, Seeds, Spur};
+use asperity_subdiv::multires::synthesize;
+
+fn smooth(m: PolyMesh) -> Creased {
+    Creased::smooth(m)
+}
+
+fn edges(m: &PolyMesh) -> usize {
+    let mut e = std::collections::HashSet::new();
+    for f in m.faces() {
+        for k in 0..f.len() {
+            let (a, b) = (f[k], f[(k + 1) % f.len()]);
+            e.insert((a.min(b), a.max(b)));
+        }
+    }
+    e.len()
+}
+
+#[test]
+fn counts_and_euler_characteristic_over_levels() {
+    let mixed = PolyMesh::new(
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.5, 1.0, 0.0],
+            [2.0, 0.5, 0.0],
+            [1.8, 1.4, 0.0],
+            [1.0, 1.8, 0.0],
+        ],
+        &[vec![0u32, 1, 2], vec![1, 3, 4, 5, 2]],
+    )
+    .unwrap();
+    for (m, chi) in [
+        (base::cube(), 2),
+        (base::torus(1.0, 0.3, 6, 4), 0),
+        (base::plane(3), 1),
+        (base::cylinder(0.5, 1.0, 5), 2),
+        (mixed, 1),
+    ] {
+        let mut cur = smooth(m);
+        for _ in 0..3 {
+            let (v, e, f) = (cur.mesh.n_vertices(), edges(&cur.mesh), cur.mesh.n_faces());
+            let corners: usize = cur.mesh.faces().map(<[u32]>::len).sum();
+            let next = subdivide(&cur, Boundary::EdgeOnly).unwrap();
+            let (v2, e2, f2) = (
+                next.mesh.n_vertices(),
+                edges(&next.mesh),
+                next.mesh.n_faces(),
+            );
+            assert_eq!((v2, e2, f2), (v + e + f, 2 * e + corners, corners));
+            assert_eq!(v2 as i64 - e2 as i64 + f2 as i64, chi);
+            cur = next;
+        }
+    }
+}
+
+/// Uniform cubic B-spline basis and its derivative at t ∈ [0, 1].
+fn basis(t: f64) -> ([f64; 4], [f64; 4]) {
+    let s = 1.0 - t;
+    (
+        [
+            s * s * s / 6.0,
+            (3.0 * t * t * t - 6.0 * t * t + 4.0) / 6.0,
+            (-3.0 * t * t * t + 3.0 * t * t + 3.0 * t + 1.0) / 6.0,
+            t * t * t / 6.0,
+        ],
+        [
+            -s * s / 2.0,
+            (3.0 * t * t - 4.0 * t) / 2.0,
+            (-3.0 * t * t + 2.0 * t + 1.0) / 2.0,
+            t * t / 2.0,
+        ],
+    )
+}
+
+#[test]
+fn limit_normals_equal_the_bspline_normal_and_the_cube_symmetry() {
+    // A bumpy 8×8 grid whose x, y are the B-spline parameters.
+    let n = 8;
+    let mut pos = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let z = ((i * 7 + j * 3) % 5) as f64 * 0.3 - 0.2 * (i as f64 - j as f64).abs();
+            pos.push([i as f64, j as f64, z]);
+        }
+    }
+    let mut faces = Vec::new();
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let v = (j * n + i) as u32;
+            faces.push([v, v + 1, v + n as u32 + 1, v + n as u32]);
+        }
+    }
+    let grid = smooth(PolyMesh::new(pos.clone(), &faces).unwrap());
+    let l2 = subdivide(
+        &subdivide(&grid, Boundary::EdgeOnly).unwrap(),
+        Boundary::EdgeOnly,
+    )
+    .unwrap();
+    let lim = limit_positions(&l2, Boundary::EdgeOnly).unwrap();
+    let nrm = limit_normals(&l2, Boundary::EdgeOnly).unwrap();
+    let mut checked = 0;
+    for (q, nq) in lim.iter().zip(&nrm) {
+        let (u, v) = (q[0], q[1]);
+        if !(2.0..=n as f64 - 3.0).contains(&u) || !(2.0..=n as f64 - 3.0).contains(&v) {
+            continue;
+        }
+        let (i, j) = (
+            (u.floor() as usize).min(n - 4),
+            (v.floor() as usize).min(n - 4),
+        );
+        let ((bu, du), (bv, dv)) = (basis(u - i as f64), basis(v - j as f64));
+        let (mut su, mut sv) = ([0.0; 3], [0.0; 3]);
+        for b in 0..4 {
+            for a in 0..4 {
+                let p = pos[(j + b - 1) * n + (i + a - 1)];
+                for k in 0..3 {
+                    su[k] += du[a] * bv[b] * p[k];
+                    sv[k] += bu[a] * dv[b] * p[k];
+                }
+            }
+        }
+        let c = [
+            su[1] * sv[2] - su[2] * sv[1],
+            su[2] * sv[0] - su[0] * sv[2],
+            su[0] * sv[1] - su[1] * sv[0],
+        ];
+        let l = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+        for k in 0..3 {
+            assert!(
+                (nq[k] - c[k] / l).abs() < 1e-12,
+                "({u}, {v}): {nq:?} vs {c:?}"
+            );
+        }
+        checked += 1;
+    }
+    assert!(checked > 100, "{checked}");
+    // The cube's corner (valence 3, extraordinary): by symmetry its limit
+    // normal is (1, 1, 1)/√3 exactly, at every level.
+    let mut cube = subdivide(&smooth(base::cube()), Boundary::EdgeOnly).unwrap();
+    for _ in 0..3 {
+        let nrm = limit_normals(&cube, Boundary::EdgeOnly).unwrap();
+        let c = nrm[nrm.len() - 1];
+        for x in c {
+            assert!((x - 1.0 / 3f64.sqrt()).abs() < 1e-12, "{c:?}");
+        }
+        cube = subdivide(&cube, Boundary::EdgeOnly).unwrap();
+    }
+}
+
+#[test]
+fn non_manifold_and_inconsistent_meshes_are_refused() {
+    // Two squares touching at one vertex (a bowtie): a non-manifold vertex.
+    let bowtie = PolyMesh::new(
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [2.0, 1.0, 0.0],
+            [2.0, 2.0, 0.0],
+            [1.0, 2.0, 0.0],
+        ],
+        &[[0u32, 1, 2, 3], [2, 4, 5, 6]],
+    )
+    .unwrap();
+    let b = smooth(bowtie);
+    let t = Topology::new(&b).unwrap();
+    let e = t
+        .check_base(b.mesh.face_vertices())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("vertex 2"), "{e}");
+    assert!(grow(&b, 1, Boundary::EdgeOnly, &Layer::default(), 1).is_err());
+    // A flipped face.
+    let flipped = PolyMesh::new(
+        vec![
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [2.0, 1.0, 0.0],
+        ],
+        &[[0u32, 1, 2, 3], [1, 2, 5, 4]],
+    )
+    .unwrap();
+    let e = subdivide(&smooth(flipped), Boundary::EdgeOnly)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("orientation"), "{e}");
+}
+
+fn rock_layer(amplitude: f64) -> Layer {
+    Layer {
+        name: "rock".into(),
+        features: vec![Feature::global(Procedure::Rock(Rock::fractal(
+            amplitude, 0.5,
+        )))],
+        edits: Vec::new(),
+    }
+}
+
+#[test]
+fn blending_is_exact_where_alpha_is_zero_or_one() {
+    // A 16 × 16 patch over [−10, 10]²; two rocks blended across x = 0.
+    let m = base::plane(16);
+    let big: Vec<[f64; 3]> = m
+        .positions()
+        .iter()
+        .map(|p| [10.0 * p[0], 10.0 * p[1], 0.0])
+        .collect();
+    let base = smooth(m.with_positions(big).unwrap());
+    let levels = 4;
+    let a = grow(&base, levels, Boundary::EdgeOnly, &rock_layer(0.5), 1).unwrap();
+    let b = grow(&base, levels, Boundary::EdgeOnly, &rock_layer(0.8), 2).unwrap();
+    let how = Blend {
+        source: AlphaSource::Plane {
+            normal: [1.0, 0.0, 0.0],
+            offset: 0.0,
+        },
+        width: 0.5,
+    };
+    // Identical inputs blend to the input exactly.
+    let (same, _) = blend(
+        &base,
+        None,
+        (&a.details, &a.details),
+        levels,
+        Boundary::EdgeOnly,
+        &how,
+    )
+    .unwrap();
+    assert_eq!(same.finest().mesh.positions(), a.finest().mesh.positions());
+    // Far from the seam (beyond level 0's width 2c plus three base edges of
+    // subdivision support) the result is bit-identical to each input.
+    let (mixed, alpha) = blend(
+        &base,
+        None,
+        (&a.details, &b.details),
+        levels,
+        Boundary::EdgeOnly,
+        &how,
+    )
+    .unwrap();
+    let reference = synthesize(&base, &[], levels, Boundary::EdgeOnly).unwrap();
+    let (mut left, mut right, mut seam) = (0, 0, 0);
+    for (v, p) in reference[levels].mesh.positions().iter().enumerate() {
+        let got = mixed.finest().mesh.positions()[v];
+        if p[0] < -1.0 - 3.75 {
+            assert_eq!(got, a.finest().mesh.positions()[v]);
+            assert_eq!(alpha[v], 0.0);
+            left += 1;
+        } else if p[0] > 1.0 + 3.75 {
+            assert_eq!(got, b.finest().mesh.positions()[v]);
+            assert_eq!(alpha[v], 1.0);
+            right += 1;
+        } else if p[0].abs() < 0.01 {
+            assert!(alpha[v] > 0.0 && alpha[v] < 1.0);
+            seam += 1;
+        }
+    }
+    assert!(
+        left > 1000 && right > 1000 && seam > 10,
+        "{left} {right} {seam}"
+    );
+    // The transition narrows with the level: c/2^(l−1).
+    assert!((how.alpha(1, [0.25, 0.0, 0.0], 0.0) - 1.0).abs() < 1e-15);
+    assert!(how.alpha(0, [0.25, 0.0, 0.0], 0.0) < 1.0);
+    assert_eq!(how.alpha(3, [0.07, 0.0, 0.0], 0.0), 1.0);
+    assert!(how.alpha(2, [0.07, 0.0, 0.0], 0.0) < 1.0);
+    // A per-vertex alpha map of the wrong size is refused.
+    let bad = Blend {
+        source: AlphaSource::Map(vec![0.5; 3]),
+        width: 0.5,
+    };
+    assert!(
+        blend(
+            &base,
+            None,
+            (&a.details, &b.details),
+            levels,
+            Boundary::EdgeOnly,
+            &bad
+        )
+        .is_err()
+    );
+}
+
+#[test]
+fn edits_scale_details_with_a_cubic_drop_off() {
+    let base = smooth(base::quad_sphere(2));
+    let plain = grow(&base, 4, Boundary::EdgeOnly, &rock_layer(0.2), 7).unwrap();
+    let with = |factor: f64| {
+        let mut l = rock_layer(0.2);
+        l.edits.push(Edit {
+            at: Anchor::Point([0.0, 0.0, 1.0]),
+            radius: 1.0,
+            levels: (2, 4),
+            factor,
+        });
+        grow(&base, 4, Boundary::EdgeOnly, &l, 7).unwrap()
+    };
+    // Factor 1 changes nothing.
+    assert_eq!(with(1.0).details, plain.details);
+    let smoothed = with(0.0);
+    // Level 1 is outside the band: untouched.
+    assert_eq!(smoothed.details[0], plain.details[0]);
+    for l in 2..=4 {
+        let (s, p) = (&smoothed.details[l - 1], &plain.details[l - 1]);
+        let changed = s.iter().zip(p).filter(|(a, b)| a != b).count();
+        let zeroed = s.iter().filter(|d| d[2] == 0.0).count();
+        // A disc of radius 2^l hops around the centre: the centre is zeroed,
+        // and most of the surface is untouched.
+        assert!(zeroed >= 1 && changed > 0, "level {l}");
+        assert!(changed < s.len() / 3, "level {l}: {changed} of {}", s.len());
+    }
+    assert!(asperity_subdiv::compose::drop_off(0.5) == 0.5);
+}
+
+#[test]
+fn placement_levels_berry_domes_and_stability() {
+    let base = smooth(base::quad_sphere(3));
+    // Spurs only at level 3: levels 1, 2 and 4 carry no detail (Fig. 9b).
+    let spur = Feature {
+        procedure: Procedure::Spur(Spur { height: 2.0 }),
+        seeds: Seeds::Points(vec![[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]),
+        levels: Some(vec![3]),
+    };
+    let m = grow(
+        &base,
+        4,
+        Boundary::EdgeOnly,
+        &Layer {
+            features: vec![spur],
+            ..Layer::default()
+        },
+        1,
+    )
+    .unwrap();
+    assert!(m.details[0].is_empty() && m.details[1].is_empty() && m.details[3].is_empty());
+    assert_eq!(m.details[2].iter().filter(|d| d[2] > 0.0).count(), 2);
+    // Berry: at its first level the seed vertex rises by height·R exactly
+    // (r = 0 in R·√(1 − r²/R²)), and every detail is a dome value ≤ height·R.
+    let berry = Feature {
+        procedure: Procedure::Berry(Berry {
+            radius: 0.4,
+            ratio: 0.5,
+            children: 4,
+            height: 0.5,
+        }),
+        seeds: Seeds::Points(vec![[0.0, 0.0, 1.0]]),
+        levels: Some(vec![2, 3]),
+    };
+    let m = grow(
+        &base,
+        3,
+        Boundary::EdgeOnly,
+        &Layer {
+            features: vec![berry],
+            ..Layer::default()
+        },
+        1,
+    )
+    .unwrap();
+    let d2 = &m.details[1];
+    let top = d2.iter().map(|d| d[2]).fold(0.0, f64::max);
+    assert!((top - 0.5 * 0.4).abs() < 1e-15, "{top}");
+    assert!(d2.iter().all(|d| d[2] >= 0.0 && d[0] == 0.0 && d[1] == 0.0));
+    // Children at level 3 have half the radius: domes at most 0.1 high.
+    let top3 = m.details[2].iter().map(|d| d[2]).fold(0.0, f64::max);
+    assert!(top3 > 0.0 && top3 <= 0.1 + 1e-15, "{top3}");
+    // Rock details of coarse levels do not change when levels are added.
+    let r3 = grow(&base, 3, Boundary::EdgeOnly, &rock_layer(0.1), 5).unwrap();
+    let r5 = grow(&base, 5, Boundary::EdgeOnly, &rock_layer(0.1), 5).unwrap();
+    assert_eq!(r3.details[..], r5.details[..3]);
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let base = smooth(base::quad_sphere(2));
+    let layer = Layer {
+        name: "all".into(),
+        features: vec![
+            Feature::global(Procedure::Rock(Rock::fractal(0.05, 0.5))),
+            Feature {
+                procedure: Procedure::Berry(Berry {
+                    radius: 0.3,
+                    ratio: 0.5,
+                    children: 5,
+                    height: 0.7,
+                }),
+                seeds: Seeds::Poisson { spacing: 0.6 },
+                levels: Some(vec![2, 3]),
+            },
+            Feature {
+                procedure: Procedure::Mushroom(Mushroom {
+                    height: 0.05,
+                    radius: 0.2,
+                }),
+                seeds: Seeds::Poisson { spacing: 0.9 },
+                levels: None,
+            },
+        ],
+        edits: vec![Edit {
+            at: Anchor::Vertex(3),
+            radius: 1.0,
+            levels: (2, 4),
+            factor: 2.0,
+        }],
+    };
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| grow(&base, 4, Boundary::EdgeOnly, &layer, 11).unwrap())
+    };
+    let (one, two) = (run(1), run(2));
+    let bits = |m: &asperity_subdiv::multires::Multires| {
+        m.finest()
+            .mesh
+            .positions()
+            .iter()
+            .flat_map(|p| p.map(f64::to_bits))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bits(&one), bits(&two));
+}
+
+#[test]
+fn the_planet_clamps_relief_at_sea_level() {
+    let base = smooth(base::quad_sphere(2));
+    let earth = [Feature::global(Procedure::Rock(Rock::fractal(0.5, 0.55)))];
+    let alien = [Feature::global(Procedure::Rock(Rock::fractal(0.35, 0.75)))];
+    let how = Blend {
+        source: AlphaSource::Plane {
+            normal: [1.0, 0.0, 0.0],
+            offset: 0.0,
+        },
+        width: 0.5,
+    };
+    let f = scalar_field(
+        &base,
+        4,
+        Boundary::EdgeOnly,
+        &earth,
+        Some((&alien, &how)),
+        3,
+    )
+    .unwrap();
+    let planet = Planet::default();
+    let (colours, pos) = planet.shade(&f);
+    let (mut sea, mut land) = (0, 0);
+    for v in 0..pos.len() {
+        if f.value[v] <= planet.sea_level {
+            assert_eq!(
+                pos[v],
+                f.mesh.mesh.positions()[v],
+                "sea lies on the reference"
+            );
+            assert!(colours[v][2] > colours[v][0], "sea is blue");
+            sea += 1;
+        } else {
+            land += 1;
+        }
+    }
+    assert!(sea > 100 && land > 100, "{sea} {land}");
+    assert!(f.alpha.contains(&0.0) && f.alpha.contains(&1.0));
+}
