@@ -353,6 +353,50 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
             })
         }),
     ));
+    // Multiresolution subdivision (velho-perlin, issue #8): 4 levels of a
+    // 10 086-quad closed mesh (a cube with 41 × 41 quads per face), plain and
+    // with rock detail; the peers' figures are for the plain refinement.
+    for (name, rock) in [
+        ("subdiv/plain-10086-quads-4-levels", false),
+        ("subdiv/rock-10086-quads-4-levels", true),
+    ] {
+        v.push((
+            name,
+            Box::new(move || {
+                use asperity_subdiv::catmull_clark::{Boundary, Creased};
+                use asperity_subdiv::compose::{Layer, grow};
+                use asperity_subdiv::detail::{Feature, Procedure, Rock};
+                let (n, levels) = if quick { (8, 2) } else { (41, 4) };
+                let base = Creased::smooth(asperity_core::shapes::cube_quads(n));
+                let quads = (base.mesh.n_faces() as u64) << (2 * levels);
+                let layer = Layer {
+                    name: "rock".into(),
+                    features: if rock {
+                        vec![Feature::global(Procedure::Rock(Rock::fractal(0.02, 0.5)))]
+                    } else {
+                        Vec::new()
+                    },
+                    edits: Vec::new(),
+                };
+                Ok(Workload {
+                    name,
+                    what: format!(
+                        "{levels} levels of a {}-quad cube{} → {quads} quads",
+                        base.mesh.n_faces(),
+                        if rock { " with rock detail" } else { ", plain" }
+                    ),
+                    elements: quads,
+                    unit: "output quads",
+                    target_s: (!quick && rock).then_some(0.7),
+                    once: false,
+                    job: Box::new(move || {
+                        grow(&base, levels, Boundary::EdgeOnly, &layer, 1)?;
+                        Ok(())
+                    }),
+                })
+            }),
+        ));
+    }
     // Projected IFS (poull-gentil): a depth-10 tensor-product attractor (≈ 1M
     // vertices) built and written as binary PLY; and the pseudo-curvature ranges of
     // every operator of every preset.

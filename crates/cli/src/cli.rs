@@ -106,7 +106,7 @@ pub enum Command {
     Ifs(IfsCommand),
     /// Cellular automata on any triangle mesh: Voronoi, corrosion, reaction–diffusion (gobron-chiba).
     SurfaceCa(SurfaceCaArgs),
-    /// Catmull–Clark multiresolution surfaces with procedural detail (velho-perlin; in progress).
+    /// Multiresolution Catmull–Clark surfaces with procedural detail, edits, blends and scenes (velho-perlin).
     Subdiv(SubdivArgs),
     /// Time the workloads named in the issues and print throughput.
     Bench(BenchArgs),
@@ -123,6 +123,10 @@ pub struct DemoArgs {
     /// Smaller sizes for a fast run (CI uses this).
     #[arg(long)]
     pub quick: bool,
+    /// Run only these sections (repeatable): foundation, renderer, peridier,
+    /// growth, levelset, ifs, surfca, subdiv.
+    #[arg(long, value_name = "SECTION")]
+    pub only: Vec<String>,
 }
 
 /// What to treat the input as.

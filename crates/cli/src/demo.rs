@@ -525,10 +525,9 @@ fn ifs(env: &Env) -> anyhow::Result<Section> {
     })
 }
 
-/// velho-perlin: Catmull–Clark multiresolution surfaces (in progress).
+/// velho-perlin: Catmull–Clark multiresolution surfaces with procedural detail.
 fn subdivision(env: &Env) -> anyhow::Result<Section> {
     use asperity_subdiv::catmull_clark::{Boundary, Creased, limit_positions};
-    use asperity_subdiv::detail::Rock;
     use asperity_subdiv::multires::synthesize;
     let wo = WriteOptions::default();
     let mut items = Vec::new();
@@ -576,44 +575,139 @@ fn subdivision(env: &Env) -> anyhow::Result<Section> {
             ),
         ],
     });
-    // Rock (§4.2): a random value per control point per level, 1/f amplitude.
-    let sphere = Creased::smooth(asperity_subdiv::base::quad_sphere(2));
-    let rock = Rock::fractal(0.12, 0.5);
-    let n_levels = if env.quick { 4 } else { 5 };
-    let mut cur = sphere;
-    for k in 1..=n_levels {
-        let m = &cur.mesh;
-        let n = m.n_vertices() + m.n_edges() + m.n_faces();
-        let d = vec![rock.details(env.ctx.seed, k, n)];
-        cur = synthesize(&cur, &d, 1, Boundary::EdgeOnly)?
-            .pop()
-            .context("one level")?;
+    // The example scenes (crates/subdiv/scenes), each as in the paper's figures.
+    for (name, text, title) in SCENES {
+        let mut scene =
+            asperity_subdiv::scene::parse(text, if *name == "tentacle" { 0.15 } else { 0.0 })
+                .map_err(|e| anyhow::anyhow!("scene {name}: {e}"))?;
+        if env.quick {
+            scene.levels = scene.levels.saturating_sub(1).max(2);
+        }
+        let base = Creased::smooth(crate::subdiv_cmd::load_base(
+            &scene.base,
+            std::path::Path::new(""),
+        )?);
+        let t = std::time::Instant::now();
+        let c = asperity_subdiv::compose::evaluate(&scene, &base, None)?;
+        // Timings go to report.json (the gallery must not depend on them).
+        env.report
+            .borrow_mut()
+            .measure(&format!("subdiv_{name}_seconds"), t.elapsed().as_secs_f64());
+        let mut tri = c.mesh.mesh.triangulate().with_computed_normals();
+        let n_vertices = tri.n_vertices();
+        let alpha = c
+            .scalars
+            .iter()
+            .find(|(n, _)| n == "alpha")
+            .map(|(_, v)| v.clone());
+        let (file, pic) = match (&c.colors, alpha) {
+            (Some(col), _) => {
+                env.colored_mesh(&format!("subdiv_{name}"), &tri.with_colors(col.clone())?)?
+            }
+            (None, Some(a)) => {
+                // Blends: polished metal to rust by the blend weight.
+                let col = a
+                    .iter()
+                    .map(|&t| {
+                        let m = |x: f64, y: f64| (x + (y - x) * t) as u8;
+                        [m(175.0, 140.0), m(180.0, 70.0), m(190.0, 30.0), 255]
+                    })
+                    .collect();
+                tri = tri.with_scalar("alpha", a)?;
+                env.colored_mesh(&format!("subdiv_{name}"), &tri.with_colors(col)?)?
+            }
+            (None, None) => {
+                let file = env.write(
+                    &format!("subdiv_{name}.ply"),
+                    &Surface::Mesh(tri.clone()),
+                    &wo,
+                )?;
+                let pic = env.picture(
+                    &format!("subdiv_{name}.png"),
+                    &render_mesh(&tri, &env.view())?,
+                )?;
+                (file, pic)
+            }
+        };
+        items.push(Item {
+            title: (*title).into(),
+            image: Some(pic),
+            files: vec![file],
+            facts: vec![
+                fact("levels", scene.levels),
+                fact("vertices", n_vertices),
+                fact("quads", c.mesh.mesh.n_faces()),
+                fact(
+                    "CLI",
+                    format!("asperity subdiv crates/subdiv/scenes/{name}.toml -o {name}.glb"),
+                ),
+            ],
+        });
     }
-    let tri = cur.mesh.triangulate().with_computed_normals();
-    let file = env.write("subdiv_rock.ply", &Surface::Mesh(tri.clone()), &wo)?;
-    let pic = env.picture("subdiv_rock.png", &render_mesh(&tri, &env.view())?)?;
-    items.push(Item {
-        title: format!("Rock: {n_levels} levels of random control-point detail on a quad sphere (§4.2)"),
-        image: Some(pic),
-        files: vec![file],
-        facts: vec![
-            fact("vertices", tri.n_vertices()),
-            fact(
-                "CLI",
-                "asperity subdiv --base sphere --levels 5 --detail rock:amplitude=0.12,decay=0.5 -o rock.ply",
-            ),
-        ],
-    });
     Ok(Section {
-        title: "Multiresolution subdivision surfaces (velho-perlin) — in progress".into(),
-        source: "asperity-subdiv — Catmull–Clark with boundaries, creases and limits; §2 multiresolution; §4.2 rock"
+        title: "Multiresolution subdivision surfaces with procedural detail (velho-perlin)".into(),
+        source: "asperity-subdiv — Catmull–Clark with boundaries, creases, limit positions and normals; §2 \
+                 multiresolution; §3–4 rock, fbm, berry, tentacle, mine, mushroom, spur; §5 placement and edits; \
+                 §6 multiscale blending and the planet shader; scenes in crates/subdiv/scenes"
             .into(),
-        blurb: "Levels of Catmull–Clark subdivision with detail offsets in local frames; procedural detail is added \
-                level by level. Berry, tentacle, mushroom, placement, editing and blending are still to come."
+        blurb: "Levels of Catmull–Clark subdivision with detail offsets in local frames of the predicted surface. \
+                Procedures add detail level by level — fractal (amplitude shrinking with scale) or morphogenic \
+                (growing with the level); features sit at chosen vertices and levels; edits scale bands of \
+                levels around a point; two surfaces blend level by level with a transition c/2^(l−1) wide, so \
+                coarse features cross the seam and fine ones switch sharply."
             .into(),
         items,
     })
 }
+
+/// The example scenes shown in the gallery: (name, TOML, title).
+const SCENES: &[(&str, &str, &str)] = &[
+    (
+        "rock",
+        include_str!("../../subdiv/scenes/rock.toml"),
+        "Rock (§4.2, Fig. 3): a random value per control point per level, 1/f amplitude",
+    ),
+    (
+        "berry",
+        include_str!("../../subdiv/scenes/berry.toml"),
+        "Berry (§4.2, Fig. 4): domes on Poisson-disk seeds, regrown from child clusters",
+    ),
+    (
+        "tentacle",
+        include_str!("../../subdiv/scenes/tentacle.toml"),
+        "Tentacles (§4.2, Fig. 5): the paper's pseudo-code, θ animated (frame t = 0.15)",
+    ),
+    (
+        "mine",
+        include_str!("../../subdiv/scenes/mine.toml"),
+        "Submarine mine (§4.2, Fig. 6): the tentacle without twist or sign alternation",
+    ),
+    (
+        "mushroom_planet",
+        include_str!("../../subdiv/scenes/mushroom_planet.toml"),
+        "Mushroom planet (§4.2, Fig. 7): mushroom clouds on a rocky sphere",
+    ),
+    (
+        "spurs",
+        include_str!("../../subdiv/scenes/spurs.toml"),
+        "Placement at levels 1 and 3 (§5.1, Fig. 9c): large and small spurs",
+    ),
+    (
+        "edited_rock",
+        include_str!("../../subdiv/scenes/edited_rock.toml"),
+        "Local edits (§5.2): rock smoothed near +z, exaggerated near +x",
+    ),
+    (
+        "rusted_fuse",
+        include_str!("../../subdiv/scenes/rusted_fuse.toml"),
+        "Rusted fuse (§6.1, Fig. 11): fuse and rock blended across a (1, 2, 0) plane",
+    ),
+    (
+        "planet",
+        include_str!("../../subdiv/scenes/planet.toml"),
+        "Blended planet (§6.2, Fig. 12): two rock scalars blended, then shaded",
+    ),
+];
 
 /// gobron-chiba: cellular automata on triangle meshes (surface Voronoi).
 fn surface_ca(env: &Env) -> anyhow::Result<Section> {
@@ -834,10 +928,22 @@ pub fn run(ctx: &Context, a: &DemoArgs) -> anyhow::Result<()> {
         quick: a.quick,
         report: std::cell::RefCell::new(Report::new("demo", ctx)),
     };
+    if let Some(bad) = a
+        .only
+        .iter()
+        .find(|o| !SECTIONS.iter().any(|(n, _)| n == o))
+    {
+        let names: Vec<&str> = SECTIONS.iter().map(|(n, _)| *n).collect();
+        anyhow::bail!("--only {bad}: no such section ({})", names.join(", "));
+    }
+    let chosen: Vec<&(&str, SectionFn)> = SECTIONS
+        .iter()
+        .filter(|(n, _)| a.only.is_empty() || a.only.iter().any(|o| o == n))
+        .collect();
     let bar = Bar::new(ctx.quiet || ctx.json);
-    bar.start(SECTIONS.len() as u64, "demo");
+    bar.start(chosen.len() as u64, "demo");
     let mut sections = Vec::new();
-    for (name, f) in SECTIONS {
+    for (name, f) in chosen {
         let t = std::time::Instant::now();
         let s = f(&env).with_context(|| format!("demo section {name}"))?;
         env.report

@@ -516,6 +516,7 @@ pub fn scalar_field(
     let mut mesh = base.clone();
     let mut topo = Topology::new(base)?;
     topo.check_base(base.mesh.face_vertices())?;
+    crate::catmull_clark::check_nondegenerate(&base.mesh)?;
     let mut alpha = vec![0.0; vals.len()];
     for l in 1..=levels {
         vals = topo.subdivide_values(mesh.mesh.face_vertices(), &vals, boundary);

@@ -1,17 +1,21 @@
 //! Multiresolution subdivision surfaces with procedural detail from [velho-perlin].
 //!
-//! **Status: started** (issue "Multiresolution Catmull-Clark surfaces"): Catmull–Clark
-//! subdivision with boundaries, creases and limit positions, and the
-//! multiresolution levels with synthesis and analysis, are done; the procedural
-//! details and the rest are planned. Input meshes are `asperity_core::PolyMesh`.
+//! A base polygon mesh (`asperity_core::PolyMesh`, any manifold polygons) is
+//! refined by Catmull–Clark subdivision; every level adds detail offsets in
+//! local frames, from procedures evaluated on the surface the level grows from.
+//! Features can be placed at chosen vertices and levels, edited locally, and two
+//! surfaces blended level by level; in scalar mode the same machinery builds a
+//! field that a post-shader turns into colours (the planet). Scenes (TOML)
+//! describe compositions for `asperity subdiv`.
 //!
 //! | Module | What | Paper section |
 //! | --- | --- | --- |
-//! | [`base`] | built-in base meshes: cube, quad sphere, torus | §6 examples |
-//! | [`catmull_clark`] | subdivision with boundaries, creases and limit positions (done) | §2 |
-//! | [`multires`] | levels with detail offsets in local frames, synthesis and analysis (done) | §2 |
-//! | [`detail`] | procedural detail: rock (done); berry, tentacle, mushroom (planned) | §3–4 |
-//! | `placement`, `blend` | Local placement, multiscale blending | §5–6 |
+//! | [`base`] | built-in bases: cube, quad sphere, torus, cylinder, plane patch, revolution, fuse | §6.1 |
+//! | [`catmull_clark`] | subdivision with boundaries, creases, limit positions and normals | §2 |
+//! | [`multires`] | levels with detail offsets in local frames; synthesis and analysis | §2, Fig. 1 |
+//! | [`detail`] | procedures: rock, fbm, berry, tentacle, mine, mushroom, spur; amplitude laws | §3–4 |
+//! | [`compose`] | layers, placement, local edits, multiscale blending, scalar mode, planet shader | §5–6 |
+//! | [`scene`] | TOML scene files with animated parameters | §3, Fig. 2 |
 //!
 //! [velho-perlin]: ../shared/papers/velho-perlin_procedural-shape-synthesis-subdivision.txt
 

@@ -206,6 +206,7 @@ where
     let mut all = Vec::with_capacity(levels);
     let mut topo = Topology::new(base)?;
     topo.check_base(base.mesh.face_vertices())?;
+    crate::catmull_clark::check_nondegenerate(&base.mesh)?;
     for k in 1..=levels {
         let coarse = &out[k - 1];
         let mut next = refine_with(coarse, &topo, boundary)?;

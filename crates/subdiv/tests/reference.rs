@@ -201,6 +201,22 @@ fn non_manifold_and_inconsistent_meshes_are_refused() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("orientation"), "{e}");
+    // A face squashed to a line.
+    let flat = PolyMesh::new(
+        vec![
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [3.0, 1.0, 0.0],
+        ],
+        &[[0u32, 1, 2], [2, 1, 3]],
+    )
+    .unwrap();
+    let e = grow(&smooth(flat), 1, Boundary::EdgeOnly, &Layer::default(), 1)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("face 0 is degenerate"), "{e}");
 }
 
 fn rock_layer(amplitude: f64) -> Layer {
@@ -479,4 +495,153 @@ fn the_planet_clamps_relief_at_sea_level() {
     }
     assert!(sea > 100 && land > 100, "{sea} {land}");
     assert!(f.alpha.contains(&0.0) && f.alpha.contains(&1.0));
+}
+
+/// An independent Catmull–Clark of the unit cube in exact rational arithmetic.
+#[test]
+fn cube_values_in_rational_arithmetic() {
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    struct Q(i128, i128);
+    fn gcd(a: i128, b: i128) -> i128 {
+        if b == 0 { a.abs() } else { gcd(b, a % b) }
+    }
+    impl Q {
+        fn new(n: i128, d: i128) -> Q {
+            let g = gcd(n, d).max(1) * d.signum();
+            Q(n / g, d / g)
+        }
+        fn add(self, o: Q) -> Q {
+            Q::new(self.0 * o.1 + o.0 * self.1, self.1 * o.1)
+        }
+        fn mul(self, n: i128, d: i128) -> Q {
+            Q::new(self.0 * n, self.1 * d)
+        }
+        fn f(self) -> f64 {
+            self.0 as f64 / self.1 as f64
+        }
+    }
+    type P = [Q; 3];
+    let sum = |ps: &[P]| -> P {
+        let mut s = [Q(0, 1); 3];
+        for p in ps {
+            for k in 0..3 {
+                s[k] = s[k].add(p[k]);
+            }
+        }
+        s
+    };
+    let scale = |p: P, n: i128, d: i128| -> P { p.map(|x| x.mul(n, d)) };
+    // One step on a closed mesh (smooth rules only), in our documented order.
+    let step = |pos: &[P], faces: &[Vec<usize>]| -> (Vec<P>, Vec<Vec<usize>>) {
+        let fp: Vec<P> = faces
+            .iter()
+            .map(|f| {
+                scale(
+                    sum(&f.iter().map(|&v| pos[v]).collect::<Vec<_>>()),
+                    1,
+                    f.len() as i128,
+                )
+            })
+            .collect();
+        let mut edges: Vec<(usize, usize)> = Vec::new();
+        let mut edge_faces: Vec<Vec<usize>> = Vec::new();
+        for (fi, f) in faces.iter().enumerate() {
+            for k in 0..f.len() {
+                let (a, b) = (f[k], f[(k + 1) % f.len()]);
+                let key = (a.min(b), a.max(b));
+                match edges.iter().position(|&e| e == key) {
+                    Some(i) => edge_faces[i].push(fi),
+                    None => {
+                        edges.push(key);
+                        edge_faces.push(vec![fi]);
+                    }
+                }
+            }
+        }
+        let ep: Vec<P> = edges
+            .iter()
+            .zip(&edge_faces)
+            .map(|(&(a, b), fs)| scale(sum(&[pos[a], pos[b], fp[fs[0]], fp[fs[1]]]), 1, 4))
+            .collect();
+        let vp: Vec<P> = (0..pos.len())
+            .map(|v| {
+                let adj_f: Vec<P> = faces
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, f)| f.contains(&v))
+                    .map(|(i, _)| fp[i])
+                    .collect();
+                let adj_e: Vec<P> = edges
+                    .iter()
+                    .filter(|e| e.0 == v || e.1 == v)
+                    .map(|&(a, b)| scale(sum(&[pos[a], pos[b]]), 1, 2))
+                    .collect();
+                let n = adj_e.len() as i128;
+                let q = scale(sum(&adj_f), 1, adj_f.len() as i128);
+                let r = scale(sum(&adj_e), 2, n);
+                scale(sum(&[q, r, scale(pos[v], n - 3, 1)]), 1, n)
+            })
+            .collect();
+        let (nf, ne) = (faces.len(), edges.len());
+        let mut out = fp;
+        out.extend(ep);
+        out.extend(vp);
+        let eid = |a: usize, b: usize| {
+            edges
+                .iter()
+                .position(|&e| e == (a.min(b), a.max(b)))
+                .unwrap()
+        };
+        let quads = faces
+            .iter()
+            .enumerate()
+            .flat_map(|(fi, f)| {
+                let m = f.len();
+                (0..m)
+                    .map(|k| {
+                        vec![
+                            nf + ne + f[k],
+                            nf + eid(f[k], f[(k + 1) % m]),
+                            fi,
+                            nf + eid(f[(k + m - 1) % m], f[k]),
+                        ]
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        (out, quads)
+    };
+    let cube = base::cube();
+    let mut pos: Vec<P> = cube
+        .positions()
+        .iter()
+        .map(|p| p.map(|x| Q::new(x as i128, 1)))
+        .collect();
+    let mut faces: Vec<Vec<usize>> = cube
+        .faces()
+        .map(|f| f.iter().map(|&v| v as usize).collect())
+        .collect();
+    let mut ours = smooth(cube);
+    for (level, corner) in [(1, Q(5, 9)), (2, Q(55, 108))] {
+        (pos, faces) = step(&pos, &faces);
+        ours = subdivide(&ours, Boundary::EdgeOnly).unwrap();
+        // The (1, 1, 1) corner is the last vertex point: exactly 5/9, then 55/108.
+        assert_eq!(pos[pos.len() - 1], [corner; 3], "level {level}");
+        // Every vertex of ours equals the rational value to rounding.
+        assert_eq!(ours.mesh.n_vertices(), pos.len());
+        for (a, b) in ours.mesh.positions().iter().zip(&pos) {
+            for k in 0..3 {
+                assert!(
+                    (a[k] - b[k].f()).abs() < 1e-15,
+                    "level {level}: {a:?} vs {b:?}"
+                );
+            }
+        }
+        let ours_faces: Vec<Vec<usize>> = ours
+            .mesh
+            .faces()
+            .map(|f| f.iter().map(|&v| v as usize).collect())
+            .collect();
+        assert_eq!(ours_faces, faces, "level {level}: the documented order");
+    }
 }
