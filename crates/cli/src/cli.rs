@@ -831,6 +831,11 @@ pub struct SubdivArgs {
     /// running the procedures.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "detail"])]
     pub apply_details: Option<std::path::PathBuf>,
+    /// Analyse a fine mesh whose connectivity is --levels subdivisions of --base
+    /// (a PLY as this command writes it, positions edited freely) into base +
+    /// details by quasi-interpolation; use with --export-details.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "detail", "apply_details"])]
+    pub analyze: Option<std::path::PathBuf>,
 }
 
 /// Surface-CA applications.

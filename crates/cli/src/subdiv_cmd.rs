@@ -239,9 +239,10 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
         } else {
             scene_at(t)?
         };
-        let composed = match &a.apply_details {
-            Some(p) => apply_details(p, &base, &scene)?,
-            None => evaluate(&scene, &base, alpha_map.clone())?,
+        let composed = match (&a.apply_details, &a.analyze) {
+            (Some(p), _) => apply_details(p, &base, &scene)?,
+            (None, Some(p)) => analyze_fine(p, &base, &scene)?,
+            (None, None) => evaluate(&scene, &base, alpha_map.clone())?,
         };
         let tri = to_trimesh(&composed, &scene)?;
         let path = if a.frames.is_some() {
@@ -294,6 +295,38 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
         }
     ));
     report.finish(ctx)
+}
+
+/// Analyses a fine mesh into `base` positions and details (quasi-interpolation).
+fn analyze_fine(path: &Path, base: &Creased, scene: &Scene) -> anyhow::Result<Composed> {
+    let fine = asperity_io::read_poly_mesh(path)
+        .with_context(|| format!("reading the fine mesh {}", path.display()))?;
+    let plain = synthesize(base, &[], scene.levels, scene.boundary)?;
+    let expect = plain.last().context("levels")?;
+    anyhow::ensure!(
+        fine.n_vertices() == expect.mesh.n_vertices()
+            && (fine.face_vertices() == expect.mesh.face_vertices()
+                || fine.triangulate().triangles() == expect.mesh.triangulate().triangles()),
+        "{}: its connectivity is not {} subdivisions of the base ({} vertices expected, {} found); write it with asperity subdiv and edit positions only",
+        path.display(),
+        scene.levels,
+        expect.mesh.n_vertices(),
+        fine.n_vertices()
+    );
+    let (coarse, details) =
+        asperity_subdiv::multires::analyze(base, fine.positions(), scene.levels, scene.boundary)?;
+    let levels = synthesize(&coarse, &details, scene.levels, scene.boundary)?;
+    let counts = levels
+        .iter()
+        .map(|l| (l.mesh.n_vertices(), l.mesh.n_faces()))
+        .collect();
+    Ok(Composed {
+        mesh: levels.last().context("levels")?.clone(),
+        colors: None,
+        scalars: Vec::new(),
+        details,
+        counts,
+    })
 }
 
 /// Re-applies exported details to `base` (which may have been edited).

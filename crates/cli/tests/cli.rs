@@ -1594,6 +1594,29 @@ fn subdiv_as_documented() {
         "c.ply",
         "-q",
     ]);
+    // Analysis of a fine mesh gives details that rebuild it.
+    run(&[
+        "subdiv",
+        "--base",
+        "cube",
+        "--levels",
+        "3",
+        "--analyze",
+        "a.ply",
+        "--export-details",
+        "e.json",
+        "-o",
+        "back.ply",
+        "-q",
+    ]);
+    let (fa, fb) = (
+        asperity_io::read_mesh(&dir.join("a.ply")).unwrap(),
+        asperity_io::read_mesh(&dir.join("back.ply")).unwrap(),
+    );
+    for (p, q) in fa.positions().iter().zip(fb.positions()) {
+        assert!((0..3).all(|k| (p[k] - q[k]).abs() < 1e-12), "{p:?} {q:?}");
+    }
+    assert!(dir.join("e.json").exists());
     // Scenes: an example scene, byte-identical at 1 and 2 threads.
     let scene = dir.join("berry.toml");
     std::fs::write(
