@@ -28,8 +28,10 @@
 //!    iterations (the paper: "one or two").
 //! 4. **Clamp** φ to [−γ, γ] (Eq. 12); nodes outside N keep ±γ.
 //!
-//! Every pass computes the new values of its node list from the old ones (Jacobi)
-//! and then stores them; φ is held in atomics during the flow so both cores store.
+//! Every pass computes the new values of its node list from the old ones (Jacobi):
+//! φ is held in two buffers of atomics during the flow, and each pass reads one
+//! and writes the other (or itself, only at the node being updated), so both
+//! cores store and no separate store passes are needed.
 //! Each pass is per node, a maximum or an integer (fixed-point) sum, so the result
 //! does not depend on the thread count or on the order of the lists.
 //!
@@ -426,15 +428,18 @@ pub fn evolve(
     let beta = params.beta.clamp(0.0, gamma * 0.999);
     let strides = grid.strides();
     let full = params.band == Band::Full;
-    // φ is shared by the threads during the flow: each pass computes new values for
-    // its list of nodes (Jacobi), then stores them in parallel.
-    let phi: Vec<AtomicU32> = ls
-        .phi
-        .par_iter()
-        .map(|&x| AtomicU32::new(x.to_bits()))
-        .collect();
-    let phi: &[AtomicU32] = &phi;
-    let store = |u: u32, v: f32| phi[u as usize].store(v.to_bits(), Relaxed);
+    // φ lives in two shared buffers during the flow, `a` (current) and `b`
+    // (scratch), equal outside the tube N between steps. Every pass reads one
+    // buffer and writes the other at its own nodes (Jacobi), so no separate store
+    // passes are needed: stage 1 reads a and writes b on T; stage 2 reads b's
+    // stencils and a at the node itself, and writes a in place; redistancing
+    // alternates a → b → a on N; the tube rebuild copies a back into b on N.
+    let to_atomic = |v: &[f32]| -> Vec<AtomicU32> {
+        v.par_iter().map(|&x| AtomicU32::new(x.to_bits())).collect()
+    };
+    let (buf_a, buf_b) = (to_atomic(&ls.phi), to_atomic(&ls.phi));
+    let (phi, scratch): (&[AtomicU32], &[AtomicU32]) = (&buf_a, &buf_b);
+    let put = |buf: &[AtomicU32], u: usize, v: f32| buf[u].store(v.to_bits(), Relaxed);
     let mark: Vec<AtomicU32> = (0..grid.len())
         .into_par_iter()
         .map(|_| AtomicU32::new(0))
@@ -448,57 +453,82 @@ pub fn evolve(
     } else {
         Vec::new()
     };
-    let build = |from: Option<&[u32]>, epoch: u32| -> Tubes {
-        if full {
-            return Tubes {
-                t: safe.clone(),
-                n: safe.clone(),
-            };
-        }
-        let keep = |&u: &u32| phi.at(u as usize).abs() < gamma && stencil_fits(&grid, u as usize);
-        let t: Vec<u32> = match from {
-            Some(n) => n.par_iter().copied().filter(keep).collect(),
-            None => (0..grid.len() as u32)
-                .into_par_iter()
-                .filter(keep)
-                .collect(),
-        };
-        let n = dilate(&grid, &t, &mark, epoch);
-        Tubes { t, n }
-    };
-    let mut tubes = build(None, epoch);
     let arrest = params.arrest;
-    let speed = |u: usize| -> f64 {
+    let speed = |buf: &[AtomicU32], u: usize| -> f64 {
         let d = f64::from(dist.values[u]);
         if d < arrest {
             return 0.0;
         }
-        cutoff(phi.at(u), beta, gamma) * d
+        cutoff(buf.at(u), beta, gamma) * d
     };
-    let rate = |u: usize| -> f64 {
-        let s = speed(u);
+    let rate = |buf: &[AtomicU32], u: usize| -> f64 {
+        let s = speed(buf, u);
         if s == 0.0 {
             return 0.0;
         }
-        let mut r = s * grad_inward(phi, u, strides, inv_h, params.scheme);
+        let mut r = s * grad_inward(buf, u, strides, inv_h, params.scheme);
         if let Flow::Regularized { weight } = params.flow {
-            r += s * weight * curvature_term(phi, u, strides, h);
+            r += s * weight * curvature_term(buf, u, strides, h);
         }
         r
     };
+    // T (with the largest speed on it) from a candidate list, copying a into b
+    // on the candidates on the way; N = T dilated.
+    let build = |from: Option<&[u32]>, epoch: u32| -> (Tubes, f64) {
+        let keep = |u: u32| phi.at(u as usize).abs() < gamma && stencil_fits(&grid, u as usize);
+        if full {
+            let vmax = safe
+                .par_iter()
+                .map(|&u| {
+                    put(scratch, u as usize, phi.at(u as usize) as f32);
+                    speed(phi, u as usize)
+                })
+                .reduce(|| 0.0, f64::max);
+            return (
+                Tubes {
+                    t: safe.clone(),
+                    n: safe.clone(),
+                },
+                vmax,
+            );
+        }
+        let pick = |acc: (Vec<u32>, f64), u: u32| {
+            let (mut t, m) = acc;
+            if from.is_some() {
+                put(scratch, u as usize, phi.at(u as usize) as f32);
+            }
+            if keep(u) {
+                t.push(u);
+                return (t, m.max(speed(phi, u as usize)));
+            }
+            (t, m)
+        };
+        let join = |mut x: (Vec<u32>, f64), y: (Vec<u32>, f64)| {
+            x.0.extend(y.0);
+            (x.0, x.1.max(y.1))
+        };
+        let (t, vmax) = match from {
+            Some(n) => n
+                .par_iter()
+                .copied()
+                .fold(|| (Vec::new(), 0.0), pick)
+                .reduce(|| (Vec::new(), 0.0), join),
+            None => (0..grid.len() as u32)
+                .into_par_iter()
+                .fold(|| (Vec::new(), 0.0), pick)
+                .reduce(|| (Vec::new(), 0.0), join),
+        };
+        let n = dilate(&grid, &t, &mark, epoch);
+        (Tubes { t, n }, vmax)
+    };
+    let (mut tubes, mut vmax) = build(None, epoch);
     progress.start(params.iterations as u64, "convection flow");
     let mut stats = EvolveStats {
         steps: Vec::new(),
         converged: false,
     };
     let mut old: Vec<f32> = Vec::new();
-    let mut new: Vec<f32> = Vec::new();
     for step in 1..=params.iterations {
-        let vmax = tubes
-            .t
-            .par_iter()
-            .map(|&u| speed(u as usize))
-            .reduce(|| 0.0, f64::max);
         if vmax <= 0.0 || tubes.t.is_empty() {
             stats.converged = true;
             break;
@@ -507,63 +537,57 @@ pub fn evolve(
         if let Flow::Regularized { weight } = params.flow {
             dt = dt.min(0.9 * h * h / (6.0 * weight.max(1e-300) * vmax));
         }
-        // Stage 1: φ¹ = φⁿ + Δt L(φⁿ).
+        // Stage 1: φ¹ = φⁿ + Δt L(φⁿ) into b; φⁿ on T kept in `old`.
         tubes
             .t
             .par_iter()
-            .map(|&u| phi.at(u as usize) as f32)
-            .collect_into_vec(&mut old);
-        tubes
-            .t
-            .par_iter()
-            .zip(old.par_iter())
-            .map(|(&u, &o)| (f64::from(o) + dt * rate(u as usize)) as f32)
-            .collect_into_vec(&mut new);
-        tubes
-            .t
-            .par_iter()
-            .zip(new.par_iter())
-            .for_each(|(&u, &v)| store(u, v));
-        // Stage 2: φⁿ⁺¹ = ½φⁿ + ½(φ¹ + Δt L(φ¹)).
-        tubes
-            .t
-            .par_iter()
-            .zip(old.par_iter())
-            .map(|(&u, &o)| {
+            .map(|&u| {
                 let u = u as usize;
-                (0.5 * (f64::from(o) + phi.at(u) + dt * rate(u))) as f32
+                let o = phi.at(u) as f32;
+                put(scratch, u, (f64::from(o) + dt * rate(phi, u)) as f32);
+                o
             })
-            .collect_into_vec(&mut new);
-        tubes
-            .t
-            .par_iter()
-            .zip(new.par_iter())
-            .for_each(|(&u, &v)| store(u, v));
-        // Redistance on N (Eq. 11), Jacobi iterations; the last one also clamps (Eq. 12).
+            .collect_into_vec(&mut old);
+        // Stage 2: φⁿ⁺¹ = ½φⁿ + ½(φ¹ + Δt L(φ¹)) into a (a is read only at u).
+        tubes.t.par_iter().zip(old.par_iter()).for_each(|(&u, &o)| {
+            let u = u as usize;
+            let v = (0.5 * (f64::from(o) + scratch.at(u) + dt * rate(scratch, u))) as f32;
+            put(phi, u, v);
+        });
+        // Redistance on N (Eq. 11), Jacobi iterations alternating a → b → a; the
+        // last one also clamps (Eq. 12).
         let passes = params.redistance_iterations.max(1);
         for pass in 0..passes {
+            let (src, dst) = if pass % 2 == 0 {
+                (phi, scratch)
+            } else {
+                (scratch, phi)
+            };
             let redistance = pass < params.redistance_iterations;
-            tubes
-                .n
-                .par_iter()
-                .map(|&u| {
-                    let v = if redistance {
-                        redistance_value(phi, u as usize, strides, h)
-                    } else {
-                        phi.at(u as usize) as f32
-                    };
+            tubes.n.par_iter().for_each(|&u| {
+                let u = u as usize;
+                let v = if redistance {
+                    redistance_value(src, u, strides, h)
+                } else {
+                    src.at(u) as f32
+                };
+                put(
+                    dst,
+                    u,
                     if pass + 1 == passes {
                         v.clamp(-g32, g32)
                     } else {
                         v
-                    }
-                })
-                .collect_into_vec(&mut new);
+                    },
+                );
+            });
+        }
+        if passes % 2 == 1 {
+            // The result is in b: bring it back to a.
             tubes
                 .n
                 .par_iter()
-                .zip(new.par_iter())
-                .for_each(|(&u, &v)| store(u, v));
+                .for_each(|&u| put(phi, u as usize, scratch.at(u as usize) as f32));
         }
         // Front movement: nodes within a cell of the old front, summed in fixed
         // point so that the order of the sum does not matter.
@@ -590,7 +614,8 @@ pub fn evolve(
         };
         stats.steps.push(s);
         epoch += 1;
-        tubes = build(Some(&tubes.n), epoch);
+        // The new tubes; b = a again on the old N (the only nodes that changed).
+        (tubes, vmax) = build(Some(&tubes.n), epoch);
         if params
             .snapshot_every
             .is_some_and(|k| k > 0 && step.is_multiple_of(k))
