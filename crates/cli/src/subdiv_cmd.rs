@@ -9,7 +9,7 @@ use asperity_core::{PolyMesh, TriMesh};
 use asperity_io::{Format, WriteOptions};
 use asperity_subdiv::base;
 use asperity_subdiv::catmull_clark::{Boundary, Creased, limit_normals};
-use asperity_subdiv::compose::{Composed, evaluate};
+use asperity_subdiv::compose::{Captured, Composed, Inputs, evaluate};
 use asperity_subdiv::multires::synthesize;
 use asperity_subdiv::scene::{Mode, Scene, feature_from_spec, parse};
 
@@ -106,6 +106,7 @@ fn scene_from_args(a: &SubdivArgs, ctx: &Context, t: f64) -> anyhow::Result<Scen
             .iter()
             .map(|c| parse_crease(c))
             .collect::<anyhow::Result<_>>()?,
+        surfaces: Vec::new(),
     })
 }
 
@@ -214,10 +215,21 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
         3 * 24 + 4 * 16 + 2 * 12 + 48,
         "the subdivided mesh",
     )?;
-    let alpha_map = match &first.alpha_map {
-        Some(p) => Some(read_alpha_map(&dir.join(p))?),
-        None => None,
+    let mut inputs = Inputs {
+        alpha_map: match &first.alpha_map {
+            Some(p) => Some(read_alpha_map(&dir.join(p))?),
+            None => None,
+        },
+        captured: Vec::new(),
     };
+    for (layer, file) in &first.surfaces {
+        let (b, details) = analyze_file(&dir.join(file), &base, &first)?;
+        inputs.captured.push(Captured {
+            layer: layer.clone(),
+            base: b,
+            details,
+        });
+    }
     let mut report = Report::new("subdiv", ctx);
     let frames = a.frames.unwrap_or(1);
     let bar = Bar::new(ctx.quiet || ctx.json);
@@ -242,7 +254,7 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
         let composed = match (&a.apply_details, &a.analyze) {
             (Some(p), _) => apply_details(p, &base, &scene)?,
             (None, Some(p)) => analyze_fine(p, &base, &scene)?,
-            (None, None) => evaluate(&scene, &base, alpha_map.clone())?,
+            (None, None) => evaluate(&scene, &base, &inputs)?,
         };
         let tri = to_trimesh(&composed, &scene)?;
         let path = if a.frames.is_some() {
@@ -297,8 +309,13 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
     report.finish(ctx)
 }
 
-/// Analyses a fine mesh into `base` positions and details (quasi-interpolation).
-fn analyze_fine(path: &Path, base: &Creased, scene: &Scene) -> anyhow::Result<Composed> {
+/// Analyses a fine mesh (connectivity: `scene.levels` subdivisions of `base`)
+/// into base positions and details by quasi-interpolation.
+fn analyze_file(
+    path: &Path,
+    base: &Creased,
+    scene: &Scene,
+) -> anyhow::Result<(Creased, asperity_subdiv::multires::Details)> {
     let fine = asperity_io::read_poly_mesh(path)
         .with_context(|| format!("reading the fine mesh {}", path.display()))?;
     let plain = synthesize(base, &[], scene.levels, scene.boundary)?;
@@ -307,14 +324,23 @@ fn analyze_fine(path: &Path, base: &Creased, scene: &Scene) -> anyhow::Result<Co
         fine.n_vertices() == expect.mesh.n_vertices()
             && (fine.face_vertices() == expect.mesh.face_vertices()
                 || fine.triangulate().triangles() == expect.mesh.triangulate().triangles()),
-        "{}: its connectivity is not {} subdivisions of the base ({} vertices expected, {} found); write it with asperity subdiv and edit positions only",
+        "{}: its connectivity is not {} subdivisions of the base ({} vertices expected, {} found); write it with asperity subdiv (PLY) and edit positions only",
         path.display(),
         scene.levels,
         expect.mesh.n_vertices(),
         fine.n_vertices()
     );
-    let (coarse, details) =
-        asperity_subdiv::multires::analyze(base, fine.positions(), scene.levels, scene.boundary)?;
+    Ok(asperity_subdiv::multires::analyze(
+        base,
+        fine.positions(),
+        scene.levels,
+        scene.boundary,
+    )?)
+}
+
+/// Analyses a fine mesh into `base` positions and details (quasi-interpolation).
+fn analyze_fine(path: &Path, base: &Creased, scene: &Scene) -> anyhow::Result<Composed> {
+    let (coarse, details) = analyze_file(path, base, scene)?;
     let levels = synthesize(&coarse, &details, scene.levels, scene.boundary)?;
     let counts = levels
         .iter()

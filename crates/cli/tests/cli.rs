@@ -1617,6 +1617,28 @@ fn subdiv_as_documented() {
         assert!((0..3).all(|k| (p[k] - q[k]).abs() < 1e-12), "{p:?} {q:?}");
     }
     assert!(dir.join("e.json").exists());
+    // A captured surface (a.ply) as a layer, blended with fresh rock: with the
+    // plane far away (α = 0 everywhere) the result is the captured surface.
+    for (offset, same) in [(100.0, true), (0.0, false)] {
+        std::fs::write(
+            dir.join("cap.toml"),
+            format!(
+                "base = \"cube\"\nlevels = 3\n[[surface]]\nlayer = \"scan\"\nfile = \"a.ply\"\n\
+                 [[detail]]\ntype = \"rock\"\nlayer = \"new\"\namplitude = 0.3\n\
+                 [blend]\na = \"scan\"\nb = \"new\"\nwidth = 0.5\n\
+                 plane = {{ normal = [1, 0, 0], offset = {offset} }}\n"
+            ),
+        )
+        .unwrap();
+        run(&["subdiv", "cap.toml", "-o", "cap.ply", "-q"]);
+        let c = asperity_io::read_mesh(&dir.join("cap.ply")).unwrap();
+        let close = fa
+            .positions()
+            .iter()
+            .zip(c.positions())
+            .all(|(p, q)| (0..3).all(|k| (p[k] - q[k]).abs() < 1e-12));
+        assert_eq!(close, same, "offset {offset}");
+    }
     // Scenes: an example scene, byte-identical at 1 and 2 threads.
     let scene = dir.join("berry.toml");
     std::fs::write(

@@ -666,8 +666,29 @@ fn merged(layers: &[Layer]) -> Layer {
     }
 }
 
-/// Evaluates a scene on its base (loaded by the caller); `alpha_map` holds the
-/// blend's per-base-vertex alpha when the scene names one.
+/// A captured surface analysed into a layer: its base positions and details.
+#[derive(Clone, Debug)]
+pub struct Captured {
+    /// The layer it stands for.
+    pub layer: String,
+    /// Base positions (the scene base's connectivity).
+    pub base: Creased,
+    /// Details of every level.
+    pub details: Details,
+}
+
+/// What the caller read for a scene: the blend's alpha map and the captured
+/// surfaces.
+#[derive(Clone, Debug, Default)]
+pub struct Inputs {
+    /// One alpha in [0, 1] per base vertex, when the blend names a map.
+    pub alpha_map: Option<Vec<f64>>,
+    /// The scene's `[[surface]]` layers, analysed.
+    pub captured: Vec<Captured>,
+}
+
+/// Evaluates a scene on its base (loaded by the caller) with the files the
+/// scene names already read (`inputs`).
 ///
 /// # Errors
 /// [`CoreError::InvalidParameter`] for an inconsistent scene; as [`grow`],
@@ -675,7 +696,7 @@ fn merged(layers: &[Layer]) -> Layer {
 pub fn evaluate(
     scene: &crate::scene::Scene,
     base: &Creased,
-    alpha_map: Option<Vec<f64>>,
+    inputs: &Inputs,
 ) -> Result<Composed, CoreError> {
     let bad = |reason: String| CoreError::InvalidParameter {
         name: "scene",
@@ -689,6 +710,14 @@ pub fn evaluate(
             .find(|l| l.name == name)
             .ok_or_else(|| bad(format!("no layer {name:?}")))
     };
+    let captured = |name: &str| inputs.captured.iter().find(|c| c.layer == name);
+    for (layer, _) in &scene.surfaces {
+        if captured(layer).is_none() {
+            return Err(bad(format!(
+                "the captured surface of layer {layer:?} was not read"
+            )));
+        }
+    }
     let blend_parts = match &scene.blend {
         Some((a, b, how)) => {
             if let Some(l) = scene.layers.iter().find(|l| &l.name != a && &l.name != b) {
@@ -699,11 +728,36 @@ pub fn evaluate(
             }
             let mut how = how.clone();
             if let AlphaSource::Map(m) = &mut how.source {
-                *m = alpha_map.ok_or_else(|| bad("the blend's alpha map was not read".into()))?;
+                *m = inputs
+                    .alpha_map
+                    .clone()
+                    .ok_or_else(|| bad("the blend's alpha map was not read".into()))?;
             }
             Some((find(a)?, find(b)?, how))
         }
         None => None,
+    };
+    if !inputs.captured.is_empty() {
+        if matches!(scene.mode, crate::scene::Mode::Scalar(_)) {
+            return Err(bad(
+                "captured surfaces displace; scalar mode cannot use them".into(),
+            ));
+        }
+        if blend_parts.is_none() && scene.layers.len() > 1 {
+            return Err(bad(
+                "a captured surface combines with other layers only through [blend]".into(),
+            ));
+        }
+    }
+    // One side of a blend (or the only layer): its base and details.
+    let side = |layer: &Layer, salt: u64| -> Result<(Creased, Details), CoreError> {
+        match captured(&layer.name) {
+            Some(c) => Ok((c.base.clone(), c.details.clone())),
+            None => Ok((
+                base.clone(),
+                grow(base, levels, boundary, layer, seed ^ salt)?.details,
+            )),
+        }
     };
     let counts = |m: &Multires| {
         m.levels
@@ -714,21 +768,24 @@ pub fn evaluate(
     match &scene.mode {
         crate::scene::Mode::Displace => {
             let (m, alpha) = match &blend_parts {
-                None => (
-                    grow(base, levels, boundary, &merged(&scene.layers), seed)?,
-                    None,
-                ),
-                Some((a, b, how)) => {
-                    let ma = grow(base, levels, boundary, a, seed)?;
-                    let mb = grow(base, levels, boundary, b, seed ^ 0xb1e7_d000)?;
-                    let (m, alpha) = blend(
-                        base,
+                None => match inputs.captured.first() {
+                    Some(c) => {
+                        let d = &c.details;
+                        let m = build(&c.base, levels, boundary, |l| {
+                            Ok(d.get(l.level - 1).filter(|x| !x.is_empty()).cloned())
+                        })?;
+                        (m, None)
+                    }
+                    None => (
+                        grow(base, levels, boundary, &merged(&scene.layers), seed)?,
                         None,
-                        (&ma.details, &mb.details),
-                        levels,
-                        boundary,
-                        how,
-                    )?;
+                    ),
+                },
+                Some((a, b, how)) => {
+                    let (ba, da) = side(a, 0)?;
+                    let (bb, db) = side(b, 0xb1e7_d000)?;
+                    let base_b = (bb.mesh.positions() != ba.mesh.positions()).then_some(&bb);
+                    let (m, alpha) = blend(&ba, base_b, (&da, &db), levels, boundary, how)?;
                     (m, Some(alpha))
                 }
             };

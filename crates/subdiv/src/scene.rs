@@ -31,6 +31,10 @@
 //! width = 0.6              # c; the width at level l is c/2^(l-1)
 //! plane = { normal = [1, 2, 0], offset = 0.0 }   # or noise = {..}, or alpha_map = "file"
 //!
+//! [[surface]]              # a captured surface as a layer (blend it with details)
+//! layer = "scan"
+//! file = "fine.ply"        # connectivity: `levels` subdivisions of the base
+//!
 //! [shade]                  # scalar mode post-shader (§6.2)
 //! kind = "planet"
 //! sea_level = 0.0
@@ -80,6 +84,10 @@ pub struct Scene {
     pub mode: Mode,
     /// Tagged creases of the base: (vertex, vertex, sharpness).
     pub creases: Vec<(u32, u32, f64)>,
+    /// Captured surfaces: (layer, mesh path) — a fine mesh whose connectivity
+    /// is `levels` subdivisions of the base, analysed into that layer's base
+    /// positions and details ([`crate::multires::analyze`]).
+    pub surfaces: Vec<(String, String)>,
 }
 
 /// A number that may be animated: `x` or `[from, to]` over t ∈ [0, 1].
@@ -460,6 +468,29 @@ pub fn parse(text: &str, t: f64) -> Result<Scene, String> {
             feats.push((layer, f));
         }
     }
+    let mut surfaces = Vec::new();
+    if let Some(v) = k.get("surface") {
+        let Value::Array(a) = v else {
+            return Err("scene: surface must be [[surface]] tables".into());
+        };
+        for (i, d) in a.iter().enumerate() {
+            let Value::Table(d) = d else {
+                return Err(format!("surface {}: expected a table", i + 1));
+            };
+            let mut sk = Keys::new(d, format!("surface {}", i + 1), t);
+            let layer = sk
+                .string("layer")?
+                .ok_or_else(|| format!("surface {}: missing layer = \"name\"", i + 1))?
+                .to_string();
+            let file = sk
+                .string("file")?
+                .ok_or_else(|| format!("surface {}: missing file = \"fine.ply\"", i + 1))?
+                .to_string();
+            sk.finish()?;
+            add(layer.clone());
+            surfaces.push((layer, file));
+        }
+    }
     let mut edits = Vec::new();
     if let Some(v) = k.get("edit") {
         let Value::Array(a) = v else {
@@ -523,6 +554,14 @@ pub fn parse(text: &str, t: f64) -> Result<Scene, String> {
     for (layer, e) in edits {
         layers.get_mut(&layer).expect("added").1.edits.push(e);
     }
+    for (layer, _) in &surfaces {
+        let l = &layers[layer].1;
+        if !l.features.is_empty() || !l.edits.is_empty() {
+            return Err(format!(
+                "layer {layer:?} has a captured surface and details or edits; give the details their own layer and blend"
+            ));
+        }
+    }
     let mut layers: Vec<(usize, Layer)> = layers.into_values().collect();
     layers.sort_by_key(|(i, _)| *i);
     Ok(Scene {
@@ -536,6 +575,7 @@ pub fn parse(text: &str, t: f64) -> Result<Scene, String> {
         alpha_map,
         mode,
         creases,
+        surfaces,
     })
 }
 
@@ -655,6 +695,11 @@ mod tests {
             ),
             ("mode = \"scalar\"\n[shade]\nkind = \"moon\"", "not planet"),
             ("levels = ", "scene TOML"),
+            (
+                "[[surface]]\nlayer = \"s\"\nfile = \"x.ply\"\n[[detail]]\ntype = \"rock\"\nlayer = \"s\"",
+                "captured surface and details",
+            ),
+            ("[[surface]]\nlayer = \"s\"", "missing file"),
         ] {
             let e = parse(bad, 0.0).unwrap_err();
             assert!(e.contains(needle), "{bad:?}: {e}");
