@@ -91,6 +91,18 @@ stl = trimesh.load(d / "c.stl")  # trimesh merges the STL corners itself
 ok("c.stl", len(stl.faces) == K["n_faces"] and len(stl.vertices) == 6 and stl.is_watertight
    and abs(stl.volume - K["volume"]) < 1e-6, f"{len(stl.vertices)} {stl.volume}")
 
+# --- polygons (quads and n-gons kept) -------------------------------------------
+PP = np.array(m["poly"]["positions"]).reshape(-1, 3)
+PF = m["poly"]["faces"]
+ply = plyfile.PlyData.read(str(d / "q.ply"))
+v = ply["vertex"]
+ok("q.ply", np.array_equal(np.stack([v["x"], v["y"], v["z"]], axis=1), PP)
+   and [list(f) for f in ply["face"]["vertex_indices"]] == PF)
+text = (d / "q.obj").read_text().splitlines()
+faces = [[int(t.split("/")[0]) - 1 for t in l.split()[1:]] for l in text if l.startswith("f ")]
+verts = np.array([[float(x) for x in l.split()[1:4]] for l in text if l.startswith("v ")])
+ok("q.obj", faces == PF and np.array_equal(verts, PP))
+
 # --- point sets --------------------------------------------------------------
 Q = np.array(m["points"]["positions"]).reshape(-1, 3)
 a = np.load(d / "p.npy")

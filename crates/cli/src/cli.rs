@@ -818,6 +818,9 @@ pub struct SubdivArgs {
     /// Move the finest level onto the limit surface (normals: exact limit normals).
     #[arg(long)]
     pub limit: bool,
+    /// Split the quads into triangles in PLY and OBJ too (glTF and STL always are).
+    #[arg(long)]
+    pub triangles: bool,
     /// Write an animation of N frames (t from 0 to 1): OUT becomes OUT_0000.ext, ….
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub frames: Option<u32>,

@@ -262,8 +262,12 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
         } else {
             out.clone()
         };
-        asperity_io::write_mesh(&path, &tri, &WriteOptions::default())
-            .with_context(|| format!("writing {}", path.display()))?;
+        if a.triangles {
+            asperity_io::write_mesh(&path, &tri, &WriteOptions::default())
+        } else {
+            asperity_io::write_poly_mesh(&path, &composed.mesh.mesh, &tri, &WriteOptions::default())
+        }
+        .with_context(|| format!("writing {}", path.display()))?;
         report.output(&path);
         bar.advance(1);
         last = Some(composed);

@@ -438,6 +438,58 @@ pub fn read_points(path: &Path) -> Result<PointSet, IoError> {
     })
 }
 
+/// Writes the polygons of `poly` (quads, n-gons, kept as they are) with the
+/// per-vertex data (normals, colours, scalars) of `attrs`, which must have the
+/// same vertices — typically `poly.triangulate()` with attributes added. PLY and
+/// OBJ hold polygons; other mesh formats get `attrs`' triangles.
+///
+/// # Errors
+/// [`IoError`]; [`IoError::Invalid`] when the vertex counts differ.
+pub fn write_poly_mesh(
+    path: &Path,
+    poly: &PolyMesh,
+    attrs: &TriMesh,
+    opts: &WriteOptions,
+) -> Result<(), IoError> {
+    if poly.n_vertices() != attrs.n_vertices() {
+        return Err(IoError::invalid(
+            path,
+            CoreError::LengthMismatch {
+                what: "vertex attributes".into(),
+                got: attrs.n_vertices(),
+                expected: poly.n_vertices(),
+            },
+        ));
+    }
+    let f = Format::from_path(path)?;
+    if f == Format::Ply && poly.faces().any(|face| face.len() > 255) {
+        return Err(IoError::invalid(
+            path,
+            CoreError::InvalidParameter {
+                name: "faces",
+                reason: "PLY face lists hold at most 255 corners; write OBJ".into(),
+            },
+        ));
+    }
+    let os = |e| IoError::os(path, e);
+    match f {
+        Format::Ply if poly.n_faces() > 0 => write_atomic(path, |w| {
+            ply::write_poly(
+                w,
+                attrs,
+                poly.face_offsets(),
+                poly.face_vertices(),
+                opts.ply_encoding,
+            )
+            .map_err(os)
+        }),
+        Format::Obj if poly.n_faces() > 0 && attrs.texture().is_none() => write_atomic(path, |w| {
+            obj::write_faces(w, attrs, poly.face_offsets(), poly.face_vertices(), None).map_err(os)
+        }),
+        _ => write_mesh(path, attrs, opts),
+    }
+}
+
 /// Writes a triangle mesh; the format follows the extension. A textured mesh
 /// written as OBJ also gets `NAME.mtl` and `NAME_texture.png` beside it.
 ///

@@ -109,13 +109,22 @@ pub(crate) fn read_poly(bytes: &[u8]) -> FResult<PolyMesh> {
 
 /// Writes `m`; `mtl` names the material library to reference (when textured).
 pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh, mtl: Option<&str>) -> std::io::Result<()> {
+    let flat = m.triangles().as_flattened();
+    let offsets: Vec<u32> = (0..=m.n_faces() as u32).map(|f| 3 * f).collect();
+    write_faces(w, m, &offsets, flat, mtl)
+}
+
+/// Writes polygons (CSR) with the per-vertex data of `m` (same vertices).
+pub(crate) fn write_faces(
+    w: &mut dyn Write,
+    m: &TriMesh,
+    offsets: &[u32],
+    verts: &[u32],
+    mtl: Option<&str>,
+) -> std::io::Result<()> {
+    let n_faces = offsets.len().saturating_sub(1);
     writeln!(w, "# written by asperity {}", env!("CARGO_PKG_VERSION"))?;
-    writeln!(
-        w,
-        "# {} vertices, {} triangles",
-        m.n_vertices(),
-        m.n_faces()
-    )?;
+    writeln!(w, "# {} vertices, {} faces", m.n_vertices(), n_faces)?;
     if let Some(lib) = mtl {
         writeln!(w, "mtllib {lib}")?;
     }
@@ -149,14 +158,20 @@ pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh, mtl: Option<&str>) -> s
         writeln!(w, "usemtl surface")?;
     }
     let (has_uv, has_n) = (m.uvs().is_some(), m.normals().is_some());
-    for t in m.triangles() {
-        let [a, b, c] = t.map(|v| v + 1);
-        match (has_uv, has_n) {
-            (true, true) => writeln!(w, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}")?,
-            (true, false) => writeln!(w, "f {a}/{a} {b}/{b} {c}/{c}")?,
-            (false, true) => writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}")?,
-            (false, false) => writeln!(w, "f {a} {b} {c}")?,
+    let mut line = String::new();
+    for f in 0..n_faces {
+        line.clear();
+        line.push('f');
+        for &v in &verts[offsets[f] as usize..offsets[f + 1] as usize] {
+            let a = v + 1;
+            match (has_uv, has_n) {
+                (true, true) => line += &format!(" {a}/{a}/{a}"),
+                (true, false) => line += &format!(" {a}/{a}"),
+                (false, true) => line += &format!(" {a}//{a}"),
+                (false, false) => line += &format!(" {a}"),
+            }
         }
+        writeln!(w, "{line}")?;
     }
     Ok(())
 }

@@ -564,10 +564,34 @@ struct VertexData<'a> {
     scalars: Vec<(&'a str, &'a [f64])>,
 }
 
+/// Faces to write: triangles, or polygons in CSR layout.
+#[derive(Clone, Copy)]
+pub(crate) enum Faces<'a> {
+    /// Triangles.
+    Tri(&'a [[u32; 3]]),
+    /// Polygons: face f is `verts[offsets[f]..offsets[f + 1]]`.
+    Poly(&'a [u32], &'a [u32]),
+}
+
+impl Faces<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Faces::Tri(t) => t.len(),
+            Faces::Poly(o, _) => o.len().saturating_sub(1),
+        }
+    }
+    fn get(&self, f: usize) -> &[u32] {
+        match self {
+            Faces::Tri(t) => &t[f],
+            Faces::Poly(o, v) => &v[o[f] as usize..o[f + 1] as usize],
+        }
+    }
+}
+
 fn write_ply(
     w: &mut dyn Write,
     v: &VertexData,
-    faces: Option<&[[u32; 3]]>,
+    faces: Option<Faces<'_>>,
     edges: &[[u32; 2]],
     enc: PlyEncoding,
 ) -> std::io::Result<()> {
@@ -650,16 +674,20 @@ fn write_ply(
         }
         w.write_all(&row)?;
     }
-    for t in faces.unwrap_or(&[]) {
-        if ascii {
-            writeln!(w, "3 {} {} {}", t[0], t[1], t[2])?;
-        } else {
-            row.clear();
-            row.push(3);
-            for k in t {
-                row.extend_from_slice(&k.to_le_bytes());
+    if let Some(faces) = faces {
+        for f in 0..faces.len() {
+            let t = faces.get(f);
+            if ascii {
+                let idx: Vec<String> = t.iter().map(u32::to_string).collect();
+                writeln!(w, "{} {}", t.len(), idx.join(" "))?;
+            } else {
+                row.clear();
+                row.push(t.len() as u8);
+                for k in t {
+                    row.extend_from_slice(&k.to_le_bytes());
+                }
+                w.write_all(&row)?;
             }
-            w.write_all(&row)?;
         }
     }
     for e in edges {
@@ -671,6 +699,28 @@ fn write_ply(
         }
     }
     Ok(())
+}
+
+/// Writes polygons (CSR) with the per-vertex data of `m` (same vertices).
+pub(crate) fn write_poly(
+    w: &mut dyn Write,
+    m: &TriMesh,
+    offsets: &[u32],
+    verts: &[u32],
+    enc: PlyEncoding,
+) -> std::io::Result<()> {
+    let v = VertexData {
+        positions: m.positions(),
+        normals: m.normals(),
+        colors: m.colors(),
+        uvs: m.uvs(),
+        scalars: m
+            .scalars()
+            .iter()
+            .map(|a| (a.name.as_str(), a.values.as_slice()))
+            .collect(),
+    };
+    write_ply(w, &v, Some(Faces::Poly(offsets, verts)), &[], enc)
 }
 
 /// Writes a triangle mesh with all its per-vertex data.
@@ -696,7 +746,7 @@ pub(crate) fn write_mesh_edges(
             .map(|a| (a.name.as_str(), a.values.as_slice()))
             .collect(),
     };
-    write_ply(w, &v, Some(m.triangles()), edges, enc)
+    write_ply(w, &v, Some(Faces::Tri(m.triangles())), edges, enc)
 }
 
 /// Writes a point set (vertices only).

@@ -102,6 +102,25 @@ fn python_reference_readers_accept_every_writer() {
     for name in ["p.npy", "p.xyz", "p.ply"] {
         asperity_io::write_points(&d.join(name), &pts, &def).unwrap();
     }
+    // Polygons kept as they are: a quad and a pentagon.
+    let poly_faces: Vec<Vec<u32>> = vec![vec![0, 1, 2, 3], vec![1, 4, 5, 6, 2]];
+    let poly = asperity_core::PolyMesh::new(
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [2.0, 0.0, 0.1],
+            [2.5, 1.0, 0.2],
+            [1.5, 1.5, 0.3],
+        ],
+        &poly_faces,
+    )
+    .unwrap();
+    let attrs = poly.triangulate().with_computed_normals();
+    for name in ["q.ply", "q.obj"] {
+        asperity_io::write_poly_mesh(&d.join(name), &poly, &attrs, &def).unwrap();
+    }
     let (lo, hi) = h.min_max();
     let manifest = json!({
         "height": {"nx": h.nx(), "ny": h.ny(), "data": h.data(), "spacing": h.spacing(), "origin": h.origin(), "min": lo, "max": hi},
@@ -115,6 +134,7 @@ fn python_reference_readers_accept_every_writer() {
         },
         "closed": {"positions": flat3(closed.positions()), "n_faces": closed.n_faces(), "volume": closed.signed_volume()},
         "points": {"positions": flat3(pts.positions()), "age": pts.attribute("age")},
+        "poly": {"positions": flat3(poly.positions()), "faces": poly_faces},
     });
     std::fs::write(d.join("manifest.json"), manifest.to_string()).unwrap();
     let script = workspace().join("tests/python/check_formats.py");
@@ -130,5 +150,5 @@ fn python_reference_readers_accept_every_writer() {
     );
     assert!(out.status.success(), "python readers disagree:\n{text}");
     // The script prints one OK line per file it checked.
-    assert_eq!(text.matches("OK ").count(), 17, "{text}");
+    assert_eq!(text.matches("OK ").count(), 19, "{text}");
 }
