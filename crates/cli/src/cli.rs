@@ -793,27 +793,33 @@ pub enum BoundaryArg {
 /// `asperity subdiv`
 #[derive(Args, Debug)]
 pub struct SubdivArgs {
-    /// A scene file (TOML) describing base, levels, details, edits, blends and
-    /// shading; the options below then override nothing but the output.
+    /// A scene file (TOML) describing base, levels, seed, details, edits, blends
+    /// and shading (see crates/subdiv/scenes); the shape options below then
+    /// cannot be given.
     pub scene: Option<std::path::PathBuf>,
     /// Base mesh: cube, sphere (a quad sphere), torus, cylinder, plane, fuse, or
     /// a mesh file (OBJ/PLY polygons kept).
-    #[arg(long, default_value = "cube")]
+    #[arg(long, default_value = "cube", conflicts_with = "scene")]
     pub base: String,
     /// Subdivision levels.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=10))]
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=10), conflicts_with = "scene")]
     pub levels: u32,
     /// Procedural detail (repeatable): rock, fbm, berry, tentacle, mine,
     /// mushroom or spur with key=value parameters, e.g.
     /// rock:amplitude=0.08,decay=0.5 or berry:radius=0.3,spacing=0.6; a..b
     /// animates a number over --frames.
-    #[arg(long, value_name = "SPEC")]
+    #[arg(long, value_name = "SPEC", conflicts_with = "scene")]
     pub detail: Vec<String>,
     /// Tag a crease on the base (repeatable): A-B:SHARPNESS (inf = sharp forever).
-    #[arg(long, value_name = "A-B:S")]
+    #[arg(long, value_name = "A-B:S", conflicts_with = "scene")]
     pub crease: Vec<String>,
     /// Boundary rule for open meshes.
-    #[arg(long, value_enum, default_value = "edge-only")]
+    #[arg(
+        long,
+        value_enum,
+        default_value = "edge-only",
+        conflicts_with = "scene"
+    )]
     pub boundary: BoundaryArg,
     /// Move the finest level onto the limit surface (normals: exact limit normals).
     #[arg(long)]

@@ -188,12 +188,16 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
         .unwrap_or_default();
     let scene_at = |t: f64| -> anyhow::Result<Scene> {
         match &scene_text {
-            Some(text) => parse(text, t).map_err(|e| {
-                anyhow::anyhow!(
-                    "{}: {e}",
-                    a.scene.as_deref().unwrap_or(Path::new("")).display()
-                )
-            }),
+            Some(text) => {
+                let mut sc = parse(text, t).map_err(|e| {
+                    anyhow::anyhow!(
+                        "{}: {e}",
+                        a.scene.as_deref().unwrap_or(Path::new("")).display()
+                    )
+                })?;
+                sc.limit |= a.limit;
+                Ok(sc)
+            }
             None => scene_from_args(a, ctx, t),
         }
     };
