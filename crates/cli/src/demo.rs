@@ -644,6 +644,100 @@ fn subdivision(env: &Env) -> anyhow::Result<Section> {
             ],
         });
     }
+    // Figure 5 (tentacle growth, levels 1–4) and Figure 9 (spurs at level 1, at
+    // level 3, at both), each as a row of surfaces.
+    {
+        use asperity_subdiv::compose::{Layer, grow};
+        use asperity_subdiv::detail::{Feature, Procedure, Seeds, Spur, Tentacle};
+        let sphere = Creased::smooth(asperity_subdiv::base::quad_sphere(2));
+        let tentacle = |alternate: bool| Layer {
+            name: "t".into(),
+            features: vec![Feature {
+                procedure: Procedure::Tentacle(Tentacle {
+                    length: 0.15,
+                    theta: 0.5,
+                    alternate,
+                    twist: true,
+                }),
+                seeds: Seeds::Points(vec![[0.3, -1.0, 0.3]]),
+                levels: None,
+            }],
+            edits: Vec::new(),
+        };
+        for (alternate, stem, title) in [
+            (
+                true,
+                "subdiv_fig5_tentacle_levels",
+                "Figure 5: a tentacle by the paper's pseudo-code, levels 1 to 4 (left to right) — the sign flip on even levels digs the tip in",
+            ),
+            (
+                false,
+                "subdiv_fig5_tentacle_levels_no_flip",
+                "Figure 5 without the sign flip: the same procedure grows a curling horn",
+            ),
+        ] {
+            let mut row = Vec::new();
+            for l in 1..=4 {
+                let m = grow(
+                    &sphere,
+                    l,
+                    Boundary::EdgeOnly,
+                    &tentacle(alternate),
+                    env.ctx.seed,
+                )?;
+                row.push(m.finest().mesh.triangulate());
+            }
+            let tri = side_by_side(&row)?.with_computed_normals();
+            let file = env.write(&format!("{stem}.ply"), &Surface::Mesh(tri.clone()), &wo)?;
+            let pic = env.picture(&format!("{stem}.png"), &render_mesh(&tri, &env.view())?)?;
+            items.push(Item {
+                title: title.into(),
+                image: Some(pic),
+                files: vec![file],
+                facts: vec![fact(
+                    "per level",
+                    if alternate {
+                        "length·l·(sin(θ + πl/3), cos(θ + πl/3), 1), negated on even levels"
+                    } else {
+                        "length·l·(sin(θ + πl/3), cos(θ + πl/3), 1)"
+                    },
+                )],
+            });
+        }
+        let spurs = |levels: Vec<usize>| Layer {
+            name: "s".into(),
+            features: vec![Feature {
+                procedure: Procedure::Spur(Spur { height: 2.5 }),
+                seeds: Seeds::Poisson { spacing: 0.6 },
+                levels: Some(levels),
+            }],
+            edits: Vec::new(),
+        };
+        let mut row = Vec::new();
+        for ls in [vec![1], vec![3], vec![1, 3]] {
+            let m = grow(&sphere, 4, Boundary::EdgeOnly, &spurs(ls), env.ctx.seed)?;
+            row.push(m.finest().mesh.triangulate());
+        }
+        let tri = side_by_side(&row)?.with_computed_normals();
+        let file = env.write(
+            "subdiv_fig9_spur_levels.ply",
+            &Surface::Mesh(tri.clone()),
+            &wo,
+        )?;
+        let pic = env.picture(
+            "subdiv_fig9_spur_levels.png",
+            &render_mesh(&tri, &env.view())?,
+        )?;
+        items.push(Item {
+            title: "Figure 9: spurs placed at level 1 (a), at level 3 (b), at both (c)".into(),
+            image: Some(pic),
+            files: vec![file],
+            facts: vec![fact(
+                "spur",
+                "the seed vertex pushed 2.5 mean edge lengths of its level along n",
+            )],
+        });
+    }
     Ok(Section {
         title: "Multiresolution subdivision surfaces with procedural detail (velho-perlin)".into(),
         source: "asperity-subdiv — Catmull–Clark with boundaries, creases, limit positions and normals; §2 \
@@ -658,6 +752,22 @@ fn subdivision(env: &Env) -> anyhow::Result<Section> {
             .into(),
         items,
     })
+}
+
+/// Meshes placed in a row along x (for figures that compare stages).
+fn side_by_side(meshes: &[TriMesh]) -> anyhow::Result<TriMesh> {
+    let mut pos = Vec::new();
+    let mut tris = Vec::new();
+    let mut x = 0.0;
+    for m in meshes {
+        let b = m.bounds().context("a mesh has vertices")?;
+        let shift = x - b.min[0];
+        let first = pos.len() as u32;
+        pos.extend(m.positions().iter().map(|p| [p[0] + shift, p[1], p[2]]));
+        tris.extend(m.triangles().iter().map(|t| t.map(|v| v + first)));
+        x += b.max[0] - b.min[0] + 0.3 * (b.max[0] - b.min[0]);
+    }
+    Ok(TriMesh::new(pos, tris)?)
 }
 
 /// The example scenes shown in the gallery: (name, TOML, title).
