@@ -9,6 +9,7 @@
 //!   sphere with outward normals.
 
 use asperity_core::TriMesh;
+use asperity_core::vec3::{cross, dot, sub};
 use serde::Serialize;
 
 /// Per-vertex curvatures and the Gauss–Bonnet sums.
@@ -58,20 +59,6 @@ pub fn stats(values: &[f64], weights: &[f64]) -> Stats {
         min,
         max,
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// Curvatures of `m` (see the module docs).

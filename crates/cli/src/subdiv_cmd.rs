@@ -349,13 +349,23 @@ fn analyze_file(
 /// Analyses a fine mesh into `base` positions and details (quasi-interpolation).
 fn analyze_fine(path: &Path, base: &Creased, scene: &Scene) -> anyhow::Result<Composed> {
     let (coarse, details) = analyze_file(path, base, scene)?;
-    let levels = synthesize(&coarse, &details, scene.levels, scene.boundary)?;
-    let counts = levels
+    synthesized(&coarse, details, scene.levels, scene.boundary)
+}
+
+/// The surface of `base` with `details` applied, as a composition.
+fn synthesized(
+    base: &Creased,
+    details: asperity_subdiv::multires::Details,
+    levels: usize,
+    boundary: Boundary,
+) -> anyhow::Result<Composed> {
+    let all = synthesize(base, &details, levels, boundary)?;
+    let counts = all
         .iter()
         .map(|l| (l.mesh.n_vertices(), l.mesh.n_faces()))
         .collect();
     Ok(Composed {
-        mesh: levels.last().context("levels")?.clone(),
+        mesh: all.last().context("levels")?.clone(),
         colors: None,
         scalars: Vec::new(),
         details,
@@ -384,16 +394,5 @@ fn apply_details(path: &Path, base: &Creased, scene: &Scene) -> anyhow::Result<C
         base.mesh.n_vertices(),
         base.mesh.n_faces()
     );
-    let levels = synthesize(base, &f.details, f.levels, scene.boundary)?;
-    let counts = levels
-        .iter()
-        .map(|l| (l.mesh.n_vertices(), l.mesh.n_faces()))
-        .collect();
-    Ok(Composed {
-        mesh: levels.last().context("levels")?.clone(),
-        colors: None,
-        scalars: Vec::new(),
-        details: f.details,
-        counts,
-    })
+    synthesized(base, f.details, f.levels, scene.boundary)
 }

@@ -48,6 +48,7 @@ pub mod progress;
 pub mod rng;
 pub mod shapes;
 pub mod tri_mesh;
+pub mod vec3;
 pub mod voxelize;
 
 #[cfg(feature = "proptest")]

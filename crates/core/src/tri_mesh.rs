@@ -1,5 +1,6 @@
 //! Indexed triangle meshes with optional per-vertex data, and topology queries.
 
+use crate::vec3::{cross, norm, sub};
 use crate::{Aabb, CoreError, RgbaImage};
 
 /// A named per-vertex (or per-point) scalar, e.g. `"curvature"` or `"height"`.
@@ -65,19 +66,6 @@ pub(crate) fn check_finite_points<const N: usize>(
     Ok(())
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
 fn normalized(a: [f64; 3]) -> [f64; 3] {
     let n = norm(a);
     if n > 0.0 {

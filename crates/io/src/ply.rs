@@ -701,15 +701,9 @@ fn write_ply(
     Ok(())
 }
 
-/// Writes polygons (CSR) with the per-vertex data of `m` (same vertices).
-pub(crate) fn write_poly(
-    w: &mut dyn Write,
-    m: &TriMesh,
-    offsets: &[u32],
-    verts: &[u32],
-    enc: PlyEncoding,
-) -> std::io::Result<()> {
-    let v = VertexData {
+/// Every per-vertex column of a triangle mesh.
+fn mesh_vertex_data(m: &TriMesh) -> VertexData<'_> {
+    VertexData {
         positions: m.positions(),
         normals: m.normals(),
         colors: m.colors(),
@@ -719,7 +713,18 @@ pub(crate) fn write_poly(
             .iter()
             .map(|a| (a.name.as_str(), a.values.as_slice()))
             .collect(),
-    };
+    }
+}
+
+/// Writes polygons (CSR) with the per-vertex data of `m` (same vertices).
+pub(crate) fn write_poly(
+    w: &mut dyn Write,
+    m: &TriMesh,
+    offsets: &[u32],
+    verts: &[u32],
+    enc: PlyEncoding,
+) -> std::io::Result<()> {
+    let v = mesh_vertex_data(m);
     write_ply(w, &v, Some(Faces::Poly(offsets, verts)), &[], enc)
 }
 
@@ -735,17 +740,7 @@ pub(crate) fn write_mesh_edges(
     edges: &[[u32; 2]],
     enc: PlyEncoding,
 ) -> std::io::Result<()> {
-    let v = VertexData {
-        positions: m.positions(),
-        normals: m.normals(),
-        colors: m.colors(),
-        uvs: m.uvs(),
-        scalars: m
-            .scalars()
-            .iter()
-            .map(|a| (a.name.as_str(), a.values.as_slice()))
-            .collect(),
-    };
+    let v = mesh_vertex_data(m);
     write_ply(w, &v, Some(Faces::Tri(m.triangles())), edges, enc)
 }
 

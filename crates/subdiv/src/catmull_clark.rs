@@ -48,6 +48,7 @@
 //! each result at its own index — the output does not depend on the thread
 //! count.
 
+use asperity_core::vec3::{cross, sub};
 use std::collections::HashMap;
 
 use asperity_core::{CoreError, PolyMesh};
@@ -851,18 +852,6 @@ pub fn refine_with(m: &Creased, topo: &Topology, boundary: Boundary) -> Result<C
     let (offsets, quads, creases) = topo.refine(fv);
     let mesh = PolyMesh::from_csr(positions, offsets, quads)?;
     Ok(Creased { mesh, creases })
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 fn require_quads(m: &Creased) -> Result<(), CoreError> {

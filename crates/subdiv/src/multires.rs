@@ -24,6 +24,7 @@
 //! with near-zero details, so the coarse levels carry the shape;
 //! *interpolation* takes c = V (no fitting at all).
 
+use asperity_core::vec3::{cross, dot, scale, sub, unit};
 use std::cell::OnceCell;
 
 use asperity_core::{CoreError, PolyMesh};
@@ -37,27 +38,6 @@ pub type Frame = [[f64; 3]; 3];
 /// Detail offsets of every level after the base (level k + 1 at index k), in
 /// local frames; an empty set means no detail at that level.
 pub type Details = Vec<Vec<[f64; 3]>>;
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
-    let l = dot(a, a).sqrt();
-    (l > 1e-300 && l.is_finite()).then(|| [a[0] / l, a[1] / l, a[2] / l])
-}
-fn scale3(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
 
 /// Local frames of every vertex of `mesh` (see the module docs).
 ///
@@ -95,7 +75,7 @@ pub fn frame_at(mesh: &PolyMesh, topo: &Topology, v: usize) -> Frame {
     let t = first
         .map(|w| {
             let e = sub(p[w as usize], p[v]);
-            sub(e, scale3(nz, dot(e, nz)))
+            sub(e, scale(nz, dot(e, nz)))
         })
         .and_then(unit)
         .unwrap_or_else(|| {
@@ -105,7 +85,7 @@ pub fn frame_at(mesh: &PolyMesh, topo: &Topology, v: usize) -> Frame {
                 .into_iter()
                 .min_by(|a, b| dot(*a, nz).abs().total_cmp(&dot(*b, nz).abs()))
                 .unwrap_or([1.0, 0.0, 0.0]);
-            unit(sub(a, scale3(nz, dot(a, nz)))).unwrap_or([1.0, 0.0, 0.0])
+            unit(sub(a, scale(nz, dot(a, nz)))).unwrap_or([1.0, 0.0, 0.0])
         });
     [t, cross(nz, t), nz]
 }
