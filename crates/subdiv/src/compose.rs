@@ -121,12 +121,7 @@ pub fn grow(
     layer: &Layer,
     seed: u64,
 ) -> Result<Multires, CoreError> {
-    for f in &layer.features {
-        f.validate().map_err(|reason| CoreError::InvalidParameter {
-            name: "detail",
-            reason: format!("{}: {reason}", f.procedure.name()),
-        })?;
-    }
+    validate_features(&layer.features, base.mesh.n_vertices())?;
     for e in &layer.edits {
         validate_edit(e, base.mesh.n_vertices())?;
     }
@@ -177,6 +172,25 @@ pub fn grow(
         }
         Ok(sum)
     })
+}
+
+/// Checks every feature's parameters and that its seed vertices exist.
+fn validate_features(features: &[Feature], n_base: usize) -> Result<(), CoreError> {
+    for f in features {
+        let bad = |reason: String| CoreError::InvalidParameter {
+            name: "detail",
+            reason: format!("{}: {reason}", f.procedure.name()),
+        };
+        f.validate().map_err(bad)?;
+        if let crate::detail::Seeds::Vertices(v) = &f.seeds
+            && let Some(x) = v.iter().find(|&&x| x as usize >= n_base)
+        {
+            return Err(bad(format!(
+                "seed vertex {x} is not a base vertex (the base has {n_base})"
+            )));
+        }
+    }
+    Ok(())
 }
 
 fn validate_edit(e: &Edit, n_base: usize) -> Result<(), CoreError> {
@@ -477,11 +491,11 @@ pub fn scalar_field(
     b: Option<(&[Feature], &Blend)>,
     seed: u64,
 ) -> Result<ScalarField, CoreError> {
+    validate_features(a, base.mesh.n_vertices())?;
+    if let Some((fb, _)) = b {
+        validate_features(fb, base.mesh.n_vertices())?;
+    }
     for f in a.iter().chain(b.iter().flat_map(|(f, _)| f.iter())) {
-        f.validate().map_err(|reason| CoreError::InvalidParameter {
-            name: "detail",
-            reason: format!("{}: {reason}", f.procedure.name()),
-        })?;
         if matches!(f.procedure, Procedure::Mushroom(_)) {
             return Err(CoreError::InvalidParameter {
                 name: "detail",

@@ -230,11 +230,17 @@ pub fn feature(table: &Table, t: f64, what: &str) -> Result<(String, Feature), S
         "rock" => {
             let amplitude = k.num("amplitude", 0.08)?;
             let law = law(&mut k, "fractal", 0.5)?;
+            let given_frequency = k.table.contains_key("frequency");
+            let frequency = k.num("frequency", 2.0)?;
             let coords = match k.string("coords")?.unwrap_or("intrinsic") {
+                "intrinsic" if given_frequency => {
+                    return Err(format!(
+                        "{}: frequency applies to coords = \"extrinsic\" (intrinsic rock has one value per vertex)",
+                        k.what
+                    ));
+                }
                 "intrinsic" => Coords::Intrinsic,
-                "extrinsic" => Coords::Extrinsic {
-                    frequency: k.num("frequency", 2.0)?,
-                },
+                "extrinsic" => Coords::Extrinsic { frequency },
                 other => {
                     return Err(format!(
                         "{}: coords {other:?} is not intrinsic or extrinsic",

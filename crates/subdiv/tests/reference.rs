@@ -217,6 +217,19 @@ fn non_manifold_and_inconsistent_meshes_are_refused() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("face 0 is degenerate"), "{e}");
+    // A seed vertex that the base does not have.
+    let far = Layer {
+        features: vec![Feature {
+            procedure: Procedure::Spur(Spur { height: 1.0 }),
+            seeds: Seeds::Vertices(vec![8]),
+            levels: None,
+        }],
+        ..Layer::default()
+    };
+    let e = grow(&smooth(base::cube()), 2, Boundary::EdgeOnly, &far, 1)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("seed vertex 8"), "{e}");
 }
 
 fn rock_layer(amplitude: f64) -> Layer {
