@@ -588,7 +588,12 @@ fn subdivision(env: &Env) -> anyhow::Result<Section> {
             std::path::Path::new(""),
         )?);
         let t = std::time::Instant::now();
-        let c = asperity_subdiv::compose::evaluate(&scene, &base, &Default::default())?;
+        let c = asperity_subdiv::compose::evaluate(
+            &scene,
+            &base,
+            &Default::default(),
+            &asperity_core::NoProgress,
+        )?;
         // Timings go to report.json (the gallery must not depend on them).
         env.report
             .borrow_mut()

@@ -237,7 +237,9 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
     let mut report = Report::new("subdiv", ctx);
     let frames = a.frames.unwrap_or(1);
     let bar = Bar::new(ctx.quiet || ctx.json);
-    bar.start(u64::from(frames), "subdiv frames");
+    if frames > 1 {
+        bar.start(u64::from(frames), "subdiv frames");
+    }
     let mut last: Option<Composed> = None;
     let t0 = std::time::Instant::now();
     for i in 0..frames {
@@ -258,7 +260,8 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
         let composed = match (&a.apply_details, &a.analyze) {
             (Some(p), _) => apply_details(p, &base, &scene)?,
             (None, Some(p)) => analyze_fine(p, &base, &scene)?,
-            (None, None) => evaluate(&scene, &base, &inputs)?,
+            (None, None) if frames == 1 => evaluate(&scene, &base, &inputs, &bar)?,
+            (None, None) => evaluate(&scene, &base, &inputs, &asperity_core::NoProgress)?,
         };
         let tri = to_trimesh(&composed, &scene)?;
         let path = if a.frames.is_some() {
@@ -273,7 +276,9 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
         }
         .with_context(|| format!("writing {}", path.display()))?;
         report.output(&path);
-        bar.advance(1);
+        if frames > 1 {
+            bar.advance(1);
+        }
         last = Some(composed);
     }
     bar.finish();

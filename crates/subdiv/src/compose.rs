@@ -27,7 +27,7 @@
 
 use std::collections::VecDeque;
 
-use asperity_core::CoreError;
+use asperity_core::{CoreError, NoProgress, Progress};
 use noise::{NoiseFn, Perlin};
 use rayon::prelude::*;
 
@@ -121,6 +121,21 @@ pub fn grow(
     layer: &Layer,
     seed: u64,
 ) -> Result<Multires, CoreError> {
+    grow_observed(base, levels, boundary, layer, seed, &NoProgress)
+}
+
+/// [`grow`], advancing `progress` by one per level built.
+///
+/// # Errors
+/// As [`grow`].
+pub fn grow_observed(
+    base: &Creased,
+    levels: usize,
+    boundary: Boundary,
+    layer: &Layer,
+    seed: u64,
+    progress: &dyn Progress,
+) -> Result<Multires, CoreError> {
     validate_features(&layer.features, base.mesh.n_vertices())?;
     for e in &layer.edits {
         validate_edit(e, base.mesh.n_vertices())?;
@@ -133,6 +148,7 @@ pub fn grow(
         .collect();
     let mut centres: Vec<Option<u32>> = vec![None; layer.edits.len()];
     build(base, levels, boundary, |input| {
+        progress.advance(1);
         let mut sum: Option<Vec<[f64; 3]>> = None;
         for g in &mut growers {
             if let Some(d) = g.details(input) {
@@ -711,6 +727,7 @@ pub fn evaluate(
     scene: &crate::scene::Scene,
     base: &Creased,
     inputs: &Inputs,
+    progress: &dyn Progress,
 ) -> Result<Composed, CoreError> {
     let bad = |reason: String| CoreError::InvalidParameter {
         name: "scene",
@@ -769,10 +786,41 @@ pub fn evaluate(
             Some(c) => Ok((c.base.clone(), c.details.clone())),
             None => Ok((
                 base.clone(),
-                grow(base, levels, boundary, layer, seed ^ salt)?.details,
+                grow_observed(base, levels, boundary, layer, seed ^ salt, progress)?.details,
             )),
         }
     };
+    // One unit per level of every procedural surface grown.
+    let surfaces = match (&blend_parts, &scene.mode) {
+        (_, crate::scene::Mode::Scalar(_)) => 0,
+        (Some((a, b, _)), _) => [a, b]
+            .iter()
+            .filter(|l| captured(&l.name).is_none())
+            .count(),
+        (None, _) => usize::from(inputs.captured.is_empty()),
+    };
+    progress.start((surfaces * levels) as u64, "subdivision levels");
+    let out = evaluate_mode(scene, base, inputs, progress, blend_parts.as_ref(), &side);
+    progress.finish();
+    out
+}
+
+/// Builds one side of a blend: its base and details.
+type SideFn<'a> = dyn Fn(&Layer, u64) -> Result<(Creased, Details), CoreError> + 'a;
+
+/// The two sides of a blend and how.
+type BlendParts<'a> = (&'a Layer, &'a Layer, Blend);
+
+/// [`evaluate`] after the checks.
+fn evaluate_mode(
+    scene: &crate::scene::Scene,
+    base: &Creased,
+    inputs: &Inputs,
+    progress: &dyn Progress,
+    blend_parts: Option<&BlendParts<'_>>,
+    side: &SideFn<'_>,
+) -> Result<Composed, CoreError> {
+    let (levels, boundary, seed) = (scene.levels, scene.boundary, scene.seed);
     let counts = |m: &Multires| {
         m.levels
             .iter()
@@ -791,7 +839,14 @@ pub fn evaluate(
                         (m, None)
                     }
                     None => (
-                        grow(base, levels, boundary, &merged(&scene.layers), seed)?,
+                        grow_observed(
+                            base,
+                            levels,
+                            boundary,
+                            &merged(&scene.layers),
+                            seed,
+                            progress,
+                        )?,
                         None,
                     ),
                 },
@@ -818,9 +873,10 @@ pub fn evaluate(
         }
         crate::scene::Mode::Scalar(planet) => {
             if scene.layers.iter().any(|l| !l.edits.is_empty()) {
-                return Err(bad(
-                    "edits act on displacement details; scalar mode has none".into(),
-                ));
+                return Err(CoreError::InvalidParameter {
+                    name: "scene",
+                    reason: "edits act on displacement details; scalar mode has none".into(),
+                });
             }
             let f = match &blend_parts {
                 None => scalar_field(

@@ -3,6 +3,7 @@
 //! error), and subdivision of perturbed meshes with random creases keeps the
 //! Euler characteristic and finite positions.
 
+use asperity_core::NoProgress;
 use asperity_subdiv::base;
 use asperity_subdiv::catmull_clark::{Boundary, Creased, subdivide};
 use asperity_subdiv::compose::{Inputs, evaluate};
@@ -110,7 +111,7 @@ proptest! {
                 "plane" => base::plane(2),
                 _ => base::cube(),
             };
-            let _ = evaluate(&scene, &Creased::smooth(mesh), &Inputs::default());
+            let _ = evaluate(&scene, &Creased::smooth(mesh), &Inputs::default(), &NoProgress);
         }
     }
 
