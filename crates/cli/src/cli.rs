@@ -797,8 +797,9 @@ pub struct SubdivArgs {
     /// and shading (see crates/subdiv/scenes); the shape options below then
     /// cannot be given.
     pub scene: Option<std::path::PathBuf>,
-    /// Base mesh: cube, sphere (a quad sphere), torus, cylinder, plane, fuse, or
-    /// a mesh file (OBJ/PLY polygons kept).
+    /// Base mesh: cube, sphere (a quad sphere), torus, cylinder, plane, fuse,
+    /// revolution:PROFILE (a text file of `r z` rows, bottom to top), or a mesh
+    /// file (OBJ/PLY polygons kept).
     #[arg(long, default_value = "cube", conflicts_with = "scene")]
     pub base: String,
     /// Subdivision levels.

@@ -28,6 +28,10 @@ pub fn load_base(spec: &str, dir: &Path) -> anyhow::Result<PolyMesh> {
         "cylinder" => base::cylinder(0.6, 1.0, 8),
         "plane" => base::plane(4),
         "fuse" => base::fuse(24, 10),
+        spec if spec.starts_with("revolution:") => {
+            let p = dir.join(&spec["revolution:".len()..]);
+            base::revolution(&read_profile(&p)?, 16)
+        }
         path => {
             let p = dir.join(path);
             asperity_io::read_poly_mesh(&p).with_context(|| {
@@ -38,6 +42,41 @@ pub fn load_base(spec: &str, dir: &Path) -> anyhow::Result<PolyMesh> {
             })?
         }
     })
+}
+
+/// A profile for a surface of revolution: one `r z` pair per line (white
+/// space or commas), bottom to top, every r > 0; `#` starts a comment.
+fn read_profile(path: &Path) -> anyhow::Result<Vec<[f64; 2]>> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("reading the profile {}", path.display()))?;
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let v: Vec<f64> = line
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|t| !t.is_empty())
+            .map(str::parse)
+            .collect::<Result<_, _>>()
+            .ok()
+            .filter(|v: &Vec<f64>| v.len() == 2 && v.iter().all(|x| x.is_finite()) && v[0] > 0.0)
+            .with_context(|| {
+                format!(
+                    "{} line {}: expected `r z` with r > 0, got {line:?}",
+                    path.display(),
+                    i + 1
+                )
+            })?;
+        out.push([v[0], v[1]]);
+    }
+    anyhow::ensure!(
+        out.len() >= 2,
+        "{}: a profile needs at least two `r z` rows",
+        path.display()
+    );
+    Ok(out)
 }
 
 /// `A-B:S` crease tags.

@@ -1525,6 +1525,32 @@ fn subdiv_as_documented() {
         "many.glb",
         "-q",
     ]);
+    // A surface of revolution from a profile file.
+    std::fs::write(
+        dir.join("vase.txt"),
+        "# r z\n0.3 0\n0.6 0.5\n0.25 1.2\n0.4 1.6\n",
+    )
+    .unwrap();
+    run(&[
+        "subdiv",
+        "--base",
+        "revolution:vase.txt",
+        "--levels",
+        "2",
+        "-o",
+        "vase.ply",
+        "-q",
+    ]);
+    let vase = asperity_io::read_mesh(&dir.join("vase.ply")).unwrap();
+    assert!(vase.is_watertight() && vase.euler_characteristic() == 2);
+    std::fs::write(dir.join("flat.txt"), "0 0\n0.5 1\n").unwrap();
+    assert_clean_failure(
+        &asperity(
+            &["subdiv", "--base", "revolution:flat.txt", "-o", "x.ply"],
+            dir,
+        ),
+        "r > 0",
+    );
     // Animation: θ runs over the frames.
     run(&[
         "subdiv",
@@ -1639,6 +1665,24 @@ fn subdiv_as_documented() {
             .all(|(p, q)| (0..3).all(|k| (p[k] - q[k]).abs() < 1e-12));
         assert_eq!(close, same, "offset {offset}");
     }
+    // A blend by an alpha-map file (one value per base vertex: 26 on the sphere).
+    let map: String = (0..26).map(|i| format!("{}\n", f64::from(i % 2))).collect();
+    std::fs::write(dir.join("alpha.txt"), &map).unwrap();
+    std::fs::write(dir.join("short.txt"), "0.5\n0.5\n").unwrap();
+    let mapped = |file: &str| {
+        format!(
+            "base = \"sphere\"\nlevels = 2\n[[detail]]\ntype = \"rock\"\nlayer = \"a\"\n\
+             [[detail]]\ntype = \"berry\"\nlayer = \"b\"\n\
+             [blend]\na = \"a\"\nb = \"b\"\nwidth = 0.5\nalpha_map = \"{file}\"\n"
+        )
+    };
+    std::fs::write(dir.join("map.toml"), mapped("alpha.txt")).unwrap();
+    std::fs::write(dir.join("short.toml"), mapped("short.txt")).unwrap();
+    run(&["subdiv", "map.toml", "-o", "map.ply", "-q"]);
+    assert_clean_failure(
+        &asperity(&["subdiv", "short.toml", "-o", "x.ply"], dir),
+        "the alpha map has 2 values",
+    );
     // Scenes: an example scene, byte-identical at 1 and 2 threads.
     let scene = dir.join("berry.toml");
     std::fs::write(

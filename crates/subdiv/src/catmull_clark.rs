@@ -708,7 +708,6 @@ impl Topology {
             let r = r.times(1.0 / n);
             q.plus(r.times(2.0)).plus(pv.times(n - 3.0)).times(1.0 / n)
         };
-        let _ = fv;
         let corner =
             n_sharp > 2 || (boundary == Boundary::EdgeAndCorner && n_boundary == 2 && n_edges == 2);
         if corner {
@@ -805,14 +804,7 @@ impl Topology {
 /// [`CoreError::InvalidParameter`] naming the first degenerate face.
 pub fn check_nondegenerate(mesh: &PolyMesh) -> Result<(), CoreError> {
     let p = mesh.positions();
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for q in p {
-        for k in 0..3 {
-            lo[k] = lo[k].min(q[k]);
-            hi[k] = hi[k].max(q[k]);
-        }
-    }
-    let diag2: f64 = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum();
+    let diag2 = asperity_core::Aabb::from_points(p).map_or(0.0, |b| b.diagonal().powi(2));
     for (f, face) in mesh.faces().enumerate() {
         let mut n = [0.0; 3];
         for k in 0..face.len() {
@@ -1151,18 +1143,15 @@ mod tests {
 
     #[test]
     fn cube_converges_and_keeps_its_corners_when_sharp() {
-        let v: Vec<[f64; 3]> = (0..8)
-            .map(|i| [(i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64])
+        // The unit cube [0, 1]³: the base cube moved and halved.
+        let base = crate::base::cube();
+        let v: Vec<[f64; 3]> = base
+            .positions()
+            .iter()
+            .map(|p| p.map(|x| (x + 1.0) / 2.0))
             .collect();
-        let faces = vec![
-            [0u32, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        let cube = Creased::smooth(PolyMesh::new(v.clone(), &faces).unwrap());
+        let faces: Vec<Vec<u32>> = base.faces().map(<[u32]>::to_vec).collect();
+        let cube = Creased::smooth(base.with_positions(v.clone()).unwrap());
         // Limit of an extraordinary (valence 3) vertex: repeated subdivision
         // converges to the limit formula.
         let mut m = subdivide(&cube, Boundary::EdgeOnly).unwrap();
@@ -1183,7 +1172,7 @@ mod tests {
         // All edges sharp: the corners stay, the faces stay flat.
         let mut creases = HashMap::new();
         for f in &faces {
-            for k in 0..4 {
+            for k in 0..f.len() {
                 creases.insert(key(f[k], f[(k + 1) % 4]), f64::INFINITY);
             }
         }

@@ -478,6 +478,8 @@ pub struct ScalarField {
     pub value: Vec<f64>,
     /// The blend weight per vertex (0 = all A).
     pub alpha: Vec<f64>,
+    /// (vertices, faces) of every level, base first.
+    pub counts: Vec<(usize, usize)>,
 }
 
 /// Scalar details of a set of features at one level (their normal components).
@@ -548,6 +550,7 @@ pub fn scalar_field(
     topo.check_base(base.mesh.face_vertices())?;
     crate::catmull_clark::check_nondegenerate(&base.mesh)?;
     let mut alpha = vec![0.0; vals.len()];
+    let mut counts = vec![(mesh.mesh.n_vertices(), mesh.mesh.n_faces())];
     for l in 1..=levels {
         vals = topo.subdivide_values(mesh.mesh.face_vertices(), &vals, boundary);
         let mut next = refine_with(&mesh, &topo, boundary)?;
@@ -585,6 +588,7 @@ pub fn scalar_field(
         vals.par_iter_mut()
             .zip(d.par_iter())
             .for_each(|(v, d)| v[3] += d);
+        counts.push((next.mesh.n_vertices(), next.mesh.n_faces()));
         mesh = next;
         topo = next_topo;
     }
@@ -597,6 +601,7 @@ pub fn scalar_field(
         normals,
         value: vals.iter().map(|v| v[3]).collect(),
         alpha,
+        counts,
     })
 }
 
@@ -899,18 +904,12 @@ fn evaluate_mode(
             let (colors, positions) = planet.shade(&f);
             let mut mesh = f.mesh.clone();
             mesh.mesh.set_positions(positions)?;
-            let mut c = vec![(base.mesh.n_vertices(), base.mesh.n_faces())];
-            let mut plain = base.clone();
-            for _ in 0..levels {
-                plain = crate::catmull_clark::subdivide(&plain, boundary)?;
-                c.push((plain.mesh.n_vertices(), plain.mesh.n_faces()));
-            }
             Ok(Composed {
                 mesh,
                 colors: Some(colors),
                 scalars: vec![("height".into(), f.value), ("alpha".into(), f.alpha)],
                 details: Vec::new(),
-                counts: c,
+                counts: f.counts.clone(),
             })
         }
     }

@@ -145,15 +145,6 @@ impl Rock {
             }
         }
     }
-
-    /// Details (along n) for level `level` ≥ 1 with `n` vertices (intrinsic).
-    pub fn details(&self, seed: u64, level: usize, n: usize) -> Vec<[f64; 3]> {
-        let a = self.amplitude * self.law.factor(level);
-        (0..n)
-            .into_par_iter()
-            .map(|v| [0.0, 0.0, a * random_value(seed, level, v)])
-            .collect()
-    }
 }
 
 /// Noise fBm split over the levels (§3: "a procedural displacement as a sum of
@@ -399,12 +390,6 @@ impl Feature {
     }
 }
 
-/// The cubic drop-off 1 − 3x² + 2x³ on [0, 1].
-fn drop(x: f64) -> f64 {
-    let x = x.clamp(0.0, 1.0);
-    1.0 - 3.0 * x * x + 2.0 * x * x * x
-}
-
 /// A uniform grid over points for radius queries.
 struct Grid {
     cell: f64,
@@ -536,15 +521,12 @@ impl Grower {
     pub fn details(&mut self, input: &LevelInput<'_>) -> Option<Vec<[f64; 3]>> {
         let l = input.level;
         let acts = self.feature.acts_at(l);
-        let n = input.positions().len();
         match self.feature.procedure {
-            Procedure::Rock(r) => acts.then(|| match r.coords {
-                Coords::Intrinsic => r.details(self.seed, l, n),
-                Coords::Extrinsic { .. } => r
-                    .values(self.seed, l, input.positions())
+            Procedure::Rock(r) => acts.then(|| {
+                r.values(self.seed, l, input.positions())
                     .into_iter()
                     .map(|x| [0.0, 0.0, x])
-                    .collect(),
+                    .collect()
             }),
             Procedure::Fbm(f) => acts.then(|| {
                 f.values(self.seed, l, input.positions())
@@ -790,7 +772,7 @@ impl Grower {
                                 * m.radius
                                 * l as f64
                                 * (std::f64::consts::PI * u).sin()
-                                * drop(x / 3.0);
+                                * crate::compose::drop_off(x / 3.0);
                             for c in 0..3 {
                                 w[c] += push * rho[c] / r;
                             }
@@ -814,15 +796,15 @@ mod tests {
     #[test]
     fn rock_is_fractal_uniform_and_stable() {
         let r = Rock::default();
-        let d1 = r.details(3, 1, 10_000);
-        let d3 = r.details(3, 3, 10_000);
-        let rms =
-            |d: &[[f64; 3]]| (d.iter().map(|x| x[2] * x[2]).sum::<f64>() / d.len() as f64).sqrt();
+        let at = |n: usize| vec![[0.0; 3]; n];
+        let d1 = r.values(3, 1, &at(10_000));
+        let d3 = r.values(3, 3, &at(10_000));
+        let rms = |d: &[f64]| (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt();
         // Uniform on [−A, A]: rms A/√3; two levels down a quarter of it.
         assert!((rms(&d1) / (0.08 / 3f64.sqrt()) - 1.0).abs() < 0.03);
         assert!((rms(&d3) / rms(&d1) - 0.25).abs() < 0.02);
-        assert_eq!(r.details(3, 1, 100), d1[..100].to_vec(), "stable");
-        assert_ne!(r.details(4, 1, 100), d1[..100].to_vec(), "seeded");
+        assert_eq!(r.values(3, 1, &at(100)), d1[..100].to_vec(), "stable");
+        assert_ne!(r.values(4, 1, &at(100)), d1[..100].to_vec(), "seeded");
         let bad = Feature::global(Procedure::Rock(Rock::fractal(0.1, -1.0)));
         assert!(bad.validate().is_err());
     }

@@ -17,17 +17,6 @@ fn smooth(m: PolyMesh) -> Creased {
     Creased::smooth(m)
 }
 
-fn edges(m: &PolyMesh) -> usize {
-    let mut e = std::collections::HashSet::new();
-    for f in m.faces() {
-        for k in 0..f.len() {
-            let (a, b) = (f[k], f[(k + 1) % f.len()]);
-            e.insert((a.min(b), a.max(b)));
-        }
-    }
-    e.len()
-}
-
 #[test]
 fn counts_and_euler_characteristic_over_levels() {
     let mixed = PolyMesh::new(
@@ -51,12 +40,16 @@ fn counts_and_euler_characteristic_over_levels() {
     ] {
         let mut cur = smooth(m);
         for _ in 0..3 {
-            let (v, e, f) = (cur.mesh.n_vertices(), edges(&cur.mesh), cur.mesh.n_faces());
+            let (v, e, f) = (
+                cur.mesh.n_vertices(),
+                cur.mesh.n_edges(),
+                cur.mesh.n_faces(),
+            );
             let corners: usize = cur.mesh.faces().map(<[u32]>::len).sum();
             let next = subdivide(&cur, Boundary::EdgeOnly).unwrap();
             let (v2, e2, f2) = (
                 next.mesh.n_vertices(),
-                edges(&next.mesh),
+                next.mesh.n_edges(),
                 next.mesh.n_faces(),
             );
             assert_eq!((v2, e2, f2), (v + e + f, 2 * e + corners, corners));
@@ -310,6 +303,24 @@ fn blending_is_exact_where_alpha_is_zero_or_one() {
     assert!(how.alpha(0, [0.25, 0.0, 0.0], 0.0) < 1.0);
     assert_eq!(how.alpha(3, [0.07, 0.0, 0.0], 0.0), 1.0);
     assert!(how.alpha(2, [0.07, 0.0, 0.0], 0.0) < 1.0);
+    // A per-vertex alpha map: all 0 gives A, all 1 gives B, bit for bit.
+    let n = base.mesh.n_vertices();
+    for (value, want) in [(0.0, &a), (1.0, &b)] {
+        let map = Blend {
+            source: AlphaSource::Map(vec![value; n]),
+            width: 0.5,
+        };
+        let (m, _) = blend(
+            &base,
+            None,
+            (&a.details, &b.details),
+            levels,
+            Boundary::EdgeOnly,
+            &map,
+        )
+        .unwrap();
+        assert_eq!(m.finest().mesh.positions(), want.finest().mesh.positions());
+    }
     // A per-vertex alpha map of the wrong size is refused.
     let bad = Blend {
         source: AlphaSource::Map(vec![0.5; 3]),
