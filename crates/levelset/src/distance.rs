@@ -32,6 +32,31 @@
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering::Relaxed};
 
+/// One bit per node: whether the node is already on the next frontier. A bitmap
+/// (2.6 MB at 256³) rather than a stamp per node keeps it in cache and spares
+/// allocating and zeroing a grid-sized array.
+struct Claims(Vec<AtomicU64>);
+
+impl Claims {
+    fn new(n: usize) -> Self {
+        Self((0..n.div_ceil(64)).map(|_| AtomicU64::new(0)).collect())
+    }
+
+    /// Sets the bit of `node`; true if it was clear.
+    #[inline]
+    fn claim(&self, node: usize) -> bool {
+        let bit = 1u64 << (node % 64);
+        self.0[node / 64].fetch_or(bit, Relaxed) & bit == 0
+    }
+
+    /// Clears the bits of `nodes`.
+    fn release(&self, nodes: &[u32]) {
+        nodes.par_iter().for_each(|&u| {
+            self.0[u as usize / 64].fetch_and(!(1u64 << (u % 64)), Relaxed);
+        });
+    }
+}
+
 use asperity_core::Progress;
 use rayon::prelude::*;
 
@@ -126,7 +151,7 @@ fn seed(
     grid: &GridSpec,
     ring: usize,
     cells: &[AtomicU64],
-    stamp: &[AtomicU32],
+    claims: &Claims,
 ) -> Vec<u32> {
     let h = grid.spacing;
     let side = 2 + 2 * ring;
@@ -149,7 +174,7 @@ fn seed(
                     ];
                     let d2 = dist2(grid.position(n[0], n[1], n[2]), *p) as f32;
                     let node = grid.index(n[0], n[1], n[2]);
-                    if lower(&cells[node], pack(d2, idx)) && stamp[node].swap(1, Relaxed) != 1 {
+                    if lower(&cells[node], pack(d2, idx)) && claims.claim(node) {
                         touched.push(node as u32);
                     }
                 }
@@ -178,22 +203,22 @@ pub fn unsigned_distance(
         .into_par_iter()
         .map(|_| AtomicU64::new(EMPTY))
         .collect();
-    let stamp: Vec<AtomicU32> = (0..n).into_par_iter().map(|_| AtomicU32::new(0)).collect();
+    let claims = Claims::new(n);
     let ring = match method {
         DistanceMethod::ClosestPoint => 0,
         DistanceMethod::Godunov { seed_cells, .. } => seed_cells.max(1),
     };
-    let frontier = seed(points, grid, ring, &cells, &stamp);
+    let frontier = seed(points, grid, ring, &cells, &claims);
     match method {
         DistanceMethod::ClosestPoint => {
-            closest_point_wavefront(points, grid, cells, &stamp, frontier, cap, progress)
+            closest_point_wavefront(points, grid, cells, &claims, frontier, cap, progress)
         }
         DistanceMethod::Godunov {
             tolerance,
             max_iterations,
             ..
         } => {
-            drop(stamp);
+            drop(claims);
             godunov(grid, &cells, tolerance, max_iterations, progress)
         }
     }
@@ -219,7 +244,7 @@ fn closest_point_wavefront(
     points: &[[f64; 3]],
     grid: &GridSpec,
     cells: Vec<AtomicU64>,
-    stamp: &[AtomicU32],
+    claims: &Claims,
     mut frontier: Vec<u32>,
     cap: f64,
     progress: &dyn Progress,
@@ -238,6 +263,7 @@ fn closest_point_wavefront(
             .par_iter()
             .map(|&u| cells[u as usize].load(Relaxed))
             .collect();
+        claims.release(&frontier);
         let next: Vec<Vec<u32>> = frontier
             .par_chunks(1024)
             .zip(snapshot.par_chunks(1024))
@@ -258,9 +284,7 @@ fn closest_point_wavefront(
                             continue;
                         }
                         let node = grid.index(q[0], q[1], q[2]);
-                        if lower(&cells[node], pack(d2, idx))
-                            && stamp[node].swap(round, Relaxed) != round
-                        {
+                        if lower(&cells[node], pack(d2, idx)) && claims.claim(node) {
                             out.push(node as u32);
                         }
                     }

@@ -59,14 +59,14 @@
 //! [`Band::Full`] updates every node at every step (same physics, no tubes): the
 //! naive scheme the tubes are measured against.
 
-use std::sync::atomic::{AtomicU32, Ordering::Relaxed};
-
 use asperity_core::Progress;
 use rayon::prelude::*;
+use wide::f32x8;
 
 use crate::distance::DistanceField;
 use crate::grid::GridSpec;
 use crate::tagging::Tags;
+use crate::tube::{Run, RunTube, push_lanes};
 
 /// A level-set function on the grid: φ < 0 inside, |φ| ≤ γ.
 #[derive(Clone, Debug)]
@@ -291,20 +291,8 @@ pub fn from_tags(
     }
 }
 
-/// Whether a node is at least two nodes from every face (its ENO stencil fits).
-#[inline]
-fn stencil_fits(grid: &GridSpec, u: usize) -> bool {
-    let c = grid.coords(u);
-    (0..3).all(|a| c[a] >= 2 && c[a] + 2 < grid.dims[a])
-}
-
-/// The minmod-free ENO choice: the second difference of smaller magnitude.
-#[inline]
-fn eno_pick(a: f64, b: f64) -> f64 {
-    if a.abs() <= b.abs() { a } else { b }
-}
-
-/// Read access to φ, plain (`[f32]`) or shared for parallel writes (`[AtomicU32]`).
+/// Read access to φ for the scalar stencils (the curvature term and marching
+/// cubes' curvature attribute).
 pub(crate) trait Phi: Sync {
     /// φ at node `u`.
     fn at(&self, u: usize) -> f64;
@@ -317,98 +305,397 @@ impl Phi for [f32] {
     }
 }
 
-impl Phi for [AtomicU32] {
-    #[inline]
-    fn at(&self, u: usize) -> f64 {
-        f64::from(f32::from_bits(self[u].load(Relaxed)))
+/// Nodes evaluated together: eight `f32` lanes (`wide`'s portable vectors: one
+/// AVX register, or two SSE registers on a baseline build).
+const LANES: usize = 8;
+
+/// Eight values.
+type Lanes = f32x8;
+
+/// `s[at .. at + 8]`. In range for every node the flow loads from: a stencil
+/// reaches two nodes along one axis, so the eight loaded from the last node of T
+/// (two nodes from each face) end well before the grid's last row.
+#[inline(always)]
+fn load(s: &[f32], at: usize) -> Lanes {
+    let x: [f32; LANES] = s[at..at + LANES].try_into().expect("eight values");
+    f32x8::new(x)
+}
+
+/// The mask of the first `n` lanes.
+#[inline(always)]
+fn first(n: usize) -> Lanes {
+    const IOTA: [f32; LANES] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
+    f32x8::new(IOTA).simd_lt(f32x8::splat(n as f32))
+}
+
+/// The larger of two values (`a > b ? a : b`, the `maxps` rule).
+#[inline(always)]
+fn hi(a: f32, b: f32) -> f32 {
+    if a > b { a } else { b }
+}
+
+/// The ENO choice: the second difference of smaller magnitude.
+#[inline(always)]
+fn eno_pick(a: Lanes, b: Lanes) -> Lanes {
+    a.abs().simd_le(b.abs()).select(a, b)
+}
+
+/// Constants of one time step, in the `f32` of the kernels.
+#[derive(Clone, Copy, Debug)]
+struct Step<'a> {
+    /// The speed field d.
+    d: &'a [f32],
+    strides: [usize; 3],
+    h: f32,
+    inv_h: f32,
+    beta: f32,
+    gamma: f32,
+    /// 1/(γ − β)³ for the cut-off's cubic.
+    inv_cube: f32,
+    arrest: f32,
+    dt: f32,
+    eno: bool,
+    /// The curvature weight λ of the regularised flow (world units, f64 as the
+    /// scalar curvature stencil).
+    curvature: Option<f64>,
+}
+
+impl Step<'_> {
+    /// The cut-off c(φ) of Eq. 10 times d at eight nodes, 0 closer than the
+    /// arrest distance.
+    #[inline(always)]
+    fn speeds(&self, phi: Lanes, d: Lanes) -> Lanes {
+        let splat = f32x8::splat;
+        let a = phi.abs();
+        let t = a - splat(self.gamma);
+        let cubic = t
+            * t
+            * (splat(2.0) * a + splat(self.gamma) - splat(3.0 * self.beta))
+            * splat(self.inv_cube);
+        let c = a.simd_le(splat(self.beta)).select(
+            splat(1.0),
+            a.simd_le(splat(self.gamma)).select(cubic, splat(0.0)),
+        );
+        d.simd_lt(splat(self.arrest)).select(splat(0.0), c * d)
     }
 }
 
-/// One-sided differences (D⁻, D⁺) along stride `s`.
-#[inline]
-fn one_sided<P: Phi + ?Sized>(
-    phi: &P,
-    u: usize,
-    s: usize,
-    inv_h: f64,
-    scheme: Scheme,
-) -> (f64, f64) {
-    let (pm, p0, pp) = (phi.at(u - s), phi.at(u), phi.at(u + s));
-    let dm = (p0 - pm) * inv_h;
-    let dp = (pp - p0) * inv_h;
-    match scheme {
-        Scheme::Upwind => (dm, dp),
-        Scheme::Eno2 => {
-            let (pmm, ppp) = (phi.at(u - 2 * s), phi.at(u + 2 * s));
-            let c0 = pp - 2.0 * p0 + pm;
-            let cm = p0 - 2.0 * pm + pmm;
-            let cp = ppp - 2.0 * pp + p0;
-            (
-                dm + 0.5 * inv_h * eno_pick(cm, c0),
-                dp - 0.5 * inv_h * eno_pick(c0, cp),
-            )
+/// One-sided differences (D⁻, D⁺) along stride `s` for eight nodes from `u`:
+/// first order, or second-order ENO (Osher & Shu).
+#[inline(always)]
+fn one_sided(c: &Step, src: &[f32], u: usize, s: usize, p0: Lanes) -> (Lanes, Lanes) {
+    let (pm, pp) = (load(src, u - s), load(src, u + s));
+    let inv_h = f32x8::splat(c.inv_h);
+    let mut dm = (p0 - pm) * inv_h;
+    let mut dp = (pp - p0) * inv_h;
+    if c.eno {
+        let (pmm, ppp) = (load(src, u - 2 * s), load(src, u + 2 * s));
+        let (two, half) = (f32x8::splat(2.0), f32x8::splat(0.5 * c.inv_h));
+        let c0 = pp - two * p0 + pm;
+        let cm = p0 - two * pm + pmm;
+        let cp = ppp - two * pp + p0;
+        dm += half * eno_pick(cm, c0);
+        dp -= half * eno_pick(c0, cp);
+    }
+    (dm, dp)
+}
+
+/// The flow's rate d·c(φ)|∇φ| (plus the curvature term) at eight nodes from `u`;
+/// |∇φ| upwinded for the inward-moving front (F < 0):
+/// √Σ max(min(D⁻,0)², max(D⁺,0)²). `valid` lanes are real nodes.
+#[inline(always)]
+fn rate(c: &Step, src: &[f32], u: usize, valid: usize) -> Lanes {
+    let p0 = load(src, u);
+    let zero = f32x8::splat(0.0);
+    let mut g2 = zero;
+    for &s in &c.strides {
+        let (dm, dp) = one_sided(c, src, u, s, p0);
+        let (a, b) = (dm.fast_min(zero), dp.fast_max(zero));
+        g2 += (a * a).fast_max(b * b);
+    }
+    let speed = c.speeds(p0, load(c.d, u));
+    let out = speed * g2.sqrt();
+    let Some(weight) = c.curvature else {
+        return out;
+    };
+    let (speed, mut out) = (speed.to_array(), out.to_array());
+    let h = f64::from(c.h);
+    for (l, o) in out.iter_mut().enumerate().take(valid) {
+        if speed[l] != 0.0 {
+            let (kappa, grad) =
+                crate::marching_cubes::curvature_and_gradient(src, u + l, c.strides, h);
+            *o += (f64::from(speed[l]) * weight * kappa * grad) as f32;
+        }
+    }
+    f32x8::new(out)
+}
+
+/// One first-order Godunov iteration of Eq. 11 at eight nodes from `u`:
+/// φ − Δτ S(φ)(|∇φ| − 1), S = φ/√(φ² + |∇φ|²h²), Δτ = 0.3h.
+#[inline(always)]
+fn redistanced(c: &Step, src: &[f32], u: usize) -> Lanes {
+    let p0 = load(src, u);
+    let (zero, inv_h) = (f32x8::splat(0.0), f32x8::splat(c.inv_h));
+    let outside = p0.simd_gt(zero);
+    let mut g2 = zero;
+    for &s in &c.strides {
+        let (pm, pp) = (load(src, u - s), load(src, u + s));
+        let a = (p0 - pm) * inv_h;
+        let b = (pp - p0) * inv_h;
+        let (a_out, b_out) = (a.fast_max(zero), b.fast_min(zero));
+        let (a_in, b_in) = (a.fast_min(zero), b.fast_max(zero));
+        g2 += outside.select(
+            (a_out * a_out).fast_max(b_out * b_out),
+            (a_in * a_in).fast_max(b_in * b_in),
+        );
+    }
+    let h = f32x8::splat(c.h);
+    let norm = (p0 * p0 + g2 * h * h).sqrt().fast_max(f32x8::splat(1e-30));
+    p0 - f32x8::splat(0.3 * c.h) * (p0 / norm) * (g2.sqrt() - f32x8::splat(1.0))
+}
+
+/// What one plane's pass does.
+#[derive(Clone, Copy)]
+enum Pass<'a> {
+    /// Stage 1 of RK2 into the destination: φ¹ = φⁿ + Δt L(φⁿ), φⁿ = `src`.
+    Advance { src: &'a [f32] },
+    /// Stage 2 in place: φⁿ⁺¹ = ½φⁿ + ½(φ¹ + Δt L(φ¹)), φⁿ = the destination,
+    /// φ¹ = `stage`; measures the front movement.
+    Finish { stage: &'a [f32] },
+    /// One redistancing iteration of `src` into the destination (clamped to ±γ
+    /// when `clamp`).
+    Redistance { src: &'a [f32], clamp: bool },
+}
+
+/// Fixed-point front movement: (Σ|Δφ|/h · 2¹⁶, node count).
+type Movement = (u64, u64);
+
+/// Runs `pass` over the runs of one plane; `dst` is that plane of the destination
+/// buffer, starting at node `base`.
+#[inline(always)]
+fn plane_pass(c: &Step, pass: Pass, base: usize, dst: &mut [f32], runs: &[Run]) -> Movement {
+    let mut moved = (0u64, 0u64);
+    let (src, reach) = match pass {
+        Pass::Advance { src } => (src, 2),
+        Pass::Finish { stage } => (stage, 2),
+        Pass::Redistance { src, .. } => (src, 1),
+    };
+    let ahead = reach * c.strides[2];
+    for (r, run) in runs.iter().enumerate() {
+        // The rows this pass meets first a few runs on: the plane `reach`
+        // ahead, the speed and the destination. The runs jump a row apart, which
+        // defeats the hardware prefetcher.
+        if let Some(next) = runs.get(r + PREFETCH_RUNS) {
+            let u = next.start as usize;
+            prefetch(src, u + ahead);
+            prefetch(c.d, u);
+            prefetch(dst, u - base);
+        }
+        let (mut u, end) = (run.start as usize, (run.start + run.len) as usize);
+        while u < end {
+            let n = (end - u).min(LANES);
+            match pass {
+                Pass::Advance { src } => {
+                    let v = load(src, u) + f32x8::splat(c.dt) * rate(c, src, u, n);
+                    dst[u - base..u - base + n].copy_from_slice(&v.to_array()[..n]);
+                }
+                Pass::Finish { stage } => {
+                    let v = load(stage, u) + f32x8::splat(c.dt) * rate(c, stage, u, n);
+                    let old = load(dst, u - base);
+                    let new = f32x8::splat(0.5) * (old + v);
+                    // Movement within a cell of the front, in fixed point
+                    // (2⁻¹⁶ cells) so that the sum's order does not matter.
+                    let near = old.abs().simd_lt(f32x8::splat(c.h)) & first(n);
+                    let m = ((new - old).abs() * f32x8::splat(c.inv_h)).fast_min(f32x8::splat(1e3));
+                    let fixed = near.select(m * f32x8::splat(65536.0), f32x8::splat(0.0));
+                    moved.0 += fixed
+                        .trunc_int()
+                        .to_array()
+                        .iter()
+                        .map(|&x| x as u64)
+                        .sum::<u64>();
+                    moved.1 += u64::from(near.to_bitmask().count_ones());
+                    dst[u - base..u - base + n].copy_from_slice(&new.to_array()[..n]);
+                }
+                Pass::Redistance { src, clamp } => {
+                    let mut v = redistanced(c, src, u);
+                    if clamp {
+                        v = v
+                            .fast_max(f32x8::splat(-c.gamma))
+                            .fast_min(f32x8::splat(c.gamma));
+                    }
+                    dst[u - base..u - base + n].copy_from_slice(&v.to_array()[..n]);
+                }
+            }
+            u += n;
+        }
+    }
+    moved
+}
+
+/// How many runs ahead [`plane_pass`] prefetches.
+const PREFETCH_RUNS: usize = 4;
+
+/// Asks the CPU to bring the cache line of `s[at]` into L1 (nothing when `at`
+/// is past the end).
+#[inline(always)]
+fn prefetch(s: &[f32], at: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(x) = s.get(at) {
+        // SAFETY: a prefetch is a hint; it never faults and has no effect on
+        // memory, and the pointer comes from a live reference.
+        #[allow(unsafe_code)]
+        unsafe {
+            std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+                std::ptr::from_ref(x).cast(),
+            );
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (s, at);
+}
+
+/// The widest vector unit this CPU offers for the flow kernels. The kernel is
+/// the same source compiled for each; the results are identical bit for bit
+/// (IEEE single-precision add, multiply, divide, square root and comparisons,
+/// no fused multiply-add).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Simd {
+    Baseline,
+    #[cfg(target_arch = "x86_64")]
+    Avx,
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
+}
+
+impl Simd {
+    fn detect() -> Self {
+        if std::env::var_os("ASPERITY_NO_SIMD").is_some() {
+            return Simd::Baseline;
+        }
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Simd::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx") {
+                return Simd::Avx;
+            }
+        }
+        Simd::Baseline
+    }
+
+    #[inline]
+    fn plane_pass(
+        self,
+        c: &Step,
+        pass: Pass,
+        base: usize,
+        dst: &mut [f32],
+        runs: &[Run],
+    ) -> Movement {
+        match self {
+            Simd::Baseline => plane_pass(c, pass, base, dst, runs),
+            // SAFETY: `detect` verified at run time that the CPU supports the
+            // feature each function is compiled for; that is their only requirement.
+            #[cfg(target_arch = "x86_64")]
+            #[allow(unsafe_code)]
+            Simd::Avx => unsafe { plane_pass_avx(c, pass, base, dst, runs) },
+            #[cfg(target_arch = "x86_64")]
+            #[allow(unsafe_code)]
+            Simd::Avx512 => unsafe { plane_pass_avx512(c, pass, base, dst, runs) },
         }
     }
 }
 
-/// |∇φ| upwinded for an inward-moving front (F < 0): √Σ min(D⁻,0)² + max(D⁺,0)².
-#[inline]
-fn grad_inward<P: Phi + ?Sized>(
-    phi: &P,
-    u: usize,
-    strides: [usize; 3],
-    inv_h: f64,
-    scheme: Scheme,
-) -> f64 {
-    let mut g2 = 0.0;
-    for &s in &strides {
-        let (dm, dp) = one_sided(phi, u, s, inv_h, scheme);
-        g2 += dm.min(0.0).powi(2).max(dp.max(0.0).powi(2));
-    }
-    g2.sqrt()
+/// [`plane_pass`] compiled for AVX (eight `f32` lanes per register).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn plane_pass_avx(c: &Step, pass: Pass, base: usize, dst: &mut [f32], runs: &[Run]) -> Movement {
+    plane_pass(c, pass, base, dst, runs)
 }
 
-/// κ|∇φ| by central differences (Eq. 2 times |∇φ|).
-#[inline]
-fn curvature_term<P: Phi + ?Sized>(phi: &P, u: usize, strides: [usize; 3], h: f64) -> f64 {
-    let (kappa, grad) = crate::marching_cubes::curvature_and_gradient(phi, u, strides, h);
-    kappa * grad
+/// [`plane_pass`] compiled for AVX-512.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn plane_pass_avx512(c: &Step, pass: Pass, base: usize, dst: &mut [f32], runs: &[Run]) -> Movement {
+    plane_pass(c, pass, base, dst, runs)
 }
 
-struct Tubes {
-    t: Vec<u32>,
-    n: Vec<u32>,
+/// Runs `pass` over every plane of `tube` in parallel, writing `dst`.
+fn sweep(
+    simd: Simd,
+    c: &Step,
+    pass: Pass,
+    plane_len: usize,
+    dst: &mut [f32],
+    tube: &RunTube,
+) -> Movement {
+    dst.par_chunks_mut(plane_len)
+        .zip(tube.planes.par_iter())
+        .enumerate()
+        .map(|(k, (dst, runs))| simd.plane_pass(c, pass, k * plane_len, dst, runs))
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
 }
 
-/// N = T plus its 6 neighbours. Threads claim nodes by swapping in the epoch, so
-/// the list's order depends on timing — nothing downstream does: every use is a
-/// per-node update, a maximum or an integer sum.
-fn dilate(grid: &GridSpec, t: &[u32], mark: &[AtomicU32], epoch: u32) -> Vec<u32> {
-    let strides = grid.strides();
-    let parts: Vec<Vec<u32>> = t
-        .par_chunks(4096)
-        .map(|chunk| {
-            let mut n = Vec::with_capacity(chunk.len() * 3 / 2);
-            for &u in chunk {
-                let u = u as usize;
-                for v in [
-                    u,
-                    u - 1,
-                    u + 1,
-                    u - strides[1],
-                    u + strides[1],
-                    u - strides[2],
-                    u + strides[2],
-                ] {
-                    if mark[v].load(Relaxed) != epoch && mark[v].swap(epoch, Relaxed) != epoch {
-                        n.push(v as u32);
+/// The new tube T = {|φ| < γ, ENO stencil inside the grid} from the candidate
+/// runs `from` (all fitting nodes when `None`), with the largest speed on it;
+/// copies `phi` into `scratch` on the candidates on the way (`from` only).
+fn rebuild(
+    grid: &GridSpec,
+    c: &Step,
+    phi: &[f32],
+    scratch: &mut [f32],
+    from: Option<&RunTube>,
+    keep_all: bool,
+) -> (RunTube, f32) {
+    let [nx, ny, nz] = grid.dims;
+    let plane_len = nx * ny;
+    let everything = RunTube::interior(grid, 2);
+    let candidates = from.unwrap_or(&everything);
+    let copy = from.is_some();
+    let (planes, vmax): (Vec<Vec<Run>>, Vec<f32x8>) = scratch
+        .par_chunks_mut(plane_len)
+        .zip(candidates.planes.par_iter())
+        .enumerate()
+        .map(|(k, (dst, runs))| {
+            let base = k * plane_len;
+            let mut t = Vec::new();
+            let mut vmax = f32x8::splat(0.0);
+            let fits_plane = k >= 2 && k + 2 < nz;
+            for r in runs {
+                let (s, e) = (r.start as usize, (r.start + r.len) as usize);
+                if copy {
+                    dst[s - base..e - base].copy_from_slice(&phi[s..e]);
+                }
+                let j = (s - base) / nx;
+                if !fits_plane || j < 2 || j + 2 >= ny {
+                    continue;
+                }
+                let row = base + j * nx;
+                let (mut u, end) = (s.max(row + 2), e.min(row + nx - 2));
+                while u < end {
+                    let n = (end - u).min(LANES);
+                    let p = load(phi, u);
+                    let keep = if keep_all {
+                        first(n)
+                    } else {
+                        p.abs().simd_lt(f32x8::splat(c.gamma)) & first(n)
+                    };
+                    let bits = keep.to_bitmask();
+                    if bits != 0 {
+                        let speed = keep.select(c.speeds(p, load(c.d, u)), f32x8::splat(0.0));
+                        vmax = vmax.fast_max(speed);
+                        push_lanes(&mut t, u, bits, n);
                     }
+                    u += n;
                 }
             }
-            n
+            (t, vmax)
         })
-        .collect();
-    parts.concat()
+        .unzip();
+    let vmax = vmax.into_iter().flat_map(|v| v.to_array()).fold(0.0, hi);
+    (RunTube { planes }, vmax)
 }
 
 /// Evolves `ls` by the flow for `params.iterations` steps with the speed `dist`;
@@ -422,187 +709,110 @@ pub fn evolve(
 ) -> EvolveStats {
     let grid = ls.grid;
     let h = grid.spacing;
-    let inv_h = 1.0 / h;
     let gamma = f64::from(ls.gamma);
-    let g32 = ls.gamma;
     let beta = params.beta.clamp(0.0, gamma * 0.999);
-    let strides = grid.strides();
     let full = params.band == Band::Full;
-    // φ lives in two shared buffers during the flow, `a` (current) and `b`
-    // (scratch), equal outside the tube N between steps. Every pass reads one
-    // buffer and writes the other at its own nodes (Jacobi), so no separate store
-    // passes are needed: stage 1 reads a and writes b on T; stage 2 reads b's
-    // stencils and a at the node itself, and writes a in place; redistancing
-    // alternates a → b → a on N; the tube rebuild copies a back into b on N.
-    let to_atomic = |v: &[f32]| -> Vec<AtomicU32> {
-        v.par_iter().map(|&x| AtomicU32::new(x.to_bits())).collect()
+    let simd = Simd::detect();
+    let plane_len = grid.dims[0] * grid.dims[1];
+    let d = &dist.values[..];
+    let mut c = Step {
+        d,
+        strides: grid.strides(),
+        h: h as f32,
+        inv_h: (1.0 / h) as f32,
+        beta: beta as f32,
+        gamma: ls.gamma,
+        inv_cube: (1.0 / (gamma - beta).powi(3)) as f32,
+        arrest: params.arrest as f32,
+        dt: 0.0,
+        eno: params.scheme == Scheme::Eno2,
+        curvature: match params.flow {
+            Flow::Convection => None,
+            Flow::Regularized { weight } => Some(weight),
+        },
     };
-    let (buf_a, buf_b) = (to_atomic(&ls.phi), to_atomic(&ls.phi));
-    let (phi, scratch): (&[AtomicU32], &[AtomicU32]) = (&buf_a, &buf_b);
-    let put = |buf: &[AtomicU32], u: usize, v: f32| buf[u].store(v.to_bits(), Relaxed);
-    let mark: Vec<AtomicU32> = (0..grid.len())
-        .into_par_iter()
-        .map(|_| AtomicU32::new(0))
-        .collect();
-    let mut epoch = 1u32;
-    let safe: Vec<u32> = if full {
-        (0..grid.len() as u32)
-            .into_par_iter()
-            .filter(|&u| stencil_fits(&grid, u as usize))
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let arrest = params.arrest;
-    let speed = |buf: &[AtomicU32], u: usize| -> f64 {
-        let d = f64::from(dist.values[u]);
-        if d < arrest {
-            return 0.0;
-        }
-        cutoff(buf.at(u), beta, gamma) * d
-    };
-    let rate = |buf: &[AtomicU32], u: usize| -> f64 {
-        let s = speed(buf, u);
-        if s == 0.0 {
-            return 0.0;
-        }
-        let mut r = s * grad_inward(buf, u, strides, inv_h, params.scheme);
-        if let Flow::Regularized { weight } = params.flow {
-            r += s * weight * curvature_term(buf, u, strides, h);
-        }
-        r
-    };
-    // T (with the largest speed on it) from a candidate list, copying a into b
-    // on the candidates on the way; N = T dilated.
-    let build = |from: Option<&[u32]>, epoch: u32| -> (Tubes, f64) {
-        let keep = |u: u32| phi.at(u as usize).abs() < gamma && stencil_fits(&grid, u as usize);
-        if full {
-            let vmax = safe
-                .par_iter()
-                .map(|&u| {
-                    put(scratch, u as usize, phi.at(u as usize) as f32);
-                    speed(phi, u as usize)
-                })
-                .reduce(|| 0.0, f64::max);
-            return (
-                Tubes {
-                    t: safe.clone(),
-                    n: safe.clone(),
-                },
-                vmax,
-            );
-        }
-        let pick = |acc: (Vec<u32>, f64), u: u32| {
-            let (mut t, m) = acc;
-            if from.is_some() {
-                put(scratch, u as usize, phi.at(u as usize) as f32);
-            }
-            if keep(u) {
-                t.push(u);
-                return (t, m.max(speed(phi, u as usize)));
-            }
-            (t, m)
-        };
-        let join = |mut x: (Vec<u32>, f64), y: (Vec<u32>, f64)| {
-            x.0.extend(y.0);
-            (x.0, x.1.max(y.1))
-        };
-        let (t, vmax) = match from {
-            Some(n) => n
-                .par_iter()
-                .copied()
-                .fold(|| (Vec::new(), 0.0), pick)
-                .reduce(|| (Vec::new(), 0.0), join),
-            None => (0..grid.len() as u32)
-                .into_par_iter()
-                .fold(|| (Vec::new(), 0.0), pick)
-                .reduce(|| (Vec::new(), 0.0), join),
-        };
-        let n = dilate(&grid, &t, &mark, epoch);
-        (Tubes { t, n }, vmax)
-    };
-    let (mut tubes, mut vmax) = build(None, epoch);
+    // φ lives in two buffers during the flow, `ls.phi` (current) and `scratch`,
+    // equal outside the tube N between steps. Every pass reads one buffer and
+    // writes the other on its own nodes (Jacobi): stage 1 reads φ and writes the
+    // scratch on T; stage 2 reads the scratch's stencils and φ at the node itself,
+    // and writes φ in place; redistancing alternates φ → scratch → φ on N; the
+    // tube rebuild copies φ back into the scratch on N.
+    let mut scratch = ls.phi.clone();
+    let (mut t, mut vmax) = rebuild(&grid, &c, &ls.phi, &mut scratch, None, full);
+    let mut n = if full { t.clone() } else { t.dilate(&grid) };
     progress.start(params.iterations as u64, "convection flow");
     let mut stats = EvolveStats {
         steps: Vec::new(),
         converged: false,
     };
-    let mut old: Vec<f32> = Vec::new();
     for step in 1..=params.iterations {
-        if vmax <= 0.0 || tubes.t.is_empty() {
+        if vmax <= 0.0 || t.is_empty() {
             stats.converged = true;
             break;
         }
-        let mut dt = params.cfl * h / vmax;
+        let mut dt = params.cfl * h / f64::from(vmax);
         if let Flow::Regularized { weight } = params.flow {
-            dt = dt.min(0.9 * h * h / (6.0 * weight.max(1e-300) * vmax));
+            dt = dt.min(0.9 * h * h / (6.0 * weight.max(1e-300) * f64::from(vmax)));
         }
-        // Stage 1: φ¹ = φⁿ + Δt L(φⁿ) into b; φⁿ on T kept in `old`.
-        tubes
-            .t
-            .par_iter()
-            .map(|&u| {
-                let u = u as usize;
-                let o = phi.at(u) as f32;
-                put(scratch, u, (f64::from(o) + dt * rate(phi, u)) as f32);
-                o
-            })
-            .collect_into_vec(&mut old);
-        // Stage 2: φⁿ⁺¹ = ½φⁿ + ½(φ¹ + Δt L(φ¹)) into a (a is read only at u).
-        tubes.t.par_iter().zip(old.par_iter()).for_each(|(&u, &o)| {
-            let u = u as usize;
-            let v = (0.5 * (f64::from(o) + scratch.at(u) + dt * rate(scratch, u))) as f32;
-            put(phi, u, v);
-        });
-        // Redistance on N (Eq. 11), Jacobi iterations alternating a → b → a; the
-        // last one also clamps (Eq. 12).
-        let passes = params.redistance_iterations.max(1);
+        c.dt = dt as f32;
+        let phi = &mut ls.phi;
+        sweep(
+            simd,
+            &c,
+            Pass::Advance { src: phi },
+            plane_len,
+            &mut scratch,
+            &t,
+        );
+        let (moved, count) = sweep(
+            simd,
+            &c,
+            Pass::Finish { stage: &scratch },
+            plane_len,
+            phi,
+            &t,
+        );
+        // Redistance on N (Eq. 11), alternating φ → scratch → φ; the last pass
+        // clamps (Eq. 12).
+        let passes = params.redistance_iterations;
         for pass in 0..passes {
-            let (src, dst) = if pass % 2 == 0 {
-                (phi, scratch)
-            } else {
-                (scratch, phi)
-            };
-            let redistance = pass < params.redistance_iterations;
-            tubes.n.par_iter().for_each(|&u| {
-                let u = u as usize;
-                let v = if redistance {
-                    redistance_value(src, u, strides, h)
-                } else {
-                    src.at(u) as f32
-                };
-                put(
-                    dst,
-                    u,
-                    if pass + 1 == passes {
-                        v.clamp(-g32, g32)
-                    } else {
-                        v
-                    },
+            let clamp = pass + 1 == passes;
+            if pass % 2 == 0 {
+                sweep(
+                    simd,
+                    &c,
+                    Pass::Redistance { src: phi, clamp },
+                    plane_len,
+                    &mut scratch,
+                    &n,
                 );
-            });
+            } else {
+                sweep(
+                    simd,
+                    &c,
+                    Pass::Redistance {
+                        src: &scratch,
+                        clamp,
+                    },
+                    plane_len,
+                    phi,
+                    &n,
+                );
+            }
         }
         if passes % 2 == 1 {
-            // The result is in b: bring it back to a.
-            tubes
-                .n
-                .par_iter()
-                .for_each(|&u| put(phi, u as usize, scratch.at(u as usize) as f32));
+            // The result is in the scratch: bring it back.
+            copy_runs(&scratch, phi, &n, plane_len);
+        } else if passes == 0 {
+            // No redistancing: still clamp (Eq. 12).
+            for r in n.planes.iter().flatten() {
+                for p in &mut phi[r.start as usize..(r.start + r.len) as usize] {
+                    *p = p.clamp(-ls.gamma, ls.gamma);
+                }
+            }
         }
-        // Front movement: nodes within a cell of the old front, summed in fixed
-        // point so that the order of the sum does not matter.
-        let (moved, count) = tubes
-            .t
-            .par_iter()
-            .zip(old.par_iter())
-            .filter(|(_, o)| f64::from(**o).abs() < h)
-            .map(|(&u, &o)| {
-                let m = ((phi.at(u as usize) - f64::from(o)).abs() * inv_h).min(1e3);
-                ((m * 4_294_967_296.0) as u64, 1u64)
-            })
-            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
         let front_movement = if count > 0 {
-            moved as f64 / 4_294_967_296.0 / count as f64
+            moved as f64 / 65536.0 / count as f64
         } else {
             0.0
         };
@@ -610,20 +820,16 @@ pub fn evolve(
             step,
             dt,
             front_movement,
-            tube: tubes.t.len(),
+            tube: t.nodes(),
         };
         stats.steps.push(s);
-        epoch += 1;
-        // The new tubes; b = a again on the old N (the only nodes that changed).
-        (tubes, vmax) = build(Some(&tubes.n), epoch);
+        // The new tubes; scratch = φ again on the old N (the only nodes that changed).
+        (t, vmax) = rebuild(&grid, &c, &ls.phi, &mut scratch, Some(&n), full);
+        n = if full { t.clone() } else { t.dilate(&grid) };
         if params
             .snapshot_every
             .is_some_and(|k| k > 0 && step.is_multiple_of(k))
         {
-            ls.phi
-                .par_iter_mut()
-                .zip(phi.par_iter())
-                .for_each(|(a, b)| *a = f32::from_bits(b.load(Relaxed)));
             on_step(&s, ls);
         }
         progress.advance(1);
@@ -632,32 +838,22 @@ pub fn evolve(
             break;
         }
     }
-    ls.phi
-        .par_iter_mut()
-        .zip(phi.par_iter())
-        .for_each(|(a, b)| *a = f32::from_bits(b.load(Relaxed)));
     progress.finish();
     stats
 }
 
-/// One first-order Godunov iteration of Eq. 11 at node `u`.
-#[inline]
-fn redistance_value<P: Phi + ?Sized>(phi: &P, u: usize, strides: [usize; 3], h: f64) -> f32 {
-    let p0 = phi.at(u);
-    let inv_h = 1.0 / h;
-    let mut g2 = 0.0;
-    for &s in &strides {
-        let a = (p0 - phi.at(u - s)) * inv_h;
-        let b = (phi.at(u + s) - p0) * inv_h;
-        g2 += if p0 > 0.0 {
-            a.max(0.0).powi(2).max(b.min(0.0).powi(2))
-        } else {
-            a.min(0.0).powi(2).max(b.max(0.0).powi(2))
-        };
-    }
-    let g = g2.sqrt();
-    let sign = p0 / (p0 * p0 + g2 * h * h).sqrt().max(1e-30);
-    (p0 - 0.3 * h * sign * (g - 1.0)) as f32
+/// `dst = src` on the nodes of `tube`, plane by plane in parallel.
+fn copy_runs(src: &[f32], dst: &mut [f32], tube: &RunTube, plane_len: usize) {
+    dst.par_chunks_mut(plane_len)
+        .zip(tube.planes.par_iter())
+        .enumerate()
+        .for_each(|(k, (dst, runs))| {
+            for r in runs {
+                let (s, e) = (r.start as usize, (r.start + r.len) as usize);
+                let base = k * plane_len;
+                dst[s - base..e - base].copy_from_slice(&src[s..e]);
+            }
+        });
 }
 
 #[cfg(test)]
@@ -711,15 +907,38 @@ mod tests {
 
     #[test]
     fn eno2_differences_are_exact_on_a_quadratic() {
-        let phi: Vec<f32> = (0..10).map(|i| (i as f32 * 0.5).powi(2)).collect();
-        let (dm, dp) = one_sided(phi.as_slice(), 5, 1, 2.0, Scheme::Eno2);
-        // d/dx x² at x = 2.5 is 5.
-        assert!(
-            (dm - 5.0).abs() < 1e-5 && (dp - 5.0).abs() < 1e-5,
-            "{dm} {dp}"
-        );
-        let (dm, dp) = one_sided(phi.as_slice(), 5, 1, 2.0, Scheme::Upwind);
-        assert!((dm - 4.5).abs() < 1e-5 && (dp - 5.5).abs() < 1e-5);
+        let phi: Vec<f32> = (0..24).map(|i| (i as f32 * 0.5).powi(2)).collect();
+        let zeros = vec![0.0; 24];
+        let mut c = Step {
+            d: &zeros,
+            strides: [1, 24, 24],
+            h: 0.5,
+            inv_h: 2.0,
+            beta: 1.0,
+            gamma: 2.0,
+            inv_cube: 1.0,
+            arrest: 0.0,
+            dt: 0.0,
+            eno: true,
+            curvature: None,
+        };
+        let p0 = load(&phi, 5);
+        let (dm, dp) = one_sided(&c, &phi, 5, 1, p0);
+        let (dm, dp) = (dm.to_array(), dp.to_array());
+        // d/dx x² at x = (5 + l)/2 is 5 + l, in every lane.
+        for l in 0..LANES {
+            let exact = 5.0 + l as f32;
+            assert!(
+                (dm[l] - exact).abs() < 1e-5 && (dp[l] - exact).abs() < 1e-5,
+                "{l}: {} {}",
+                dm[l],
+                dp[l]
+            );
+        }
+        c.eno = false;
+        let (dm, dp) = one_sided(&c, &phi, 5, 1, p0);
+        let (dm, dp) = (dm.to_array(), dp.to_array());
+        assert!((dm[0] - 4.5).abs() < 1e-5 && (dp[0] - 5.5).abs() < 1e-5);
     }
 
     /// With constant speed d ≡ v a sphere's radius shrinks by v·t exactly

@@ -39,6 +39,7 @@ pub mod grid;
 pub mod marching_cubes;
 pub mod pipeline;
 pub mod tagging;
+mod tube;
 
 pub use distance::{DistanceField, DistanceMethod, unsigned_distance};
 pub use evolve::{Band, EvolveParams, EvolveStats, Flow, LevelSet, Scheme, StepStats, evolve};

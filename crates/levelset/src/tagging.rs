@@ -27,8 +27,10 @@
 use std::collections::{BinaryHeap, VecDeque};
 
 use asperity_core::Progress;
+use rayon::prelude::*;
 
 use crate::distance::DistanceField;
+use crate::grid::GridSpec;
 
 /// Which nodes Algorithm 1 accepts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -76,19 +78,24 @@ pub fn tag(dist: &DistanceField, eps: f64, rule: TagRule, progress: &dyn Progres
                 heap.push(key(u));
             }
         };
-    let [nx, ny, nz] = grid.dims;
-    for k in 0..nz {
-        for j in 0..ny {
-            for i in 0..nx {
-                if grid.on_boundary([i, j, k]) {
-                    push(grid.index(i, j, k), &mut state, &mut fifo, &mut heap);
-                }
-            }
+    // The far field first: every node at the cap is accepted (no neighbour can
+    // be farther), so the queue's opening phase is the flood fill of {d ≥ cap}
+    // from the faces, which is done plane-parallel. Its rim (and the faces below
+    // the cap) seed the heap, exactly as the queue would have left them.
+    let mut exterior_count = 0usize;
+    if far.is_finite() && far >= eps {
+        exterior_count = far_field(grid, d, far, &mut state);
+        for u in heap_seeds(grid, d, far, &state) {
+            push(u as usize, &mut state, &mut fifo, &mut heap);
+        }
+    } else {
+        for u in (0..n).filter(|&u| grid.on_boundary(grid.coords(u))) {
+            push(u, &mut state, &mut fifo, &mut heap);
         }
     }
     progress.start(n as u64, "tagging");
+    progress.advance(exterior_count as u64);
     let strides = grid.strides();
-    let mut exterior_count = 0usize;
     let mut refused = 0usize;
     let mut neighbours = [0usize; 6];
     loop {
@@ -137,6 +144,122 @@ pub fn tag(dist: &DistanceField, eps: f64, rule: TagRule, progress: &dyn Progres
         exterior_count,
         refused,
     }
+}
+
+/// Marks `EXTERIOR` the nodes of {d ≥ far} connected to the grid's faces within
+/// it (6-connected) and returns their count. Each round fills every plane from
+/// its seeds in parallel (4-connected, within the plane), then seeds the planes
+/// above and below with the nodes the fill reached; it ends when no plane gains
+/// a seed. The result is the connected set whatever the order, so it does not
+/// depend on the thread count.
+fn far_field(grid: &GridSpec, d: &[f32], far: f32, state: &mut [u8]) -> usize {
+    let [nx, ny, nz] = grid.dims;
+    let plane = nx * ny;
+    // Round 0's seeds: the faces.
+    let mut seeds: Vec<Vec<u32>> = (0..nz)
+        .into_par_iter()
+        .map(|k| {
+            (0..ny)
+                .flat_map(|j| (0..nx).map(move |i| (i, j)))
+                .filter(|&(i, j)| {
+                    k == 0 || k + 1 == nz || i == 0 || j == 0 || i + 1 == nx || j + 1 == ny
+                })
+                .map(|(i, j)| grid.index(i, j, k))
+                .filter(|&u| d[u] >= far)
+                .map(|u| u as u32)
+                .collect()
+        })
+        .collect();
+    let mut total = 0usize;
+    while seeds.iter().any(|s| !s.is_empty()) {
+        let filled: Vec<Vec<u32>> = state
+            .par_chunks_mut(plane)
+            .zip(seeds.par_iter())
+            .enumerate()
+            .map(|(k, (st, seeds))| {
+                let base = k * plane;
+                let mut stack: Vec<u32> = Vec::new();
+                let mut filled: Vec<u32> = Vec::new();
+                for &u in seeds {
+                    let l = u as usize - base;
+                    if st[l] == INTERIOR {
+                        st[l] = EXTERIOR;
+                        stack.push(l as u32);
+                    }
+                }
+                while let Some(l) = stack.pop() {
+                    let l = l as usize;
+                    filled.push((base + l) as u32);
+                    let (i, j) = (l % nx, l / nx);
+                    let mut visit = |m: usize| {
+                        if st[m] == INTERIOR && d[base + m] >= far {
+                            st[m] = EXTERIOR;
+                            stack.push(m as u32);
+                        }
+                    };
+                    if i > 0 {
+                        visit(l - 1);
+                    }
+                    if i + 1 < nx {
+                        visit(l + 1);
+                    }
+                    if j > 0 {
+                        visit(l - nx);
+                    }
+                    if j + 1 < ny {
+                        visit(l + nx);
+                    }
+                }
+                filled
+            })
+            .collect();
+        total += filled.iter().map(Vec::len).sum::<usize>();
+        let state = &*state;
+        seeds = (0..nz)
+            .into_par_iter()
+            .map(|k| {
+                let from_below = k.checked_sub(1).map(|b| (&filled[b], plane as i64));
+                let from_above = filled.get(k + 1).map(|a| (a, -(plane as i64)));
+                let mut next: Vec<u32> = from_below
+                    .into_iter()
+                    .chain(from_above)
+                    .flat_map(|(list, shift)| {
+                        list.iter().map(move |&u| (i64::from(u) + shift) as usize)
+                    })
+                    .filter(|&v| state[v] == INTERIOR && d[v] >= far)
+                    .map(|v| v as u32)
+                    .collect();
+                next.sort_unstable();
+                next.dedup();
+                next
+            })
+            .collect();
+    }
+    total
+}
+
+/// The nodes below `far` that the far field's queue phase would have left on
+/// the boundary ∂Ω: those on the grid's faces and those next to the far field.
+fn heap_seeds(grid: &GridSpec, d: &[f32], far: f32, state: &[u8]) -> Vec<u32> {
+    let strides = grid.strides();
+    let plane = grid.dims[0] * grid.dims[1];
+    (0..grid.dims[2])
+        .into_par_iter()
+        .flat_map_iter(|k| {
+            (k * plane..(k + 1) * plane).filter_map(move |u| {
+                if state[u] != INTERIOR || d[u] >= far {
+                    return None;
+                }
+                let c = grid.coords(u);
+                let next_to_far = grid.on_boundary(c)
+                    || (0..3).any(|a| {
+                        (c[a] > 0 && state[u - strides[a]] == EXTERIOR)
+                            || (c[a] + 1 < grid.dims[a] && state[u + strides[a]] == EXTERIOR)
+                    });
+                next_to_far.then_some(u as u32)
+            })
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -210,6 +333,80 @@ mod tests {
         )
         .unwrap();
         unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, 10.0, &NoProgress)
+    }
+
+    /// Algorithm 1 with one binary heap and nothing else (no queue for the cap,
+    /// no parallel far field): the reference for the fast paths.
+    fn heap_only(dist: &DistanceField, eps: f32, rule: TagRule) -> Vec<bool> {
+        let g = &dist.grid;
+        let d = &dist.values;
+        let key = |u: usize| (u64::from(d[u].to_bits()) << 32) | u64::from(u32::MAX - u as u32);
+        let mut state = vec![INTERIOR; g.len()];
+        let mut heap = BinaryHeap::new();
+        for (u, s) in state.iter_mut().enumerate() {
+            if g.on_boundary(g.coords(u)) {
+                *s = BOUNDARY;
+                heap.push(key(u));
+            }
+        }
+        while let Some(top) = heap.pop() {
+            let u = (u32::MAX - top as u32) as usize;
+            if d[u] < eps {
+                break;
+            }
+            let c = g.coords(u);
+            let nb: Vec<usize> = (0..3)
+                .flat_map(|a| {
+                    let s = g.strides()[a];
+                    [
+                        (c[a] > 0).then(|| u - s),
+                        (c[a] + 1 < g.dims[a]).then(|| u + s),
+                    ]
+                })
+                .flatten()
+                .collect();
+            if rule == TagRule::Paper && nb.iter().any(|&v| state[v] != EXTERIOR && d[v] > d[u]) {
+                state[u] = REFUSED;
+                continue;
+            }
+            state[u] = EXTERIOR;
+            for v in nb {
+                if state[v] == INTERIOR {
+                    state[v] = BOUNDARY;
+                    heap.push(key(v));
+                }
+            }
+        }
+        state.into_iter().map(|s| s == EXTERIOR).collect()
+    }
+
+    /// The far field's parallel flood and the queue give the result of the plain
+    /// heap, for caps that leave a large far field, pockets beyond the cap inside
+    /// the shape, and both rules.
+    #[test]
+    fn fast_paths_equal_the_plain_algorithm() {
+        let pts = shape();
+        let grid = GridSpec::around(
+            &pts,
+            Sizing::Resolution(36),
+            |h| (2.0 / h) as usize + 4,
+            &MemoryBudget::unlimited(),
+        )
+        .unwrap();
+        for cap in [0.5, 0.9, 1.6] {
+            let f = unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
+            for rule in [TagRule::Paper, TagRule::Threshold] {
+                for eps in [0.3, 0.45] {
+                    let fast = tag(&f, eps, rule, &NoProgress);
+                    let reference = heap_only(&f, eps as f32, rule);
+                    assert_eq!(fast.exterior, reference, "cap {cap}, {rule:?}, eps {eps}");
+                    assert_eq!(
+                        fast.exterior_count,
+                        reference.iter().filter(|&&e| e).count()
+                    );
+                }
+            }
+        }
     }
 
     #[test]
