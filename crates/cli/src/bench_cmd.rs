@@ -530,8 +530,8 @@ fn workloads(ctx: &Context, quick: bool) -> Vec<(&'static str, MakeWorkload)> {
                         )?;
                         let t = r.timings;
                         eprintln!(
-                            "  {name}: grid {:?}, distance {:.3} s, tagging {:.3} s, initial {:.3} s, flow {:.3} s, marching cubes {:.3} s",
-                            r.grid.dims, t.distance, t.tagging, t.initial, t.evolution, t.extraction
+                            "  {name}: grid {:?}, distance {:.3} s, tagging {:.3} s, initial {:.3} s, flow {:.3} s, marching cubes {:.3} s, total {:.3} s",
+                            r.grid.dims, t.distance, t.tagging, t.initial, t.evolution, t.extraction, t.total
                         );
                         Ok(())
                     }),

@@ -106,13 +106,56 @@ pub struct DistanceField {
 }
 
 impl DistanceField {
+    /// The field from the closest-point wavefront's packed cells, with the
+    /// nearest-point array when `keep_nearest`.
+    pub(crate) fn from_cells(
+        grid: &GridSpec,
+        cells: Vec<AtomicU64>,
+        cap: f64,
+        rounds: usize,
+        keep_nearest: bool,
+    ) -> Self {
+        let cap32 = cap as f32;
+        let value = |v: u64| {
+            if v == EMPTY {
+                cap32
+            } else {
+                unpack_d2(v).sqrt().min(cap32)
+            }
+        };
+        let (values, nearest) = if keep_nearest {
+            let (values, nearest): (Vec<f32>, Vec<u32>) = cells
+                .into_par_iter()
+                .map(|c| {
+                    let v = c.into_inner();
+                    (value(v), if v == EMPTY { u32::MAX } else { v as u32 })
+                })
+                .unzip();
+            (values, Some(nearest))
+        } else {
+            (
+                cells.par_iter().map(|c| value(c.load(Relaxed))).collect(),
+                None,
+            )
+        };
+        Self {
+            grid: *grid,
+            values,
+            cap: cap32,
+            nearest,
+            sweeps: rounds,
+            last_change: 0.0,
+        }
+    }
+
     /// d at node (i, j, k).
     pub fn at(&self, i: usize, j: usize, k: usize) -> f32 {
         self.values[self.grid.index(i, j, k)]
     }
 }
 
-const EMPTY: u64 = u64::MAX;
+/// A node no point has reached.
+pub(crate) const EMPTY: u64 = u64::MAX;
 
 #[inline]
 fn pack(d2: f32, idx: u32) -> u64 {
@@ -120,7 +163,7 @@ fn pack(d2: f32, idx: u32) -> u64 {
 }
 
 #[inline]
-fn unpack_d2(v: u64) -> f32 {
+pub(crate) fn unpack_d2(v: u64) -> f32 {
     f32::from_bits((v >> 32) as u32)
 }
 
@@ -155,17 +198,30 @@ fn seed(
 ) -> Vec<u32> {
     let h = grid.spacing;
     let side = 2 + 2 * ring;
-    let chunks: Vec<Vec<u32>> = points
-        .par_chunks(4096)
+    let base_of = |p: &[f64; 3]| {
+        [0, 1, 2].map(|a| {
+            let t = ((p[a] - grid.origin[a]) / h).floor() - ring as f64;
+            (t.max(0.0) as usize).min(grid.dims[a].saturating_sub(side))
+        })
+    };
+    // Points in grid order, so that neighbouring points write neighbouring
+    // nodes (the input order is often random, as in a growth simulation).
+    let mut order: Vec<(u32, u32)> = points
+        .par_iter()
         .enumerate()
-        .map(|(c, chunk)| {
+        .map(|(i, p)| {
+            let b = base_of(p);
+            (grid.index(b[0], b[1], b[2]) as u32, i as u32)
+        })
+        .collect();
+    order.par_sort_unstable();
+    let chunks: Vec<Vec<u32>> = order
+        .par_chunks(4096)
+        .map(|chunk| {
             let mut touched = Vec::new();
-            for (o, p) in chunk.iter().enumerate() {
-                let idx = (c * 4096 + o) as u32;
-                let base = [0, 1, 2].map(|a| {
-                    let t = ((p[a] - grid.origin[a]) / h).floor() - ring as f64;
-                    (t.max(0.0) as usize).min(grid.dims[a].saturating_sub(side))
-                });
+            for &(_, idx) in chunk {
+                let p = &points[idx as usize];
+                let base = base_of(p);
                 for corner in 0..side * side * side {
                     let n = [
                         base[0] + corner % side,
@@ -198,27 +254,22 @@ pub fn unsigned_distance(
     cap: f64,
     progress: &dyn Progress,
 ) -> DistanceField {
-    let n = grid.len();
-    let cells: Vec<AtomicU64> = (0..n)
-        .into_par_iter()
-        .map(|_| AtomicU64::new(EMPTY))
-        .collect();
-    let claims = Claims::new(n);
-    let ring = match method {
-        DistanceMethod::ClosestPoint => 0,
-        DistanceMethod::Godunov { seed_cells, .. } => seed_cells.max(1),
-    };
-    let frontier = seed(points, grid, ring, &cells, &claims);
     match method {
         DistanceMethod::ClosestPoint => {
-            closest_point_wavefront(points, grid, cells, &claims, frontier, cap, progress)
+            let (cells, rounds) = closest_points(points, grid, cap, progress);
+            DistanceField::from_cells(grid, cells, cap, rounds, true)
         }
         DistanceMethod::Godunov {
             tolerance,
             max_iterations,
-            ..
+            seed_cells,
         } => {
-            drop(claims);
+            let n = grid.len();
+            let cells: Vec<AtomicU64> = (0..n)
+                .into_par_iter()
+                .map(|_| AtomicU64::new(EMPTY))
+                .collect();
+            seed(points, grid, seed_cells.max(1), &cells, &Claims::new(n));
             godunov(grid, &cells, tolerance, max_iterations, progress)
         }
     }
@@ -239,24 +290,48 @@ fn offsets26() -> Vec<[i64; 3]> {
     out
 }
 
-#[allow(clippy::too_many_arguments)] // internal: the state of one computation
+/// The closest-point wavefront up to `cap`: per node the packed (d², point
+/// index) of the nearest point found, `EMPTY` beyond the cap; and the rounds.
+pub(crate) fn closest_points(
+    points: &[[f64; 3]],
+    grid: &GridSpec,
+    cap: f64,
+    progress: &dyn Progress,
+) -> (Vec<AtomicU64>, usize) {
+    let n = grid.len();
+    let cells: Vec<AtomicU64> = (0..n)
+        .into_par_iter()
+        .map(|_| AtomicU64::new(EMPTY))
+        .collect();
+    let claims = Claims::new(n);
+    let frontier = seed(points, grid, 0, &cells, &claims);
+    let rounds = closest_point_wavefront(points, grid, &cells, &claims, frontier, cap, progress);
+    (cells, rounds)
+}
+
 fn closest_point_wavefront(
     points: &[[f64; 3]],
     grid: &GridSpec,
-    cells: Vec<AtomicU64>,
+    cells: &[AtomicU64],
     claims: &Claims,
     mut frontier: Vec<u32>,
     cap: f64,
     progress: &dyn Progress,
-) -> DistanceField {
+) -> usize {
     let cap2 = (cap * cap) as f32;
     let offsets = offsets26();
+    let strides = grid.strides().map(|s| s as i64);
+    let deltas: Vec<i64> = offsets
+        .iter()
+        .map(|o| o[0] * strides[0] + o[1] * strides[1] + o[2] * strides[2])
+        .collect();
     let dims = grid.dims;
+    let (origin, h) = (grid.origin, grid.spacing);
     let expected_rounds = (cap / grid.spacing).ceil() as u64 + 2;
     progress.start(expected_rounds, "distance (closest point)");
-    let mut round = 1u32;
+    let mut rounds = 0;
     while !frontier.is_empty() {
-        round += 1;
+        rounds += 1;
         // Read the frontier before anyone writes: the round is a pure function of
         // the previous one, whatever the thread count.
         let snapshot: Vec<u64> = frontier
@@ -271,19 +346,25 @@ fn closest_point_wavefront(
                 let mut out = Vec::new();
                 for (&u, &v) in us.iter().zip(vs) {
                     let idx = v as u32;
+                    let d2_u = unpack_d2(v);
                     let p = points[idx as usize];
-                    let c = grid.coords(u as usize);
-                    for o in &offsets {
-                        let q = [c[0] as i64 + o[0], c[1] as i64 + o[1], c[2] as i64 + o[2]];
-                        if q.iter().zip(dims).any(|(&x, d)| x < 0 || x >= d as i64) {
+                    let c = grid.coords(u as usize).map(|x| x as i64);
+                    // Nodes off the faces have all 26 neighbours.
+                    let inside = (0..3).all(|a| c[a] > 0 && c[a] + 1 < dims[a] as i64);
+                    for (o, &delta) in offsets.iter().zip(&deltas) {
+                        let q = [c[0] + o[0], c[1] + o[1], c[2] + o[2]];
+                        if !inside && q.iter().zip(dims).any(|(&x, d)| x < 0 || x >= d as i64) {
                             continue;
                         }
-                        let q = q.map(|x| x as usize);
-                        let d2 = dist2(grid.position(q[0], q[1], q[2]), p) as f32;
-                        if d2 >= cap2 {
+                        // As GridSpec::position.
+                        let e = [0, 1, 2].map(|a| origin[a] + q[a] as f64 * h - p[a]);
+                        let d2 = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) as f32;
+                        // Nodes nearer to p than u were passed by p's wave
+                        // already: only offer p outward.
+                        if d2 >= cap2 || d2 < d2_u {
                             continue;
                         }
-                        let node = grid.index(q[0], q[1], q[2]);
+                        let node = (i64::from(u) + delta) as usize;
                         if lower(&cells[node], pack(d2, idx)) && claims.claim(node) {
                             out.push(node as u32);
                         }
@@ -298,26 +379,7 @@ fn closest_point_wavefront(
         progress.advance(1);
     }
     progress.finish();
-    let cap32 = cap as f32;
-    let (values, nearest): (Vec<f32>, Vec<u32>) = cells
-        .into_par_iter()
-        .map(|c| {
-            let v = c.into_inner();
-            if v == EMPTY {
-                (cap32, u32::MAX)
-            } else {
-                (unpack_d2(v).sqrt().min(cap32), v as u32)
-            }
-        })
-        .unzip();
-    DistanceField {
-        grid: *grid,
-        values,
-        cap: cap32,
-        nearest: Some(nearest),
-        sweeps: round as usize - 1,
-        last_change: 0.0,
-    }
+    rounds
 }
 
 /// The 3-D Godunov update (Zhao 2005): the largest d with Σ (d − aᵢ)₊² = h².

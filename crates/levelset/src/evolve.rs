@@ -268,19 +268,20 @@ pub fn from_tags(
             gamma: gamma32,
         };
     }
-    let front = crate::distance::unsigned_distance(
-        &crossings,
-        &grid,
-        crate::distance::DistanceMethod::ClosestPoint,
-        gamma + 2.0 * grid.spacing,
-        progress,
-    );
-    let phi = front
-        .values
-        .par_iter()
+    // Straight from the packed closest points to φ: no distance field, no
+    // nearest-point array.
+    let (cells, _) =
+        crate::distance::closest_points(&crossings, &grid, gamma + 2.0 * grid.spacing, progress);
+    let phi = cells
+        .into_par_iter()
         .zip(ext.par_iter())
-        .map(|(&r, &e)| {
-            let r = r.min(gamma32);
+        .map(|(c, &e)| {
+            let c = c.into_inner();
+            let r = if c == crate::distance::EMPTY {
+                gamma32
+            } else {
+                crate::distance::unpack_d2(c).sqrt().min(gamma32)
+            };
             if e { r } else { -r }
         })
         .collect();

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use asperity_core::{CoreError, MemoryBudget, Progress, TriMesh};
 
-use crate::distance::{DistanceMethod, unsigned_distance};
+use crate::distance::{DistanceField, DistanceMethod, closest_points, unsigned_distance};
 use crate::evolve::{
     Band, EvolveParams, EvolveStats, Flow, LevelSet, Scheme, StepStats, evolve, from_tags,
 };
@@ -247,13 +247,23 @@ pub fn reconstruct(
     let mut timings = Timings::default();
 
     let t = Instant::now();
-    let dist = unsigned_distance(
-        points,
-        &grid,
-        params.distance,
-        eps + gamma + 2.0 * h,
-        progress,
-    );
+    let cap = eps + gamma + 2.0 * h;
+    // The sample spacing (for the default point radius) is read off the closest
+    // points before they are unpacked, so no nearest-point array is built.
+    let (dist, sample_spacing) = match params.distance {
+        DistanceMethod::ClosestPoint => {
+            let (cells, rounds) = closest_points(points, &grid, cap, progress);
+            let spacing = sample_spacing(points, &grid, &cells, 2.0 * h);
+            (
+                DistanceField::from_cells(&grid, cells, cap, rounds, false),
+                spacing,
+            )
+        }
+        DistanceMethod::Godunov { .. } => (
+            unsigned_distance(points, &grid, params.distance, cap, progress),
+            nearest_neighbour_spacing(points, h),
+        ),
+    };
     timings.distance = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
@@ -275,10 +285,6 @@ pub fn reconstruct(
         &ls,
     );
 
-    let sample_spacing = match dist.nearest.as_deref() {
-        Some(near) => sample_spacing(points, &dist, near, 2.0 * h),
-        None => nearest_neighbour_spacing(points, h),
-    };
     let point_radius = params
         .point_radius
         .unwrap_or_else(|| (0.75 * sample_spacing.unwrap_or(0.0)).max(0.6 * h));
@@ -323,29 +329,42 @@ pub fn reconstruct(
 }
 
 /// The median distance between the nearest points of neighbouring nodes that differ
-/// (Voronoi neighbours), over nodes within `near` of the data: the typical sample
-/// spacing.
+/// (Voronoi neighbours), over nodes within `near` of the data on every
+/// ⌊n_z/64⌋-th plane: the typical sample spacing.
 fn sample_spacing(
     points: &[[f64; 3]],
-    dist: &crate::DistanceField,
-    nearest: &[u32],
+    grid: &GridSpec,
+    cells: &[std::sync::atomic::AtomicU64],
     near: f64,
 ) -> Option<f64> {
+    use crate::distance::{EMPTY, unpack_d2};
     use rayon::prelude::*;
-    let grid = dist.grid;
+    use std::sync::atomic::Ordering::Relaxed;
     let strides = grid.strides();
-    let near = near as f32;
-    let mut gaps: Vec<f32> = (0..grid.len())
+    let nearest = |u: usize| {
+        let c = cells[u].load(Relaxed);
+        if c == EMPTY { u32::MAX } else { c as u32 }
+    };
+    let near2 = (near * near) as f32;
+    // A sample of at most about 64 planes is plenty for a median, and spares a
+    // pass over the whole grid.
+    let plane = grid.dims[0] * grid.dims[1];
+    let stride = (grid.dims[2] / 64).max(1);
+    let mut gaps: Vec<f32> = (0..grid.dims[2].div_ceil(stride))
         .into_par_iter()
-        .filter(|&u| dist.values[u] < near)
+        .flat_map_iter(|k| k * stride * plane..(k * stride + 1) * plane)
+        .filter(|&u| {
+            let c = cells[u].load(Relaxed);
+            c != EMPTY && unpack_d2(c) < near2
+        })
         .flat_map_iter(|u| {
             let c = grid.coords(u);
-            let p = nearest[u];
+            let p = nearest(u);
             (0..3).filter_map(move |a| {
                 if c[a] + 1 >= grid.dims[a] {
                     return None;
                 }
-                let q = nearest[u + strides[a]];
+                let q = nearest(u + strides[a]);
                 if q == p || q == u32::MAX {
                     return None;
                 }
