@@ -309,6 +309,7 @@ pub(crate) fn closest_points(
     (cells, rounds)
 }
 
+#[allow(clippy::too_many_arguments)] // internal: the state of one computation
 fn closest_point_wavefront(
     points: &[[f64; 3]],
     grid: &GridSpec,
