@@ -269,9 +269,10 @@ pub fn from_tags(
         };
     }
     // Straight from the packed closest points to φ: no distance field, no
-    // nearest-point array.
+    // nearest-point array. |φ| is clamped at γ, so the wavefront stops half a
+    // cell beyond it.
     let (cells, _) =
-        crate::distance::closest_points(&crossings, &grid, gamma + 2.0 * grid.spacing, progress);
+        crate::distance::closest_points(&crossings, &grid, gamma + 0.5 * grid.spacing, progress);
     let phi = cells
         .into_par_iter()
         .zip(ext.par_iter())
