@@ -323,6 +323,21 @@ fn load(s: &[f32], at: usize) -> Lanes {
     f32x8::new(x)
 }
 
+/// Writes the first `n` lanes of `v` at `dst[at..]`: one vector store for a
+/// full chunk (a slice copy of variable length would call `memmove`).
+#[inline(always)]
+fn store(dst: &mut [f32], at: usize, v: Lanes, n: usize) {
+    let v = v.to_array();
+    if n == LANES {
+        let out: &mut [f32; LANES] = (&mut dst[at..at + LANES]).try_into().expect("eight");
+        *out = v;
+    } else {
+        for (o, x) in dst[at..at + n].iter_mut().zip(v) {
+            *o = x;
+        }
+    }
+}
+
 /// The mask of the first `n` lanes.
 #[inline(always)]
 fn first(n: usize) -> Lanes {
@@ -499,7 +514,7 @@ fn plane_pass(c: &Step, pass: Pass, base: usize, dst: &mut [f32], runs: &[Run]) 
             match pass {
                 Pass::Advance { src } => {
                     let v = load(src, u) + f32x8::splat(c.dt) * rate(c, src, u, n);
-                    dst[u - base..u - base + n].copy_from_slice(&v.to_array()[..n]);
+                    store(dst, u - base, v, n);
                 }
                 Pass::Finish { stage } => {
                     let v = load(stage, u) + f32x8::splat(c.dt) * rate(c, stage, u, n);
@@ -517,7 +532,7 @@ fn plane_pass(c: &Step, pass: Pass, base: usize, dst: &mut [f32], runs: &[Run]) 
                         .map(|&x| x as u64)
                         .sum::<u64>();
                     moved.1 += u64::from(near.to_bitmask().count_ones());
-                    dst[u - base..u - base + n].copy_from_slice(&new.to_array()[..n]);
+                    store(dst, u - base, new, n);
                 }
                 Pass::Redistance { src, clamp } => {
                     let mut v = redistanced(c, src, u);
@@ -526,7 +541,7 @@ fn plane_pass(c: &Step, pass: Pass, base: usize, dst: &mut [f32], runs: &[Run]) 
                             .fast_max(f32x8::splat(-c.gamma))
                             .fast_min(f32x8::splat(c.gamma));
                     }
-                    dst[u - base..u - base + n].copy_from_slice(&v.to_array()[..n]);
+                    store(dst, u - base, v, n);
                 }
             }
             u += n;
