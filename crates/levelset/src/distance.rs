@@ -28,7 +28,11 @@
 //!   wavefront stops at a cap (the pipeline only needs d up to ε plus the tube), so
 //!   the work is proportional to the band, not the box. Each round reads the
 //!   frontier's values before writing and writes by an atomic minimum over (distance,
-//!   point index), so the result is the same for any thread count.
+//!   point index), so the result is the same for any thread count. A node offers
+//!   its point only to neighbours at least as far from that point as itself (the
+//!   nearer ones lie behind the point's wave), the points are seeded in grid
+//!   order so that their writes stay local, and the next frontier is claimed in a
+//!   bitmap of one bit per node.
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering::Relaxed};
 

@@ -19,10 +19,12 @@ pub enum Sizing {
     Spacing(f64),
 }
 
-/// Bytes per grid node the whole pipeline holds at its peak (distance `f32` and
-/// packed closest point `u64` during the distance stage; distance, φ, tags and
-/// the tube marks during evolution).
-pub const BYTES_PER_NODE: u64 = 4 + 8 + 4 + 1 + 4;
+/// Bytes per grid node the whole pipeline holds at its peak, while the initial
+/// surface is built: the distance (`f32`), the exterior tags (`bool`), the packed
+/// closest points of the tagged front (`u64`) and φ (`f32`), plus a byte for the
+/// frontier lists and bitmaps. (The distance stage needs 12, the flow 12: d, φ and
+/// its scratch copy.)
+pub const BYTES_PER_NODE: u64 = 4 + 1 + 8 + 4 + 1;
 
 /// A cubic-cell grid: node (i, j, k) is at `origin + h·(i, j, k)`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -20,9 +20,14 @@
 //! beyond c looks equally far, so the paper's rule only sees necks narrower than 2c;
 //! the pipeline sets c = ε + γ + 2h.
 //!
-//! Nodes at the distance cap are all tied at the maximum, so they are taken first
-//! by a FIFO (cheap) before the binary heap takes over near the data; heap ties go
-//! to the smaller node index, so the result is deterministic.
+//! Nodes at the distance cap are all tied at the maximum and always accepted, so
+//! the algorithm's opening phase is the flood fill of {d ≥ cap} from the faces:
+//! it runs plane-parallel (each plane filled from its seeds, then the planes above
+//! and below seeded from what it reached, until nothing changes), and its rim
+//! seeds the binary heap, which takes over near the data. Far nodes reached later
+//! through the band go through a FIFO ahead of the heap. Heap ties go to the
+//! smaller node index, so the result is deterministic; a test checks it equals
+//! Algorithm 1 run with the heap alone.
 
 use std::collections::{BinaryHeap, VecDeque};
 
