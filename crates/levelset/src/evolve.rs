@@ -499,7 +499,7 @@ type Movement = (u64, u64);
 
 /// Runs `pass` over the runs of one plane; `dst` is that plane of the destination
 /// buffer, starting at node `base`.
-#[inline(always)]
+#[inline]
 fn plane_pass(c: &Step, pass: Pass, base: usize, dst: &mut [f32], runs: &[Run]) -> Movement {
     let mut moved = (0u64, 0u64);
     let (src, reach) = match pass {
@@ -582,86 +582,12 @@ fn prefetch(s: &[f32], at: usize) {
     let _ = (s, at);
 }
 
-/// The widest vector unit this CPU offers for the flow kernels. The kernel is
-/// the same source compiled for each; the results are identical bit for bit
-/// (IEEE single-precision add, multiply, divide, square root and comparisons,
-/// no fused multiply-add).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Simd {
-    Baseline,
-    #[cfg(target_arch = "x86_64")]
-    Avx,
-    #[cfg(target_arch = "x86_64")]
-    Avx512,
-}
-
-impl Simd {
-    fn detect() -> Self {
-        if std::env::var_os("ASPERITY_NO_SIMD").is_some() {
-            return Simd::Baseline;
-        }
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                return Simd::Avx512;
-            }
-            if std::arch::is_x86_feature_detected!("avx") {
-                return Simd::Avx;
-            }
-        }
-        Simd::Baseline
-    }
-
-    #[inline]
-    fn plane_pass(
-        self,
-        c: &Step,
-        pass: Pass,
-        base: usize,
-        dst: &mut [f32],
-        runs: &[Run],
-    ) -> Movement {
-        match self {
-            Simd::Baseline => plane_pass(c, pass, base, dst, runs),
-            // SAFETY: `detect` verified at run time that the CPU supports the
-            // feature each function is compiled for; that is their only requirement.
-            #[cfg(target_arch = "x86_64")]
-            #[allow(unsafe_code)]
-            Simd::Avx => unsafe { plane_pass_avx(c, pass, base, dst, runs) },
-            #[cfg(target_arch = "x86_64")]
-            #[allow(unsafe_code)]
-            Simd::Avx512 => unsafe { plane_pass_avx512(c, pass, base, dst, runs) },
-        }
-    }
-}
-
-/// [`plane_pass`] compiled for AVX (eight `f32` lanes per register).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-fn plane_pass_avx(c: &Step, pass: Pass, base: usize, dst: &mut [f32], runs: &[Run]) -> Movement {
-    plane_pass(c, pass, base, dst, runs)
-}
-
-/// [`plane_pass`] compiled for AVX-512.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn plane_pass_avx512(c: &Step, pass: Pass, base: usize, dst: &mut [f32], runs: &[Run]) -> Movement {
-    plane_pass(c, pass, base, dst, runs)
-}
-
 /// Runs `pass` over every plane of `tube` in parallel, writing `dst`.
-fn sweep(
-    simd: Simd,
-    c: &Step,
-    pass: Pass,
-    plane_len: usize,
-    dst: &mut [f32],
-    tube: &RunTube,
-) -> Movement {
+fn sweep(c: &Step, pass: Pass, plane_len: usize, dst: &mut [f32], tube: &RunTube) -> Movement {
     dst.par_chunks_mut(plane_len)
         .zip(tube.planes.par_iter())
         .enumerate()
-        .map(|(k, (dst, runs))| simd.plane_pass(c, pass, k * plane_len, dst, runs))
+        .map(|(k, (dst, runs))| plane_pass(c, pass, k * plane_len, dst, runs))
         .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
 }
 
@@ -739,7 +665,6 @@ pub fn evolve(
     let gamma = f64::from(ls.gamma);
     let beta = params.beta.clamp(0.0, gamma * 0.999);
     let full = params.band == Band::Full;
-    let simd = Simd::detect();
     let plane_len = grid.dims[0] * grid.dims[1];
     let d = &dist.values[..];
     let mut c = Step {
@@ -783,22 +708,8 @@ pub fn evolve(
         }
         c.dt = dt as f32;
         let phi = &mut ls.phi;
-        sweep(
-            simd,
-            &c,
-            Pass::Advance { src: phi },
-            plane_len,
-            &mut scratch,
-            &t,
-        );
-        let (moved, count) = sweep(
-            simd,
-            &c,
-            Pass::Finish { stage: &scratch },
-            plane_len,
-            phi,
-            &t,
-        );
+        sweep(&c, Pass::Advance { src: phi }, plane_len, &mut scratch, &t);
+        let (moved, count) = sweep(&c, Pass::Finish { stage: &scratch }, plane_len, phi, &t);
         // Redistance on N (Eq. 11), alternating φ → scratch → φ; the last pass
         // clamps (Eq. 12).
         let passes = params.redistance_iterations;
@@ -806,7 +717,6 @@ pub fn evolve(
             let clamp = pass + 1 == passes;
             if pass % 2 == 0 {
                 sweep(
-                    simd,
                     &c,
                     Pass::Redistance { src: phi, clamp },
                     plane_len,
@@ -815,7 +725,6 @@ pub fn evolve(
                 );
             } else {
                 sweep(
-                    simd,
                     &c,
                     Pass::Redistance {
                         src: &scratch,
