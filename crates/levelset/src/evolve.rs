@@ -35,7 +35,7 @@
 //! thread count.
 //!
 //! **Layout and speed.** The tubes are runs of consecutive nodes along x, listed
-//! per plane ([`crate::tube`]). A stencil read of eight consecutive nodes along
+//! per plane (module `tube`). A stencil read of eight consecutive nodes along
 //! any axis is then eight consecutive floats, so the kernels evaluate eight
 //! nodes at once in vector registers (`wide::f32x8`, in `f32`), and each plane's
 //! runs write only that plane: the planes are updated in parallel through
