@@ -331,7 +331,6 @@ fn closest_point_wavefront(
         .map(|o| o[0] * strides[0] + o[1] * strides[1] + o[2] * strides[2])
         .collect();
     let dims = grid.dims;
-    let (origin, h) = (grid.origin, grid.spacing);
     let expected_rounds = (cap / grid.spacing).ceil() as u64 + 2;
     progress.start(expected_rounds, "distance (closest point)");
     let mut rounds = 0;
@@ -361,9 +360,8 @@ fn closest_point_wavefront(
                         if !inside && q.iter().zip(dims).any(|(&x, d)| x < 0 || x >= d as i64) {
                             continue;
                         }
-                        // As GridSpec::position.
-                        let e = [0, 1, 2].map(|a| origin[a] + q[a] as f64 * h - p[a]);
-                        let d2 = (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) as f32;
+                        let q = q.map(|x| x as usize);
+                        let d2 = dist2(grid.position(q[0], q[1], q[2]), p) as f32;
                         // Nodes nearer to p than u were passed by p's wave
                         // already: only offer p outward.
                         if d2 >= cap2 || d2 < d2_u {

@@ -166,9 +166,7 @@ fn far_field(grid: &GridSpec, d: &[f32], far: f32, state: &mut [u8]) -> usize {
         .map(|k| {
             (0..ny)
                 .flat_map(|j| (0..nx).map(move |i| (i, j)))
-                .filter(|&(i, j)| {
-                    k == 0 || k + 1 == nz || i == 0 || j == 0 || i + 1 == nx || j + 1 == ny
-                })
+                .filter(|&(i, j)| grid.on_boundary([i, j, k]))
                 .map(|(i, j)| grid.index(i, j, k))
                 .filter(|&u| d[u] >= far)
                 .map(|u| u as u32)
