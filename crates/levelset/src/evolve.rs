@@ -37,12 +37,19 @@
 //! **Layout and speed.** The tubes are runs of consecutive nodes along x, listed
 //! per plane (module `tube`). A stencil read of eight consecutive nodes along
 //! any axis is then eight consecutive floats, so the kernels evaluate eight
-//! nodes at once in vector registers (`wide::f32x8`, in `f32`), and each plane's
-//! runs write only that plane: the planes are updated in parallel through
-//! disjoint `&mut` slices, with no atomics. The runs jump a row apart, which the
-//! hardware prefetcher does not follow, so each pass prefetches the rows it
-//! meets first a few runs ahead. The tube rebuild scans the old N eight nodes at
-//! a time, and N is T dilated by merging five sorted run lists per plane.
+//! nodes at once in vector registers (in `f32`; one AVX register where the CPU
+//! has AVX, chosen at run time, see module `lanes`), and each plane's runs write
+//! only that plane. A step's passes (advance, finish, redistancing, tube rebuild)
+//! are fused into one sweep over the planes: pass i runs a fixed number of
+//! planes behind the first, just far enough for everything it reads to be done
+//! and everything it overwrites to be read, so each plane is fetched from memory
+//! once per step rather than once per pass (at 256³ the tubes' cache lines are
+//! several times the L3 cache). Slabs of planes are swept in parallel through
+//! disjoint `&mut` slices, with no atomics, and the seams between them
+//! afterwards; the result equals running the passes one after the other, bit for
+//! bit (tested). The runs jump a row apart, which the hardware prefetcher does
+//! not follow, so each pass prefetches the rows it meets first a few runs ahead.
+//! N is T dilated by merging five sorted run lists per plane.
 //!
 //! **Arrest.** With the unsigned d of Eq. 6 the continuous front approaches the data
 //! asymptotically, but on the grid it has no steady state: the nodes on both sides
@@ -71,10 +78,10 @@
 
 use asperity_core::Progress;
 use rayon::prelude::*;
-use wide::f32x8;
 
 use crate::distance::DistanceField;
 use crate::grid::GridSpec;
+use crate::lanes::{Kernel, Lanes, dispatch};
 use crate::tagging::Tags;
 use crate::tube::{Run, RunTube, push_lanes};
 
@@ -321,22 +328,19 @@ impl Phi for [f32] {
 /// AVX register, or two SSE registers on a baseline build).
 const LANES: usize = 8;
 
-/// Eight values.
-type Lanes = f32x8;
-
 /// `s[at .. at + 8]`. In range for every node the flow loads from: a stencil
 /// reaches two nodes along one axis, so the eight loaded from the last node of T
 /// (two nodes from each face) end well before the grid's last row.
 #[inline(always)]
-fn load(s: &[f32], at: usize) -> Lanes {
+fn load<V: Lanes>(s: &[f32], at: usize) -> V {
     let x: [f32; LANES] = s[at..at + LANES].try_into().expect("eight values");
-    f32x8::new(x)
+    V::new(x)
 }
 
 /// Writes the first `n` lanes of `v` at `dst[at..]`: one vector store for a
 /// full chunk (a slice copy of variable length would call `memmove`).
 #[inline(always)]
-fn store(dst: &mut [f32], at: usize, v: Lanes, n: usize) {
+fn store<V: Lanes>(dst: &mut [f32], at: usize, v: V, n: usize) {
     let v = v.to_array();
     if n == LANES {
         let out: &mut [f32; LANES] = (&mut dst[at..at + LANES]).try_into().expect("eight");
@@ -350,9 +354,9 @@ fn store(dst: &mut [f32], at: usize, v: Lanes, n: usize) {
 
 /// The mask of the first `n` lanes.
 #[inline(always)]
-fn first(n: usize) -> Lanes {
+fn first<V: Lanes>(n: usize) -> V {
     const IOTA: [f32; LANES] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0];
-    f32x8::new(IOTA).simd_lt(f32x8::splat(n as f32))
+    V::new(IOTA).simd_lt(V::splat(n as f32))
 }
 
 /// The larger of two values (`a > b ? a : b`, the `maxps` rule).
@@ -363,7 +367,7 @@ fn hi(a: f32, b: f32) -> f32 {
 
 /// The ENO choice: the second difference of smaller magnitude.
 #[inline(always)]
-fn eno_pick(a: Lanes, b: Lanes) -> Lanes {
+fn eno_pick<V: Lanes>(a: V, b: V) -> V {
     a.abs().simd_le(b.abs()).select(a, b)
 }
 
@@ -372,6 +376,7 @@ fn eno_pick(a: Lanes, b: Lanes) -> Lanes {
 struct Step<'a> {
     /// The speed field d.
     d: &'a [f32],
+    dims: [usize; 3],
     strides: [usize; 3],
     h: f32,
     inv_h: f32,
@@ -382,6 +387,8 @@ struct Step<'a> {
     arrest: f32,
     dt: f32,
     eno: bool,
+    /// The full grid: the new T keeps every candidate node.
+    keep_all: bool,
     /// The curvature weight λ of the regularised flow (world units, f64 as the
     /// scalar curvature stencil).
     curvature: Option<f64>,
@@ -391,8 +398,8 @@ impl Step<'_> {
     /// The cut-off c(φ) of Eq. 10 times d at eight nodes, 0 closer than the
     /// arrest distance.
     #[inline(always)]
-    fn speeds(&self, phi: Lanes, d: Lanes) -> Lanes {
-        let splat = f32x8::splat;
+    fn speeds<V: Lanes>(&self, phi: V, d: V) -> V {
+        let splat = V::splat;
         let a = phi.abs();
         let t = a - splat(self.gamma);
         let cubic = t
@@ -407,17 +414,17 @@ impl Step<'_> {
     }
 }
 
-/// One-sided differences (D⁻, D⁺) along stride `s` for eight nodes from `u`:
-/// first order, or second-order ENO (Osher & Shu).
+/// One-sided differences (D⁻, D⁺) along stride `s` for eight nodes from `at`
+/// (an index into `src`): first order, or second-order ENO (Osher & Shu).
 #[inline(always)]
-fn one_sided(c: &Step, src: &[f32], u: usize, s: usize, p0: Lanes) -> (Lanes, Lanes) {
-    let (pm, pp) = (load(src, u - s), load(src, u + s));
-    let inv_h = f32x8::splat(c.inv_h);
+fn one_sided<V: Lanes>(c: &Step, src: &[f32], at: usize, s: usize, p0: V) -> (V, V) {
+    let (pm, pp) = (load::<V>(src, at - s), load::<V>(src, at + s));
+    let inv_h = V::splat(c.inv_h);
     let mut dm = (p0 - pm) * inv_h;
     let mut dp = (pp - p0) * inv_h;
     if c.eno {
-        let (pmm, ppp) = (load(src, u - 2 * s), load(src, u + 2 * s));
-        let (two, half) = (f32x8::splat(2.0), f32x8::splat(0.5 * c.inv_h));
+        let (pmm, ppp) = (load::<V>(src, at - 2 * s), load::<V>(src, at + 2 * s));
+        let (two, half) = (V::splat(2.0), V::splat(0.5 * c.inv_h));
         let c0 = pp - two * p0 + pm;
         let cm = p0 - two * pm + pmm;
         let cp = ppp - two * pp + p0;
@@ -427,20 +434,21 @@ fn one_sided(c: &Step, src: &[f32], u: usize, s: usize, p0: Lanes) -> (Lanes, La
     (dm, dp)
 }
 
-/// The flow's rate d·c(φ)|∇φ| (plus the curvature term) at eight nodes from `u`;
-/// |∇φ| upwinded for the inward-moving front (F < 0):
-/// √Σ max(min(D⁻,0)², max(D⁺,0)²). `valid` lanes are real nodes.
+/// The flow's rate d·c(φ)|∇φ| (plus the curvature term) at eight nodes from
+/// node `u`, whose φ is `src[u - base]`; |∇φ| upwinded for the inward-moving
+/// front (F < 0): √Σ max(min(D⁻,0)², max(D⁺,0)²). `valid` lanes are real nodes.
 #[inline(always)]
-fn rate(c: &Step, src: &[f32], u: usize, valid: usize) -> Lanes {
-    let p0 = load(src, u);
-    let zero = f32x8::splat(0.0);
+fn rate<V: Lanes>(c: &Step, src: &[f32], base: usize, u: usize, valid: usize) -> V {
+    let at = u - base;
+    let p0 = load::<V>(src, at);
+    let zero = V::splat(0.0);
     let mut g2 = zero;
     for &s in &c.strides {
-        let (dm, dp) = one_sided(c, src, u, s, p0);
+        let (dm, dp) = one_sided(c, src, at, s, p0);
         let (a, b) = (dm.fast_min(zero), dp.fast_max(zero));
         g2 += (a * a).fast_max(b * b);
     }
-    let speed = c.speeds(p0, load(c.d, u));
+    let speed = c.speeds(p0, load::<V>(c.d, u));
     let out = speed * g2.sqrt();
     let Some(weight) = c.curvature else {
         return out;
@@ -450,23 +458,23 @@ fn rate(c: &Step, src: &[f32], u: usize, valid: usize) -> Lanes {
     for (l, o) in out.iter_mut().enumerate().take(valid) {
         if speed[l] != 0.0 {
             let (kappa, grad) =
-                crate::marching_cubes::curvature_and_gradient(src, u + l, c.strides, h);
+                crate::marching_cubes::curvature_and_gradient(src, at + l, c.strides, h);
             *o += (f64::from(speed[l]) * weight * kappa * grad) as f32;
         }
     }
-    f32x8::new(out)
+    V::new(out)
 }
 
-/// One first-order Godunov iteration of Eq. 11 at eight nodes from `u`:
-/// φ − Δτ S(φ)(|∇φ| − 1), S = φ/√(φ² + |∇φ|²h²), Δτ = 0.3h.
+/// One first-order Godunov iteration of Eq. 11 at eight nodes from `at` (an
+/// index into `src`): φ − Δτ S(φ)(|∇φ| − 1), S = φ/√(φ² + |∇φ|²h²), Δτ = 0.3h.
 #[inline(always)]
-fn redistanced(c: &Step, src: &[f32], u: usize) -> Lanes {
-    let p0 = load(src, u);
-    let (zero, inv_h) = (f32x8::splat(0.0), f32x8::splat(c.inv_h));
+fn redistanced<V: Lanes>(c: &Step, src: &[f32], at: usize) -> V {
+    let p0 = load::<V>(src, at);
+    let (zero, inv_h) = (V::splat(0.0), V::splat(c.inv_h));
     let outside = p0.simd_gt(zero);
     let mut g2 = zero;
     for &s in &c.strides {
-        let (pm, pp) = (load(src, u - s), load(src, u + s));
+        let (pm, pp) = (load::<V>(src, at - s), load::<V>(src, at + s));
         let a = (p0 - pm) * inv_h;
         let b = (pp - p0) * inv_h;
         let (a_out, b_out) = (a.fast_max(zero), b.fast_min(zero));
@@ -476,91 +484,365 @@ fn redistanced(c: &Step, src: &[f32], u: usize) -> Lanes {
             (a_in * a_in).fast_max(b_in * b_in),
         );
     }
-    let h = f32x8::splat(c.h);
-    let norm = (p0 * p0 + g2 * h * h).sqrt().fast_max(f32x8::splat(1e-30));
-    p0 - f32x8::splat(0.3 * c.h) * (p0 / norm) * (g2.sqrt() - f32x8::splat(1.0))
+    let h = V::splat(c.h);
+    let norm = (p0 * p0 + g2 * h * h).sqrt().fast_max(V::splat(1e-30));
+    p0 - V::splat(0.3 * c.h) * (p0 / norm) * (g2.sqrt() - V::splat(1.0))
 }
 
-/// What one plane's pass does.
-#[derive(Clone, Copy)]
-enum Pass<'a> {
-    /// Stage 1 of RK2 into the destination: φ¹ = φⁿ + Δt L(φⁿ), φⁿ = `src`.
-    Advance { src: &'a [f32] },
-    /// Stage 2 in place: φⁿ⁺¹ = ½φⁿ + ½(φ¹ + Δt L(φ¹)), φⁿ = the destination,
-    /// φ¹ = `stage`; measures the front movement.
-    Finish { stage: &'a [f32] },
-    /// One redistancing iteration of `src` into the destination (clamped to ±γ
-    /// when `clamp`).
-    Redistance { src: &'a [f32], clamp: bool },
+/// One of the two buffers φ lives in during a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Buf {
+    /// `LevelSet::phi`: φⁿ at the start of a step, φⁿ⁺¹ at its end.
+    Phi,
+    /// The scratch buffer.
+    Scratch,
+}
+
+/// One pass of a time step. Each reads one buffer with a stencil and writes a
+/// buffer on its own nodes, plane by plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Op {
+    /// Stage 1 of RK2 on T: scratch = φ¹ = φⁿ + Δt L(φⁿ).
+    Advance,
+    /// Stage 2 on T, in place: φⁿ⁺¹ = ½φⁿ + ½(φ¹ + Δt L(φ¹)); measures the
+    /// front movement.
+    Finish,
+    /// One redistancing iteration on N from the other buffer into `into`,
+    /// clamped to ±γ when `clamp` (Eq. 12).
+    Redistance { into: Buf, clamp: bool },
+    /// φ = scratch on N (after an odd number of redistancing iterations).
+    CopyBack,
+    /// φ clamped to ±γ on N (no redistancing).
+    Clamp,
+    /// The new T from φ on the old N with its largest speed; scratch = φ there.
+    Rebuild,
+}
+
+impl Op {
+    /// The buffer read with a stencil, the stencil's reach in planes, and the
+    /// buffer written.
+    fn access(self) -> (Buf, usize, Buf) {
+        match self {
+            Op::Advance => (Buf::Phi, 2, Buf::Scratch),
+            Op::Finish => (Buf::Scratch, 2, Buf::Phi),
+            Op::Redistance {
+                into: Buf::Scratch, ..
+            } => (Buf::Phi, 1, Buf::Scratch),
+            Op::Redistance { into: Buf::Phi, .. } => (Buf::Scratch, 1, Buf::Phi),
+            Op::CopyBack => (Buf::Scratch, 0, Buf::Phi),
+            Op::Clamp => (Buf::Phi, 0, Buf::Phi),
+            Op::Rebuild => (Buf::Phi, 0, Buf::Scratch),
+        }
+    }
+}
+
+/// The passes of one time step and how far behind the first each must run.
+///
+/// `depth[i]` is the smallest lag, in planes, at which pass i can follow the
+/// passes before it in a single sweep over the planes: pass i at plane p needs
+/// the buffer it reads done (by its last writer) up to plane p + reach, and it
+/// may overwrite plane p of a buffer only once every earlier reader of that
+/// buffer is past p + its reach. So depthᵢ = max(reachᵢ, depth_w + reachᵢ
+/// for the writers w of what i reads, depth_r + reach_r for the readers r of
+/// what i writes, depth_w′ for the writers w′ of what i writes). The default
+/// step (advance, finish, two redistancing iterations, rebuild) gets depths
+/// 2, 4, 6, 7, 8.
+#[derive(Clone, Debug)]
+struct Plan {
+    ops: Vec<Op>,
+    depth: Vec<usize>,
+    /// max(depthᵢ + reachᵢ): the planes a seam's passes touch on each side.
+    halo: usize,
+}
+
+impl Plan {
+    fn new(redistance_iterations: usize) -> Self {
+        let mut ops = vec![Op::Advance, Op::Finish];
+        for pass in 0..redistance_iterations {
+            ops.push(Op::Redistance {
+                into: if pass % 2 == 0 {
+                    Buf::Scratch
+                } else {
+                    Buf::Phi
+                },
+                clamp: pass + 1 == redistance_iterations,
+            });
+        }
+        if redistance_iterations % 2 == 1 {
+            ops.push(Op::CopyBack);
+        } else if redistance_iterations == 0 {
+            ops.push(Op::Clamp);
+        }
+        ops.push(Op::Rebuild);
+        let mut depth: Vec<usize> = Vec::with_capacity(ops.len());
+        for (i, op) in ops.iter().enumerate() {
+            let (src, reach, dst) = op.access();
+            let mut d = reach;
+            for (j, earlier) in ops[..i].iter().enumerate() {
+                let (e_src, e_reach, e_dst) = earlier.access();
+                if e_dst == src {
+                    d = d.max(depth[j] + reach);
+                }
+                if e_dst == dst {
+                    d = d.max(depth[j]);
+                }
+                if e_src == dst {
+                    d = d.max(depth[j] + e_reach);
+                }
+            }
+            depth.push(d);
+        }
+        let halo = ops
+            .iter()
+            .zip(&depth)
+            .map(|(op, d)| d + op.access().1)
+            .max()
+            .unwrap_or(0);
+        Self { ops, depth, halo }
+    }
+}
+
+/// What a region's passes produce.
+struct Swept {
+    moved: Movement,
+    /// The new T's runs of the planes rebuilt here.
+    rebuilt: Vec<(usize, Vec<Run>)>,
+    /// The largest speed on those planes' new T.
+    vmax: f32,
 }
 
 /// Fixed-point front movement: (Σ|Δφ|/h · 2¹⁶, node count).
 type Movement = (u64, u64);
 
-/// Runs `pass` over the runs of one plane; `dst` is that plane of the destination
-/// buffer, starting at node `base`.
-#[inline]
-fn plane_pass(c: &Step, pass: Pass, base: usize, dst: &mut [f32], runs: &[Run]) -> Movement {
-    let mut moved = (0u64, 0u64);
-    let (src, reach) = match pass {
-        Pass::Advance { src } => (src, 2),
-        Pass::Finish { stage } => (stage, 2),
-        Pass::Redistance { src, .. } => (src, 1),
+/// The planes `first ..` of both buffers.
+struct Region<'a> {
+    first: usize,
+    phi: &'a mut [f32],
+    scratch: &'a mut [f32],
+}
+
+/// The tubes of a step: T (advanced) and N (redistanced, and the candidates of
+/// the next T).
+#[derive(Clone, Copy)]
+struct Tubes<'a> {
+    t: &'a RunTube,
+    n: &'a RunTube,
+}
+
+/// [`run_region`] as a [`Kernel`].
+struct RegionKernel<'a, 'r> {
+    c: &'a Step<'a>,
+    plan: &'a Plan,
+    lags: &'a [usize],
+    ranges: &'a [std::ops::Range<usize>],
+    tubes: Tubes<'a>,
+    region: Region<'r>,
+}
+
+impl Kernel for RegionKernel<'_, '_> {
+    type Output = Swept;
+    #[inline(always)]
+    fn run<V: Lanes>(self) -> Swept {
+        run_region::<V>(
+            self.c,
+            self.plan,
+            self.lags,
+            self.ranges,
+            self.tubes,
+            self.region,
+        )
+    }
+}
+
+/// Runs pass i of `plan` on the planes `ranges[i]` of `region`, pass i at plane
+/// p in round p + `lags[i]` (passes in order within a round).
+#[inline(always)]
+fn run_region<V: Lanes>(
+    c: &Step,
+    plan: &Plan,
+    lags: &[usize],
+    ranges: &[std::ops::Range<usize>],
+    tubes: Tubes,
+    region: Region,
+) -> Swept {
+    let Region {
+        first,
+        phi,
+        scratch,
+    } = region;
+    let base = first * c.strides[2];
+    let mut out = Swept {
+        moved: (0, 0),
+        rebuilt: Vec::new(),
+        vmax: 0.0,
     };
-    let ahead = reach * c.strides[2];
-    for (r, run) in runs.iter().enumerate() {
-        // The rows this pass meets first a few runs on: the plane `reach`
-        // ahead, the speed and the destination. The runs jump a row apart, which
-        // defeats the hardware prefetcher.
-        if let Some(next) = runs.get(r + PREFETCH_RUNS) {
-            let u = next.start as usize;
-            prefetch(src, u + ahead);
-            prefetch(c.d, u);
-            prefetch(dst, u - base);
-        }
-        let (mut u, end) = (run.start as usize, (run.start + run.len) as usize);
-        while u < end {
-            let n = (end - u).min(LANES);
-            match pass {
-                Pass::Advance { src } => {
-                    let v = load(src, u) + f32x8::splat(c.dt) * rate(c, src, u, n);
-                    store(dst, u - base, v, n);
+    let mut vmax = V::splat(0.0);
+    let live = || ranges.iter().zip(lags).filter(|(r, _)| !r.is_empty());
+    let (Some(start), Some(end)) = (
+        live().map(|(r, l)| r.start + l).min(),
+        live().map(|(r, l)| r.end + l).max(),
+    ) else {
+        return out;
+    };
+    for round in start..end {
+        for ((&op, range), &lag) in plan.ops.iter().zip(ranges).zip(lags) {
+            let Some(p) = round.checked_sub(lag).filter(|p| range.contains(p)) else {
+                continue;
+            };
+            let tube = if matches!(op, Op::Advance | Op::Finish) {
+                tubes.t
+            } else {
+                tubes.n
+            };
+            let runs = &tube.planes[p][..];
+            match op {
+                Op::Advance => advance::<V>(c, base, phi, scratch, runs),
+                Op::Finish => {
+                    let m = finish::<V>(c, base, scratch, phi, runs);
+                    out.moved = (out.moved.0 + m.0, out.moved.1 + m.1);
                 }
-                Pass::Finish { stage } => {
-                    let v = load(stage, u) + f32x8::splat(c.dt) * rate(c, stage, u, n);
-                    let old = load(dst, u - base);
-                    let new = f32x8::splat(0.5) * (old + v);
-                    // Movement within a cell of the front, in fixed point
-                    // (2⁻¹⁶ cells) so that the sum's order does not matter.
-                    let near = old.abs().simd_lt(f32x8::splat(c.h)) & first(n);
-                    let m = ((new - old).abs() * f32x8::splat(c.inv_h)).fast_min(f32x8::splat(1e3));
-                    let fixed = near.select(m * f32x8::splat(65536.0), f32x8::splat(0.0));
-                    moved.0 += fixed
-                        .trunc_int()
-                        .to_array()
-                        .iter()
-                        .map(|&x| x as u64)
-                        .sum::<u64>();
-                    moved.1 += u64::from(near.to_bitmask().count_ones());
-                    store(dst, u - base, new, n);
-                }
-                Pass::Redistance { src, clamp } => {
-                    let mut v = redistanced(c, src, u);
-                    if clamp {
-                        v = v
-                            .fast_max(f32x8::splat(-c.gamma))
-                            .fast_min(f32x8::splat(c.gamma));
+                Op::Redistance { into, clamp } => match into {
+                    Buf::Scratch => redistance::<V>(c, base, phi, scratch, runs, clamp),
+                    Buf::Phi => redistance::<V>(c, base, scratch, phi, runs, clamp),
+                },
+                Op::CopyBack => {
+                    for r in runs {
+                        let (s, e) = (r.start as usize - base, (r.start + r.len) as usize - base);
+                        phi[s..e].copy_from_slice(&scratch[s..e]);
                     }
-                    store(dst, u - base, v, n);
+                }
+                Op::Clamp => {
+                    for r in runs {
+                        let (s, e) = (r.start as usize - base, (r.start + r.len) as usize - base);
+                        for x in &mut phi[s..e] {
+                            *x = x.clamp(-c.gamma, c.gamma);
+                        }
+                    }
+                }
+                Op::Rebuild => {
+                    let (t, plane_vmax) =
+                        rebuild_plane::<V>(c, p, phi, base, Some(&mut *scratch), runs);
+                    vmax = vmax.fast_max(plane_vmax);
+                    out.rebuilt.push((p, t));
                 }
             }
-            u += n;
         }
+    }
+    out.vmax = vmax.to_array().into_iter().fold(0.0, hi);
+    out
+}
+
+/// The chunks (first node, length) of up to eight nodes of a plane's runs, with
+/// a prefetch of the rows a pass meets first a few runs on: the plane `ahead`
+/// nodes on (in `src`, whose node 0 is `base`) and the speed. The runs jump a row
+/// apart, which defeats the hardware prefetcher. (An iterator rather than a
+/// closure-taking loop, so that the kernels' bodies stay in the function that
+/// `dispatch` compiles for AVX.)
+struct Chunks<'a> {
+    runs: std::iter::Enumerate<std::slice::Iter<'a, Run>>,
+    all: &'a [Run],
+    src: &'a [f32],
+    d: &'a [f32],
+    base: usize,
+    ahead: usize,
+    u: usize,
+    end: usize,
+}
+
+impl<'a> Chunks<'a> {
+    #[inline(always)]
+    fn new(c: &Step<'a>, runs: &'a [Run], src: &'a [f32], base: usize, ahead: usize) -> Self {
+        Self {
+            runs: runs.iter().enumerate(),
+            all: runs,
+            src,
+            d: c.d,
+            base,
+            ahead,
+            u: 0,
+            end: 0,
+        }
+    }
+}
+
+impl Iterator for Chunks<'_> {
+    type Item = (usize, usize);
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<(usize, usize)> {
+        if self.u >= self.end {
+            let (r, run) = self.runs.next()?;
+            if let Some(next) = self.all.get(r + PREFETCH_RUNS) {
+                let u = next.start as usize;
+                prefetch(self.src, u - self.base + self.ahead);
+                prefetch(self.d, u);
+            }
+            (self.u, self.end) = (run.start as usize, (run.start + run.len) as usize);
+        }
+        let (u, n) = (self.u, (self.end - self.u).min(LANES));
+        self.u += n;
+        Some((u, n))
+    }
+}
+
+/// Stage 1 of RK2 on one plane's runs: `stage` = φ + Δt L(φ).
+#[inline(always)]
+fn advance<V: Lanes>(c: &Step, base: usize, phi: &[f32], stage: &mut [f32], runs: &[Run]) {
+    let dt = V::splat(c.dt);
+    for (u, n) in Chunks::new(c, runs, phi, base, 2 * c.strides[2]) {
+        let v = load::<V>(phi, u - base) + dt * rate::<V>(c, phi, base, u, n);
+        store(stage, u - base, v, n);
+    }
+}
+
+/// Stage 2 of RK2 on one plane's runs, in place in `phi`; the front movement.
+#[inline(always)]
+fn finish<V: Lanes>(
+    c: &Step,
+    base: usize,
+    stage: &[f32],
+    phi: &mut [f32],
+    runs: &[Run],
+) -> Movement {
+    let dt = V::splat(c.dt);
+    let mut moved = (0u64, 0u64);
+    for (u, n) in Chunks::new(c, runs, stage, base, 2 * c.strides[2]) {
+        let at = u - base;
+        let v = load::<V>(stage, at) + dt * rate::<V>(c, stage, base, u, n);
+        let old = load::<V>(phi, at);
+        let new = V::splat(0.5) * (old + v);
+        // Movement within a cell of the front, in fixed point (2⁻¹⁶ cells) so
+        // that the sum's order does not matter.
+        let near = old.abs().simd_lt(V::splat(c.h)) & first::<V>(n);
+        let m = ((new - old).abs() * V::splat(c.inv_h)).fast_min(V::splat(1e3));
+        let fixed = near.select(m * V::splat(65536.0), V::splat(0.0));
+        moved.0 += fixed.trunc_sum();
+        moved.1 += u64::from(near.to_bitmask().count_ones());
+        store(phi, at, new, n);
     }
     moved
 }
 
-/// How many runs ahead [`plane_pass`] prefetches.
+/// One redistancing iteration of `src` into `dst` on one plane's runs.
+#[inline(always)]
+fn redistance<V: Lanes>(
+    c: &Step,
+    base: usize,
+    src: &[f32],
+    dst: &mut [f32],
+    runs: &[Run],
+    clamp: bool,
+) {
+    for (u, n) in Chunks::new(c, runs, src, base, c.strides[2]) {
+        let mut v = redistanced::<V>(c, src, u - base);
+        if clamp {
+            v = v.fast_max(V::splat(-c.gamma)).fast_min(V::splat(c.gamma));
+        }
+        store(dst, u - base, v, n);
+    }
+}
+
+/// How many runs ahead the passes prefetch.
 const PREFETCH_RUNS: usize = 4;
 
 /// Asks the CPU to bring the cache line of `s[at]` into L1 (nothing when `at`
@@ -582,79 +864,261 @@ fn prefetch(s: &[f32], at: usize) {
     let _ = (s, at);
 }
 
-/// Runs `pass` over every plane of `tube` in parallel, writing `dst`.
-fn sweep(c: &Step, pass: Pass, plane_len: usize, dst: &mut [f32], tube: &RunTube) -> Movement {
-    dst.par_chunks_mut(plane_len)
-        .zip(tube.planes.par_iter())
-        .enumerate()
-        .map(|(k, (dst, runs))| plane_pass(c, pass, k * plane_len, dst, runs))
-        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+/// How a step's passes are ordered (tests compare the orders).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Order {
+    /// Pipelined over slabs of planes, about this many slabs per thread.
+    Fused { slabs_per_thread: usize },
+    /// Each pass over the whole grid before the next, in one region.
+    #[cfg(test)]
+    PassByPass,
 }
 
-/// The new tube T = {|φ| < γ, ENO stencil inside the grid} from the candidate
-/// runs `from` (all fitting nodes when `None`), with the largest speed on it;
-/// copies `phi` into `scratch` on the candidates on the way (`from` only).
-fn rebuild(
-    grid: &GridSpec,
-    c: &Step,
-    phi: &[f32],
-    scratch: &mut [f32],
-    from: Option<&RunTube>,
-    keep_all: bool,
-) -> (RunTube, f32) {
-    let [nx, ny, nz] = grid.dims;
-    let plane_len = nx * ny;
-    let everything;
-    let candidates = match from {
-        Some(tube) => tube,
-        None => {
-            everything = RunTube::interior(grid, 2);
-            &everything
+/// The slab boundaries: cut planes at least `gap` apart and from the grid's
+/// ends, splitting the planes' work (`n`'s nodes plus a fixed cost per plane)
+/// into about `slabs` equal parts.
+fn slab_cuts(n: &RunTube, slabs: usize, gap: usize) -> Vec<usize> {
+    let nz = n.planes.len();
+    let weight = |k: usize| n.planes[k].iter().map(|r| r.len as usize).sum::<usize>() + 64;
+    let total: usize = (0..nz).map(weight).sum();
+    let mut cuts: Vec<usize> = Vec::new();
+    let mut acc = 0;
+    let mut part = 1;
+    for k in 0..nz {
+        if part >= slabs || k + gap > nz {
+            break;
         }
-    };
-    let copy = from.is_some();
-    let (planes, vmax): (Vec<Vec<Run>>, Vec<f32x8>) = scratch
-        .par_chunks_mut(plane_len)
-        .zip(candidates.planes.par_iter())
-        .enumerate()
-        .map(|(k, (dst, runs))| {
-            let base = k * plane_len;
-            let mut t = Vec::new();
-            let mut vmax = f32x8::splat(0.0);
-            let fits_plane = k >= 2 && k + 2 < nz;
-            for r in runs {
-                let (s, e) = (r.start as usize, (r.start + r.len) as usize);
-                if copy {
-                    dst[s - base..e - base].copy_from_slice(&phi[s..e]);
+        if acc >= total * part / slabs && k >= cuts.last().map_or(0, |&c| c) + gap {
+            cuts.push(k);
+            part += 1;
+        }
+        acc += weight(k);
+    }
+    cuts
+}
+
+/// Splits `buf` (planes of `plane_len` nodes) into the disjoint, sorted plane
+/// spans `spans`.
+fn carve<'a>(
+    mut buf: &'a mut [f32],
+    plane_len: usize,
+    spans: &[std::ops::Range<usize>],
+) -> Vec<&'a mut [f32]> {
+    let mut out = Vec::with_capacity(spans.len());
+    let mut at = 0;
+    for s in spans {
+        let rest = std::mem::take(&mut buf);
+        let (_, tail) = rest.split_at_mut((s.start - at) * plane_len);
+        let (piece, tail) = tail.split_at_mut((s.end - s.start) * plane_len);
+        out.push(piece);
+        buf = tail;
+        at = s.end;
+    }
+    out
+}
+
+/// One time step's passes over the whole grid: returns the front movement, the
+/// new T and its largest speed.
+///
+/// Run pass by pass, every pass streams the tubes through memory (at 256³ the
+/// buffers' tube lines are several times the L3 cache). Fused, one sweep over
+/// each slab of planes runs pass i at plane p − depthᵢ (see [`Plan`]), so each
+/// plane is fetched once per step and finished while a dozen planes stay in
+/// cache. The slabs run in parallel, each on its own planes only: pass i covers
+/// [k₀ + depthᵢ, k₁ − depthᵢ) of slab [k₀, k₁) (the whole extent at the
+/// grid's ends). The planes left, [k − depthᵢ, k + depthᵢ) around each cut k,
+/// are swept afterwards, again in parallel (the cuts are 2·halo apart, so these
+/// seams are disjoint). Every (pass, plane) runs once and after everything it
+/// depends on, so the result is the same as pass by pass, bit for bit, for any
+/// slab count.
+fn step_sweep(
+    c: &Step,
+    plan: &Plan,
+    tubes: Tubes,
+    phi: &mut [f32],
+    scratch: &mut [f32],
+    order: Order,
+) -> (Movement, RunTube, f32) {
+    let nz = c.dims[2];
+    let plane_len = c.strides[2];
+    let mut parts: Vec<Swept> = Vec::new();
+    match order {
+        Order::Fused { slabs_per_thread } => {
+            let slabs = slabs_per_thread * rayon::current_num_threads();
+            let cuts = slab_cuts(tubes.n, slabs, 2 * plan.halo);
+            let mut bounds = vec![0];
+            bounds.extend(&cuts);
+            bounds.push(nz);
+            let spans: Vec<_> = bounds.windows(2).map(|w| w[0]..w[1]).collect();
+            let inner = |k: usize, depth: usize, side: bool| {
+                if k == 0 || k == nz {
+                    k
+                } else if side {
+                    k + depth
+                } else {
+                    k - depth
                 }
-                let j = (s - base) / nx;
-                if !fits_plane || j < 2 || j + 2 >= ny {
-                    continue;
-                }
-                let row = base + j * nx;
-                let (mut u, end) = (s.max(row + 2), e.min(row + nx - 2));
-                while u < end {
-                    let n = (end - u).min(LANES);
-                    let p = load(phi, u);
-                    let keep = if keep_all {
-                        first(n)
-                    } else {
-                        p.abs().simd_lt(f32x8::splat(c.gamma)) & first(n)
-                    };
-                    let bits = keep.to_bitmask();
-                    if bits != 0 {
-                        let speed = keep.select(c.speeds(p, load(c.d, u)), f32x8::splat(0.0));
-                        vmax = vmax.fast_max(speed);
-                        push_lanes(&mut t, u, bits, n);
-                    }
-                    u += n;
-                }
+            };
+            let slabs: Vec<_> = carve(phi, plane_len, &spans)
+                .into_iter()
+                .zip(carve(scratch, plane_len, &spans))
+                .zip(&spans)
+                .collect();
+            parts.par_extend(slabs.into_par_iter().map(|((phi, scratch), span)| {
+                let ranges: Vec<_> = plan
+                    .depth
+                    .iter()
+                    .map(|&d| inner(span.start, d, true)..inner(span.end, d, false))
+                    .collect();
+                let region = Region {
+                    first: span.start,
+                    phi,
+                    scratch,
+                };
+                dispatch(RegionKernel {
+                    c,
+                    plan,
+                    lags: &plan.depth,
+                    ranges: &ranges,
+                    tubes,
+                    region,
+                })
+            }));
+            let seams: Vec<_> = cuts
+                .iter()
+                .map(|&k| k - plan.halo..(k + plan.halo).min(nz))
+                .collect();
+            let regions: Vec<_> = carve(phi, plane_len, &seams)
+                .into_iter()
+                .zip(carve(scratch, plane_len, &seams))
+                .zip(cuts.iter().zip(&seams))
+                .collect();
+            parts.par_extend(regions.into_par_iter().map(|((phi, scratch), (&k, span))| {
+                let ranges: Vec<_> = plan.depth.iter().map(|&d| k - d..k + d).collect();
+                let region = Region {
+                    first: span.start,
+                    phi,
+                    scratch,
+                };
+                dispatch(RegionKernel {
+                    c,
+                    plan,
+                    lags: &plan.depth,
+                    ranges: &ranges,
+                    tubes,
+                    region,
+                })
+            }));
+        }
+        #[cfg(test)]
+        Order::PassByPass => {
+            let lags: Vec<usize> = (0..plan.ops.len()).map(|i| i * nz).collect();
+            let ranges = vec![0..nz; plan.ops.len()];
+            let region = Region {
+                first: 0,
+                phi,
+                scratch,
+            };
+            // With the portable lanes: the test comparing the orders also
+            // compares the instruction sets.
+            parts.push(crate::lanes::portable(RegionKernel {
+                c,
+                plan,
+                lags: &lags,
+                ranges: &ranges,
+                tubes,
+                region,
+            }));
+        }
+    }
+    let mut moved = (0, 0);
+    let mut vmax = 0.0;
+    let mut planes = vec![Vec::new(); nz];
+    for part in parts {
+        moved = (moved.0 + part.moved.0, moved.1 + part.moved.1);
+        vmax = hi(vmax, part.vmax);
+        for (k, runs) in part.rebuilt {
+            planes[k] = runs;
+        }
+    }
+    (moved, RunTube { planes }, vmax)
+}
+
+/// The new T on plane `k`: the nodes of `runs` with |φ| < γ (all of them when
+/// `c.keep_all`) whose ENO stencil fits in the grid, and the largest speed there,
+/// eight nodes at a time; `phi` and `scratch` start at node `base`, and
+/// `scratch` = φ on `runs` on the way when given.
+#[inline(always)]
+fn rebuild_plane<V: Lanes>(
+    c: &Step,
+    k: usize,
+    phi: &[f32],
+    base: usize,
+    mut scratch: Option<&mut [f32]>,
+    runs: &[Run],
+) -> (Vec<Run>, V) {
+    let [nx, ny, nz] = c.dims;
+    let plane = k * nx * ny;
+    let mut t = Vec::new();
+    let mut vmax = V::splat(0.0);
+    let fits_plane = k >= 2 && k + 2 < nz;
+    for r in runs {
+        let (s, e) = (r.start as usize, (r.start + r.len) as usize);
+        if let Some(dst) = scratch.as_deref_mut() {
+            dst[s - base..e - base].copy_from_slice(&phi[s - base..e - base]);
+        }
+        let j = (s - plane) / nx;
+        if !fits_plane || j < 2 || j + 2 >= ny {
+            continue;
+        }
+        let row = plane + j * nx;
+        let (mut u, end) = (s.max(row + 2), e.min(row + nx - 2));
+        while u < end {
+            let n = (end - u).min(LANES);
+            let p = load::<V>(phi, u - base);
+            let keep = if c.keep_all {
+                first::<V>(n)
+            } else {
+                p.abs().simd_lt(V::splat(c.gamma)) & first::<V>(n)
+            };
+            let bits = keep.to_bitmask();
+            if bits != 0 {
+                let speed = keep.select(c.speeds(p, load::<V>(c.d, u)), V::splat(0.0));
+                vmax = vmax.fast_max(speed);
+                push_lanes(&mut t, u, bits, n);
             }
-            (t, vmax)
-        })
+            u += n;
+        }
+    }
+    (t, vmax)
+}
+
+/// The first tube T from every node that fits the ENO stencil, and its
+/// largest speed.
+fn first_tube(c: &Step, phi: &[f32]) -> (RunTube, f32) {
+    /// One plane of it as a [`Kernel`].
+    struct Plane<'a> {
+        c: &'a Step<'a>,
+        k: usize,
+        phi: &'a [f32],
+        runs: &'a [Run],
+    }
+    impl Kernel for Plane<'_> {
+        type Output = (Vec<Run>, f32);
+        #[inline(always)]
+        fn run<V: Lanes>(self) -> (Vec<Run>, f32) {
+            let (t, vmax) = rebuild_plane::<V>(self.c, self.k, self.phi, 0, None, self.runs);
+            (t, vmax.to_array().into_iter().fold(0.0, hi))
+        }
+    }
+    let everything = RunTube::interior_of(c.dims, 2);
+    let (planes, vmax): (Vec<Vec<Run>>, Vec<f32>) = everything
+        .planes
+        .par_iter()
+        .enumerate()
+        .map(|(k, runs)| dispatch(Plane { c, k, phi, runs }))
         .unzip();
-    let vmax = vmax.into_iter().flat_map(|v| v.to_array()).fold(0.0, hi);
-    (RunTube { planes }, vmax)
+    (RunTube { planes }, vmax.into_iter().fold(0.0, hi))
 }
 
 /// The fewest nodes per axis the flow works on.
@@ -670,6 +1134,26 @@ pub fn evolve(
     progress: &dyn Progress,
     on_step: &mut dyn FnMut(&StepStats, &LevelSet),
 ) -> EvolveStats {
+    let order = Order::Fused {
+        slabs_per_thread: SLABS_PER_THREAD,
+    };
+    evolve_in_order(ls, dist, params, progress, on_step, order)
+}
+
+/// Slabs per thread in a fused step: a few, so that a thread that finishes
+/// early takes over work (this VM's cores run at uneven speeds), and few enough
+/// that the seams stay a small part of the planes.
+const SLABS_PER_THREAD: usize = 2;
+
+/// [`evolve`] with the passes of each step in `order`.
+fn evolve_in_order(
+    ls: &mut LevelSet,
+    dist: &DistanceField,
+    params: &EvolveParams,
+    progress: &dyn Progress,
+    on_step: &mut dyn FnMut(&StepStats, &LevelSet),
+    order: Order,
+) -> EvolveStats {
     let grid = ls.grid;
     if grid.dims.iter().any(|&n| n < MIN_NODES) {
         // At most one node per row fits the ENO stencil: nothing to evolve (and
@@ -683,10 +1167,10 @@ pub fn evolve(
     let gamma = f64::from(ls.gamma);
     let beta = params.beta.clamp(0.0, gamma * 0.999);
     let full = params.band == Band::Full;
-    let plane_len = grid.dims[0] * grid.dims[1];
     let d = &dist.values[..];
     let mut c = Step {
         d,
+        dims: grid.dims,
         strides: grid.strides(),
         h: h as f32,
         inv_h: (1.0 / h) as f32,
@@ -696,11 +1180,13 @@ pub fn evolve(
         arrest: params.arrest as f32,
         dt: 0.0,
         eno: params.scheme == Scheme::Eno2,
+        keep_all: full,
         curvature: match params.flow {
             Flow::Convection => None,
             Flow::Regularized { weight } => Some(weight),
         },
     };
+    let plan = Plan::new(params.redistance_iterations);
     // φ lives in two buffers during the flow, `ls.phi` (current) and `scratch`,
     // equal outside the tube N between steps. Every pass reads one buffer and
     // writes the other on its own nodes (Jacobi): stage 1 reads φ and writes the
@@ -708,7 +1194,7 @@ pub fn evolve(
     // and writes φ in place; redistancing alternates φ → scratch → φ on N; the
     // tube rebuild copies φ back into the scratch on N.
     let mut scratch = ls.phi.clone();
-    let (mut t, mut vmax) = rebuild(&grid, &c, &ls.phi, &mut scratch, None, full);
+    let (mut t, mut vmax) = first_tube(&c, &ls.phi);
     let mut n = if full { t.clone() } else { t.dilate(&grid) };
     progress.start(params.iterations as u64, "convection flow");
     let mut stats = EvolveStats {
@@ -725,46 +1211,9 @@ pub fn evolve(
             dt = dt.min(0.9 * h * h / (6.0 * weight.max(1e-300) * f64::from(vmax)));
         }
         c.dt = dt as f32;
-        let phi = &mut ls.phi;
-        sweep(&c, Pass::Advance { src: phi }, plane_len, &mut scratch, &t);
-        let (moved, count) = sweep(&c, Pass::Finish { stage: &scratch }, plane_len, phi, &t);
-        // Redistance on N (Eq. 11), alternating φ → scratch → φ; the last pass
-        // clamps (Eq. 12).
-        let passes = params.redistance_iterations;
-        for pass in 0..passes {
-            let clamp = pass + 1 == passes;
-            if pass % 2 == 0 {
-                sweep(
-                    &c,
-                    Pass::Redistance { src: phi, clamp },
-                    plane_len,
-                    &mut scratch,
-                    &n,
-                );
-            } else {
-                sweep(
-                    &c,
-                    Pass::Redistance {
-                        src: &scratch,
-                        clamp,
-                    },
-                    plane_len,
-                    phi,
-                    &n,
-                );
-            }
-        }
-        if passes % 2 == 1 {
-            // The result is in the scratch: bring it back.
-            copy_runs(&scratch, phi, &n, plane_len);
-        } else if passes == 0 {
-            // No redistancing: still clamp (Eq. 12).
-            for r in n.planes.iter().flatten() {
-                for p in &mut phi[r.start as usize..(r.start + r.len) as usize] {
-                    *p = p.clamp(-ls.gamma, ls.gamma);
-                }
-            }
-        }
+        let tubes = Tubes { t: &t, n: &n };
+        let ((moved, count), new_t, new_vmax) =
+            step_sweep(&c, &plan, tubes, &mut ls.phi, &mut scratch, order);
         let front_movement = if count > 0 {
             moved as f64 / 65536.0 / count as f64
         } else {
@@ -777,8 +1226,7 @@ pub fn evolve(
             tube: t.nodes(),
         };
         stats.steps.push(s);
-        // The new tubes; scratch = φ again on the old N (the only nodes that changed).
-        (t, vmax) = rebuild(&grid, &c, &ls.phi, &mut scratch, Some(&n), full);
+        (t, vmax) = (new_t, new_vmax);
         n = if full { t.clone() } else { t.dilate(&grid) };
         if params
             .snapshot_every
@@ -794,20 +1242,6 @@ pub fn evolve(
     }
     progress.finish();
     stats
-}
-
-/// `dst = src` on the nodes of `tube`, plane by plane in parallel.
-fn copy_runs(src: &[f32], dst: &mut [f32], tube: &RunTube, plane_len: usize) {
-    dst.par_chunks_mut(plane_len)
-        .zip(tube.planes.par_iter())
-        .enumerate()
-        .for_each(|(k, (dst, runs))| {
-            for r in runs {
-                let (s, e) = (r.start as usize, (r.start + r.len) as usize);
-                let base = k * plane_len;
-                dst[s - base..e - base].copy_from_slice(&src[s..e]);
-            }
-        });
 }
 
 #[cfg(test)]
@@ -877,6 +1311,7 @@ mod tests {
         let zeros = vec![0.0; 24];
         let mut c = Step {
             d: &zeros,
+            dims: [24, 1, 1],
             strides: [1, 24, 24],
             h: 0.5,
             inv_h: 2.0,
@@ -886,9 +1321,10 @@ mod tests {
             arrest: 0.0,
             dt: 0.0,
             eno: true,
+            keep_all: false,
             curvature: None,
         };
-        let p0 = load(&phi, 5);
+        let p0 = load::<wide::f32x8>(&phi, 5);
         let (dm, dp) = one_sided(&c, &phi, 5, 1, p0);
         let (dm, dp) = (dm.to_array(), dp.to_array());
         // d/dx x² at x = (5 + l)/2 is 5 + l, in every lane.
@@ -988,6 +1424,82 @@ mod tests {
                 "{scheme:?}: r {r} vs {expected} (h {h})"
             );
         }
+    }
+
+    /// The fused sweep (slabs, seams, passes pipelined over the planes) gives
+    /// the result of running each pass over the whole grid before the next, bit
+    /// for bit: ENO and upwind, convection and the regularised flow, zero to
+    /// three redistancing iterations, narrow band and full grid, one to five
+    /// slabs per thread.
+    #[test]
+    fn fused_steps_equal_pass_by_pass() {
+        let grid = sphere_grid(56);
+        let h = grid.spacing;
+        let gamma = 3.0 * h;
+        // A rough speed field: the distance to a bumpy sphere.
+        let d: Vec<f32> = (0..grid.len())
+            .map(|u| {
+                let c = grid.coords(u);
+                let p = grid.position(c[0], c[1], c[2]);
+                let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+                let bump = 0.04 * (9.0 * p[0]).sin() * (7.0 * p[1]).cos() * (5.0 * p[2]).sin();
+                (r - 0.5 - bump).abs() as f32
+            })
+            .collect();
+        let dist = speed_field(grid, d);
+        let run = |params: &EvolveParams, order: Order| {
+            let mut ls = signed_sphere(&grid, 0.85, gamma);
+            let stats = evolve_in_order(
+                &mut ls,
+                &dist,
+                params,
+                &asperity_core::NoProgress,
+                &mut |_, _| {},
+                order,
+            );
+            let moved: Vec<u64> = stats
+                .steps
+                .iter()
+                .map(|s| s.front_movement.to_bits())
+                .collect();
+            (
+                ls.phi.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                moved,
+            )
+        };
+        let mut cases = Vec::new();
+        for redistance in 0..=3 {
+            let mut p = EvolveParams::paper(h);
+            p.iterations = 6;
+            p.redistance_iterations = redistance;
+            cases.push(p);
+        }
+        let mut upwind = EvolveParams::paper(h);
+        upwind.scheme = Scheme::Upwind;
+        upwind.iterations = 6;
+        let mut curved = upwind;
+        curved.scheme = Scheme::Eno2;
+        curved.flow = Flow::Regularized { weight: h };
+        let mut full = upwind;
+        full.band = Band::Full;
+        cases.extend([upwind, curved, full]);
+        for params in &cases {
+            let reference = run(params, Order::PassByPass);
+            assert!(reference.1.iter().any(|&m| f64::from_bits(m) > 0.01));
+            for slabs_per_thread in 1..=5 {
+                let fused = run(params, Order::Fused { slabs_per_thread });
+                assert!(
+                    fused == reference,
+                    "{slabs_per_thread} slabs per thread differ for {params:?}"
+                );
+            }
+        }
+        // The grid has room for several slabs even with the widest seams.
+        let all = RunTube::interior_of(grid.dims, 2);
+        assert!(slab_cuts(&all, 10, 2 * Plan::new(3).halo).len() >= 2);
+        // The default step's depths, as documented on `Plan`.
+        assert_eq!(Plan::new(2).depth, [2, 4, 6, 7, 8]);
+        assert_eq!(Plan::new(2).halo, 8);
     }
 
     /// The tube rebuild leaves the same result as updating every node.

@@ -36,6 +36,7 @@
 pub mod distance;
 pub mod evolve;
 pub mod grid;
+mod lanes;
 pub mod marching_cubes;
 pub mod pipeline;
 pub mod tagging;
