@@ -330,7 +330,7 @@ fn closest_point_wavefront(
         .iter()
         .map(|o| o[0] * strides[0] + o[1] * strides[1] + o[2] * strides[2])
         .collect();
-    let dims = grid.dims;
+    let (dims, h) = (grid.dims, grid.spacing);
     let expected_rounds = (cap / grid.spacing).ceil() as u64 + 2;
     progress.start(expected_rounds, "distance (closest point)");
     let mut rounds = 0;
@@ -352,24 +352,41 @@ fn closest_point_wavefront(
                     let idx = v as u32;
                     let d2_u = unpack_d2(v);
                     let p = points[idx as usize];
-                    let c = grid.coords(u as usize).map(|x| x as i64);
-                    // Nodes off the faces have all 26 neighbours.
-                    let inside = (0..3).all(|a| c[a] > 0 && c[a] + 1 < dims[a] as i64);
-                    for (o, &delta) in offsets.iter().zip(&deltas) {
-                        let q = [c[0] + o[0], c[1] + o[1], c[2] + o[2]];
-                        if !inside && q.iter().zip(dims).any(|(&x, d)| x < 0 || x >= d as i64) {
-                            continue;
-                        }
-                        let q = q.map(|x| x as usize);
-                        let d2 = dist2(grid.position(q[0], q[1], q[2]), p) as f32;
-                        // Nodes nearer to p than u were passed by p's wave
-                        // already: only offer p outward.
-                        if d2 >= cap2 || d2 < d2_u {
-                            continue;
-                        }
-                        let node = (i64::from(u) + delta) as usize;
-                        if lower(&cells[node], pack(d2, idx)) && claims.claim(node) {
-                            out.push(node as u32);
+                    let c = grid.coords(u as usize);
+                    // Per axis, the squared offsets from p of the node's
+                    // neighbours at −1, 0, +1 along it (∞ off the grid), as
+                    // `dist2` computes them: the sum of one per axis is
+                    // dist2(position(q), p) to the bit.
+                    let axis = |a: usize| {
+                        [0usize, 1, 2].map(|o| {
+                            let x = c[a] + o;
+                            if x == 0 || x > dims[a] {
+                                return f64::INFINITY;
+                            }
+                            let d = grid.origin[a] + (x - 1) as f64 * h - p[a];
+                            d * d
+                        })
+                    };
+                    let (sx, sy, sz) = (axis(0), axis(1), axis(2));
+                    let mut delta = deltas.iter();
+                    for (oz, &z2) in sz.iter().enumerate() {
+                        for (oy, &y2) in sy.iter().enumerate() {
+                            for (ox, &x2) in sx.iter().enumerate() {
+                                if (ox, oy, oz) == (1, 1, 1) {
+                                    continue;
+                                }
+                                let delta = *delta.next().expect("26 offsets");
+                                let d2 = ((x2 + y2) + z2) as f32;
+                                // Nodes nearer to p than u were passed by p's
+                                // wave already: only offer p outward.
+                                if d2 >= cap2 || d2 < d2_u {
+                                    continue;
+                                }
+                                let node = (i64::from(u) + delta) as usize;
+                                if lower(&cells[node], pack(d2, idx)) && claims.claim(node) {
+                                    out.push(node as u32);
+                                }
+                            }
                         }
                     }
                 }
