@@ -191,15 +191,15 @@ fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 /// Gives the nodes near each point their exact squared distance and the point's
-/// index — the 2³ nodes of its cell (`ring` 0) or the 4³ nodes around it (`ring` 1);
-/// returns the nodes that received a value (sorted).
-fn seed(
-    points: &[[f64; 3]],
-    grid: &GridSpec,
-    ring: usize,
-    cells: &[AtomicU64],
-    claims: &Claims,
-) -> Vec<u32> {
+/// index — the 2³ nodes of its cell (`ring` 0) or the (2 + 2·ring)³ nodes around
+/// it; returns the nodes that received a value, in grid order.
+///
+/// The points are taken in grid order (the input order is often random, as in a
+/// growth simulation), grouped by the plane k of their block's first node. A
+/// block spans `side` planes, so the planes k ≡ phase (mod `side`) write
+/// disjoint planes and run in parallel without read-modify-write atomics; the
+/// phases run one after the other.
+fn seed(points: &[[f64; 3]], grid: &GridSpec, ring: usize, cells: &[AtomicU64]) -> Vec<u32> {
     let h = grid.spacing;
     let side = 2 + 2 * ring;
     let base_of = |p: &[f64; 3]| {
@@ -208,8 +208,6 @@ fn seed(
             (t.max(0.0) as usize).min(grid.dims[a].saturating_sub(side))
         })
     };
-    // Points in grid order, so that neighbouring points write neighbouring
-    // nodes (the input order is often random, as in a growth simulation).
     let mut order: Vec<(u32, u32)> = points
         .par_iter()
         .enumerate()
@@ -219,11 +217,14 @@ fn seed(
         })
         .collect();
     order.par_sort_unstable();
-    let chunks: Vec<Vec<u32>> = order
-        .par_chunks(4096)
-        .map(|chunk| {
-            let mut touched = Vec::new();
-            for &(_, idx) in chunk {
+    let [nx, ny, nz] = grid.dims;
+    let plane = nx * ny;
+    let starts: Vec<usize> = (0..=nz)
+        .map(|k| order.partition_point(|&(c, _)| (c as usize) < k * plane))
+        .collect();
+    for phase in 0..side {
+        (phase..nz).into_par_iter().step_by(side).for_each(|k| {
+            for &(_, idx) in &order[starts[k]..starts[k + 1]] {
                 let p = &points[idx as usize];
                 let base = base_of(p);
                 for corner in 0..side * side * side {
@@ -233,18 +234,27 @@ fn seed(
                         base[2] + corner / (side * side),
                     ];
                     let d2 = dist2(grid.position(n[0], n[1], n[2]), *p) as f32;
-                    let node = grid.index(n[0], n[1], n[2]);
-                    if lower(&cells[node], pack(d2, idx)) && claims.claim(node) {
-                        touched.push(node as u32);
+                    // Only this task writes planes k .. k + side in this phase:
+                    // a plain load and store suffice.
+                    let cell = &cells[grid.index(n[0], n[1], n[2])];
+                    let value = pack(d2, idx);
+                    if value < cell.load(Relaxed) {
+                        cell.store(value, Relaxed);
                     }
                 }
             }
-            touched
+        });
+    }
+    let first = order.first().map_or(0, |&(c, _)| c as usize / plane);
+    let last = order.last().map_or(0, |&(c, _)| c as usize / plane + side).min(nz);
+    (first..last)
+        .into_par_iter()
+        .flat_map_iter(|k| {
+            (k * plane..(k + 1) * plane)
+                .filter(|&u| cells[u].load(Relaxed) != EMPTY)
+                .map(|u| u as u32)
         })
-        .collect();
-    let mut all: Vec<u32> = chunks.concat();
-    all.par_sort_unstable();
-    all
+        .collect()
 }
 
 /// The unsigned distance from every node of `grid` to `points` by `method`; the
@@ -273,7 +283,7 @@ pub fn unsigned_distance(
                 .into_par_iter()
                 .map(|_| AtomicU64::new(EMPTY))
                 .collect();
-            seed(points, grid, seed_cells.max(1), &cells, &Claims::new(n));
+            seed(points, grid, seed_cells.max(1), &cells);
             godunov(grid, &cells, tolerance, max_iterations, progress)
         }
     }
@@ -308,7 +318,7 @@ pub(crate) fn closest_points(
         .map(|_| AtomicU64::new(EMPTY))
         .collect();
     let claims = Claims::new(n);
-    let frontier = seed(points, grid, 0, &cells, &claims);
+    let frontier = seed(points, grid, 0, &cells);
     let rounds = closest_point_wavefront(points, grid, &cells, &claims, frontier, cap, progress);
     (cells, rounds)
 }
