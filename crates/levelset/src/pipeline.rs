@@ -253,15 +253,11 @@ pub fn reconstruct(
     let (dist, sample_spacing) = match params.distance {
         DistanceMethod::ClosestPoint => {
             let (cells, rounds) = closest_points(points, &grid, cap, progress);
-            let t0 = Instant::now();
             let spacing = sample_spacing(points, &grid, &cells, 2.0 * h);
-            let t1 = t0.elapsed().as_secs_f64();
-            let r = (
+            (
                 DistanceField::from_cells(&grid, cells, cap, rounds, false),
                 spacing,
-            );
-            eprintln!("spacing {t1:.3} from_cells {:.3}", t0.elapsed().as_secs_f64() - t1);
-            r
+            )
         }
         DistanceMethod::Godunov { .. } => (
             unsigned_distance(points, &grid, params.distance, cap, progress),
