@@ -114,7 +114,7 @@ impl DistanceField {
     /// nearest-point array when `keep_nearest`.
     pub(crate) fn from_cells(
         grid: &GridSpec,
-        cells: Vec<AtomicU64>,
+        cells: &[AtomicU64],
         cap: f64,
         rounds: usize,
         keep_nearest: bool,
@@ -129,9 +129,9 @@ impl DistanceField {
         };
         let (values, nearest) = if keep_nearest {
             let (values, nearest): (Vec<f32>, Vec<u32>) = cells
-                .into_par_iter()
+                .par_iter()
                 .map(|c| {
-                    let v = c.into_inner();
+                    let v = c.load(Relaxed);
                     (value(v), if v == EMPTY { u32::MAX } else { v as u32 })
                 })
                 .unzip();
@@ -270,8 +270,8 @@ pub fn unsigned_distance(
 ) -> DistanceField {
     match method {
         DistanceMethod::ClosestPoint => {
-            let (cells, rounds) = closest_points(points, grid, cap, progress);
-            DistanceField::from_cells(grid, cells, cap, rounds, true)
+            let (cells, rounds) = closest_points(points, grid, cap, progress, None);
+            DistanceField::from_cells(grid, &cells, cap, rounds, true)
         }
         DistanceMethod::Godunov {
             tolerance,
@@ -306,17 +306,28 @@ fn offsets26() -> Vec<[i64; 3]> {
 
 /// The closest-point wavefront up to `cap`: per node the packed (d², point
 /// index) of the nearest point found, `EMPTY` beyond the cap; and the rounds.
+/// The cells are written into `reuse` when given (a buffer of a grid this size
+/// from an earlier call): refilling memory the process already has is much
+/// cheaper than faulting in fresh pages, which this stage's 8 bytes per node
+/// would otherwise cost every time.
 pub(crate) fn closest_points(
     points: &[[f64; 3]],
     grid: &GridSpec,
     cap: f64,
     progress: &dyn Progress,
+    reuse: Option<Vec<AtomicU64>>,
 ) -> (Vec<AtomicU64>, usize) {
     let n = grid.len();
-    let cells: Vec<AtomicU64> = (0..n)
-        .into_par_iter()
-        .map(|_| AtomicU64::new(EMPTY))
-        .collect();
+    let cells: Vec<AtomicU64> = match reuse {
+        Some(cells) if cells.len() == n => {
+            cells.par_iter().for_each(|c| c.store(EMPTY, Relaxed));
+            cells
+        }
+        _ => (0..n)
+            .into_par_iter()
+            .map(|_| AtomicU64::new(EMPTY))
+            .collect(),
+    };
     let claims = Claims::new(n);
     let frontier = seed(points, grid, 0, &cells);
     let rounds = closest_point_wavefront(points, grid, &cells, &claims, frontier, cap, progress);

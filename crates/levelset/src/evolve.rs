@@ -224,6 +224,19 @@ pub fn from_tags(
     gamma: f64,
     progress: &dyn Progress,
 ) -> LevelSet {
+    from_tags_reusing(dist, tags, eps, gamma, progress, None)
+}
+
+/// [`from_tags`], with the closest-point cells of an earlier wavefront on this
+/// grid to refill rather than a fresh buffer.
+pub(crate) fn from_tags_reusing(
+    dist: &DistanceField,
+    tags: &Tags,
+    eps: f64,
+    gamma: f64,
+    progress: &dyn Progress,
+    cells: Option<Vec<std::sync::atomic::AtomicU64>>,
+) -> LevelSet {
     let grid = dist.grid;
     let d = &dist.values;
     let ext = &tags.exterior;
@@ -288,8 +301,8 @@ pub fn from_tags(
     // Straight from the packed closest points to φ: no distance field, no
     // nearest-point array. |φ| is clamped at γ, so the wavefront stops half a
     // cell beyond it.
-    let (cells, _) =
-        crate::distance::closest_points(&crossings, &grid, gamma + 0.5 * grid.spacing, progress);
+    let cap = gamma + 0.5 * grid.spacing;
+    let (cells, _) = crate::distance::closest_points(&crossings, &grid, cap, progress, cells);
     let phi = cells
         .into_par_iter()
         .zip(ext.par_iter())

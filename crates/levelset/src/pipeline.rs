@@ -7,7 +7,7 @@ use asperity_core::{CoreError, MemoryBudget, Progress, TriMesh};
 
 use crate::distance::{DistanceField, DistanceMethod, closest_points, unsigned_distance};
 use crate::evolve::{
-    Band, EvolveParams, EvolveStats, Flow, LevelSet, Scheme, StepStats, evolve, from_tags,
+    Band, EvolveParams, EvolveStats, Flow, LevelSet, Scheme, StepStats, evolve, from_tags_reusing,
 };
 use crate::grid::{GridSpec, Sizing, padding_nodes};
 use crate::marching_cubes::{ExtractOptions, ExtractStats, extract};
@@ -250,18 +250,23 @@ pub fn reconstruct(
     let cap = eps + gamma + 2.0 * h;
     // The sample spacing (for the default point radius) is read off the closest
     // points before they are unpacked, so no nearest-point array is built.
-    let (dist, sample_spacing) = match params.distance {
+    // The closest points' cells (8 bytes per node) are kept for the initial
+    // surface's own wavefront, which refills them instead of faulting in a
+    // fresh buffer.
+    let (dist, sample_spacing, cells) = match params.distance {
         DistanceMethod::ClosestPoint => {
-            let (cells, rounds) = closest_points(points, &grid, cap, progress);
+            let (cells, rounds) = closest_points(points, &grid, cap, progress, None);
             let spacing = sample_spacing(points, &grid, &cells, 2.0 * h);
             (
-                DistanceField::from_cells(&grid, cells, cap, rounds, false),
+                DistanceField::from_cells(&grid, &cells, cap, rounds, false),
                 spacing,
+                Some(cells),
             )
         }
         DistanceMethod::Godunov { .. } => (
             unsigned_distance(points, &grid, params.distance, cap, progress),
             nearest_neighbour_spacing(points, h),
+            None,
         ),
     };
     timings.distance = t.elapsed().as_secs_f64();
@@ -271,7 +276,7 @@ pub fn reconstruct(
     timings.tagging = t.elapsed().as_secs_f64();
 
     let t = Instant::now();
-    let mut ls = from_tags(&dist, &tags, eps, gamma, progress);
+    let mut ls = from_tags_reusing(&dist, &tags, eps, gamma, progress, cells);
     timings.initial = t.elapsed().as_secs_f64();
     let tagged = (tags.exterior_count, tags.refused);
     drop(tags);
