@@ -292,6 +292,23 @@ pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMe
         .map(|k| {
             let mut out = Vec::new();
             for j in 0..ny - 1 {
+                // Most rows of cubes lie wholly inside or outside (φ is
+                // clamped to ±γ away from the front): one branch-free pass over
+                // their four rows of nodes skips them.
+                let row = |dj: usize, dk: usize| {
+                    let start = grid.index(0, j + dj, k + dk);
+                    &phi[start..start + nx]
+                };
+                let (any, all) = [row(0, 0), row(1, 0), row(0, 1), row(1, 1)]
+                    .iter()
+                    .flat_map(|r| r.iter())
+                    .fold((false, true), |(any, all), &x| {
+                        let inside = x < 0.0;
+                        (any | inside, all & inside)
+                    });
+                if !any || all {
+                    continue;
+                }
                 for i in 0..nx - 1 {
                     let base = grid.index(i, j, k);
                     let key = cube_key(base);
