@@ -151,94 +151,156 @@ pub fn tag(dist: &DistanceField, eps: f64, rule: TagRule, progress: &dyn Progres
     }
 }
 
+/// Consecutive nodes `start .. start + len` of one row of a plane (indices
+/// within the plane).
+#[derive(Clone, Copy, Debug)]
+struct Span {
+    start: u32,
+    len: u32,
+}
+
 /// Marks `EXTERIOR` the nodes of {d ≥ far} connected to the grid's faces within
 /// it (6-connected) and returns their count. Each round fills every plane from
-/// its seeds in parallel (4-connected, within the plane), then seeds the planes
-/// above and below with the nodes the fill reached; it ends when no plane gains
-/// a seed. The result is the connected set whatever the order, so it does not
-/// depend on the thread count.
+/// its seeds in parallel (4-connected, within the plane, by spans of a row at a
+/// time: a scanline fill), then seeds the planes above and below with the open
+/// nodes under the spans the fill reached; it ends when no plane gains a seed.
+/// The result is the connected set whatever the order, so it does not depend on
+/// the thread count.
 fn far_field(grid: &GridSpec, d: &[f32], far: f32, state: &mut [u8]) -> usize {
     let [nx, ny, nz] = grid.dims;
     let plane = nx * ny;
-    // Round 0's seeds: the faces.
-    let mut seeds: Vec<Vec<u32>> = (0..nz)
-        .into_par_iter()
+    let whole = |j: usize| Span {
+        start: (j * nx) as u32,
+        len: nx as u32,
+    };
+    // Round 0's seeds: the faces (whole planes at the ends, else the first and
+    // last rows and the two end nodes of every other row).
+    let mut seeds: Vec<Vec<Span>> = (0..nz)
         .map(|k| {
-            (0..ny)
-                .flat_map(|j| (0..nx).map(move |i| (i, j)))
-                .filter(|&(i, j)| grid.on_boundary([i, j, k]))
-                .map(|(i, j)| grid.index(i, j, k))
-                .filter(|&u| d[u] >= far)
-                .map(|u| u as u32)
-                .collect()
+            if k == 0 || k + 1 == nz {
+                return (0..ny).map(whole).collect();
+            }
+            let mut s = vec![whole(0)];
+            for j in 1..ny.saturating_sub(1) {
+                s.push(Span {
+                    start: (j * nx) as u32,
+                    len: 1,
+                });
+                if nx > 1 {
+                    s.push(Span {
+                        start: (j * nx + nx - 1) as u32,
+                        len: 1,
+                    });
+                }
+            }
+            if ny > 1 {
+                s.push(whole(ny - 1));
+            }
+            s
         })
         .collect();
     let mut total = 0usize;
-    while seeds.iter().any(|s| !s.is_empty()) {
-        let filled: Vec<Vec<u32>> = state
+    loop {
+        let filled: Vec<Vec<Span>> = state
             .par_chunks_mut(plane)
             .zip(seeds.par_iter())
             .enumerate()
-            .map(|(k, (st, seeds))| {
-                let base = k * plane;
-                let mut stack: Vec<u32> = Vec::new();
-                let mut filled: Vec<u32> = Vec::new();
-                for &u in seeds {
-                    let l = u as usize - base;
-                    if st[l] == INTERIOR {
-                        st[l] = EXTERIOR;
-                        stack.push(l as u32);
-                    }
-                }
-                while let Some(l) = stack.pop() {
-                    let l = l as usize;
-                    filled.push((base + l) as u32);
-                    let (i, j) = (l % nx, l / nx);
-                    let mut visit = |m: usize| {
-                        if st[m] == INTERIOR && d[base + m] >= far {
-                            st[m] = EXTERIOR;
-                            stack.push(m as u32);
-                        }
-                    };
-                    if i > 0 {
-                        visit(l - 1);
-                    }
-                    if i + 1 < nx {
-                        visit(l + 1);
-                    }
-                    if j > 0 {
-                        visit(l - nx);
-                    }
-                    if j + 1 < ny {
-                        visit(l + nx);
-                    }
-                }
-                filled
-            })
+            .map(|(k, (st, seeds))| fill_plane(st, &d[k * plane..(k + 1) * plane], far, nx, seeds))
             .collect();
-        total += filled.iter().map(Vec::len).sum::<usize>();
+        total += filled
+            .iter()
+            .flatten()
+            .map(|s| s.len as usize)
+            .sum::<usize>();
         let state = &*state;
         seeds = (0..nz)
             .into_par_iter()
             .map(|k| {
-                let from_below = k.checked_sub(1).map(|b| (&filled[b], plane as i64));
-                let from_above = filled.get(k + 1).map(|a| (a, -(plane as i64)));
-                let mut next: Vec<u32> = from_below
-                    .into_iter()
-                    .chain(from_above)
-                    .flat_map(|(list, shift)| {
-                        list.iter().map(move |&u| (i64::from(u) + shift) as usize)
-                    })
-                    .filter(|&v| state[v] == INTERIOR && d[v] >= far)
-                    .map(|v| v as u32)
-                    .collect();
-                next.sort_unstable();
-                next.dedup();
+                let (st, dk) = (
+                    &state[k * plane..(k + 1) * plane],
+                    &d[k * plane..(k + 1) * plane],
+                );
+                let below = k.checked_sub(1).map(|b| &filled[b]);
+                let above = filled.get(k + 1);
+                let mut next = Vec::new();
+                for span in below.into_iter().chain(above).flatten() {
+                    open_runs(st, dk, far, *span, &mut next);
+                }
                 next
             })
             .collect();
+        if seeds.iter().all(Vec::is_empty) {
+            return total;
+        }
     }
-    total
+}
+
+/// Whether node `m` of a plane is still open to the far-field fill.
+#[inline]
+fn open(st: &[u8], dk: &[f32], far: f32, m: usize) -> bool {
+    st[m] == INTERIOR && dk[m] >= far
+}
+
+/// Appends the maximal open runs within `span` to `out`.
+fn open_runs(st: &[u8], dk: &[f32], far: f32, span: Span, out: &mut Vec<Span>) {
+    let (s, e) = (span.start as usize, (span.start + span.len) as usize);
+    let mut m = s;
+    while m < e {
+        if !open(st, dk, far, m) {
+            m += 1;
+            continue;
+        }
+        let a = m;
+        while m < e && open(st, dk, far, m) {
+            m += 1;
+        }
+        out.push(Span {
+            start: a as u32,
+            len: (m - a) as u32,
+        });
+    }
+}
+
+/// Fills one plane (4-connected) from the open nodes of `seeds`, a row span at
+/// a time; returns the spans filled.
+fn fill_plane(st: &mut [u8], dk: &[f32], far: f32, nx: usize, seeds: &[Span]) -> Vec<Span> {
+    let ny = st.len() / nx;
+    let mut stack: Vec<Span> = Vec::new();
+    for &span in seeds {
+        open_runs(st, dk, far, span, &mut stack);
+    }
+    let mut filled = Vec::new();
+    while let Some(seed) = stack.pop() {
+        let m = seed.start as usize;
+        if !open(st, dk, far, m) {
+            continue;
+        }
+        // Widen to the whole open run of the row.
+        let row = m - m % nx;
+        let (mut a, mut b) = (m, m + 1);
+        while a > row && open(st, dk, far, a - 1) {
+            a -= 1;
+        }
+        while b < row + nx && open(st, dk, far, b) {
+            b += 1;
+        }
+        st[a..b].fill(EXTERIOR);
+        filled.push(Span {
+            start: a as u32,
+            len: (b - a) as u32,
+        });
+        let j = row / nx;
+        let len = (b - a) as u32;
+        if j > 0 {
+            let start = (a - nx) as u32;
+            open_runs(st, dk, far, Span { start, len }, &mut stack);
+        }
+        if j + 1 < ny {
+            let start = (a + nx) as u32;
+            open_runs(st, dk, far, Span { start, len }, &mut stack);
+        }
+    }
+    filled
 }
 
 /// The nodes below `far` that the far field's queue phase would have left on
