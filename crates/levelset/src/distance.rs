@@ -246,7 +246,10 @@ fn seed(points: &[[f64; 3]], grid: &GridSpec, ring: usize, cells: &[AtomicU64]) 
         });
     }
     let first = order.first().map_or(0, |&(c, _)| c as usize / plane);
-    let last = order.last().map_or(0, |&(c, _)| c as usize / plane + side).min(nz);
+    let last = order
+        .last()
+        .map_or(0, |&(c, _)| c as usize / plane + side)
+        .min(nz);
     (first..last)
         .into_par_iter()
         .flat_map_iter(|k| {

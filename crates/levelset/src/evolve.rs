@@ -861,7 +861,7 @@ const PREFETCH_RUNS: usize = 4;
 /// Asks the CPU to bring the cache line of `s[at]` into L1 (nothing when `at`
 /// is past the end).
 #[inline(always)]
-fn prefetch(s: &[f32], at: usize) {
+pub(crate) fn prefetch<T>(s: &[T], at: usize) {
     #[cfg(target_arch = "x86_64")]
     if let Some(x) = s.get(at) {
         // SAFETY: a prefetch is a hint; it never faults and has no effect on

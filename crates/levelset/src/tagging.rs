@@ -20,16 +20,23 @@
 //! beyond c looks equally far, so the paper's rule only sees necks narrower than 2c;
 //! the pipeline sets c = ε + γ + 2h.
 //!
-//! Nodes at the distance cap are all tied at the maximum and always accepted, so
-//! the algorithm's opening phase is the flood fill of {d ≥ cap} from the faces:
-//! it runs plane-parallel (each plane filled from its seeds, then the planes above
-//! and below seeded from what it reached, until nothing changes), and its rim
-//! seeds the binary heap, which takes over near the data. Far nodes reached later
-//! through the band go through a FIFO ahead of the heap. Heap ties go to the
-//! smaller node index, so the result is deterministic; a test checks it equals
-//! Algorithm 1 run with the heap alone.
-
-use std::collections::{BinaryHeap, VecDeque};
+//! Both rules are computed without the queue, with the same result (a test
+//! checks both against Algorithm 1 run with a plain binary heap, refusals
+//! included):
+//! * The ε rule's exterior is the flood fill of {d ≥ ε} from the faces, filled
+//!   plane-parallel by row spans (each plane from its seeds, then the planes
+//!   above and below seeded from what it reached, until nothing changes).
+//! * Under the paper's rule the queue pops in non-increasing distance: a node is
+//!   accepted only when no non-exterior neighbour is farther, so everything it
+//!   adds to ∂Ω is at most as far. When the pops reach a node's distance its
+//!   farther neighbours are settled for good, so the node is reached iff it
+//!   lies on a face or next to an exterior node, and accepted iff none of its
+//!   farther neighbours is non-exterior. The far field (tied at the cap, always
+//!   accepted) is the flood fill of {d ≥ cap}; the rest of the ε flood fill (a
+//!   superset of the result) is sorted by decreasing distance once and decided in
+//!   that order, equal distances together as a small flood. Unlike a heap, the
+//!   sorted list says which nodes come next, so their scattered neighbourhoods
+//!   are prefetched.
 
 use asperity_core::Progress;
 use rayon::prelude::*;
@@ -48,7 +55,6 @@ pub enum TagRule {
 
 /// Node states.
 const INTERIOR: u8 = 0;
-const BOUNDARY: u8 = 1;
 const EXTERIOR: u8 = 2;
 const REFUSED: u8 = 3;
 
@@ -70,85 +76,178 @@ pub fn tag(dist: &DistanceField, eps: f64, rule: TagRule, progress: &dyn Progres
     let n = grid.len();
     let eps = eps as f32;
     let far = dist.cap;
-    let mut state = vec![INTERIOR; n];
-    let mut fifo: VecDeque<u32> = VecDeque::new();
-    let mut heap: BinaryHeap<u64> = BinaryHeap::new();
-    let key = |u: usize| (u64::from(d[u].to_bits()) << 32) | u64::from(u32::MAX - u as u32);
-    let push =
-        |u: usize, state: &mut [u8], fifo: &mut VecDeque<u32>, heap: &mut BinaryHeap<u64>| {
-            state[u] = BOUNDARY;
-            if d[u] >= far {
-                fifo.push_back(u as u32);
-            } else {
-                heap.push(key(u));
-            }
+    progress.start(n as u64, "tagging");
+    // The ε rule's result, and a superset of the paper rule's: the flood fill of
+    // {d ≥ ε} from the faces.
+    let mut reach = vec![INTERIOR; n];
+    let reached = flood_from_faces(grid, d, eps, &mut reach);
+    if rule == TagRule::Threshold {
+        progress.finish();
+        return Tags {
+            exterior: reach.into_iter().map(|s| s == EXTERIOR).collect(),
+            exterior_count: reached,
+            refused: 0,
         };
-    // The far field first: every node at the cap is accepted (no neighbour can
-    // be farther), so the queue's opening phase is the flood fill of {d ≥ cap}
-    // from the faces, which is done plane-parallel. Its rim (and the faces below
-    // the cap) seed the heap, exactly as the queue would have left them.
+    }
+    // The paper's rule. The far field, tied at the cap, is all accepted: it is
+    // the flood fill of {d ≥ cap}.
+    let mut state = vec![INTERIOR; n];
     let mut exterior_count = 0usize;
     if far.is_finite() && far >= eps {
-        exterior_count = far_field(grid, d, far, &mut state);
-        for u in heap_seeds(grid, d, far, &state) {
-            push(u as usize, &mut state, &mut fifo, &mut heap);
-        }
-    } else {
-        for u in (0..n).filter(|&u| grid.on_boundary(grid.coords(u))) {
-            push(u, &mut state, &mut fifo, &mut heap);
-        }
+        exterior_count = flood_from_faces(grid, d, far, &mut state);
     }
-    progress.start(n as u64, "tagging");
     progress.advance(exterior_count as u64);
-    let strides = grid.strides();
-    let mut refused = 0usize;
-    let mut neighbours = [0usize; 6];
-    loop {
-        let u = if let Some(u) = fifo.pop_front() {
-            u as usize
-        } else if let Some(top) = heap.pop() {
-            (u32::MAX - top as u32) as usize
-        } else {
-            break;
-        };
-        if d[u] < eps {
-            break;
-        }
-        let c = grid.coords(u);
-        let mut count = 0;
-        for a in 0..3 {
-            if c[a] > 0 {
-                neighbours[count] = u - strides[a];
-                count += 1;
-            }
-            if c[a] + 1 < grid.dims[a] {
-                neighbours[count] = u + strides[a];
-                count += 1;
-            }
-        }
-        let nb = &neighbours[..count];
-        if rule == TagRule::Paper && nb.iter().any(|&v| state[v] != EXTERIOR && d[v] > d[u]) {
-            state[u] = REFUSED;
-            refused += 1;
-            continue;
-        }
-        state[u] = EXTERIOR;
-        exterior_count += 1;
-        if exterior_count.is_multiple_of(1 << 20) {
-            progress.advance(1 << 20);
-        }
-        for &v in nb {
-            if state[v] == INTERIOR {
-                push(v, &mut state, &mut fifo, &mut heap);
-            }
-        }
-    }
+    // The rest of the ε flood fill, by decreasing distance (ties: smaller index
+    // first, as the heap's keys).
+    let plane = grid.dims[0] * grid.dims[1];
+    let mut keys: Vec<u64> = (0..grid.dims[2])
+        .into_par_iter()
+        .flat_map_iter(|k| {
+            let (reach, state) = (&reach, &state);
+            (k * plane..(k + 1) * plane)
+                .filter(move |&u| reach[u] == EXTERIOR && state[u] != EXTERIOR)
+                .map(|u| (u64::from(d[u].to_bits()) << 32) | u64::from(u32::MAX - u as u32))
+        })
+        .collect();
+    drop(reach);
+    keys.par_sort_unstable_by(|a, b| b.cmp(a));
+    let (accepted, refused) = descend(grid, d, &keys, &mut state, progress);
+    exterior_count += accepted;
     progress.finish();
     Tags {
         exterior: state.into_iter().map(|s| s == EXTERIOR).collect(),
         exterior_count,
         refused,
     }
+}
+
+/// A member of a group of equal distances not yet reached.
+const PENDING: u8 = 4;
+/// A member of such a group waiting on the group's worklist.
+const QUEUED: u8 = 5;
+
+/// How many nodes ahead [`descend`] prefetches.
+const PREFETCH_AHEAD: usize = 16;
+
+/// Decides the nodes of `keys` (heap keys in decreasing order) under the
+/// paper's rule; returns (accepted, refused).
+///
+/// The queue of Algorithm 1 pops in non-increasing distance under this rule: a
+/// node is accepted only when no non-exterior neighbour is farther, so every node
+/// it adds to ∂Ω is at most as far. When the pops reach a node's distance, its
+/// farther neighbours are therefore settled for good; it is on ∂Ω iff it lies on
+/// a face or next to an exterior node, and it is accepted iff no farther
+/// neighbour is non-exterior. So one pass in key order decides every node, and
+/// the nodes of equal distance are decided together: those reached, then those
+/// next to them that are accepted, a small flood (their order does not matter,
+/// as equal distances never refuse each other).
+fn descend(
+    grid: &GridSpec,
+    d: &[f32],
+    keys: &[u64],
+    state: &mut [u8],
+    progress: &dyn Progress,
+) -> (usize, usize) {
+    let strides = grid.strides();
+    let node = |key: u64| (u32::MAX - key as u32) as usize;
+    let neighbours = |u: usize| {
+        let c = grid.coords(u);
+        let mut nb = [usize::MAX; 6];
+        for a in 0..3 {
+            if c[a] > 0 {
+                nb[2 * a] = u - strides[a];
+            }
+            if c[a] + 1 < grid.dims[a] {
+                nb[2 * a + 1] = u + strides[a];
+            }
+        }
+        (nb, grid.on_boundary(c))
+    };
+    let real = |v: &usize| *v != usize::MAX;
+    let reached = |state: &[u8], u: usize| {
+        let (nb, face) = neighbours(u);
+        face || nb.into_iter().filter(real).any(|v| state[v] == EXTERIOR)
+    };
+    let refused_at = |state: &[u8], u: usize| {
+        let (nb, _) = neighbours(u);
+        nb.into_iter()
+            .filter(real)
+            .any(|v| state[v] != EXTERIOR && d[v] > d[u])
+    };
+    let (mut accepted, mut refused) = (0usize, 0usize);
+    let mut work: Vec<usize> = Vec::new();
+    let mut i = 0;
+    while i < keys.len() {
+        // The nodes a few places on: their neighbourhoods are scattered over
+        // the shell, and a sorted list (unlike a heap) says which come next.
+        if let Some(&ahead) = keys.get(i + PREFETCH_AHEAD) {
+            let w = node(ahead);
+            for at in [w, w.wrapping_sub(strides[1]), w + strides[1]] {
+                crate::evolve::prefetch(state, at);
+                crate::evolve::prefetch(d, at);
+            }
+            for at in [w.wrapping_sub(strides[2]), w + strides[2]] {
+                crate::evolve::prefetch(state, at);
+                crate::evolve::prefetch(d, at);
+            }
+        }
+        let level = keys[i] >> 32;
+        let mut j = i + 1;
+        while j < keys.len() && keys[j] >> 32 == level {
+            j += 1;
+        }
+        if j == i + 1 {
+            let u = node(keys[i]);
+            if reached(state, u) {
+                if refused_at(state, u) {
+                    state[u] = REFUSED;
+                    refused += 1;
+                } else {
+                    state[u] = EXTERIOR;
+                    accepted += 1;
+                }
+            }
+        } else {
+            let group = &keys[i..j];
+            for &key in group {
+                state[node(key)] = PENDING;
+            }
+            work.extend(
+                group
+                    .iter()
+                    .map(|&k| node(k))
+                    .filter(|&u| reached(state, u)),
+            );
+            for &u in &work {
+                state[u] = QUEUED;
+            }
+            while let Some(u) = work.pop() {
+                if refused_at(state, u) {
+                    state[u] = REFUSED;
+                    refused += 1;
+                    continue;
+                }
+                state[u] = EXTERIOR;
+                accepted += 1;
+                for v in neighbours(u).0.into_iter().filter(real) {
+                    if state[v] == PENDING {
+                        state[v] = QUEUED;
+                        work.push(v);
+                    }
+                }
+            }
+            for &key in group {
+                if state[node(key)] == PENDING {
+                    state[node(key)] = INTERIOR;
+                }
+            }
+        }
+        if i >> 20 != j >> 20 {
+            progress.advance(1 << 20);
+        }
+        i = j;
+    }
+    (accepted, refused)
 }
 
 /// Consecutive nodes `start .. start + len` of one row of a plane (indices
@@ -166,7 +265,7 @@ struct Span {
 /// nodes under the spans the fill reached; it ends when no plane gains a seed.
 /// The result is the connected set whatever the order, so it does not depend on
 /// the thread count.
-fn far_field(grid: &GridSpec, d: &[f32], far: f32, state: &mut [u8]) -> usize {
+fn flood_from_faces(grid: &GridSpec, d: &[f32], far: f32, state: &mut [u8]) -> usize {
     let [nx, ny, nz] = grid.dims;
     let plane = nx * ny;
     let whole = |j: usize| Span {
@@ -303,33 +402,12 @@ fn fill_plane(st: &mut [u8], dk: &[f32], far: f32, nx: usize, seeds: &[Span]) ->
     filled
 }
 
-/// The nodes below `far` that the far field's queue phase would have left on
-/// the boundary ∂Ω: those on the grid's faces and those next to the far field.
-fn heap_seeds(grid: &GridSpec, d: &[f32], far: f32, state: &[u8]) -> Vec<u32> {
-    let strides = grid.strides();
-    let plane = grid.dims[0] * grid.dims[1];
-    (0..grid.dims[2])
-        .into_par_iter()
-        .flat_map_iter(|k| {
-            (k * plane..(k + 1) * plane).filter_map(move |u| {
-                if state[u] != INTERIOR || d[u] >= far {
-                    return None;
-                }
-                let c = grid.coords(u);
-                let next_to_far = grid.on_boundary(c)
-                    || (0..3).any(|a| {
-                        (c[a] > 0 && state[u - strides[a]] == EXTERIOR)
-                            || (c[a] + 1 < grid.dims[a] && state[u + strides[a]] == EXTERIOR)
-                    });
-                next_to_far.then_some(u as u32)
-            })
-        })
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::collections::{BinaryHeap, VecDeque};
+
+    const BOUNDARY: u8 = 1;
     use crate::distance::{DistanceMethod, unsigned_distance};
     use crate::grid::{GridSpec, Sizing};
     use asperity_core::{MemoryBudget, NoProgress};
@@ -400,14 +478,16 @@ mod tests {
         unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, 10.0, &NoProgress)
     }
 
-    /// Algorithm 1 with one binary heap and nothing else (no queue for the cap,
-    /// no parallel far field): the reference for the fast paths.
-    fn heap_only(dist: &DistanceField, eps: f32, rule: TagRule) -> Vec<bool> {
+    /// Algorithm 1 with one binary heap and nothing else (no flood fills, no
+    /// sorted pass): the reference for the fast paths. The exterior and the
+    /// refused count.
+    fn heap_only(dist: &DistanceField, eps: f32, rule: TagRule) -> (Vec<bool>, usize) {
         let g = &dist.grid;
         let d = &dist.values;
         let key = |u: usize| (u64::from(d[u].to_bits()) << 32) | u64::from(u32::MAX - u as u32);
         let mut state = vec![INTERIOR; g.len()];
         let mut heap = BinaryHeap::new();
+        let mut refused = 0;
         for (u, s) in state.iter_mut().enumerate() {
             if g.on_boundary(g.coords(u)) {
                 *s = BOUNDARY;
@@ -432,6 +512,7 @@ mod tests {
                 .collect();
             if rule == TagRule::Paper && nb.iter().any(|&v| state[v] != EXTERIOR && d[v] > d[u]) {
                 state[u] = REFUSED;
+                refused += 1;
                 continue;
             }
             state[u] = EXTERIOR;
@@ -442,12 +523,13 @@ mod tests {
                 }
             }
         }
-        state.into_iter().map(|s| s == EXTERIOR).collect()
+        (state.into_iter().map(|s| s == EXTERIOR).collect(), refused)
     }
 
-    /// The far field's parallel flood and the queue give the result of the plain
-    /// heap, for caps that leave a large far field, pockets beyond the cap inside
-    /// the shape, and both rules.
+    /// The flood fills and the sorted pass give the result of the plain heap,
+    /// for caps that leave a large far field, pockets beyond the cap inside the
+    /// shape, a cap beyond the cup's centre (where the paper's rule refuses),
+    /// no cap at all, distances rounded to 1/8 cell (many ties), and both rules.
     #[test]
     fn fast_paths_equal_the_plain_algorithm() {
         let pts = shape();
@@ -458,20 +540,47 @@ mod tests {
             &MemoryBudget::unlimited(),
         )
         .unwrap();
-        for cap in [0.5, 0.9, 1.6] {
-            let f = unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
+        let mut fields = Vec::new();
+        for cap in [0.5, 0.9, 1.6, 10.0] {
+            fields.push(unsigned_distance(
+                &pts,
+                &grid,
+                DistanceMethod::ClosestPoint,
+                cap,
+                &NoProgress,
+            ));
+        }
+        let mut uncapped = fields[2].clone();
+        uncapped.cap = f32::INFINITY;
+        let eighth = (grid.spacing / 8.0) as f32;
+        let rounded = |f: &DistanceField| {
+            let mut f = f.clone();
+            for x in &mut f.values {
+                *x = (*x / eighth).round() * eighth;
+            }
+            f
+        };
+        let ties = [rounded(&fields[1]), rounded(&fields[3])];
+        fields.push(uncapped);
+        fields.extend(ties);
+        let mut refusals = 0;
+        for (i, f) in fields.iter().enumerate() {
             for rule in [TagRule::Paper, TagRule::Threshold] {
                 for eps in [0.3, 0.45] {
-                    let fast = tag(&f, eps, rule, &NoProgress);
-                    let reference = heap_only(&f, eps as f32, rule);
-                    assert_eq!(fast.exterior, reference, "cap {cap}, {rule:?}, eps {eps}");
+                    let fast = tag(f, eps, rule, &NoProgress);
+                    let (reference, refused) = heap_only(f, eps as f32, rule);
+                    assert_eq!(fast.exterior, reference, "field {i}, {rule:?}, eps {eps}");
                     assert_eq!(
                         fast.exterior_count,
                         reference.iter().filter(|&&e| e).count()
                     );
+                    assert_eq!(fast.refused, refused, "field {i}, {rule:?}, eps {eps}");
+                    refusals += refused;
                 }
             }
         }
+        // The paper's rule did refuse nodes: the comparison covers refusals.
+        assert!(refusals > 0);
     }
 
     #[test]
