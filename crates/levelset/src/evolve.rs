@@ -246,7 +246,23 @@ pub(crate) fn from_tags_reusing(
         .into_par_iter()
         .flat_map_iter(|k| {
             let mut out = Vec::new();
+            let row = |j: usize, k: usize| &ext[grid.index(0, j, k)..grid.index(0, j, k) + nx];
             for j in 0..ny {
+                // Rows with no exterior node, or exterior along with the rows
+                // around them (most of the grid), hold no crossing.
+                let own = row(j, k);
+                let around = [
+                    (j > 0).then(|| row(j - 1, k)),
+                    (j + 1 < ny).then(|| row(j + 1, k)),
+                    (k > 0).then(|| row(j, k - 1)),
+                    (k + 1 < nz).then(|| row(j, k + 1)),
+                ];
+                if !own.contains(&true)
+                    || (!own.contains(&false)
+                        && around.iter().flatten().all(|r| !r.contains(&false)))
+                {
+                    continue;
+                }
                 for i in 0..nx {
                     let u = grid.index(i, j, k);
                     if !ext[u] {
