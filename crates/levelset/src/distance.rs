@@ -227,19 +227,18 @@ fn seed(points: &[[f64; 3]], grid: &GridSpec, ring: usize, cells: &[AtomicU64]) 
             for &(_, idx) in &order[starts[k]..starts[k + 1]] {
                 let p = &points[idx as usize];
                 let base = base_of(p);
-                for corner in 0..side * side * side {
-                    let n = [
-                        base[0] + corner % side,
-                        base[1] + (corner / side) % side,
-                        base[2] + corner / (side * side),
-                    ];
-                    let d2 = dist2(grid.position(n[0], n[1], n[2]), *p) as f32;
-                    // Only this task writes planes k .. k + side in this phase:
-                    // a plain load and store suffice.
-                    let cell = &cells[grid.index(n[0], n[1], n[2])];
-                    let value = pack(d2, idx);
-                    if value < cell.load(Relaxed) {
-                        cell.store(value, Relaxed);
+                for z in base[2]..base[2] + side {
+                    for y in base[1]..base[1] + side {
+                        for x in base[0]..base[0] + side {
+                            let d2 = dist2(grid.position(x, y, z), *p) as f32;
+                            // Only this task writes planes k .. k + side in this
+                            // phase: a plain load and store suffice.
+                            let cell = &cells[grid.index(x, y, z)];
+                            let value = pack(d2, idx);
+                            if value < cell.load(Relaxed) {
+                                cell.store(value, Relaxed);
+                            }
+                        }
                     }
                 }
             }
