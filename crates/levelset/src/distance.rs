@@ -158,6 +158,9 @@ impl DistanceField {
     }
 }
 
+/// How many nodes ahead the loops over points prefetch the point they will read.
+const POINT_PREFETCH: usize = 8;
+
 /// A node no point has reached.
 pub(crate) const EMPTY: u64 = u64::MAX;
 
@@ -227,7 +230,13 @@ fn seed(points: &[[f64; 3]], grid: &GridSpec, ring: usize, cells: &[AtomicU64]) 
         .collect();
     for phase in 0..side {
         (phase..nz).into_par_iter().step_by(side).for_each(|k| {
-            for &(_, idx) in &order[starts[k]..starts[k + 1]] {
+            let mine = &order[starts[k]..starts[k + 1]];
+            for (i, &(_, idx)) in mine.iter().enumerate() {
+                // The points are read in grid order, i.e. at random places of
+                // the input: ask for them a few iterations ahead.
+                if let Some(&(_, ahead)) = mine.get(i + POINT_PREFETCH) {
+                    crate::evolve::prefetch(points, ahead as usize);
+                }
                 let p = &points[idx as usize];
                 let base = base_of(p);
                 for z in base[2]..base[2] + side {
@@ -374,7 +383,10 @@ fn closest_point_wavefront(
             .zip(snapshot.par_chunks(1024))
             .map(|(us, vs)| {
                 let mut out = Vec::new();
-                for (&u, &v) in us.iter().zip(vs) {
+                for (i, (&u, &v)) in us.iter().zip(vs).enumerate() {
+                    if let Some(&ahead) = vs.get(i + POINT_PREFETCH) {
+                        crate::evolve::prefetch(points, ahead as u32 as usize);
+                    }
                     let idx = v as u32;
                     let d2_u = unpack_d2(v);
                     let p = points[idx as usize];
