@@ -30,9 +30,14 @@
 //!   frontier's values before writing and writes by an atomic minimum over (distance,
 //!   point index), so the result is the same for any thread count. A node offers
 //!   its point only to neighbours at least as far from that point as itself (the
-//!   nearer ones lie behind the point's wave), the points are seeded in grid
-//!   order so that their writes stay local, and the next frontier is claimed in a
-//!   bitmap of one bit per node.
+//!   nearer ones lie behind the point's wave), and the next frontier is claimed in
+//!   a bitmap of one bit per node. The 26 squared distances of a node's
+//!   neighbours are sums of one precomputed square per axis (the same bits as
+//!   computing each from the neighbour's position). The points are seeded in
+//!   grid order, so that their writes stay local, by groups of planes that write
+//!   disjoint planes (plain loads and stores, no atomic read-modify-write), and
+//!   the loops prefetch the point a few nodes ahead, since nodes in grid order
+//!   read points at random places of the input.
 
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering::Relaxed};
 
