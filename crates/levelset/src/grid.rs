@@ -22,8 +22,9 @@ pub enum Sizing {
 /// Bytes per grid node the whole pipeline holds at its peak, while the initial
 /// surface is built: the distance (`f32`), the exterior tags (`bool`), the packed
 /// closest points of the tagged front (`u64`) and φ (`f32`), plus a byte for the
-/// frontier lists and bitmaps. (The distance stage needs 12, the flow 12: d, φ and
-/// its scratch copy.)
+/// frontier lists and bitmaps. (The distance stage needs 12; tagging 14, as the
+/// packed closest points are kept for the initial surface's wavefront to refill,
+/// with two bytes of node states; the flow 12: d, φ and its scratch copy.)
 pub const BYTES_PER_NODE: u64 = 4 + 1 + 8 + 4 + 1;
 
 /// A cubic-cell grid: node (i, j, k) is at `origin + h·(i, j, k)`.
