@@ -973,70 +973,54 @@ fn step_sweep(
     let mut parts: Vec<Swept> = Vec::new();
     match order {
         Order::Fused { slabs_per_thread } => {
+            let sweep = |phi: &mut [f32], scratch: &mut [f32], first, ranges: Vec<_>| {
+                let region = Region {
+                    first,
+                    phi,
+                    scratch,
+                };
+                dispatch(RegionKernel {
+                    c,
+                    plan,
+                    lags: &plan.depth,
+                    ranges: &ranges,
+                    tubes,
+                    region,
+                })
+            };
             let slabs = slabs_per_thread * rayon::current_num_threads();
             let cuts = slab_cuts(tubes.n, slabs, 2 * plan.halo);
             let mut bounds = vec![0];
             bounds.extend(&cuts);
             bounds.push(nz);
             let spans: Vec<_> = bounds.windows(2).map(|w| w[0]..w[1]).collect();
-            let inner = |k: usize, depth: usize, side: bool| {
-                if k == 0 || k == nz {
-                    k
-                } else if side {
-                    k + depth
-                } else {
-                    k - depth
-                }
-            };
+            // Pass i covers [k₀ + depthᵢ, k₁ − depthᵢ) of slab [k₀, k₁), up to
+            // the grid's ends.
+            let from = |k: usize, depth: usize| if k == 0 { 0 } else { k + depth };
+            let to = |k: usize, depth: usize| if k == nz { nz } else { k - depth };
             let slabs: Vec<_> = carve(phi, plane_len, &spans)
                 .into_iter()
                 .zip(carve(scratch, plane_len, &spans))
                 .zip(&spans)
                 .collect();
             parts.par_extend(slabs.into_par_iter().map(|((phi, scratch), span)| {
-                let ranges: Vec<_> = plan
-                    .depth
-                    .iter()
-                    .map(|&d| inner(span.start, d, true)..inner(span.end, d, false))
+                let ranges = (plan.depth.iter())
+                    .map(|&d| from(span.start, d)..to(span.end, d))
                     .collect();
-                let region = Region {
-                    first: span.start,
-                    phi,
-                    scratch,
-                };
-                dispatch(RegionKernel {
-                    c,
-                    plan,
-                    lags: &plan.depth,
-                    ranges: &ranges,
-                    tubes,
-                    region,
-                })
+                sweep(phi, scratch, span.start, ranges)
             }));
-            let seams: Vec<_> = cuts
-                .iter()
-                .map(|&k| k - plan.halo..(k + plan.halo).min(nz))
-                .collect();
+            // The seams: pass i on [k − depthᵢ, k + depthᵢ) around each cut k,
+            // reading at most `halo` planes either side (the cuts are at least
+            // 2·halo apart and from the ends).
+            let seams: Vec<_> = cuts.iter().map(|&k| k - plan.halo..k + plan.halo).collect();
             let regions: Vec<_> = carve(phi, plane_len, &seams)
                 .into_iter()
                 .zip(carve(scratch, plane_len, &seams))
                 .zip(cuts.iter().zip(&seams))
                 .collect();
             parts.par_extend(regions.into_par_iter().map(|((phi, scratch), (&k, span))| {
-                let ranges: Vec<_> = plan.depth.iter().map(|&d| k - d..k + d).collect();
-                let region = Region {
-                    first: span.start,
-                    phi,
-                    scratch,
-                };
-                dispatch(RegionKernel {
-                    c,
-                    plan,
-                    lags: &plan.depth,
-                    ranges: &ranges,
-                    tubes,
-                    region,
-                })
+                let ranges = plan.depth.iter().map(|&d| k - d..k + d).collect();
+                sweep(phi, scratch, span.start, ranges)
             }));
         }
         #[cfg(test)]
