@@ -1274,14 +1274,12 @@ mod tests {
         .unwrap()
     }
 
+    fn norm(p: [f64; 3]) -> f64 {
+        (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()
+    }
+
     fn signed_sphere(grid: &GridSpec, r: f64, gamma: f64) -> LevelSet {
-        let phi = (0..grid.len())
-            .map(|u| {
-                let c = grid.coords(u);
-                let p = grid.position(c[0], c[1], c[2]);
-                ((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - r).clamp(-gamma, gamma) as f32
-            })
-            .collect();
+        let phi = grid.sample(|p| (norm(p) - r).clamp(-gamma, gamma));
         LevelSet {
             grid: *grid,
             phi,
@@ -1450,15 +1448,10 @@ mod tests {
         let h = grid.spacing;
         let gamma = 3.0 * h;
         // A rough speed field: the distance to a bumpy sphere.
-        let d: Vec<f32> = (0..grid.len())
-            .map(|u| {
-                let c = grid.coords(u);
-                let p = grid.position(c[0], c[1], c[2]);
-                let r = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-                let bump = 0.04 * (9.0 * p[0]).sin() * (7.0 * p[1]).cos() * (5.0 * p[2]).sin();
-                (r - 0.5 - bump).abs() as f32
-            })
-            .collect();
+        let d = grid.sample(|p| {
+            let bump = 0.04 * (9.0 * p[0]).sin() * (7.0 * p[1]).cos() * (5.0 * p[2]).sin();
+            (norm(p) - 0.5 - bump).abs()
+        });
         let dist = speed_field(grid, d);
         let run = |params: &EvolveParams, order: Order| {
             let mut ls = signed_sphere(&grid, 0.85, gamma);
@@ -1521,14 +1514,7 @@ mod tests {
         let grid = sphere_grid(40);
         let h = grid.spacing;
         let gamma = 3.0 * h;
-        let dist_values: Vec<f32> = (0..grid.len())
-            .map(|u| {
-                let c = grid.coords(u);
-                let p = grid.position(c[0], c[1], c[2]);
-                ((p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 0.5).abs() as f32
-            })
-            .collect();
-        let dist = speed_field(grid, dist_values);
+        let dist = speed_field(grid, grid.sample(|p| (norm(p) - 0.5).abs()));
         let mut results = Vec::new();
         for band in [Band::Narrow, Band::Full] {
             let mut ls = signed_sphere(&grid, 0.9, gamma);

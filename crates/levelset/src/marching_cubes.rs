@@ -529,15 +529,6 @@ mod tests {
         .unwrap()
     }
 
-    fn sample(g: &GridSpec, f: impl Fn([f64; 3]) -> f64) -> Vec<f32> {
-        (0..g.len())
-            .map(|u| {
-                let c = g.coords(u);
-                f(g.position(c[0], c[1], c[2])) as f32
-            })
-            .collect()
-    }
-
     #[test]
     fn every_case_closes_into_loops_with_consistent_edges() {
         let tab = table();
@@ -561,7 +552,7 @@ mod tests {
     fn sphere_is_closed_oriented_outward_and_has_the_right_curvature() {
         let g = grid(40, -1.0, 1.0);
         let r = 0.7;
-        let phi = sample(&g, |p| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - r);
+        let phi = g.sample(|p| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - r);
         let (mesh, stats) = extract(
             &phi,
             &g,
@@ -604,7 +595,7 @@ mod tests {
         let blob = |p: [f64; 3]| {
             ((p[0] - 1.0).powi(2) + (p[1] - 1.0).powi(2) + (p[2] - 1.0).powi(2)).sqrt() - 0.08
         };
-        let phi = sample(&g, |p| torus(p).min(blob(p)));
+        let phi = g.sample(|p| torus(p).min(blob(p)));
         let (mesh, stats) = extract(&phi, &g, &ExtractOptions::default());
         assert_eq!(stats.components, 2);
         assert_eq!(mesh.euler_characteristic(), 2); // torus 0 + sphere 2
@@ -626,7 +617,7 @@ mod tests {
         let g = grid(8, 0.0, 8.0);
         // A slab |z − z0| ≤ … with φ exactly 0 on whole node layers.
         let z0 = g.position(0, 0, 6)[2];
-        let phi = sample(&g, |p| ((p[2] - z0).abs() - 2.0 * g.spacing).max(-10.0));
+        let phi = g.sample(|p| ((p[2] - z0).abs() - 2.0 * g.spacing).max(-10.0));
         assert!(phi.contains(&0.0));
         let (mesh, _) = extract(&phi, &g, &ExtractOptions::default());
         assert!(mesh.n_faces() > 0);
