@@ -308,21 +308,6 @@ pub fn unsigned_distance(
     }
 }
 
-/// The 26 neighbour offsets.
-fn offsets26() -> Vec<[i64; 3]> {
-    let mut out = Vec::with_capacity(26);
-    for dz in -1..=1 {
-        for dy in -1..=1 {
-            for dx in -1..=1 {
-                if (dx, dy, dz) != (0, 0, 0) {
-                    out.push([dx, dy, dz]);
-                }
-            }
-        }
-    }
-    out
-}
-
 /// The closest-point wavefront up to `cap`: per node the packed (d², point
 /// index) of the nearest point found, `EMPTY` beyond the cap; and the rounds.
 /// The cells are written into `reuse` when given (a buffer of a grid this size
@@ -364,12 +349,7 @@ fn closest_point_wavefront(
     progress: &dyn Progress,
 ) -> usize {
     let cap2 = (cap * cap) as f32;
-    let offsets = offsets26();
     let strides = grid.strides().map(|s| s as i64);
-    let deltas: Vec<i64> = offsets
-        .iter()
-        .map(|o| o[0] * strides[0] + o[1] * strides[1] + o[2] * strides[2])
-        .collect();
     let (dims, h) = (grid.dims, grid.spacing);
     let expected_rounds = (cap / grid.spacing).ceil() as u64 + 2;
     progress.start(expected_rounds, "distance (closest point)");
@@ -411,14 +391,15 @@ fn closest_point_wavefront(
                         })
                     };
                     let (sx, sy, sz) = (axis(0), axis(1), axis(2));
-                    let mut delta = deltas.iter();
                     for (oz, &z2) in sz.iter().enumerate() {
                         for (oy, &y2) in sy.iter().enumerate() {
                             for (ox, &x2) in sx.iter().enumerate() {
                                 if (ox, oy, oz) == (1, 1, 1) {
                                     continue;
                                 }
-                                let delta = *delta.next().expect("26 offsets");
+                                let delta = (ox as i64 - 1) * strides[0]
+                                    + (oy as i64 - 1) * strides[1]
+                                    + (oz as i64 - 1) * strides[2];
                                 let d2 = ((x2 + y2) + z2) as f32;
                                 // Nodes nearer to p than u were passed by p's
                                 // wave already: only offer p outward.

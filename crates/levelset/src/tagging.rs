@@ -164,12 +164,12 @@ fn descend(
         (nb, grid.on_boundary(c))
     };
     let real = |v: &usize| *v != usize::MAX;
-    let reached = |state: &[u8], u: usize| {
-        let (nb, face) = neighbours(u);
+    // On ∂Ω: on a face or next to an exterior node.
+    let reached = |state: &[u8], (nb, face): ([usize; 6], bool)| {
         face || nb.into_iter().filter(real).any(|v| state[v] == EXTERIOR)
     };
-    let refused_at = |state: &[u8], u: usize| {
-        let (nb, _) = neighbours(u);
+    // Line 4 of Algorithm 1: a farther neighbour is not exterior.
+    let refused_at = |state: &[u8], u: usize, nb: [usize; 6]| {
         nb.into_iter()
             .filter(real)
             .any(|v| state[v] != EXTERIOR && d[v] > d[u])
@@ -198,8 +198,9 @@ fn descend(
         }
         if j == i + 1 {
             let u = node(keys[i]);
-            if reached(state, u) {
-                if refused_at(state, u) {
+            let around = neighbours(u);
+            if reached(state, around) {
+                if refused_at(state, u, around.0) {
                     state[u] = REFUSED;
                     refused += 1;
                 } else {
@@ -216,20 +217,21 @@ fn descend(
                 group
                     .iter()
                     .map(|&k| node(k))
-                    .filter(|&u| reached(state, u)),
+                    .filter(|&u| reached(state, neighbours(u))),
             );
             for &u in &work {
                 state[u] = QUEUED;
             }
             while let Some(u) = work.pop() {
-                if refused_at(state, u) {
+                let (nb, _) = neighbours(u);
+                if refused_at(state, u, nb) {
                     state[u] = REFUSED;
                     refused += 1;
                     continue;
                 }
                 state[u] = EXTERIOR;
                 accepted += 1;
-                for v in neighbours(u).0.into_iter().filter(real) {
+                for v in nb.into_iter().filter(real) {
                     if state[v] == PENDING {
                         state[v] = QUEUED;
                         work.push(v);
