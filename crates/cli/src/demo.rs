@@ -588,7 +588,7 @@ fn subdivision(env: &Env) -> anyhow::Result<Section> {
             std::path::Path::new(""),
         )?);
         let t = std::time::Instant::now();
-        let c = asperity_subdiv::compose::evaluate(
+        let c = asperity_subdiv::evaluate::evaluate(
             &scene,
             &base,
             &Default::default(),

@@ -9,7 +9,7 @@ use asperity_core::{PolyMesh, TriMesh};
 use asperity_io::{Format, WriteOptions};
 use asperity_subdiv::base;
 use asperity_subdiv::catmull_clark::{Boundary, Creased, limit_normals};
-use asperity_subdiv::compose::{Captured, Composed, Inputs, evaluate};
+use asperity_subdiv::evaluate::{Captured, Composed, Inputs, evaluate};
 use asperity_subdiv::multires::synthesize;
 use asperity_subdiv::scene::{Mode, Scene, feature_from_spec, parse};
 

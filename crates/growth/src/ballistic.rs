@@ -16,7 +16,7 @@
 //! accessible times only after the intrinsic width is removed (see
 //! [`crate::interface_width`]).
 
-use crate::deposition::{Landing, Lattice, Rule};
+use crate::lattice::{Landing, Lattice, Rule};
 use crate::rng::FastRng;
 
 /// The BD rule.

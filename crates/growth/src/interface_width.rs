@@ -16,7 +16,7 @@
 
 use serde::Serialize;
 
-use crate::deposition::Lattice;
+use crate::lattice::Lattice;
 
 /// W²(t) sampled during one run, or averaged over several.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]

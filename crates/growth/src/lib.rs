@@ -9,6 +9,7 @@
 //! | [`deposition`] | The flat periodic lattice driver, ensembles of runs | §4.1 |
 //! | [`curved`] | RD/RDSR/BD on a sphere or a voxelised closed mesh | §6 Fig. 8, §7 |
 //! | [`dla`] | Diffusion-limited aggregation with big jumps | §4.2, Fig. 4; §6 Figs. 9–11 |
+//! | [`lattice`] | The periodic substrate and the model rule trait | §4.1 |
 //! | [`occupancy`] | Bit-packed voxel occupancy and its coarse distance map | — |
 //! | [`interface_width`] | W(L, t), schedules, max-height binning | §4.1 |
 //!
@@ -24,11 +25,13 @@ pub mod deposition;
 pub mod dla;
 pub mod error;
 pub mod interface_width;
+pub mod lattice;
 pub mod occupancy;
 pub mod random_deposition;
 pub mod rdsr;
 pub mod rng;
 
-pub use deposition::{Deposit, DepositionParams, Lattice, Model, deposit, deposit_ensemble};
+pub use deposition::{Deposit, DepositionParams, Model, deposit, deposit_ensemble};
 pub use error::GrowthError;
 pub use interface_width::WidthSeries;
+pub use lattice::Lattice;

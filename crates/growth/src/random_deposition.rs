@@ -6,7 +6,7 @@
 //! depositions on N columns and the width is known exactly (Barabási & Stanley
 //! ch. 4): ⟨W²⟩ = t (1 − 1/N) with t = n/N monolayers; β = 1/2, no saturation.
 
-use crate::deposition::{Landing, Lattice, Rule};
+use crate::lattice::{Landing, Lattice, Rule};
 use crate::rng::FastRng;
 
 /// The RD rule: the particle lands on top of its own column.

@@ -16,7 +16,7 @@
 //! class: β = 1/4, α = 1/2 in 1+1D; in 2+1D (the critical dimension) W² grows
 //! like ln t and W²_sat like ln L (Barabási & Stanley ch. 5).
 
-use crate::deposition::{Landing, Lattice, Rule};
+use crate::lattice::{Landing, Lattice, Rule};
 use crate::rng::{FastRng, below};
 
 /// The RDSR rule with its relaxation neighbourhood.

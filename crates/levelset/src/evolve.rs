@@ -82,6 +82,7 @@ use rayon::prelude::*;
 use crate::distance::DistanceField;
 use crate::grid::GridSpec;
 use crate::lanes::{Kernel, Lanes, dispatch};
+use crate::prefetch::prefetch;
 use crate::tagging::Tags;
 use crate::tube::{Run, RunTube, push_lanes};
 
@@ -339,20 +340,6 @@ pub(crate) fn from_tags_reusing(
     }
 }
 
-/// Read access to φ for the scalar stencils (the curvature term and marching
-/// cubes' curvature attribute).
-pub(crate) trait Phi: Sync {
-    /// φ at node `u`.
-    fn at(&self, u: usize) -> f64;
-}
-
-impl Phi for [f32] {
-    #[inline]
-    fn at(&self, u: usize) -> f64 {
-        f64::from(self[u])
-    }
-}
-
 /// Nodes evaluated together: eight `f32` lanes (`wide`'s portable vectors: one
 /// AVX register, or two SSE registers on a baseline build).
 const LANES: usize = 8;
@@ -486,8 +473,7 @@ fn rate<V: Lanes>(c: &Step, src: &[f32], base: usize, u: usize, valid: usize) ->
     let h = f64::from(c.h);
     for (l, o) in out.iter_mut().enumerate().take(valid) {
         if speed[l] != 0.0 {
-            let (kappa, grad) =
-                crate::marching_cubes::curvature_and_gradient(src, at + l, c.strides, h);
+            let (kappa, grad) = crate::curvature::curvature_and_gradient(src, at + l, c.strides, h);
             *o += (f64::from(speed[l]) * weight * kappa * grad) as f32;
         }
     }
@@ -873,25 +859,6 @@ fn redistance<V: Lanes>(
 
 /// How many runs ahead the passes prefetch.
 const PREFETCH_RUNS: usize = 4;
-
-/// Asks the CPU to bring the cache line of `s[at]` into L1 (nothing when `at`
-/// is past the end).
-#[inline(always)]
-pub(crate) fn prefetch<T>(s: &[T], at: usize) {
-    #[cfg(target_arch = "x86_64")]
-    if let Some(x) = s.get(at) {
-        // SAFETY: a prefetch is a hint; it never faults and has no effect on
-        // memory, and the pointer comes from a live reference.
-        #[allow(unsafe_code)]
-        unsafe {
-            std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-                std::ptr::from_ref(x).cast(),
-            );
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (s, at);
-}
 
 /// How a step's passes are ordered (tests compare the orders).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

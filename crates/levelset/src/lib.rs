@@ -33,12 +33,14 @@
 //!
 //! [kim-machiraju-thompson]: ../shared/papers/kim-machiraju-thompson_modeling-rough-surfaces.txt
 
+mod curvature;
 pub mod distance;
 pub mod evolve;
 pub mod grid;
 mod lanes;
 pub mod marching_cubes;
 pub mod pipeline;
+mod prefetch;
 pub mod tagging;
 mod tube;
 

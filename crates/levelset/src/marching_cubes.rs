@@ -36,6 +36,7 @@ use std::sync::OnceLock;
 use asperity_core::TriMesh;
 use rayon::prelude::*;
 
+use crate::curvature::curvature_and_gradient;
 use crate::grid::GridSpec;
 
 /// Corner `c` of a cube is at offset (c & 1, c >> 1 & 1, c >> 2).
@@ -472,43 +473,6 @@ pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMe
             .expect("one value per vertex");
     }
     (mesh, stats)
-}
-
-/// κ = ∇·(∇φ/|∇φ|) (Eq. 2) and |∇φ| at node `u` by central differences:
-/// κ = (|∇φ|² tr H − ∇φᵀ H ∇φ) / |∇φ|³ with H the Hessian.
-pub(crate) fn curvature_and_gradient<P: crate::evolve::Phi + ?Sized>(
-    phi: &P,
-    u: usize,
-    strides: [usize; 3],
-    h: f64,
-) -> (f64, f64) {
-    let p = |x: usize| phi.at(x);
-    let mut g = [0.0; 3];
-    let mut hess = [[0.0; 3]; 3];
-    for a in 0..3 {
-        let s = strides[a];
-        g[a] = (p(u + s) - p(u - s)) / (2.0 * h);
-        hess[a][a] = (p(u + s) - 2.0 * p(u) + p(u - s)) / (h * h);
-        for b in (a + 1)..3 {
-            let t = strides[b];
-            let v = (p(u + s + t) - p(u + s - t) - p(u - s + t) + p(u - s - t)) / (4.0 * h * h);
-            hess[a][b] = v;
-            hess[b][a] = v;
-        }
-    }
-    let g2 = g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
-    if g2 < 1e-12 {
-        return (0.0, g2.sqrt());
-    }
-    let mut num = 0.0;
-    for a in 0..3 {
-        for b in 0..3 {
-            let delta = if a == b { g2 } else { 0.0 };
-            num += (delta - g[a] * g[b]) * hess[a][b];
-        }
-    }
-    let len = g2.sqrt();
-    (num / (g2 * len), len)
 }
 
 #[cfg(test)]

@@ -183,12 +183,12 @@ fn descend(
         if let Some(&ahead) = keys.get(i + PREFETCH_AHEAD) {
             let w = node(ahead);
             for at in [w, w.wrapping_sub(strides[1]), w + strides[1]] {
-                crate::evolve::prefetch(state, at);
-                crate::evolve::prefetch(d, at);
+                crate::prefetch::prefetch(state, at);
+                crate::prefetch::prefetch(d, at);
             }
             for at in [w.wrapping_sub(strides[2]), w + strides[2]] {
-                crate::evolve::prefetch(state, at);
-                crate::evolve::prefetch(d, at);
+                crate::prefetch::prefetch(state, at);
+                crate::prefetch::prefetch(d, at);
             }
         }
         let level = keys[i] >> 32;

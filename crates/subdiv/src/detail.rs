@@ -61,6 +61,16 @@ impl Law {
     }
 }
 
+/// The cubic drop-off w(x) = 1 − 3x² + 2x³ on [0, 1], 0 beyond.
+pub fn drop_off(x: f64) -> f64 {
+    if x >= 1.0 {
+        0.0
+    } else {
+        let x = x.max(0.0);
+        1.0 - 3.0 * x * x + 2.0 * x * x * x
+    }
+}
+
 fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
@@ -772,7 +782,7 @@ impl Grower {
                                 * m.radius
                                 * l as f64
                                 * (std::f64::consts::PI * u).sin()
-                                * crate::compose::drop_off(x / 3.0);
+                                * drop_off(x / 3.0);
                             for c in 0..3 {
                                 w[c] += push * rho[c] / r;
                             }

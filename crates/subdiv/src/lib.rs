@@ -14,14 +14,22 @@
 //! | [`catmull_clark`] | subdivision with boundaries, creases, limit positions and normals | §2 |
 //! | [`multires`] | levels with detail offsets in local frames; synthesis and analysis | §2, Fig. 1 |
 //! | [`detail`] | procedures: rock, fbm, berry, tentacle, mine, mushroom, spur; amplitude laws | §3–4 |
-//! | [`compose`] | layers, placement, local edits, multiscale blending, scalar mode, planet shader | §5–6 |
+//! | [`topology`] | a level's connectivity: edges, twins, vertex corners, creases | §2 |
+//! | [`compose`] | layers, placement at chosen vertices, local edits | §5 |
+//! | [`blend`] | multiscale blending of two surfaces | §6 |
+//! | [`scalar`] | scalar mode and the planet post-shader | §6.2 |
+//! | [`evaluate`] | a scene's layers, blends and captured surfaces, evaluated | §2–6 |
 //! | [`scene`] | TOML scene files with animated parameters | §3, Fig. 2 |
 //!
 //! [velho-perlin]: ../shared/papers/velho-perlin_procedural-shape-synthesis-subdivision.txt
 
 pub mod base;
+pub mod blend;
 pub mod catmull_clark;
 pub mod compose;
 pub mod detail;
+pub mod evaluate;
 pub mod multires;
+pub mod scalar;
 pub mod scene;
+pub mod topology;

@@ -45,11 +45,13 @@ use std::collections::BTreeMap;
 
 use toml::{Table, Value};
 
+use crate::blend::{AlphaSource, Blend};
 use crate::catmull_clark::Boundary;
-use crate::compose::{AlphaSource, Anchor, Blend, Edit, Layer, Planet};
+use crate::compose::{Anchor, Edit, Layer};
 use crate::detail::{
     Berry, Coords, Fbm, Feature, Law, Mushroom, Procedure, Rock, Seeds, Spur, Tentacle,
 };
+use crate::scalar::Planet;
 
 /// Displacement or scalar mode.
 #[derive(Clone, Debug, PartialEq)]

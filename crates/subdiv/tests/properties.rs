@@ -6,7 +6,7 @@
 use asperity_core::NoProgress;
 use asperity_subdiv::base;
 use asperity_subdiv::catmull_clark::{Boundary, Creased, subdivide};
-use asperity_subdiv::compose::{Inputs, evaluate};
+use asperity_subdiv::evaluate::{Inputs, evaluate};
 use asperity_subdiv::scene::{feature_from_spec, parse};
 use proptest::prelude::*;
 

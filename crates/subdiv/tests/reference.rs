@@ -4,14 +4,14 @@
 
 use asperity_core::PolyMesh;
 use asperity_subdiv::base;
+use asperity_subdiv::blend::{AlphaSource, Blend, blend};
 use asperity_subdiv::catmull_clark::{
     Boundary, Creased, Topology, limit_normals, limit_positions, subdivide,
 };
-use asperity_subdiv::compose::{
-    AlphaSource, Anchor, Blend, Edit, Layer, Planet, blend, grow, scalar_field,
-};
+use asperity_subdiv::compose::{Anchor, Edit, Layer, grow};
 use asperity_subdiv::detail::{Berry, Feature, Mushroom, Procedure, Rock, Seeds, Spur};
 use asperity_subdiv::multires::synthesize;
+use asperity_subdiv::scalar::{Planet, scalar_field};
 
 fn smooth(m: PolyMesh) -> Creased {
     Creased::smooth(m)
@@ -367,7 +367,7 @@ fn edits_scale_details_with_a_cubic_drop_off() {
         assert!(zeroed >= 1 && changed > 0, "level {l}");
         assert!(changed < s.len() / 3, "level {l}: {changed} of {}", s.len());
     }
-    assert!(asperity_subdiv::compose::drop_off(0.5) == 0.5);
+    assert!(asperity_subdiv::detail::drop_off(0.5) == 0.5);
 }
 
 #[test]
