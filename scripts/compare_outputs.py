@@ -14,7 +14,8 @@ script makes itself with the same binary) in a fresh folder per binary, hashes e
 command writes and its stdout, and reports every difference. Wall-clock measurements (JSON keys
 ending in `_s`, `_seconds`, `per_s`, `per_second`) and the run folder's own path are masked
 before hashing; nothing else is. `--manifest BIN` prints one binary's hashes instead.
-Exit status 0 when the two agree, 1 when they differ.
+Exit status 0 when the two agree, 1 when they differ. `--allow REGEX` (repeatable) names
+outputs expected to differ (a deliberate change): they are listed but do not fail the run.
 """
 import argparse
 import hashlib
@@ -170,6 +171,8 @@ def main():
     ap.add_argument("before", help="the asperity binary from before the change")
     ap.add_argument("after", nargs="?", help="the asperity binary from after the change")
     ap.add_argument("--manifest", action="store_true", help="print one binary's hashes as JSON")
+    ap.add_argument("--allow", action="append", default=[], metavar="REGEX",
+                    help="outputs expected to differ (listed, not failed)")
     a = ap.parse_args()
     if a.manifest or a.after is None:
         json.dump(run(a.before), sys.stdout, indent=1, sort_keys=True)
@@ -180,10 +183,12 @@ def main():
     print(f"after: {a.after}", file=sys.stderr)
     second = run(a.after)
     differ = sorted(k for k in first.keys() | second.keys() if first.get(k) != second.get(k))
+    allowed = [k for k in differ if any(re.search(pattern, k) for pattern in a.allow)]
     for k in differ:
-        print(f"DIFFERS {k}: {first.get(k)} -> {second.get(k)}")
-    print(f"{len(first)} outputs compared, {len(differ)} differ")
-    return 1 if differ else 0
+        tag = "differs (allowed)" if k in allowed else "DIFFERS"
+        print(f"{tag} {k}: {first.get(k)} -> {second.get(k)}")
+    print(f"{len(first)} outputs compared, {len(differ)} differ, {len(allowed)} of them allowed")
+    return 1 if len(differ) > len(allowed) else 0
 
 
 if __name__ == "__main__":

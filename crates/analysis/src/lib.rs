@@ -27,7 +27,7 @@ pub mod synthesis;
 use asperity_core::CoreError;
 
 /// Why an analysis was refused.
-#[derive(Debug, thiserror::Error)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[non_exhaustive]
 pub enum AnalysisError {
     /// The input cannot be analysed (empty, constant, too small, NaN).

@@ -102,31 +102,7 @@ fn sphere_gauss_bonnet_and_mean_curvature() {
 
 #[test]
 fn torus_has_genus_one_and_zero_total_curvature() {
-    let (nu, nv) = (48, 24);
-    let tau = std::f64::consts::TAU;
-    let mut p = Vec::new();
-    for i in 0..nu {
-        for j in 0..nv {
-            let (u, v) = (tau * i as f64 / nu as f64, tau * j as f64 / nv as f64);
-            p.push([
-                (2.0 + 0.6 * v.cos()) * u.cos(),
-                (2.0 + 0.6 * v.cos()) * u.sin(),
-                0.6 * v.sin(),
-            ]);
-        }
-    }
-    let id = |i: usize, j: usize| ((i % nu) * nv + j % nv) as u32;
-    let t = (0..nu)
-        .flat_map(|i| {
-            (0..nv).flat_map(move |j| {
-                [
-                    [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
-                    [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
-                ]
-            })
-        })
-        .collect();
-    let torus = TriMesh::new(p, t).unwrap();
+    let torus = asperity_core::shapes::torus(2.0, 0.6, 48, 24);
     assert_eq!(torus.genus(), Some(1));
     assert!(mesh::curvature(&torus).total_gaussian.abs() < 1e-9);
 }

@@ -2,30 +2,22 @@
 //!
 //! Run `cargo bench -p asperity-benches`; CI runs each benchmark once with
 //! `cargo test -p asperity-benches --benches`. Record results in `BENCHMARKS.md`.
+//! The same workloads run from the binary with `asperity bench`
+//! (`asperity_engine::workloads`).
 
-use asperity_core::fourier_surface::{FourierParams, fourier_surface};
-use asperity_core::{Diagonal, HeightField, MemoryBudget, TriMesh};
+use asperity_core::fourier_surface::{benchmark_mesh, benchmark_surface};
+use asperity_core::{HeightField, MemoryBudget, TriMesh};
 
 /// The seeded reference surface of `n × n` samples used by every benchmark.
 pub fn surface(n: usize) -> HeightField {
-    let p = FourierParams {
-        n,
-        hurst: 0.8,
-        modes: (n / 8).max(1),
-        rms: 0.05,
-        spacing: 1.0 / n as f64,
-    };
-    fourier_surface(&p, 7, &MemoryBudget::unlimited()).expect("valid benchmark parameters")
+    benchmark_surface(n, &MemoryBudget::unlimited()).expect("valid benchmark parameters")
 }
 
 /// The reference surface triangulated with alternating diagonals, with normals
 /// and a scalar, so writers do their full work.
 pub fn surface_mesh(n: usize) -> TriMesh {
     let h = surface(n);
-    h.to_trimesh(Diagonal::Alternating)
-        .and_then(|m| {
-            m.with_computed_normals()
-                .with_scalar("height", h.data().to_vec())
-        })
+    benchmark_mesh(n, &MemoryBudget::unlimited())
+        .and_then(|m| m.with_scalar("height", h.data().to_vec()))
         .expect("valid mesh")
 }

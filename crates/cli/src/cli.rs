@@ -2,8 +2,6 @@
 
 use std::path::PathBuf;
 
-use anyhow::Context as _;
-use asperity_core::MemoryBudget;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 const ABOUT: &str = "Generate, analyse, render and export rough surfaces.";
@@ -17,9 +15,9 @@ reconstruction (Kim, Machiraju & Thompson), cellular-automaton height fields
 al.), projected-IFS fractal surfaces (Poull, Gentil et al.) and cellular automata
 on meshes (Gobron & Chiba).
 
-Method families arrive as their own commands (growth, reconstruct, ca, subdiv,
-ifs, surfca, analyze, render) as they are implemented; `asperity demo` runs every
-method that exists and writes a gallery.";
+Each method family has its own command (growth, reconstruct, ca, facet,
+subdiv, ifs, surface-ca, analyze, render, generate); `asperity demo` runs every
+method and writes a gallery.";
 
 const AFTER_HELP: &str = "\
 Examples:
@@ -1134,40 +1132,4 @@ pub struct BenchArgs {
 pub struct InfoArgs {
     /// The file to describe.
     pub input: PathBuf,
-}
-
-/// Settings shared by every command after parsing.
-pub struct Context {
-    pub seed: u64,
-    pub output: Option<PathBuf>,
-    pub json: bool,
-    pub quiet: bool,
-    pub budget: MemoryBudget,
-    pub threads: usize,
-}
-
-impl Context {
-    pub fn new(g: &Global) -> anyhow::Result<Self> {
-        if let Some(n) = g.threads {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(n as usize)
-                .build_global()
-                .context("starting the thread pool")?;
-        }
-        Ok(Self {
-            seed: g.seed,
-            output: g.output.clone(),
-            json: g.json,
-            quiet: g.quiet,
-            budget: g.max_memory.map(MemoryBudget::new).unwrap_or_default(),
-            threads: rayon::current_num_threads(),
-        })
-    }
-
-    /// Prints an informational line on stderr unless `--quiet` or `--json`.
-    pub fn note(&self, msg: impl AsRef<str>) {
-        if !self.quiet && !self.json {
-            eprintln!("{}", msg.as_ref());
-        }
-    }
 }

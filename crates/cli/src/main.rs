@@ -1,8 +1,9 @@
 //! `asperity`: generate, analyse, render and export rough surfaces.
 //!
-//! The binary is a thin layer over the library crates: it parses arguments (clap),
-//! sets up threads, memory limits and progress bars, composes pipelines, and
-//! reports. Errors print as one `error:` line with their causes and exit code 2.
+//! The binary is a thin layer over `asperity-engine` (and `asperity-gallery`
+//! for `demo`): it parses arguments (clap), sets up threads, memory limits and
+//! progress bars, calls a job, writes what it returns, and reports. Errors print
+//! as one `error:` line with their causes and exit code 2.
 
 /// `println!` that returns the I/O error instead of panicking (a closed pipe,
 /// as in `asperity formats | head`, ends the command cleanly).
@@ -31,6 +32,7 @@ mod analyze_cmd;
 mod bench_cmd;
 mod ca_cmd;
 mod cli;
+mod context;
 mod convert;
 mod demo;
 mod growth_cmd;
@@ -38,7 +40,6 @@ mod ifs_cmd;
 mod progress;
 mod reconstruct_cmd;
 mod render_cmd;
-mod report;
 mod subdiv_cmd;
 mod surfca_cmd;
 
@@ -60,14 +61,27 @@ fn main() -> ExitCode {
             }) {
                 return ExitCode::SUCCESS;
             }
-            eprintln!("error: {err:#}");
+            eprintln!("error: {}", message(&err));
             ExitCode::from(2)
         }
     }
 }
 
+/// The error and its causes on one line, each cause once: a cause whose text
+/// the message already holds (errors that print their source) is not repeated.
+fn message(err: &anyhow::Error) -> String {
+    let mut msg = err.to_string();
+    for cause in err.chain().skip(1) {
+        let c = cause.to_string();
+        if !msg.contains(&c) {
+            msg = format!("{msg}: {c}");
+        }
+    }
+    msg
+}
+
 fn run(args: cli::Cli) -> anyhow::Result<()> {
-    let ctx = cli::Context::new(&args.global)?;
+    let ctx = context::Context::new(&args.global)?;
     match args.command {
         cli::Command::Demo(a) => demo::run(&ctx, &a),
         cli::Command::Convert(a) => convert::run(&ctx, &a),

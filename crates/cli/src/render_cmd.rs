@@ -1,13 +1,13 @@
 //! `asperity render`: any readable file to PNG.
 
-use std::path::{Path, PathBuf};
-
 use anyhow::{Context as _, bail};
+use asperity_engine::files::numbered;
+use asperity_engine::render::{bounds, picture, turntable};
 use asperity_io::Surface;
 use asperity_render::{ColorMap, LightModel, Projection, RenderOptions, Shader, View, hillshade};
 
-use crate::cli::{Context, RenderArgs, ShaderArg, ViewArg};
-use crate::report::Report;
+use crate::cli::{RenderArgs, ShaderArg, ViewArg};
+use crate::context::{Context, Run};
 
 fn shader(s: ShaderArg) -> Shader {
     match s {
@@ -21,33 +21,7 @@ fn shader(s: ShaderArg) -> Shader {
     }
 }
 
-/// `view.png` → `view_007.png`.
-fn frame_path(out: &Path, k: u32) -> PathBuf {
-    let stem = out
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "frame".into());
-    let ext = out
-        .extension()
-        .map(|e| e.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "png".into());
-    out.with_file_name(format!("{stem}_{k:03}.{ext}"))
-}
-
-pub fn run(ctx: &Context, a: &RenderArgs) -> anyhow::Result<()> {
-    let out = ctx
-        .output
-        .clone()
-        .context("no output image: give -o view.png")?;
-    if out
-        .extension()
-        .is_none_or(|e| !e.eq_ignore_ascii_case("png"))
-    {
-        bail!(
-            "{}: render writes PNG images; use a .png name",
-            out.display()
-        );
-    }
+fn check_vectors(a: &RenderArgs) -> anyhow::Result<()> {
     for (name, v, n) in [
         ("--eye", &a.eye, 3),
         ("--target", &a.target, 3),
@@ -60,47 +34,16 @@ pub fn run(ctx: &Context, a: &RenderArgs) -> anyhow::Result<()> {
             );
         }
     }
-    let surface = crate::convert::load(ctx, &a.input)?;
-    let mut report = Report::new("render", ctx);
-    let colormap = ColorMap::from_name(&a.colormap).with_context(|| {
-        format!(
-            "unknown colour map {:?} (viridis, magma, coolwarm, gray, labels)",
-            a.colormap
-        )
-    })?;
-    if let (ViewArg::Map | ViewArg::Hillshade, Surface::Height(h)) = (a.view, &surface) {
-        let img = if a.view == ViewArg::Map {
-            hillshade::height_map(h, colormap, 0.5, true)
-        } else {
-            let l = a.light.clone().unwrap_or_else(|| vec![315.0, 45.0]);
-            hillshade::hillshade(h, l[0], l[1])
-        };
-        asperity_io::write_png(&out, &img)?;
-        report.output(&out);
-        ctx.note(format!("wrote {}", out.display()));
-        return report.finish(ctx);
-    }
-    if matches!(a.view, ViewArg::Map | ViewArg::Hillshade) {
-        bail!(
-            "--view map and --view hillshade need a height field; {} holds {}",
-            a.input.display(),
-            surface.kind()
-        );
-    }
-    let default_shader = match &surface {
-        Surface::Height(_) => Shader::Height,
-        Surface::Points(p) if p.colors().is_some() => Shader::VertexColor,
-        _ => Shader::Phong,
-    };
-    let view = match (&a.eye, a.view) {
+    Ok(())
+}
+
+fn view(a: &RenderArgs, surface: &Surface) -> View {
+    match (&a.eye, a.view) {
         (Some(e), _) => {
-            let target = a
-                .target
-                .clone()
-                .unwrap_or_else(|| match surface_bounds(&surface) {
-                    Some(b) => b.center().to_vec(),
-                    None => vec![0.0; 3],
-                });
+            let target = a.target.clone().unwrap_or_else(|| match bounds(surface) {
+                Some(b) => b.center().to_vec(),
+                None => vec![0.0; 3],
+            });
             View::Explicit {
                 eye: [e[0], e[1], e[2]],
                 target: [target[0], target[1], target[2]],
@@ -110,11 +53,19 @@ pub fn run(ctx: &Context, a: &RenderArgs) -> anyhow::Result<()> {
         (None, ViewArg::Front) => View::Front,
         (None, ViewArg::Side) => View::Side,
         _ => View::Iso,
+    }
+}
+
+fn options(a: &RenderArgs, surface: &Surface, colormap: ColorMap, ctx: &Context) -> RenderOptions {
+    let default_shader = match surface {
+        Surface::Height(_) => Shader::Height,
+        Surface::Points(p) if p.colors().is_some() => Shader::VertexColor,
+        _ => Shader::Phong,
     };
-    let mut opts = RenderOptions {
+    RenderOptions {
         width: a.size.0,
         height: a.size.1,
-        view,
+        view: view(a, surface),
         projection: if a.ortho {
             Projection::Orthographic
         } else {
@@ -139,65 +90,71 @@ pub fn run(ctx: &Context, a: &RenderArgs) -> anyhow::Result<()> {
         background: a.background,
         budget: ctx.budget,
         ..RenderOptions::default()
-    };
-    let frames = a.turntable.unwrap_or(1);
-    let bounds = surface_bounds(&surface).context("nothing to render: the input is empty")?;
-    for k in 0..frames {
-        if a.turntable.is_some() {
-            // Orbit around the vertical axis through the centre at the iso elevation.
-            let c = bounds.center();
-            let r = bounds.diagonal() * 1.9;
-            let ang =
-                std::f64::consts::TAU * k as f64 / frames as f64 - std::f64::consts::FRAC_PI_4;
-            let el = 35.26f64.to_radians();
-            opts.view = View::Explicit {
-                eye: [
-                    c[0] + r * el.cos() * ang.cos(),
-                    c[1] + r * el.cos() * ang.sin(),
-                    c[2] + r * el.sin(),
-                ],
-                target: c,
+    }
+}
+
+pub fn run(ctx: &Context, a: &RenderArgs) -> anyhow::Result<()> {
+    let out = ctx.output("view.png")?;
+    if out
+        .extension()
+        .is_none_or(|e| !e.eq_ignore_ascii_case("png"))
+    {
+        bail!(
+            "{}: render writes PNG images; use a .png name",
+            out.display()
+        );
+    }
+    check_vectors(a)?;
+    let surface = ctx.load(&a.input)?;
+    let mut run = Run::new(ctx, "render");
+    let colormap = ColorMap::from_name(&a.colormap).with_context(|| {
+        format!(
+            "unknown colour map {:?} (viridis, magma, coolwarm, gray, labels)",
+            a.colormap
+        )
+    })?;
+    let map_view = matches!(a.view, ViewArg::Map | ViewArg::Hillshade);
+    match (&surface, map_view) {
+        (Surface::Height(h), true) => {
+            let img = if a.view == ViewArg::Map {
+                hillshade::height_map(h, colormap, 0.5, true)
+            } else {
+                let l = a.light.clone().unwrap_or_else(|| vec![315.0, 45.0]);
+                hillshade::hillshade(h, l[0], l[1])
             };
+            run.png(&out, &img)?;
+            run.note(format!("wrote {}", out.display()));
+            return run.finish();
         }
-        let t = std::time::Instant::now();
-        let img = match &surface {
-            Surface::Mesh(m) => asperity_render::render_mesh(m, &opts)?,
-            Surface::Points(p) => asperity_render::render_points(p, &opts)?,
-            Surface::Height(h) => asperity_render::render_height(h, &opts)?,
-        };
-        report.measure(&format!("frame_{k}_seconds"), t.elapsed().as_secs_f64());
+        (_, true) => bail!(
+            "--view map and --view hillshade need a height field; {} holds {}",
+            a.input.display(),
+            surface.kind()
+        ),
+        _ => {}
+    }
+    let mut opts = options(a, &surface, colormap, ctx);
+    let frames = a.turntable.unwrap_or(1);
+    let b = bounds(&surface).context("nothing to render: the input is empty")?;
+    for k in 0..frames {
         let path = if a.turntable.is_some() {
-            frame_path(&out, k)
+            // Orbit around the vertical axis through the centre at the iso elevation.
+            opts.view = turntable(&b, k, frames);
+            numbered(&out, "", k as u64, 3)
         } else {
             out.clone()
         };
-        asperity_io::write_png(&path, &img)?;
-        report.output(&path);
+        let t = std::time::Instant::now();
+        let img = picture(&surface, &opts)?;
+        run.report
+            .measure(&format!("frame_{k}_seconds"), t.elapsed().as_secs_f64());
+        run.png(&path, &img)?;
     }
-    ctx.note(format!(
-        "wrote {}{}",
-        out.display(),
-        if frames > 1 {
-            format!(" ({frames} frames)")
-        } else {
-            String::new()
-        }
-    ));
-    report.finish(ctx)
-}
-
-fn surface_bounds(s: &Surface) -> Option<asperity_core::Aabb> {
-    match s {
-        Surface::Mesh(m) => m.bounds(),
-        Surface::Points(p) => p.bounds(),
-        Surface::Height(h) => {
-            let (lo, hi) = h.min_max();
-            let o = h.origin();
-            let e = h.extent();
-            Some(asperity_core::Aabb {
-                min: [o[0], o[1], lo],
-                max: [o[0] + e[0], o[1] + e[1], hi],
-            })
-        }
-    }
+    let many = if frames > 1 {
+        format!(" ({frames} frames)")
+    } else {
+        String::new()
+    };
+    run.note(format!("wrote {}{many}", out.display()));
+    run.finish()
 }

@@ -175,6 +175,33 @@ pub fn fourier_surface(
     Ok(h)
 }
 
+/// The reference surface every benchmark measures: `n × n` samples of H = 0.8,
+/// `n/8` modes per axis, rms 0.05, spacing 1/n, seed 7.
+///
+/// # Errors
+/// As [`fourier_surface`].
+pub fn benchmark_surface(n: usize, budget: &MemoryBudget) -> crate::Result<HeightField> {
+    let p = FourierParams {
+        n,
+        hurst: 0.8,
+        modes: (n / 8).max(1),
+        rms: 0.05,
+        spacing: 1.0 / n as f64,
+    };
+    fourier_surface(&p, 7, budget)
+}
+
+/// [`benchmark_surface`] triangulated with alternating diagonals, with normals:
+/// 2(n − 1)² triangles.
+///
+/// # Errors
+/// As [`fourier_surface`].
+pub fn benchmark_mesh(n: usize, budget: &MemoryBudget) -> crate::Result<crate::TriMesh> {
+    let h = benchmark_surface(n, budget)?;
+    Ok(h.to_trimesh(crate::Diagonal::Alternating)?
+        .with_computed_normals())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

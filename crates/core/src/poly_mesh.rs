@@ -186,25 +186,7 @@ mod tests {
     use super::*;
 
     fn cube() -> PolyMesh {
-        let p = vec![
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 0.0, 1.0],
-            [1.0, 1.0, 1.0],
-            [0.0, 1.0, 1.0],
-        ];
-        let q = [
-            [0, 3, 2, 1],
-            [4, 5, 6, 7],
-            [0, 1, 5, 4],
-            [1, 2, 6, 5],
-            [2, 3, 7, 6],
-            [3, 0, 4, 7],
-        ];
-        PolyMesh::from_quads(p, &q).unwrap()
+        crate::shapes::cube_cage()
     }
 
     #[test]
@@ -216,7 +198,7 @@ mod tests {
         let t = c.triangulate();
         assert_eq!(t.n_faces(), 12);
         assert!(t.is_watertight());
-        assert!((t.signed_volume() - 1.0).abs() < 1e-12);
+        assert!((t.signed_volume() - 8.0).abs() < 1e-12);
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! Built-in shapes for tests, demos and benchmarks.
 
-use crate::TriMesh;
+use crate::{PolyMesh, TriMesh};
 
 /// An icosphere of `radius` around the origin: the icosahedron with every
 /// triangle split in four `level` times and the vertices pushed onto the sphere
@@ -148,7 +148,7 @@ pub fn cube(n: usize) -> TriMesh {
 /// The axis-aligned cube [−1, 1]³ with each face split into `n × n` outward
 /// quads and the shared edge vertices welded (a subdivided cube, or the base of a
 /// quad sphere).
-pub fn cube_quads(n: usize) -> crate::PolyMesh {
+pub fn cube_quads(n: usize) -> PolyMesh {
     let n = n.max(1);
     let mut pos: Vec<[f64; 3]> = Vec::new();
     let mut index = std::collections::HashMap::new();
@@ -190,7 +190,62 @@ pub fn cube_quads(n: usize) -> crate::PolyMesh {
             }
         }
     }
-    crate::PolyMesh::from_quads(pos, &quads).expect("valid cube")
+    PolyMesh::from_quads(pos, &quads).expect("valid cube")
+}
+
+/// The cube [−1, 1]³ as 8 vertices and 6 outward quads: vertex i sits at
+/// (±1, ±1, ±1) with bit 0 of i giving x, bit 1 y and bit 2 z (the classic
+/// Catmull–Clark cage; `--crease 0-1:2` and the subdivision tests name its
+/// vertices by these numbers).
+pub fn cube_cage() -> PolyMesh {
+    let v: Vec<[f64; 3]> = (0..8)
+        .map(|i| {
+            [
+                2.0 * (i & 1) as f64 - 1.0,
+                2.0 * ((i >> 1) & 1) as f64 - 1.0,
+                2.0 * ((i >> 2) & 1) as f64 - 1.0,
+            ]
+        })
+        .collect();
+    let faces = [
+        [0u32, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    PolyMesh::new(v, &faces).expect("valid cube")
+}
+
+/// A torus around the z axis of radii `big` (to the tube's centre) and `small`
+/// (the tube's) with `nu × nv` outward quads (at least 3 × 3): vertex
+/// (i, j) is `i·nv + j` at angles u = 2πi/nu around z and v = 2πj/nv around
+/// the tube.
+pub fn torus_quads(big: f64, small: f64, nu: usize, nv: usize) -> PolyMesh {
+    let (nu, nv) = (nu.max(3), nv.max(3));
+    let tau = std::f64::consts::TAU;
+    let mut pos = Vec::with_capacity(nu * nv);
+    for i in 0..nu {
+        for j in 0..nv {
+            let (a, b) = (tau * i as f64 / nu as f64, tau * j as f64 / nv as f64);
+            let r = big + small * b.cos();
+            pos.push([r * a.cos(), r * a.sin(), small * b.sin()]);
+        }
+    }
+    let id = |i: usize, j: usize| ((i % nu) * nv + j % nv) as u32;
+    let faces: Vec<[u32; 4]> = (0..nu)
+        .flat_map(|i| {
+            (0..nv).map(move |j| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)])
+        })
+        .collect();
+    PolyMesh::new(pos, &faces).expect("valid torus")
+}
+
+/// [`torus_quads`] with every quad (a, b, c, d) split into (a, b, c) and
+/// (a, c, d): closed, outward, genus 1.
+pub fn torus(big: f64, small: f64, nu: usize, nv: usize) -> TriMesh {
+    torus_quads(big, small, nu, nv).triangulate()
 }
 
 #[cfg(test)]

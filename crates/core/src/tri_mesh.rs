@@ -268,6 +268,26 @@ impl TriMesh {
         self
     }
 
+    /// The meshes of `parts` as one, each part's vertices in its colour, with
+    /// computed normals (e.g. an attractor in grey with a curve on it in blue).
+    ///
+    /// # Errors
+    /// [`CoreError::IndexOutOfRange`] if the parts hold more than 2³² vertices.
+    pub fn merge_colored(parts: &[(&TriMesh, [u8; 4])]) -> crate::Result<Self> {
+        let mut pos = Vec::new();
+        let mut tris = Vec::new();
+        let mut colors = Vec::new();
+        for (m, c) in parts {
+            let base = pos.len() as u32;
+            pos.extend_from_slice(m.positions());
+            tris.extend(m.triangles().iter().map(|t| t.map(|v| v + base)));
+            colors.extend(std::iter::repeat_n(*c, m.n_vertices()));
+        }
+        Ok(TriMesh::new(pos, tris)?
+            .with_colors(colors)?
+            .with_computed_normals())
+    }
+
     /// Total surface area.
     pub fn area(&self) -> f64 {
         self.triangles
@@ -508,33 +528,9 @@ pub fn component_labels(n: usize, triangles: &[[u32; 3]]) -> (usize, Vec<u32>) {
 mod tests {
     use super::*;
 
-    /// Unit cube, 12 outward-facing triangles.
-    pub(crate) fn cube() -> TriMesh {
-        let p = vec![
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [1.0, 1.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [1.0, 0.0, 1.0],
-            [1.0, 1.0, 1.0],
-            [0.0, 1.0, 1.0],
-        ];
-        let t = vec![
-            [0, 2, 1],
-            [0, 3, 2],
-            [4, 5, 6],
-            [4, 6, 7],
-            [0, 1, 5],
-            [0, 5, 4],
-            [1, 2, 6],
-            [1, 6, 5],
-            [2, 3, 7],
-            [2, 7, 6],
-            [3, 0, 4],
-            [3, 4, 7],
-        ];
-        TriMesh::new(p, t).unwrap()
+    /// The cube [−1, 1]³, 12 outward-facing triangles.
+    fn cube() -> TriMesh {
+        crate::shapes::cube_cage().triangulate()
     }
 
     #[test]
@@ -544,11 +540,11 @@ mod tests {
         assert!(m.is_watertight());
         assert!(m.boundary_loops().is_empty());
         assert_eq!(m.genus(), Some(0));
-        assert!((m.area() - 6.0).abs() < 1e-12);
-        assert!((m.signed_volume() - 1.0).abs() < 1e-12);
+        assert!((m.area() - 24.0).abs() < 1e-12);
+        assert!((m.signed_volume() - 8.0).abs() < 1e-12);
         for (n, p) in m.vertex_normals().iter().zip(m.positions()) {
             // Corner normals point away from the centre.
-            let d: f64 = (0..3).map(|k| n[k] * (p[k] - 0.5)).sum();
+            let d: f64 = (0..3).map(|k| n[k] * p[k]).sum();
             assert!(d > 0.0);
         }
     }
@@ -625,31 +621,8 @@ mod tests {
 
     #[test]
     fn torus_has_genus_one() {
-        // A 4×4 quad torus split into triangles: χ = 0, genus 1.
-        let (n, m) = (6usize, 5usize);
-        let mut p = Vec::new();
-        for i in 0..n {
-            for j in 0..m {
-                let (u, v) = (
-                    i as f64 / n as f64 * std::f64::consts::TAU,
-                    j as f64 / m as f64 * std::f64::consts::TAU,
-                );
-                p.push([
-                    (2.0 + v.cos()) * u.cos(),
-                    (2.0 + v.cos()) * u.sin(),
-                    v.sin(),
-                ]);
-            }
-        }
-        let id = |i: usize, j: usize| ((i % n) * m + (j % m)) as u32;
-        let mut t = Vec::new();
-        for i in 0..n {
-            for j in 0..m {
-                t.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-                t.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-            }
-        }
-        let torus = TriMesh::new(p, t).unwrap();
+        // A 6×5 quad torus split into triangles: χ = 0, genus 1.
+        let torus = crate::shapes::torus(2.0, 1.0, 6, 5);
         assert_eq!(torus.euler_characteristic(), 0);
         assert!(torus.is_watertight());
         assert_eq!(torus.genus(), Some(1));

@@ -1,6 +1,12 @@
 //! Small `[f64; 3]` vector helpers shared by the method crates (the geometry
 //! here is plain arrays; a linear-algebra crate would be more than these need).
 
+/// a + b.
+#[inline]
+pub fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
 /// a − b.
 #[inline]
 pub fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
@@ -33,6 +39,12 @@ pub fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
 #[inline]
 pub fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
+}
+
+/// |a − b|.
+#[inline]
+pub fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    norm(sub(a, b))
 }
 
 /// a/|a|, or `None` for a zero or non-finite length.

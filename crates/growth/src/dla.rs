@@ -56,6 +56,7 @@
 //! Each cluster is sequential (parallel DLA changes the dynamics); independent
 //! clusters can run in parallel.
 
+use asperity_core::vec3::{add, dist, norm, scale, sub};
 use asperity_core::{MemoryBudget, Progress};
 use serde::Serialize;
 
@@ -669,26 +670,6 @@ pub fn dla(
     })
 }
 
-#[inline(always)]
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-#[inline(always)]
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-#[inline(always)]
-fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-#[inline(always)]
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-#[inline(always)]
-fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
-    norm(sub(a, b))
-}
 /// Nearest cell (ties up). `f64::round` is a libm call on baseline x86-64;
 /// truncation of a shifted positive value is not. Positions stay far inside
 /// ±2²⁰ (walkers beyond 1.5 R + 4 are returned).

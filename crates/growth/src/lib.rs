@@ -11,6 +11,7 @@
 //! | [`dla`] | Diffusion-limited aggregation with big jumps | §4.2, Fig. 4; §6 Figs. 9–11 |
 //! | [`lattice`] | The periodic substrate and the model rule trait | §4.1 |
 //! | [`occupancy`] | Bit-packed voxel occupancy and its coarse distance map | — |
+//! | [`seeds`] | DLA seeds and curved substrates from images and meshes | §7 |
 //! | [`interface_width`] | W(L, t), schedules, max-height binning | §4.1 |
 //!
 //! Every simulation takes a `u64` seed and a run number and is sequential inside
@@ -30,6 +31,7 @@ pub mod occupancy;
 pub mod random_deposition;
 pub mod rdsr;
 pub mod rng;
+pub mod seeds;
 
 pub use deposition::{Deposit, DepositionParams, Model, deposit, deposit_ensemble};
 pub use error::GrowthError;

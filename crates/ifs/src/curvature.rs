@@ -45,9 +45,9 @@ use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::dcf::{
-    CurveClass, FamilyOptions, Frame, OperatorAnalysis, cross, curve_curvature, dot, norm,
-};
+use asperity_core::vec3::{cross, dot, norm};
+
+use crate::dcf::{CurveClass, FamilyOptions, Frame, OperatorAnalysis, curve_curvature};
 use crate::error::{Result, invalid};
 use crate::pifs::{CurveIfs, Pifs, SurfaceIfs, project};
 

@@ -35,6 +35,7 @@
 //! the paper needs, which only excludes a complex dominant pair) and
 //! `negative-dominant` (λ₁ < 0: the orbit alternates sides and t^{α} cannot follow it).
 
+use asperity_core::vec3::{cross, norm};
 use nalgebra::{DMatrix, DVector};
 
 use crate::pifs::Pifs;
@@ -421,22 +422,6 @@ fn sample_family(pifs: &Pifs, i: usize, opts: &FamilyOptions, dcf: &mut Dcf) {
 /// 2-D cross product (z of the 3-D one).
 fn cross2(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[1] - a[1] * b[0]
-}
-
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub(crate) fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
 }
 
 /// Pseudo-curvature range of a curve at a frame: κ = 2 (Pv₁ × Pw₂)/‖Pv₁‖³,

@@ -2,6 +2,7 @@
 //! analytic curvature of a bicubic patch, the Takagi–Landsberg closed forms, the
 //! Takagi series itself, and the Hutchinson fixed-point property.
 
+use asperity_core::vec3::{cross, dot};
 use asperity_ifs::curvature::{curve_at, curve_report, surface_at, surface_report};
 use asperity_ifs::model::{TAKAGI_SHEAR, takagi_grid, takagi_operators};
 use asperity_ifs::{
@@ -61,18 +62,6 @@ fn bezier_derivative(pts: &[[f64; 3]], r: usize, u: f64) -> [f64; 3] {
         }
     }
     out
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 fn classical_curvature(pts: &[[f64; 3]], u: f64) -> f64 {

@@ -438,6 +438,16 @@ pub fn read_points(path: &Path) -> Result<PointSet, IoError> {
     })
 }
 
+/// Reads a list of `x,y` rows (see [`text`]): a curve to drape on a height
+/// field, or points to interpolate at.
+///
+/// # Errors
+/// [`IoError`] naming the file and the line.
+pub fn read_xy(path: &Path) -> Result<Vec<[f64; 2]>, IoError> {
+    let bytes = read_bytes(path)?;
+    text::read_xy(&bytes).map_err(|e| e.at(path, "x,y list"))
+}
+
 /// Writes the polygons of `poly` (quads, n-gons, kept as they are) with the
 /// per-vertex data (normals, colours, scalars) of `attrs`, which must have the
 /// same vertices — typically `poly.triangulate()` with attributes added. PLY and

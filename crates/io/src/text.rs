@@ -8,6 +8,10 @@
 //!
 //! **XYZ** point sets: `x y z` per line; reading takes the first three columns of
 //! each non-comment line (extra columns, e.g. colours, are ignored).
+//!
+//! **XY** point lists (curves to drape, points to interpolate at): `x,y` per line
+//! (commas, semicolons, tabs or spaces), `#` comment lines skipped, every value
+//! finite.
 
 use std::io::Write;
 
@@ -136,6 +140,36 @@ pub(crate) fn read_xyz(bytes: &[u8]) -> FResult<PointSet> {
     Ok(ps)
 }
 
+/// Reads `x,y` rows.
+pub(crate) fn read_xy(bytes: &[u8]) -> FResult<Vec<[f64; 2]>> {
+    let mut pts = Vec::new();
+    for (n, line) in text(bytes)?.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let mut it = numbers(line);
+        let mut p = [0.0; 2];
+        for v in &mut p {
+            let tok = it
+                .next()
+                .ok_or_else(|| FormatError::Malformed(format!("line {}: need x,y", n + 1)))?;
+            *v = tok
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    FormatError::Malformed(format!(
+                        "line {}: {tok:?} is not a finite number",
+                        n + 1
+                    ))
+                })?;
+        }
+        pts.push(p);
+    }
+    Ok(pts)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -161,5 +195,16 @@ mod tests {
         assert_eq!(p.positions(), &[[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]);
         assert!(read_xyz(b"1 2\n").is_err());
         assert!(read_xyz(b"1 2 nan\n").is_err());
+    }
+
+    #[test]
+    fn xy_rows_comments_and_errors() {
+        let p = read_xy(b"# x,y\n0.5,1\n2;3\n\n4 5 6\n").unwrap();
+        assert_eq!(p, vec![[0.5, 1.0], [2.0, 3.0], [4.0, 5.0]]);
+        let FormatError::Malformed(m) = read_xy(b"1,2\n3\n").unwrap_err() else {
+            panic!()
+        };
+        assert!(m.contains("line 2: need x,y"), "{m}");
+        assert!(read_xy(b"1,inf\n").is_err());
     }
 }

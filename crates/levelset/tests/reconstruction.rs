@@ -19,18 +19,9 @@ fn sphere(n: usize, r: f64, c: [f64; 3]) -> Vec<[f64; 3]> {
 
 /// Points on a torus (radii `big`, `small`) on a `n × m` grid of angles.
 fn torus(n: usize, m: usize, big: f64, small: f64) -> Vec<[f64; 3]> {
-    let mut out = Vec::new();
-    for a in 0..n {
-        for b in 0..m {
-            let (u, v) = (
-                2.0 * std::f64::consts::PI * a as f64 / n as f64,
-                2.0 * std::f64::consts::PI * b as f64 / m as f64,
-            );
-            let q = big + small * v.cos();
-            out.push([q * u.cos(), q * u.sin(), small * v.sin()]);
-        }
-    }
-    out
+    asperity_core::shapes::torus_quads(big, small, n, m)
+        .positions()
+        .to_vec()
 }
 
 fn run(points: &[[f64; 3]], params: &ReconstructParams) -> Reconstruction {

@@ -118,6 +118,27 @@ impl ColorMap {
     }
 }
 
+/// A colour for integer label `label`, distinct from its neighbours' for any
+/// number of labels: hues stepped by the golden ratio, saturation 0.55, value
+/// 0.92 (for region maps with more labels than a palette has colours).
+pub fn distinct(label: u32) -> [u8; 4] {
+    let h = (label as f64 * 0.618_033_988_749_895).fract() * 6.0;
+    let (s, v) = (0.55, 0.92);
+    let c = v * s;
+    let x = c * (1.0 - ((h % 2.0) - 1.0).abs());
+    let (r, g, b) = match h as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let m = v - c;
+    let to = |u: f64| ((u + m) * 255.0).round() as u8;
+    [to(r), to(g), to(b), 255]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,6 +10,7 @@
 //! | [`render`] | the 3-D pipeline: [`render_mesh`], [`render_points`], [`render_height`] | — |
 //! | [`hillshade`] | shaded relief and colour-mapped height with legend | GDAL `hillshade` formula |
 //! | [`plot`] | SVG plots (scaling curves with fits, histograms) through plotters | — |
+//! | [`cells`] | cell grids (CA states) as pictures, pictures in strips | peridier Fig. 3 |
 //! | [`colormap`] | viridis, magma, coolwarm, gray, labels | matplotlib |
 //! | [`font`] | a 5×7 bitmap font for legend numbers | — |
 //!
@@ -20,6 +21,7 @@
 
 pub mod ao;
 pub mod camera;
+pub mod cells;
 pub mod colormap;
 pub mod font;
 pub mod hillshade;

@@ -4,26 +4,10 @@
 
 use asperity_core::PolyMesh;
 
-/// The cube [−1, 1]³ as 6 outward quads.
+/// The cube [−1, 1]³ as 8 vertices and 6 outward quads (see
+/// [`asperity_core::shapes::cube_cage`] for the vertex order).
 pub fn cube() -> PolyMesh {
-    let v: Vec<[f64; 3]> = (0..8)
-        .map(|i| {
-            [
-                2.0 * (i & 1) as f64 - 1.0,
-                2.0 * ((i >> 1) & 1) as f64 - 1.0,
-                2.0 * ((i >> 2) & 1) as f64 - 1.0,
-            ]
-        })
-        .collect();
-    let faces = [
-        [0u32, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    PolyMesh::new(v, &faces).expect("valid cube")
+    asperity_core::shapes::cube_cage()
 }
 
 /// A unit quad sphere: the cube with each face split n × n, pushed onto the sphere.
@@ -40,25 +24,10 @@ pub fn quad_sphere(n: usize) -> PolyMesh {
     c.with_positions(pos).expect("same vertex count")
 }
 
-/// A torus of radii `big` and `small` with `nu × nv` quads, outward.
+/// A torus of radii `big` and `small` with `nu × nv` quads, outward (see
+/// [`asperity_core::shapes::torus_quads`]).
 pub fn torus(big: f64, small: f64, nu: usize, nv: usize) -> PolyMesh {
-    let (nu, nv) = (nu.max(3), nv.max(3));
-    let tau = std::f64::consts::TAU;
-    let mut pos = Vec::with_capacity(nu * nv);
-    for i in 0..nu {
-        for j in 0..nv {
-            let (a, b) = (tau * i as f64 / nu as f64, tau * j as f64 / nv as f64);
-            let r = big + small * b.cos();
-            pos.push([r * a.cos(), r * a.sin(), small * b.sin()]);
-        }
-    }
-    let id = |i: usize, j: usize| ((i % nu) * nv + j % nv) as u32;
-    let faces: Vec<[u32; 4]> = (0..nu)
-        .flat_map(|i| {
-            (0..nv).map(move |j| [id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)])
-        })
-        .collect();
-    PolyMesh::new(pos, &faces).expect("valid torus")
+    asperity_core::shapes::torus_quads(big, small, nu, nv)
 }
 
 /// A capped cylinder of radius `r` from z = −h to h: `n` side quads, each
@@ -163,6 +132,34 @@ pub fn fuse(rings: usize, segments: usize) -> PolyMesh {
         })
         .collect();
     revolution(&profile, segments)
+}
+
+/// A profile for [`revolution`] from text: one `r z` pair per line (white
+/// space or commas), bottom to top, every r > 0; `#` starts a comment.
+///
+/// # Errors
+/// A message naming the bad line, or too few rows.
+pub fn parse_profile(text: &str) -> Result<Vec<[f64; 2]>, String> {
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let v: Vec<f64> = line
+            .split(|c: char| c.is_whitespace() || c == ',')
+            .filter(|t| !t.is_empty())
+            .map(str::parse)
+            .collect::<Result<_, _>>()
+            .ok()
+            .filter(|v: &Vec<f64>| v.len() == 2 && v.iter().all(|x| x.is_finite()) && v[0] > 0.0)
+            .ok_or_else(|| format!("line {}: expected `r z` with r > 0, got {line:?}", i + 1))?;
+        out.push([v[0], v[1]]);
+    }
+    if out.len() < 2 {
+        return Err("a profile needs at least two `r z` rows".into());
+    }
+    Ok(out)
 }
 
 #[cfg(test)]

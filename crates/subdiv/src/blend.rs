@@ -250,3 +250,19 @@ pub fn blend(
     let last = alphas.last().cloned().unwrap_or_default();
     Ok((m, last))
 }
+
+/// An alpha map from text: one number in [0, 1] per base vertex, separated by
+/// white space or commas (a text or CSV column). The range is checked by
+/// [`Blend::validate`].
+///
+/// # Errors
+/// A message naming the first token that is not a number.
+pub fn parse_alpha_map(text: &str) -> Result<Vec<f64>, String> {
+    text.split(|c: char| c.is_whitespace() || c == ',')
+        .filter(|s| !s.is_empty())
+        .map(|s| {
+            s.parse::<f64>()
+                .map_err(|_| format!("{s:?} is not a number"))
+        })
+        .collect()
+}

@@ -4,12 +4,12 @@
 //! (velho-perlin §2, Fig. 1: analysis and synthesis) — the whole of
 //! velho-perlin's pipeline for one frame.
 
-use asperity_core::{CoreError, Progress};
+use asperity_core::{CoreError, Progress, TriMesh};
 
 use crate::blend::{AlphaSource, Blend, blend};
-use crate::catmull_clark::{Creased, limit_positions};
+use crate::catmull_clark::{Boundary, Creased, limit_normals, limit_positions};
 use crate::compose::{Layer, grow_observed};
-use crate::multires::{Details, Multires, build};
+use crate::multires::{Details, Multires, build, synthesize};
 use crate::scalar::scalar_field;
 use crate::scene::{Mode, Scene};
 
@@ -26,6 +26,57 @@ pub struct Composed {
     pub details: Details,
     /// (vertices, faces) per level.
     pub counts: Vec<(usize, usize)>,
+}
+
+impl Composed {
+    /// `base` with `details` applied over `levels` levels (no procedures): a
+    /// surface analysed or read back from a details file.
+    ///
+    /// # Errors
+    /// As [`synthesize`].
+    pub fn synthesized(
+        base: &Creased,
+        details: Details,
+        levels: usize,
+        boundary: Boundary,
+    ) -> Result<Self, CoreError> {
+        let mut all = synthesize(base, &details, levels, boundary)?;
+        let counts = all
+            .iter()
+            .map(|l| (l.mesh.n_vertices(), l.mesh.n_faces()))
+            .collect();
+        let mesh = all.pop().expect("level 0 at least");
+        Ok(Self {
+            mesh,
+            colors: None,
+            scalars: Vec::new(),
+            details,
+            counts,
+        })
+    }
+
+    /// The surface as triangles with normals — the limit normals when `limit`
+    /// (after at least one level), else computed from the faces — and its
+    /// colours and scalars.
+    ///
+    /// # Errors
+    /// As [`limit_normals`].
+    pub fn to_trimesh(&self, limit: bool, boundary: Boundary) -> Result<TriMesh, CoreError> {
+        let levels = self.counts.len().saturating_sub(1);
+        let mut tri = self.mesh.mesh.triangulate();
+        tri = if limit && levels > 0 {
+            tri.with_normals(limit_normals(&self.mesh, boundary)?)?
+        } else {
+            tri.with_computed_normals()
+        };
+        if let Some(col) = &self.colors {
+            tri = tri.with_colors(col.clone())?;
+        }
+        for (name, v) in &self.scalars {
+            tri = tri.with_scalar(name, v.clone())?;
+        }
+        Ok(tri)
+    }
 }
 
 fn merged(layers: &[Layer]) -> Layer {
@@ -61,7 +112,7 @@ pub struct Inputs {
 /// scene names already read (`inputs`).
 ///
 /// # Errors
-/// [`CoreError::InvalidParameter`] for an inconsistent scene; as [`grow`],
+/// [`CoreError::InvalidParameter`] for an inconsistent scene; as [`crate::compose::grow`],
 /// [`blend`] and [`scalar_field`].
 pub fn evaluate(
     scene: &Scene,

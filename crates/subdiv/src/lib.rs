@@ -15,6 +15,7 @@
 //! | [`multires`] | levels with detail offsets in local frames; synthesis and analysis | §2, Fig. 1 |
 //! | [`detail`] | procedures: rock, fbm, berry, tentacle, mine, mushroom, spur; amplitude laws | §3–4 |
 //! | [`topology`] | a level's connectivity: edges, twins, vertex corners, creases | §2 |
+//! | [`detail_file`] | exported details, re-applied to an edited base | §2 |
 //! | [`compose`] | layers, placement at chosen vertices, local edits | §5 |
 //! | [`blend`] | multiscale blending of two surfaces | §6 |
 //! | [`scalar`] | scalar mode and the planet post-shader | §6.2 |
@@ -28,6 +29,7 @@ pub mod blend;
 pub mod catmull_clark;
 pub mod compose;
 pub mod detail;
+pub mod detail_file;
 pub mod evaluate;
 pub mod multires;
 pub mod scalar;

@@ -304,6 +304,37 @@ pub fn analyze(
     analyze_with(base, fine, levels, boundary, Analysis::default())
 }
 
+/// Analyses a captured fine mesh (edited or sculpted positions on the
+/// connectivity of `levels` subdivisions of `base`) into base positions and
+/// details.
+///
+/// # Errors
+/// [`CoreError::InvalidParameter`] when `fine` is not `levels` subdivisions of
+/// `base` (its vertex count or faces differ); as [`analyze`].
+pub fn analyze_captured(
+    base: &Creased,
+    fine: &PolyMesh,
+    levels: usize,
+    boundary: Boundary,
+) -> Result<(Creased, Details), CoreError> {
+    let plain = synthesize(base, &[], levels, boundary)?;
+    let expect = &plain[levels];
+    let same = fine.n_vertices() == expect.mesh.n_vertices()
+        && (fine.face_vertices() == expect.mesh.face_vertices()
+            || fine.triangulate().triangles() == expect.mesh.triangulate().triangles());
+    if !same {
+        return Err(CoreError::InvalidParameter {
+            name: "captured surface",
+            reason: format!(
+                "its connectivity is not {levels} subdivisions of the base ({} vertices expected, {} found); write it with asperity subdiv (PLY) and edit positions only",
+                expect.mesh.n_vertices(),
+                fine.n_vertices()
+            ),
+        });
+    }
+    analyze(base, fine.positions(), levels, boundary)
+}
+
 /// [`analyze`] with a choice of coarse levels.
 ///
 /// # Errors

@@ -46,7 +46,7 @@ fn scalar_details(growers: &mut [Grower], input: &LevelInput<'_>) -> Vec<f64> {
 /// plain subdivision of `base`, blended level by level.
 ///
 /// # Errors
-/// As [`grow`] and [`blend`].
+/// As [`crate::compose::grow`] and [`crate::blend::blend`].
 pub fn scalar_field(
     base: &Creased,
     levels: usize,

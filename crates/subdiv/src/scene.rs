@@ -217,53 +217,44 @@ fn law(k: &mut Keys<'_>, default: &str, decay: f64) -> Result<Law, String> {
     })
 }
 
-/// A feature (and its layer name) from a table: `type` plus parameters.
-///
-/// # Errors
-/// A message naming the bad or unknown key.
-pub fn feature(table: &Table, t: f64, what: &str) -> Result<(String, Feature), String> {
-    let mut k = Keys::new(table, what.to_string(), t);
-    let kind = k.string("type")?.ok_or_else(|| {
-        format!("{what}: missing type (rock, fbm, berry, tentacle, mine, mushroom, spur)")
-    })?;
-    k.what = format!("{what} ({kind})");
-    let layer = k.string("layer")?.unwrap_or("main").to_string();
-    let (procedure, spacing) = match kind {
-        "rock" => {
-            let amplitude = k.num("amplitude", 0.08)?;
-            let law = law(&mut k, "fractal", 0.5)?;
-            let given_frequency = k.table.contains_key("frequency");
-            let frequency = k.num("frequency", 2.0)?;
-            let coords = match k.string("coords")?.unwrap_or("intrinsic") {
-                "intrinsic" if given_frequency => {
-                    return Err(format!(
-                        "{}: frequency applies to coords = \"extrinsic\" (intrinsic rock has one value per vertex)",
-                        k.what
-                    ));
-                }
-                "intrinsic" => Coords::Intrinsic,
-                "extrinsic" => Coords::Extrinsic { frequency },
-                other => {
-                    return Err(format!(
-                        "{}: coords {other:?} is not intrinsic or extrinsic",
-                        k.what
-                    ));
-                }
-            };
-            (
-                Procedure::Rock(Rock {
-                    amplitude,
-                    law,
-                    coords,
-                }),
-                0.5,
-            )
+/// A rock procedure from its keys.
+fn rock(k: &mut Keys<'_>) -> Result<Procedure, String> {
+    let amplitude = k.num("amplitude", 0.08)?;
+    let law = law(k, "fractal", 0.5)?;
+    let given_frequency = k.table.contains_key("frequency");
+    let frequency = k.num("frequency", 2.0)?;
+    let coords = match k.string("coords")?.unwrap_or("intrinsic") {
+        "intrinsic" if given_frequency => {
+            return Err(format!(
+                "{}: frequency applies to coords = \"extrinsic\" (intrinsic rock has one value per vertex)",
+                k.what
+            ));
         }
+        "intrinsic" => Coords::Intrinsic,
+        "extrinsic" => Coords::Extrinsic { frequency },
+        other => {
+            return Err(format!(
+                "{}: coords {other:?} is not intrinsic or extrinsic",
+                k.what
+            ));
+        }
+    };
+    Ok(Procedure::Rock(Rock {
+        amplitude,
+        law,
+        coords,
+    }))
+}
+
+/// The procedure of a detail of type `kind` and its default seed spacing.
+fn procedure(kind: &str, k: &mut Keys<'_>, what: &str) -> Result<(Procedure, f64), String> {
+    Ok(match kind {
+        "rock" => (rock(k)?, 0.5),
         "fbm" => (
             Procedure::Fbm(Fbm {
                 amplitude: k.num("amplitude", 0.1)?,
                 frequency: k.num("frequency", 2.0)?,
-                law: law(&mut k, "fractal", 0.5)?,
+                law: law(k, "fractal", 0.5)?,
             }),
             0.5,
         ),
@@ -309,8 +300,12 @@ pub fn feature(table: &Table, t: f64, what: &str) -> Result<(String, Feature), S
                 "{what}: unknown detail type {other:?} (rock, fbm, berry, tentacle, mine, mushroom, spur)"
             ));
         }
-    };
-    let levels = k.ints("levels")?;
+    })
+}
+
+/// Where a detail grows: points `at`, base `vertices`, or a Poisson-disk set
+/// with `spacing` (default `spacing`).
+fn seeds(k: &mut Keys<'_>, t: f64, spacing: f64) -> Result<Seeds, String> {
     let at_what = format!("{} at", k.what);
     let seeds = if let Some(v) = k.get("at") {
         let Value::Array(a) = v else {
@@ -330,6 +325,23 @@ pub fn feature(table: &Table, t: f64, what: &str) -> Result<(String, Feature), S
     };
     // Keys that belong to other types are still unknown here.
     let _ = k.get("spacing");
+    Ok(seeds)
+}
+
+/// A feature (and its layer name) from a table: `type` plus parameters.
+///
+/// # Errors
+/// A message naming the bad or unknown key.
+pub fn feature(table: &Table, t: f64, what: &str) -> Result<(String, Feature), String> {
+    let mut k = Keys::new(table, what.to_string(), t);
+    let kind = k.string("type")?.ok_or_else(|| {
+        format!("{what}: missing type (rock, fbm, berry, tentacle, mine, mushroom, spur)")
+    })?;
+    k.what = format!("{what} ({kind})");
+    let layer = k.string("layer")?.unwrap_or("main").to_string();
+    let (procedure, spacing) = procedure(kind, &mut k, what)?;
+    let levels = k.ints("levels")?;
+    let seeds = seeds(&mut k, t, spacing)?;
     let f = Feature {
         procedure,
         seeds,
@@ -409,13 +421,8 @@ fn blend(table: &Table, t: f64) -> Result<(String, String, Blend, Option<String>
     Ok((a, b, Blend { source, width }, map))
 }
 
-/// Parses a scene at animation time `t`.
-///
-/// # Errors
-/// A message naming the bad key (TOML syntax errors included).
-pub fn parse(text: &str, t: f64) -> Result<Scene, String> {
-    let table: Table = text.parse().map_err(|e| format!("scene TOML: {e}"))?;
-    let mut k = Keys::new(&table, "scene".into(), t);
+/// The scene's global keys: base, levels, seed, boundary, limit.
+fn header(k: &mut Keys<'_>) -> Result<(String, usize, u64, Boundary, bool), String> {
     let base = k.string("base")?.unwrap_or("sphere").to_string();
     let levels = k.int("levels", 4)?;
     let seed = k.int("seed", 1)? as u64;
@@ -429,106 +436,124 @@ pub fn parse(text: &str, t: f64) -> Result<Scene, String> {
         }
     };
     let limit = k.boolean("limit", false)?;
-    let mut creases = Vec::new();
-    if let Some(v) = k.get("creases") {
-        let Value::Array(a) = v else {
-            return Err("scene creases: expected [[a, b, sharpness], ...]".into());
-        };
-        for c in a {
-            let item = match c {
-                Value::Array(x) if x.len() == 3 => match (&x[0], &x[1]) {
-                    (Value::Integer(a), Value::Integer(b)) if *a >= 0 && *b >= 0 => {
-                        Some((*a as u32, *b as u32, number(&x[2], t, "scene creases")?))
-                    }
-                    _ => None,
-                },
+    Ok((base, levels, seed, boundary, limit))
+}
+
+/// `creases = [[a, b, sharpness], …]`.
+fn creases(k: &mut Keys<'_>, t: f64) -> Result<Vec<(u32, u32, f64)>, String> {
+    let Some(v) = k.get("creases") else {
+        return Ok(Vec::new());
+    };
+    let Value::Array(a) = v else {
+        return Err("scene creases: expected [[a, b, sharpness], ...]".into());
+    };
+    let mut out = Vec::new();
+    for c in a {
+        let item = match c {
+            Value::Array(x) if x.len() == 3 => match (&x[0], &x[1]) {
+                (Value::Integer(a), Value::Integer(b)) if *a >= 0 && *b >= 0 => {
+                    Some((*a as u32, *b as u32, number(&x[2], t, "scene creases")?))
+                }
                 _ => None,
-            };
-            creases.push(
-                item.ok_or_else(|| {
-                    format!("scene creases: {c} is not [vertex, vertex, sharpness]")
-                })?,
-            );
-        }
+            },
+            _ => None,
+        };
+        out.push(
+            item.ok_or_else(|| format!("scene creases: {c} is not [vertex, vertex, sharpness]"))?,
+        );
     }
-    let mut layers: BTreeMap<String, (usize, Layer)> = BTreeMap::new();
-    let mut add = |name: String| {
-        let n = layers.len();
-        layers.entry(name.clone()).or_insert((
+    Ok(out)
+}
+
+/// The layers of a scene in order of first mention, by name.
+#[derive(Default)]
+struct Layers(BTreeMap<String, (usize, Layer)>);
+
+impl Layers {
+    fn add(&mut self, name: &str) {
+        let n = self.0.len();
+        self.0.entry(name.to_string()).or_insert((
             n,
             Layer {
-                name,
+                name: name.to_string(),
                 ..Layer::default()
             },
         ));
+    }
+
+    fn get_mut(&mut self, name: &str) -> &mut Layer {
+        &mut self.0.get_mut(name).expect("added").1
+    }
+
+    fn into_vec(self) -> Vec<Layer> {
+        let mut layers: Vec<(usize, Layer)> = self.0.into_values().collect();
+        layers.sort_by_key(|(i, _)| *i);
+        layers.into_iter().map(|(_, l)| l).collect()
+    }
+}
+
+/// Every table of the array `[[key]]`, each passed to `item` with its name
+/// (`key N`); nothing when the key is absent.
+fn tables<T>(
+    k: &mut Keys<'_>,
+    key: &'static str,
+    mut item: impl FnMut(&Table, String) -> Result<T, String>,
+) -> Result<Vec<T>, String> {
+    let Some(v) = k.get(key) else {
+        return Ok(Vec::new());
     };
-    let mut feats = Vec::new();
-    if let Some(v) = k.get("detail") {
-        let Value::Array(a) = v else {
-            return Err("scene: detail must be [[detail]] tables".into());
-        };
-        for (i, d) in a.iter().enumerate() {
+    let Value::Array(a) = v else {
+        return Err(format!("scene: {key} must be [[{key}]] tables"));
+    };
+    a.iter()
+        .enumerate()
+        .map(|(i, d)| {
             let Value::Table(d) = d else {
-                return Err(format!("detail {}: expected a table", i + 1));
+                return Err(format!("{key} {}: expected a table", i + 1));
             };
-            let (layer, f) = feature(d, t, &format!("detail {}", i + 1))?;
-            add(layer.clone());
-            feats.push((layer, f));
-        }
-    }
-    let mut surfaces = Vec::new();
-    if let Some(v) = k.get("surface") {
-        let Value::Array(a) = v else {
-            return Err("scene: surface must be [[surface]] tables".into());
-        };
-        for (i, d) in a.iter().enumerate() {
-            let Value::Table(d) = d else {
-                return Err(format!("surface {}: expected a table", i + 1));
-            };
-            let mut sk = Keys::new(d, format!("surface {}", i + 1), t);
-            let layer = sk
-                .string("layer")?
-                .ok_or_else(|| format!("surface {}: missing layer = \"name\"", i + 1))?
-                .to_string();
-            let file = sk
-                .string("file")?
-                .ok_or_else(|| format!("surface {}: missing file = \"fine.ply\"", i + 1))?
-                .to_string();
-            sk.finish()?;
-            add(layer.clone());
-            surfaces.push((layer, file));
-        }
-    }
-    let mut edits = Vec::new();
-    if let Some(v) = k.get("edit") {
-        let Value::Array(a) = v else {
-            return Err("scene: edit must be [[edit]] tables".into());
-        };
-        for (i, d) in a.iter().enumerate() {
-            let Value::Table(d) = d else {
-                return Err(format!("edit {}: expected a table", i + 1));
-            };
-            let (layer, e) = edit(d, t, &format!("edit {}", i + 1))?;
-            add(layer.clone());
-            edits.push((layer, e));
-        }
-    }
-    let (blend, alpha_map) = match k.get("blend") {
-        None => (None, None),
+            item(d, format!("{key} {}", i + 1))
+        })
+        .collect()
+}
+
+/// A `[[surface]]` table: a captured fine mesh standing for a layer.
+fn surface(d: &Table, t: f64, what: String) -> Result<(String, String), String> {
+    let mut sk = Keys::new(d, what.clone(), t);
+    let layer = sk
+        .string("layer")?
+        .ok_or_else(|| format!("{what}: missing layer = \"name\""))?
+        .to_string();
+    let file = sk
+        .string("file")?
+        .ok_or_else(|| format!("{what}: missing file = \"fine.ply\""))?
+        .to_string();
+    sk.finish()?;
+    Ok((layer, file))
+}
+
+/// The `[blend]` table, its layers checked against those mentioned.
+type SceneBlend = (Option<(String, String, Blend)>, Option<String>);
+
+fn scene_blend(k: &mut Keys<'_>, t: f64, layers: &Layers) -> Result<SceneBlend, String> {
+    match k.get("blend") {
+        None => Ok((None, None)),
         Some(Value::Table(b)) => {
             let (a, bb, how, map) = blend(b, t)?;
             for name in [&a, &bb] {
-                if !layers.contains_key(name) {
+                if !layers.0.contains_key(name) {
                     return Err(format!("[blend]: no detail is in layer {name:?}"));
                 }
             }
-            (Some((a, bb, how)), map)
+            Ok((Some((a, bb, how)), map))
         }
-        Some(_) => return Err("scene: blend must be a [blend] table".into()),
-    };
-    let mode_name = k.string("mode")?.unwrap_or("displace").to_string();
-    let shade = match k.get("shade") {
-        None => None,
+        Some(_) => Err("scene: blend must be a [blend] table".into()),
+    }
+}
+
+/// The `[shade]` table: the planet post-shader's settings.
+fn shade(k: &mut Keys<'_>, t: f64) -> Result<Option<Planet>, String> {
+    match k.get("shade") {
+        None => Ok(None),
         Some(Value::Table(s)) => {
             let mut sk = Keys::new(s, "[shade]".into(), t);
             match sk.string("kind")?.unwrap_or("planet") {
@@ -543,42 +568,71 @@ pub fn parse(text: &str, t: f64) -> Result<Scene, String> {
                 snow: sk.num("snow", d.snow)?,
             };
             sk.finish()?;
-            Some(p)
+            Ok(Some(p))
         }
-        Some(_) => return Err("scene: shade must be a [shade] table".into()),
-    };
-    let mode = match (mode_name.as_str(), shade) {
-        ("displace", None) => Mode::Displace,
+        Some(_) => Err("scene: shade must be a [shade] table".into()),
+    }
+}
+
+/// `mode` with its `[shade]`.
+fn mode(k: &mut Keys<'_>, t: f64) -> Result<Mode, String> {
+    let mode_name = k.string("mode")?.unwrap_or("displace").to_string();
+    match (mode_name.as_str(), shade(k, t)?) {
+        ("displace", None) => Ok(Mode::Displace),
         ("displace", Some(_)) => {
-            return Err("[shade] needs mode = \"scalar\" (the shader maps a scalar field)".into());
+            Err("[shade] needs mode = \"scalar\" (the shader maps a scalar field)".into())
         }
-        ("scalar", s) => Mode::Scalar(s.unwrap_or_default()),
-        (other, _) => return Err(format!("scene mode: {other:?} is not displace or scalar")),
-    };
+        ("scalar", s) => Ok(Mode::Scalar(s.unwrap_or_default())),
+        (other, _) => Err(format!("scene mode: {other:?} is not displace or scalar")),
+    }
+}
+
+/// Parses a scene at animation time `t`.
+///
+/// # Errors
+/// A message naming the bad key (TOML syntax errors included).
+pub fn parse(text: &str, t: f64) -> Result<Scene, String> {
+    let table: Table = text.parse().map_err(|e| format!("scene TOML: {e}"))?;
+    let mut k = Keys::new(&table, "scene".into(), t);
+    let (base, levels, seed, boundary, limit) = header(&mut k)?;
+    let creases = creases(&mut k, t)?;
+    let mut layers = Layers::default();
+    let feats = tables(&mut k, "detail", |d, what| feature(d, t, &what))?;
+    let surfaces = tables(&mut k, "surface", |d, what| surface(d, t, what))?;
+    let edits = tables(&mut k, "edit", |d, what| edit(d, t, &what))?;
+    // Layers in order of first mention: details, then surfaces, then edits.
+    for name in feats
+        .iter()
+        .map(|(l, _)| l)
+        .chain(surfaces.iter().map(|(l, _)| l))
+        .chain(edits.iter().map(|(l, _)| l))
+    {
+        layers.add(name);
+    }
+    let (blend, alpha_map) = scene_blend(&mut k, t, &layers)?;
+    let mode = mode(&mut k, t)?;
     k.finish()?;
     for (layer, f) in feats {
-        layers.get_mut(&layer).expect("added").1.features.push(f);
+        layers.get_mut(&layer).features.push(f);
     }
     for (layer, e) in edits {
-        layers.get_mut(&layer).expect("added").1.edits.push(e);
+        layers.get_mut(&layer).edits.push(e);
     }
     for (layer, _) in &surfaces {
-        let l = &layers[layer].1;
+        let l = layers.get_mut(layer);
         if !l.features.is_empty() || !l.edits.is_empty() {
             return Err(format!(
                 "layer {layer:?} has a captured surface and details or edits; give the details their own layer and blend"
             ));
         }
     }
-    let mut layers: Vec<(usize, Layer)> = layers.into_values().collect();
-    layers.sort_by_key(|(i, _)| *i);
     Ok(Scene {
         base,
         levels,
         seed,
         boundary,
         limit,
-        layers: layers.into_iter().map(|(_, l)| l).collect(),
+        layers: layers.into_vec(),
         blend,
         alpha_map,
         mode,
@@ -642,6 +696,46 @@ pub fn feature_from_spec(spec: &str, t: f64) -> Result<Feature, String> {
         table.insert(key.trim().into(), value);
     }
     feature(&table, t, "--detail").map(|(_, f)| f)
+}
+
+/// A `--crease` argument `A-B:SHARPNESS` (e.g. `0-1:2` or `0-1:inf`).
+///
+/// # Errors
+/// A message with the expected form.
+pub fn crease_from_spec(spec: &str) -> Result<(u32, u32, f64), String> {
+    let err = || format!("--crease {spec:?}: expected A-B:SHARPNESS, e.g. 0-1:2 or 0-1:inf");
+    let (edge, s) = spec.split_once(':').ok_or_else(err)?;
+    let (a, b) = edge.split_once('-').ok_or_else(err)?;
+    let s: f64 = s.trim().parse().map_err(|_| err())?;
+    Ok((
+        a.trim().parse().map_err(|_| err())?,
+        b.trim().parse().map_err(|_| err())?,
+        s,
+    ))
+}
+
+impl Scene {
+    /// A scene of one layer, `main`, with `features`, in displacement mode: what
+    /// `asperity subdiv --base … --detail …` describes without a scene file.
+    pub fn single_layer(base: &str, levels: usize, seed: u64, features: Vec<Feature>) -> Self {
+        Scene {
+            base: base.to_string(),
+            levels,
+            seed,
+            boundary: Boundary::EdgeOnly,
+            limit: false,
+            layers: vec![Layer {
+                name: "main".into(),
+                features,
+                edits: Vec::new(),
+            }],
+            blend: None,
+            alpha_map: None,
+            mode: Mode::Displace,
+            creases: Vec::new(),
+            surfaces: Vec::new(),
+        }
+    }
 }
 
 #[cfg(test)]

@@ -37,6 +37,38 @@ impl Creased {
             creases: HashMap::new(),
         }
     }
+
+    /// `mesh` with the edges (a, b) tagged with sharpness s.
+    ///
+    /// # Errors
+    /// [`CoreError::InvalidParameter`] for a vertex out of range, a pair that is
+    /// not an edge of the mesh, or a negative or NaN sharpness.
+    pub fn with_creases(mesh: PolyMesh, creases: &[(u32, u32, f64)]) -> Result<Self, CoreError> {
+        let mut c = Self::smooth(mesh);
+        let n = c.mesh.n_vertices() as u32;
+        let edges: std::collections::HashSet<(u32, u32)> = c
+            .mesh
+            .faces()
+            .flat_map(|f| (0..f.len()).map(move |k| key(f[k], f[(k + 1) % f.len()])))
+            .collect();
+        let bad = |reason: String| CoreError::InvalidParameter {
+            name: "crease",
+            reason,
+        };
+        for &(a, b, s) in creases {
+            if a >= n || b >= n {
+                return Err(bad(format!("{a}-{b}: the base has {n} vertices")));
+            }
+            if !edges.contains(&key(a, b)) {
+                return Err(bad(format!("{a}-{b}: not an edge of the base")));
+            }
+            if s.is_nan() || s < 0.0 {
+                return Err(bad(format!("{a}-{b}: sharpness {s} is negative")));
+            }
+            c.creases.insert(key(a, b), s);
+        }
+        Ok(c)
+    }
 }
 
 /// Compressed adjacency: the items of vertex v are `items[start[v]..start[v + 1]]`.

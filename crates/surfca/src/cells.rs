@@ -35,6 +35,7 @@
 //! of side links across edges (per source triangle and direction) that land on a
 //! cell another such link already reaches.
 
+use asperity_core::vec3::{cross, dot, norm, scale, sub};
 use asperity_core::{CoreError, MemoryBudget, TriMesh};
 
 /// Where a cell lies relative to its triangle (Figure 3).
@@ -188,26 +189,6 @@ impl Cells {
 
 type V2 = [f64; 2];
 
-fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-fn norm3(a: [f64; 3]) -> f64 {
-    dot3(a, a).sqrt()
-}
-fn scale3(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
 /// A triangle's plane frame and grid.
 #[derive(Clone, Debug)]
 pub(crate) struct Frame {
@@ -226,8 +207,8 @@ pub(crate) struct Frame {
 
 impl Frame {
     pub(crate) fn to_local(&self, p: [f64; 3]) -> V2 {
-        let d = sub3(p, self.origin);
-        [dot3(d, self.e1), dot3(d, self.e2)]
+        let d = sub(p, self.origin);
+        [dot(d, self.e1), dot(d, self.e2)]
     }
     fn to_world(&self, q: V2) -> [f64; 3] {
         std::array::from_fn(|k| self.origin[k] + q[0] * self.e1[k] + q[1] * self.e2[k])
@@ -321,11 +302,9 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
     let mut shortest = f64::INFINITY;
     for (t, tri) in tris.iter().enumerate() {
         let [a, b, c] = tri.map(|v| pos[v as usize]);
-        let n = cross3(sub3(b, a), sub3(c, a));
-        let area = 0.5 * norm3(n);
-        let longest = norm3(sub3(b, a))
-            .max(norm3(sub3(c, b)))
-            .max(norm3(sub3(a, c)));
+        let n = cross(sub(b, a), sub(c, a));
+        let area = 0.5 * norm(n);
+        let longest = norm(sub(b, a)).max(norm(sub(c, b))).max(norm(sub(a, c)));
         if area.is_nan() || area <= 1e-12 * longest * longest {
             return Err(invalid(
                 "mesh",
@@ -336,7 +315,7 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
         }
         total_area += area;
         for (p, q) in [(a, b), (b, c), (c, a)] {
-            let l = norm3(sub3(q, p));
+            let l = norm(sub(q, p));
             shortest = shortest.min(l);
             perimeter += l;
         }
@@ -418,11 +397,11 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
     let mut out_cells = 0usize;
     for (t, tri) in tris.iter().enumerate() {
         let [a, b, c] = tri.map(|v| pos[v as usize]);
-        let ab = sub3(b, a);
-        let e1 = scale3(ab, 1.0 / norm3(ab));
-        let n = cross3(ab, sub3(c, a));
-        let n = scale3(n, 1.0 / norm3(n));
-        let e2 = cross3(n, e1);
+        let ab = sub(b, a);
+        let e1 = scale(ab, 1.0 / norm(ab));
+        let n = cross(ab, sub(c, a));
+        let n = scale(n, 1.0 / norm(n));
+        let e2 = cross(n, e1);
         cells.triangle_normal.push(n);
         let mut f = Frame {
             verts: *tri,
@@ -505,7 +484,7 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
             for j in cj - r..=cj + r {
                 for i in ci - r..=ci + r {
                     if let Some(c) = f.get(i, j) {
-                        let d = norm3(sub3(cells.centre[c as usize], pos[v as usize]));
+                        let d = norm(sub(cells.centre[c as usize], pos[v as usize]));
                         if d <= reach {
                             near_vertex.entry(v).or_default().push(c);
                         }
@@ -587,8 +566,8 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
                         list.iter()
                             .filter(|&&n| cells.triangle[n as usize] as usize != t)
                             .min_by(|&&a, &&b| {
-                                let da = norm3(sub3(cells.centre[a as usize], p));
-                                let db = norm3(sub3(cells.centre[b as usize], p));
+                                let da = norm(sub(cells.centre[a as usize], p));
+                                let db = norm(sub(cells.centre[b as usize], p));
                                 da.total_cmp(&db).then(a.cmp(&b))
                             })
                             .copied()
@@ -689,7 +668,7 @@ fn nearest_in(g: &Frame, q: V2, h: f64, centres: &[[f64; 3]]) -> Option<u32> {
         for j in cj - r..=cj + r {
             for i in ci - r..=ci + r {
                 if let Some(c) = g.get(i, j) {
-                    let d = norm3(sub3(centres[c as usize], p));
+                    let d = norm(sub(centres[c as usize], p));
                     if best.is_none_or(|(bd, bc)| d < bd || (d == bd && c < bc)) {
                         best = Some((d, c));
                     }
@@ -705,8 +684,8 @@ fn nearest_in(g: &Frame, q: V2, h: f64, centres: &[[f64; 3]]) -> Option<u32> {
         .iter()
         .filter(|&&c| c != u32::MAX)
         .min_by(|&&a, &&b| {
-            norm3(sub3(centres[a as usize], p))
-                .total_cmp(&norm3(sub3(centres[b as usize], p)))
+            norm(sub(centres[a as usize], p))
+                .total_cmp(&norm(sub(centres[b as usize], p)))
                 .then(a.cmp(&b))
         })
         .copied()

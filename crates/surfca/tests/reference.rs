@@ -427,34 +427,12 @@ mod corrosion {
     }
 }
 
-/// A torus of radii (big, small) as a closed, outward-oriented grid mesh.
-fn torus(big: f64, small: f64, nu: usize, nv: usize) -> TriMesh {
-    let tau = std::f64::consts::TAU;
-    let mut pos = Vec::with_capacity(nu * nv);
-    for i in 0..nu {
-        for j in 0..nv {
-            let (u, v) = (tau * i as f64 / nu as f64, tau * j as f64 / nv as f64);
-            let r = big + small * v.cos();
-            pos.push([r * u.cos(), r * u.sin(), small * v.sin()]);
-        }
-    }
-    let id = |i: usize, j: usize| ((i % nu) * nv + j % nv) as u32;
-    let mut tris = Vec::new();
-    for i in 0..nu {
-        for j in 0..nv {
-            tris.push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
-            tris.push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
-        }
-    }
-    TriMesh::new(pos, tris).unwrap()
-}
-
 #[test]
 fn torus_voronoi_agrees_with_geodesic_distances_on_a_fine_mesh() {
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
     let (big, small) = (1.0, 0.4);
-    let mesh = torus(big, small, 48, 16);
+    let mesh = asperity_core::shapes::torus(big, small, 48, 16);
     assert!(mesh.is_watertight() && mesh.signed_volume() > 0.0);
     let cells = build(&mesh, CellSize::Count(30_000), &unlimited()).unwrap();
     let sites = asperity_surfca::voronoi::random_sites(&cells, 8, 5);

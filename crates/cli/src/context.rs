@@ -1,0 +1,192 @@
+//! What every command shares after parsing (seed, output, threads, budget,
+//! `--json`, `--quiet`), and [`Run`]: one command's files, report and
+//! progress bar.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context as _;
+use asperity_core::{MemoryBudget, PointSet, RgbaImage, TriMesh};
+use asperity_engine::plots::NamedPlot;
+use asperity_engine::{Measurements, Report};
+use asperity_io::{Surface, WriteOptions};
+use asperity_render::plot::{plot_png, plot_svg};
+
+use crate::cli::Global;
+use crate::progress::Bar;
+
+/// Settings shared by every command after parsing.
+pub struct Context {
+    pub seed: u64,
+    pub output: Option<PathBuf>,
+    pub json: bool,
+    pub quiet: bool,
+    pub budget: MemoryBudget,
+    pub threads: usize,
+}
+
+impl Context {
+    pub fn new(g: &Global) -> anyhow::Result<Self> {
+        if let Some(n) = g.threads {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n as usize)
+                .build_global()
+                .context("starting the thread pool")?;
+        }
+        Ok(Self {
+            seed: g.seed,
+            output: g.output.clone(),
+            json: g.json,
+            quiet: g.quiet,
+            budget: g.max_memory.map(MemoryBudget::new).unwrap_or_default(),
+            threads: rayon::current_num_threads(),
+        })
+    }
+
+    /// Prints an informational line on stderr unless `--quiet` or `--json`.
+    pub fn note(&self, msg: impl AsRef<str>) {
+        if !self.quiet && !self.json {
+            eprintln!("{}", msg.as_ref());
+        }
+    }
+
+    /// `-o`, or an error that shows an example.
+    pub fn output(&self, example: &str) -> anyhow::Result<PathBuf> {
+        self.output
+            .clone()
+            .with_context(|| format!("no output file: give -o {example}"))
+    }
+
+    /// A progress bar (hidden with `--quiet`, `--json` or off a terminal).
+    pub fn bar(&self) -> Bar {
+        Bar::new(self.quiet || self.json)
+    }
+
+    /// Reads any file under the memory budget.
+    pub fn load(&self, path: &Path) -> anyhow::Result<Surface> {
+        Ok(asperity_engine::files::load(path, &self.budget)?)
+    }
+}
+
+/// One command: the files it writes (recorded in its report), its
+/// measurements, warnings and notes.
+pub struct Run<'a> {
+    pub ctx: &'a Context,
+    pub report: Report,
+}
+
+impl<'a> Run<'a> {
+    pub fn new(ctx: &'a Context, command: &'static str) -> Self {
+        Self {
+            ctx,
+            report: Report::new(command, ctx.seed, ctx.threads),
+        }
+    }
+
+    /// Writes a triangle mesh.
+    pub fn mesh(&mut self, path: &Path, m: &TriMesh) -> anyhow::Result<()> {
+        asperity_io::write_mesh(path, m, &WriteOptions::default())?;
+        self.report.output(path);
+        Ok(())
+    }
+
+    /// Writes a height field with a title (where the format has one).
+    pub fn height(
+        &mut self,
+        path: &Path,
+        h: &asperity_core::HeightField,
+        title: String,
+    ) -> anyhow::Result<()> {
+        let opts = WriteOptions {
+            title,
+            ..WriteOptions::default()
+        };
+        asperity_io::write_height(path, h, &opts)?;
+        self.report.output(path);
+        Ok(())
+    }
+
+    /// Writes points (refusing none) with a title.
+    pub fn points(&mut self, path: &Path, pts: Vec<[f64; 3]>, title: &str) -> anyhow::Result<()> {
+        anyhow::ensure!(!pts.is_empty(), "no particle to write");
+        let opts = WriteOptions {
+            title: title.into(),
+            ..WriteOptions::default()
+        };
+        asperity_io::write_points(path, &PointSet::new(pts), &opts)?;
+        self.report.output(path);
+        Ok(())
+    }
+
+    /// Writes a point set.
+    pub fn point_set(&mut self, path: &Path, ps: &PointSet) -> anyhow::Result<()> {
+        asperity_io::write_points(path, ps, &WriteOptions::default())?;
+        self.report.output(path);
+        Ok(())
+    }
+
+    /// Writes text.
+    pub fn text(&mut self, path: &Path, text: &str) -> anyhow::Result<()> {
+        asperity_io::write_text(path, text)?;
+        self.report.output(path);
+        Ok(())
+    }
+
+    /// Writes a PNG picture.
+    pub fn png(&mut self, path: &Path, img: &RgbaImage) -> anyhow::Result<()> {
+        asperity_io::write_png(path, img)?;
+        self.report.output(path);
+        Ok(())
+    }
+
+    /// Writes `plots` into `dir` (created if missing) at `size`: each by its
+    /// name's extension, and an `.svg` also as `.png`.
+    pub fn plots(
+        &mut self,
+        dir: &Path,
+        plots: &[NamedPlot],
+        size: (u32, u32),
+    ) -> anyhow::Result<()> {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        for p in plots {
+            let path = dir.join(p.name);
+            if p.name.ends_with(".svg") {
+                self.text(&path, &plot_svg(&p.plot, size.0, size.1)?)?;
+                self.png(
+                    &path.with_extension("png"),
+                    &plot_png(&p.plot, size.0, size.1)?,
+                )?;
+            } else {
+                self.png(&path, &plot_png(&p.plot, size.0, size.1)?)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Records measurements.
+    pub fn measure(&mut self, facts: Measurements) {
+        self.report.extend(facts);
+    }
+
+    /// Prints `kind: msg` (a note or a warning) and records it as a warning.
+    pub fn warn(&mut self, kind: &str, msg: String) {
+        self.ctx.note(format!("{kind}: {msg}"));
+        self.report.warn(msg);
+    }
+
+    /// Prints an informational line (see [`Context::note`]).
+    pub fn note(&self, msg: impl AsRef<str>) {
+        self.ctx.note(msg);
+    }
+
+    /// Prints the report as JSON on stdout with `--json`.
+    pub fn finish(mut self) -> anyhow::Result<()> {
+        self.report.stop_clock();
+        if self.ctx.json {
+            use std::io::Write;
+            let mut out = std::io::stdout().lock();
+            serde_json::to_writer_pretty(&mut out, &self.report)?;
+            writeln!(out)?;
+        }
+        Ok(())
+    }
+}

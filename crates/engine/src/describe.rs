@@ -1,0 +1,63 @@
+//! Facts about a file's contents (`asperity info`): counts, bounds, topology,
+//! attributes of a mesh; range and spread of a height field; bounds of a point set.
+
+use asperity_core::{HeightField, PointSet, TriMesh};
+use asperity_io::Surface;
+use serde_json::json;
+
+use crate::report::Measurements;
+
+/// Facts about whatever `s` holds.
+pub fn describe(s: &Surface) -> Measurements {
+    Measurements::from_value(match s {
+        Surface::Mesh(m) => mesh_facts(m),
+        Surface::Points(p) => point_facts(p),
+        Surface::Height(h) => height_facts(h),
+    })
+}
+
+fn mesh_facts(m: &TriMesh) -> serde_json::Value {
+    let watertight = m.is_watertight();
+    json!({
+        "kind": "mesh",
+        "vertices": m.n_vertices(),
+        "triangles": m.n_faces(),
+        "edges": m.edges().len(),
+        "euler_characteristic": m.euler_characteristic(),
+        "components": m.n_components(),
+        "boundary_loops": m.boundary_loops().len(),
+        "manifold": m.is_manifold(),
+        "watertight": watertight,
+        "genus": m.genus(),
+        "area": m.area(),
+        "volume": if watertight { Some(m.signed_volume()) } else { None },
+        "bounds": m.bounds(),
+        "normals": m.normals().is_some(),
+        "colors": m.colors().is_some(),
+        "uvs": m.uvs().is_some(),
+        "scalars": m.scalars().iter().map(|a| a.name.clone()).collect::<Vec<_>>(),
+    })
+}
+
+fn height_facts(h: &HeightField) -> serde_json::Value {
+    let (lo, hi) = h.min_max();
+    let mean = h.mean();
+    let rms = (h.data().iter().map(|z| (z - mean).powi(2)).sum::<f64>() / h.len() as f64).sqrt();
+    json!({
+        "kind": "height field",
+        "nx": h.nx(), "ny": h.ny(),
+        "spacing": h.spacing(), "origin": h.origin(), "extent": h.extent(),
+        "min": lo, "max": hi, "mean": mean, "rms_deviation": rms,
+    })
+}
+
+fn point_facts(p: &PointSet) -> serde_json::Value {
+    json!({
+        "kind": "point set",
+        "points": p.len(),
+        "bounds": p.bounds(),
+        "normals": p.normals().is_some(),
+        "colors": p.colors().is_some(),
+        "attributes": p.attributes().iter().map(|a| a.name.clone()).collect::<Vec<_>>(),
+    })
+}

@@ -1,0 +1,96 @@
+//! The engine's error: every method crate's error, plus refusals of the
+//! engine's own (a parameter out of range, a file that does not say what it
+//! should), each with a kind a front end maps to its own convention (the CLI's
+//! exit code, Python's `ValueError`/`OSError`/`MemoryError`).
+
+use asperity_analysis::AnalysisError;
+use asperity_ca::CaError;
+use asperity_core::CoreError;
+use asperity_growth::GrowthError;
+use asperity_ifs::IfsError;
+use asperity_io::IoError;
+use asperity_render::RenderError;
+
+/// Why a job was refused or failed.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum EngineError {
+    /// A parameter or an input the job cannot use; the message says which and why.
+    #[error("{0}")]
+    Invalid(String),
+    /// A shared-type error: invalid geometry, a size, the memory budget.
+    #[error(transparent)]
+    Core(#[from] CoreError),
+    /// Reading or writing a file.
+    #[error(transparent)]
+    File(#[from] IoError),
+    /// A growth simulation refused its parameters.
+    #[error(transparent)]
+    Growth(#[from] GrowthError),
+    /// A cellular-automaton run refused its rule or grid.
+    #[error(transparent)]
+    Ca(#[from] CaError),
+    /// A projected-IFS model is invalid.
+    #[error(transparent)]
+    Ifs(#[from] IfsError),
+    /// An analysis could not be made.
+    #[error(transparent)]
+    Analysis(#[from] AnalysisError),
+    /// A picture could not be drawn.
+    #[error(transparent)]
+    Render(#[from] RenderError),
+}
+
+/// What kind of failure an [`EngineError`] is, for front ends that map kinds to
+/// their own conventions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// Bad parameters or input data: the caller can fix the request.
+    Invalid,
+    /// The operating system refused a file operation.
+    Os,
+    /// The job would exceed the memory budget.
+    Memory,
+}
+
+impl EngineError {
+    /// The kind of failure.
+    pub fn kind(&self) -> ErrorKind {
+        let core = match self {
+            EngineError::Core(e) => Some(e),
+            EngineError::Growth(GrowthError::Core(e))
+            | EngineError::Ca(CaError::Core(e))
+            | EngineError::Ifs(IfsError::Core(e))
+            | EngineError::Analysis(AnalysisError::Core(e))
+            | EngineError::Render(RenderError::Core(e)) => Some(e),
+            EngineError::File(IoError::Os { .. }) => return ErrorKind::Os,
+            _ => None,
+        };
+        match core {
+            Some(CoreError::MemoryLimit { .. }) => ErrorKind::Memory,
+            _ => ErrorKind::Invalid,
+        }
+    }
+}
+
+/// Shorthand for the engine's results.
+pub type Result<T, E = EngineError> = std::result::Result<T, E>;
+
+/// An [`EngineError::Invalid`] with this message.
+pub fn invalid(msg: impl Into<String>) -> EngineError {
+    EngineError::Invalid(msg.into())
+}
+
+/// `Err(invalid(msg))` unless `ok`.
+///
+/// # Errors
+/// [`EngineError::Invalid`] with `msg` when `ok` is false.
+pub fn ensure(ok: bool, msg: impl FnOnce() -> String) -> Result<()> {
+    if ok { Ok(()) } else { Err(invalid(msg())) }
+}
+
+impl From<String> for EngineError {
+    fn from(msg: String) -> Self {
+        EngineError::Invalid(msg)
+    }
+}

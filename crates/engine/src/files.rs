@@ -1,0 +1,158 @@
+//! Inputs and output names shared by every job: any file read under the memory
+//! budget, the built-in meshes, text files, and the names of numbered outputs
+//! (animation frames, saved steps).
+
+use std::path::{Path, PathBuf};
+
+use asperity_core::{MemoryBudget, TriMesh, shapes};
+use asperity_io::{Format, IoError, Surface};
+
+use crate::error::{Result, invalid};
+
+/// Rough peak memory of reading a file, as a multiple of its size: text formats
+/// shrink when parsed, STL's welded f32 corners grow about threefold into f64
+/// vertices plus the weld table; 8× covers every reader with margin.
+const READ_MEMORY_FACTOR: u64 = 8;
+
+/// Reads whatever `path` holds (by extension), refusing files whose parsed size
+/// the budget cannot hold.
+///
+/// # Errors
+/// [`IoError`] naming the file; the memory budget.
+pub fn load(path: &Path, budget: &MemoryBudget) -> Result<Surface> {
+    let size = std::fs::metadata(path)
+        .map_err(|e| IoError::os(path, e))?
+        .len();
+    budget.check(
+        size.saturating_mul(READ_MEMORY_FACTOR),
+        format!("reading {}", path.display()),
+    )?;
+    Ok(asperity_io::read(path)?)
+}
+
+/// The names [`builtin_mesh`] knows.
+pub const BUILTIN_MESHES: &[&str] = &["sphere", "cube", "cylinder", "cup"];
+
+/// A built-in triangle mesh: `sphere` (icosphere, level 3), `cube` (4 × 4 per
+/// face), `cylinder` (closed, radius 0.5, height 2), `cup` (the open cup of
+/// gobron-chiba's figures).
+///
+/// # Errors
+/// [`crate::EngineError::Invalid`] for an unknown name.
+pub fn builtin_mesh(name: &str) -> Result<TriMesh> {
+    Ok(match name {
+        "sphere" => shapes::icosphere(3, 1.0),
+        "cube" => shapes::cube(4),
+        "cup" => shapes::cup(48),
+        "cylinder" => shapes::revolve(
+            &[
+                [0.0, 0.0],
+                [0.5, 0.0],
+                [0.5, 0.5],
+                [0.5, 1.0],
+                [0.5, 1.5],
+                [0.5, 2.0],
+                [0.0, 2.0],
+            ],
+            48,
+        ),
+        _ => {
+            return Err(invalid(format!(
+                "unknown built-in mesh {name:?}; known: {}",
+                BUILTIN_MESHES.join(", ")
+            )));
+        }
+    })
+}
+
+/// A triangle mesh from `builtin:NAME` or a file.
+///
+/// # Errors
+/// As [`builtin_mesh`] and [`load`]; [`crate::EngineError::Invalid`] when the
+/// file holds no triangle mesh.
+pub fn load_mesh(spec: &str, budget: &MemoryBudget) -> Result<TriMesh> {
+    if let Some(name) = spec.strip_prefix("builtin:") {
+        return builtin_mesh(name);
+    }
+    match load(Path::new(spec), budget)? {
+        Surface::Mesh(m) => Ok(m),
+        _ => Err(invalid(format!(
+            "{spec} is not a triangle mesh (a surface CA lives on triangles)"
+        ))),
+    }
+}
+
+/// The text of `path`.
+///
+/// # Errors
+/// [`IoError::Os`] naming the file.
+pub fn read_text(path: &Path) -> Result<String> {
+    Ok(std::fs::read_to_string(path).map_err(|e| IoError::os(path, e))?)
+}
+
+/// `dir/STEM_TAGNNNN.EXT` beside `out`, with `k` zero-padded to `width` digits:
+/// the name of frame or step `k` of an output.
+pub fn numbered(out: &Path, tag: &str, k: u64, width: usize) -> PathBuf {
+    let stem = out.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
+    let ext = out.extension().and_then(|s| s.to_str()).unwrap_or("ply");
+    out.with_file_name(format!("{stem}_{tag}{k:0width$}.{ext}"))
+}
+
+/// Whether `path` names a point-set format (`.ply`, `.xyz`, `.csv`) rather than a
+/// height field.
+///
+/// # Errors
+/// [`IoError::UnknownFormat`].
+pub fn is_points_path(path: &Path) -> Result<bool> {
+    let f = Format::from_path(path)?;
+    Ok(matches!(f, Format::Ply | Format::Xyz | Format::Csv))
+}
+
+/// Refuses an output path whose format cannot hold a triangle mesh.
+///
+/// # Errors
+/// [`IoError::UnknownFormat`]; [`crate::EngineError::Invalid`] naming the
+/// formats that can.
+pub fn require_mesh_format(path: &Path, formats: &str) -> Result<()> {
+    if Format::from_path(path)?.info().mesh.can_write() {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "{} cannot hold a mesh; use {formats}",
+            path.display()
+        )))
+    }
+}
+
+/// The lower-case extension of `path` ("" without one).
+pub fn extension(path: &Path) -> String {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbered_names_keep_folder_and_extension() {
+        let p = numbered(Path::new("out/terrain.glb"), "step", 10, 4);
+        assert_eq!(p, Path::new("out/terrain_step0010.glb"));
+        assert_eq!(
+            numbered(Path::new("v.png"), "", 7, 3),
+            Path::new("v_007.png")
+        );
+    }
+
+    #[test]
+    fn builtins_are_closed_or_named_in_the_error() {
+        for name in BUILTIN_MESHES {
+            let m = builtin_mesh(name).unwrap();
+            assert!(m.n_faces() > 0, "{name}");
+        }
+        let e = builtin_mesh("teapot").unwrap_err().to_string();
+        assert!(e.contains("sphere, cube, cylinder, cup"), "{e}");
+    }
+}

@@ -1,0 +1,470 @@
+//! Projected-IFS fractal curves and surfaces with their DCF/SDCF families and
+//! pseudo-curvature ranges (poull-gentil): models from presets or files, edited
+//! through their control points; attractor meshes with per-vertex curvature;
+//! the Figure 2 drawing; SDCF meshes (Figure 4); curvature reports.
+
+use std::path::Path;
+
+use asperity_core::{MemoryBudget, TriMesh};
+use asperity_ifs::curvature::{
+    CurveAtReport, CurveOperatorReport, SurfaceAtReport, SurfaceOperatorReport, curve_at,
+    curve_report, surface_at, surface_report, vertex_curvature,
+};
+use asperity_ifs::model::{TAKAGI_SHEAR, tensor_square};
+use asperity_ifs::sdcf::{Start, dcf_polyline, sdcf_mesh, start_point};
+use asperity_ifs::{
+    CurveIfs, DirectionAnalysis, FamilyOptions, Model, ModelFile, PresetParams, SurfaceIfs, preset,
+};
+use asperity_render::plot::{Drawing, Stroke, drawing_svg};
+use serde_json::Value;
+
+use crate::error::{Result, ensure, invalid};
+use crate::files::read_text;
+
+/// Where a model comes from and how it is edited, as `asperity ifs …` says it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModelSpec {
+    /// A preset name …
+    pub preset: Option<String>,
+    /// … or a model file (JSON).
+    pub file: Option<std::path::PathBuf>,
+    /// Preset parameters (w, degree, height).
+    pub params: PresetParams,
+    /// A file of control points replacing the model's (JSON or CSV).
+    pub control: Option<std::path::PathBuf>,
+    /// Control-point moves: `I=x,y[,z]` (curves) or `I,J=x,y,z` (surfaces).
+    pub moves: Vec<String>,
+    /// The family of DCFs: dyadic depth and periods.
+    pub family: FamilyOptions,
+}
+
+/// A model as used: built, with its control points edited.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// Its name (the preset's or the file's).
+    pub name: String,
+    /// The model.
+    pub model: Model,
+    /// The family of DCFs to examine.
+    pub opts: FamilyOptions,
+}
+
+/// Builds the model of `spec`.
+///
+/// # Errors
+/// An unknown preset, an unreadable or invalid model or control file, a bad
+/// move, or a model that breaks a constraint.
+pub fn load(spec: &ModelSpec) -> Result<Loaded> {
+    let p = &spec.params;
+    let (name, file) = match (&spec.preset, &spec.file) {
+        (Some(name), _) => (name.clone(), preset(name, p)?),
+        (None, Some(path)) => {
+            ensure(*p == PresetParams::default(), || {
+                "--w, --degree and --height apply to presets; edit the model file instead".into()
+            })?;
+            let f = ModelFile::from_json(&read_text(path)?)
+                .map_err(|e| invalid(format!("{}: {e}", path.display())))?;
+            (f.name.clone(), f)
+        }
+        (None, None) => return Err(invalid("give --preset NAME or --ifs FILE")),
+    };
+    let mut model = file
+        .build()
+        .map_err(|e| invalid(format!("model {name}: {e}")))?;
+    if let Some(path) = &spec.control {
+        model = apply_control(model, &read_control(path)?, path)?;
+    }
+    for m in &spec.moves {
+        apply_move(&mut model, m)?;
+    }
+    Ok(Loaded {
+        name,
+        model,
+        opts: spec.family,
+    })
+}
+
+impl Loaded {
+    /// The model as a file (to write with `ifs preset`).
+    pub fn file(&self) -> ModelFile {
+        self.model.to_file(&self.name, "")
+    }
+
+    /// The curve model.
+    ///
+    /// # Errors
+    /// [`crate::EngineError::Invalid`] for a surface model.
+    pub fn curve(self) -> Result<(String, CurveIfs, FamilyOptions)> {
+        match self.model {
+            Model::Curve(c) => Ok((self.name, c, self.opts)),
+            Model::Surface(_) => Err(invalid(format!(
+                "{} is a surface; use `asperity ifs surface` / `ifs sdcf` (curves: bezier-quadratic, bezier-cubic, bezier, takagi-landsberg)",
+                self.name
+            ))),
+        }
+    }
+
+    /// The surface model; a 2-D curve model becomes its tensor square
+    /// (z ≈ h(f(s) + f(t)), see `asperity_ifs::model::tensor_square`), of height
+    /// `height` (default 0.25).
+    ///
+    /// # Errors
+    /// [`crate::EngineError::Invalid`] for a curve that cannot be squared.
+    pub fn surface(self, height: Option<f64>) -> Result<(String, SurfaceIfs, FamilyOptions)> {
+        match self.model {
+            Model::Surface(s) => Ok((self.name, s, self.opts)),
+            Model::Curve(c) => {
+                let s = tensor_square(&c, height.unwrap_or(0.25), TAKAGI_SHEAR).map_err(|e| {
+                    invalid(format!(
+                        "{} is a curve and cannot be squared into a surface (surfaces: bezier-bicubic, takagi-landsberg-surface, bezier-takagi): {e}",
+                        self.name
+                    ))
+                })?;
+                Ok((format!("{} ⊗ {}", self.name, self.name), s, self.opts))
+            }
+        }
+    }
+}
+
+/// Comma-separated finite numbers.
+fn parse_numbers(s: &str, what: &str) -> Result<Vec<f64>> {
+    s.split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| invalid(format!("{what}: {x:?} is not a finite number")))
+        })
+        .collect()
+}
+
+/// Control points from JSON (as is) or CSV (`x,y[,z]` per line; a header line
+/// and `#` comments are skipped).
+fn read_control(path: &Path) -> Result<Value> {
+    let text = read_text(path)?;
+    if path.extension().and_then(|e| e.to_str()) == Some("json") {
+        return serde_json::from_str(&text)
+            .map_err(|e| invalid(format!("parsing {}: {e}", path.display())));
+    }
+    let mut pts = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        match parse_numbers(line, "control point") {
+            Ok(v) => pts.push(Value::from(v)),
+            Err(_) if pts.is_empty() && i == 0 => {} // a header
+            Err(e) => return Err(invalid(format!("{} line {}: {e}", path.display(), i + 1))),
+        }
+    }
+    Ok(Value::Array(pts))
+}
+
+fn points(v: &Value, what: &str) -> Result<Vec<Vec<f64>>> {
+    v.as_array()
+        .ok_or_else(|| invalid(format!("{what}: expected a list of points")))?
+        .iter()
+        .map(|p| {
+            p.as_array()
+                .ok_or_else(|| invalid(format!("{what}: a point is a list of 2 or 3 numbers")))?
+                .iter()
+                .map(|x| {
+                    x.as_f64()
+                        .ok_or_else(|| invalid(format!("{what}: {x} is not a number")))
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Rows of control points of an N × M surface grid: nested rows, or a flat
+/// list in row-major order.
+fn grid_rows(v: &Value, m: usize, what: &str) -> Result<Vec<Vec<Vec<f64>>>> {
+    let nested = v
+        .as_array()
+        .and_then(|a| a.first())
+        .and_then(|r| r.as_array())
+        .and_then(|r| r.first())
+        .is_some_and(Value::is_array);
+    if nested {
+        return v
+            .as_array()
+            .into_iter()
+            .flatten()
+            .map(|r| points(r, what))
+            .collect();
+    }
+    let flat = points(v, what)?;
+    ensure(flat.len().is_multiple_of(m), || {
+        format!(
+            "{what}: {} points do not fill rows of {m} (the grid is N×{m}, row-major)",
+            flat.len()
+        )
+    })?;
+    Ok(flat.chunks(m).map(<[Vec<f64>]>::to_vec).collect())
+}
+
+fn apply_control(model: Model, v: &Value, path: &Path) -> Result<Model> {
+    let what = path.display().to_string();
+    Ok(match model {
+        Model::Curve(c) => Model::Curve(CurveIfs::new(c.pifs.clone(), &points(v, &what)?)?),
+        Model::Surface(s) => {
+            let rows = grid_rows(v, s.grid_size().1, &what)?;
+            Model::Surface(SurfaceIfs::new(s.s.clone(), s.t.clone(), &rows)?)
+        }
+    })
+}
+
+fn apply_move(model: &mut Model, spec: &str) -> Result<()> {
+    let (idx, to) = spec
+        .split_once('=')
+        .ok_or_else(|| invalid(format!("--move {spec:?}: expected I=x,y[,z] or I,J=x,y,z")))?;
+    let idx: Vec<usize> = idx
+        .split(',')
+        .map(|x| {
+            x.trim()
+                .parse()
+                .map_err(|_| invalid(format!("--move {spec:?}: {x:?} is not an index")))
+        })
+        .collect::<Result<_>>()?;
+    let v = parse_numbers(to, &format!("--move {spec:?}"))?;
+    ensure((2..=3).contains(&v.len()), || {
+        format!("--move {spec:?}: a point has 2 or 3 coordinates")
+    })?;
+    let p = [v[0], v[1], v.get(2).copied().unwrap_or(0.0)];
+    match (model, idx.as_slice()) {
+        (Model::Curve(c), [i]) => c.move_point(*i, p)?,
+        (Model::Surface(s), [a, b]) => {
+            ensure(v.len() == 3, || {
+                format!("--move {spec:?}: surface points are x,y,z")
+            })?;
+            s.move_point(*a, *b, p)?;
+        }
+        (Model::Curve(_), _) => {
+            return Err(invalid(format!(
+                "--move {spec:?}: a curve point is I=x,y[,z]"
+            )));
+        }
+        (Model::Surface(_), _) => {
+            return Err(invalid(format!(
+                "--move {spec:?}: a surface point is I,J=x,y,z"
+            )));
+        }
+    }
+    Ok(())
+}
+
+const T0_COLOR: [u8; 3] = [214, 39, 40];
+const T1_COLOR: [u8; 3] = [31, 119, 180];
+
+fn lighter(c: [u8; 3]) -> [u8; 3] {
+    c.map(|x| (x as u32 + 2 * 255).div_euclid(3) as u8)
+}
+
+fn xy(p: &[[f64; 3]]) -> Vec<(f64, f64)> {
+    p.iter().map(|q| (q[0], q[1])).collect()
+}
+
+/// Strokes of one operator's family of DCFs: `family` members (light) and the
+/// lower and upper bounds (bold).
+fn family_strokes(
+    c: &CurveIfs,
+    a: &asperity_ifs::OperatorAnalysis,
+    family: usize,
+) -> Result<Vec<Stroke>> {
+    let color = if a.operator == 0 { T0_COLOR } else { T1_COLOR };
+    let Some(d) = &a.dcf else {
+        return Ok(Vec::new());
+    };
+    let len = d.members.len();
+    if len == 0 {
+        return Ok(Vec::new());
+    }
+    let k = family.min(len);
+    let mut strokes = Vec::new();
+    for j in 0..k {
+        let m = &d.members[j * (len - 1) / (k - 1).max(1)];
+        strokes.push(Stroke {
+            points: xy(&dcf_polyline(c, a, &m.point, 200)?),
+            color: lighter(color),
+            width: 1,
+            label: (j == 0).then(|| format!("family of DCF(T{}) ({})", a.operator, a.class.name())),
+        });
+    }
+    for (m, which) in [(d.lower(), "lower"), (d.upper(), "upper")] {
+        if let Some(m) = m {
+            strokes.push(Stroke {
+                points: xy(&dcf_polyline(c, a, &m.point, 200)?),
+                color,
+                width: 2,
+                label: Some(format!(
+                    "{which} bound of T{} (start s = {:.4}, c₂ = {:.4})",
+                    a.operator, m.start, m.c2
+                )),
+            });
+        }
+    }
+    Ok(strokes)
+}
+
+/// The paper's Figure 2 as SVG: the attractor (black) with, for each operator,
+/// members of its family of DCFs (light) and the lower/upper bound members
+/// (bold); `highlight` adds one requested DCF in green.
+///
+/// # Errors
+/// The IFS's (a depth too large) and the plot's.
+pub fn figure(
+    c: &CurveIfs,
+    an: &DirectionAnalysis,
+    name: &str,
+    family: usize,
+    highlight: Option<(usize, &[[f64; 3]])>,
+) -> Result<String> {
+    let mut strokes = vec![Stroke {
+        points: xy(&c.attractor(12)?),
+        color: [0, 0, 0],
+        width: 2,
+        label: Some(format!("attractor ({name})")),
+    }];
+    for a in &an.operators {
+        strokes.extend(family_strokes(c, a, family)?);
+    }
+    if let Some((op, pts)) = highlight {
+        strokes.push(Stroke {
+            points: xy(pts),
+            color: [44, 160, 44],
+            width: 3,
+            label: Some(format!("the requested DCF of T{op}")),
+        });
+    }
+    let title = format!("{name}: attractor and families of DCFs");
+    Ok(drawing_svg(&Drawing { title, strokes }, 900, 700)?)
+}
+
+/// Grid lines of a surface's control net (rows, then columns).
+pub fn control_net(s: &SurfaceIfs) -> Vec<Vec<[f64; 3]>> {
+    let (n, m) = s.grid_size();
+    let p = s.control();
+    let mut lines: Vec<Vec<[f64; 3]>> = (0..n).map(|a| p[a * m..(a + 1) * m].to_vec()).collect();
+    lines.extend((0..m).map(|b| (0..n).map(|a| p[a * m + b]).collect()));
+    lines
+}
+
+/// The attractor mesh at `depth` with per-vertex pseudo-curvature when asked
+/// and finite; the note says why there is none otherwise.
+///
+/// # Errors
+/// The IFS's (the memory budget).
+pub fn surface_mesh(
+    s: &SurfaceIfs,
+    opts: &FamilyOptions,
+    depth: u32,
+    curvature: bool,
+    budget: &MemoryBudget,
+) -> Result<(TriMesh, Option<String>)> {
+    let mut mesh = s.attractor_mesh(depth, budget)?;
+    if !curvature {
+        return Ok((mesh, None));
+    }
+    let (an_s, an_t) = (
+        DirectionAnalysis::new(&s.s, opts),
+        DirectionAnalysis::new(&s.t, opts),
+    );
+    match vertex_curvature(s, &an_s, &an_t, depth) {
+        Ok(attrs) => {
+            for (name, v) in attrs {
+                mesh = mesh.with_scalar(name, v)?;
+            }
+            Ok((mesh, None))
+        }
+        Err(e) => Ok((mesh, Some(format!("no curvature attributes: {e}")))),
+    }
+}
+
+/// The SDCF mesh of 𝒯ᵢⱼ from the starting points `starts` (one per direction).
+///
+/// # Errors
+/// The IFS's (no DCF for the operator, the memory budget).
+pub fn sdcf_for(
+    s: &SurfaceIfs,
+    opts: &FamilyOptions,
+    (i, j): (usize, usize),
+    starts: (Start, Start),
+    resolution: usize,
+    budget: &MemoryBudget,
+) -> Result<TriMesh> {
+    let (an_s, an_t) = (
+        DirectionAnalysis::new(&s.s, opts),
+        DirectionAnalysis::new(&s.t, opts),
+    );
+    let (a, b) = (&an_s.operators[i], &an_t.operators[j]);
+    let q = start_point(&s.s, a, starts.0)?;
+    let q2 = start_point(&s.t, b, starts.1)?;
+    Ok(sdcf_mesh(s, (a, &q), (b, &q2), resolution, budget)?)
+}
+
+/// The pseudo-curvature of every operator of a model and at given points.
+#[derive(Clone, Debug)]
+pub enum CurvatureReport {
+    /// A curve's: per operator, and at parameters s.
+    Curve(Vec<CurveOperatorReport>, Vec<CurveAtReport>),
+    /// A surface's: per operator pair, and at parameters (s, t).
+    Surface(Vec<SurfaceOperatorReport>, Vec<SurfaceAtReport>),
+}
+
+/// The curvature report of `l` at the points `at` (`S` for curves, `S,T` for surfaces).
+///
+/// # Errors
+/// [`crate::EngineError::Invalid`] for a point that does not parse; the IFS's
+/// (a point outside [0, 1]).
+pub fn curvature_report(l: &Loaded, at: &[String]) -> Result<CurvatureReport> {
+    match &l.model {
+        Model::Curve(c) => {
+            let an = DirectionAnalysis::new(&c.pifs, &l.opts);
+            let ops = curve_report(c, &an);
+            let pts = at
+                .iter()
+                .map(|s| {
+                    let s: f64 = s.trim().parse().map_err(|_| {
+                        invalid(format!("--at {s:?}: a curve point is one parameter S"))
+                    })?;
+                    Ok(curve_at(c, &an, s)?)
+                })
+                .collect::<Result<_>>()?;
+            Ok(CurvatureReport::Curve(ops, pts))
+        }
+        Model::Surface(s) => {
+            let (an_s, an_t) = (
+                DirectionAnalysis::new(&s.s, &l.opts),
+                DirectionAnalysis::new(&s.t, &l.opts),
+            );
+            let ops = surface_report(s, &an_s, &an_t);
+            let pts = at
+                .iter()
+                .map(|v| {
+                    let (u, w): (f64, f64) = pair(v, "--at")?;
+                    Ok(surface_at(s, &an_s, &an_t, u, w)?)
+                })
+                .collect::<Result<_>>()?;
+            Ok(CurvatureReport::Surface(ops, pts))
+        }
+    }
+}
+
+/// `A,B` as two values.
+///
+/// # Errors
+/// [`crate::EngineError::Invalid`] naming `what`.
+pub fn pair<T: std::str::FromStr>(s: &str, what: &str) -> Result<(T, T)> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| invalid(format!("{what} {s:?}: expected two values A,B")))?;
+    let p = |x: &str| {
+        x.trim()
+            .parse::<T>()
+            .map_err(|_| invalid(format!("{what} {s:?}: {x:?} is not valid")))
+    };
+    Ok((p(a)?, p(b)?))
+}

@@ -1,0 +1,267 @@
+//! Multiresolution subdivision surfaces with procedural detail (velho-perlin):
+//! a scene from a file or from options, its base and the files it names read,
+//! evaluated frame by frame; details exported and re-applied to an edited base;
+//! captured fine meshes analysed into details.
+
+use std::path::{Path, PathBuf};
+
+use asperity_core::{MemoryBudget, PolyMesh, Progress};
+use asperity_subdiv::base;
+use asperity_subdiv::blend::parse_alpha_map;
+use asperity_subdiv::catmull_clark::{Boundary, Creased};
+use asperity_subdiv::detail_file::DetailFile;
+use asperity_subdiv::evaluate::{Captured, Composed, Inputs, evaluate};
+use asperity_subdiv::multires::analyze_captured;
+use asperity_subdiv::scene::{Scene, crease_from_spec, feature_from_spec, parse};
+
+use crate::error::{Result, ensure, invalid};
+use crate::files::read_text;
+
+/// The built-in bases [`load_base`] knows.
+pub const BUILTIN_BASES: &str = "cube, sphere, torus, cylinder, plane, fuse";
+
+/// A built-in base by name, `revolution:PROFILE` (a file of `r z` rows), or a
+/// polygon mesh file; files are relative to `dir`.
+///
+/// # Errors
+/// An unreadable or invalid profile or mesh, naming the file.
+pub fn load_base(spec: &str, dir: &Path) -> Result<PolyMesh> {
+    Ok(match spec {
+        "cube" => base::cube(),
+        "sphere" => base::quad_sphere(2),
+        "torus" => base::torus(1.0, 0.35, 16, 8),
+        "cylinder" => base::cylinder(0.6, 1.0, 8),
+        "plane" => base::plane(4),
+        "fuse" => base::fuse(24, 10),
+        spec if spec.starts_with("revolution:") => {
+            let p = dir.join(&spec["revolution:".len()..]);
+            let profile = base::parse_profile(&read_text(&p)?)
+                .map_err(|e| invalid(format!("{}: {e}", p.display())))?;
+            base::revolution(&profile, 16)
+        }
+        path => {
+            let p = dir.join(path);
+            asperity_io::read_poly_mesh(&p).map_err(|e| {
+                invalid(format!(
+                    "reading the base mesh {e} (or use {BUILTIN_BASES})"
+                ))
+            })?
+        }
+    })
+}
+
+/// A surface without a scene file, as `asperity subdiv --base …` describes it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// A built-in base, `revolution:PROFILE` or a mesh file.
+    pub base: String,
+    /// Subdivision levels.
+    pub levels: usize,
+    /// `--detail` specs (`name:key=value,…`).
+    pub details: Vec<String>,
+    /// `--crease` specs (`A-B:SHARPNESS`).
+    pub creases: Vec<String>,
+    /// Boundary rule.
+    pub boundary: Boundary,
+}
+
+/// Where the scene comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Source {
+    /// A TOML scene file's text and the folder its paths are relative to.
+    Scene {
+        /// The file (for messages).
+        path: PathBuf,
+        /// Its text.
+        text: String,
+    },
+    /// Options.
+    Options(Options),
+}
+
+/// Evaluates scenes at animation times: the base and the files the scene
+/// names are read once, then [`Session::frame`] evaluates any time.
+pub struct Session {
+    source: Source,
+    seed: u64,
+    limit: bool,
+    dir: PathBuf,
+    /// The scene at the first time asked for.
+    pub first: Scene,
+    /// The base with its creases.
+    pub base: Creased,
+    inputs: Inputs,
+}
+
+impl Session {
+    /// Reads the scene at time `t`, its base and its files, and checks the size
+    /// of the finest level against the budget; `limit` forces limit positions.
+    ///
+    /// # Errors
+    /// A bad scene, base, crease, alpha map or captured surface; more than 10
+    /// levels; the budget.
+    pub fn open(
+        source: Source,
+        seed: u64,
+        limit: bool,
+        t: f64,
+        budget: &MemoryBudget,
+    ) -> Result<Self> {
+        let dir = match &source {
+            Source::Scene { path, .. } => path.parent().map(Path::to_path_buf).unwrap_or_default(),
+            Source::Options(_) => PathBuf::new(),
+        };
+        let first = scene_at(&source, seed, limit, t)?;
+        let base = Creased::with_creases(load_base(&first.base, &dir)?, &first.creases)?;
+        check_size(&base, first.levels, budget)?;
+        let inputs = read_inputs(&first, &base, &dir)?;
+        Ok(Self {
+            source,
+            seed,
+            limit,
+            dir,
+            first,
+            base,
+            inputs,
+        })
+    }
+
+    /// The scene at time `t`.
+    ///
+    /// # Errors
+    /// As [`Session::open`].
+    pub fn scene(&self, t: f64) -> Result<Scene> {
+        scene_at(&self.source, self.seed, self.limit, t)
+    }
+
+    /// The surface of `scene` on this base.
+    ///
+    /// # Errors
+    /// The evaluation's (an inconsistent scene, bad features).
+    pub fn frame(&self, scene: &Scene, progress: &dyn Progress) -> Result<Composed> {
+        Ok(evaluate(scene, &self.base, &self.inputs, progress)?)
+    }
+
+    /// The surface of the base with the details of a details file re-applied.
+    ///
+    /// # Errors
+    /// An unreadable file, one of another format or for another base.
+    pub fn apply_details(&self, path: &Path, boundary: Boundary) -> Result<Composed> {
+        let f = DetailFile::from_json(&read_text(path)?)
+            .and_then(|f| f.check_base(&self.base).map(|()| f))
+            .map_err(|e| invalid(format!("{}: {e}", path.display())))?;
+        Ok(Composed::synthesized(
+            &self.base, f.details, f.levels, boundary,
+        )?)
+    }
+
+    /// A fine mesh (connectivity: the scene's levels of the base) analysed into
+    /// base positions and details.
+    ///
+    /// # Errors
+    /// An unreadable mesh, or one of other connectivity.
+    pub fn analyze_fine(&self, path: &Path, scene: &Scene) -> Result<Composed> {
+        let (coarse, details) = read_captured(path, &self.base, scene)?;
+        Ok(Composed::synthesized(
+            &coarse,
+            details,
+            scene.levels,
+            scene.boundary,
+        )?)
+    }
+
+    /// The details file of a composed surface (`--export-details`).
+    pub fn details_file(&self, c: &Composed) -> String {
+        DetailFile::new(&self.base, self.first.levels, c.details.clone()).to_json()
+    }
+
+    /// The folder the scene's paths are relative to.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+}
+
+fn scene_at(source: &Source, seed: u64, limit: bool, t: f64) -> Result<Scene> {
+    ensure((0.0..=1.0).contains(&t), || {
+        format!("--time {t} is outside [0, 1]")
+    })?;
+    match source {
+        Source::Scene { path, text } => {
+            let mut sc = parse(text, t).map_err(|e| invalid(format!("{}: {e}", path.display())))?;
+            sc.limit |= limit;
+            Ok(sc)
+        }
+        Source::Options(o) => {
+            let features = o
+                .details
+                .iter()
+                .map(|d| feature_from_spec(d, t))
+                .collect::<Result<Vec<_>, String>>()?;
+            let mut sc = Scene::single_layer(&o.base, o.levels, seed, features);
+            sc.boundary = o.boundary;
+            sc.limit = limit;
+            sc.creases = o
+                .creases
+                .iter()
+                .map(|c| crease_from_spec(c))
+                .collect::<Result<_, String>>()?;
+            Ok(sc)
+        }
+    }
+}
+
+/// Refuses more than 10 levels, and a finest level the budget cannot hold.
+fn check_size(base: &Creased, levels: usize, budget: &MemoryBudget) -> Result<()> {
+    ensure(levels <= 10, || format!("levels = {levels}: at most 10"))?;
+    // Quads after level k: Σ|f| · 4^(k−1); refuse before allocating.
+    let corners: u128 = base.mesh.faces().map(|f| f.len() as u128).sum();
+    let quads = if levels == 0 {
+        base.mesh.n_faces() as u128
+    } else {
+        corners << (2 * (levels - 1))
+    };
+    budget.check_elements(
+        quads,
+        // Positions and details of two surfaces, topology, output triangles.
+        3 * 24 + 4 * 16 + 2 * 12 + 48,
+        "the subdivided mesh",
+    )?;
+    Ok(())
+}
+
+/// The alpha map and the captured surfaces a scene names.
+fn read_inputs(scene: &Scene, base: &Creased, dir: &Path) -> Result<Inputs> {
+    let alpha_map = match &scene.alpha_map {
+        Some(p) => {
+            let path = dir.join(p);
+            let map = parse_alpha_map(&read_text(&path)?)
+                .map_err(|e| invalid(format!("alpha map {}: {e}", path.display())))?;
+            Some(map)
+        }
+        None => None,
+    };
+    let mut captured = Vec::new();
+    for (layer, file) in &scene.surfaces {
+        let (b, details) = read_captured(&dir.join(file), base, scene)?;
+        captured.push(Captured {
+            layer: layer.clone(),
+            base: b,
+            details,
+        });
+    }
+    Ok(Inputs {
+        alpha_map,
+        captured,
+    })
+}
+
+fn read_captured(
+    path: &Path,
+    base: &Creased,
+    scene: &Scene,
+) -> Result<(Creased, asperity_subdiv::multires::Details)> {
+    let fine = asperity_io::read_poly_mesh(path)
+        .map_err(|e| invalid(format!("reading the fine mesh {e}")))?;
+    analyze_captured(base, &fine, scene.levels, scene.boundary)
+        .map_err(|e| invalid(format!("{}: {e}", path.display())))
+}

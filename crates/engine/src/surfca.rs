@@ -1,0 +1,604 @@
+//! Cellular automata on a triangle mesh (gobron-chiba): the mesh checked (or
+//! repaired) and covered with cells, then one application — surface Voronoi,
+//! copper corrosion with patina, or Gray–Scott reaction–diffusion — run with
+//! its per-step statistics, and the result coloured as a cell mesh or as a
+//! texture atlas on the original mesh.
+
+use std::time::Instant;
+
+use asperity_core::{MemoryBudget, PointSet, Progress, TriMesh};
+use asperity_render::plot::{Plot, Series, Style};
+use asperity_surfca::corrosion::{
+    Behaviour, CorrosionCell, CorrosionParams, CorrosionRule, corrode, initial,
+};
+use asperity_surfca::engine::{RunOptions, RunStats, run};
+use asperity_surfca::reaction_diffusion::{Chemicals, GrayScott, seeded_state};
+use asperity_surfca::repair::{RepairReport, check, repair};
+use asperity_surfca::voronoi::{PAPER_P, UNLABELLED, VoronoiRule, random_sites, voronoi};
+use asperity_surfca::{CellSize, Cells, Rule, build};
+use serde_json::json;
+
+use crate::error::{Result, ensure, invalid};
+use crate::report::Measurements;
+
+/// A mesh covered with cells, ready for an application.
+pub struct Covered {
+    /// The mesh (repaired if asked).
+    pub mesh: TriMesh,
+    /// What the repair changed, if one was asked for.
+    pub repair: Option<RepairReport>,
+    /// The cells.
+    pub cells: Cells,
+    /// Seconds spent building the cells.
+    pub cells_s: f64,
+}
+
+/// Checks `mesh` (after repairing it when `fix`) and covers it with cells of
+/// `size`; `name` names it in messages.
+///
+/// # Errors
+/// A mesh that is not manifold, non-degenerate and consistently oriented (the
+/// paper's step 1); the memory budget.
+pub fn cover(
+    mesh: TriMesh,
+    name: &str,
+    fix: bool,
+    size: CellSize,
+    budget: &MemoryBudget,
+) -> Result<Covered> {
+    let (mesh, repair) = if fix {
+        let (m, r) = repair(&mesh)?;
+        (m, Some(r))
+    } else {
+        (mesh, None)
+    };
+    check(&mesh).map_err(|e| invalid(format!("{name}: {e}")))?;
+    let t = Instant::now();
+    let cells = build(&mesh, size, budget)?;
+    Ok(Covered {
+        mesh,
+        repair,
+        cells,
+        cells_s: t.elapsed().as_secs_f64(),
+    })
+}
+
+impl Covered {
+    /// One line on the cell structure.
+    pub fn summary(&self) -> String {
+        let c = &self.cells;
+        format!(
+            "{} cells of side {:.4} on {} triangles ({} COMP-IN, {} PART-IN; pairing redundancy {:.1} %)",
+            c.len(),
+            c.h,
+            self.mesh.n_faces(),
+            c.stats.comp_in,
+            c.stats.part_in,
+            100.0 * c.stats.pairing_redundancy
+        )
+    }
+
+    /// The cells as a mesh of their own, each in its colour (see
+    /// `asperity_surfca::atlas::cell_mesh`).
+    ///
+    /// # Errors
+    /// Invalid geometry (not expected for built cells).
+    pub fn cell_mesh(&self, color: impl Fn(usize) -> [u8; 4]) -> Result<TriMesh> {
+        Ok(asperity_surfca::atlas::cell_mesh(
+            &self.mesh,
+            &self.cells,
+            color,
+            None,
+        )?)
+    }
+}
+
+/// Distinct colours for labels (golden-ratio hues, fixed saturation and value);
+/// unlabelled cells are light grey.
+pub fn label_color(label: u32) -> [u8; 4] {
+    if label == UNLABELLED {
+        return [200, 200, 200, 255];
+    }
+    asperity_render::colormap::distinct(label)
+}
+
+/// Colour of a corrosion cell: patina over copper by the two-layer model
+/// (gobron-chiba "light through two layers"); holes are dark.
+pub fn patina_color(s: &CorrosionCell) -> [u8; 4] {
+    const PATINA: [f64; 3] = [0.27, 0.62, 0.50];
+    const COPPER: [f64; 3] = [0.74, 0.43, 0.25];
+    let c = match s.behaviour {
+        Behaviour::NonExistent => [0.12, 0.09, 0.07],
+        _ => asperity_render::light::two_layer(
+            PATINA,
+            s.oxide as f64,
+            0.6,
+            COPPER,
+            s.metal.max(0.05) as f64,
+            0.95,
+        ),
+    };
+    let to = |x: f64| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+    [to(c[0]), to(c[1]), to(c[2]), 255]
+}
+
+/// Colour of a Gray–Scott cell: v through viridis.
+pub fn rd_color(s: &Chemicals) -> [u8; 4] {
+    let c = asperity_render::ColorMap::Viridis.map((s.v as f64 / 0.45).clamp(0.0, 1.0));
+    [c[0], c[1], c[2], 255]
+}
+
+/// An application and its settings.
+#[derive(Clone, Debug)]
+pub enum App {
+    /// Surface Voronoi regions grown from sites.
+    Voronoi {
+        /// Site cells.
+        sites: Vec<usize>,
+        /// Diagonal growth probability (Figure 14; default √2/2 − ½).
+        diagonal_p: f64,
+        /// Step limit.
+        max_steps: u64,
+    },
+    /// Copper corrosion and patina.
+    Corrosion {
+        /// The model's constants.
+        params: CorrosionParams,
+        /// Steps.
+        steps: u64,
+    },
+    /// Gray–Scott reaction–diffusion.
+    GrayScott {
+        /// Feed and kill rates.
+        rule: GrayScott,
+        /// Patches seeded.
+        patches: usize,
+        /// Steps.
+        steps: u64,
+    },
+}
+
+impl App {
+    /// Voronoi from `sites` with the diagonal probability `p` (default the
+    /// paper's), checked.
+    ///
+    /// # Errors
+    /// [`crate::EngineError::Invalid`] for p outside [0, 1] or no site.
+    pub fn voronoi(sites: Vec<usize>, p: Option<f64>, max_steps: u64) -> Result<Self> {
+        let diagonal_p = p.unwrap_or(PAPER_P);
+        ensure((0.0..=1.0).contains(&diagonal_p), || {
+            format!("--diagonal-p must be in [0, 1], got {diagonal_p}")
+        })?;
+        Ok(App::Voronoi {
+            sites,
+            diagonal_p,
+            max_steps,
+        })
+    }
+
+    /// `n` random sites on `cells`.
+    ///
+    /// # Errors
+    /// [`crate::EngineError::Invalid`] for no site or more sites than cells.
+    pub fn random_sites(cells: &Cells, n: usize, seed: u64) -> Result<Vec<usize>> {
+        ensure(n >= 1, || "--sites must be at least 1".into())?;
+        ensure(n <= cells.len(), || {
+            format!(
+                "--sites {n} exceeds the {} cells; use more cells",
+                cells.len()
+            )
+        })?;
+        Ok(random_sites(cells, n, seed))
+    }
+
+    /// The cells nearest to `points`.
+    ///
+    /// # Errors
+    /// [`crate::EngineError::Invalid`] for no point.
+    pub fn sites_at(cells: &Cells, points: &PointSet, name: &str) -> Result<Vec<usize>> {
+        ensure(!points.is_empty(), || format!("{name}: no site points"))?;
+        Ok(asperity_surfca::voronoi::sites_at(
+            cells,
+            points.positions(),
+        ))
+    }
+
+    /// Corrosion with `params`, checked.
+    ///
+    /// # Errors
+    /// [`crate::EngineError::Invalid`] naming the bad constant.
+    pub fn corrosion(params: CorrosionParams, steps: u64) -> Result<Self> {
+        params
+            .validate()
+            .map_err(|e| invalid(format!("corrosion: {e}")))?;
+        Ok(App::Corrosion { params, steps })
+    }
+
+    /// Gray–Scott with feed F and kill k, checked.
+    ///
+    /// # Errors
+    /// [`crate::EngineError::Invalid`] for bad rates or no patch.
+    pub fn gray_scott(feed: f32, kill: f32, patches: usize, steps: u64) -> Result<Self> {
+        let rule = GrayScott {
+            feed,
+            kill,
+            ..GrayScott::default()
+        };
+        rule.validate()
+            .map_err(|e| invalid(format!("gray-scott: {e}")))?;
+        ensure(patches >= 1, || "--patches must be at least 1".into())?;
+        Ok(App::GrayScott {
+            rule,
+            patches,
+            steps,
+        })
+    }
+
+    /// `voronoi`, `corrosion` or `gray-scott`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            App::Voronoi { .. } => "voronoi",
+            App::Corrosion { .. } => "corrosion",
+            App::GrayScott { .. } => "gray-scott",
+        }
+    }
+}
+
+/// The end state of a run, whatever the application.
+pub enum State {
+    /// A label per cell.
+    Labels(Vec<u32>),
+    /// A corrosion state per cell.
+    Corrosion(Vec<CorrosionCell>),
+    /// Chemical concentrations per cell.
+    Chemicals(Vec<Chemicals>),
+}
+
+impl State {
+    /// Colour of cell `c`.
+    pub fn color(&self, c: usize) -> [u8; 4] {
+        match self {
+            State::Labels(l) => label_color(l[c]),
+            State::Corrosion(s) => patina_color(&s[c]),
+            State::Chemicals(s) => rd_color(&s[c]),
+        }
+    }
+
+    /// The per-cell field a displaced or attributed output carries:
+    /// `oxide` (corrosion) or `activator` (Gray–Scott); none for labels.
+    pub fn field(&self) -> Option<(&'static str, Vec<f64>)> {
+        match self {
+            State::Labels(_) => None,
+            State::Corrosion(s) => Some(("oxide", s.iter().map(|x| x.oxide as f64).collect())),
+            State::Chemicals(s) => Some(("activator", s.iter().map(|x| x.v as f64).collect())),
+        }
+    }
+}
+
+/// A finished run.
+pub struct AppRun {
+    /// The application.
+    pub app: App,
+    /// The end state.
+    pub state: State,
+    /// Per-step statistics.
+    pub stats: RunStats,
+    /// The statistics' class names.
+    pub classes: Vec<&'static str>,
+    /// Wall-clock seconds of the run.
+    pub seconds: f64,
+}
+
+/// Runs `app` on the cells; `on_step(step, colour of cell c)` is called after
+/// every step (for progress and animation frames).
+pub fn run_app(
+    cov: &Covered,
+    app: App,
+    seed: u64,
+    mut on_step: impl FnMut(u64, &dyn Fn(usize) -> [u8; 4]),
+) -> AppRun {
+    let cells = &cov.cells;
+    let t = Instant::now();
+    let (state, stats, classes) = match &app {
+        App::Voronoi {
+            sites,
+            diagonal_p,
+            max_steps,
+        } => {
+            let rule = VoronoiRule {
+                diagonal_p: *diagonal_p,
+            };
+            let (labels, stats) = voronoi(cells, sites, &rule, seed, *max_steps, |step, l| {
+                on_step(step, &|c| label_color(l[c]));
+                true
+            });
+            (State::Labels(labels), stats, rule.classes().to_vec())
+        }
+        App::Corrosion { params, steps } => {
+            let mut states = initial(cells, params, seed);
+            let stats = corrode(cells, params, &mut states, seed, *steps, |step, st| {
+                on_step(step, &|c| patina_color(&st[c]));
+                true
+            });
+            let classes = CorrosionRule { params: *params }.classes().to_vec();
+            (State::Corrosion(states), stats, classes)
+        }
+        App::GrayScott {
+            rule,
+            patches,
+            steps,
+        } => {
+            let mut states = seeded_state(cells, (*patches).min(cells.len()), seed);
+            let opts = RunOptions {
+                seed,
+                max_steps: *steps,
+                stop_when_stable: false,
+            };
+            let stats = run(cells, rule, &mut states, &opts, |step, st| {
+                on_step(step, &|c| rd_color(&st[c]));
+                true
+            });
+            (State::Chemicals(states), stats, rule.classes().to_vec())
+        }
+    };
+    AppRun {
+        app,
+        state,
+        stats,
+        classes,
+        seconds: t.elapsed().as_secs_f64(),
+    }
+}
+
+/// How the result is written.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OutputShape {
+    /// The original mesh with the cells in a texture atlas (glTF, OBJ).
+    pub textured: bool,
+    /// The cells themselves even where a texture would do.
+    pub cell_mesh: bool,
+    /// Raise the cells by the per-cell field times this.
+    pub displace: Option<f64>,
+}
+
+impl AppRun {
+    /// The result mesh: displaced cells, the original mesh with a cell atlas,
+    /// or the cell mesh with per-vertex colours and the per-cell field.
+    ///
+    /// # Errors
+    /// [`crate::EngineError::Invalid`] for a displacement without a field or not
+    /// finite; the atlas' memory budget.
+    pub fn mesh(
+        &self,
+        cov: &Covered,
+        shape: OutputShape,
+        budget: &MemoryBudget,
+    ) -> Result<TriMesh> {
+        let (mesh, cells) = (&cov.mesh, &cov.cells);
+        let color = |c: usize| self.state.color(c);
+        let field = self.state.field();
+        if let Some(k) = shape.displace {
+            let (_, values) = field.as_ref().ok_or_else(|| {
+                invalid("--displace needs a per-cell thickness (corrosion: oxide; gray-scott: activator)")
+            })?;
+            ensure(k.is_finite(), || "--displace must be finite".into())?;
+            return Ok(asperity_surfca::atlas::cell_mesh(
+                mesh,
+                cells,
+                color,
+                Some((values, k)),
+            )?);
+        }
+        if shape.textured && !shape.cell_mesh {
+            return Ok(asperity_surfca::atlas::atlas_mesh(
+                mesh, cells, color, budget,
+            )?);
+        }
+        let mut m = cov.cell_mesh(color)?;
+        if let Some((name, values)) = field {
+            m = m.with_scalar(
+                name,
+                (0..cells.len())
+                    .flat_map(|c| std::iter::repeat_n(values[c], cells.polygon(c).len()))
+                    .collect(),
+            )?;
+        }
+        Ok(m)
+    }
+
+    /// Voronoi only: the cell centres with their `label` (−1 unreached),
+    /// `area` and label colour.
+    ///
+    /// # Errors
+    /// [`crate::EngineError::Invalid`] for another application.
+    pub fn labels(&self, cov: &Covered) -> Result<PointSet> {
+        let State::Labels(labels) = &self.state else {
+            return Err(invalid("labels exist for --app voronoi only"));
+        };
+        let mut ps = PointSet::new(cov.cells.centre.clone());
+        ps.add_attribute(
+            "label",
+            labels
+                .iter()
+                .map(|&l| if l == UNLABELLED { -1.0 } else { l as f64 })
+                .collect(),
+        )?;
+        ps.add_attribute("area", cov.cells.area.clone())?;
+        ps.set_colors(labels.iter().map(|&l| label_color(l)).collect())?;
+        Ok(ps)
+    }
+
+    /// Warnings for the user: Voronoi cells no site reached.
+    pub fn warnings(&self) -> Vec<String> {
+        match &self.state {
+            State::Labels(l) => {
+                let unreached = l.iter().filter(|&&x| x == UNLABELLED).count();
+                (unreached > 0)
+                    .then(|| {
+                        format!(
+                            "{unreached} cells were not reached (separate components, or the step limit)"
+                        )
+                    })
+                    .into_iter()
+                    .collect()
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// The measurements `asperity surface-ca --json` reports.
+    pub fn measurements(&self, cov: &Covered) -> Measurements {
+        let n = cov.cells.len();
+        let mut m = Measurements::new();
+        m.set("app", self.app.name());
+        m.set("cells", n);
+        m.set("steps", self.stats.steps);
+        m.set("run_s", self.seconds);
+        let changed: Vec<f64> = self
+            .stats
+            .per_step
+            .iter()
+            .map(|s| s.changed as f64 / n as f64)
+            .collect();
+        match (&self.app, &self.state) {
+            (
+                App::Voronoi {
+                    sites, diagonal_p, ..
+                },
+                _,
+            ) => {
+                m.set("cell_structure", &cov.cells.stats);
+                m.set("diagonal_p", diagonal_p);
+                m.set("changed_fraction", changed);
+                m.set(
+                    "sites",
+                    sites
+                        .iter()
+                        .map(|&c| cov.cells.centre[c])
+                        .collect::<Vec<_>>(),
+                );
+            }
+            (_, State::Corrosion(s)) => {
+                let count = |b: Behaviour| s.iter().filter(|x| x.behaviour == b).count();
+                m.set("cell_structure", &cov.cells.stats);
+                m.set("corroded", count(Behaviour::Corroded));
+                m.set("non_existent", count(Behaviour::NonExistent));
+                m.set("changed_fraction", changed);
+            }
+            _ => m.set(
+                "activator_fraction",
+                self.stats
+                    .per_step
+                    .last()
+                    .map_or(0.0, |s| s.class_fraction[1]),
+            ),
+        }
+        if !matches!(self.state, State::Chemicals(_)) {
+            m.set(
+                "cell_updates_per_s",
+                n as f64 * self.stats.steps as f64 / self.seconds.max(1e-9),
+            );
+        }
+        m
+    }
+
+    /// One line on what happened.
+    pub fn summary(&self, cov: &Covered) -> String {
+        let (n, steps, secs) = (cov.cells.len(), self.stats.steps, self.seconds);
+        match (&self.app, &self.state) {
+            (App::Voronoi { sites, .. }, _) => format!(
+                "{} sites grew over {n} cells in {steps} steps ({secs:.2} s)",
+                sites.len()
+            ),
+            (_, State::Corrosion(s)) => {
+                let frac = |b: Behaviour| {
+                    100.0 * s.iter().filter(|x| x.behaviour == b).count() as f64 / n as f64
+                };
+                format!(
+                    "{steps} steps over {n} cells in {secs:.2} s: {:.1} % corroded, {:.1} % eaten through",
+                    frac(Behaviour::Corroded),
+                    frac(Behaviour::NonExistent)
+                )
+            }
+            _ => format!("{steps} Gray–Scott steps over {n} cells in {secs:.2} s"),
+        }
+    }
+
+    /// The per-step statistics as CSV: step, changed, changed fraction, then
+    /// the area fraction of each class.
+    pub fn stats_csv(&self, n: usize) -> String {
+        let mut t = String::from("step,changed,changed_fraction");
+        for c in &self.classes {
+            t += &format!(",{c}");
+        }
+        t.push('\n');
+        for p in &self.stats.per_step {
+            t += &format!("{},{},{}", p.step, p.changed, p.changed as f64 / n as f64);
+            for f in &p.class_fraction {
+                t += &format!(",{f}");
+            }
+            t.push('\n');
+        }
+        t
+    }
+
+    /// The per-step statistics as JSON.
+    pub fn stats_json(&self, n: usize) -> String {
+        let doc = json!({"classes": self.classes, "cells": n, "run": self.stats});
+        serde_json::to_string_pretty(&doc).expect("statistics serialise")
+    }
+
+    /// The per-step statistics as a plot: changed cells and class fractions.
+    pub fn stats_plot(&self, n: usize) -> Plot {
+        let per_step = &self.stats.per_step;
+        let line = |name: String, points: Vec<(f64, f64)>| Series {
+            name,
+            points,
+            style: Style::Line,
+        };
+        let mut series = vec![line(
+            "changed cells (fraction)".into(),
+            per_step
+                .iter()
+                .map(|s| (s.step as f64, s.changed as f64 / n as f64))
+                .collect(),
+        )];
+        for (k, c) in self.classes.iter().enumerate() {
+            series.push(line(
+                format!("{c} (area fraction)"),
+                per_step
+                    .iter()
+                    .map(|s| {
+                        (
+                            s.step as f64,
+                            s.class_fraction.get(k).copied().unwrap_or(0.0),
+                        )
+                    })
+                    .collect(),
+            ));
+        }
+        Plot {
+            title: "Surface CA: per-step statistics".into(),
+            x_label: "step".into(),
+            y_label: "fraction".into(),
+            log_x: false,
+            log_y: false,
+            series,
+        }
+    }
+}
+
+/// The progress bar's total and label for `app`.
+pub fn progress_plan(app: &App) -> (u64, &'static str) {
+    match app {
+        App::Voronoi { .. } => (0, "surface Voronoi"),
+        App::Corrosion { steps, .. } => (*steps, "corrosion"),
+        App::GrayScott { steps, .. } => (*steps, "reaction-diffusion"),
+    }
+}
+
+/// Starts `progress` for `app` (a helper for front ends with a bar).
+pub fn start_progress(progress: &dyn Progress, app: &App) {
+    let (total, label) = progress_plan(app);
+    progress.start(total, label);
+}

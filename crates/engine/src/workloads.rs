@@ -1,0 +1,609 @@
+//! The workloads the issues name, as jobs a front end times (`asperity bench`):
+//! each builds its input once, then runs the measured work as often as asked.
+//! criterion (`cargo bench -p asperity-benches`) measures the same algorithms
+//! for developers; these let a user time them from the installed binary.
+
+use std::path::PathBuf;
+
+use asperity_core::fourier_surface::{FourierParams, benchmark_mesh, fourier_surface};
+use asperity_core::{MemoryBudget, NoProgress};
+use asperity_growth::dla::{DlaParams, SeedShape, dla};
+use asperity_growth::{DepositionParams, Lattice, Model, deposit_ensemble};
+use asperity_render::{RenderOptions, render_mesh};
+
+use crate::error::{Result, invalid};
+
+/// The measured work of a workload.
+pub type Job = Box<dyn FnMut() -> Result<()>>;
+
+/// A workload, its input built.
+pub struct Workload {
+    /// Name, `crate/algorithm-input`.
+    pub name: &'static str,
+    /// What one run does, in words.
+    pub what: String,
+    /// Elements per run, for throughput.
+    pub elements: u64,
+    /// Their unit.
+    pub unit: &'static str,
+    /// The issue's target in seconds per run, if any.
+    pub target_s: Option<f64>,
+    /// Long workloads run once, without warm-up, whatever the repeat count.
+    pub once: bool,
+    /// The work.
+    pub job: Job,
+}
+
+/// Builds a workload's input (untimed).
+pub type MakeWorkload = Box<dyn Fn() -> Result<Workload>>;
+
+/// Where workloads that write files write them.
+#[derive(Clone, Debug)]
+pub struct Scratch(pub PathBuf);
+
+impl Scratch {
+    /// A folder for this process under the system's temporary folder.
+    pub fn new() -> Self {
+        Self(std::env::temp_dir().join(format!("asperity-bench-{}", std::process::id())))
+    }
+
+    fn file(&self, name: &str) -> Result<PathBuf> {
+        std::fs::create_dir_all(&self.0)
+            .map_err(|e| invalid(format!("creating {}: {e}", self.0.display())))?;
+        Ok(self.0.join(name))
+    }
+}
+
+impl Default for Scratch {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Scratch {
+    /// Removes the folder and what the workloads wrote into it.
+    pub fn remove(&self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Every workload by name, at full size or (`quick`) at a size for tests.
+pub fn workloads(
+    quick: bool,
+    budget: MemoryBudget,
+    scratch: &Scratch,
+) -> Vec<(&'static str, MakeWorkload)> {
+    let mut v = vec![render(quick, budget)];
+    v.extend(ca(quick, budget));
+    v.push(fourier(quick, budget));
+    v.push(write_ply(quick, budget, scratch.clone()));
+    v.extend(deposition(quick, budget));
+    v.extend(dla_workloads(quick, budget));
+    v.extend(surfca(quick, budget));
+    v.extend(subdiv(quick));
+    v.extend(ifs(quick, budget, scratch.clone()));
+    v.extend(levelset(quick, budget));
+    v
+}
+
+fn render(quick: bool, budget: MemoryBudget) -> (&'static str, MakeWorkload) {
+    let name = "render/2m-triangles-1080p";
+    let make = move || {
+        // 1001² samples → 2 000 000 triangles (issue #3's workload).
+        let n = if quick { 101 } else { 1001 };
+        let (w, h) = if quick { (320, 180) } else { (1920, 1080) };
+        let m = benchmark_mesh(n, &budget)?;
+        let tris = m.n_faces() as u64;
+        let opts = RenderOptions {
+            width: w,
+            height: h,
+            supersample: 2,
+            shadows: true,
+            budget,
+            ..RenderOptions::default()
+        };
+        Ok(Workload {
+            name,
+            what: format!(
+                "{tris} triangles at {w}×{h}, 4× supersampling, shadow map, ambient obscurance"
+            ),
+            elements: tris,
+            unit: "triangles",
+            target_s: (!quick).then_some(2.0),
+            once: false,
+            job: Box::new(move || render_mesh(&m, &opts).map(|_| ()).map_err(Into::into)),
+        })
+    };
+    (name, Box::new(make))
+}
+
+fn ca_input(
+    n: usize,
+    budget: &MemoryBudget,
+) -> Result<(asperity_ca::Rule, asperity_core::Grid2<u8>)> {
+    let rule = asperity_ca::Rule::new(asperity_ca::Family::Totalistic9, 2, 450)?;
+    let init = asperity_ca::Init::Random {
+        density: 0.3,
+        seed: 7,
+    };
+    let grid = asperity_ca::initial_grid(&init, Some([n, n]), 2, budget)?;
+    Ok((rule, grid))
+}
+
+fn ca(quick: bool, budget: MemoryBudget) -> Vec<(&'static str, MakeWorkload)> {
+    let bits: MakeWorkload = Box::new(move || {
+        let n = if quick { 512 } else { 8192 };
+        let (rule, init) = ca_input(n, &budget)?;
+        let a = asperity_ca::evolve::BitGrid::from_bytes(init.data(), n, n);
+        let mut b = a.clone();
+        let steps = 8;
+        Ok(Workload {
+            name: "ca/evolve-bits-8192",
+            what: format!("{n}×{n} cyclic, rule 450, {steps} steps, bit-sliced (64 cells a word)"),
+            elements: (n * n * steps) as u64,
+            unit: "cell-updates",
+            target_s: None,
+            once: false,
+            job: Box::new(move || {
+                let mut cur = a.clone();
+                for _ in 0..steps {
+                    cur.step_into(&rule, &mut b);
+                    std::mem::swap(&mut cur, &mut b);
+                }
+                Ok(())
+            }),
+        })
+    });
+    let bytes: MakeWorkload = Box::new(move || {
+        let n = if quick { 512 } else { 8192 };
+        let (rule, init) = ca_input(n, &budget)?;
+        let src = init.data().to_vec();
+        let mut dst = src.clone();
+        Ok(Workload {
+            name: "ca/evolve-bytes-8192",
+            what: format!(
+                "{n}×{n} cyclic, rule 450, 1 step, one byte per cell (the straightforward baseline)"
+            ),
+            elements: (n * n) as u64,
+            unit: "cell-updates",
+            target_s: None,
+            once: false,
+            job: Box::new(move || {
+                asperity_ca::evolve::step_bytes(&rule, &src, &mut dst, n, n);
+                Ok(())
+            }),
+        })
+    });
+    let accumulate: MakeWorkload = Box::new(move || {
+        let (n, steps) = if quick { (256, 16) } else { (8192, 256) };
+        let (rule, init) = ca_input(n, &budget)?;
+        let p = asperity_ca::CaParams::new(rule, steps);
+        Ok(Workload {
+            name: "ca/accumulate-8192x256",
+            what: format!(
+                "{n}×{n} cyclic, rule 450, {steps} steps evolved and accumulated into a height field"
+            ),
+            elements: (n * n * steps) as u64,
+            unit: "cell-updates",
+            target_s: (!quick).then_some(5.0),
+            once: false,
+            job: Box::new(move || {
+                asperity_ca::accumulate(&init, &p, &budget)
+                    .map(|_| ())
+                    .map_err(Into::into)
+            }),
+        })
+    });
+    vec![
+        ("ca/evolve-bits-8192", bits),
+        ("ca/evolve-bytes-8192", bytes),
+        ("ca/accumulate-8192x256", accumulate),
+    ]
+}
+
+fn fourier(quick: bool, budget: MemoryBudget) -> (&'static str, MakeWorkload) {
+    let name = "core/fourier-surface";
+    let make = move || {
+        let n = if quick { 129 } else { 1025 };
+        let p = FourierParams {
+            n,
+            hurst: 0.8,
+            modes: n / 8,
+            rms: 0.05,
+            spacing: 1.0 / n as f64,
+        };
+        Ok(Workload {
+            name,
+            what: format!("{n}×{n} reference surface, {} modes per axis", n / 8),
+            elements: (n * n) as u64,
+            unit: "samples",
+            target_s: None,
+            once: false,
+            job: Box::new(move || {
+                fourier_surface(&p, 7, &budget)
+                    .map(|_| ())
+                    .map_err(Into::into)
+            }),
+        })
+    };
+    (name, Box::new(make))
+}
+
+fn write_ply(quick: bool, budget: MemoryBudget, scratch: Scratch) -> (&'static str, MakeWorkload) {
+    let name = "io/write-ply";
+    let make = move || {
+        let n = if quick { 65 } else { 513 };
+        let m = benchmark_mesh(n, &budget)?;
+        let path = scratch.file("bench.ply")?;
+        let tris = m.n_faces() as u64;
+        Ok(Workload {
+            name,
+            what: format!("{tris} triangles, binary PLY with normals, atomic write + fsync"),
+            elements: tris,
+            unit: "triangles",
+            target_s: None,
+            once: false,
+            job: Box::new(move || {
+                asperity_io::write_mesh(&path, &m, &asperity_io::WriteOptions::default())?;
+                Ok(())
+            }),
+        })
+    };
+    (name, Box::new(make))
+}
+
+fn deposition(quick: bool, budget: MemoryBudget) -> Vec<(&'static str, MakeWorkload)> {
+    let one = move |model: Model, name: &'static str, target_rate: Option<f64>| -> MakeWorkload {
+        Box::new(move || {
+            let (l, layers) = if quick { (64, 20.0) } else { (256, 1000.0) };
+            let p = DepositionParams::new(model, Lattice::new(l, 2)?, layers);
+            // One run per core (an ensemble, as W(t) averages use): each run
+            // is sequential, so this is how a simulation uses both cores.
+            let runs = rayon::current_num_threads();
+            let n = p.depositions() * runs as u64;
+            Ok(Workload {
+                name,
+                what: format!(
+                    "{} on {l}×{l} columns, {layers} monolayers, {runs} runs in parallel ({n} depositions)",
+                    model.name()
+                ),
+                elements: n,
+                unit: "depositions",
+                target_s: target_rate.filter(|_| !quick).map(|r| n as f64 / r),
+                once: false,
+                job: Box::new(move || {
+                    deposit_ensemble(&p, 7, runs, &budget, &NoProgress)?;
+                    Ok(())
+                }),
+            })
+        })
+    };
+    vec![
+        ("growth/rd-2d", one(Model::Rd, "growth/rd-2d", Some(50e6))),
+        (
+            "growth/rdsr-2d",
+            one(Model::Rdsr { radius: 1 }, "growth/rdsr-2d", Some(50e6)),
+        ),
+        ("growth/bd-2d", one(Model::Bd, "growth/bd-2d", None)),
+    ]
+}
+
+fn dla_workloads(quick: bool, budget: MemoryBudget) -> Vec<(&'static str, MakeWorkload)> {
+    let one = move |name: &'static str, plane: bool, n_full: usize| -> MakeWorkload {
+        Box::new(move || {
+            let n = if quick { n_full / 100 } else { n_full };
+            let mut p = DlaParams::point(3, n);
+            if plane {
+                p.seed_shape = SeedShape::Plane;
+                let side = if n_full >= 1_000_000 { 512 } else { 256 };
+                let side = if quick { side / 4 } else { side };
+                p.size = [side, side, side];
+            }
+            let target = if n_full >= 1_000_000 { 20.0 } else { 2.0 };
+            Ok(Workload {
+                name,
+                what: format!(
+                    "3-D lattice DLA, {n} particles, p = 1, {} seed, {}x{}x{} lattice",
+                    if plane { "plane" } else { "point" },
+                    p.size[0],
+                    p.size[1],
+                    p.size[2]
+                ),
+                elements: n as u64,
+                unit: "particles",
+                target_s: (!quick).then_some(target),
+                once: n_full >= 1_000_000,
+                job: Box::new(move || {
+                    let c = dla(&p, 7, 0, &budget, &NoProgress)?;
+                    match c.stopped {
+                        None => Ok(()),
+                        Some(why) => Err(invalid(why)),
+                    }
+                }),
+            })
+        })
+    };
+    [
+        ("growth/dla-point-1e5", false, 100_000),
+        ("growth/dla-plane-1e5", true, 100_000),
+        ("growth/dla-point-1e6", false, 1_000_000),
+        ("growth/dla-plane-1e6", true, 1_000_000),
+    ]
+    .into_iter()
+    .map(|(name, plane, n)| (name, one(name, plane, n)))
+    .collect()
+}
+
+/// Surface CA (gobron-chiba): 1000 Voronoi steps on a million-cell sphere, and
+/// corrosion on the cup.
+fn surfca(quick: bool, budget: MemoryBudget) -> Vec<(&'static str, MakeWorkload)> {
+    use asperity_surfca::engine::{RunOptions, run};
+    use asperity_surfca::voronoi::{PAPER_P, UNLABELLED, VoronoiRule, random_sites};
+    use asperity_surfca::{CellSize, build};
+    let (n, steps) = if quick {
+        (20_000, 50)
+    } else {
+        (1_000_000, 1000)
+    };
+    let voronoi: MakeWorkload = Box::new(move || {
+        let mesh = asperity_core::shapes::icosphere(4, 1.0);
+        let cells = build(&mesh, CellSize::Count(n), &budget)?;
+        let sites = random_sites(&cells, 12, 7);
+        let count = cells.len() as u64;
+        Ok(Workload {
+            name: "surfca/voronoi-1m-1000",
+            what: format!(
+                "surface Voronoi (12 sites, P = √2/2 − ½) on an icosphere with {count} cells, {steps} steps"
+            ),
+            elements: count * steps,
+            unit: "cell-updates",
+            target_s: (!quick).then_some(5.0),
+            once: !quick,
+            job: Box::new(move || {
+                let mut states = vec![UNLABELLED; cells.len()];
+                for (l, &c) in sites.iter().enumerate() {
+                    states[c] = l as u32;
+                }
+                let rule = VoronoiRule {
+                    diagonal_p: PAPER_P,
+                };
+                let opts = RunOptions {
+                    seed: 7,
+                    max_steps: steps,
+                    stop_when_stable: false,
+                };
+                run(&cells, &rule, &mut states, &opts, |_, _| true);
+                Ok(())
+            }),
+        })
+    });
+    let corrosion: MakeWorkload = Box::new(move || {
+        use asperity_surfca::corrosion::{CorrosionParams, corrode, initial};
+        let mesh = asperity_core::shapes::cup(48);
+        let cells = build(&mesh, CellSize::Count(n), &budget)?;
+        let count = cells.len() as u64;
+        let p = CorrosionParams::default();
+        Ok(Workload {
+            name: "surfca/corrosion-1m-1000",
+            what: format!(
+                "copper corrosion on the cup, {count} cells, {steps} steps (default constants)"
+            ),
+            elements: count * steps,
+            unit: "cell-updates",
+            target_s: (!quick).then_some(15.0),
+            once: !quick,
+            job: Box::new(move || {
+                let mut s = initial(&cells, &p, 7);
+                corrode(&cells, &p, &mut s, 7, steps, |_, _| true);
+                Ok(())
+            }),
+        })
+    });
+    vec![
+        ("surfca/voronoi-1m-1000", voronoi),
+        ("surfca/corrosion-1m-1000", corrosion),
+    ]
+}
+
+/// Multiresolution subdivision (velho-perlin, issue #8): 4 levels of a
+/// 10 086-quad closed mesh (a cube with 41 × 41 quads per face), plain and with
+/// rock detail; the peers' figures are for the plain refinement.
+fn subdiv(quick: bool) -> Vec<(&'static str, MakeWorkload)> {
+    use asperity_subdiv::catmull_clark::{Boundary, Creased};
+    use asperity_subdiv::compose::{Layer, grow};
+    use asperity_subdiv::detail::{Feature, Procedure, Rock};
+    let one = move |name: &'static str, rock: bool| -> MakeWorkload {
+        Box::new(move || {
+            let (n, levels) = if quick { (8, 2) } else { (41, 4) };
+            let base = Creased::smooth(asperity_core::shapes::cube_quads(n));
+            let quads = (base.mesh.n_faces() as u64) << (2 * levels);
+            let features = if rock {
+                vec![Feature::global(Procedure::Rock(Rock::fractal(0.02, 0.5)))]
+            } else {
+                Vec::new()
+            };
+            let layer = Layer {
+                name: "rock".into(),
+                features,
+                edits: Vec::new(),
+            };
+            Ok(Workload {
+                name,
+                what: format!(
+                    "{levels} levels of a {}-quad cube{} → {quads} quads",
+                    base.mesh.n_faces(),
+                    if rock { " with rock detail" } else { ", plain" }
+                ),
+                elements: quads,
+                unit: "output quads",
+                target_s: (!quick && rock).then_some(0.7),
+                once: false,
+                job: Box::new(move || {
+                    grow(&base, levels, Boundary::EdgeOnly, &layer, 1)?;
+                    Ok(())
+                }),
+            })
+        })
+    };
+    vec![
+        (
+            "subdiv/plain-10086-quads-4-levels",
+            one("subdiv/plain-10086-quads-4-levels", false),
+        ),
+        (
+            "subdiv/rock-10086-quads-4-levels",
+            one("subdiv/rock-10086-quads-4-levels", true),
+        ),
+    ]
+}
+
+/// Projected IFS (poull-gentil): a depth-10 tensor-product attractor (≈ 1M
+/// vertices) built and written as binary PLY; and the pseudo-curvature ranges
+/// of every operator of every preset.
+fn ifs(quick: bool, budget: MemoryBudget, scratch: Scratch) -> Vec<(&'static str, MakeWorkload)> {
+    use asperity_ifs::curvature::{curve_report, surface_report};
+    use asperity_ifs::{
+        DirectionAnalysis, FamilyOptions, Model, PresetParams, preset, preset_names,
+    };
+    let surface: MakeWorkload = Box::new(move || {
+        let depth = if quick { 6 } else { 10 };
+        let Model::Surface(s) =
+            preset("takagi-landsberg-surface", &PresetParams::default())?.build()?
+        else {
+            return Err(invalid("takagi-landsberg-surface is a surface preset"));
+        };
+        let path = scratch.file("attractor.ply")?;
+        let n = ((1u64 << depth) + 1).pow(2);
+        Ok(Workload {
+            name: "ifs/surface-depth10",
+            what: format!(
+                "Takagi ⊗ Takagi attractor at depth {depth} ({n} vertices), built and written as binary PLY"
+            ),
+            elements: n,
+            unit: "vertices",
+            target_s: (!quick).then_some(1.0),
+            once: false,
+            job: Box::new(move || {
+                let m = s.attractor_mesh(depth, &budget)?;
+                asperity_io::write_mesh(&path, &m, &asperity_io::WriteOptions::default())?;
+                Ok(())
+            }),
+        })
+    });
+    let curvature: MakeWorkload = Box::new(move || {
+        let models: Vec<Model> = preset_names()
+            .iter()
+            .map(|(n, _)| Ok(preset(n, &PresetParams::default())?.build()?))
+            .collect::<Result<_>>()?;
+        let ops: u64 = models
+            .iter()
+            .map(|m| match m {
+                Model::Curve(_) => 2,
+                Model::Surface(_) => 4,
+            })
+            .sum();
+        Ok(Workload {
+            name: "ifs/curvature-presets",
+            what: format!(
+                "eigen-decomposition, DCF family (dyadic depth 10 + periods ≤ 12) and pseudo-curvature ranges of all {ops} operators of the {} presets",
+                models.len()
+            ),
+            elements: ops,
+            unit: "operators",
+            target_s: None,
+            once: false,
+            job: Box::new(move || {
+                let opts = FamilyOptions::default();
+                for m in &models {
+                    match m {
+                        Model::Curve(c) => {
+                            let an = DirectionAnalysis::new(&c.pifs, &opts);
+                            std::hint::black_box(curve_report(c, &an));
+                        }
+                        Model::Surface(s) => {
+                            let a = DirectionAnalysis::new(&s.s, &opts);
+                            let b = DirectionAnalysis::new(&s.t, &opts);
+                            std::hint::black_box(surface_report(s, &a, &b));
+                        }
+                    }
+                }
+                Ok(())
+            }),
+        })
+    });
+    vec![
+        ("ifs/surface-depth10", surface),
+        ("ifs/curvature-presets", curvature),
+    ]
+}
+
+/// Level-set reconstruction of an RDSR sphere (kim-machiraju-thompson Fig. 8):
+/// distance + tagging + 30 RK2 steps + marching cubes, and the naive full grid.
+fn levelset(quick: bool, budget: MemoryBudget) -> Vec<(&'static str, MakeWorkload)> {
+    use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
+    use asperity_levelset::{Band, ReconstructParams, Sizing, reconstruct};
+    let one = move |name: &'static str,
+                    res: usize,
+                    full: bool,
+                    target: Option<f64>|
+          -> MakeWorkload {
+        Box::new(move || {
+            let (radius, layers, res) = match (quick, res) {
+                (true, _) => (8.0, 3.0, 32),
+                (false, 128) => (30.0, 11.0, 128),
+                _ => (60.0, 26.0, 256),
+            };
+            let growth = CurvedParams {
+                model: Model::Rdsr { radius: 1 },
+                substrate: CurvedSubstrate::Sphere(radius),
+                layers,
+                samples_per_decade: 2,
+            };
+            let points = deposit_curved(&growth, 7, 0, &budget, &NoProgress)?.points();
+            let params = ReconstructParams {
+                sizing: Sizing::Resolution(res),
+                band: if full { Band::Full } else { Band::Narrow },
+                ..ReconstructParams::default()
+            };
+            let n = points.len() as u64;
+            Ok(Workload {
+                name,
+                what: format!(
+                    "RDSR sphere, {n} points, {res} cells across, 30 ENO2/RK2 steps{}",
+                    if full {
+                        ", every node every step (naive)"
+                    } else {
+                        ", narrow band"
+                    }
+                ),
+                elements: n,
+                unit: "points",
+                target_s: target.filter(|_| !quick),
+                once: res >= 256,
+                job: Box::new(move || {
+                    let r = reconstruct(&points, &params, &budget, &NoProgress, &mut |_, _| {})?;
+                    let t = r.timings;
+                    eprintln!(
+                        "  {name}: grid {:?}, distance {:.3} s, tagging {:.3} s, initial {:.3} s, flow {:.3} s, marching cubes {:.3} s, total {:.3} s",
+                        r.grid.dims,
+                        t.distance,
+                        t.tagging,
+                        t.initial,
+                        t.evolution,
+                        t.extraction,
+                        t.total
+                    );
+                    Ok(())
+                }),
+            })
+        })
+    };
+    [
+        ("levelset/pipeline-128", 128usize, false, Some(0.5)),
+        ("levelset/full-grid-128", 128, true, None),
+        ("levelset/pipeline-256-1e6", 256, false, Some(3.0)),
+    ]
+    .into_iter()
+    .map(|(name, res, full, target)| (name, one(name, res, full, target)))
+    .collect()
+}

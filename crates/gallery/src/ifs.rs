@@ -1,0 +1,202 @@
+//! Projected-IFS fractal curves and surfaces (poull-gentil): the
+//! Takagi–Landsberg curve with its families of DCFs (Figure 2), the Takagi ⊗
+//! Takagi attractor with per-vertex pseudo-curvature (Figures 1 and 4), an SDCF
+//! on it (Figure 4), and a surface smooth in one direction and rough in the
+//! other, with its control net.
+
+use asperity_core::TriMesh;
+use asperity_engine::Result;
+use asperity_engine::error::invalid;
+use asperity_engine::ifs::{control_net, figure, sdcf_for, surface_mesh};
+use asperity_ifs::curvature::{curve_report, surface_report};
+use asperity_ifs::sdcf::Start;
+use asperity_ifs::{
+    CurveIfs, DirectionAnalysis, FamilyOptions, Model, PresetParams, SurfaceIfs, preset,
+};
+use asperity_render::{Polyline, RenderOptions, Shader};
+
+use crate::{Env, Item, Section, fact};
+
+/// The section.
+///
+/// # Errors
+/// Any model's, writer's or renderer's.
+pub fn section(env: &Env) -> Result<Section> {
+    let opts = FamilyOptions::default();
+    let takagi = surface_preset("takagi-landsberg-surface")?;
+    let items = vec![
+        figure_2(env, &opts)?,
+        takagi_surface(env, &opts, &takagi)?,
+        sdcf(env, &opts, &takagi)?,
+        mixed(env, &opts)?,
+    ];
+    Ok(Section {
+        title: "Projected-IFS fractal surfaces and pseudo-curvature (poull-gentil)".into(),
+        source: "asperity-ifs — §2 P-IFS and DCF, §3 SDCF, §4 ranges of pseudo-curvature".into(),
+        blurb: "Self-similar curves and tensor-product surfaces from two barycentric operators per direction, \
+                deformed by their control points. Each operator's DCF family gives the pseudo-curvature at its \
+                fixed point — infinite, zero, or a finite range when α₂ = 2 — and the self-similarity carries \
+                it to every dyadic point."
+            .into(),
+        items,
+    })
+}
+
+fn load(name: &str) -> Result<Model> {
+    Ok(preset(name, &PresetParams::default())?.build()?)
+}
+
+fn curve_preset(name: &str) -> Result<CurveIfs> {
+    match load(name)? {
+        Model::Curve(c) => Ok(c),
+        Model::Surface(_) => Err(invalid(format!("{name} is a curve preset"))),
+    }
+}
+
+fn surface_preset(name: &str) -> Result<SurfaceIfs> {
+    match load(name)? {
+        Model::Surface(s) => Ok(s),
+        Model::Curve(_) => Err(invalid(format!("{name} is a surface preset"))),
+    }
+}
+
+fn range(r: Option<[f64; 2]>) -> String {
+    r.map_or("—".to_owned(), |[a, b]| format!("[{a:.6}, {b:.6}]"))
+}
+
+/// Fig. 2: the Takagi–Landsberg curve (w = 1/√2) and its families of DCFs.
+fn figure_2(env: &Env, opts: &FamilyOptions) -> Result<Item> {
+    let curve = curve_preset("takagi-landsberg")?;
+    let an = DirectionAnalysis::new(&curve.pifs, opts);
+    let svg = figure(&curve, &an, "Takagi–Landsberg w = 1/√2", 10, None)?;
+    let fig = env.text("ifs_takagi_dcf.svg", &svg)?;
+    let rep = curve_report(&curve, &an);
+    let json = env.text(
+        "ifs_takagi_curvature.json",
+        &serde_json::to_string_pretty(&rep).map_err(|e| invalid(e.to_string()))?,
+    )?;
+    Ok(Item::new(
+        "Takagi–Landsberg curve and its families of DCFs (Fig. 2)",
+        Some(fig),
+        vec![json],
+        vec![
+            fact("α (T0)", "0, 1, 2 — α₂ = 2: a finite range"),
+            fact("curvature at s = 0", range(rep[0].curvature)),
+            fact("closed form", "[−(6 − 4√2), −(102 − 72√2)]"),
+            fact(
+                "CLI",
+                "asperity ifs dcf --preset takagi-landsberg --bound upper -o dcf.svg",
+            ),
+        ],
+    ))
+}
+
+/// The attractor mesh of `s` at `depth` with its curvature attributes.
+fn mesh_with_curvature(
+    env: &Env,
+    s: &SurfaceIfs,
+    opts: &FamilyOptions,
+    depth: u32,
+) -> Result<TriMesh> {
+    let (mesh, note) = surface_mesh(s, opts, depth, true, &env.budget)?;
+    match note {
+        Some(n) => Err(invalid(n)),
+        None => Ok(mesh),
+    }
+}
+
+/// Figs. 1/4: the Takagi ⊗ Takagi surface with per-vertex pseudo-curvature.
+fn takagi_surface(env: &Env, opts: &FamilyOptions, surf: &SurfaceIfs) -> Result<Item> {
+    let depth = if env.quick { 6 } else { 8 };
+    let mesh = mesh_with_curvature(env, surf, opts, depth)?;
+    let (file, pic) = env.shaded_mesh("ifs_takagi_surface", &mesh)?;
+    let (an_s, an_t) = (
+        DirectionAnalysis::new(&surf.s, opts),
+        DirectionAnalysis::new(&surf.t, opts),
+    );
+    let srep = surface_report(surf, &an_s, &an_t);
+    let sjson = env.text(
+        "ifs_takagi_surface_curvature.json",
+        &serde_json::to_string_pretty(&srep).map_err(|e| invalid(e.to_string()))?,
+    )?;
+    Ok(Item::new(
+        "Takagi ⊗ Takagi attractor (Figs. 1 and 4)",
+        Some(pic),
+        vec![file, sjson],
+        vec![
+            fact("vertices", mesh.n_vertices()),
+            fact("depth", depth),
+            fact("𝒦 at (0,0)", range(srep[0].gaussian)),
+            fact("ℋ at (0,0)", range(srep[0].mean)),
+            fact(
+                "at every dyadic point",
+                "the same ranges: for w = 1/√2 the maps preserve them (see the PLY attributes)",
+            ),
+            fact(
+                "CLI",
+                "asperity ifs surface --preset takagi-landsberg-surface --depth 8 -o t.ply",
+            ),
+        ],
+    ))
+}
+
+/// Fig. 4: the attractor with one SDCF of T0⊗T'0 (from the opposite corner).
+fn sdcf(env: &Env, opts: &FamilyOptions, surf: &SurfaceIfs) -> Result<Item> {
+    let starts = (Start::Parameter(1.0), Start::Parameter(1.0));
+    let resolution = if env.quick { 32 } else { 64 };
+    let sd = sdcf_for(surf, opts, (0, 0), starts, resolution, &env.budget)?;
+    let att = surf.attractor_mesh(if env.quick { 5 } else { 6 }, &env.budget)?;
+    let both = TriMesh::merge_colored(&[(&att, [200, 200, 200, 255]), (&sd, [40, 90, 220, 255])])?;
+    let (file, pic) = env.colored_mesh("ifs_sdcf", &both)?;
+    Ok(Item::new(
+        "An SDCF (blue) of T0⊗T′0 on the attractor (Fig. 4)",
+        Some(pic),
+        vec![file],
+        vec![
+            fact("start", "Q = c₁ ⊗ c′₁ (the opposite corner)"),
+            fact(
+                "CLI",
+                "asperity ifs sdcf --preset takagi-landsberg-surface --with-attractor 6 -o sdcf.ply",
+            ),
+        ],
+    ))
+}
+
+/// A surface with a smooth and a rough direction, with its control net.
+fn mixed(env: &Env, opts: &FamilyOptions) -> Result<Item> {
+    let surf = surface_preset("bezier-takagi")?;
+    let mesh = mesh_with_curvature(env, &surf, opts, if env.quick { 6 } else { 8 })?;
+    let net = control_net(&surf)
+        .into_iter()
+        .map(|points| Polyline {
+            points,
+            color: [200, 40, 40, 255],
+            closed: false,
+        })
+        .collect();
+    let file = env.mesh("ifs_bezier_takagi.ply", &mesh)?;
+    let view = RenderOptions {
+        polylines: net,
+        shader: Shader::Curvature,
+        scalar: Some("gaussian_max".into()),
+        ..env.view()
+    };
+    let pic = env.render("ifs_bezier_takagi.png", &mesh, &view)?;
+    let (a, b) = (
+        DirectionAnalysis::new(&surf.s, opts),
+        DirectionAnalysis::new(&surf.t, opts),
+    );
+    let rep = surface_report(&surf, &a, &b);
+    Ok(Item::new(
+        "Smooth along s (Bézier), rough along t (Takagi): Gaussian pseudo-curvature (max) and control net",
+        Some(pic),
+        vec![file],
+        vec![
+            fact("𝒦 at (0,0)", range(rep[0].gaussian)),
+            fact(
+                "CLI",
+                "asperity ifs surface --preset bezier-takagi --control-net net.obj -o s.ply",
+            ),
+        ],
+    ))
+}

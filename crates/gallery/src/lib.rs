@@ -1,0 +1,284 @@
+//! The gallery (`asperity demo`): every method of the five papers on small
+//! built-in defaults, written into a folder with an `index.html` that shows
+//! each picture with its facts, and a `report.json` with the same as data.
+//!
+//! One module per paper (and two for the foundation and the renderer); each
+//! contributes a [`Section`] of cards, one card per figure it reproduces:
+//!
+//! | Module | Section | Paper |
+//! | --- | --- | --- |
+//! | [`foundation`] | the shared types and every file format | — |
+//! | [`renderer`] | shaders, views, overlays, plots | gobron-chiba light model |
+//! | [`peridier`] | CA surfaces, Figures 1–4, 6, 9 | peridier |
+//! | [`growth`] | RD, RDSR, BD, DLA, curved substrates | kim-machiraju-thompson §4 |
+//! | [`levelset`] | level-set reconstruction, Figures 8–10 | kim-machiraju-thompson §5–6 |
+//! | [`ifs`] | projected-IFS curves and surfaces, Figures 1, 2, 4 | poull-gentil |
+//! | [`surfca`] | surface Voronoi, corrosion, Gray–Scott | gobron-chiba |
+//! | [`subdiv`] | multiresolution surfaces, Figures 3–12 | velho-perlin |
+//!
+//! Sections write their files through [`Env`], which records them for the page
+//! and the report. Wall-clock timings go to `report.json` only, so the page is
+//! the same bytes on every run with the same seed.
+
+use std::cell::RefCell;
+use std::path::PathBuf;
+
+use asperity_core::{MemoryBudget, Progress, RgbaImage, TriMesh};
+use asperity_engine::error::invalid;
+use asperity_engine::{Report, Result};
+use asperity_io::{Surface, WriteOptions};
+use asperity_render::{RenderOptions, Shader, render_mesh};
+
+pub mod foundation;
+pub mod growth;
+pub mod ifs;
+pub mod levelset;
+pub mod page;
+pub mod peridier;
+pub mod renderer;
+pub mod subdiv;
+pub mod surfca;
+
+/// What the gallery is asked for.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// The folder it is written into (created if missing).
+    pub dir: PathBuf,
+    /// The seed every random surface comes from.
+    pub seed: u64,
+    /// Smaller sizes for a fast run.
+    pub quick: bool,
+    /// Only these sections (by [`SECTIONS`] name); empty for all.
+    pub only: Vec<String>,
+    /// The memory budget of every job.
+    pub budget: MemoryBudget,
+    /// Worker threads (for the report).
+    pub threads: usize,
+}
+
+/// What a section function gets: where to write, the seed, the sizes.
+pub struct Env {
+    /// The gallery folder.
+    pub dir: PathBuf,
+    /// The seed.
+    pub seed: u64,
+    /// The memory budget.
+    pub budget: MemoryBudget,
+    /// Smaller sizes.
+    pub quick: bool,
+    /// Outputs and measurements so far.
+    pub report: RefCell<Report>,
+}
+
+impl Env {
+    /// Writes `s` as `name` in the gallery and records it.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn write(&self, name: &str, s: &Surface) -> Result<String> {
+        let path = self.dir.join(name);
+        asperity_io::write(&path, s, &WriteOptions::default())?;
+        self.report.borrow_mut().output(&path);
+        Ok(name.to_owned())
+    }
+
+    /// Writes a mesh as `name`.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn mesh(&self, name: &str, m: &TriMesh) -> Result<String> {
+        self.write(name, &Surface::Mesh(m.clone()))
+    }
+
+    /// Render options for gallery pictures (smaller with `quick`).
+    pub fn view(&self) -> RenderOptions {
+        let (w, h) = if self.quick { (400, 300) } else { (800, 600) };
+        RenderOptions {
+            width: w,
+            height: h,
+            budget: self.budget,
+            ..RenderOptions::default()
+        }
+    }
+
+    /// Writes a text document (an SVG plot, a JSON report) and records it.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn text(&self, name: &str, text: &str) -> Result<String> {
+        let path = self.dir.join(name);
+        asperity_io::write_text(&path, text)?;
+        self.report.borrow_mut().output(&path);
+        Ok(name.to_owned())
+    }
+
+    /// Writes an RGBA picture as PNG and records it.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn picture(&self, name: &str, img: &RgbaImage) -> Result<String> {
+        let path = self.dir.join(name);
+        asperity_io::write_png(&path, img)?;
+        self.report.borrow_mut().output(&path);
+        Ok(name.to_owned())
+    }
+
+    /// Renders `m` with `opts` into `name`.
+    ///
+    /// # Errors
+    /// The renderer's and the writer's.
+    pub fn render(&self, name: &str, m: &TriMesh, opts: &RenderOptions) -> Result<String> {
+        self.picture(name, &render_mesh(m, opts)?)
+    }
+
+    /// Writes `STEM.ply` and a render of it as `STEM.png` (default view);
+    /// returns (file, picture).
+    ///
+    /// # Errors
+    /// The renderer's and the writer's.
+    pub fn shaded_mesh(&self, stem: &str, m: &TriMesh) -> Result<(String, String)> {
+        let file = self.mesh(&format!("{stem}.ply"), m)?;
+        let pic = self.render(&format!("{stem}.png"), m, &self.view())?;
+        Ok((file, pic))
+    }
+
+    /// Writes `STEM.ply` and a render of it in its vertex colours as `STEM.png`;
+    /// returns (file, picture).
+    ///
+    /// # Errors
+    /// The renderer's and the writer's.
+    pub fn colored_mesh(&self, stem: &str, m: &TriMesh) -> Result<(String, String)> {
+        let file = self.mesh(&format!("{stem}.ply"), m)?;
+        let opts = RenderOptions {
+            shader: Shader::VertexColor,
+            ..self.view()
+        };
+        let pic = self.render(&format!("{stem}.png"), m, &opts)?;
+        Ok((file, pic))
+    }
+
+    /// Records a measurement in the report.
+    pub fn measure(&self, key: &str, value: impl serde::Serialize) {
+        self.report.borrow_mut().measure(key, value);
+    }
+}
+
+/// One card in the gallery.
+#[derive(Clone, Debug, Default)]
+pub struct Item {
+    /// Its title (the figure it reproduces).
+    pub title: String,
+    /// The picture.
+    pub image: Option<String>,
+    /// Files to download.
+    pub files: Vec<String>,
+    /// Facts, as (name, value).
+    pub facts: Vec<(String, String)>,
+}
+
+impl Item {
+    /// A card with a title, a picture, files and facts.
+    pub fn new(
+        title: impl Into<String>,
+        image: Option<String>,
+        files: Vec<String>,
+        facts: Vec<(String, String)>,
+    ) -> Self {
+        Self {
+            title: title.into(),
+            image,
+            files,
+            facts,
+        }
+    }
+}
+
+/// One method family's part of the gallery.
+#[derive(Clone, Debug)]
+pub struct Section {
+    /// Its heading.
+    pub title: String,
+    /// Where the code lives and what it implements.
+    pub source: String,
+    /// A paragraph on the method.
+    pub blurb: String,
+    /// The cards.
+    pub items: Vec<Item>,
+}
+
+/// A fact for a card.
+pub fn fact(k: &str, v: impl std::fmt::Display) -> (String, String) {
+    (k.to_owned(), v.to_string())
+}
+
+type SectionFn = fn(&Env) -> Result<Section>;
+
+/// The gallery, in page order: (name for `--only`, section).
+pub const SECTIONS: &[(&str, SectionFn)] = &[
+    ("foundation", foundation::section),
+    ("renderer", renderer::section),
+    ("peridier", peridier::section),
+    ("growth", growth::section),
+    ("levelset", levelset::section),
+    ("ifs", ifs::section),
+    ("surfca", surfca::section),
+    ("subdiv", subdiv::section),
+];
+
+/// Writes the gallery; returns its report (also written as `report.json`).
+///
+/// # Errors
+/// An unknown section name; the folder cannot be created; any section's
+/// failure, named.
+pub fn run(o: &Options, progress: &dyn Progress) -> Result<Report> {
+    if let Some(bad) = o
+        .only
+        .iter()
+        .find(|x| !SECTIONS.iter().any(|(n, _)| n == x))
+    {
+        let names: Vec<&str> = SECTIONS.iter().map(|(n, _)| *n).collect();
+        return Err(invalid(format!(
+            "--only {bad}: no such section ({})",
+            names.join(", ")
+        )));
+    }
+    std::fs::create_dir_all(&o.dir).map_err(|e| {
+        invalid(format!(
+            "cannot create gallery directory {}: {e}",
+            o.dir.display()
+        ))
+    })?;
+    let env = Env {
+        dir: o.dir.clone(),
+        seed: o.seed,
+        budget: o.budget,
+        quick: o.quick,
+        report: RefCell::new(Report::new("demo", o.seed, o.threads)),
+    };
+    let chosen: Vec<&(&str, SectionFn)> = SECTIONS
+        .iter()
+        .filter(|(n, _)| o.only.is_empty() || o.only.iter().any(|x| x == n))
+        .collect();
+    progress.start(chosen.len() as u64, "demo");
+    let mut sections = Vec::new();
+    for (name, f) in chosen {
+        let t = std::time::Instant::now();
+        let s = f(&env).map_err(|e| invalid(format!("demo section {name}: {e}")))?;
+        env.measure(&format!("{name}_seconds"), t.elapsed().as_secs_f64());
+        sections.push(s);
+        progress.advance(1);
+    }
+    progress.finish();
+    let index = o.dir.join("index.html");
+    asperity_io::write_text(&index, &page::page(&sections, o.seed, o.quick))?;
+    let mut report = env.report.into_inner();
+    report.output(&index);
+    report.measure(
+        "sections",
+        sections.iter().map(|s| s.title.clone()).collect::<Vec<_>>(),
+    );
+    let json =
+        serde_json::to_string_pretty(&report).map_err(|e| invalid(format!("report.json: {e}")))?;
+    asperity_io::write_text(&o.dir.join("report.json"), &json)?;
+    Ok(report)
+}

@@ -1,0 +1,62 @@
+//! The gallery's `index.html`: one section per method family, a grid of cards
+//! with a picture, its facts and its files. Plain HTML and CSS, no scripts, so
+//! it opens from `file://` anywhere.
+
+use std::fmt::Write as _;
+
+use crate::Section;
+
+/// `s` with the characters HTML gives a meaning escaped.
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The HTML page of `sections`.
+pub fn page(sections: &[Section], seed: u64, quick: bool) -> String {
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!doctype html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>asperity gallery</title>\
+<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><style>\
+body{{font-family:system-ui,sans-serif;margin:2rem auto;max-width:1100px;padding:0 1rem;color:#222}}\
+h1{{margin-bottom:.2rem}} .meta{{color:#666}} section{{margin-top:2.5rem}}\
+.cards{{display:grid;grid-template-columns:repeat(auto-fill,minmax(320px,1fr));gap:1rem}}\
+.card{{border:1px solid #ddd;border-radius:8px;padding:1rem;background:#fafafa}}\
+.card img{{width:100%;image-rendering:pixelated;border-radius:4px;background:#000}}\
+table{{border-collapse:collapse;width:100%;font-size:.9rem}} td{{padding:2px 4px;border-bottom:1px solid #eee}}\
+td:first-child{{color:#555}} .files a{{margin-right:.6rem;font-size:.9rem}}</style></head><body>\
+<h1>asperity gallery</h1><p class=\"meta\">asperity {} · seed {seed}{} · <a href=\"report.json\">report.json</a></p>",
+        env!("CARGO_PKG_VERSION"),
+        if quick { " · quick sizes" } else { "" }
+    );
+    for s in sections {
+        let _ = write!(
+            h,
+            "<section><h2>{}</h2><p class=\"meta\">{}</p><p>{}</p><div class=\"cards\">",
+            esc(&s.title),
+            esc(&s.source),
+            esc(&s.blurb)
+        );
+        for it in &s.items {
+            let _ = write!(h, "<div class=\"card\"><h3>{}</h3>", esc(&it.title));
+            if let Some(img) = &it.image {
+                let _ = write!(h, "<img src=\"{}\" alt=\"{}\">", esc(img), esc(&it.title));
+            }
+            h += "<table>";
+            for (k, v) in &it.facts {
+                let _ = write!(h, "<tr><td>{}</td><td>{}</td></tr>", esc(k), esc(v));
+            }
+            h += "</table><p class=\"files\">";
+            for f in &it.files {
+                let _ = write!(h, "<a href=\"{0}\">{0}</a>", esc(f));
+            }
+            h += "</p></div>";
+        }
+        h += "</div></section>";
+    }
+    h += "</body></html>\n";
+    h
+}

@@ -1,0 +1,314 @@
+//! Multiresolution subdivision surfaces with procedural detail (velho-perlin):
+//! the cube's limit surface in its cage, the example scenes of the paper's
+//! figures (`crates/subdiv/scenes`), a tentacle growing level by level
+//! (Figure 5) and spurs placed at chosen levels (Figure 9).
+
+use std::path::Path;
+
+use asperity_core::TriMesh;
+use asperity_engine::Result;
+use asperity_engine::error::invalid;
+use asperity_engine::subdiv::load_base;
+use asperity_render::{Polyline, RenderOptions};
+use asperity_subdiv::catmull_clark::{Boundary, Creased, limit_positions};
+use asperity_subdiv::compose::{Layer, grow};
+use asperity_subdiv::detail::{Feature, Procedure, Seeds, Spur, Tentacle};
+use asperity_subdiv::evaluate::{Composed, evaluate};
+use asperity_subdiv::multires::synthesize;
+
+use crate::{Env, Item, Section, fact};
+
+/// The example scenes shown in the gallery: (name, TOML, title).
+const SCENES: &[(&str, &str, &str)] = &[
+    (
+        "rock",
+        include_str!("../../subdiv/scenes/rock.toml"),
+        "Rock (§4.2, Fig. 3): a random value per control point per level, 1/f amplitude",
+    ),
+    (
+        "berry",
+        include_str!("../../subdiv/scenes/berry.toml"),
+        "Berry (§4.2, Fig. 4): domes on Poisson-disk seeds, regrown from child clusters",
+    ),
+    (
+        "tentacle",
+        include_str!("../../subdiv/scenes/tentacle.toml"),
+        "Tentacles (§4.2, Fig. 5): the paper's pseudo-code, θ animated (frame t = 0.15)",
+    ),
+    (
+        "mine",
+        include_str!("../../subdiv/scenes/mine.toml"),
+        "Submarine mine (§4.2, Fig. 6): the tentacle without twist or sign alternation",
+    ),
+    (
+        "mushroom_planet",
+        include_str!("../../subdiv/scenes/mushroom_planet.toml"),
+        "Mushroom planet (§4.2, Fig. 7): mushroom clouds on a rocky sphere",
+    ),
+    (
+        "spurs",
+        include_str!("../../subdiv/scenes/spurs.toml"),
+        "Placement at levels 1 and 3 (§5.1, Fig. 9c): large and small spurs",
+    ),
+    (
+        "edited_rock",
+        include_str!("../../subdiv/scenes/edited_rock.toml"),
+        "Local edits (§5.2): rock smoothed near +z, exaggerated near +x",
+    ),
+    (
+        "rusted_fuse",
+        include_str!("../../subdiv/scenes/rusted_fuse.toml"),
+        "Rusted fuse (§6.1, Fig. 11): fuse and rock blended across a (1, 2, 0) plane",
+    ),
+    (
+        "planet",
+        include_str!("../../subdiv/scenes/planet.toml"),
+        "Blended planet (§6.2, Fig. 12): two rock scalars blended, then shaded",
+    ),
+];
+
+/// The section.
+///
+/// # Errors
+/// Any scene's, writer's or renderer's.
+pub fn section(env: &Env) -> Result<Section> {
+    let mut items = vec![cube_limit(env)?];
+    for (name, text, title) in SCENES {
+        items.push(scene(env, name, text, title)?);
+    }
+    items.extend(figure_5(env)?);
+    items.push(figure_9(env)?);
+    Ok(Section {
+        title: "Multiresolution subdivision surfaces with procedural detail (velho-perlin)".into(),
+        source: "asperity-subdiv — Catmull–Clark with boundaries, creases, limit positions and normals; §2 \
+                 multiresolution; §3–4 rock, fbm, berry, tentacle, mine, mushroom, spur; §5 placement and edits; \
+                 §6 multiscale blending and the planet shader; scenes in crates/subdiv/scenes"
+            .into(),
+        blurb: "Levels of Catmull–Clark subdivision with detail offsets in local frames of the predicted surface. \
+                Procedures add detail level by level — fractal (amplitude shrinking with scale) or morphogenic \
+                (growing with the level); features sit at chosen vertices and levels; edits scale bands of \
+                levels around a point; two surfaces blend level by level with a transition c/2^(l−1) wide, so \
+                coarse features cross the seam and fine ones switch sharply."
+            .into(),
+        items,
+    })
+}
+
+/// The cube and its limit surface (4 levels), with the control cage.
+fn cube_limit(env: &Env) -> Result<Item> {
+    let cube = Creased::smooth(asperity_subdiv::base::cube());
+    let levels = synthesize(&cube, &[], 4, Boundary::EdgeOnly)?;
+    let fine = &levels[4];
+    let limit = fine
+        .mesh
+        .clone()
+        .with_positions(limit_positions(fine, Boundary::EdgeOnly)?)?;
+    let tri = limit.triangulate().with_computed_normals();
+    let p = cube.mesh.positions();
+    let cage = cube
+        .mesh
+        .faces()
+        .map(|f| Polyline {
+            points: f.iter().map(|&v| p[v as usize]).collect(),
+            color: [200, 40, 40, 255],
+            closed: true,
+        })
+        .collect();
+    let file = env.mesh("subdiv_cube_limit.ply", &tri)?;
+    let opts = RenderOptions {
+        polylines: cage,
+        ..env.view()
+    };
+    let pic = env.render("subdiv_cube_limit.png", &tri, &opts)?;
+    Ok(Item::new(
+        "Catmull–Clark: the cube's limit surface (4 levels) inside its control cage",
+        Some(pic),
+        vec![file],
+        vec![
+            fact("corner after 1 / 2 levels", "5/9, 55/108 (exact, tested)"),
+            fact(
+                "CLI",
+                "asperity subdiv --base cube --levels 4 --limit -o cube.ply",
+            ),
+        ],
+    ))
+}
+
+/// One example scene, as in the paper's figure.
+fn scene(env: &Env, name: &str, text: &str, title: &str) -> Result<Item> {
+    let t = if name == "tentacle" { 0.15 } else { 0.0 };
+    let mut scene = asperity_subdiv::scene::parse(text, t)
+        .map_err(|e| invalid(format!("scene {name}: {e}")))?;
+    if env.quick {
+        scene.levels = scene.levels.saturating_sub(1).max(2);
+    }
+    let base = Creased::smooth(load_base(&scene.base, Path::new(""))?);
+    let clock = std::time::Instant::now();
+    let c = evaluate(
+        &scene,
+        &base,
+        &Default::default(),
+        &asperity_core::NoProgress,
+    )?;
+    // Timings go to report.json (the gallery must not depend on them).
+    env.measure(
+        &format!("subdiv_{name}_seconds"),
+        clock.elapsed().as_secs_f64(),
+    );
+    let tri = c.mesh.mesh.triangulate().with_computed_normals();
+    let n_vertices = tri.n_vertices();
+    let (file, pic) = scene_files(env, name, &c, tri)?;
+    Ok(Item::new(
+        title,
+        Some(pic),
+        vec![file],
+        vec![
+            fact("levels", scene.levels),
+            fact("vertices", n_vertices),
+            fact("quads", c.mesh.mesh.n_faces()),
+            fact(
+                "CLI",
+                format!("asperity subdiv crates/subdiv/scenes/{name}.toml -o {name}.glb"),
+            ),
+        ],
+    ))
+}
+
+/// A scene's mesh and picture: in its colours (scalar mode), polished metal to
+/// rust by the blend weight (blends), or shaded.
+fn scene_files(env: &Env, name: &str, c: &Composed, tri: TriMesh) -> Result<(String, String)> {
+    let stem = format!("subdiv_{name}");
+    let alpha = c
+        .scalars
+        .iter()
+        .find(|(n, _)| n == "alpha")
+        .map(|(_, v)| v.clone());
+    match (&c.colors, alpha) {
+        (Some(col), _) => env.colored_mesh(&stem, &tri.with_colors(col.clone())?),
+        (None, Some(a)) => {
+            let col = a
+                .iter()
+                .map(|&t| {
+                    let m = |x: f64, y: f64| (x + (y - x) * t) as u8;
+                    [m(175.0, 140.0), m(180.0, 70.0), m(190.0, 30.0), 255]
+                })
+                .collect();
+            let tri = tri.with_scalar("alpha", a)?;
+            env.colored_mesh(&stem, &tri.with_colors(col)?)
+        }
+        (None, None) => env.shaded_mesh(&stem, &tri),
+    }
+}
+
+/// Meshes placed in a row along x (for figures that compare stages).
+fn side_by_side(meshes: &[TriMesh]) -> Result<TriMesh> {
+    let mut pos = Vec::new();
+    let mut tris = Vec::new();
+    let mut x = 0.0;
+    for m in meshes {
+        let b = m.bounds().ok_or_else(|| invalid("a mesh has vertices"))?;
+        let shift = x - b.min[0];
+        let first = pos.len() as u32;
+        pos.extend(m.positions().iter().map(|p| [p[0] + shift, p[1], p[2]]));
+        tris.extend(m.triangles().iter().map(|t| t.map(|v| v + first)));
+        x += b.max[0] - b.min[0] + 0.3 * (b.max[0] - b.min[0]);
+    }
+    Ok(TriMesh::new(pos, tris)?)
+}
+
+/// A row of the finest levels of `layers` grown on the sphere, with normals.
+fn row(env: &Env, layers: impl Iterator<Item = (usize, Layer)>) -> Result<TriMesh> {
+    let sphere = Creased::smooth(asperity_subdiv::base::quad_sphere(2));
+    let meshes = layers
+        .map(|(levels, layer)| {
+            let m = grow(&sphere, levels, Boundary::EdgeOnly, &layer, env.seed)?;
+            Ok(m.finest().mesh.triangulate())
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(side_by_side(&meshes)?.with_computed_normals())
+}
+
+fn one_feature(name: &str, feature: Feature) -> Layer {
+    Layer {
+        name: name.into(),
+        features: vec![feature],
+        edits: Vec::new(),
+    }
+}
+
+/// Figure 5: tentacle growth, levels 1–4, with and without the sign flip.
+fn figure_5(env: &Env) -> Result<Vec<Item>> {
+    let tentacle = |alternate: bool| {
+        one_feature(
+            "t",
+            Feature {
+                procedure: Procedure::Tentacle(Tentacle {
+                    length: 0.15,
+                    theta: 0.5,
+                    alternate,
+                    twist: true,
+                }),
+                seeds: Seeds::Points(vec![[0.3, -1.0, 0.3]]),
+                levels: None,
+            },
+        )
+    };
+    let mut items = Vec::new();
+    for (alternate, stem, title) in [
+        (
+            true,
+            "subdiv_fig5_tentacle_levels",
+            "Figure 5: a tentacle by the paper's pseudo-code, levels 1 to 4 (left to right) — the sign flip on even levels digs the tip in",
+        ),
+        (
+            false,
+            "subdiv_fig5_tentacle_levels_no_flip",
+            "Figure 5 without the sign flip: the same procedure grows a curling horn",
+        ),
+    ] {
+        let tri = row(env, (1..=4).map(|l| (l, tentacle(alternate))))?;
+        let (file, pic) = env.shaded_mesh(stem, &tri)?;
+        let law = if alternate {
+            "length·l·(sin(θ + πl/3), cos(θ + πl/3), 1), negated on even levels"
+        } else {
+            "length·l·(sin(θ + πl/3), cos(θ + πl/3), 1)"
+        };
+        items.push(Item::new(
+            title,
+            Some(pic),
+            vec![file],
+            vec![fact("per level", law)],
+        ));
+    }
+    Ok(items)
+}
+
+/// Figure 9: spurs placed at level 1 (a), at level 3 (b), at both (c).
+fn figure_9(env: &Env) -> Result<Item> {
+    let spurs = |levels: Vec<usize>| {
+        one_feature(
+            "s",
+            Feature {
+                procedure: Procedure::Spur(Spur { height: 2.5 }),
+                seeds: Seeds::Poisson { spacing: 0.6 },
+                levels: Some(levels),
+            },
+        )
+    };
+    let tri = row(
+        env,
+        [vec![1], vec![3], vec![1, 3]]
+            .into_iter()
+            .map(|ls| (4, spurs(ls))),
+    )?;
+    let (file, pic) = env.shaded_mesh("subdiv_fig9_spur_levels", &tri)?;
+    Ok(Item::new(
+        "Figure 9: spurs placed at level 1 (a), at level 3 (b), at both (c)",
+        Some(pic),
+        vec![file],
+        vec![fact(
+            "spur",
+            "the seed vertex pushed 2.5 mean edge lengths of its level along n",
+        )],
+    ))
+}
