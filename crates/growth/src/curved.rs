@@ -298,6 +298,220 @@ fn distance_transform(dims: [usize; 3], solid: &[bool]) -> Vec<f32> {
     d
 }
 
+/// The lattice a curved deposit grows in: its size, the substrate's solid
+/// cells, heights above the substrate and where particles come from.
+struct Prepared {
+    size: [usize; 3],
+    solid: Vec<[i32; 3]>,
+    height: Height,
+    launcher: Launcher,
+}
+
+/// A ball of radius `r` with `m` cells of room around it.
+fn sphere_lattice(r: f64, m: usize, budget: &MemoryBudget) -> Result<Prepared, GrowthError> {
+    if !(r.is_finite() && (1.0..=4096.0).contains(&r)) {
+        return Err(bad(format!(
+            "substrate sphere radius must be in [1, 4096] cells, got {r}"
+        )));
+    }
+    let side = 2 * (r.ceil() as usize + m) + 1;
+    let size = [side; 3];
+    budget.check_elements(
+        Occupancy::estimate_bytes(size),
+        1,
+        "curved-deposition lattice",
+    )?;
+    let c = (side / 2) as f64;
+    let center = [c; 3];
+    let ri = r.ceil() as i32;
+    let ci = side as i32 / 2;
+    let mut solid = Vec::new();
+    for dz in -ri..=ri {
+        for dy in -ri..=ri {
+            for dx in -ri..=ri {
+                if ((dx * dx + dy * dy + dz * dz) as f64) <= r * r {
+                    solid.push([ci + dx, ci + dy, ci + dz]);
+                }
+            }
+        }
+    }
+    Ok(Prepared {
+        size,
+        solid,
+        height: Height::Radial { center, radius: r },
+        launcher: Launcher::Sphere { center, radius: r },
+    })
+}
+
+impl Launcher {
+    /// Points drawn on `mesh` by area, with interpolated vertex normals.
+    fn on_mesh(mesh: &TriMesh) -> Result<Self, GrowthError> {
+        let normals = mesh.vertex_normals();
+        let pos = mesh.positions();
+        let mut tris = Vec::with_capacity(mesh.triangles().len());
+        let mut cumulative = Vec::with_capacity(mesh.triangles().len());
+        let mut total = 0.0;
+        for t in mesh.triangles() {
+            let [a, b, c] = t.map(|v| pos[v as usize]);
+            let e1 = [0, 1, 2].map(|i| b[i] - a[i]);
+            let e2 = [0, 1, 2].map(|i| c[i] - a[i]);
+            let cr = [
+                e1[1] * e2[2] - e1[2] * e2[1],
+                e1[2] * e2[0] - e1[0] * e2[2],
+                e1[0] * e2[1] - e1[1] * e2[0],
+            ];
+            total += 0.5 * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]).sqrt();
+            cumulative.push(total);
+            let [na, nb, nc] = t.map(|v| normals[v as usize]);
+            tris.push([a, b, c, na, nb, nc]);
+        }
+        if total <= 0.0 {
+            return Err(bad("the substrate mesh has no area"));
+        }
+        Ok(Launcher::Mesh { tris, cumulative })
+    }
+}
+
+/// A voxelised mesh (lattice coordinates) with `m` cells of room around it.
+fn mesh_lattice(
+    mesh: &TriMesh,
+    size: [usize; 3],
+    cells: &[[i32; 3]],
+    m: usize,
+    budget: &MemoryBudget,
+) -> Result<Prepared, GrowthError> {
+    let cells_total: u128 = size.iter().map(|&s| s as u128).product();
+    budget.check_elements(
+        cells_total * 5,
+        1,
+        "curved-deposition lattice and distance table",
+    )?;
+    if cells.is_empty() {
+        return Err(bad("the substrate mesh encloses no lattice cell"));
+    }
+    if let Some(c) = cells
+        .iter()
+        .find(|c| (0..3).any(|a| c[a] < m as i32 || c[a] >= (size[a] - m) as i32))
+    {
+        return Err(bad(format!(
+            "substrate cell {c:?} leaves fewer than {m} cells of room for the deposit"
+        )));
+    }
+    let mut solid = vec![false; cells_total as usize];
+    for c in cells {
+        solid[c[0] as usize + size[0] * (c[1] as usize + size[1] * c[2] as usize)] = true;
+    }
+    let dist = distance_transform(size, &solid);
+    Ok(Prepared {
+        size,
+        solid: cells.to_vec(),
+        height: Height::Table { dims: size, dist },
+        launcher: Launcher::on_mesh(mesh)?,
+    })
+}
+
+/// The RDSR relaxation radius (0 for RD and BD), after checking the parameters.
+fn check(params: &CurvedParams) -> Result<i32, GrowthError> {
+    if !(params.layers.is_finite() && params.layers > 0.0) {
+        return Err(bad(format!(
+            "layers must be a positive number of monolayers, got {}",
+            params.layers
+        )));
+    }
+    match params.model {
+        Model::Rdsr { radius } if radius == 0 || radius > 8 => Err(bad(format!(
+            "relaxation radius on a curved substrate must be in 1..=8, got {radius}"
+        ))),
+        Model::Rdsr { radius } => Ok(radius as i32),
+        _ => Ok(0),
+    }
+}
+
+/// A deposit in progress.
+struct Growth {
+    model: Model,
+    radius: i32,
+    occ: Occupancy,
+    height: Height,
+    launcher: Launcher,
+    size: [usize; 3],
+    thickness: f64,
+    max_steps: usize,
+    rng: FastRng,
+}
+
+impl Growth {
+    /// The start of a line along −n from the substrate point p, above the deposit.
+    fn line(&self, (p, n): ([f64; 3], [f64; 3])) -> Dda {
+        let start = [0, 1, 2].map(|a| p[a] + n[a] * (self.thickness + 3.0));
+        Dda::new(start, n.map(|v| -v))
+    }
+
+    /// Where a particle dropped along a fresh line lands (before relaxation);
+    /// `None` when the line leaves the lattice.
+    fn shoot(&mut self) -> Option<[i32; 3]> {
+        let probe = self.launcher.draw(&mut self.rng);
+        let mut dda = self.line(probe);
+        let mut prev: Option<[i32; 3]> = None;
+        for _ in 0..self.max_steps {
+            let c = dda.cell;
+            self.occ.canonical(c)?;
+            if self.occ.get(c) {
+                return prev;
+            }
+            if self.model == Model::Bd && FACES.iter().any(|&e| self.occ.get(add(c, e))) {
+                return Some(c);
+            }
+            prev = Some(c);
+            dda.advance();
+        }
+        None
+    }
+
+    /// Deposits one particle (drawing lines until one lands).
+    fn deposit(&mut self, done: u64) -> Result<[i32; 3], GrowthError> {
+        let mut v = loop {
+            if let Some(v) = self.shoot() {
+                break v;
+            }
+        };
+        if self.radius > 0 {
+            v = relax(&self.occ, &self.height, v, self.radius, &mut self.rng);
+        }
+        if v.iter()
+            .zip(self.size)
+            .any(|(&c, s)| c < 1 || c >= s as i32 - 1)
+        {
+            return Err(GrowthError::Capacity(format!(
+                "the deposit reached the lattice boundary after {done} depositions"
+            )));
+        }
+        self.occ.set(v);
+        self.thickness = self.thickness.max(self.height.at(v));
+        Ok(v)
+    }
+
+    /// Mean height and W² where the probe lines first meet the deposit.
+    fn width(&self, probes: &[([f64; 3], [f64; 3])]) -> (f64, f64) {
+        let hs: Vec<f64> = probes
+            .iter()
+            .filter_map(|&probe| {
+                let mut dda = self.line(probe);
+                for _ in 0..self.max_steps {
+                    if self.occ.get(dda.cell) {
+                        return Some(self.height.at(dda.cell));
+                    }
+                    dda.advance();
+                }
+                None
+            })
+            .collect();
+        let k = hs.len() as f64;
+        let mean = hs.iter().sum::<f64>() / k;
+        (mean, hs.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / k)
+    }
+}
+
 /// Grows a deposit on a curved substrate with the generator of run `run`.
 ///
 /// # Errors
@@ -310,115 +524,19 @@ pub fn deposit_curved(
     budget: &MemoryBudget,
     progress: &dyn Progress,
 ) -> Result<CurvedDeposit, GrowthError> {
-    if !(params.layers.is_finite() && params.layers > 0.0) {
-        return Err(bad(format!(
-            "layers must be a positive number of monolayers, got {}",
-            params.layers
-        )));
-    }
-    let radius = match params.model {
-        Model::Rdsr { radius } if radius == 0 || radius > 8 => {
-            return Err(bad(format!(
-                "relaxation radius on a curved substrate must be in 1..=8, got {radius}"
-            )));
-        }
-        Model::Rdsr { radius } => radius as i32,
-        _ => 0,
-    };
+    let radius = check(params)?;
     let m = margin(params.model, params.layers);
-    let (size, solid_cells, height, launcher) = match &params.substrate {
-        CurvedSubstrate::Sphere(r) => {
-            if !(r.is_finite() && *r >= 1.0 && *r <= 4096.0) {
-                return Err(bad(format!(
-                    "substrate sphere radius must be in [1, 4096] cells, got {r}"
-                )));
-            }
-            let side = 2 * (r.ceil() as usize + m) + 1;
-            let size = [side; 3];
-            budget.check_elements(
-                Occupancy::estimate_bytes(size),
-                1,
-                "curved-deposition lattice",
-            )?;
-            let c = (side / 2) as f64;
-            let center = [c; 3];
-            let ri = r.ceil() as i32;
-            let ci = side as i32 / 2;
-            let mut cells = Vec::new();
-            for dz in -ri..=ri {
-                for dy in -ri..=ri {
-                    for dx in -ri..=ri {
-                        if ((dx * dx + dy * dy + dz * dz) as f64) <= r * r {
-                            cells.push([ci + dx, ci + dy, ci + dz]);
-                        }
-                    }
-                }
-            }
-            (
-                size,
-                cells,
-                Height::Radial { center, radius: *r },
-                Launcher::Sphere { center, radius: *r },
-            )
-        }
-        CurvedSubstrate::Mesh { mesh, size, cells } => {
-            let cells_total: u128 = size.iter().map(|&s| s as u128).product();
-            budget.check_elements(
-                cells_total * 5,
-                1,
-                "curved-deposition lattice and distance table",
-            )?;
-            if cells.is_empty() {
-                return Err(bad("the substrate mesh encloses no lattice cell"));
-            }
-            if let Some(c) = cells
-                .iter()
-                .find(|c| (0..3).any(|a| c[a] < m as i32 || c[a] >= (size[a] - m) as i32))
-            {
-                return Err(bad(format!(
-                    "substrate cell {c:?} leaves fewer than {m} cells of room for the deposit"
-                )));
-            }
-            let mut solid = vec![false; cells_total as usize];
-            for c in cells {
-                solid[c[0] as usize + size[0] * (c[1] as usize + size[1] * c[2] as usize)] = true;
-            }
-            let dist = distance_transform(*size, &solid);
-            let normals = mesh.vertex_normals();
-            let pos = mesh.positions();
-            let mut tris = Vec::with_capacity(mesh.triangles().len());
-            let mut cumulative = Vec::with_capacity(mesh.triangles().len());
-            let mut total = 0.0;
-            for t in mesh.triangles() {
-                let [a, b, c] = t.map(|v| pos[v as usize]);
-                let e1 = [0, 1, 2].map(|i| b[i] - a[i]);
-                let e2 = [0, 1, 2].map(|i| c[i] - a[i]);
-                let cr = [
-                    e1[1] * e2[2] - e1[2] * e2[1],
-                    e1[2] * e2[0] - e1[0] * e2[2],
-                    e1[0] * e2[1] - e1[1] * e2[0],
-                ];
-                total += 0.5 * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]).sqrt();
-                cumulative.push(total);
-                let [na, nb, nc] = t.map(|v| normals[v as usize]);
-                tris.push([a, b, c, na, nb, nc]);
-            }
-            if total <= 0.0 {
-                return Err(bad("the substrate mesh has no area"));
-            }
-            (
-                *size,
-                cells.clone(),
-                Height::Table { dims: *size, dist },
-                Launcher::Mesh { tris, cumulative },
-            )
-        }
+    let lattice = match &params.substrate {
+        CurvedSubstrate::Sphere(r) => sphere_lattice(*r, m, budget)?,
+        CurvedSubstrate::Mesh { mesh, size, cells } => mesh_lattice(mesh, *size, cells, m, budget)?,
     };
+    let size = lattice.size;
     let mut occ = Occupancy::new(size, false, budget)?;
-    for &c in &solid_cells {
+    for &c in &lattice.solid {
         occ.set(c);
     }
-    let mut cells: Vec<[i32; 3]> = solid_cells
+    let mut cells: Vec<[i32; 3]> = lattice
+        .solid
         .iter()
         .copied()
         .filter(|&c| FACES.iter().any(|&e| !occ.get(add(c, e))))
@@ -426,85 +544,40 @@ pub fn deposit_curved(
     let seeds = cells.len();
     let total = (params.layers * seeds as f64).round() as u64;
     budget.check_elements(total as u128 * 12, 1, "deposited particle list")?;
-    let mut rng = fast_rng(seed, run);
+    let mut g = Growth {
+        model: params.model,
+        radius,
+        occ,
+        height: lattice.height,
+        launcher: lattice.launcher,
+        size,
+        thickness: 0.0,
+        max_steps: 4 * size.iter().sum::<usize>(),
+        rng: fast_rng(seed, run),
+    };
     // Fixed probe lines for the width.
-    let probes: Vec<([f64; 3], [f64; 3])> = (0..4096).map(|_| launcher.draw(&mut rng)).collect();
+    let probes: Vec<([f64; 3], [f64; 3])> =
+        (0..4096).map(|_| g.launcher.draw(&mut g.rng)).collect();
     let schedule = geometric_schedule(seeds as u64, total, params.samples_per_decade);
     let mut series = WidthSeries {
         runs: 1,
         ..WidthSeries::default()
     };
-    let mut thickness: f64 = 0.0;
-    let max_steps = 4 * size.iter().sum::<usize>();
     cells.reserve(total as usize);
-    progress.start(
-        total,
-        &format!("{} on a curved substrate", params.model.name()),
-    );
+    let what = format!("{} on a curved substrate", params.model.name());
+    progress.start(total, &what);
     let mut done = 0u64;
     for &target in &schedule {
         while done < target {
-            let (p, n) = launcher.draw(&mut rng);
-            let start = [0, 1, 2].map(|a| p[a] + n[a] * (thickness + 3.0));
-            let mut dda = Dda::new(start, n.map(|v| -v));
-            let mut prev: Option<[i32; 3]> = None;
-            let mut landing = None;
-            for _ in 0..max_steps {
-                let c = dda.cell;
-                if occ.canonical(c).is_none() {
-                    break;
-                }
-                if occ.get(c) {
-                    landing = prev;
-                    break;
-                }
-                if params.model == Model::Bd && FACES.iter().any(|&e| occ.get(add(c, e))) {
-                    landing = Some(c);
-                    break;
-                }
-                prev = Some(c);
-                dda.advance();
-            }
-            let Some(mut v) = landing else {
-                continue; // the line left the lattice: draw again
-            };
-            if radius > 0 {
-                v = relax(&occ, &height, v, radius, &mut rng);
-            }
-            if v.iter().zip(size).any(|(&c, s)| c < 1 || c >= s as i32 - 1) {
-                return Err(GrowthError::Capacity(format!(
-                    "the deposit reached the lattice boundary after {done} depositions"
-                )));
-            }
-            occ.set(v);
-            thickness = thickness.max(height.at(v));
-            cells.push(v);
+            cells.push(g.deposit(done)?);
             done += 1;
             if done.is_multiple_of(65_536) {
                 progress.advance(65_536);
             }
         }
-        // Width from the probe lines.
-        let hs: Vec<f64> = probes
-            .iter()
-            .filter_map(|&(p, n)| {
-                let start = [0, 1, 2].map(|a| p[a] + n[a] * (thickness + 3.0));
-                let mut dda = Dda::new(start, n.map(|v| -v));
-                for _ in 0..max_steps {
-                    if occ.get(dda.cell) {
-                        return Some(height.at(dda.cell));
-                    }
-                    dda.advance();
-                }
-                None
-            })
-            .collect();
-        let k = hs.len() as f64;
-        let mean = hs.iter().sum::<f64>() / k;
+        let (mean, w2) = g.width(&probes);
         series.t.push(done as f64 / seeds as f64);
-        series
-            .w2
-            .push(hs.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / k);
+        series.w2.push(w2);
         series.w2_stderr.push(0.0);
         series.mean_height.push(mean);
     }
@@ -514,7 +587,7 @@ pub fn deposit_curved(
         cells,
         seeds,
         series,
-        thickness,
+        thickness: g.thickness,
     })
 }
 

@@ -518,6 +518,118 @@ impl Walk<'_> {
     }
 }
 
+/// Where the growth stopped or changed mode.
+#[derive(Default)]
+struct Ending {
+    stopped: Option<String>,
+    capped_at: Option<usize>,
+    /// Particles in the top layer (a capped plane deposit launches from it).
+    top_used: usize,
+}
+
+impl Walk<'_> {
+    /// The seed's solid cells (occupied throughout); a density image draws its
+    /// seeds with this walk's generator.
+    fn solid_seed(&mut self) -> Result<Vec<[i32; 3]>, GrowthError> {
+        let size = self.params.size;
+        let center = self.center;
+        Ok(match &self.params.seed_shape {
+            SeedShape::Point => vec![center.map(|c| c as i32)],
+            SeedShape::Plane => (0..size[1] as i32)
+                .flat_map(|y| (0..size[0] as i32).map(move |x| [x, y, 0]))
+                .collect(),
+            SeedShape::Sphere(r) => {
+                let ri = r.ceil() as i32 + 1;
+                let c = center.map(|v| v as i32);
+                let mut v = Vec::new();
+                for dz in -ri..=ri {
+                    for dy in if self.three_d { -ri..=ri } else { 0..=0 } {
+                        for dx in -ri..=ri {
+                            if ((dx * dx + dy * dy + dz * dz) as f64) <= r * r {
+                                v.push([c[0] + dx, c[1] + dy, c[2] + dz]);
+                            }
+                        }
+                    }
+                }
+                v
+            }
+            SeedShape::Cells(cells) => {
+                if let Some(c) = cells
+                    .iter()
+                    .find(|&&c| (0..3).any(|a| c[a] < 1 || c[a] >= size[a] as i32 - 1))
+                {
+                    return Err(bad(format!(
+                        "seed cell {c:?} lies on or outside the lattice boundary {}x{}x{}",
+                        size[0], size[1], size[2]
+                    )));
+                }
+                cells.clone()
+            }
+            SeedShape::Density(d) => {
+                let mut v = Vec::new();
+                for (k, &p) in d.iter().enumerate() {
+                    if unit(&mut self.rng) < p {
+                        v.push([(k % size[0]) as i32, (k / size[0]) as i32, 0]);
+                    }
+                }
+                if v.is_empty() {
+                    return Err(bad(
+                        "the seed density image produced no seed (it is black or too dark)",
+                    ));
+                }
+                v
+            }
+        })
+    }
+
+    /// The solid's cells with an empty face neighbour: the listed seeds.
+    fn surface_of(&self, solid: &[[i32; 3]]) -> Vec<[i32; 3]> {
+        let d: &[[i32; 3]] = if self.three_d { &DIRS3 } else { &DIRS2 };
+        solid
+            .iter()
+            .copied()
+            .filter(|&c| {
+                d.iter().any(|e| {
+                    let n = [c[0] + e[0], c[1] + e[1], c[2] + e[2]];
+                    !(self.occ.get(n) || self.plane && n[2] < 0)
+                })
+            })
+            .collect()
+    }
+
+    /// After particle `k` stuck at `p`: whether the run must stop (a full top
+    /// layer, a radial cluster at the boundary); records the cap.
+    fn check_bounds(&self, k: usize, p: [i32; 3], end: &mut Ending) -> bool {
+        let (size, particles) = (self.params.size, self.params.particles);
+        if self.plane {
+            let top = size[2] as i32 - 1;
+            if p[2] >= top - self.params.launch_gap.round() as i32 && end.capped_at.is_none() {
+                end.capped_at = Some(k + 1);
+            }
+            if p[2] == top {
+                end.top_used += 1;
+            }
+            if end.top_used == size[0] * size[1] && k + 1 < particles {
+                end.stopped = Some(format!(
+                    "the lattice's top layer is full after {} particles; use a larger --size",
+                    k + 1
+                ));
+                return true;
+            }
+            return false;
+        }
+        let edge = (0..3).any(|a| size[a] > 1 && (p[a] < 2 || p[a] >= size[a] as i32 - 2));
+        if edge && k + 1 < particles {
+            end.stopped = Some(format!(
+                "the deposit reached the lattice boundary after {} particles; use a larger --size",
+                k + 1
+            ));
+            return true;
+        }
+        false
+    }
+}
+
 /// Grows a DLA cluster with the generator of run `run` under `seed`.
 ///
 /// # Errors
@@ -530,99 +642,35 @@ pub fn dla(
     progress: &dyn Progress,
 ) -> Result<DlaCluster, GrowthError> {
     params.validate(budget)?;
-    let three_d = params.dim == 3;
     let plane = params.seed_shape.is_plane();
     let occ = Occupancy::new(params.size, plane, budget)?;
-    let fine = DistanceMap::new(&occ, 2, MAP_CAP);
-    let medium = DistanceMap::new(&occ, 3, MAP_CAP);
-    let coarse = DistanceMap::new(&occ, coarse_shift(params.size, plane), MAP_CAP);
     let size = params.size;
     let center = [0, 1, 2].map(|a| ((size[a] - 1) / 2) as f64);
     let mut walk = Walk {
         params,
-        three_d,
+        three_d: params.dim == 3,
         plane,
+        fine: DistanceMap::new(&occ, 2, MAP_CAP),
+        medium: DistanceMap::new(&occ, 3, MAP_CAP),
+        coarse: DistanceMap::new(&occ, coarse_shift(size, plane), MAP_CAP),
         occ,
-        fine,
-        medium,
-        coarse,
         center,
         reach: 0.0,
         rng: fast_rng(seed, run),
         stats: WalkStats::default(),
     };
-    // Seeds: occupy solids throughout, list their surface cells.
-    let solid: Vec<[i32; 3]> = match &params.seed_shape {
-        SeedShape::Point => vec![center.map(|c| c as i32)],
-        SeedShape::Plane => (0..size[1] as i32)
-            .flat_map(|y| (0..size[0] as i32).map(move |x| [x, y, 0]))
-            .collect(),
-        SeedShape::Sphere(r) => {
-            let ri = r.ceil() as i32 + 1;
-            let c = center.map(|v| v as i32);
-            let mut v = Vec::new();
-            for dz in -ri..=ri {
-                for dy in if three_d { -ri..=ri } else { 0..=0 } {
-                    for dx in -ri..=ri {
-                        if ((dx * dx + dy * dy + dz * dz) as f64) <= r * r {
-                            v.push([c[0] + dx, c[1] + dy, c[2] + dz]);
-                        }
-                    }
-                }
-            }
-            v
-        }
-        SeedShape::Cells(cells) => {
-            if let Some(c) = cells
-                .iter()
-                .find(|&&c| (0..3).any(|a| c[a] < 1 || c[a] >= size[a] as i32 - 1))
-            {
-                return Err(bad(format!(
-                    "seed cell {c:?} lies on or outside the lattice boundary {}x{}x{}",
-                    size[0], size[1], size[2]
-                )));
-            }
-            cells.clone()
-        }
-        SeedShape::Density(d) => {
-            let mut v = Vec::new();
-            for (k, &p) in d.iter().enumerate() {
-                if unit(&mut walk.rng) < p {
-                    v.push([(k % size[0]) as i32, (k / size[0]) as i32, 0]);
-                }
-            }
-            if v.is_empty() {
-                return Err(bad(
-                    "the seed density image produced no seed (it is black or too dark)",
-                ));
-            }
-            v
-        }
-    };
+    let solid = walk.solid_seed()?;
     for &c in &solid {
         walk.occupy(c);
     }
-    let mut cells: Vec<[i32; 3]> = solid
-        .iter()
-        .copied()
-        .filter(|&c| {
-            let d: &[[i32; 3]] = if three_d { &DIRS3 } else { &DIRS2 };
-            d.iter().any(|e| {
-                let n = [c[0] + e[0], c[1] + e[1], c[2] + e[2]];
-                !(walk.occ.get(n) || plane && n[2] < 0)
-            })
-        })
-        .collect();
+    let mut cells = walk.surface_of(&solid);
     let seeds = cells.len();
     if plane && size[2] < 4 {
         return Err(bad("a plane deposit needs a lattice at least 4 cells high"));
     }
     cells.reserve(params.particles);
     progress.start(params.particles as u64, "DLA");
-    let mut stopped = None;
-    let mut capped_at = None;
-    // A capped plane deposit launches from the top layer, which must have room.
-    let mut top_used = 0usize;
+    let mut end = Ending::default();
     for k in 0..params.particles {
         let p = walk.walk();
         walk.occupy(p);
@@ -630,30 +678,7 @@ pub fn dla(
         if k % 1024 == 1023 {
             progress.advance(1024);
         }
-        if plane {
-            if p[2] >= size[2] as i32 - 1 - params.launch_gap.round() as i32 && capped_at.is_none()
-            {
-                capped_at = Some(k + 1);
-            }
-            if p[2] == size[2] as i32 - 1 {
-                top_used += 1;
-            }
-            if top_used == size[0] * size[1] && k + 1 < params.particles {
-                stopped = Some(format!(
-                    "the lattice's top layer is full after {} particles; use a larger --size",
-                    k + 1
-                ));
-                break;
-            }
-            continue;
-        }
-        let edge = (0..3).any(|a| size[a] > 1 && (p[a] < 2 || p[a] >= size[a] as i32 - 2));
-        if edge && k + 1 < params.particles {
-            stopped = Some(format!(
-                "the deposit reached the lattice {} after {} particles; use a larger --size",
-                if plane { "top" } else { "boundary" },
-                k + 1
-            ));
+        if walk.check_bounds(k, p, &mut end) {
             break;
         }
     }
@@ -664,8 +689,8 @@ pub fn dla(
         cells,
         seeds,
         center,
-        stopped,
-        capped_at,
+        stopped: end.stopped,
+        capped_at: end.capped_at,
         stats: walk.stats,
     })
 }

@@ -344,11 +344,17 @@ const BICUBIC_Z: [[f64; 4]; 4] = [
     [0.0, 0.15, 0.3, 0.1],
 ];
 
-/// Builds a preset.
-///
-/// # Errors
-/// Unknown name; a parameter the preset does not take or out of range.
-pub fn preset(name: &str, p: &PresetParams) -> Result<ModelFile> {
+/// The checked parameters of a preset: w, the height, the description and the
+/// parameters recorded in the model file.
+struct Checked {
+    w: f64,
+    h: f64,
+    description: String,
+    parameters: BTreeMap<String, f64>,
+}
+
+/// Checks the parameters `name` takes and their ranges.
+fn check_preset(name: &str, p: &PresetParams) -> Result<Checked> {
     let takes_w = matches!(
         name,
         "takagi-landsberg" | "takagi-landsberg-surface" | "bezier-takagi"
@@ -402,26 +408,89 @@ pub fn preset(name: &str, p: &PresetParams) -> Result<ModelFile> {
     if surface {
         parameters.insert("height".to_owned(), h);
     }
-    let curve = |operators, control_points| ModelFile {
+    Ok(Checked {
+        w,
+        h,
+        description,
+        parameters,
+    })
+}
+
+/// Row-major matrices or lists of points, as model files hold them.
+type Rows = Vec<Vec<f64>>;
+
+/// The Bézier curve of degree `n` (default 3) on a half circle: its
+/// operators, control points and degree.
+fn bezier_curve(n: Option<usize>) -> Result<(Vec<Rows>, Rows, f64)> {
+    let n = n.unwrap_or(3);
+    if !(1..=30).contains(&n) {
+        return Err(invalid("degree", format!("{n} is outside 1..=30")));
+    }
+    let pts = (0..=n)
+        .map(|i| {
+            let a = std::f64::consts::PI * (1.0 - i as f64 / n as f64);
+            vec![a.cos(), a.sin()]
+        })
+        .collect();
+    Ok((bezier_operators(n), pts, n as f64))
+}
+
+/// The control grid of `bezier-bicubic`: heights from [`BICUBIC_Z`].
+fn bicubic_grid(h: f64) -> Vec<Vec<Vec<f64>>> {
+    (0..4)
+        .map(|a| {
+            (0..4)
+                .map(|b| vec![a as f64 / 3.0, b as f64 / 3.0, h * 2.0 * BICUBIC_Z[a][b]])
+                .collect()
+        })
+        .collect()
+}
+
+/// The control grid of `bezier-takagi`: a cubic profile along s, Takagi along t.
+fn bezier_takagi_grid(h: f64) -> Vec<Vec<Vec<f64>>> {
+    (0..4)
+        .map(|a| {
+            (0..3)
+                .map(|b| {
+                    vec![
+                        a as f64 / 3.0,
+                        TAKAGI_X[b],
+                        2.0 * h * CUBIC_PROFILE[a] + h * TAKAGI_Y[b],
+                    ]
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Builds a preset.
+///
+/// # Errors
+/// Unknown name; a parameter the preset does not take or out of range.
+pub fn preset(name: &str, p: &PresetParams) -> Result<ModelFile> {
+    let c = check_preset(name, p)?;
+    let (w, h) = (c.w, c.h);
+    let file = |parameters: BTreeMap<String, f64>| ModelFile {
         name: name.into(),
-        description: description.clone(),
-        parameters: parameters.clone(),
+        description: c.description.clone(),
+        parameters,
+        curve: None,
+        surface: None,
+    };
+    let curve = |operators, control_points| ModelFile {
         curve: Some(CurveSpec {
             operators,
             control_points,
         }),
-        surface: None,
+        ..file(c.parameters.clone())
     };
     let surf = |s, t, control_points| ModelFile {
-        name: name.into(),
-        description: description.clone(),
-        parameters: parameters.clone(),
-        curve: None,
         surface: Some(SurfaceSpec {
             s: OperatorsSpec { operators: s },
             t: OperatorsSpec { operators: t },
             control_points,
         }),
+        ..file(c.parameters.clone())
     };
     Ok(match name {
         "bezier-quadratic" => curve(
@@ -438,58 +507,26 @@ pub fn preset(name: &str, p: &PresetParams) -> Result<ModelFile> {
             ],
         ),
         "bezier" => {
-            let n = p.degree.unwrap_or(3);
-            if !(1..=30).contains(&n) {
-                return Err(invalid("degree", format!("{n} is outside 1..=30")));
-            }
-            let mut parameters = parameters.clone();
-            parameters.insert("degree".to_owned(), n as f64);
-            // Control points on a half circle.
-            let pts = (0..=n)
-                .map(|i| {
-                    let a = std::f64::consts::PI * (1.0 - i as f64 / n as f64);
-                    vec![a.cos(), a.sin()]
-                })
-                .collect();
-            let mut f = curve(bezier_operators(n), pts);
-            f.parameters = parameters;
+            let (ops, pts, degree) = bezier_curve(p.degree)?;
+            let mut f = curve(ops, pts);
+            f.parameters.insert("degree".to_owned(), degree);
             f
         }
         "takagi-landsberg" => curve(
             takagi_operators(w),
             vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![0.0, 1.0]],
         ),
-        "bezier-bicubic" => {
-            let grid = (0..4)
-                .map(|a| {
-                    (0..4)
-                        .map(|b| vec![a as f64 / 3.0, b as f64 / 3.0, h * 2.0 * BICUBIC_Z[a][b]])
-                        .collect()
-                })
-                .collect();
-            surf(bezier_operators(3), bezier_operators(3), grid)
-        }
+        "bezier-bicubic" => surf(bezier_operators(3), bezier_operators(3), bicubic_grid(h)),
         "takagi-landsberg-surface" => surf(
             takagi_operators(w),
             takagi_operators(w),
             takagi_grid(h, TAKAGI_SHEAR),
         ),
-        "bezier-takagi" => {
-            let grid = (0..4)
-                .map(|a| {
-                    (0..3)
-                        .map(|b| {
-                            vec![
-                                a as f64 / 3.0,
-                                TAKAGI_X[b],
-                                2.0 * h * CUBIC_PROFILE[a] + h * TAKAGI_Y[b],
-                            ]
-                        })
-                        .collect()
-                })
-                .collect();
-            surf(bezier_operators(3), takagi_operators(w), grid)
-        }
+        "bezier-takagi" => surf(
+            bezier_operators(3),
+            takagi_operators(w),
+            bezier_takagi_grid(h),
+        ),
         _ => unreachable!("checked against PRESETS"),
     })
 }

@@ -69,6 +69,135 @@ pub(crate) fn fixed_point(t: &DMatrix<f64>) -> Option<DVector<f64>> {
     a.lu().solve(&b)
 }
 
+/// Operator `i` is square, N×N like T0, 2 ≤ N ≤ [`MAX_SIZE`], and finite.
+fn check_shape(i: usize, t: &DMatrix<f64>, n: usize) -> Result<()> {
+    if t.nrows() != t.ncols() {
+        return Err(violated(
+            Constraint::Shape,
+            format!(
+                "{} is {}×{}; operators are square",
+                name(i),
+                t.nrows(),
+                t.ncols()
+            ),
+        ));
+    }
+    if t.nrows() != n {
+        return Err(violated(
+            Constraint::Shape,
+            format!(
+                "T0 is {n}×{n} but {} is {}×{}",
+                name(i),
+                t.nrows(),
+                t.ncols()
+            ),
+        ));
+    }
+    if !(2..=MAX_SIZE).contains(&n) {
+        return Err(violated(
+            Constraint::Shape,
+            format!("operators must be N×N with 2 ≤ N ≤ {MAX_SIZE}, got N = {n}"),
+        ));
+    }
+    if let Some((k, x)) = t.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+        return Err(violated(
+            Constraint::Finite,
+            format!(
+                "{} entry ({}, {}) is {x}",
+                name(i),
+                k % n, // column-major storage
+                k / n
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Every column of operator `i` sums to 1.
+fn check_barycentric(i: usize, t: &DMatrix<f64>, n: usize) -> Result<()> {
+    for c in 0..n {
+        let s: f64 = t.column(c).sum();
+        if (s - 1.0).abs() > CONSTRAINT_TOL {
+            return Err(violated(
+                Constraint::Barycentric,
+                format!(
+                    "column {c} of {} sums to {s} (every column of a barycentric operator sums to 1)",
+                    name(i)
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The spectrum and fixed point of operator `i`, which must contract: the
+/// eigenvalue 1 simple, every other of modulus in (0, 1).
+fn contraction(i: usize, t: &DMatrix<f64>) -> Result<(Spectrum, DVector<f64>)> {
+    let s = spectrum(t)
+        .map_err(|e| violated(Constraint::Contractivity, format!("{}: {e}", name(i))))?;
+    let lead = s.values[0];
+    let repeated = s
+        .values
+        .get(1)
+        .is_some_and(|v| (v.re - lead.re).hypot(v.im - lead.im) <= crate::spectrum::CLUSTER);
+    let refuse = |why: String| Err(violated(Constraint::Contractivity, why));
+    if (lead.re - 1.0).abs() > 1e-6 || repeated {
+        return refuse(format!(
+            "{} has eigenvalue 1 more than once: it fixes a whole line, so it does not contract",
+            name(i)
+        ));
+    }
+    let sub = s.subdominant_modulus();
+    if sub >= 1.0 - 1e-12 {
+        return refuse(format!(
+            "{} has an eigenvalue of modulus {sub} besides the fixed-point eigenvalue 1 \
+             (every other eigenvalue must have modulus < 1)",
+            name(i)
+        ));
+    }
+    if sub == 0.0 {
+        return refuse(format!(
+            "{} maps everything to its fixed point (all other eigenvalues are 0)",
+            name(i)
+        ));
+    }
+    let c = fixed_point(t).ok_or_else(|| {
+        violated(
+            Constraint::Contractivity,
+            format!("{} has no unique fixed point", name(i)),
+        )
+    })?;
+    Ok((s, c))
+}
+
+/// The fixed points differ, and T0·c1 = T1·c0: the pieces of the attractor meet.
+fn check_adjacency(operators: &[DMatrix<f64>], fixed: &[DVector<f64>]) -> Result<()> {
+    if (&fixed[0] - &fixed[1]).amax() <= CONSTRAINT_TOL {
+        return Err(violated(
+            Constraint::Adjacency,
+            format!(
+                "T0 and T1 have the same fixed point {}: the attractor is a single point, not a curve",
+                fmt_vec(&fixed[0])
+            ),
+        ));
+    }
+    let left = &operators[0] * &fixed[1];
+    let right = &operators[1] * &fixed[0];
+    let gap = (&left - &right).amax();
+    if gap > CONSTRAINT_TOL {
+        return Err(violated(
+            Constraint::Adjacency,
+            format!(
+                "T0·c1 = {} but T1·c0 = {} (differ by {gap:.3e}); the pieces T0(A) and T1(A) \
+                 would not meet and the attractor would be a dust, not a curve",
+                fmt_vec(&left),
+                fmt_vec(&right)
+            ),
+        ));
+    }
+    Ok(())
+}
+
 impl Pifs {
     /// Validates two operators (see the module docs).
     ///
@@ -86,128 +215,17 @@ impl Pifs {
         }
         let n = operators[0].nrows();
         for (i, t) in operators.iter().enumerate() {
-            if t.nrows() != t.ncols() {
-                return Err(violated(
-                    Constraint::Shape,
-                    format!(
-                        "{} is {}×{}; operators are square",
-                        name(i),
-                        t.nrows(),
-                        t.ncols()
-                    ),
-                ));
-            }
-            if t.nrows() != n {
-                return Err(violated(
-                    Constraint::Shape,
-                    format!(
-                        "T0 is {n}×{n} but {} is {}×{}",
-                        name(i),
-                        t.nrows(),
-                        t.ncols()
-                    ),
-                ));
-            }
-            if !(2..=MAX_SIZE).contains(&n) {
-                return Err(violated(
-                    Constraint::Shape,
-                    format!("operators must be N×N with 2 ≤ N ≤ {MAX_SIZE}, got N = {n}"),
-                ));
-            }
-            if let Some((k, x)) = t.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-                return Err(violated(
-                    Constraint::Finite,
-                    format!(
-                        "{} entry ({}, {}) is {x}",
-                        name(i),
-                        k % n, // column-major storage
-                        k / n
-                    ),
-                ));
-            }
-            for c in 0..n {
-                let s: f64 = t.column(c).sum();
-                if (s - 1.0).abs() > CONSTRAINT_TOL {
-                    return Err(violated(
-                        Constraint::Barycentric,
-                        format!(
-                            "column {c} of {} sums to {s} (every column of a barycentric operator sums to 1)",
-                            name(i)
-                        ),
-                    ));
-                }
-            }
+            check_shape(i, t, n)?;
+            check_barycentric(i, t, n)?;
         }
         let mut spectra = Vec::with_capacity(2);
         let mut fixed = Vec::with_capacity(2);
         for (i, t) in operators.iter().enumerate() {
-            let s = spectrum(t)
-                .map_err(|e| violated(Constraint::Contractivity, format!("{}: {e}", name(i))))?;
-            let lead = s.values[0];
-            let repeated = s.values.get(1).is_some_and(|v| {
-                (v.re - lead.re).hypot(v.im - lead.im) <= crate::spectrum::CLUSTER
-            });
-            if (lead.re - 1.0).abs() > 1e-6 || repeated {
-                return Err(violated(
-                    Constraint::Contractivity,
-                    format!(
-                        "{} has eigenvalue 1 more than once: it fixes a whole line, so it does not contract",
-                        name(i)
-                    ),
-                ));
-            }
-            let sub = s.subdominant_modulus();
-            if sub >= 1.0 - 1e-12 {
-                return Err(violated(
-                    Constraint::Contractivity,
-                    format!(
-                        "{} has an eigenvalue of modulus {sub} besides the fixed-point eigenvalue 1 \
-                         (every other eigenvalue must have modulus < 1)",
-                        name(i)
-                    ),
-                ));
-            }
-            if sub == 0.0 {
-                return Err(violated(
-                    Constraint::Contractivity,
-                    format!(
-                        "{} maps everything to its fixed point (all other eigenvalues are 0)",
-                        name(i)
-                    ),
-                ));
-            }
-            let c = fixed_point(t).ok_or_else(|| {
-                violated(
-                    Constraint::Contractivity,
-                    format!("{} has no unique fixed point", name(i)),
-                )
-            })?;
+            let (s, c) = contraction(i, t)?;
             spectra.push(s);
             fixed.push(c);
         }
-        if (&fixed[0] - &fixed[1]).amax() <= CONSTRAINT_TOL {
-            return Err(violated(
-                Constraint::Adjacency,
-                format!(
-                    "T0 and T1 have the same fixed point {}: the attractor is a single point, not a curve",
-                    fmt_vec(&fixed[0])
-                ),
-            ));
-        }
-        let left = &operators[0] * &fixed[1];
-        let right = &operators[1] * &fixed[0];
-        let gap = (&left - &right).amax();
-        if gap > CONSTRAINT_TOL {
-            return Err(violated(
-                Constraint::Adjacency,
-                format!(
-                    "T0·c1 = {} but T1·c0 = {} (differ by {gap:.3e}); the pieces T0(A) and T1(A) \
-                     would not meet and the attractor would be a dust, not a curve",
-                    fmt_vec(&left),
-                    fmt_vec(&right)
-                ),
-            ));
-        }
+        check_adjacency(&operators, &fixed)?;
         let [s0, s1]: [Spectrum; 2] = spectra.try_into().expect("two spectra");
         let [c0, c1]: [DVector<f64>; 2] = fixed.try_into().expect("two fixed points");
         let [t0, t1]: [DMatrix<f64>; 2] = operators.try_into().expect("two operators");

@@ -111,17 +111,13 @@ pub fn snap(a: f64) -> f64 {
     if (a - r).abs() <= ALPHA_SNAP { r } else { a }
 }
 
-/// Eigen-decomposition of `t` (square, finite).
-///
-/// # Errors
-/// A message when the Schur iteration does not converge.
-pub fn spectrum(t: &DMatrix<f64>) -> Result<Spectrum, String> {
+/// Eigenvalues of `t` grouped into clusters of (numerically) equal values.
+fn clusters_of(t: &DMatrix<f64>) -> Result<Vec<Cluster>, String> {
     let n = t.nrows();
     let schur = Schur::try_new(t.clone(), f64::EPSILON, 1000 * n.max(1))
         .ok_or_else(|| "the eigenvalue (Schur) iteration did not converge".to_owned())?;
-    let raw = schur.complex_eigenvalues();
     let mut clusters: Vec<Cluster> = Vec::new();
-    for z in raw.iter() {
+    for z in schur.complex_eigenvalues().iter() {
         let (re, im) = (z.re, z.im);
         let scale = re.hypot(im).max(1.0);
         match clusters
@@ -141,7 +137,12 @@ pub fn spectrum(t: &DMatrix<f64>) -> Result<Spectrum, String> {
             }),
         }
     }
-    // The fixed-point eigenvalue (nearest to 1) first, then decreasing modulus.
+    Ok(clusters)
+}
+
+/// The clusters in the order the analysis uses: the fixed-point eigenvalue
+/// (nearest to 1) first, then by decreasing modulus.
+fn order_clusters(mut clusters: Vec<Cluster>) -> Vec<Cluster> {
     let first = clusters
         .iter()
         .enumerate()
@@ -159,27 +160,38 @@ pub fn spectrum(t: &DMatrix<f64>) -> Result<Spectrum, String> {
             .then(b.im.total_cmp(&a.im))
     });
     clusters.insert(0, head);
-    let values: Vec<Eigenvalue> = clusters
-        .iter()
-        .flat_map(|c| {
-            std::iter::repeat_n(
-                Eigenvalue {
-                    re: c.re,
-                    im: if c.im.abs() <= CLUSTER { 0.0 } else { c.im },
-                },
-                c.members.len(),
-            )
-        })
-        .collect();
-    if let Some(c) = clusters.iter().find(|c| c.im.abs() > CLUSTER) {
-        return Ok(Spectrum {
-            values,
-            structure: Structure::Complex {
-                re: c.re,
-                im: c.im.abs(),
-            },
-        });
+    clusters
+}
+
+/// Eigenvector `v` normalised: the fixed point's to sum 1 (barycentric), the
+/// others to unit length with the largest component positive (a deterministic
+/// choice).
+fn normalise(v: &mut [f64], fixed_point: bool) {
+    if fixed_point {
+        let s: f64 = v.iter().sum();
+        if s.abs() > 1e-12 {
+            v.iter_mut().for_each(|x| *x /= s);
+        }
+    } else {
+        let big = v
+            .iter()
+            .copied()
+            .max_by(|a, b| a.abs().total_cmp(&b.abs()))
+            .unwrap_or(1.0);
+        let len = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let f = big.signum() / len;
+        v.iter_mut().for_each(|x| *x *= f);
     }
+}
+
+/// The eigenvectors of every cluster as the columns of a matrix (from the null
+/// space of T − λI by SVD), or the structure when a cluster has fewer
+/// independent eigenvectors than members.
+fn eigenvectors(
+    t: &DMatrix<f64>,
+    clusters: &[Cluster],
+) -> Result<Result<DMatrix<f64>, Structure>, String> {
+    let n = t.nrows();
     let norm = t.norm().max(1.0);
     let mut vectors = DMatrix::<f64>::zeros(n, n);
     let mut col = 0;
@@ -199,52 +211,29 @@ pub fn spectrum(t: &DMatrix<f64>) -> Result<Spectrum, String> {
             .count();
         let algebraic = c.members.len();
         if geometric < algebraic {
-            return Ok(Spectrum {
-                values,
-                structure: Structure::NonDiagonalisable {
-                    value: c.re,
-                    algebraic,
-                    geometric,
-                },
-            });
+            return Ok(Err(Structure::NonDiagonalisable {
+                value: c.re,
+                algebraic,
+                geometric,
+            }));
         }
         for &k in order.iter().take(algebraic) {
             let mut v: Vec<f64> = v_t.row(k).iter().copied().collect();
-            if ci == 0 {
-                let s: f64 = v.iter().sum();
-                if s.abs() > 1e-12 {
-                    v.iter_mut().for_each(|x| *x /= s);
-                }
-            } else {
-                // Unit length, largest component positive: a deterministic choice.
-                let big = v
-                    .iter()
-                    .copied()
-                    .max_by(|a, b| a.abs().total_cmp(&b.abs()))
-                    .unwrap_or(1.0);
-                let len = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-                let f = big.signum() / len;
-                v.iter_mut().for_each(|x| *x *= f);
-            }
+            normalise(&mut v, ci == 0);
             for (r, x) in v.into_iter().enumerate() {
                 vectors[(r, col)] = x;
             }
             col += 1;
         }
     }
-    let Some(inverse) = vectors.clone().try_inverse() else {
-        let c = &clusters[1.min(clusters.len() - 1)];
-        return Ok(Spectrum {
-            values,
-            structure: Structure::NonDiagonalisable {
-                value: c.re,
-                algebraic: c.members.len(),
-                geometric: 0,
-            },
-        });
-    };
+    Ok(Ok(vectors))
+}
+
+/// α_k = log|λ_k| / log|λ_1| (α₀ = 0, α₁ = 1; ∞ where undefined), snapped to
+/// integers within [`ALPHA_SNAP`].
+fn alphas(values: &[Eigenvalue]) -> Vec<f64> {
     let l1 = values.get(1).map_or(0.0, |v| v.modulus());
-    let alpha = values
+    values
         .iter()
         .enumerate()
         .map(|(k, v)| match k {
@@ -254,14 +243,56 @@ pub fn spectrum(t: &DMatrix<f64>) -> Result<Spectrum, String> {
             _ if l1 == 0.0 || l1 == 1.0 => f64::INFINITY,
             _ => snap(v.modulus().ln() / l1.ln()),
         })
+        .collect()
+}
+
+/// Eigen-decomposition of `t` (square, finite).
+///
+/// # Errors
+/// A message when the Schur iteration does not converge.
+pub fn spectrum(t: &DMatrix<f64>) -> Result<Spectrum, String> {
+    let clusters = order_clusters(clusters_of(t)?);
+    let values: Vec<Eigenvalue> = clusters
+        .iter()
+        .flat_map(|c| {
+            std::iter::repeat_n(
+                Eigenvalue {
+                    re: c.re,
+                    im: if c.im.abs() <= CLUSTER { 0.0 } else { c.im },
+                },
+                c.members.len(),
+            )
+        })
         .collect();
-    Ok(Spectrum {
-        values,
-        structure: Structure::Diagonalisable {
-            vectors,
-            inverse,
-            alpha,
-        },
+    let done = |structure| {
+        Ok(Spectrum {
+            values: values.clone(),
+            structure,
+        })
+    };
+    if let Some(c) = clusters.iter().find(|c| c.im.abs() > CLUSTER) {
+        return done(Structure::Complex {
+            re: c.re,
+            im: c.im.abs(),
+        });
+    }
+    let vectors = match eigenvectors(t, &clusters)? {
+        Ok(v) => v,
+        Err(structure) => return done(structure),
+    };
+    let Some(inverse) = vectors.clone().try_inverse() else {
+        let c = &clusters[1.min(clusters.len() - 1)];
+        return done(Structure::NonDiagonalisable {
+            value: c.re,
+            algebraic: c.members.len(),
+            geometric: 0,
+        });
+    };
+    let alpha = alphas(&values);
+    done(Structure::Diagonalisable {
+        vectors,
+        inverse,
+        alpha,
     })
 }
 

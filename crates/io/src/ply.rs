@@ -106,6 +106,72 @@ struct Header {
     body: usize,
 }
 
+/// A `property …` line's words as a property.
+fn parse_property(w: &[&str]) -> Result<Property, &'static str> {
+    let kind = if w.get(1) == Some(&"list") {
+        let (Some(c), Some(i)) = (
+            w.get(2).and_then(|s| Scalar::parse(s)),
+            w.get(3).and_then(|s| Scalar::parse(s)),
+        ) else {
+            return Err("bad list property types");
+        };
+        if !c.is_integer() {
+            return Err("list count type must be an integer type");
+        }
+        PropKind::List { count: c, item: i }
+    } else {
+        PropKind::Scalar(
+            w.get(1)
+                .and_then(|s| Scalar::parse(s))
+                .ok_or("unknown property type")?,
+        )
+    };
+    let name = w
+        .last()
+        .filter(|_| w.len() >= 3)
+        .ok_or("property needs a name")?;
+    Ok(Property {
+        name: (*name).to_owned(),
+        kind,
+    })
+}
+
+/// One header line's words into the encoding or the elements.
+fn header_line(
+    w: &[&str],
+    encoding: &mut Option<Encoding>,
+    elements: &mut Vec<Element>,
+) -> Result<(), &'static str> {
+    match w.first().copied() {
+        None | Some("comment") | Some("obj_info") => {}
+        Some("format") => {
+            *encoding = Some(match w.get(1).copied() {
+                Some("ascii") => Encoding::Ascii,
+                Some("binary_little_endian") => Encoding::Le,
+                Some("binary_big_endian") => Encoding::Be,
+                _ => return Err("unknown format"),
+            });
+        }
+        Some("element") => {
+            let (Some(name), Some(count)) = (w.get(1), w.get(2)) else {
+                return Err("element needs a name and a count");
+            };
+            let count = count.parse().map_err(|_| "bad element count")?;
+            elements.push(Element {
+                name: (*name).to_owned(),
+                count,
+                props: Vec::new(),
+            });
+        }
+        Some("property") => {
+            let el = elements.last_mut().ok_or("property before any element")?;
+            el.props.push(parse_property(w)?);
+        }
+        Some(_) => return Err("unknown header keyword"),
+    }
+    Ok(())
+}
+
 fn parse_header(bytes: &[u8]) -> FResult<Header> {
     if !bytes.starts_with(b"ply") {
         return malformed("does not start with the `ply` magic line");
@@ -126,62 +192,9 @@ fn parse_header(bytes: &[u8]) -> FResult<Header> {
     let mut elements: Vec<Element> = Vec::new();
     for (n, line) in text.lines().enumerate().skip(1) {
         let w: Vec<&str> = line.split_whitespace().collect();
-        let bad =
-            |what: &str| FormatError::Malformed(format!("header line {}: {what}: {line:?}", n + 1));
-        match w.first().copied() {
-            None | Some("comment") | Some("obj_info") => {}
-            Some("format") => {
-                encoding = Some(match w.get(1).copied() {
-                    Some("ascii") => Encoding::Ascii,
-                    Some("binary_little_endian") => Encoding::Le,
-                    Some("binary_big_endian") => Encoding::Be,
-                    _ => return Err(bad("unknown format")),
-                });
-            }
-            Some("element") => {
-                let (Some(name), Some(count)) = (w.get(1), w.get(2)) else {
-                    return Err(bad("element needs a name and a count"));
-                };
-                let count = count.parse().map_err(|_| bad("bad element count"))?;
-                elements.push(Element {
-                    name: (*name).to_owned(),
-                    count,
-                    props: Vec::new(),
-                });
-            }
-            Some("property") => {
-                let el = elements
-                    .last_mut()
-                    .ok_or_else(|| bad("property before any element"))?;
-                let kind = if w.get(1) == Some(&"list") {
-                    let (Some(c), Some(i)) = (
-                        w.get(2).and_then(|s| Scalar::parse(s)),
-                        w.get(3).and_then(|s| Scalar::parse(s)),
-                    ) else {
-                        return Err(bad("bad list property types"));
-                    };
-                    if !c.is_integer() {
-                        return Err(bad("list count type must be an integer type"));
-                    }
-                    PropKind::List { count: c, item: i }
-                } else {
-                    PropKind::Scalar(
-                        w.get(1)
-                            .and_then(|s| Scalar::parse(s))
-                            .ok_or_else(|| bad("unknown property type"))?,
-                    )
-                };
-                let name = w
-                    .last()
-                    .filter(|_| w.len() >= 3)
-                    .ok_or_else(|| bad("property needs a name"))?;
-                el.props.push(Property {
-                    name: (*name).to_owned(),
-                    kind,
-                });
-            }
-            Some(_) => return Err(bad("unknown header keyword")),
-        }
+        header_line(&w, &mut encoding, &mut elements).map_err(|what| {
+            FormatError::Malformed(format!("header line {}: {what}: {line:?}", n + 1))
+        })?;
     }
     let encoding =
         encoding.ok_or_else(|| FormatError::Malformed("header has no `format` line".into()))?;
@@ -274,24 +287,83 @@ const UV_NAMES: [(&str, &str); 4] = [
     ("texture_s", "texture_t"),
 ];
 
-pub(crate) fn parse(bytes: &[u8]) -> FResult<Contents> {
-    let header = parse_header(bytes)?;
+/// A vertex property column read: name, type, values.
+type ReadColumn = (String, Scalar, Vec<f64>);
+
+/// The values of every element: vertex columns and faces.
+struct Values {
+    columns: Vec<ReadColumn>,
+    faces: Vec<Vec<u32>>,
+    has_face_element: bool,
+}
+
+/// One face's vertex indices (a list of `n` values of type `it`).
+fn read_face(body: &mut Body, n: usize, it: Scalar, item: usize) -> FResult<Vec<u32>> {
+    let mut f = Vec::with_capacity(n.min(64));
+    for _ in 0..n {
+        let v = body.scalar(it)?;
+        if v < 0.0 || v.fract() != 0.0 || v > u32::MAX as f64 {
+            return malformed(format!("face {item} has vertex index {v}"));
+        }
+        f.push(v as u32);
+    }
+    Ok(f)
+}
+
+/// Item `item` of element `el`: vertex scalars into the columns, the face list
+/// (property `face_prop`) into the faces, everything else read and dropped.
+fn read_item(
+    el: &Element,
+    item: usize,
+    face_prop: Option<usize>,
+    body: &mut Body,
+    v: &mut Values,
+) -> FResult<()> {
+    let (is_vertex, is_face) = (el.name == "vertex", el.name == "face");
+    let mut col = 0;
+    for (k, p) in el.props.iter().enumerate() {
+        match p.kind {
+            PropKind::Scalar(s) => {
+                let x = body.scalar(s)?;
+                if is_vertex {
+                    v.columns[col].2.push(x);
+                    col += 1;
+                }
+            }
+            PropKind::List { count, item: it } => {
+                let n = body.count(count)?;
+                if is_face && Some(k) == face_prop {
+                    v.faces.push(read_face(body, n, it, item)?);
+                } else {
+                    for _ in 0..n {
+                        body.scalar(it)?;
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Reads every element of the body.
+fn read_values(header: &Header, bytes: &[u8]) -> FResult<Values> {
     let mut body = Body {
         bytes: &bytes[header.body..],
         pos: 0,
         encoding: header.encoding,
     };
-    let mut columns: Vec<(String, Scalar, Vec<f64>)> = Vec::new();
-    let mut faces = Vec::new();
-    let mut has_face_element = false;
+    let mut v = Values {
+        columns: Vec::new(),
+        faces: Vec::new(),
+        has_face_element: false,
+    };
     // Each value needs at least one byte, so the file length bounds any allocation.
     let cap = |n: usize| n.min(bytes.len());
     for el in &header.elements {
-        let is_vertex = el.name == "vertex";
         let is_face = el.name == "face";
-        has_face_element |= is_face;
-        if is_vertex {
-            columns = el
+        v.has_face_element |= is_face;
+        if el.name == "vertex" {
+            v.columns = el
                 .props
                 .iter()
                 .filter_map(|p| match p.kind {
@@ -303,7 +375,7 @@ pub(crate) fn parse(bytes: &[u8]) -> FResult<Contents> {
                 .collect();
         }
         if is_face {
-            faces.reserve(cap(el.count));
+            v.faces.reserve(cap(el.count));
         }
         let face_prop = el
             .props
@@ -313,50 +385,62 @@ pub(crate) fn parse(bytes: &[u8]) -> FResult<Contents> {
             return malformed("face element has no vertex_indices list");
         }
         for item in 0..el.count {
-            let mut col = 0;
-            for (k, p) in el.props.iter().enumerate() {
-                let ctx = |e: FormatError| match e {
-                    FormatError::Malformed(m) => {
-                        FormatError::Malformed(format!("{} {item} of {}: {m}", el.name, el.count))
-                    }
-                    other => other,
-                };
-                match p.kind {
-                    PropKind::Scalar(s) => {
-                        let v = body.scalar(s).map_err(ctx)?;
-                        if is_vertex {
-                            columns[col].2.push(v);
-                            col += 1;
-                        }
-                    }
-                    PropKind::List { count, item: it } => {
-                        let n = body.count(count).map_err(ctx)?;
-                        if is_face && Some(k) == face_prop {
-                            let mut f = Vec::with_capacity(n.min(64));
-                            for _ in 0..n {
-                                let v = body.scalar(it).map_err(ctx)?;
-                                if v < 0.0 || v.fract() != 0.0 || v > u32::MAX as f64 {
-                                    return malformed(format!("face {item} has vertex index {v}"));
-                                }
-                                f.push(v as u32);
-                            }
-                            faces.push(f);
-                        } else {
-                            for _ in 0..n {
-                                body.scalar(it).map_err(ctx)?;
-                            }
-                        }
-                    }
+            read_item(el, item, face_prop, &mut body, &mut v).map_err(|e| match e {
+                FormatError::Malformed(m) => {
+                    FormatError::Malformed(format!("{} {item} of {}: {m}", el.name, el.count))
                 }
-            }
+                other => other,
+            })?;
         }
     }
-    let take = |name: &str, columns: &mut Vec<(String, Scalar, Vec<f64>)>| {
-        columns
-            .iter()
-            .position(|c| c.0 == name)
-            .map(|i| columns.remove(i))
+    Ok(v)
+}
+
+/// The column called `name`, removed from `columns`.
+fn take(name: &str, columns: &mut Vec<ReadColumn>) -> Option<ReadColumn> {
+    columns
+        .iter()
+        .position(|c| c.0 == name)
+        .map(|i| columns.remove(i))
+}
+
+/// Colours from red, green, blue (and alpha) columns: integer types as they
+/// are, floats scaled from [0, 1].
+fn colors(columns: &mut Vec<ReadColumn>, n: usize) -> Option<Vec<[u8; 4]>> {
+    let (Some(r), Some(g), Some(b)) = (
+        take("red", columns),
+        take("green", columns),
+        take("blue", columns),
+    ) else {
+        return None;
     };
+    let a = take("alpha", columns);
+    let to_u8 = |c: &ReadColumn, i: usize| {
+        let v = c.2[i];
+        let v = if c.1.is_integer() { v } else { v * 255.0 };
+        v.round().clamp(0.0, 255.0) as u8
+    };
+    Some(
+        (0..n)
+            .map(|i| {
+                [
+                    to_u8(&r, i),
+                    to_u8(&g, i),
+                    to_u8(&b, i),
+                    a.as_ref().map_or(255, |a| to_u8(a, i)),
+                ]
+            })
+            .collect(),
+    )
+}
+
+pub(crate) fn parse(bytes: &[u8]) -> FResult<Contents> {
+    let header = parse_header(bytes)?;
+    let Values {
+        mut columns,
+        faces,
+        has_face_element,
+    } = read_values(&header, bytes)?;
     let (Some(x), Some(y), Some(z)) = (
         take("x", &mut columns),
         take("y", &mut columns),
@@ -374,33 +458,7 @@ pub(crate) fn parse(bytes: &[u8]) -> FResult<Contents> {
         (Some(a), Some(b), Some(c)) => Some((0..n).map(|i| [a.2[i], b.2[i], c.2[i]]).collect()),
         _ => None,
     };
-    let colors = match (
-        take("red", &mut columns),
-        take("green", &mut columns),
-        take("blue", &mut columns),
-    ) {
-        (Some(r), Some(g), Some(b)) => {
-            let a = take("alpha", &mut columns);
-            let to_u8 = |c: &(String, Scalar, Vec<f64>), i: usize| {
-                let v = c.2[i];
-                let v = if c.1.is_integer() { v } else { v * 255.0 };
-                v.round().clamp(0.0, 255.0) as u8
-            };
-            Some(
-                (0..n)
-                    .map(|i| {
-                        [
-                            to_u8(&r, i),
-                            to_u8(&g, i),
-                            to_u8(&b, i),
-                            a.as_ref().map_or(255, |a| to_u8(a, i)),
-                        ]
-                    })
-                    .collect(),
-            )
-        }
-        _ => None,
-    };
+    let colors = colors(&mut columns, n);
     let mut uvs = None;
     for (un, vn) in UV_NAMES {
         if let (Some(u), Some(v)) = (take(un, &mut columns), take(vn, &mut columns)) {

@@ -98,8 +98,8 @@ struct Table {
     ambiguous: [u8; 256],
 }
 
-fn build_table() -> Table {
-    let faces = face_cycles();
+/// Faces (bits) whose corners alternate in sign, per sign case.
+fn ambiguous_faces(faces: &[[usize; 4]; 6]) -> [u8; 256] {
     let mut ambiguous = [0u8; 256];
     for (case, amb) in ambiguous.iter_mut().enumerate() {
         for (f, cyc) in faces.iter().enumerate() {
@@ -109,6 +109,107 @@ fn build_table() -> Table {
             }
         }
     }
+    ambiguous
+}
+
+/// The contour segments of every face for a sign case and face decisions, as
+/// `next[edge]`: the cut edge each segment leads to from its start (inside on
+/// the left seen from outside); `u8::MAX` for uncut edges.
+fn face_segments(faces: &[[usize; 4]; 6], case: usize, decisions: usize) -> [u8; 12] {
+    let mut next = [u8::MAX; 12];
+    for (f, cyc) in faces.iter().enumerate() {
+        let neg = cyc.map(|c| case >> c & 1 == 1);
+        // Crossings in cyclic order: (edge, is_out).
+        let mut xs = Vec::with_capacity(4);
+        for s in 0..4 {
+            let (a, b) = (cyc[s], cyc[(s + 1) % 4]);
+            if neg[s] != neg[(s + 1) % 4] {
+                xs.push((edge_of(a, b), neg[s]));
+            }
+        }
+        match xs.len() {
+            0 => {}
+            2 => {
+                let (o, i) = if xs[0].1 {
+                    (xs[0].0, xs[1].0)
+                } else {
+                    (xs[1].0, xs[0].0)
+                };
+                next[o] = i as u8;
+            }
+            4 => {
+                let connected = decisions >> f & 1 == 1;
+                for s in 0..4 {
+                    if xs[s].1 {
+                        let i = if connected {
+                            xs[(s + 1) % 4].0
+                        } else {
+                            xs[(s + 3) % 4].0
+                        };
+                        next[xs[s].0] = i as u8;
+                    }
+                }
+            }
+            _ => unreachable!("a face has 0, 2 or 4 sign changes"),
+        }
+    }
+    next
+}
+
+/// Triangles of one loop of cut edges, added to `tris`: a fan from an apex
+/// with no diagonal along a face (it could be the neighbour cube's diagonal
+/// too, an edge with four triangles), or around a centre vertex (loop number
+/// `centres.len()`, recorded in `centres`).
+fn fan(lp: &[u8], edge_faces: &[u8; 12], tris: &mut Vec<[u8; 3]>, centres: &mut Vec<Vec<u8>>) {
+    let m = lp.len();
+    let apex = (0..m).find(|&a| {
+        (2..m - 1).all(|off| {
+            let b = (a + off) % m;
+            edge_faces[lp[a] as usize] & edge_faces[lp[b] as usize] == 0
+        })
+    });
+    match apex {
+        Some(a) => {
+            for w in 1..m - 1 {
+                let (x, y) = (lp[(a + w) % m], lp[(a + w + 1) % m]);
+                tris.push([lp[a], y, x]);
+            }
+        }
+        None => {
+            let centre = 12 + centres.len() as u8;
+            for w in 0..m {
+                tris.push([centre, lp[(w + 1) % m], lp[w]]);
+            }
+            centres.push(lp.to_vec());
+        }
+    }
+}
+
+/// The segments chained into loops, each triangulated: (triangles, the loops
+/// fanned around a centre).
+fn triangulate_loops(next: &[u8; 12], edge_faces: &[u8; 12]) -> (Vec<[u8; 3]>, Vec<Vec<u8>>) {
+    let mut seen = [false; 12];
+    let mut tris = Vec::new();
+    let mut loop_centres = Vec::new();
+    for start in 0..12 {
+        if next[start] == u8::MAX || seen[start] {
+            continue;
+        }
+        let mut lp = Vec::new();
+        let mut e = start;
+        while !seen[e] {
+            seen[e] = true;
+            lp.push(e as u8);
+            e = next[e] as usize;
+        }
+        fan(&lp, edge_faces, &mut tris, &mut loop_centres);
+    }
+    (tris, loop_centres)
+}
+
+fn build_table() -> Table {
+    let faces = face_cycles();
+    let ambiguous = ambiguous_faces(&faces);
     let mut triangles = vec![Vec::new(); 256 * 64];
     let mut centres = vec![Vec::new(); 256 * 64];
     // Faces (bits) that each cube edge lies on.
@@ -123,83 +224,8 @@ fn build_table() -> Table {
             if decisions & !(ambiguous[case] as usize) != 0 {
                 continue;
             }
-            let mut next = [u8::MAX; 12];
-            for (f, cyc) in faces.iter().enumerate() {
-                let neg = cyc.map(|c| case >> c & 1 == 1);
-                // Crossings in cyclic order: (edge, is_out).
-                let mut xs = Vec::with_capacity(4);
-                for s in 0..4 {
-                    let (a, b) = (cyc[s], cyc[(s + 1) % 4]);
-                    if neg[s] != neg[(s + 1) % 4] {
-                        xs.push((edge_of(a, b), neg[s]));
-                    }
-                }
-                match xs.len() {
-                    0 => {}
-                    2 => {
-                        let (o, i) = if xs[0].1 {
-                            (xs[0].0, xs[1].0)
-                        } else {
-                            (xs[1].0, xs[0].0)
-                        };
-                        next[o] = i as u8;
-                    }
-                    4 => {
-                        let connected = decisions >> f & 1 == 1;
-                        for s in 0..4 {
-                            if xs[s].1 {
-                                let i = if connected {
-                                    xs[(s + 1) % 4].0
-                                } else {
-                                    xs[(s + 3) % 4].0
-                                };
-                                next[xs[s].0] = i as u8;
-                            }
-                        }
-                    }
-                    _ => unreachable!("a face has 0, 2 or 4 sign changes"),
-                }
-            }
-            let mut seen = [false; 12];
-            let mut tris = Vec::new();
-            let mut loop_centres = Vec::new();
-            for start in 0..12 {
-                if next[start] == u8::MAX || seen[start] {
-                    continue;
-                }
-                let mut lp = Vec::new();
-                let mut e = start;
-                while !seen[e] {
-                    seen[e] = true;
-                    lp.push(e as u8);
-                    e = next[e] as usize;
-                }
-                // A fan diagonal between two vertices on one face could be the
-                // neighbour cube's diagonal too (an edge with four triangles): fan
-                // from an apex with no such diagonal, or around a centre vertex.
-                let m = lp.len();
-                let apex = (0..m).find(|&a| {
-                    (2..m - 1).all(|off| {
-                        let b = (a + off) % m;
-                        edge_faces[lp[a] as usize] & edge_faces[lp[b] as usize] == 0
-                    })
-                });
-                match apex {
-                    Some(a) => {
-                        for w in 1..m - 1 {
-                            let (x, y) = (lp[(a + w) % m], lp[(a + w + 1) % m]);
-                            tris.push([lp[a], y, x]);
-                        }
-                    }
-                    None => {
-                        let centre = 12 + loop_centres.len() as u8;
-                        for w in 0..m {
-                            tris.push([centre, lp[(w + 1) % m], lp[w]]);
-                        }
-                        loop_centres.push(lp.clone());
-                    }
-                }
-            }
+            let next = face_segments(&faces, case, decisions);
+            let (tris, loop_centres) = triangulate_loops(&next, &edge_faces);
             triangles[case | decisions << 8] = tris;
             centres[case | decisions << 8] = loop_centres;
         }
@@ -237,39 +263,60 @@ pub struct ExtractStats {
     pub shells_removed: usize,
 }
 
-/// The triangle mesh of {φ = 0} on `grid` (φ < 0 inside; x fastest).
-///
-/// # Panics
-/// If `phi` does not have one value per node.
-pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMesh, ExtractStats) {
-    assert_eq!(phi.len(), grid.len(), "one φ value per node");
-    let tab = table();
-    let faces = face_cycles();
-    let [nx, ny, nz] = grid.dims;
-    let strides = grid.strides();
-    let corner_offset: [usize; 8] = std::array::from_fn(|c| {
-        corner_bit(c, 0) * strides[0]
-            + corner_bit(c, 1) * strides[1]
-            + corner_bit(c, 2) * strides[2]
-    });
-    let edge_key = |base: usize, e: usize| -> u64 {
+/// A vertex's position, normal (not yet unit) and mean curvature.
+type Vertex = ([f64; 3], [f64; 3], f64);
+
+/// The cubes of a grid with its φ: table keys, triangles and vertices.
+struct Cubes<'a> {
+    phi: &'a [f32],
+    grid: &'a GridSpec,
+    tab: &'static Table,
+    faces: [[usize; 4]; 6],
+    strides: [usize; 3],
+    corner_offset: [usize; 8],
+    curvature: bool,
+}
+
+impl<'a> Cubes<'a> {
+    fn new(phi: &'a [f32], grid: &'a GridSpec, curvature: bool) -> Self {
+        let strides = grid.strides();
+        let corner_offset: [usize; 8] = std::array::from_fn(|c| {
+            corner_bit(c, 0) * strides[0]
+                + corner_bit(c, 1) * strides[1]
+                + corner_bit(c, 2) * strides[2]
+        });
+        Self {
+            phi,
+            grid,
+            tab: table(),
+            faces: face_cycles(),
+            strides,
+            corner_offset,
+            curvature,
+        }
+    }
+
+    /// The key of cube edge `e` of the cube at `base`: its lower node × 3 + axis.
+    #[inline]
+    fn edge_key(&self, base: usize, e: usize) -> u64 {
         let (a, _) = edge_corners(e);
-        ((base + corner_offset[a]) as u64) * 3 + (e / 4) as u64
-    };
-    // The table key of the cube at `base` (case | face decisions << 8).
-    let cube_key = |base: usize| -> usize {
-        let mut v = [0f32; 8];
+        ((base + self.corner_offset[a]) as u64) * 3 + (e / 4) as u64
+    }
+
+    /// The table key of the cube at `base` (case | face decisions << 8).
+    #[inline]
+    fn cube_key(&self, base: usize) -> usize {
+        let v: [f32; 8] = std::array::from_fn(|c| self.phi[base + self.corner_offset[c]]);
         let mut case = 0usize;
-        for c in 0..8 {
-            v[c] = phi[base + corner_offset[c]];
-            if v[c] < 0.0 {
+        for (c, x) in v.iter().enumerate() {
+            if *x < 0.0 {
                 case |= 1 << c;
             }
         }
         let mut decisions = 0usize;
-        let amb = tab.ambiguous[case];
+        let amb = self.tab.ambiguous[case];
         if amb != 0 {
-            for (f, cyc) in faces.iter().enumerate() {
+            for (f, cyc) in self.faces.iter().enumerate() {
                 if amb >> f & 1 == 1 {
                     let w = cyc.map(|c| f64::from(v[c]));
                     // Negative pair product vs positive pair product.
@@ -285,191 +332,213 @@ pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMe
             }
         }
         case | decisions << 8
-    };
-    // Triangles as vertex keys (grid edges, or loop centres with the top bit set),
-    // slab by slab (deterministic order).
-    let slabs: Vec<Vec<[u64; 3]>> = (0..nz.saturating_sub(1))
-        .into_par_iter()
-        .map(|k| {
-            let mut out = Vec::new();
-            for j in 0..ny - 1 {
-                // Most rows of cubes lie wholly inside or outside (φ is
-                // clamped to ±γ away from the front): one branch-free pass over
-                // their four rows of nodes skips them.
-                let row = |dj: usize, dk: usize| {
-                    let start = grid.index(0, j + dj, k + dk);
-                    &phi[start..start + nx]
-                };
-                let (any, all) = [row(0, 0), row(1, 0), row(0, 1), row(1, 1)]
-                    .iter()
-                    .flat_map(|r| r.iter())
-                    .fold((false, true), |(any, all), &x| {
-                        let inside = x < 0.0;
-                        (any | inside, all & inside)
-                    });
-                if !any || all {
+    }
+
+    /// Whether the row of cubes (·, j, k) can hold the surface. Most rows lie
+    /// wholly inside or outside (φ is clamped to ±γ away from the front): one
+    /// branch-free pass over their four rows of nodes skips them.
+    fn row_is_cut(&self, j: usize, k: usize) -> bool {
+        let nx = self.grid.dims[0];
+        let row = |dj: usize, dk: usize| {
+            let start = self.grid.index(0, j + dj, k + dk);
+            &self.phi[start..start + nx]
+        };
+        let (any, all) = [row(0, 0), row(1, 0), row(0, 1), row(1, 1)]
+            .iter()
+            .flat_map(|r| r.iter())
+            .fold((false, true), |(any, all), &x| {
+                let inside = x < 0.0;
+                (any | inside, all & inside)
+            });
+        any && !all
+    }
+
+    /// Triangles of the slab of cubes between node planes k and k + 1, as
+    /// vertex keys (grid edges, or loop centres with the top bit set).
+    fn slab(&self, k: usize) -> Vec<[u64; 3]> {
+        let [nx, ny, _] = self.grid.dims;
+        let mut out = Vec::new();
+        for j in 0..ny - 1 {
+            if !self.row_is_cut(j, k) {
+                continue;
+            }
+            for i in 0..nx - 1 {
+                let base = self.grid.index(i, j, k);
+                let key = self.cube_key(base);
+                let case = key & 255;
+                if case == 0 || case == 255 {
                     continue;
                 }
-                for i in 0..nx - 1 {
-                    let base = grid.index(i, j, k);
-                    let key = cube_key(base);
-                    let case = key & 255;
-                    if case == 0 || case == 255 {
-                        continue;
-                    }
-                    for t in &tab.triangles[key] {
-                        out.push(t.map(|e| {
-                            if e < 12 {
-                                edge_key(base, e as usize)
-                            } else {
-                                CENTRE | ((base as u64) << 2) | u64::from(e - 12)
-                            }
-                        }));
-                    }
+                for t in &self.tab.triangles[key] {
+                    out.push(t.map(|e| {
+                        if e < 12 {
+                            self.edge_key(base, e as usize)
+                        } else {
+                            CENTRE | ((base as u64) << 2) | u64::from(e - 12)
+                        }
+                    }));
                 }
             }
-            out
-        })
-        .collect();
-    let keyed: Vec<[u64; 3]> = slabs.concat();
-    let mut keys: Vec<u64> = keyed.iter().flatten().copied().collect();
-    keys.par_sort_unstable();
-    keys.dedup();
-    let triangles: Vec<[u32; 3]> = keyed
-        .par_iter()
-        .map(|t| t.map(|k| keys.binary_search(&k).expect("vertex key") as u32))
-        .collect();
-    let gradient = |u: usize| -> [f64; 3] {
+        }
+        out
+    }
+
+    /// ∇φ at node `u` by central differences (one-sided at the grid's faces).
+    fn gradient(&self, u: usize) -> [f64; 3] {
+        let (grid, phi) = (self.grid, self.phi);
         let c = grid.coords(u);
         std::array::from_fn(|a| {
-            let s = strides[a];
+            let s = self.strides[a];
             let lo = if c[a] > 0 { u - s } else { u };
             let hi = if c[a] + 1 < grid.dims[a] { u + s } else { u };
             let span = (hi - lo) / s;
             (f64::from(phi[hi]) - f64::from(phi[lo])) / (span.max(1) as f64 * grid.spacing)
         })
-    };
-    let curvature = |u: usize| -> f64 {
-        let c = grid.coords(u);
-        if (0..3).any(|a| c[a] == 0 || c[a] + 1 >= grid.dims[a]) {
+    }
+
+    /// H = ½κ (Eq. 2) at node `u`; 0 on the grid's faces.
+    fn mean_curvature(&self, u: usize) -> f64 {
+        let c = self.grid.coords(u);
+        if (0..3).any(|a| c[a] == 0 || c[a] + 1 >= self.grid.dims[a]) {
             return 0.0;
         }
-        0.5 * curvature_and_gradient(phi, u, strides, grid.spacing).0
-    };
-    // Position, normal and mean curvature of the vertex on grid edge `key`.
-    let edge_vertex = |key: u64| -> ([f64; 3], [f64; 3], f64) {
+        0.5 * curvature_and_gradient(self.phi, u, self.strides, self.grid.spacing).0
+    }
+
+    /// Position, normal and mean curvature of the vertex on grid edge `key`.
+    fn edge_vertex(&self, key: u64) -> Vertex {
         let u = (key / 3) as usize;
         let axis = (key % 3) as usize;
-        let v = u + strides[axis];
-        let (a, b) = (f64::from(phi[u]), f64::from(phi[v]));
+        let v = u + self.strides[axis];
+        let (a, b) = (f64::from(self.phi[u]), f64::from(self.phi[v]));
         let t = (a / (a - b)).clamp(1e-3, 1.0 - 1e-3);
-        let c = grid.coords(u);
-        let mut p = grid.position(c[0], c[1], c[2]);
-        p[axis] += t * grid.spacing;
-        let (ga, gb) = (gradient(u), gradient(v));
+        let c = self.grid.coords(u);
+        let mut p = self.grid.position(c[0], c[1], c[2]);
+        p[axis] += t * self.grid.spacing;
+        let (ga, gb) = (self.gradient(u), self.gradient(v));
         let n: [f64; 3] = std::array::from_fn(|x| ga[x] + t * (gb[x] - ga[x]));
-        let h = if options.curvature {
-            let (ka, kb) = (curvature(u), curvature(v));
+        let h = if self.curvature {
+            let (ka, kb) = (self.mean_curvature(u), self.mean_curvature(v));
             ka + t * (kb - ka)
         } else {
             0.0
         };
         (p, n, h)
-    };
-    let unit = |g: [f64; 3]| {
-        let len = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
-        let n = g.map(|x| x / len);
-        if len > 0.0 && n.iter().all(|x| x.is_finite()) {
-            n
-        } else {
-            [0.0, 0.0, 1.0]
+    }
+
+    /// The vertex of `key`: on a grid edge, or the centre of a loop (the mean of
+    /// its loop's vertices); the normal unit.
+    fn vertex(&self, key: u64) -> Vertex {
+        if key & CENTRE == 0 {
+            let (p, n, h) = self.edge_vertex(key);
+            return (p, unit(n), h);
         }
-    };
-    let verts: Vec<([f64; 3], [f64; 3], f64)> = keys
+        let base = ((key & !CENTRE) >> 2) as usize;
+        let lp = &self.tab.centres[self.cube_key(base)][(key & 3) as usize];
+        let mut sum = ([0.0; 3], [0.0; 3], 0.0);
+        for &e in lp {
+            let (p, n, h) = self.edge_vertex(self.edge_key(base, e as usize));
+            let n = unit(n);
+            for x in 0..3 {
+                sum.0[x] += p[x];
+                sum.1[x] += n[x];
+            }
+            sum.2 += h;
+        }
+        let m = lp.len() as f64;
+        (sum.0.map(|x| x / m), unit(sum.1), sum.2 / m)
+    }
+}
+
+/// g/|g|, or +z where that is not finite.
+fn unit(g: [f64; 3]) -> [f64; 3] {
+    let len = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
+    let n = g.map(|x| x / len);
+    if len > 0.0 && n.iter().all(|x| x.is_finite()) {
+        n
+    } else {
+        [0.0, 0.0, 1.0]
+    }
+}
+
+/// Vertex keys in order, and the triangles as indices into them.
+fn index_triangles(keyed: &[[u64; 3]]) -> (Vec<u64>, Vec<[u32; 3]>) {
+    let mut keys: Vec<u64> = keyed.iter().flatten().copied().collect();
+    keys.par_sort_unstable();
+    keys.dedup();
+    let triangles = keyed
         .par_iter()
-        .map(|&key| {
-            if key & CENTRE == 0 {
-                let (p, n, h) = edge_vertex(key);
-                return (p, unit(n), h);
-            }
-            // A loop centre: the mean of its loop's vertices.
-            let base = ((key & !CENTRE) >> 2) as usize;
-            let lp = &tab.centres[cube_key(base)][(key & 3) as usize];
-            let mut sum = ([0.0; 3], [0.0; 3], 0.0);
-            for &e in lp {
-                let (p, n, h) = edge_vertex(edge_key(base, e as usize));
-                let n = unit(n);
-                for x in 0..3 {
-                    sum.0[x] += p[x];
-                    sum.1[x] += n[x];
-                }
-                sum.2 += h;
-            }
-            let m = lp.len() as f64;
-            (sum.0.map(|x| x / m), unit(sum.1), sum.2 / m)
-        })
+        .map(|t| t.map(|k| keys.binary_search(&k).expect("vertex key") as u32))
         .collect();
-    let mut positions: Vec<[f64; 3]> = verts.iter().map(|v| v.0).collect();
-    let mut normals: Vec<[f64; 3]> = verts.iter().map(|v| v.1).collect();
-    let mut curv: Vec<f64> = verts.iter().map(|v| v.2).collect();
-    let mut triangles = triangles;
-    let (components, labels) =
-        asperity_core::tri_mesh::component_labels(positions.len(), &triangles);
+    (keys, triangles)
+}
+
+/// `v` without the entries `keep` refuses.
+fn kept<T: Copy>(v: &[T], keep: impl Fn(usize) -> bool) -> Vec<T> {
+    v.iter()
+        .enumerate()
+        .filter(|(i, _)| keep(*i))
+        .map(|(_, x)| *x)
+        .collect()
+}
+
+/// Drops connected components of fewer than `min` triangles (with their
+/// vertices); returns the component count and how many were dropped.
+fn drop_shells(verts: &mut Vec<Vertex>, triangles: &mut Vec<[u32; 3]>, min: usize) -> ExtractStats {
+    let (components, labels) = asperity_core::tri_mesh::component_labels(verts.len(), triangles);
     let mut stats = ExtractStats {
         components,
         shells_removed: 0,
     };
-    if options.min_shell_triangles > 0 && components > 0 {
-        let mut size = vec![0usize; components];
-        for t in &triangles {
-            size[labels[t[0] as usize] as usize] += 1;
+    if min == 0 || components == 0 {
+        return stats;
+    }
+    let mut size = vec![0usize; components];
+    for t in triangles.iter() {
+        size[labels[t[0] as usize] as usize] += 1;
+    }
+    let keep_comp: Vec<bool> = size.iter().map(|&s| s >= min).collect();
+    stats.shells_removed = keep_comp.iter().filter(|k| !**k).count();
+    if stats.shells_removed > 0 {
+        triangles.retain(|t| keep_comp[labels[t[0] as usize] as usize]);
+        let mut remap = vec![u32::MAX; verts.len()];
+        let mut next = 0u32;
+        for (i, r) in remap.iter_mut().enumerate() {
+            if keep_comp[labels[i] as usize] {
+                *r = next;
+                next += 1;
+            }
         }
-        let keep_comp: Vec<bool> = size
-            .iter()
-            .map(|&s| s >= options.min_shell_triangles)
-            .collect();
-        stats.shells_removed = keep_comp.iter().filter(|k| !**k).count();
-        if stats.shells_removed > 0 {
-            triangles.retain(|t| keep_comp[labels[t[0] as usize] as usize]);
-            let mut remap = vec![u32::MAX; positions.len()];
-            let mut next = 0u32;
-            for (i, r) in remap.iter_mut().enumerate() {
-                if keep_comp[labels[i] as usize] {
-                    *r = next;
-                    next += 1;
-                }
-            }
-            let keep_v = |i: usize| remap[i] != u32::MAX;
-            positions = positions
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| keep_v(*i))
-                .map(|(_, p)| *p)
-                .collect();
-            normals = normals
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| keep_v(*i))
-                .map(|(_, p)| *p)
-                .collect();
-            curv = curv
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| keep_v(*i))
-                .map(|(_, p)| *p)
-                .collect();
-            for t in &mut triangles {
-                *t = t.map(|v| remap[v as usize]);
-            }
+        *verts = kept(verts, |i| remap[i] != u32::MAX);
+        for t in triangles.iter_mut() {
+            *t = t.map(|v| remap[v as usize]);
         }
     }
-    let mut mesh = TriMesh::new(positions, triangles)
+    stats
+}
+
+/// The triangle mesh of {φ = 0} on `grid` (φ < 0 inside; x fastest).
+///
+/// # Panics
+/// If `phi` does not have one value per node.
+pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMesh, ExtractStats) {
+    assert_eq!(phi.len(), grid.len(), "one φ value per node");
+    let cubes = Cubes::new(phi, grid, options.curvature);
+    // Slab by slab, so the order does not depend on the thread count.
+    let slabs: Vec<Vec<[u64; 3]>> = (0..grid.dims[2].saturating_sub(1))
+        .into_par_iter()
+        .map(|k| cubes.slab(k))
+        .collect();
+    let (keys, mut triangles) = index_triangles(&slabs.concat());
+    let mut verts: Vec<Vertex> = keys.par_iter().map(|&key| cubes.vertex(key)).collect();
+    let stats = drop_shells(&mut verts, &mut triangles, options.min_shell_triangles);
+    let mut mesh = TriMesh::new(verts.iter().map(|v| v.0).collect(), triangles)
         .expect("marching cubes builds valid indices")
-        .with_normals(normals)
+        .with_normals(verts.iter().map(|v| v.1).collect())
         .expect("one normal per vertex");
     if options.curvature {
         mesh = mesh
-            .with_scalar("mean_curvature", curv)
+            .with_scalar("mean_curvature", verts.iter().map(|v| v.2).collect())
             .expect("one value per vertex");
     }
     (mesh, stats)

@@ -659,8 +659,7 @@ impl Grower {
     fn local_details(&self, input: &LevelInput<'_>, seeds: &[SeedState]) -> Vec<[f64; 3]> {
         let l = input.level;
         let p = input.positions();
-        let n = p.len();
-        let mut d = vec![[0.0; 3]; n];
+        let mut d = vec![[0.0; 3]; p.len()];
         match self.feature.procedure {
             Procedure::Tentacle(t) => {
                 let o = t.offset(l);
@@ -668,135 +667,188 @@ impl Grower {
                     d[s.vertex as usize] = o;
                 }
             }
-            Procedure::Spur(sp) => {
-                let fv = input.mesh.mesh.face_vertices();
-                for s in seeds {
-                    let v = s.vertex as usize;
-                    let corners = input.topo.v_corners.of(v);
-                    let mean = corners
-                        .iter()
-                        .map(|&c| dist2(p[fv[input.topo.next(c as usize)] as usize], p[v]).sqrt())
-                        .sum::<f64>()
-                        / corners.len().max(1) as f64;
-                    d[v] = [0.0, 0.0, sp.height * mean];
-                }
-            }
-            Procedure::Berry(b) => {
-                let r_max = seeds.iter().map(|s| s.radius).fold(0.0, f64::max);
-                if r_max > 0.0 {
-                    let grid = Grid::new(
-                        seeds
-                            .iter()
-                            .enumerate()
-                            .map(|(i, s)| (i as u32, p[s.vertex as usize])),
-                        r_max,
-                    );
-                    d.par_iter_mut().enumerate().for_each(|(v, out)| {
-                        // The nearest seed whose dome covers v.
-                        let mut best: Option<(f64, f64)> = None;
-                        for i in grid.near(p[v], r_max) {
-                            let s = seeds[i as usize];
-                            let r2 = dist2(p[s.vertex as usize], p[v]);
-                            if r2 < s.radius * s.radius && best.is_none_or(|(b2, _)| r2 < b2) {
-                                best = Some((r2, s.radius));
-                            }
-                        }
-                        if let Some((r2, radius)) = best {
-                            out[2] = b.height * radius * (1.0 - r2 / (radius * radius)).sqrt();
-                        }
-                    });
-                }
-            }
-            Procedure::Mushroom(m) => {
-                let fr = input.frames();
-                let lift = m.height * l as f64;
-                let grid = Grid::new(
-                    seeds.iter().enumerate().map(|(i, s)| (i as u32, s.anchor)),
-                    (m.radius * 2.0).max(1e-9),
-                );
-                let reach = 3.0 * m.radius + m.height * (l * (l + 1)) as f64;
-                // Each stem's tip height above its foot (the surface 1.5–2.5
-                // radii from the axis), along the seed's axis.
-                let axial = |s: &SeedState, q: [f64; 3]| -> (f64, f64) {
-                    let d = [q[0] - s.anchor[0], q[1] - s.anchor[1], q[2] - s.anchor[2]];
-                    let a = d[0] * s.axis[0] + d[1] * s.axis[1] + d[2] * s.axis[2];
-                    let r2 = d.iter().map(|x| x * x).sum::<f64>() - a * a;
-                    (a, r2.max(0.0).sqrt() / m.radius)
-                };
-                let vgrid = Grid::new(p.iter().enumerate().map(|(i, q)| (i as u32, *q)), m.radius);
-                let feet: Vec<f64> = seeds
-                    .iter()
-                    .map(|s| {
-                        let c = p[s.vertex as usize];
-                        let (mut sum, mut n) = (0.0, 0usize);
-                        for v in vgrid.near(c, 2.5 * m.radius) {
-                            let (a, x) = axial(s, p[v as usize]);
-                            if (1.5..2.5).contains(&x) {
-                                sum += a;
-                                n += 1;
-                            }
-                        }
-                        if n > 0 { sum / n as f64 } else { 0.0 }
-                    })
-                    .collect();
-                let tips: Vec<f64> = seeds
-                    .iter()
-                    .zip(&feet)
-                    .map(|(s, f)| axial(s, p[s.vertex as usize]).0 - f)
-                    .collect();
-                d.par_iter_mut().enumerate().for_each(|(v, out)| {
-                    let mut w = [0.0; 3];
-                    for i in grid.near(p[v], reach) {
-                        let s = seeds[i as usize];
-                        let q = [
-                            p[v][0] - s.anchor[0],
-                            p[v][1] - s.anchor[1],
-                            p[v][2] - s.anchor[2],
-                        ];
-                        let a = q[0] * s.axis[0] + q[1] * s.axis[1] + q[2] * s.axis[2];
-                        if a < -0.5 * m.radius {
-                            continue;
-                        }
-                        let rho = [
-                            q[0] - a * s.axis[0],
-                            q[1] - a * s.axis[1],
-                            q[2] - a * s.axis[2],
-                        ];
-                        let r = (rho[0] * rho[0] + rho[1] * rho[1] + rho[2] * rho[2]).sqrt();
-                        let x = r / m.radius;
-                        // Stem: a smooth bump along the seed's axis.
-                        if x < 1.0 {
-                            let k = (1.0 - x * x).powi(2);
-                            for (wc, ac) in w.iter_mut().zip(s.axis) {
-                                *wc += lift * k * ac;
-                            }
-                        }
-                        // Cap: the top of a grown stem spreads outward, widest
-                        // a little below the tip.
-                        let tip = tips[i as usize];
-                        let h = a - feet[i as usize];
-                        let band = 1.5 * m.radius;
-                        if l >= 2 && tip > band && h > tip - band && x < 3.0 && r > 1e-12 {
-                            let u = ((h - (tip - band)) / band).clamp(0.0, 1.0);
-                            let push = 0.18
-                                * m.radius
-                                * l as f64
-                                * (std::f64::consts::PI * u).sin()
-                                * drop_off(x / 3.0);
-                            for c in 0..3 {
-                                w[c] += push * rho[c] / r;
-                            }
-                        }
-                    }
-                    if w != [0.0; 3] {
-                        *out = crate::multires::to_local(&fr[v], w);
-                    }
-                });
-            }
+            Procedure::Spur(sp) => spur_details(input, seeds, sp, &mut d),
+            Procedure::Berry(b) => berry_details(p, seeds, b, &mut d),
+            Procedure::Mushroom(m) => Mushrooms::new(input, seeds, m).details(input, &mut d),
             Procedure::Rock(_) | Procedure::Fbm(_) => {}
         }
         d
     }
+}
+
+/// Spurs: each seed vertex pushed `height` mean edge lengths of its level
+/// along its normal.
+fn spur_details(input: &LevelInput<'_>, seeds: &[SeedState], sp: Spur, d: &mut [[f64; 3]]) {
+    let p = input.positions();
+    let fv = input.mesh.mesh.face_vertices();
+    for s in seeds {
+        let v = s.vertex as usize;
+        let corners = input.topo.v_corners.of(v);
+        let mean = corners
+            .iter()
+            .map(|&c| dist2(p[fv[input.topo.next(c as usize)] as usize], p[v]).sqrt())
+            .sum::<f64>()
+            / corners.len().max(1) as f64;
+        d[v] = [0.0, 0.0, sp.height * mean];
+    }
+}
+
+/// Berries: every vertex raised by the dome of the nearest seed that covers
+/// it, height·r·√(1 − ρ²/r²).
+fn berry_details(p: &[[f64; 3]], seeds: &[SeedState], b: Berry, d: &mut [[f64; 3]]) {
+    let r_max = seeds.iter().map(|s| s.radius).fold(0.0, f64::max);
+    if r_max <= 0.0 {
+        return;
+    }
+    let grid = Grid::new(
+        seeds
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (i as u32, p[s.vertex as usize])),
+        r_max,
+    );
+    d.par_iter_mut().enumerate().for_each(|(v, out)| {
+        // The nearest seed whose dome covers v.
+        let mut best: Option<(f64, f64)> = None;
+        for i in grid.near(p[v], r_max) {
+            let s = seeds[i as usize];
+            let r2 = dist2(p[s.vertex as usize], p[v]);
+            if r2 < s.radius * s.radius && best.is_none_or(|(b2, _)| r2 < b2) {
+                best = Some((r2, s.radius));
+            }
+        }
+        if let Some((r2, radius)) = best {
+            out[2] = b.height * radius * (1.0 - r2 / (radius * radius)).sqrt();
+        }
+    });
+}
+
+/// Mushroom stems and caps at one level: each stem a smooth bump along its
+/// seed's axis; the top of a grown stem spreads outward into a cap.
+struct Mushrooms<'a> {
+    seeds: &'a [SeedState],
+    m: Mushroom,
+    level: usize,
+    /// The seeds by anchor.
+    grid: Grid,
+    /// How far a seed reaches.
+    reach: f64,
+    /// Each stem's foot (the surface 1.5–2.5 radii from its axis) along its axis.
+    feet: Vec<f64>,
+    /// Each stem's tip height above its foot.
+    tips: Vec<f64>,
+}
+
+impl<'a> Mushrooms<'a> {
+    fn new(input: &LevelInput<'_>, seeds: &'a [SeedState], m: Mushroom) -> Self {
+        let p = input.positions();
+        let l = input.level;
+        let grid = Grid::new(
+            seeds.iter().enumerate().map(|(i, s)| (i as u32, s.anchor)),
+            (m.radius * 2.0).max(1e-9),
+        );
+        let reach = 3.0 * m.radius + m.height * (l * (l + 1)) as f64;
+        let vgrid = Grid::new(p.iter().enumerate().map(|(i, q)| (i as u32, *q)), m.radius);
+        let feet: Vec<f64> = seeds
+            .iter()
+            .map(|s| {
+                let c = p[s.vertex as usize];
+                let (mut sum, mut n) = (0.0, 0usize);
+                for v in vgrid.near(c, 2.5 * m.radius) {
+                    let (a, x) = axial(s, p[v as usize], m.radius);
+                    if (1.5..2.5).contains(&x) {
+                        sum += a;
+                        n += 1;
+                    }
+                }
+                if n > 0 { sum / n as f64 } else { 0.0 }
+            })
+            .collect();
+        let tips = seeds
+            .iter()
+            .zip(&feet)
+            .map(|(s, f)| axial(s, p[s.vertex as usize], m.radius).0 - f)
+            .collect();
+        Self {
+            seeds,
+            m,
+            level: l,
+            grid,
+            reach,
+            feet,
+            tips,
+        }
+    }
+
+    /// The displacement of the point `pv` (world coordinates).
+    fn displacement(&self, pv: [f64; 3]) -> [f64; 3] {
+        let (m, l) = (self.m, self.level);
+        let lift = m.height * l as f64;
+        let mut w = [0.0; 3];
+        for i in self.grid.near(pv, self.reach) {
+            let s = self.seeds[i as usize];
+            let q = [
+                pv[0] - s.anchor[0],
+                pv[1] - s.anchor[1],
+                pv[2] - s.anchor[2],
+            ];
+            let a = q[0] * s.axis[0] + q[1] * s.axis[1] + q[2] * s.axis[2];
+            if a < -0.5 * m.radius {
+                continue;
+            }
+            let rho = [
+                q[0] - a * s.axis[0],
+                q[1] - a * s.axis[1],
+                q[2] - a * s.axis[2],
+            ];
+            let r = (rho[0] * rho[0] + rho[1] * rho[1] + rho[2] * rho[2]).sqrt();
+            let x = r / m.radius;
+            // Stem: a smooth bump along the seed's axis.
+            if x < 1.0 {
+                let k = (1.0 - x * x).powi(2);
+                for (wc, ac) in w.iter_mut().zip(s.axis) {
+                    *wc += lift * k * ac;
+                }
+            }
+            // Cap: the top of a grown stem spreads outward, widest a little
+            // below the tip.
+            let tip = self.tips[i as usize];
+            let h = a - self.feet[i as usize];
+            let band = 1.5 * m.radius;
+            if l >= 2 && tip > band && h > tip - band && x < 3.0 && r > 1e-12 {
+                let u = ((h - (tip - band)) / band).clamp(0.0, 1.0);
+                let push = 0.18
+                    * m.radius
+                    * l as f64
+                    * (std::f64::consts::PI * u).sin()
+                    * drop_off(x / 3.0);
+                for c in 0..3 {
+                    w[c] += push * rho[c] / r;
+                }
+            }
+        }
+        w
+    }
+
+    /// Every vertex's detail, in its local frame.
+    fn details(&self, input: &LevelInput<'_>, d: &mut [[f64; 3]]) {
+        let p = input.positions();
+        let fr = input.frames();
+        d.par_iter_mut().enumerate().for_each(|(v, out)| {
+            let w = self.displacement(p[v]);
+            if w != [0.0; 3] {
+                *out = crate::multires::to_local(&fr[v], w);
+            }
+        });
+    }
+}
+
+/// Height along a seed's axis and distance from it in radii.
+fn axial(s: &SeedState, q: [f64; 3], radius: f64) -> (f64, f64) {
+    let d = [q[0] - s.anchor[0], q[1] - s.anchor[1], q[2] - s.anchor[2]];
+    let a = d[0] * s.axis[0] + d[1] * s.axis[1] + d[2] * s.axis[2];
+    let r2 = d.iter().map(|x| x * x).sum::<f64>() - a * a;
+    (a, r2.max(0.0).sqrt() / radius)
 }
 
 #[cfg(test)]

@@ -291,15 +291,23 @@ pub fn build(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<Ce
     }
 }
 
-fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<Cells, CoreError> {
-    let pos = mesh.positions();
-    let tris = mesh.triangles();
+/// Area, summed perimeters and shortest edge of a mesh.
+struct MeshMeasures {
+    area: f64,
+    perimeter: f64,
+    shortest: f64,
+}
+
+/// Measures the triangles, refusing degenerate ones.
+fn measure(pos: &[[f64; 3]], tris: &[[u32; 3]]) -> Result<MeshMeasures, CoreError> {
     if tris.is_empty() {
         return Err(invalid("mesh", "has no triangles".into()));
     }
-    let mut total_area = 0.0;
-    let mut perimeter = 0.0;
-    let mut shortest = f64::INFINITY;
+    let mut m = MeshMeasures {
+        area: 0.0,
+        perimeter: 0.0,
+        shortest: f64::INFINITY,
+    };
     for (t, tri) in tris.iter().enumerate() {
         let [a, b, c] = tri.map(|v| pos[v as usize]);
         let n = cross(sub(b, a), sub(c, a));
@@ -313,13 +321,18 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
                 ),
             ));
         }
-        total_area += area;
+        m.area += area;
         for (p, q) in [(a, b), (b, c), (c, a)] {
             let l = norm(sub(q, p));
-            shortest = shortest.min(l);
-            perimeter += l;
+            m.shortest = m.shortest.min(l);
+            m.perimeter += l;
         }
     }
+    Ok(m)
+}
+
+/// The cell side for `size` on a mesh of these measures.
+fn cell_side(size: CellSize, m: &MeshMeasures) -> Result<f64, CoreError> {
     let h = match size {
         CellSize::Size(h) => h,
         CellSize::Count(n) => {
@@ -330,22 +343,23 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
             // along its perimeter P (k ≈ 2/π for random orientations, measured
             // 0.6–0.7). Solve for 1/h.
             let k = 0.64;
-            let x = (-k * perimeter
-                + (k * k * perimeter * perimeter + 4.0 * total_area * n as f64).sqrt())
-                / (2.0 * total_area);
+            let (a, p) = (m.area, m.perimeter);
+            let x = (-k * p + (k * k * p * p + 4.0 * a * n as f64).sqrt()) / (2.0 * a);
             1.0 / x
         }
     };
     if !(h.is_finite() && h > 0.0) {
         return Err(invalid("cell size", format!("must be positive, got {h}")));
     }
-    // ≈ 260 bytes per cell (record, polygon, links); cells ≈ area/h² plus a border.
-    let estimate = (total_area / (h * h)) * 1.3 + 4.0 * tris.len() as f64;
-    budget.check_elements(estimate as u128 + 1, 260, "the surface-CA cells")?;
+    Ok(h)
+}
 
-    // Edge → triangles.
-    let mut edges: std::collections::HashMap<(u32, u32), Vec<(u32, usize)>> =
-        std::collections::HashMap::new();
+/// Edge (min vertex, max vertex) → its triangles with the edge's index in each.
+type EdgeMap = std::collections::HashMap<(u32, u32), Vec<(u32, usize)>>;
+
+/// The edge map and the number of boundary edges, refusing non-manifold edges.
+fn edge_map(tris: &[[u32; 3]]) -> Result<(EdgeMap, usize), CoreError> {
+    let mut edges = EdgeMap::new();
     for (t, tri) in tris.iter().enumerate() {
         for k in 0..3 {
             let (a, b) = (tri[k], tri[(k + 1) % 3]);
@@ -372,93 +386,123 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
             boundary_edges += 1;
         }
     }
+    Ok((edges, boundary_edges))
+}
 
-    // Frames and cells.
-    let mut frames = Vec::with_capacity(tris.len());
-    let mut cells = Cells {
-        h,
-        triangle: Vec::new(),
-        ij: Vec::new(),
-        centre: Vec::new(),
-        area: Vec::new(),
-        flag: Vec::new(),
-        triangle_normal: Vec::with_capacity(tris.len()),
-        total_area: 0.0,
-        grids: Vec::with_capacity(tris.len()),
-        frames: Vec::new(),
-        edge_map: std::collections::HashMap::new(),
-        poly_offsets: vec![0],
-        poly_points: Vec::new(),
-        nbr_offsets: Vec::new(),
-        nbr: Vec::new(),
-        nbr_dir: Vec::new(),
-        stats: CellStats::default(),
+impl Cells {
+    /// No cells yet, side `h`, room for `triangles` triangles.
+    fn empty(h: f64, triangles: usize) -> Self {
+        Cells {
+            h,
+            triangle: Vec::new(),
+            ij: Vec::new(),
+            centre: Vec::new(),
+            area: Vec::new(),
+            flag: Vec::new(),
+            triangle_normal: Vec::with_capacity(triangles),
+            total_area: 0.0,
+            grids: Vec::with_capacity(triangles),
+            frames: Vec::new(),
+            edge_map: std::collections::HashMap::new(),
+            poly_offsets: vec![0],
+            poly_points: Vec::new(),
+            nbr_offsets: Vec::new(),
+            nbr: Vec::new(),
+            nbr_dir: Vec::new(),
+            stats: CellStats::default(),
+        }
+    }
+}
+
+/// Triangle `tri`'s plane frame (A at the origin, AB along x, C above) with an
+/// empty grid of squares of side `h` over its bounding box; returns its unit
+/// normal too.
+fn frame(tri: [u32; 3], pos: &[[f64; 3]], h: f64) -> (Frame, [f64; 3]) {
+    let [a, b, c] = tri.map(|v| pos[v as usize]);
+    let ab = sub(b, a);
+    let e1 = scale(ab, 1.0 / norm(ab));
+    let n = cross(ab, sub(c, a));
+    let n = scale(n, 1.0 / norm(n));
+    let e2 = cross(n, e1);
+    let mut f = Frame {
+        verts: tri,
+        origin: a,
+        e1,
+        e2,
+        local: [[0.0, 0.0], [0.0; 2], [0.0; 2]],
+        x0: 0.0,
+        nx: 0,
+        ny: 0,
+        lookup: Vec::new(),
     };
+    f.local = [[0.0, 0.0], f.to_local(b), f.to_local(c)];
+    let [_, lb, lc] = f.local;
+    f.x0 = lc[0].min(0.0);
+    let xmax = lb[0].max(lc[0]);
+    f.nx = (((xmax - f.x0) / h).ceil() as usize).max(1);
+    f.ny = ((lc[1] / h).ceil() as usize).max(1);
+    f.lookup = vec![u32::MAX; f.nx * f.ny];
+    (f, n)
+}
+
+/// Square (i, j) of `f`'s grid clipped to the triangle: its polygon in the frame.
+fn clip_square(f: &Frame, i: usize, j: usize, h: f64) -> Vec<V2> {
+    let (xa, ya) = (f.x0 + i as f64 * h, j as f64 * h);
+    let (xb, yb) = (xa + h, ya + h);
+    let mut poly = f.local.to_vec();
+    poly = clip(&poly, |p| p[0] - xa);
+    poly = clip(&poly, |p| xb - p[0]);
+    poly = clip(&poly, |p| p[1] - ya);
+    clip(&poly, |p| yb - p[1])
+}
+
+/// Covers triangle `t` (frame `f`) with cells: every square of its grid that
+/// overlaps it with positive area becomes a cell; returns the OUT-CELL count.
+fn cover(cells: &mut Cells, f: &mut Frame, t: usize) -> usize {
+    let h = cells.h;
+    let mut out_cells = 0usize;
+    for j in 0..f.ny {
+        for i in 0..f.nx {
+            let poly = clip_square(f, i, j, h);
+            let (area, centroid) = if poly.len() >= 3 {
+                area_centroid(&poly)
+            } else {
+                (0.0, [0.0, 0.0])
+            };
+            if area <= 1e-12 * h * h {
+                out_cells += 1;
+                continue;
+            }
+            let id = cells.area.len() as u32;
+            f.lookup[j * f.nx + i] = id;
+            let centre = [f.x0 + i as f64 * h + 0.5 * h, j as f64 * h + 0.5 * h];
+            let inside = (0..3).all(|k| f.edge_inside(centre, k) >= 0.0);
+            cells.triangle.push(t as u32);
+            cells.ij.push([i as u32, j as u32]);
+            cells.centre.push(f.to_world(centroid));
+            cells.area.push(area);
+            cells.flag.push(if inside {
+                InFlag::CompIn
+            } else {
+                InFlag::PartIn
+            });
+            cells
+                .poly_points
+                .extend(poly.iter().map(|&q| f.to_world(q)));
+            cells.poly_offsets.push(cells.poly_points.len() as u32);
+        }
+    }
+    out_cells
+}
+
+/// Frames and cells of every triangle; returns the frames and the OUT-CELL count.
+fn divide(cells: &mut Cells, pos: &[[f64; 3]], tris: &[[u32; 3]]) -> (Vec<Frame>, usize) {
+    let mut frames = Vec::with_capacity(tris.len());
     let mut out_cells = 0usize;
     for (t, tri) in tris.iter().enumerate() {
-        let [a, b, c] = tri.map(|v| pos[v as usize]);
-        let ab = sub(b, a);
-        let e1 = scale(ab, 1.0 / norm(ab));
-        let n = cross(ab, sub(c, a));
-        let n = scale(n, 1.0 / norm(n));
-        let e2 = cross(n, e1);
+        let (mut f, n) = frame(*tri, pos, cells.h);
         cells.triangle_normal.push(n);
-        let mut f = Frame {
-            verts: *tri,
-            origin: a,
-            e1,
-            e2,
-            local: [[0.0, 0.0], [0.0; 2], [0.0; 2]],
-            x0: 0.0,
-            nx: 0,
-            ny: 0,
-            lookup: Vec::new(),
-        };
-        f.local = [[0.0, 0.0], f.to_local(b), f.to_local(c)];
-        let [_, lb, lc] = f.local;
-        f.x0 = lc[0].min(0.0);
-        let xmax = lb[0].max(lc[0]);
-        f.nx = (((xmax - f.x0) / h).ceil() as usize).max(1);
-        f.ny = ((lc[1] / h).ceil() as usize).max(1);
-        f.lookup = vec![u32::MAX; f.nx * f.ny];
-        let tri2 = [f.local[0], lb, lc];
-        for j in 0..f.ny {
-            for i in 0..f.nx {
-                let (xa, ya) = (f.x0 + i as f64 * h, j as f64 * h);
-                let (xb, yb) = (xa + h, ya + h);
-                let mut poly = tri2.to_vec();
-                poly = clip(&poly, |p| p[0] - xa);
-                poly = clip(&poly, |p| xb - p[0]);
-                poly = clip(&poly, |p| p[1] - ya);
-                poly = clip(&poly, |p| yb - p[1]);
-                let (area, centroid) = if poly.len() >= 3 {
-                    area_centroid(&poly)
-                } else {
-                    (0.0, [0.0, 0.0])
-                };
-                if area <= 1e-12 * h * h {
-                    out_cells += 1;
-                    continue;
-                }
-                let id = cells.area.len() as u32;
-                f.lookup[j * f.nx + i] = id;
-                let centre = [xa + 0.5 * h, ya + 0.5 * h];
-                let inside = (0..3).all(|k| f.edge_inside(centre, k) >= 0.0);
-                cells.triangle.push(t as u32);
-                cells.ij.push([i as u32, j as u32]);
-                cells.centre.push(f.to_world(centroid));
-                cells.area.push(area);
-                cells.flag.push(if inside {
-                    InFlag::CompIn
-                } else {
-                    InFlag::PartIn
-                });
-                cells
-                    .poly_points
-                    .extend(poly.iter().map(|&q| f.to_world(q)));
-                cells.poly_offsets.push(cells.poly_points.len() as u32);
-            }
-        }
+        out_cells += cover(cells, &mut f, t);
         cells.grids.push(TriangleGrid {
             x0: f.x0,
             nx: f.nx,
@@ -467,12 +511,20 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
         });
         frames.push(f);
     }
+    (frames, out_cells)
+}
 
-    // Cells near each vertex (for links beyond vertices).
+/// The cells within 2.5h of each mesh vertex (for links beyond vertices).
+fn cells_near_vertices(
+    frames: &[Frame],
+    cells: &Cells,
+    pos: &[[f64; 3]],
+) -> std::collections::HashMap<u32, Vec<u32>> {
+    let h = cells.h;
     let reach = 2.5 * h;
     let mut near_vertex: std::collections::HashMap<u32, Vec<u32>> =
         std::collections::HashMap::new();
-    for f in &frames {
+    for f in frames {
         for k in 0..3 {
             let v = f.verts[k];
             let q = f.local[k];
@@ -493,22 +545,89 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
             }
         }
     }
+    near_vertex
+}
 
-    // Links.
-    let n_cells = cells.area.len();
-    let mut links: Vec<Vec<(u32, u8)>> = vec![Vec::with_capacity(8); n_cells];
-    let mut cross: Vec<(u32, u8, u32, u32)> = Vec::new(); // (src triangle, direction, dst, src)
-    let mut vertex_links = 0usize;
-    let mut edge_links = 0usize;
-    #[allow(clippy::needless_range_loop)] // c indexes several arrays and is stored
-    for c in 0..n_cells {
-        let t = cells.triangle[c] as usize;
-        let f = &frames[t];
-        let [i, j] = cells.ij[c].map(i64::from);
+/// What links are made from: the frames, the edge map, the cells near each
+/// vertex, the cells and the mesh positions.
+struct Linker<'a> {
+    frames: &'a [Frame],
+    edges: &'a EdgeMap,
+    near_vertex: &'a std::collections::HashMap<u32, Vec<u32>>,
+    cells: &'a Cells,
+    pos: &'a [[f64; 3]],
+}
+
+/// Directed links of every cell, with the side links across edges (source
+/// triangle, direction, destination, source) for the redundancy count.
+struct Links {
+    links: Vec<Vec<(u32, u8)>>,
+    cross: Vec<(u32, u8, u32, u32)>,
+    edge_links: usize,
+    vertex_links: usize,
+}
+
+impl Linker<'_> {
+    /// The cell across edge `e` of triangle `t` (frame `f`) from grid point `q`:
+    /// the neighbour triangle unfolded about the shared edge, and the cell
+    /// containing (or nearest to) the unfolded point. `None` on a boundary.
+    fn across_edge(&self, f: &Frame, t: usize, e: usize, q: V2) -> Option<u32> {
+        let (pos, h) = (self.pos, self.cells.h);
+        let (va, vb) = (f.verts[e], f.verts[(e + 1) % 3]);
+        let other = self
+            .edges
+            .get(&(va.min(vb), va.max(vb)))
+            .and_then(|l| l.iter().find(|(tt, _)| *tt as usize != t))?;
+        let g = &self.frames[other.0 as usize];
+        // Unfold about the shared edge.
+        let (a2, b2) = (f.local[e], f.local[(e + 1) % 3]);
+        let u = [b2[0] - a2[0], b2[1] - a2[1]];
+        let len = u[0].hypot(u[1]);
+        let u = [u[0] / len, u[1] / len];
+        let s = (q[0] - a2[0]) * u[0] + (q[1] - a2[1]) * u[1];
+        let d = -f.edge_inside(q, e); // > 0: distance beyond the edge
+        let (ga, gb) = (g.to_local(pos[va as usize]), g.to_local(pos[vb as usize]));
+        let w = [gb[0] - ga[0], gb[1] - ga[1]];
+        let wl = w[0].hypot(w[1]);
+        let w = [w[0] / wl, w[1] / wl];
+        // Into the other triangle: the side of its third corner.
+        let third = g.local[(0..3)
+            .find(|&m| g.verts[m] != va && g.verts[m] != vb)
+            .unwrap_or(0)];
+        let mut m = [-w[1], w[0]];
+        if (third[0] - ga[0]) * m[0] + (third[1] - ga[1]) * m[1] < 0.0 {
+            m = [w[1], -w[0]];
+        }
+        let q2 = [ga[0] + s * w[0] + d * m[0], ga[1] + s * w[1] + d * m[1]];
+        nearest_in(g, q2, h, &self.cells.centre)
+    }
+
+    /// The cell nearest to `p` (3-D) among those near vertex `v` in the other
+    /// triangles around it.
+    fn beyond_vertex(&self, v: u32, t: usize, p: [f64; 3]) -> Option<u32> {
+        let cells = self.cells;
+        self.near_vertex.get(&v).and_then(|list| {
+            list.iter()
+                .filter(|&&n| cells.triangle[n as usize] as usize != t)
+                .min_by(|&&a, &&b| {
+                    let da = norm(sub(cells.centre[a as usize], p));
+                    let db = norm(sub(cells.centre[b as usize], p));
+                    da.total_cmp(&db).then(a.cmp(&b))
+                })
+                .copied()
+        })
+    }
+
+    /// Links of cell `c` in every direction, added to `out`.
+    fn link_cell(&self, c: usize, out: &mut Links) {
+        let h = self.cells.h;
+        let t = self.cells.triangle[c] as usize;
+        let f = &self.frames[t];
+        let [i, j] = self.cells.ij[c].map(i64::from);
         for (k, &(dx, dy)) in DIRECTIONS.iter().enumerate() {
             let k = k as u8;
             if let Some(n) = f.get(i + dx as i64, j + dy as i64) {
-                links[c].push((n, k));
+                out.links[c].push((n, k));
                 continue;
             }
             let q = [
@@ -518,39 +637,11 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
             let outside: Vec<usize> = (0..3).filter(|&e| f.edge_inside(q, e) < 0.0).collect();
             match outside.as_slice() {
                 [e] => {
-                    let (va, vb) = (f.verts[*e], f.verts[(*e + 1) % 3]);
-                    let Some(other) = edges
-                        .get(&(va.min(vb), va.max(vb)))
-                        .and_then(|l| l.iter().find(|(tt, _)| *tt as usize != t))
-                    else {
-                        continue; // boundary edge
-                    };
-                    let g = &frames[other.0 as usize];
-                    // Unfold about the shared edge.
-                    let (a2, b2) = (f.local[*e], f.local[(*e + 1) % 3]);
-                    let u = [b2[0] - a2[0], b2[1] - a2[1]];
-                    let len = u[0].hypot(u[1]);
-                    let u = [u[0] / len, u[1] / len];
-                    let s = (q[0] - a2[0]) * u[0] + (q[1] - a2[1]) * u[1];
-                    let d = -f.edge_inside(q, *e); // > 0: distance beyond the edge
-                    let (ga, gb) = (g.to_local(pos[va as usize]), g.to_local(pos[vb as usize]));
-                    let w = [gb[0] - ga[0], gb[1] - ga[1]];
-                    let wl = w[0].hypot(w[1]);
-                    let w = [w[0] / wl, w[1] / wl];
-                    // Into the other triangle: the side of its third corner.
-                    let third = g.local[(0..3)
-                        .find(|&m| g.verts[m] != va && g.verts[m] != vb)
-                        .unwrap_or(0)];
-                    let mut m = [-w[1], w[0]];
-                    if (third[0] - ga[0]) * m[0] + (third[1] - ga[1]) * m[1] < 0.0 {
-                        m = [w[1], -w[0]];
-                    }
-                    let q2 = [ga[0] + s * w[0] + d * m[0], ga[1] + s * w[1] + d * m[1]];
-                    if let Some(n) = nearest_in(g, q2, h, &cells.centre) {
-                        links[c].push((n, k));
-                        edge_links += 1;
+                    if let Some(n) = self.across_edge(f, t, *e, q) {
+                        out.links[c].push((n, k));
+                        out.edge_links += 1;
                         if is_side(k) {
-                            cross.push((t as u32, k, n, c as u32));
+                            out.cross.push((t as u32, k, n, c as u32));
                         }
                     }
                 }
@@ -561,35 +652,51 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
                     } else {
                         f.verts[*e1]
                     };
-                    let p = f.to_world(q);
-                    let best = near_vertex.get(&v).and_then(|list| {
-                        list.iter()
-                            .filter(|&&n| cells.triangle[n as usize] as usize != t)
-                            .min_by(|&&a, &&b| {
-                                let da = norm(sub(cells.centre[a as usize], p));
-                                let db = norm(sub(cells.centre[b as usize], p));
-                                da.total_cmp(&db).then(a.cmp(&b))
-                            })
-                            .copied()
-                    });
-                    if let Some(n) = best {
-                        links[c].push((n, k));
-                        vertex_links += 1;
+                    if let Some(n) = self.beyond_vertex(v, t, f.to_world(q)) {
+                        out.links[c].push((n, k));
+                        out.vertex_links += 1;
                     }
                 }
                 _ => {}
             }
         }
     }
-    // Redundancy: side links across an edge, in one direction from one triangle,
-    // that land on a cell another such link already reaches (it receives twice).
+
+    /// Links of every cell.
+    fn links(&self) -> Links {
+        let n_cells = self.cells.len();
+        let mut out = Links {
+            links: vec![Vec::with_capacity(8); n_cells],
+            cross: Vec::new(),
+            edge_links: 0,
+            vertex_links: 0,
+        };
+        for c in 0..n_cells {
+            self.link_cell(c, &mut out);
+        }
+        out
+    }
+}
+
+/// The share of side links across an edge, in one direction from one triangle,
+/// that land on a cell another such link already reaches (it receives twice).
+fn pairing_redundancy(cross: &mut [(u32, u8, u32, u32)]) -> f64 {
     let side_links = cross.len();
     cross.sort_unstable();
     let redundant = cross
         .windows(2)
         .filter(|w| (w[0].0, w[0].1, w[0].2) == (w[1].0, w[1].1, w[1].2))
         .count();
-    // Symmetrise.
+    if side_links > 0 {
+        redundant as f64 / side_links as f64
+    } else {
+        0.0
+    }
+}
+
+/// Makes the links symmetric: if a sees b in direction k, b sees a in the
+/// opposite direction.
+fn symmetrise(links: &mut [Vec<(u32, u8)>]) {
     let forward: Vec<(usize, u32, u8)> = links
         .iter()
         .enumerate()
@@ -601,23 +708,32 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
             back.push((c as u32, opposite(k)));
         }
     }
-    cells.nbr_offsets.reserve(n_cells + 1);
-    cells.nbr_offsets.push(0);
-    for l in &mut links {
-        l.sort_by_key(|&(n, k)| (k, n));
-        let mut seen: Vec<u32> = Vec::with_capacity(l.len());
-        for &(n, k) in l.iter() {
-            if n as usize == cells.nbr_offsets.len() - 1 || seen.contains(&n) {
-                continue;
+}
+
+impl Cells {
+    /// Stores each cell's links sorted by direction, without self-links or
+    /// repeats.
+    fn set_neighbours(&mut self, mut links: Vec<Vec<(u32, u8)>>) {
+        self.nbr_offsets.reserve(links.len() + 1);
+        self.nbr_offsets.push(0);
+        for l in &mut links {
+            l.sort_by_key(|&(n, k)| (k, n));
+            let mut seen: Vec<u32> = Vec::with_capacity(l.len());
+            for &(n, k) in l.iter() {
+                if n as usize == self.nbr_offsets.len() - 1 || seen.contains(&n) {
+                    continue;
+                }
+                seen.push(n);
+                self.nbr.push(n);
+                self.nbr_dir.push(k);
             }
-            seen.push(n);
-            cells.nbr.push(n);
-            cells.nbr_dir.push(k);
+            self.nbr_offsets.push(self.nbr.len() as u32);
         }
-        cells.nbr_offsets.push(cells.nbr.len() as u32);
     }
-    cells.total_area = cells.area.iter().sum();
-    let comp_in = cells.flag.iter().filter(|f| **f == InFlag::CompIn).count();
+}
+
+/// Warnings on the cell size against the shortest edge and on boundaries.
+fn warnings(h: f64, shortest: f64, boundary_edges: usize) -> Vec<String> {
     let mut warnings = Vec::new();
     if h > shortest {
         warnings.push(format!(
@@ -630,21 +746,45 @@ fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<C
             "the mesh has {boundary_edges} boundary edges; nothing crosses them"
         ));
     }
+    warnings
+}
+
+fn build_once(mesh: &TriMesh, size: CellSize, budget: &MemoryBudget) -> Result<Cells, CoreError> {
+    let (pos, tris) = (mesh.positions(), mesh.triangles());
+    let m = measure(pos, tris)?;
+    let h = cell_side(size, &m)?;
+    // ≈ 260 bytes per cell (record, polygon, links); cells ≈ area/h² plus a border.
+    let estimate = (m.area / (h * h)) * 1.3 + 4.0 * tris.len() as f64;
+    budget.check_elements(estimate as u128 + 1, 260, "the surface-CA cells")?;
+    let (edges, boundary_edges) = edge_map(tris)?;
+    let mut cells = Cells::empty(h, tris.len());
+    let (frames, out_cells) = divide(&mut cells, pos, tris);
+    let near_vertex = cells_near_vertices(&frames, &cells, pos);
+    let linker = Linker {
+        frames: &frames,
+        edges: &edges,
+        near_vertex: &near_vertex,
+        cells: &cells,
+        pos,
+    };
+    let mut links = linker.links();
+    let redundancy = pairing_redundancy(&mut links.cross);
+    symmetrise(&mut links.links);
+    let n_cells = cells.len();
+    cells.set_neighbours(links.links);
+    cells.total_area = cells.area.iter().sum();
+    let comp_in = cells.flag.iter().filter(|f| **f == InFlag::CompIn).count();
     cells.stats = CellStats {
         cells: n_cells,
         comp_in,
         part_in: n_cells - comp_in,
         out_cells,
         cell_size: h,
-        shortest_edge: shortest,
-        edge_links,
-        vertex_links,
-        pairing_redundancy: if side_links > 0 {
-            redundant as f64 / side_links as f64
-        } else {
-            0.0
-        },
-        warnings,
+        shortest_edge: m.shortest,
+        edge_links: links.edge_links,
+        vertex_links: links.vertex_links,
+        pairing_redundancy: redundancy,
+        warnings: warnings(h, m.shortest, boundary_edges),
     };
     cells.frames = frames;
     cells.edge_map = edges;
