@@ -68,8 +68,8 @@ fn dimension_json(d: Result<fractal::Dimension, AnalysisError>) -> Value {
     }
 }
 
-/// The report on a height field.
-fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
+/// The levelling `o` names, after checking its fit window.
+fn levelling(o: &AnalyzeOptions) -> Result<level::Level> {
     let how = level::Level::from_name(&o.level).ok_or_else(|| {
         invalid(format!(
             "unknown levelling {:?} (none, mean, plane, quadratic)",
@@ -84,6 +84,12 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
             )
         })?;
     }
+    Ok(how)
+}
+
+/// The report on a height field.
+fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
+    let how = levelling(o)?;
     let lv = level::level(h, how)?;
     let areal = areal::areal(&lv)?;
     let r = psd::radial_psd(&lv, o.bins)?;
@@ -119,13 +125,14 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     Ok(Analysis { facts, plots })
 }
 
-fn height_plots(lv: &HeightField, r: &psd::RadialPsd, hu: &psd::Hurst) -> Result<Vec<NamedPlot>> {
+/// The radial PSD with its Hurst fit.
+fn psd_plot(r: &psd::RadialPsd, hu: &psd::Hurst) -> NamedPlot {
     let fit = &hu.fit;
     let line: Vec<(f64, f64)> = [fit.range[0], fit.range[1]]
         .iter()
         .map(|&q| (q, (fit.intercept + fit.slope * q.ln()).exp()))
         .collect();
-    let mut out = vec![NamedPlot {
+    NamedPlot {
         name: "psd.png",
         plot: log_log(
             format!(
@@ -146,7 +153,11 @@ fn height_plots(lv: &HeightField, r: &psd::RadialPsd, hu: &psd::Hurst) -> Result
                 },
             ],
         ),
-    }];
+    }
+}
+
+fn height_plots(lv: &HeightField, r: &psd::RadialPsd, hu: &psd::Hurst) -> Result<Vec<NamedPlot>> {
+    let mut out = vec![psd_plot(r, hu)];
     if let Ok(hh) = correlation::hhcf_x(lv) {
         out.push(NamedPlot {
             name: "hhcf.png",

@@ -28,6 +28,39 @@ pub fn rule(family: &str, states: u8, text: &str) -> Result<Rule> {
     Ok(Rule::parse(family, states, text)?)
 }
 
+/// An initial grid from a file: `.npy`/`.csv` states 0…k−1, or an image
+/// thresholded at 50 %.
+fn init_from_file(text: &str, k: u8) -> Result<Init> {
+    let path = Path::new(text);
+    let h = asperity_io::read_height(path).map_err(|e| {
+        invalid(format!(
+            "initial grid {text:?} (use seed, random:DENSITY or a .npy/.png file): {e}"
+        ))
+    })?;
+    let is_image = path
+        .extension()
+        .is_some_and(|e| !e.eq_ignore_ascii_case("npy") && !e.eq_ignore_ascii_case("csv"));
+    let state = |(n, &v): (usize, &f64)| {
+        if is_image {
+            Ok((v >= 0.5) as u8)
+        } else if v.fract() != 0.0 || v < 0.0 || v >= k as f64 {
+            Err(invalid(format!(
+                "{text}: value {v} at index {n} is not a state 0..{}",
+                k - 1
+            )))
+        } else {
+            Ok(v as u8)
+        }
+    };
+    let states = h
+        .data()
+        .iter()
+        .enumerate()
+        .map(state)
+        .collect::<Result<Vec<u8>>>()?;
+    Ok(Init::Grid(Grid2::from_vec(h.dims(), states)?))
+}
+
 /// An initial condition: `seed`, `random:DENSITY[@SEED]` (the seed defaults to
 /// `seed`), or a file — `.npy`/`.csv` states 0…k−1, or an image thresholded at
 /// 50 %.
@@ -38,46 +71,20 @@ pub fn parse_init(text: &str, k: u8, seed: u64) -> Result<Init> {
     if text == "seed" {
         return Ok(Init::Seed);
     }
-    if let Some(r) = text.strip_prefix("random:") {
-        let (d, s) = r.split_once('@').map_or((r, None), |(d, s)| (d, Some(s)));
-        let density: f64 = d
+    let Some(r) = text.strip_prefix("random:") else {
+        return init_from_file(text, k);
+    };
+    let (d, s) = r.split_once('@').map_or((r, None), |(d, s)| (d, Some(s)));
+    let density: f64 = d
+        .parse()
+        .map_err(|_| invalid(format!("{d:?} is not a density in [0, 1]")))?;
+    let seed = match s {
+        Some(s) => s
             .parse()
-            .map_err(|_| invalid(format!("{d:?} is not a density in [0, 1]")))?;
-        let seed = match s {
-            Some(s) => s
-                .parse()
-                .map_err(|_| invalid(format!("{s:?} is not a seed")))?,
-            None => seed,
-        };
-        return Ok(Init::Random { density, seed });
-    }
-    let path = Path::new(text);
-    let h = asperity_io::read_height(path).map_err(|e| {
-        invalid(format!(
-            "initial grid {text:?} (use seed, random:DENSITY or a .npy/.png file): {e}"
-        ))
-    })?;
-    let is_image = path
-        .extension()
-        .is_some_and(|e| !e.eq_ignore_ascii_case("npy") && !e.eq_ignore_ascii_case("csv"));
-    let states = h
-        .data()
-        .iter()
-        .enumerate()
-        .map(|(n, &v)| {
-            if is_image {
-                Ok((v >= 0.5) as u8)
-            } else if v.fract() != 0.0 || v < 0.0 || v >= k as f64 {
-                Err(invalid(format!(
-                    "{text}: value {v} at index {n} is not a state 0..{}",
-                    k - 1
-                )))
-            } else {
-                Ok(v as u8)
-            }
-        })
-        .collect::<Result<Vec<u8>>>()?;
-    Ok(Init::Grid(Grid2::from_vec(h.dims(), states)?))
+            .map_err(|_| invalid(format!("{s:?} is not a seed")))?,
+        None => seed,
+    };
+    Ok(Init::Random { density, seed })
 }
 
 /// A run as `asperity ca run` describes it.

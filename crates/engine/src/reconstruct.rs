@@ -73,9 +73,26 @@ pub fn surface(
     Ok(rec)
 }
 
+/// The mesh's counts and topology.
+fn mesh_facts(r: &mut Measurements, rec: &Reconstruction) {
+    let m = &rec.mesh;
+    r.set("vertices", m.n_vertices());
+    r.set("triangles", m.n_faces());
+    r.set("euler_characteristic", m.euler_characteristic());
+    r.set("genus", m.genus());
+    r.set("watertight", m.is_watertight());
+    r.set("manifold", m.is_manifold());
+    r.set("components", rec.extraction.components);
+    r.set("shells_removed", rec.extraction.shells_removed);
+    r.set("area", m.area());
+    if m.is_watertight() {
+        r.set("volume", m.signed_volume());
+    }
+}
+
 /// The measurements `asperity reconstruct --json` reports for `rec` of `points` points.
 pub fn measurements(rec: &Reconstruction, points: usize) -> Measurements {
-    let (m, t) = (&rec.mesh, &rec.timings);
+    let t = &rec.timings;
     let mut r = Measurements::new();
     r.set("grid", rec.grid.dims);
     r.set("spacing", rec.grid.spacing);
@@ -95,25 +112,12 @@ pub fn measurements(rec: &Reconstruction, points: usize) -> Measurements {
         }),
     );
     r.set("points", points);
-    r.set("vertices", m.n_vertices());
-    r.set("triangles", m.n_faces());
-    r.set("euler_characteristic", m.euler_characteristic());
-    r.set("genus", m.genus());
-    r.set("watertight", m.is_watertight());
-    r.set("manifold", m.is_manifold());
-    r.set("components", rec.extraction.components);
-    r.set("shells_removed", rec.extraction.shells_removed);
-    r.set("area", m.area());
-    if m.is_watertight() {
-        r.set("volume", m.signed_volume());
-    }
+    mesh_facts(&mut r, rec);
     let steps = &rec.evolution.steps;
     r.set("iterations", steps.len());
     r.set("converged", rec.evolution.converged);
-    r.set(
-        "front_movement",
-        steps.iter().map(|s| s.front_movement).collect::<Vec<_>>(),
-    );
+    let movement: Vec<f64> = steps.iter().map(|s| s.front_movement).collect();
+    r.set("front_movement", movement);
     r.set("tagged_exterior", rec.tagged.0);
     r.set("tagging_refused", rec.tagged.1);
     r.set("distance_sweeps", rec.distance_sweeps);

@@ -289,6 +289,61 @@ pub struct AppRun {
     pub seconds: f64,
 }
 
+/// Colours a step's state for the caller's `on_step`.
+type OnStep<'a> = dyn FnMut(u64, &dyn Fn(usize) -> [u8; 4]) + 'a;
+
+/// A run's end state, statistics and class names.
+type Ran = (State, RunStats, Vec<&'static str>);
+
+fn run_voronoi(
+    cells: &Cells,
+    (sites, p, max): (&[usize], f64, u64),
+    seed: u64,
+    on_step: &mut OnStep,
+) -> Ran {
+    let rule = VoronoiRule { diagonal_p: p };
+    let (labels, stats) = voronoi(cells, sites, &rule, seed, max, |step, l| {
+        on_step(step, &|c| label_color(l[c]));
+        true
+    });
+    (State::Labels(labels), stats, rule.classes().to_vec())
+}
+
+fn run_corrosion(
+    cells: &Cells,
+    params: &CorrosionParams,
+    steps: u64,
+    seed: u64,
+    on_step: &mut OnStep,
+) -> Ran {
+    let mut states = initial(cells, params, seed);
+    let stats = corrode(cells, params, &mut states, seed, steps, |step, st| {
+        on_step(step, &|c| patina_color(&st[c]));
+        true
+    });
+    let classes = CorrosionRule { params: *params }.classes().to_vec();
+    (State::Corrosion(states), stats, classes)
+}
+
+fn run_gray_scott(
+    cells: &Cells,
+    (rule, patches, steps): (&GrayScott, usize, u64),
+    seed: u64,
+    on_step: &mut OnStep,
+) -> Ran {
+    let mut states = seeded_state(cells, patches.min(cells.len()), seed);
+    let opts = RunOptions {
+        seed,
+        max_steps: steps,
+        stop_when_stable: false,
+    };
+    let stats = run(cells, rule, &mut states, &opts, |step, st| {
+        on_step(step, &|c| rd_color(&st[c]));
+        true
+    });
+    (State::Chemicals(states), stats, rule.classes().to_vec())
+}
+
 /// Runs `app` on the cells; `on_step(step, colour of cell c)` is called after
 /// every step (for progress and animation frames).
 pub fn run_app(
@@ -304,42 +359,15 @@ pub fn run_app(
             sites,
             diagonal_p,
             max_steps,
-        } => {
-            let rule = VoronoiRule {
-                diagonal_p: *diagonal_p,
-            };
-            let (labels, stats) = voronoi(cells, sites, &rule, seed, *max_steps, |step, l| {
-                on_step(step, &|c| label_color(l[c]));
-                true
-            });
-            (State::Labels(labels), stats, rule.classes().to_vec())
-        }
+        } => run_voronoi(cells, (sites, *diagonal_p, *max_steps), seed, &mut on_step),
         App::Corrosion { params, steps } => {
-            let mut states = initial(cells, params, seed);
-            let stats = corrode(cells, params, &mut states, seed, *steps, |step, st| {
-                on_step(step, &|c| patina_color(&st[c]));
-                true
-            });
-            let classes = CorrosionRule { params: *params }.classes().to_vec();
-            (State::Corrosion(states), stats, classes)
+            run_corrosion(cells, params, *steps, seed, &mut on_step)
         }
         App::GrayScott {
             rule,
             patches,
             steps,
-        } => {
-            let mut states = seeded_state(cells, (*patches).min(cells.len()), seed);
-            let opts = RunOptions {
-                seed,
-                max_steps: *steps,
-                stop_when_stable: false,
-            };
-            let stats = run(cells, rule, &mut states, &opts, |step, st| {
-                on_step(step, &|c| rd_color(&st[c]));
-                true
-            });
-            (State::Chemicals(states), stats, rule.classes().to_vec())
-        }
+        } => run_gray_scott(cells, (rule, *patches, *steps), seed, &mut on_step),
     };
     AppRun {
         app,
@@ -454,12 +482,20 @@ impl AppRun {
         m.set("cells", n);
         m.set("steps", self.stats.steps);
         m.set("run_s", self.seconds);
-        let changed: Vec<f64> = self
-            .stats
-            .per_step
-            .iter()
-            .map(|s| s.changed as f64 / n as f64)
-            .collect();
+        if let State::Chemicals(_) = self.state {
+            let last = self.stats.per_step.last();
+            m.set(
+                "activator_fraction",
+                last.map_or(0.0, |s| s.class_fraction[1]),
+            );
+            return m;
+        }
+        m.set("cell_structure", &cov.cells.stats);
+        m.set("changed_fraction", self.changed_fraction(n));
+        m.set(
+            "cell_updates_per_s",
+            n as f64 * self.stats.steps as f64 / self.seconds.max(1e-9),
+        );
         match (&self.app, &self.state) {
             (
                 App::Voronoi {
@@ -467,39 +503,27 @@ impl AppRun {
                 },
                 _,
             ) => {
-                m.set("cell_structure", &cov.cells.stats);
                 m.set("diagonal_p", diagonal_p);
-                m.set("changed_fraction", changed);
-                m.set(
-                    "sites",
-                    sites
-                        .iter()
-                        .map(|&c| cov.cells.centre[c])
-                        .collect::<Vec<_>>(),
-                );
+                let centres: Vec<_> = sites.iter().map(|&c| cov.cells.centre[c]).collect();
+                m.set("sites", centres);
             }
             (_, State::Corrosion(s)) => {
                 let count = |b: Behaviour| s.iter().filter(|x| x.behaviour == b).count();
-                m.set("cell_structure", &cov.cells.stats);
                 m.set("corroded", count(Behaviour::Corroded));
                 m.set("non_existent", count(Behaviour::NonExistent));
-                m.set("changed_fraction", changed);
             }
-            _ => m.set(
-                "activator_fraction",
-                self.stats
-                    .per_step
-                    .last()
-                    .map_or(0.0, |s| s.class_fraction[1]),
-            ),
-        }
-        if !matches!(self.state, State::Chemicals(_)) {
-            m.set(
-                "cell_updates_per_s",
-                n as f64 * self.stats.steps as f64 / self.seconds.max(1e-9),
-            );
+            _ => {}
         }
         m
+    }
+
+    /// The share of cells that changed at each step.
+    fn changed_fraction(&self, n: usize) -> Vec<f64> {
+        self.stats
+            .per_step
+            .iter()
+            .map(|s| s.changed as f64 / n as f64)
+            .collect()
     }
 
     /// One line on what happened.

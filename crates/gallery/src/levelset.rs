@@ -90,10 +90,9 @@ fn cases(env: &Env) -> Result<Vec<Case>> {
 /// Front movement per step: (step, cells).
 type Movement = Vec<(f64, f64)>;
 
-/// The pipeline's defaults (`asperity generate …`): the initial surface and the
-/// converged one as cards, and the front movement per step.
-fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement)> {
-    let params = ReconstructParams {
+/// The pipelines' settings (`asperity generate …`): h = 0.7, ε = 3, 60 steps.
+fn pipeline_params() -> ReconstructParams {
+    ReconstructParams {
         sizing: Sizing::Spacing(0.7),
         offset: Some(3.0),
         iterations: 60,
@@ -102,7 +101,30 @@ fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement)> {
             min_shell_triangles: 32,
         },
         ..Default::default()
-    };
+    }
+}
+
+/// The card of the initial surface by tagging.
+fn initial_item(env: &Env, case: &Case, initial: &TriMesh, dims: [usize; 3]) -> Result<Item> {
+    let (file, pic) = env.shaded_mesh(&format!("levelset_{}_initial", case.name), initial)?;
+    Ok(Item::new(
+        format!("{}: initial surface by tagging (ε = 3)", case.title),
+        Some(pic),
+        vec![file],
+        vec![
+            fact(
+                "grid",
+                format!("{}×{}×{}, h = 0.7", dims[0], dims[1], dims[2]),
+            ),
+            fact("triangles", initial.n_faces()),
+        ],
+    ))
+}
+
+/// The pipeline's defaults (`asperity generate …`): the initial surface and the
+/// converged one as cards, and the front movement per step.
+fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement)> {
+    let params = pipeline_params();
     let mut initial = None;
     let rec = reconstruct(
         &case.points,
@@ -117,22 +139,9 @@ fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement)> {
     )?;
     let initial: TriMesh =
         initial.ok_or_else(|| invalid("the pipeline reports its initial surface"))?;
-    let (name, m) = (case.name, &rec.mesh);
-    let (first, first_pic) = env.shaded_mesh(&format!("levelset_{name}_initial"), &initial)?;
-    let dims = rec.grid.dims;
-    let start = Item::new(
-        format!("{}: initial surface by tagging (ε = 3)", case.title),
-        Some(first_pic),
-        vec![first],
-        vec![
-            fact(
-                "grid",
-                format!("{}×{}×{}, h = 0.7", dims[0], dims[1], dims[2]),
-            ),
-            fact("triangles", initial.n_faces()),
-        ],
-    );
-    let (file, pic) = env.shaded_mesh(&format!("levelset_{name}"), m)?;
+    let start = initial_item(env, case, &initial, rec.grid.dims)?;
+    let m = &rec.mesh;
+    let (file, pic) = env.shaded_mesh(&format!("levelset_{}", case.name), m)?;
     let steps = &rec.evolution.steps;
     let end = Item::new(
         format!(

@@ -225,23 +225,41 @@ pub const SECTIONS: &[(&str, SectionFn)] = &[
     ("subdiv", subdiv::section),
 ];
 
+/// Refuses section names the gallery does not have.
+fn check_only(only: &[String]) -> Result<()> {
+    match only.iter().find(|x| !SECTIONS.iter().any(|(n, _)| n == x)) {
+        Some(bad) => {
+            let names: Vec<&str> = SECTIONS.iter().map(|(n, _)| *n).collect();
+            Err(invalid(format!(
+                "--only {bad}: no such section ({})",
+                names.join(", ")
+            )))
+        }
+        None => Ok(()),
+    }
+}
+
+/// Writes `index.html` and `report.json` for `sections`; returns the report.
+fn finish(env: Env, sections: &[Section], o: &Options) -> Result<Report> {
+    let index = o.dir.join("index.html");
+    asperity_io::write_text(&index, &page::page(sections, o.seed, o.quick))?;
+    let mut report = env.report.into_inner();
+    report.output(&index);
+    let titles: Vec<String> = sections.iter().map(|s| s.title.clone()).collect();
+    report.measure("sections", titles);
+    let json =
+        serde_json::to_string_pretty(&report).map_err(|e| invalid(format!("report.json: {e}")))?;
+    asperity_io::write_text(&o.dir.join("report.json"), &json)?;
+    Ok(report)
+}
+
 /// Writes the gallery; returns its report (also written as `report.json`).
 ///
 /// # Errors
 /// An unknown section name; the folder cannot be created; any section's
 /// failure, named.
 pub fn run(o: &Options, progress: &dyn Progress) -> Result<Report> {
-    if let Some(bad) = o
-        .only
-        .iter()
-        .find(|x| !SECTIONS.iter().any(|(n, _)| n == x))
-    {
-        let names: Vec<&str> = SECTIONS.iter().map(|(n, _)| *n).collect();
-        return Err(invalid(format!(
-            "--only {bad}: no such section ({})",
-            names.join(", ")
-        )));
-    }
+    check_only(&o.only)?;
     std::fs::create_dir_all(&o.dir).map_err(|e| {
         invalid(format!(
             "cannot create gallery directory {}: {e}",
@@ -269,16 +287,5 @@ pub fn run(o: &Options, progress: &dyn Progress) -> Result<Report> {
         progress.advance(1);
     }
     progress.finish();
-    let index = o.dir.join("index.html");
-    asperity_io::write_text(&index, &page::page(&sections, o.seed, o.quick))?;
-    let mut report = env.report.into_inner();
-    report.output(&index);
-    report.measure(
-        "sections",
-        sections.iter().map(|s| s.title.clone()).collect::<Vec<_>>(),
-    );
-    let json =
-        serde_json::to_string_pretty(&report).map_err(|e| invalid(format!("report.json: {e}")))?;
-    asperity_io::write_text(&o.dir.join("report.json"), &json)?;
-    Ok(report)
+    finish(env, &sections, o)
 }

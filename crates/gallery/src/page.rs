@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use crate::Section;
+use crate::{Item, Section};
 
 /// `s` with the characters HTML gives a meaning escaped.
 fn esc(s: &str) -> String {
@@ -41,22 +41,27 @@ td:first-child{{color:#555}} .files a{{margin-right:.6rem;font-size:.9rem}}</sty
             esc(&s.blurb)
         );
         for it in &s.items {
-            let _ = write!(h, "<div class=\"card\"><h3>{}</h3>", esc(&it.title));
-            if let Some(img) = &it.image {
-                let _ = write!(h, "<img src=\"{}\" alt=\"{}\">", esc(img), esc(&it.title));
-            }
-            h += "<table>";
-            for (k, v) in &it.facts {
-                let _ = write!(h, "<tr><td>{}</td><td>{}</td></tr>", esc(k), esc(v));
-            }
-            h += "</table><p class=\"files\">";
-            for f in &it.files {
-                let _ = write!(h, "<a href=\"{0}\">{0}</a>", esc(f));
-            }
-            h += "</p></div>";
+            card(&mut h, it);
         }
         h += "</div></section>";
     }
     h += "</body></html>\n";
     h
+}
+
+/// One card: title, picture, facts, files.
+fn card(h: &mut String, it: &Item) {
+    let _ = write!(h, "<div class=\"card\"><h3>{}</h3>", esc(&it.title));
+    if let Some(img) = &it.image {
+        let _ = write!(h, "<img src=\"{}\" alt=\"{}\">", esc(img), esc(&it.title));
+    }
+    *h += "<table>";
+    for (k, v) in &it.facts {
+        let _ = write!(h, "<tr><td>{}</td><td>{}</td></tr>", esc(k), esc(v));
+    }
+    *h += "</table><p class=\"files\">";
+    for f in &it.files {
+        let _ = write!(h, "<a href=\"{0}\">{0}</a>", esc(f));
+    }
+    *h += "</p></div>";
 }

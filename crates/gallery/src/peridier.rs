@@ -53,15 +53,6 @@ fn figures_1_to_3(env: &Env, rule450: &Rule, flat: &RenderOptions) -> Result<Vec
     )?;
     let fig1 = env.picture("ca_fig1_rule450.png", &render_facets(&run.heights, flat)?)?;
     let (lo, hi) = run.heights.min_max();
-    let table = rule450.describe();
-    let rows = table
-        .lines()
-        .skip(1)
-        .map(|l| {
-            let (k, v) = l.split_once(':').unwrap_or((l, ""));
-            fact(k.trim(), v.trim())
-        })
-        .collect();
     let fig3 = env.picture(
         "ca_fig3_steps.png",
         &steps_strip(run.states.as_deref().unwrap_or(&[]), [21, 15]),
@@ -80,12 +71,7 @@ fn figures_1_to_3(env: &Env, rule450: &Rule, flat: &RenderOptions) -> Result<Vec
                 fact("heights", format!("{lo} … {hi}")),
             ],
         ),
-        Item::new(
-            "Figure 2: the look-up table of rule 450",
-            None,
-            vec![],
-            rows,
-        ),
+        figure_2(rule450),
         Item::new(
             "Figure 3: steps 0–5, summed cell by cell into Figure 1",
             Some(fig3),
@@ -93,6 +79,25 @@ fn figures_1_to_3(env: &Env, rule450: &Rule, flat: &RenderOptions) -> Result<Vec
             vec![fact("state 1", "black")],
         ),
     ])
+}
+
+/// Figure 2: the rule's look-up table as facts.
+fn figure_2(rule: &Rule) -> Item {
+    let rows = rule
+        .describe()
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let (k, v) = l.split_once(':').unwrap_or((l, ""));
+            fact(k.trim(), v.trim())
+        })
+        .collect();
+    Item::new(
+        "Figure 2: the look-up table of rule 450",
+        None,
+        vec![],
+        rows,
+    )
 }
 
 /// The steps side by side, state 1 black, cells 8 pixels apart.
@@ -244,6 +249,8 @@ fn large(env: &Env, rule450: Rule, flat: &RenderOptions) -> Result<Vec<Item>> {
     )?;
     // Timings go to report.json only: the page must be the same bytes on every run.
     env.measure("ca_large_seconds", secs);
+    let cli =
+        format!("asperity ca run --rule 450 --steps {steps} --init random:0.3 --size {n}x{n}");
     Ok(vec![
         Item::new(
             format!("Rule 450, {n}×{n} cyclic, {steps} steps"),
@@ -251,12 +258,7 @@ fn large(env: &Env, rule450: Rule, flat: &RenderOptions) -> Result<Vec<Item>> {
             vec!["ca_rule450_large.gsf".into()],
             vec![
                 fact("initial grid", "random, density 0.3"),
-                fact(
-                    "CLI",
-                    format!(
-                        "asperity ca run --rule 450 --steps {steps} --init random:0.3 --size {n}x{n}"
-                    ),
-                ),
+                fact("CLI", cli),
             ],
         ),
         Item::new(

@@ -236,23 +236,26 @@ fn one_feature(name: &str, feature: Feature) -> Layer {
     }
 }
 
+/// A tentacle from the paper's pseudo-code, with or without the sign flip on
+/// even levels.
+fn tentacle(alternate: bool) -> Layer {
+    one_feature(
+        "t",
+        Feature {
+            procedure: Procedure::Tentacle(Tentacle {
+                length: 0.15,
+                theta: 0.5,
+                alternate,
+                twist: true,
+            }),
+            seeds: Seeds::Points(vec![[0.3, -1.0, 0.3]]),
+            levels: None,
+        },
+    )
+}
+
 /// Figure 5: tentacle growth, levels 1–4, with and without the sign flip.
 fn figure_5(env: &Env) -> Result<Vec<Item>> {
-    let tentacle = |alternate: bool| {
-        one_feature(
-            "t",
-            Feature {
-                procedure: Procedure::Tentacle(Tentacle {
-                    length: 0.15,
-                    theta: 0.5,
-                    alternate,
-                    twist: true,
-                }),
-                seeds: Seeds::Points(vec![[0.3, -1.0, 0.3]]),
-                levels: None,
-            },
-        )
-    };
     let mut items = Vec::new();
     for (alternate, stem, title) in [
         (
@@ -273,12 +276,8 @@ fn figure_5(env: &Env) -> Result<Vec<Item>> {
         } else {
             "length·l·(sin(θ + πl/3), cos(θ + πl/3), 1)"
         };
-        items.push(Item::new(
-            title,
-            Some(pic),
-            vec![file],
-            vec![fact("per level", law)],
-        ));
+        let facts = vec![fact("per level", law)];
+        items.push(Item::new(title, Some(pic), vec![file], facts));
     }
     Ok(items)
 }

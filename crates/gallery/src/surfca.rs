@@ -68,6 +68,9 @@ fn voronoi_item(
     let (labels, stats) = voronoi(cells, &s, &rule, env.seed, 100_000, |_, _| true);
     let m = cov.cell_mesh(|c| label_color(labels[c]))?;
     let (file, pic) = env.colored_mesh(&format!("surfca_voronoi_{name}"), &m)?;
+    let cli = format!(
+        "asperity surface-ca builtin:{name} --app voronoi --sites {sites} --cells {target} -o v.glb"
+    );
     let mut facts = vec![
         fact("cells", cells.len()),
         fact("cell size", format!("{:.4}", cells.h)),
@@ -76,30 +79,18 @@ fn voronoi_item(
             "pairing redundancy",
             format!("{:.1} %", 100.0 * cells.stats.pairing_redundancy),
         ),
-        fact(
-            "CLI",
-            format!(
-                "asperity surface-ca builtin:{name} --app voronoi --sites {sites} --cells {target} -o v.glb"
-            ),
-        ),
+        fact("CLI", cli),
     ];
     let mut steps_item = None;
     if name == "sphere" {
         // Agreement with the exact spherical Voronoi diagram of the same sites.
         let agree = spherical_agreement(cells, &s, &labels);
-        facts.push(fact(
-            "agreement with the exact diagram",
-            format!("{:.2} % of the area", 100.0 * agree),
-        ));
+        let area = format!("{:.2} % of the area", 100.0 * agree);
+        facts.push(fact("agreement with the exact diagram", area));
         steps_item = Some(steps_plot(env, &stats, cells.len())?);
     }
-    let item = Item::new(
-        format!("Surface Voronoi diagram on the {name} ({sites} sites)"),
-        Some(pic),
-        vec![file],
-        facts,
-    );
-    Ok((item, steps_item))
+    let title = format!("Surface Voronoi diagram on the {name} ({sites} sites)");
+    Ok((Item::new(title, Some(pic), vec![file], facts), steps_item))
 }
 
 /// Cells labelled and changed per step: the logistic curve of Figure 16.

@@ -646,14 +646,9 @@ impl Faces<'_> {
     }
 }
 
-fn write_ply(
-    w: &mut dyn Write,
-    v: &VertexData,
-    faces: Option<Faces<'_>>,
-    edges: &[[u32; 2]],
-    enc: PlyEncoding,
-) -> std::io::Result<()> {
-    let ascii = enc == PlyEncoding::Ascii;
+/// The columns of the vertex element: position, then normals, colours, UVs
+/// and the named scalars (renamed where they clash with a standard name).
+fn vertex_columns<'a>(v: &VertexData<'a>) -> Vec<Column<'a>> {
     let mut cols = vec![
         Column::F64("x", v.positions, 0),
         Column::F64("y", v.positions, 1),
@@ -691,6 +686,17 @@ fn write_ply(
             cols.push(Column::Scalar(n, data));
         }
     }
+    cols
+}
+
+/// The header for `vertices` vertices with `cols`, optional faces and edges.
+fn header(
+    ascii: bool,
+    vertices: usize,
+    cols: &[Column],
+    faces: Option<usize>,
+    edges: usize,
+) -> String {
     let mut h = String::from("ply\n");
     h += if ascii {
         "format ascii 1.0\n"
@@ -701,24 +707,57 @@ fn write_ply(
         "comment written by asperity {}\n",
         env!("CARGO_PKG_VERSION")
     );
-    h += &format!("element vertex {}\n", v.positions.len());
-    for c in &cols {
+    h += &format!("element vertex {vertices}\n");
+    for c in cols {
         h += &c.header();
         h.push('\n');
     }
     if let Some(f) = faces {
-        h += &format!(
-            "element face {}\nproperty list uchar uint vertex_indices\n",
-            f.len()
-        );
+        h += &format!("element face {f}\nproperty list uchar uint vertex_indices\n");
     }
-    if !edges.is_empty() {
-        h += &format!(
-            "element edge {}\nproperty int vertex1\nproperty int vertex2\n",
-            edges.len()
-        );
+    if edges > 0 {
+        h += &format!("element edge {edges}\nproperty int vertex1\nproperty int vertex2\n");
     }
     h += "end_header\n";
+    h
+}
+
+/// The face element: a count byte, then the indices.
+fn write_faces(w: &mut dyn Write, faces: Faces<'_>, ascii: bool) -> std::io::Result<()> {
+    let mut row = Vec::with_capacity(256);
+    for f in 0..faces.len() {
+        let t = faces.get(f);
+        if ascii {
+            let idx: Vec<String> = t.iter().map(u32::to_string).collect();
+            writeln!(w, "{} {}", t.len(), idx.join(" "))?;
+        } else {
+            row.clear();
+            row.push(t.len() as u8);
+            for k in t {
+                row.extend_from_slice(&k.to_le_bytes());
+            }
+            w.write_all(&row)?;
+        }
+    }
+    Ok(())
+}
+
+fn write_ply(
+    w: &mut dyn Write,
+    v: &VertexData,
+    faces: Option<Faces<'_>>,
+    edges: &[[u32; 2]],
+    enc: PlyEncoding,
+) -> std::io::Result<()> {
+    let ascii = enc == PlyEncoding::Ascii;
+    let cols = vertex_columns(v);
+    let h = header(
+        ascii,
+        v.positions.len(),
+        &cols,
+        faces.map(|f| f.len()),
+        edges.len(),
+    );
     w.write_all(h.as_bytes())?;
     let mut row = Vec::with_capacity(256);
     for i in 0..v.positions.len() {
@@ -733,20 +772,7 @@ fn write_ply(
         w.write_all(&row)?;
     }
     if let Some(faces) = faces {
-        for f in 0..faces.len() {
-            let t = faces.get(f);
-            if ascii {
-                let idx: Vec<String> = t.iter().map(u32::to_string).collect();
-                writeln!(w, "{} {}", t.len(), idx.join(" "))?;
-            } else {
-                row.clear();
-                row.push(t.len() as u8);
-                for k in t {
-                    row.extend_from_slice(&k.to_le_bytes());
-                }
-                w.write_all(&row)?;
-            }
-        }
+        write_faces(w, faces, ascii)?;
     }
     for e in edges {
         if ascii {

@@ -334,23 +334,77 @@ pub(crate) fn closest_points(
     };
     let claims = Claims::new(n);
     let frontier = seed(points, grid, 0, &cells);
-    let rounds = closest_point_wavefront(points, grid, &cells, &claims, frontier, cap, progress);
+    let rounds = closest_point_wavefront(points, grid, (&cells, &claims), frontier, cap, progress);
     (cells, rounds)
 }
 
-#[allow(clippy::too_many_arguments)] // internal: the state of one computation
+/// Per axis, the squared offsets from `p` of the neighbours at −1, 0, +1 of
+/// the node at grid coordinates `c` along it (∞ off the grid), as `dist2`
+/// computes them: the sum of one per axis is dist2(position(q), p) to the bit.
+#[inline(always)]
+fn axis_squares(grid: &GridSpec, c: [usize; 3], p: [f64; 3], a: usize) -> [f64; 3] {
+    [0usize, 1, 2].map(|o| {
+        let x = c[a] + o;
+        if x == 0 || x > grid.dims[a] {
+            return f64::INFINITY;
+        }
+        let d = grid.origin[a] + (x - 1) as f64 * grid.spacing - p[a];
+        d * d
+    })
+}
+
+/// Offers the point of frontier node `u` (packed cell `v`) to its 26
+/// neighbours, outward only; the neighbours it improves and claims go to `out`.
+#[inline(always)]
+fn offer(
+    (points, grid, cells, claims): (&[[f64; 3]], &GridSpec, &[AtomicU64], &Claims),
+    (u, v): (u32, u64),
+    cap2: f32,
+    out: &mut Vec<u32>,
+) {
+    let strides = grid.strides().map(|s| s as i64);
+    let idx = v as u32;
+    let d2_u = unpack_d2(v);
+    let p = points[idx as usize];
+    let c = grid.coords(u as usize);
+    let (sx, sy, sz) = (
+        axis_squares(grid, c, p, 0),
+        axis_squares(grid, c, p, 1),
+        axis_squares(grid, c, p, 2),
+    );
+    for (oz, &z2) in sz.iter().enumerate() {
+        for (oy, &y2) in sy.iter().enumerate() {
+            for (ox, &x2) in sx.iter().enumerate() {
+                if (ox, oy, oz) == (1, 1, 1) {
+                    continue;
+                }
+                let delta = (ox as i64 - 1) * strides[0]
+                    + (oy as i64 - 1) * strides[1]
+                    + (oz as i64 - 1) * strides[2];
+                let d2 = ((x2 + y2) + z2) as f32;
+                // Nodes nearer to p than u were passed by p's wave already:
+                // only offer p outward.
+                if d2 >= cap2 || d2 < d2_u {
+                    continue;
+                }
+                let node = (i64::from(u) + delta) as usize;
+                if lower(&cells[node], pack(d2, idx)) && claims.claim(node) {
+                    out.push(node as u32);
+                }
+            }
+        }
+    }
+}
+
 fn closest_point_wavefront(
     points: &[[f64; 3]],
     grid: &GridSpec,
-    cells: &[AtomicU64],
-    claims: &Claims,
+    (cells, claims): (&[AtomicU64], &Claims),
     mut frontier: Vec<u32>,
     cap: f64,
     progress: &dyn Progress,
 ) -> usize {
     let cap2 = (cap * cap) as f32;
-    let strides = grid.strides().map(|s| s as i64);
-    let (dims, h) = (grid.dims, grid.spacing);
     let expected_rounds = (cap / grid.spacing).ceil() as u64 + 2;
     progress.start(expected_rounds, "distance (closest point)");
     let mut rounds = 0;
@@ -372,47 +426,7 @@ fn closest_point_wavefront(
                     if let Some(&ahead) = vs.get(i + POINT_PREFETCH) {
                         crate::prefetch::prefetch(points, ahead as u32 as usize);
                     }
-                    let idx = v as u32;
-                    let d2_u = unpack_d2(v);
-                    let p = points[idx as usize];
-                    let c = grid.coords(u as usize);
-                    // Per axis, the squared offsets from p of the node's
-                    // neighbours at −1, 0, +1 along it (∞ off the grid), as
-                    // `dist2` computes them: the sum of one per axis is
-                    // dist2(position(q), p) to the bit.
-                    let axis = |a: usize| {
-                        [0usize, 1, 2].map(|o| {
-                            let x = c[a] + o;
-                            if x == 0 || x > dims[a] {
-                                return f64::INFINITY;
-                            }
-                            let d = grid.origin[a] + (x - 1) as f64 * h - p[a];
-                            d * d
-                        })
-                    };
-                    let (sx, sy, sz) = (axis(0), axis(1), axis(2));
-                    for (oz, &z2) in sz.iter().enumerate() {
-                        for (oy, &y2) in sy.iter().enumerate() {
-                            for (ox, &x2) in sx.iter().enumerate() {
-                                if (ox, oy, oz) == (1, 1, 1) {
-                                    continue;
-                                }
-                                let delta = (ox as i64 - 1) * strides[0]
-                                    + (oy as i64 - 1) * strides[1]
-                                    + (oz as i64 - 1) * strides[2];
-                                let d2 = ((x2 + y2) + z2) as f32;
-                                // Nodes nearer to p than u were passed by p's
-                                // wave already: only offer p outward.
-                                if d2 >= cap2 || d2 < d2_u {
-                                    continue;
-                                }
-                                let node = (i64::from(u) + delta) as usize;
-                                if lower(&cells[node], pack(d2, idx)) && claims.claim(node) {
-                                    out.push(node as u32);
-                                }
-                            }
-                        }
-                    }
+                    offer((points, grid, cells, claims), (u, v), cap2, &mut out);
                 }
                 out
             })
@@ -452,6 +466,87 @@ fn godunov_update(a: [f64; 3], h: f64) -> f64 {
     (s + (s * s - 3.0 * q).max(0.0).sqrt()) / 3.0
 }
 
+/// The fast-sweeping state: the grid, its distances as `f32` bits (atomics,
+/// so a hyperplane's nodes update in parallel), and the sweep orderings.
+struct Sweeper<'a> {
+    grid: &'a GridSpec,
+    strides: [usize; 3],
+    d: Vec<AtomicU32>,
+}
+
+impl Sweeper<'_> {
+    #[inline]
+    fn get(&self, i: usize) -> f64 {
+        f64::from(f32::from_bits(self.d[i].load(Relaxed)))
+    }
+
+    /// Updates node (i, j, k) by Eq. 9; returns how much it dropped (0 when it
+    /// did not, ∞ from an infinite value).
+    #[inline]
+    fn update(&self, c: [usize; 3]) -> f64 {
+        let [nx, ny, _] = self.grid.dims;
+        let node = c[0] + nx * (c[1] + ny * c[2]);
+        let mut a = [f64::INFINITY; 3];
+        for axis in 0..3 {
+            let st = self.strides[axis];
+            if c[axis] > 0 {
+                a[axis] = self.get(node - st);
+            }
+            if c[axis] + 1 < self.grid.dims[axis] {
+                a[axis] = a[axis].min(self.get(node + st));
+            }
+        }
+        if a.iter().all(|x| x.is_infinite()) {
+            return 0.0;
+        }
+        let old = self.get(node);
+        let new = godunov_update(a, self.grid.spacing);
+        if new < old {
+            let stored = new as f32;
+            if stored < old as f32 {
+                self.d[node].store(stored.to_bits(), Relaxed);
+                return if old.is_finite() {
+                    old - new
+                } else {
+                    f64::INFINITY
+                };
+            }
+        }
+        0.0
+    }
+
+    /// One sweep in the ordering whose axes are flipped where `flip` says,
+    /// hyperplane i + j + k = s after hyperplane (the nodes of one are
+    /// independent); returns the largest drop.
+    fn sweep(&self, flip: [bool; 3]) -> f64 {
+        let [nx, ny, nz] = self.grid.dims;
+        let mut change = 0.0f64;
+        for s in 0..nx + ny + nz - 2 {
+            let k_lo = s.saturating_sub((nx - 1) + (ny - 1));
+            let k_hi = s.min(nz - 1);
+            let plane_change = (k_lo..k_hi + 1)
+                .into_par_iter()
+                .with_min_len(4)
+                .map(|kp| {
+                    let rest = s - kp;
+                    let (j_lo, j_hi) = (rest.saturating_sub(nx - 1), rest.min(ny - 1));
+                    let k = if flip[2] { nz - 1 - kp } else { kp };
+                    let mut worst = 0.0f64;
+                    for jp in j_lo..=j_hi {
+                        let ip = rest - jp;
+                        let j = if flip[1] { ny - 1 - jp } else { jp };
+                        let i = if flip[0] { nx - 1 - ip } else { ip };
+                        worst = worst.max(self.update([i, j, k]));
+                    }
+                    worst
+                })
+                .reduce(|| 0.0, f64::max);
+            change = change.max(plane_change);
+        }
+        change
+    }
+}
+
 fn godunov(
     grid: &GridSpec,
     cells: &[AtomicU64],
@@ -472,69 +567,20 @@ fn godunov(
             AtomicU32::new(x.to_bits())
         })
         .collect();
-    let [nx, ny, nz] = grid.dims;
-    let strides = grid.strides();
+    let sweeper = Sweeper {
+        grid,
+        strides: grid.strides(),
+        d,
+    };
     let max_iterations = max_iterations.max(1);
     progress.start(max_iterations as u64 * 8, "distance (fast sweeping)");
     let mut sweeps = 0;
     let mut last_change = f64::INFINITY;
-    let get = |i: usize| f64::from(f32::from_bits(d[i].load(Relaxed)));
     for _ in 0..max_iterations {
         let mut change = 0.0f64;
         for ordering in 0..8u32 {
             let flip = [ordering & 1 != 0, ordering & 2 != 0, ordering & 4 != 0];
-            let planes = nx + ny + nz - 2;
-            for s in 0..planes {
-                let k_lo = s.saturating_sub((nx - 1) + (ny - 1));
-                let k_hi = s.min(nz - 1);
-                let plane_change = (k_lo..k_hi + 1)
-                    .into_par_iter()
-                    .with_min_len(4)
-                    .map(|kp| {
-                        let rest = s - kp;
-                        let j_lo = rest.saturating_sub(nx - 1);
-                        let j_hi = rest.min(ny - 1);
-                        let k = if flip[2] { nz - 1 - kp } else { kp };
-                        let mut worst = 0.0f64;
-                        for jp in j_lo..=j_hi {
-                            let ip = rest - jp;
-                            let j = if flip[1] { ny - 1 - jp } else { jp };
-                            let i = if flip[0] { nx - 1 - ip } else { ip };
-                            let c = [i, j, k];
-                            let node = i + nx * (j + ny * k);
-                            let mut a = [f64::INFINITY; 3];
-                            for axis in 0..3 {
-                                let st = strides[axis];
-                                if c[axis] > 0 {
-                                    a[axis] = get(node - st);
-                                }
-                                if c[axis] + 1 < grid.dims[axis] {
-                                    a[axis] = a[axis].min(get(node + st));
-                                }
-                            }
-                            if a.iter().all(|x| x.is_infinite()) {
-                                continue;
-                            }
-                            let old = get(node);
-                            let new = godunov_update(a, h);
-                            if new < old {
-                                let stored = new as f32;
-                                if stored < old as f32 {
-                                    d[node].store(stored.to_bits(), Relaxed);
-                                    let delta = if old.is_finite() {
-                                        old - new
-                                    } else {
-                                        f64::INFINITY
-                                    };
-                                    worst = worst.max(delta);
-                                }
-                            }
-                        }
-                        worst
-                    })
-                    .reduce(|| 0.0, f64::max);
-                change = change.max(plane_change);
-            }
+            change = change.max(sweeper.sweep(flip));
             sweeps += 1;
             progress.advance(1);
         }
@@ -544,7 +590,8 @@ fn godunov(
         }
     }
     progress.finish();
-    let values = d
+    let values = sweeper
+        .d
         .into_par_iter()
         .map(|x| f32::from_bits(x.into_inner()))
         .collect();

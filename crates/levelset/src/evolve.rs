@@ -228,6 +228,86 @@ pub fn from_tags(
     from_tags_reusing(dist, tags, eps, gamma, progress, None)
 }
 
+/// Whether row (·, j, k) of the exterior flags can hold a crossing: rows with
+/// no exterior node, or exterior along with the rows around them (most of the
+/// grid), hold none.
+fn row_may_cross(grid: &GridSpec, ext: &[bool], j: usize, k: usize) -> bool {
+    let [nx, ny, nz] = grid.dims;
+    let row = |j: usize, k: usize| &ext[grid.index(0, j, k)..grid.index(0, j, k) + nx];
+    let own = row(j, k);
+    let around = [
+        (j > 0).then(|| row(j - 1, k)),
+        (j + 1 < ny).then(|| row(j + 1, k)),
+        (k > 0).then(|| row(j, k - 1)),
+        (k + 1 < nz).then(|| row(j, k + 1)),
+    ];
+    own.contains(&true)
+        && (own.contains(&false) || around.iter().flatten().any(|r| r.contains(&false)))
+}
+
+/// The points where the tagged offset surface {d = ε} crosses the grid edges
+/// from exterior node (i, j, k) to its non-exterior neighbours: d interpolated
+/// linearly to ε along the edge (the midpoint where it does not cross ε).
+fn node_crossings(
+    (grid, d, ext): (&GridSpec, &[f32], &[bool]),
+    [i, j, k]: [usize; 3],
+    eps: f64,
+    out: &mut Vec<[f64; 3]>,
+) {
+    let strides = grid.strides();
+    let u = grid.index(i, j, k);
+    let c = [i, j, k];
+    for a in 0..3 {
+        for side in [false, true] {
+            let v = if side {
+                if c[a] + 1 >= grid.dims[a] {
+                    continue;
+                }
+                u + strides[a]
+            } else {
+                if c[a] == 0 {
+                    continue;
+                }
+                u - strides[a]
+            };
+            if ext[v] {
+                continue;
+            }
+            let (du, dv) = (f64::from(d[u]), f64::from(d[v]));
+            let theta = if du >= eps && dv < eps {
+                (du - eps) / (du - dv)
+            } else {
+                0.5
+            };
+            let mut p = grid.position(i, j, k);
+            p[a] += if side { theta } else { -theta } * grid.spacing;
+            out.push(p);
+        }
+    }
+}
+
+/// Every crossing of the offset surface, plane by plane.
+fn crossings(grid: &GridSpec, d: &[f32], ext: &[bool], eps: f64) -> Vec<[f64; 3]> {
+    let [nx, ny, nz] = grid.dims;
+    (0..nz)
+        .into_par_iter()
+        .flat_map_iter(|k| {
+            let mut out = Vec::new();
+            for j in 0..ny {
+                if !row_may_cross(grid, ext, j, k) {
+                    continue;
+                }
+                for i in 0..nx {
+                    if ext[grid.index(i, j, k)] {
+                        node_crossings((grid, d, ext), [i, j, k], eps, &mut out);
+                    }
+                }
+            }
+            out
+        })
+        .collect()
+}
+
 /// [`from_tags`], with the closest-point cells of an earlier wavefront on this
 /// grid to refill rather than a fresh buffer.
 pub(crate) fn from_tags_reusing(
@@ -239,69 +319,8 @@ pub(crate) fn from_tags_reusing(
     cells: Option<Vec<std::sync::atomic::AtomicU64>>,
 ) -> LevelSet {
     let grid = dist.grid;
-    let d = &dist.values;
     let ext = &tags.exterior;
-    let strides = grid.strides();
-    let [nx, ny, nz] = grid.dims;
-    let crossings: Vec<[f64; 3]> = (0..nz)
-        .into_par_iter()
-        .flat_map_iter(|k| {
-            let mut out = Vec::new();
-            let row = |j: usize, k: usize| &ext[grid.index(0, j, k)..grid.index(0, j, k) + nx];
-            for j in 0..ny {
-                // Rows with no exterior node, or exterior along with the rows
-                // around them (most of the grid), hold no crossing.
-                let own = row(j, k);
-                let around = [
-                    (j > 0).then(|| row(j - 1, k)),
-                    (j + 1 < ny).then(|| row(j + 1, k)),
-                    (k > 0).then(|| row(j, k - 1)),
-                    (k + 1 < nz).then(|| row(j, k + 1)),
-                ];
-                if !own.contains(&true)
-                    || (!own.contains(&false)
-                        && around.iter().flatten().all(|r| !r.contains(&false)))
-                {
-                    continue;
-                }
-                for i in 0..nx {
-                    let u = grid.index(i, j, k);
-                    if !ext[u] {
-                        continue;
-                    }
-                    let c = [i, j, k];
-                    for a in 0..3 {
-                        for side in [false, true] {
-                            let v = if side {
-                                if c[a] + 1 >= grid.dims[a] {
-                                    continue;
-                                }
-                                u + strides[a]
-                            } else {
-                                if c[a] == 0 {
-                                    continue;
-                                }
-                                u - strides[a]
-                            };
-                            if ext[v] {
-                                continue;
-                            }
-                            let (du, dv) = (f64::from(d[u]), f64::from(d[v]));
-                            let theta = if du >= eps && dv < eps {
-                                (du - eps) / (du - dv)
-                            } else {
-                                0.5
-                            };
-                            let mut p = grid.position(i, j, k);
-                            p[a] += if side { theta } else { -theta } * grid.spacing;
-                            out.push(p);
-                        }
-                    }
-                }
-            }
-            out
-        })
-        .collect();
+    let crossings = crossings(&grid, &dist.values, ext, eps);
     let gamma32 = gamma as f32;
     if crossings.is_empty() {
         // Nothing was tagged (or everything was): φ is ±γ everywhere.

@@ -38,6 +38,73 @@ pub struct GridSpec {
     pub dims: [usize; 3],
 }
 
+/// The bounding box of finite, non-empty `points`.
+fn bounds(points: &[[f64; 3]]) -> asperity_core::Result<([f64; 3], [f64; 3])> {
+    if points.is_empty() {
+        return Err(CoreError::Empty("the point set"));
+    }
+    for (index, p) in points.iter().enumerate() {
+        if let Some(&value) = p.iter().find(|v| !v.is_finite()) {
+            return Err(CoreError::NonFinite {
+                what: "point",
+                index,
+                value,
+            });
+        }
+    }
+    let mut lo = points[0];
+    let mut hi = points[0];
+    for p in points {
+        for a in 0..3 {
+            lo[a] = lo[a].min(p[a]);
+            hi[a] = hi[a].max(p[a]);
+        }
+    }
+    Ok((lo, hi))
+}
+
+/// The spacing `sizing` asks for on points whose longest extent is `longest`.
+fn spacing(sizing: Sizing, longest: f64) -> asperity_core::Result<f64> {
+    match sizing {
+        Sizing::Resolution(n) => {
+            if !(2..=65_536).contains(&n) {
+                return Err(CoreError::InvalidParameter {
+                    name: "resolution",
+                    reason: format!("must be between 2 and 65536 cells, got {n}"),
+                });
+            }
+            Ok(longest / n as f64)
+        }
+        Sizing::Spacing(h) => {
+            if !(h.is_finite() && h > 0.0) {
+                return Err(CoreError::InvalidParameter {
+                    name: "spacing",
+                    reason: format!("must be positive and finite, got {h}"),
+                });
+            }
+            Ok(h)
+        }
+    }
+}
+
+/// Nodes per axis: the extent in cells, plus one, plus `pad` on each side.
+fn dims(extent: [f64; 3], spacing: f64, pad: usize) -> asperity_core::Result<[usize; 3]> {
+    let mut dims = [0usize; 3];
+    for a in 0..3 {
+        let cells = (extent[a] / spacing).ceil();
+        if cells.is_nan() || cells >= 1e7 {
+            return Err(CoreError::InvalidParameter {
+                name: "spacing",
+                reason: format!(
+                    "{spacing} gives {cells} cells along axis {a}; choose a coarser grid"
+                ),
+            });
+        }
+        dims[a] = cells as usize + 1 + 2 * pad;
+    }
+    Ok(dims)
+}
+
 impl GridSpec {
     /// The grid around `points` with the spacing from `sizing` and `pad` nodes of
     /// padding on every side (see [`padding_nodes`]), after checking the points and
@@ -52,26 +119,7 @@ impl GridSpec {
         pad: impl Fn(f64) -> usize,
         budget: &MemoryBudget,
     ) -> asperity_core::Result<Self> {
-        if points.is_empty() {
-            return Err(CoreError::Empty("the point set"));
-        }
-        for (index, p) in points.iter().enumerate() {
-            if let Some(&value) = p.iter().find(|v| !v.is_finite()) {
-                return Err(CoreError::NonFinite {
-                    what: "point",
-                    index,
-                    value,
-                });
-            }
-        }
-        let mut lo = points[0];
-        let mut hi = points[0];
-        for p in points {
-            for a in 0..3 {
-                lo[a] = lo[a].min(p[a]);
-                hi[a] = hi[a].max(p[a]);
-            }
-        }
+        let (lo, hi) = bounds(points)?;
         let extent = [0, 1, 2].map(|a| hi[a] - lo[a]);
         let longest = extent.iter().copied().fold(0.0, f64::max);
         if longest <= 0.0 {
@@ -84,40 +132,8 @@ impl GridSpec {
                 ),
             });
         }
-        let spacing = match sizing {
-            Sizing::Resolution(n) => {
-                if !(2..=65_536).contains(&n) {
-                    return Err(CoreError::InvalidParameter {
-                        name: "resolution",
-                        reason: format!("must be between 2 and 65536 cells, got {n}"),
-                    });
-                }
-                longest / n as f64
-            }
-            Sizing::Spacing(h) => {
-                if !(h.is_finite() && h > 0.0) {
-                    return Err(CoreError::InvalidParameter {
-                        name: "spacing",
-                        reason: format!("must be positive and finite, got {h}"),
-                    });
-                }
-                h
-            }
-        };
-        let pad = pad(spacing);
-        let mut dims = [0usize; 3];
-        for a in 0..3 {
-            let cells = (extent[a] / spacing).ceil();
-            if cells.is_nan() || cells >= 1e7 {
-                return Err(CoreError::InvalidParameter {
-                    name: "spacing",
-                    reason: format!(
-                        "{spacing} gives {cells} cells along axis {a}; choose a coarser grid"
-                    ),
-                });
-            }
-            dims[a] = cells as usize + 1 + 2 * pad;
-        }
+        let spacing = spacing(sizing, longest)?;
+        let dims = dims(extent, spacing, pad(spacing))?;
         let count = dims.iter().fold(1u128, |acc, &d| acc * d as u128);
         budget.check_elements(
             count,

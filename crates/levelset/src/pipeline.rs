@@ -1,6 +1,7 @@
 //! The reconstruction pipeline of §5.2 (Fig. 5): distance → tagging → convection
 //! flow → marching cubes, with each stage timed.
 
+use std::sync::atomic::AtomicU64;
 use std::time::Instant;
 
 use asperity_core::{CoreError, MemoryBudget, Progress, TriMesh};
@@ -213,6 +214,62 @@ impl ReconstructParams {
     }
 }
 
+/// The unsigned distance to the points, the measured sample spacing and (for
+/// the closest-point method) the closest points' cells, kept for the initial
+/// surface's own wavefront, which refills them instead of faulting in a fresh
+/// buffer.
+fn distance_stage(
+    points: &[[f64; 3]],
+    grid: &GridSpec,
+    method: DistanceMethod,
+    cap: f64,
+    progress: &dyn Progress,
+) -> (DistanceField, Option<f64>, Option<Vec<AtomicU64>>) {
+    let h = grid.spacing;
+    match method {
+        DistanceMethod::ClosestPoint => {
+            // The sample spacing is read off the closest points before they are
+            // unpacked, so no nearest-point array is built.
+            let (cells, rounds) = closest_points(points, grid, cap, progress, None);
+            let spacing = sample_spacing(points, grid, &cells, 2.0 * h);
+            (
+                DistanceField::from_cells(grid, &cells, cap, rounds, false),
+                spacing,
+                Some(cells),
+            )
+        }
+        DistanceMethod::Godunov { .. } => (
+            unsigned_distance(points, grid, method, cap, progress),
+            nearest_neighbour_spacing(points, h),
+            None,
+        ),
+    }
+}
+
+/// The flow's settings in world units (h the grid spacing, δ the point radius).
+fn evolve_params(params: &ReconstructParams, h: f64, point_radius: f64) -> EvolveParams {
+    EvolveParams {
+        iterations: params.iterations,
+        scheme: params.scheme,
+        flow: match params.curvature_weight {
+            None => Flow::Convection,
+            Some(w) => Flow::Regularized { weight: w * h },
+        },
+        cfl: params.cfl,
+        beta: params.beta_cells * h,
+        redistance_iterations: params.redistance_iterations,
+        tolerance: params.tolerance,
+        band: params.band,
+        arrest: point_radius,
+        snapshot_every: params.snapshot_every,
+    }
+}
+
+/// Seconds since `t`, stored in `slot`.
+fn lap(slot: &mut f64, t: Instant) {
+    *slot = t.elapsed().as_secs_f64();
+}
+
 /// Reconstructs a watertight surface from `points`; `on_step` sees the initial level
 /// set (step 0) and the level set every `params.snapshot_every` steps.
 ///
@@ -242,82 +299,46 @@ pub fn reconstruct(
         budget,
     )?;
     let h = grid.spacing;
-    let eps = offset_of(h);
-    let gamma = params.tube_cells * h;
+    let (eps, gamma) = (offset_of(h), params.tube_cells * h);
     let mut timings = Timings::default();
-
     let t = Instant::now();
     let cap = eps + gamma + 2.0 * h;
-    // The sample spacing (for the default point radius) is read off the closest
-    // points before they are unpacked, so no nearest-point array is built.
-    // The closest points' cells (8 bytes per node) are kept for the initial
-    // surface's own wavefront, which refills them instead of faulting in a
-    // fresh buffer.
-    let (dist, sample_spacing, cells) = match params.distance {
-        DistanceMethod::ClosestPoint => {
-            let (cells, rounds) = closest_points(points, &grid, cap, progress, None);
-            let spacing = sample_spacing(points, &grid, &cells, 2.0 * h);
-            (
-                DistanceField::from_cells(&grid, &cells, cap, rounds, false),
-                spacing,
-                Some(cells),
-            )
-        }
-        DistanceMethod::Godunov { .. } => (
-            unsigned_distance(points, &grid, params.distance, cap, progress),
-            nearest_neighbour_spacing(points, h),
-            None,
-        ),
-    };
-    timings.distance = t.elapsed().as_secs_f64();
-
+    let (dist, sample_spacing, cells) =
+        distance_stage(points, &grid, params.distance, cap, progress);
+    lap(&mut timings.distance, t);
     let t = Instant::now();
     let tags = tag(&dist, eps, params.tag_rule, progress);
-    timings.tagging = t.elapsed().as_secs_f64();
-
+    lap(&mut timings.tagging, t);
     let t = Instant::now();
     let mut ls = from_tags_reusing(&dist, &tags, eps, gamma, progress, cells);
-    timings.initial = t.elapsed().as_secs_f64();
+    lap(&mut timings.initial, t);
     let tagged = (tags.exterior_count, tags.refused);
     drop(tags);
-    on_step(
-        &StepStats {
-            step: 0,
-            dt: 0.0,
-            front_movement: 0.0,
-            tube: 0,
-        },
-        &ls,
-    );
-
+    let initial = StepStats {
+        step: 0,
+        dt: 0.0,
+        front_movement: 0.0,
+        tube: 0,
+    };
+    on_step(&initial, &ls);
     let point_radius = params
         .point_radius
         .unwrap_or_else(|| (0.75 * sample_spacing.unwrap_or(0.0)).max(0.6 * h));
     let t = Instant::now();
-    let evolve_params = EvolveParams {
-        iterations: params.iterations,
-        scheme: params.scheme,
-        flow: match params.curvature_weight {
-            None => Flow::Convection,
-            Some(w) => Flow::Regularized { weight: w * h },
-        },
-        cfl: params.cfl,
-        beta: params.beta_cells * h,
-        redistance_iterations: params.redistance_iterations,
-        tolerance: params.tolerance,
-        band: params.band,
-        arrest: point_radius,
-        snapshot_every: params.snapshot_every,
-    };
-    let evolution = evolve(&mut ls, &dist, &evolve_params, progress, on_step);
-    timings.evolution = t.elapsed().as_secs_f64();
+    let evolution = evolve(
+        &mut ls,
+        &dist,
+        &evolve_params(params, h, point_radius),
+        progress,
+        on_step,
+    );
+    lap(&mut timings.evolution, t);
     let distance_sweeps = dist.sweeps;
     drop(dist);
-
     let t = Instant::now();
     let (mesh, extraction) = extract(&ls.phi, &grid, &params.extract);
-    timings.extraction = t.elapsed().as_secs_f64();
-    timings.total = start.elapsed().as_secs_f64();
+    lap(&mut timings.extraction, t);
+    lap(&mut timings.total, start);
     Ok(Reconstruction {
         mesh,
         grid,

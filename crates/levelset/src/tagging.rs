@@ -148,108 +148,162 @@ fn descend(
     state: &mut [u8],
     progress: &dyn Progress,
 ) -> (usize, usize) {
-    let strides = grid.strides();
-    let node = |key: u64| (u32::MAX - key as u32) as usize;
-    let neighbours = |u: usize| {
-        let c = grid.coords(u);
-        let mut nb = [usize::MAX; 6];
-        for a in 0..3 {
-            if c[a] > 0 {
-                nb[2 * a] = u - strides[a];
-            }
-            if c[a] + 1 < grid.dims[a] {
-                nb[2 * a + 1] = u + strides[a];
-            }
-        }
-        (nb, grid.on_boundary(c))
+    let mut run = Descent {
+        grid,
+        strides: grid.strides(),
+        d,
+        state,
+        accepted: 0,
+        refused: 0,
+        work: Vec::new(),
     };
-    let real = |v: &usize| *v != usize::MAX;
-    // On ∂Ω: on a face or next to an exterior node.
-    let reached = |state: &[u8], (nb, face): ([usize; 6], bool)| {
-        face || nb.into_iter().filter(real).any(|v| state[v] == EXTERIOR)
-    };
-    // Line 4 of Algorithm 1: a farther neighbour is not exterior.
-    let refused_at = |state: &[u8], u: usize, nb: [usize; 6]| {
-        nb.into_iter()
-            .filter(real)
-            .any(|v| state[v] != EXTERIOR && d[v] > d[u])
-    };
-    let (mut accepted, mut refused) = (0usize, 0usize);
-    let mut work: Vec<usize> = Vec::new();
     let mut i = 0;
     while i < keys.len() {
-        // The nodes a few places on: their neighbourhoods are scattered over
-        // the shell, and a sorted list (unlike a heap) says which come next.
-        if let Some(&ahead) = keys.get(i + PREFETCH_AHEAD) {
-            let w = node(ahead);
-            for at in [w, w.wrapping_sub(strides[1]), w + strides[1]] {
-                crate::prefetch::prefetch(state, at);
-                crate::prefetch::prefetch(d, at);
-            }
-            for at in [w.wrapping_sub(strides[2]), w + strides[2]] {
-                crate::prefetch::prefetch(state, at);
-                crate::prefetch::prefetch(d, at);
-            }
-        }
+        run.prefetch(keys.get(i + PREFETCH_AHEAD));
         let level = keys[i] >> 32;
         let mut j = i + 1;
         while j < keys.len() && keys[j] >> 32 == level {
             j += 1;
         }
         if j == i + 1 {
-            let u = node(keys[i]);
-            let around = neighbours(u);
-            if reached(state, around) {
-                if refused_at(state, u, around.0) {
-                    state[u] = REFUSED;
-                    refused += 1;
-                } else {
-                    state[u] = EXTERIOR;
-                    accepted += 1;
-                }
-            }
+            run.decide_one(node(keys[i]));
         } else {
-            let group = &keys[i..j];
-            for &key in group {
-                state[node(key)] = PENDING;
-            }
-            work.extend(
-                group
-                    .iter()
-                    .map(|&k| node(k))
-                    .filter(|&u| reached(state, neighbours(u))),
-            );
-            for &u in &work {
-                state[u] = QUEUED;
-            }
-            while let Some(u) = work.pop() {
-                let (nb, _) = neighbours(u);
-                if refused_at(state, u, nb) {
-                    state[u] = REFUSED;
-                    refused += 1;
-                    continue;
-                }
-                state[u] = EXTERIOR;
-                accepted += 1;
-                for v in nb.into_iter().filter(real) {
-                    if state[v] == PENDING {
-                        state[v] = QUEUED;
-                        work.push(v);
-                    }
-                }
-            }
-            for &key in group {
-                if state[node(key)] == PENDING {
-                    state[node(key)] = INTERIOR;
-                }
-            }
+            run.decide_group(&keys[i..j]);
         }
         if i >> 20 != j >> 20 {
             progress.advance(1 << 20);
         }
         i = j;
     }
-    (accepted, refused)
+    (run.accepted, run.refused)
+}
+
+/// The node of a heap key.
+#[inline(always)]
+fn node(key: u64) -> usize {
+    (u32::MAX - key as u32) as usize
+}
+
+/// No neighbour (beyond the grid).
+const NONE: usize = usize::MAX;
+
+/// The pass of [`descend`]: the state it updates and its counts.
+struct Descent<'a> {
+    grid: &'a GridSpec,
+    strides: [usize; 3],
+    d: &'a [f32],
+    state: &'a mut [u8],
+    accepted: usize,
+    refused: usize,
+    work: Vec<usize>,
+}
+
+impl Descent<'_> {
+    /// The six face neighbours of `u` ([`NONE`] beyond the grid), and whether
+    /// `u` lies on a face of the grid.
+    #[inline(always)]
+    fn neighbours(&self, u: usize) -> ([usize; 6], bool) {
+        let c = self.grid.coords(u);
+        let mut nb = [NONE; 6];
+        for a in 0..3 {
+            if c[a] > 0 {
+                nb[2 * a] = u - self.strides[a];
+            }
+            if c[a] + 1 < self.grid.dims[a] {
+                nb[2 * a + 1] = u + self.strides[a];
+            }
+        }
+        (nb, self.grid.on_boundary(c))
+    }
+
+    /// On ∂Ω: on a face or next to an exterior node.
+    #[inline(always)]
+    fn reached(&self, (nb, face): ([usize; 6], bool)) -> bool {
+        face || nb
+            .into_iter()
+            .filter(|v| *v != NONE)
+            .any(|v| self.state[v] == EXTERIOR)
+    }
+
+    /// Line 4 of Algorithm 1: a farther neighbour is not exterior.
+    #[inline(always)]
+    fn refused_at(&self, u: usize, nb: [usize; 6]) -> bool {
+        nb.into_iter()
+            .filter(|v| *v != NONE)
+            .any(|v| self.state[v] != EXTERIOR && self.d[v] > self.d[u])
+    }
+
+    /// The neighbourhood of the node a few places on: neighbourhoods are
+    /// scattered over the shell, and a sorted list (unlike a heap) says which
+    /// come next.
+    #[inline(always)]
+    fn prefetch(&self, ahead: Option<&u64>) {
+        let Some(&ahead) = ahead else { return };
+        let (w, s) = (node(ahead), self.strides);
+        for at in [w, w.wrapping_sub(s[1]), w + s[1]] {
+            crate::prefetch::prefetch(self.state, at);
+            crate::prefetch::prefetch(self.d, at);
+        }
+        for at in [w.wrapping_sub(s[2]), w + s[2]] {
+            crate::prefetch::prefetch(self.state, at);
+            crate::prefetch::prefetch(self.d, at);
+        }
+    }
+
+    /// Decides node `u`, alone at its distance.
+    #[inline(always)]
+    fn decide_one(&mut self, u: usize) {
+        let around = self.neighbours(u);
+        if self.reached(around) {
+            if self.refused_at(u, around.0) {
+                self.state[u] = REFUSED;
+                self.refused += 1;
+            } else {
+                self.state[u] = EXTERIOR;
+                self.accepted += 1;
+            }
+        }
+    }
+
+    /// Decides the nodes of equal distance together: those reached, then those
+    /// next to them that are accepted (a small flood).
+    fn decide_group(&mut self, group: &[u64]) {
+        for &key in group {
+            self.state[node(key)] = PENDING;
+        }
+        let mut work = std::mem::take(&mut self.work);
+        work.extend(
+            group
+                .iter()
+                .map(|&k| node(k))
+                .filter(|&u| self.reached(self.neighbours(u))),
+        );
+        for &u in &work {
+            self.state[u] = QUEUED;
+        }
+        while let Some(u) = work.pop() {
+            let (nb, _) = self.neighbours(u);
+            if self.refused_at(u, nb) {
+                self.state[u] = REFUSED;
+                self.refused += 1;
+                continue;
+            }
+            self.state[u] = EXTERIOR;
+            self.accepted += 1;
+            for v in nb.into_iter().filter(|v| *v != NONE) {
+                if self.state[v] == PENDING {
+                    self.state[v] = QUEUED;
+                    work.push(v);
+                }
+            }
+        }
+        self.work = work;
+        for &key in group {
+            if self.state[node(key)] == PENDING {
+                self.state[node(key)] = INTERIOR;
+            }
+        }
+    }
 }
 
 /// Consecutive nodes `start .. start + len` of one row of a plane (indices

@@ -86,93 +86,57 @@ impl Camera {
             View::Front => (Vec3::NEG_Y, Vec3::Z),
             View::Side => (Vec3::X, Vec3::Z),
             View::Explicit { eye, target } => {
-                let e = Vec3::new(eye[0] as f32, eye[1] as f32, eye[2] as f32);
-                let t = Vec3::new(target[0] as f32, target[1] as f32, target[2] as f32);
-                let d = (e - t).normalize_or(Vec3::Z);
-                let up = if d.cross(Vec3::Z).length() < 1e-4 {
-                    Vec3::Y
-                } else {
-                    Vec3::Z
-                };
-                return Self::look(
-                    e,
-                    t,
-                    up,
-                    projection,
-                    aspect,
-                    (radius, (e - center).length()),
-                );
+                return Self::explicit(eye, target, center, radius, projection, aspect);
             }
         };
         // Fit the eight box corners, not the bounding sphere: flat height fields
         // would otherwise fill a fraction of the frame.
-        let aspect32 = aspect as f32;
-        let back = dir;
-        let right = up.cross(back).normalize();
-        let cam_up = back.cross(right);
         let box_corners: Vec<Vec3>;
         let corners: &[Vec3] = match points {
             Some(p) if !p.is_empty() => p,
             _ => {
-                box_corners = (0..8)
-            .map(|k| {
-                let pick = |bit: usize, a: usize| if k >> bit & 1 == 1 { bounds.max[a] } else { bounds.min[a] } as f32;
-                        Vec3::new(pick(0, 0), pick(1, 1), pick(2, 2))
-                    })
-                    .collect();
+                box_corners = corners_of(bounds);
                 &box_corners
             }
         };
-        let margin = 1.06;
+        let fit = Fit {
+            center,
+            radius,
+            back: dir,
+            up,
+            aspect,
+        };
         match projection {
-            Projection::Perspective { fov_deg } => {
-                let ty = ((fov_deg as f32).to_radians() * 0.5).tan();
-                let tx = ty * aspect32;
-                let dist = corners
-                    .iter()
-                    .map(|c| {
-                        c.dot(back)
-                            + (c.dot(right).abs() / tx).max(c.dot(cam_up).abs() / ty) * margin
-                    })
-                    .fold(radius * 0.1, f32::max);
-                Self::look(
-                    center + back * dist,
-                    center,
-                    up,
-                    projection,
-                    aspect,
-                    (radius, dist),
-                )
-            }
-            Projection::Orthographic => {
-                let half = corners
-                    .iter()
-                    .map(|&p| {
-                        let c = p - center;
-                        (c.dot(right).abs() / aspect32).max(c.dot(cam_up).abs())
-                    })
-                    .fold(radius * 1e-3, f32::max)
-                    * margin;
-                let dist = 3.0 * radius;
-                let mut cam = Self::look(
-                    center + back * dist,
-                    center,
-                    up,
-                    projection,
-                    aspect,
-                    (radius, dist),
-                );
-                cam.proj = Mat4::orthographic_rh_gl(
-                    -half * aspect32,
-                    half * aspect32,
-                    -half,
-                    half,
-                    dist - 2.0 * radius,
-                    dist + 2.0 * radius,
-                );
-                cam
-            }
+            Projection::Perspective { fov_deg } => fit.perspective(corners, fov_deg, projection),
+            Projection::Orthographic => fit.orthographic(corners, projection),
         }
+    }
+
+    /// A camera at `eye` looking at `target` (z up unless looking along z).
+    fn explicit(
+        eye: [f64; 3],
+        target: [f64; 3],
+        center: Vec3,
+        radius: f32,
+        projection: Projection,
+        aspect: f64,
+    ) -> Camera {
+        let e = Vec3::new(eye[0] as f32, eye[1] as f32, eye[2] as f32);
+        let t = Vec3::new(target[0] as f32, target[1] as f32, target[2] as f32);
+        let d = (e - t).normalize_or(Vec3::Z);
+        let up = if d.cross(Vec3::Z).length() < 1e-4 {
+            Vec3::Y
+        } else {
+            Vec3::Z
+        };
+        Self::look(
+            e,
+            t,
+            up,
+            projection,
+            aspect,
+            (radius, (e - center).length()),
+        )
     }
 
     fn look(
@@ -209,5 +173,94 @@ impl Camera {
             forward: (target - eye).normalize(),
             orthographic,
         }
+    }
+}
+
+/// The eight corners of `bounds`.
+fn corners_of(bounds: &Aabb) -> Vec<Vec3> {
+    (0..8)
+        .map(|k| {
+            let pick = |bit: usize, a: usize| {
+                if k >> bit & 1 == 1 {
+                    bounds.max[a]
+                } else {
+                    bounds.min[a]
+                }
+            } as f32;
+            Vec3::new(pick(0, 0), pick(1, 1), pick(2, 2))
+        })
+        .collect()
+}
+
+/// Framing points from direction `back` (towards the camera) with `up`.
+struct Fit {
+    center: Vec3,
+    radius: f32,
+    back: Vec3,
+    up: Vec3,
+    aspect: f64,
+}
+
+/// Margin around the fitted points.
+const MARGIN: f32 = 1.06;
+
+impl Fit {
+    /// The camera's right and up axes.
+    fn axes(&self) -> (Vec3, Vec3) {
+        let right = self.up.cross(self.back).normalize();
+        (right, self.back.cross(right))
+    }
+
+    /// The nearest perspective camera that sees every corner.
+    fn perspective(&self, corners: &[Vec3], fov_deg: f64, projection: Projection) -> Camera {
+        let (right, cam_up) = self.axes();
+        let ty = ((fov_deg as f32).to_radians() * 0.5).tan();
+        let tx = ty * self.aspect as f32;
+        let dist = corners
+            .iter()
+            .map(|c| {
+                c.dot(self.back) + (c.dot(right).abs() / tx).max(c.dot(cam_up).abs() / ty) * MARGIN
+            })
+            .fold(self.radius * 0.1, f32::max);
+        Camera::look(
+            self.center + self.back * dist,
+            self.center,
+            self.up,
+            projection,
+            self.aspect,
+            (self.radius, dist),
+        )
+    }
+
+    /// The smallest orthographic view that holds every corner.
+    fn orthographic(&self, corners: &[Vec3], projection: Projection) -> Camera {
+        let (right, cam_up) = self.axes();
+        let (aspect32, radius) = (self.aspect as f32, self.radius);
+        let half = corners
+            .iter()
+            .map(|&p| {
+                let c = p - self.center;
+                (c.dot(right).abs() / aspect32).max(c.dot(cam_up).abs())
+            })
+            .fold(radius * 1e-3, f32::max)
+            * MARGIN;
+        let dist = 3.0 * radius;
+        let mut cam = Camera::look(
+            self.center + self.back * dist,
+            self.center,
+            self.up,
+            projection,
+            self.aspect,
+            (radius, dist),
+        );
+        cam.proj = Mat4::orthographic_rh_gl(
+            -half * aspect32,
+            half * aspect32,
+            -half,
+            half,
+            dist - 2.0 * radius,
+            dist + 2.0 * radius,
+        );
+        cam
     }
 }

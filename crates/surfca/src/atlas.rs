@@ -14,18 +14,17 @@ use asperity_core::{CoreError, MemoryBudget, RgbaImage, TriMesh};
 
 use crate::cells::Cells;
 
-/// The mesh with one chart per triangle and the atlas as its texture.
-///
-/// # Errors
-/// [`CoreError::MemoryLimit`] when the atlas exceeds `budget`; mesh errors.
-pub fn atlas_mesh(
-    mesh: &TriMesh,
-    cells: &Cells,
-    color: impl Fn(usize) -> [u8; 4],
-    budget: &MemoryBudget,
-) -> Result<TriMesh, CoreError> {
+/// Where each triangle's chart sits in the atlas (top-left corner, with its
+/// one-pixel border), and the atlas' width and height.
+struct Layout {
+    offset: Vec<(usize, usize)>,
+    width: usize,
+    height: usize,
+}
+
+/// Shelf packing of the charts, tallest first.
+fn layout(cells: &Cells) -> Layout {
     let grids = &cells.grids;
-    // Shelf packing, tallest first.
     let mut order: Vec<usize> = (0..grids.len()).collect();
     order.sort_by_key(|&t| (std::cmp::Reverse(grids[t].ny), t));
     let area: usize = grids.iter().map(|g| (g.nx + 2) * (g.ny + 2)).sum();
@@ -44,60 +43,88 @@ pub fn atlas_mesh(
         x += w;
         shelf = shelf.max(h);
     }
-    let height = y + shelf;
-    budget.check_elements((width * height) as u128, 4 + 4, "the texture atlas")?;
-    let (w32, h32) = (width as u32, height as u32);
-    let mut img = RgbaImage::filled(w32, h32, [0, 0, 0, 0]);
-    // Cells, then fill each chart's empty pixels from its nearest cell (BFS).
-    let mut filled = vec![false; width * height];
+    Layout {
+        offset,
+        width,
+        height: y + shelf,
+    }
+}
+
+/// Fills the empty pixels of chart `t` (OUT-CELLs and the border) from its
+/// nearest cell, breadth first, so filtering does not bleed other charts in.
+fn fill_chart(img: &mut RgbaImage, filled: &mut [bool], at: &Layout, cells: &Cells, t: usize) {
+    let g = &cells.grids[t];
+    let (ox, oy) = at.offset[t];
+    let (w, h) = (g.nx + 2, g.ny + 2);
+    let mut frontier: Vec<(usize, usize)> = (0..h)
+        .flat_map(|yy| (0..w).map(move |xx| (ox + xx, oy + yy)))
+        .filter(|&(px, py)| filled[py * at.width + px])
+        .collect();
+    while !frontier.is_empty() {
+        let mut next = Vec::new();
+        for &(px, py) in &frontier {
+            let col = img.get(px as u32, py as u32);
+            for (dx, dy) in [
+                (1i64, 0i64),
+                (-1, 0),
+                (0, 1),
+                (0, -1),
+                (1, 1),
+                (-1, -1),
+                (1, -1),
+                (-1, 1),
+            ] {
+                let (qx, qy) = (px as i64 + dx, py as i64 + dy);
+                if qx < ox as i64
+                    || qy < oy as i64
+                    || qx >= (ox + w) as i64
+                    || qy >= (oy + h) as i64
+                {
+                    continue;
+                }
+                let k = qy as usize * at.width + qx as usize;
+                if !filled[k] {
+                    filled[k] = true;
+                    img.put(qx as u32, qy as u32, col);
+                    next.push((qx as usize, qy as usize));
+                }
+            }
+        }
+        frontier = next;
+    }
+}
+
+/// The atlas image: one pixel per cell in its chart, empty pixels filled.
+fn atlas_image(cells: &Cells, at: &Layout, color: impl Fn(usize) -> [u8; 4]) -> RgbaImage {
+    let mut img = RgbaImage::filled(at.width as u32, at.height as u32, [0, 0, 0, 0]);
+    let mut filled = vec![false; at.width * at.height];
     for c in 0..cells.len() {
-        let t = cells.triangle[c] as usize;
-        let (ox, oy) = offset[t];
+        let (ox, oy) = at.offset[cells.triangle[c] as usize];
         let [i, j] = cells.ij[c];
         let (px, py) = (ox + 1 + i as usize, oy + 1 + j as usize);
         img.put(px as u32, py as u32, color(c));
-        filled[py * width + px] = true;
+        filled[py * at.width + px] = true;
     }
-    for (t, g) in grids.iter().enumerate() {
-        let (ox, oy) = offset[t];
-        let (w, h) = (g.nx + 2, g.ny + 2);
-        let mut frontier: Vec<(usize, usize)> = (0..h)
-            .flat_map(|yy| (0..w).map(move |xx| (ox + xx, oy + yy)))
-            .filter(|&(px, py)| filled[py * width + px])
-            .collect();
-        while !frontier.is_empty() {
-            let mut next = Vec::new();
-            for &(px, py) in &frontier {
-                let col = img.get(px as u32, py as u32);
-                for (dx, dy) in [
-                    (1i64, 0i64),
-                    (-1, 0),
-                    (0, 1),
-                    (0, -1),
-                    (1, 1),
-                    (-1, -1),
-                    (1, -1),
-                    (-1, 1),
-                ] {
-                    let (qx, qy) = (px as i64 + dx, py as i64 + dy);
-                    if qx < ox as i64
-                        || qy < oy as i64
-                        || qx >= (ox + w) as i64
-                        || qy >= (oy + h) as i64
-                    {
-                        continue;
-                    }
-                    let k = qy as usize * width + qx as usize;
-                    if !filled[k] {
-                        filled[k] = true;
-                        img.put(qx as u32, qy as u32, col);
-                        next.push((qx as usize, qy as usize));
-                    }
-                }
-            }
-            frontier = next;
-        }
+    for t in 0..cells.grids.len() {
+        fill_chart(&mut img, &mut filled, at, cells, t);
     }
+    img
+}
+
+/// The mesh with one chart per triangle and the atlas as its texture.
+///
+/// # Errors
+/// [`CoreError::MemoryLimit`] when the atlas exceeds `budget`; mesh errors.
+pub fn atlas_mesh(
+    mesh: &TriMesh,
+    cells: &Cells,
+    color: impl Fn(usize) -> [u8; 4],
+    budget: &MemoryBudget,
+) -> Result<TriMesh, CoreError> {
+    let at = layout(cells);
+    let (width, height) = (at.width, at.height);
+    budget.check_elements((width * height) as u128, 4 + 4, "the texture atlas")?;
+    let img = atlas_image(cells, &at, color);
     // Split the mesh: three corners per triangle with their chart UVs.
     let pos = mesh.positions();
     let normals = mesh.vertex_normals();
@@ -106,8 +133,8 @@ pub fn atlas_mesh(
     let mut uv = Vec::with_capacity(3 * mesh.n_faces());
     let mut tris = Vec::with_capacity(mesh.n_faces());
     for (t, tri) in mesh.triangles().iter().enumerate() {
-        let g = &grids[t];
-        let (ox, oy) = offset[t];
+        let g = &cells.grids[t];
+        let (ox, oy) = at.offset[t];
         for (k, &v) in tri.iter().enumerate() {
             let l = g.local[k];
             let px = ox as f64 + 1.0 + (l[0] - g.x0) / cells.h;

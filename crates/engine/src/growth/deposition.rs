@@ -153,24 +153,41 @@ pub fn deposit(
     })
 }
 
+/// The dynamic exponent z = α/β of `model` in `dim` dimensions (EW 2, KPZ
+/// 1.5 in 1+1D and ≈ 1.62 in 2+1D): saturation takes about L^z monolayers.
+fn dynamic_exponent(model: Model, dim: usize) -> f64 {
+    match (model, dim) {
+        (Model::Bd, 1) => 1.5,
+        (Model::Bd, _) => 1.62,
+        _ => 2.0,
+    }
+}
+
+/// W² averaged over the last three quarters of run `r` to 2·L^z monolayers.
+fn saturated_w2(model: Model, lat: Lattice, z: f64, seed: u64, r: u64) -> f64 {
+    let layers = (2.0 * (lat.length as f64).powf(z)).ceil();
+    let p = DepositionParams::new(model, lat, layers);
+    let n = lat.columns() as u64;
+    let total = p.depositions();
+    let sched = uniform_schedule(total / 4 / n * n, total, 64);
+    let d = deposit_on_schedule(&p, seed, 1000 + r, &sched, &NoProgress);
+    d.series.w2.iter().sum::<f64>() / d.series.w2.len() as f64
+}
+
 /// Saturated widths for several sizes: each run to 2·L^z monolayers and W²
 /// averaged over the last three quarters, over the job's runs.
 fn alpha_study(job: &DepositionJob, sizes: &[usize], seed: u64) -> Result<AlphaStudy> {
-    let (model, dim, runs) = (job.model, job.dim, job.runs);
+    let (model, runs) = (job.model, job.runs);
     ensure(model != Model::Rd, || {
         "random deposition never saturates: α is undefined for rd".into()
     })?;
     ensure(sizes.len() >= 3, || {
         "--alpha-sizes needs at least 3 sizes".into()
     })?;
-    let z = match (model, dim) {
-        (Model::Bd, 1) => 1.5,
-        (Model::Bd, _) => 1.62,
-        _ => 2.0,
-    };
+    let z = dynamic_exponent(model, job.dim);
     let lattices = sizes
         .iter()
-        .map(|&l| Lattice::new(l, dim))
+        .map(|&l| Lattice::new(l, job.dim))
         .collect::<Result<Vec<_>, _>>()?;
     let jobs: Vec<(Lattice, u64)> = lattices
         .iter()
@@ -178,15 +195,7 @@ fn alpha_study(job: &DepositionJob, sizes: &[usize], seed: u64) -> Result<AlphaS
         .collect();
     let w2: Vec<f64> = jobs
         .par_iter()
-        .map(|&(lat, r)| {
-            let layers = (2.0 * (lat.length as f64).powf(z)).ceil();
-            let p = DepositionParams::new(model, lat, layers);
-            let n = lat.columns() as u64;
-            let total = p.depositions();
-            let sched = uniform_schedule(total / 4 / n * n, total, 64);
-            let d = deposit_on_schedule(&p, seed, 1000 + r, &sched, &NoProgress);
-            d.series.w2.iter().sum::<f64>() / d.series.w2.len() as f64
-        })
+        .map(|&(lat, r)| saturated_w2(model, lat, z, seed, r))
         .collect();
     let saturated_width: Vec<f64> = (0..sizes.len())
         .map(|k| (w2[k * runs..(k + 1) * runs].iter().sum::<f64>() / runs as f64).sqrt())
