@@ -15,6 +15,11 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// `asperity ARGS` in `dir` fails cleanly with `needle` in its message.
+fn fails(dir: &Path, args: &[&str], needle: &str) {
+    assert_clean_failure(&asperity(args, dir), needle);
+}
+
 /// A failure: exit code 2, one `error:` line with the cause, never a panic.
 fn assert_clean_failure(o: &Output, needle: &str) {
     let e = stderr(o);
@@ -55,41 +60,40 @@ fn help_and_version() {
 #[test]
 fn bad_arguments_are_clear_errors() {
     let d = tempfile::tempdir().unwrap();
-    assert_clean_failure(
-        &asperity(&["formats", "--frobnicate"], d.path()),
+    fails(
+        d.path(),
+        &["formats", "--frobnicate"],
         "unexpected argument '--frobnicate'",
     );
-    assert_clean_failure(
-        &asperity(&["--seed", "abc", "formats"], d.path()),
+    fails(
+        d.path(),
+        &["--seed", "abc", "formats"],
         "invalid value 'abc'",
     );
-    assert_clean_failure(
-        &asperity(&["--threads", "0", "formats"], d.path()),
+    fails(
+        d.path(),
+        &["--threads", "0", "formats"],
         "invalid value '0'",
     );
-    assert_clean_failure(
-        &asperity(&["--max-memory", "lots", "formats"], d.path()),
-        "not a size",
-    );
-    assert_clean_failure(
-        &asperity(&["convert", "missing.ply", "out.obj"], d.path()),
+    fails(d.path(), &["--max-memory", "lots", "formats"], "not a size");
+    fails(
+        d.path(),
+        &["convert", "missing.ply", "out.obj"],
         "error: missing.ply: No such file or directory",
     );
-    assert_clean_failure(&asperity(&["convert", "a.ply"], d.path()), "no output file");
+    fails(d.path(), &["convert", "a.ply"], "no output file");
 }
 
 #[test]
 fn malformed_inputs_through_the_cli() {
     let d = tempfile::tempdir().unwrap();
     std::fs::write(d.path().join("t.ply"), b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n").unwrap();
-    assert_clean_failure(
-        &asperity(&["convert", "t.ply", "t.obj"], d.path()),
-        "truncated",
-    );
+    fails(d.path(), &["convert", "t.ply", "t.obj"], "truncated");
     assert!(!d.path().join("t.obj").exists());
     std::fs::write(d.path().join("n.csv"), b"1,2\nnan,4\n").unwrap();
-    assert_clean_failure(
-        &asperity(&["convert", "n.csv", "n.npy"], d.path()),
+    fails(
+        d.path(),
+        &["convert", "n.csv", "n.npy"],
         "height 2 is not finite",
     );
     std::fs::write(
@@ -97,9 +101,9 @@ fn malformed_inputs_through_the_cli() {
         b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 5\n",
     )
     .unwrap();
-    assert_clean_failure(&asperity(&["info", "b.obj"], d.path()), "out of bounds");
+    fails(d.path(), &["info", "b.obj"], "out of bounds");
     std::fs::write(d.path().join("e.ply"), b"").unwrap();
-    assert_clean_failure(&asperity(&["info", "e.ply"], d.path()), "magic");
+    fails(d.path(), &["info", "e.ply"], "magic");
 }
 
 #[test]
@@ -139,8 +143,9 @@ fn convert_height_fields_and_meshes() {
     // A point set cannot become a height field without a method.
     let o = asperity(&["convert", "h.csv", "p.xyz"], d.path());
     assert!(o.status.success());
-    assert_clean_failure(
-        &asperity(&["convert", "p.xyz", "p.gsf"], d.path()),
+    fails(
+        d.path(),
+        &["convert", "p.xyz", "p.gsf"],
         "cannot hold a point set",
     );
 }
@@ -162,8 +167,9 @@ fn memory_limit_refuses_with_the_estimate() {
         "but the memory limit is 16.00 KiB (raise it with --max-memory)",
     );
     std::fs::write(d.path().join("big.xyz"), "1 2 3\n".repeat(1000)).unwrap();
-    assert_clean_failure(
-        &asperity(&["--max-memory", "1K", "info", "big.xyz"], d.path()),
+    fails(
+        d.path(),
+        &["--max-memory", "1K", "info", "big.xyz"],
         "reading big.xyz would need",
     );
 }
@@ -328,37 +334,26 @@ fn render_command() {
     for k in 0..3 {
         assert!(d.path().join(format!("t_{k:03}.png")).exists());
     }
-    assert_clean_failure(
-        &asperity(
-            &["render", "h.csv", "-o", "v.png", "--size", "0x10"],
-            d.path(),
-        ),
+    fails(
+        d.path(),
+        &["render", "h.csv", "-o", "v.png", "--size", "0x10"],
         "invalid",
     );
-    assert_clean_failure(
-        &asperity(
-            &["render", "h.csv", "-o", "v.png", "--size", "big"],
-            d.path(),
-        ),
+    fails(
+        d.path(),
+        &["render", "h.csv", "-o", "v.png", "--size", "big"],
         "WIDTHxHEIGHT",
     );
-    assert_clean_failure(
-        &asperity(&["render", "h.csv", "-o", "v.jpg"], d.path()),
-        "PNG",
-    );
-    assert_clean_failure(
-        &asperity(
-            &["render", "h.csv", "-o", "v.png", "--shader", "texture"],
-            d.path(),
-        ),
+    fails(d.path(), &["render", "h.csv", "-o", "v.jpg"], "PNG");
+    fails(
+        d.path(),
+        &["render", "h.csv", "-o", "v.png", "--shader", "texture"],
         "UVs and a texture",
     );
     std::fs::write(d.path().join("p.xyz"), "0 0 0\n1 0 0\n0 1 1\n").unwrap();
-    assert_clean_failure(
-        &asperity(
-            &["render", "p.xyz", "-o", "v.png", "--view", "map"],
-            d.path(),
-        ),
+    fails(
+        d.path(),
+        &["render", "p.xyz", "-o", "v.png", "--view", "map"],
         "need a height field",
     );
     let o = asperity(
@@ -382,8 +377,9 @@ fn bench_runs_every_workload() {
             .all(|x| x["median_s"].as_f64().unwrap() > 0.0
                 && x["per_second"].as_f64().unwrap() > 0.0)
     );
-    assert_clean_failure(
-        &asperity(&["bench", "--quick", "nothing-matches"], d.path()),
+    fails(
+        d.path(),
+        &["bench", "--quick", "nothing-matches"],
         "no workload matches",
     );
 }
@@ -502,76 +498,63 @@ fn ca_commands() {
         [128, 96]
     );
     // Bad input.
-    assert_clean_failure(
-        &asperity(
-            &["ca", "run", "--rule", "1024", "--steps", "5", "-o", "x.npy"],
-            d.path(),
-        ),
+    fails(
+        d.path(),
+        &["ca", "run", "--rule", "1024", "--steps", "5", "-o", "x.npy"],
         "out of range",
     );
-    assert_clean_failure(
-        &asperity(
-            &["ca", "run", "--rule", "450", "--steps", "0", "-o", "x.npy"],
-            d.path(),
-        ),
+    fails(
+        d.path(),
+        &["ca", "run", "--rule", "450", "--steps", "0", "-o", "x.npy"],
         "at least 1",
     );
-    assert_clean_failure(
-        &asperity(
-            &[
-                "ca",
-                "run",
-                "--rule",
-                "450",
-                "--steps",
-                "3",
-                "--size",
-                "0x5",
-                "--init",
-                "random:0.5",
-                "-o",
-                "x.npy",
-            ],
-            d.path(),
-        ),
+    fails(
+        d.path(),
+        &[
+            "ca",
+            "run",
+            "--rule",
+            "450",
+            "--steps",
+            "3",
+            "--size",
+            "0x5",
+            "--init",
+            "random:0.5",
+            "-o",
+            "x.npy",
+        ],
         "zero side",
     );
-    assert_clean_failure(
-        &asperity(
-            &[
-                "ca",
-                "run",
-                "--rule",
-                "450",
-                "--steps",
-                "3",
-                "--init",
-                "missing.npy",
-                "-o",
-                "x.npy",
-            ],
-            d.path(),
-        ),
+    fails(
+        d.path(),
+        &[
+            "ca",
+            "run",
+            "--rule",
+            "450",
+            "--steps",
+            "3",
+            "--init",
+            "missing.npy",
+            "-o",
+            "x.npy",
+        ],
         "missing.npy",
     );
-    assert_clean_failure(
-        &asperity(
-            &[
-                "ca", "run", "--rule", "300000", "--family", "outer9", "--steps", "3", "-o",
-                "x.npy",
-            ],
-            d.path(),
-        ),
+    fails(
+        d.path(),
+        &[
+            "ca", "run", "--rule", "300000", "--family", "outer9", "--steps", "3", "-o", "x.npy",
+        ],
         "out of range",
     );
-    assert_clean_failure(
-        &asperity(
-            &[
-                "ca", "run", "--rule", "450", "--steps", "3", "--init", "random:2", "--size",
-                "8x8", "-o", "x.npy",
-            ],
-            d.path(),
-        ),
+    fails(
+        d.path(),
+        &[
+            "ca", "run", "--rule", "450", "--steps", "3", "--init", "random:2", "--size", "8x8",
+            "-o", "x.npy",
+        ],
         "density",
     );
     assert!(!d.path().join("x.npy").exists());
@@ -676,20 +659,20 @@ fn analyze_and_generate() {
         "1,1,1,1\n1,1,1,1\n1,1,1,1\n1,1,1,1\n",
     )
     .unwrap();
-    assert_clean_failure(&asperity(&["analyze", "flat.csv"], d.path()), "constant");
-    assert_clean_failure(
-        &asperity(&["analyze", "f.npy", "--fit-window", "5,1"], d.path()),
+    fails(d.path(), &["analyze", "flat.csv"], "constant");
+    fails(
+        d.path(),
+        &["analyze", "f.npy", "--fit-window", "5,1"],
         "QMIN,QMAX",
     );
-    assert_clean_failure(
-        &asperity(&["analyze", "f.npy", "--fit-window", "1e6,2e6"], d.path()),
+    fails(
+        d.path(),
+        &["analyze", "f.npy", "--fit-window", "1e6,2e6"],
         "fit window",
     );
-    assert_clean_failure(
-        &asperity(
-            &["generate", "fbm", "--hurst", "1.5", "-o", "x.npy"],
-            d.path(),
-        ),
+    fails(
+        d.path(),
+        &["generate", "fbm", "--hurst", "1.5", "-o", "x.npy"],
         "Hurst",
     );
 }

@@ -248,6 +248,27 @@ pub fn torus(big: f64, small: f64, nu: usize, nv: usize) -> TriMesh {
     torus_quads(big, small, nu, nv).triangulate()
 }
 
+/// An open grid of (n − 1)² quads on n × n vertices: vertex i + n·j at
+/// (i, j, z(i, j)) in index units, quads counter-clockwise seen from +z (a
+/// height-field patch, e.g. for checking subdivision against B-splines).
+pub fn grid_quads(n: usize, z: impl Fn(usize, usize) -> f64) -> PolyMesh {
+    let n = n.max(2);
+    let pos = (0..n * n)
+        .map(|k| {
+            let (i, j) = (k % n, k / n);
+            [i as f64, j as f64, z(i, j)]
+        })
+        .collect();
+    let mut faces = Vec::with_capacity((n - 1) * (n - 1));
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let v = (j * n + i) as u32;
+            faces.push([v, v + 1, v + n as u32 + 1, v + n as u32]);
+        }
+    }
+    PolyMesh::new(pos, &faces).expect("valid grid")
+}
+
 #[cfg(test)]
 mod tests {
 

@@ -467,22 +467,13 @@ mod tests {
         ]
     }
 
+    /// A bumpy n × n grid whose x, y are the B-spline parameters.
     fn grid(n: usize) -> (PolyMesh, Vec<[f64; 3]>) {
-        let mut pos = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                let z = ((i * 7 + j * 3) % 5) as f64 * 0.3 - 0.2 * (i as f64 - j as f64).abs();
-                pos.push([i as f64, j as f64, z]);
-            }
-        }
-        let mut faces = Vec::new();
-        for j in 0..n - 1 {
-            for i in 0..n - 1 {
-                let v = (j * n + i) as u32;
-                faces.push([v, v + 1, v + n as u32 + 1, v + n as u32]);
-            }
-        }
-        (PolyMesh::new(pos.clone(), &faces).unwrap(), pos)
+        let m = asperity_core::shapes::grid_quads(n, |i, j| {
+            ((i * 7 + j * 3) % 5) as f64 * 0.3 - 0.2 * (i as f64 - j as f64).abs()
+        });
+        let pos = m.positions().to_vec();
+        (m, pos)
     }
 
     /// The bicubic B-spline surface of the grid at (u, v) in index units.

@@ -82,21 +82,11 @@ fn basis(t: f64) -> ([f64; 4], [f64; 4]) {
 fn limit_normals_equal_the_bspline_normal_and_the_cube_symmetry() {
     // A bumpy 8×8 grid whose x, y are the B-spline parameters.
     let n = 8;
-    let mut pos = Vec::new();
-    for j in 0..n {
-        for i in 0..n {
-            let z = ((i * 7 + j * 3) % 5) as f64 * 0.3 - 0.2 * (i as f64 - j as f64).abs();
-            pos.push([i as f64, j as f64, z]);
-        }
-    }
-    let mut faces = Vec::new();
-    for j in 0..n - 1 {
-        for i in 0..n - 1 {
-            let v = (j * n + i) as u32;
-            faces.push([v, v + 1, v + n as u32 + 1, v + n as u32]);
-        }
-    }
-    let grid = smooth(PolyMesh::new(pos.clone(), &faces).unwrap());
+    let mesh = asperity_core::shapes::grid_quads(n, |i, j| {
+        ((i * 7 + j * 3) % 5) as f64 * 0.3 - 0.2 * (i as f64 - j as f64).abs()
+    });
+    let pos = mesh.positions().to_vec();
+    let grid = smooth(mesh);
     let l2 = subdivide(
         &subdivide(&grid, Boundary::EdgeOnly).unwrap(),
         Boundary::EdgeOnly,

@@ -8,6 +8,19 @@ use asperity_surfca::cells::{CellSize, build};
 use asperity_surfca::engine::{CellRng, Rule, RunOptions, View, run};
 use asperity_surfca::voronoi::{UNLABELLED, VoronoiRule, voronoi};
 
+/// The surface Voronoi diagram of `sites` with the paper's diagonal probability.
+fn paper_voronoi(
+    cells: &asperity_surfca::Cells,
+    sites: &[usize],
+    seed: u64,
+    max_steps: u64,
+) -> (Vec<u32>, asperity_surfca::engine::RunStats) {
+    let rule = VoronoiRule {
+        diagonal_p: asperity_surfca::voronoi::PAPER_P,
+    };
+    voronoi(cells, sites, &rule, seed, max_steps, |_, _| true)
+}
+
 fn unlimited() -> MemoryBudget {
     MemoryBudget::unlimited()
 }
@@ -70,16 +83,7 @@ fn disc_on(mesh: &TriMesh, seed_at: [f64; 3], steps: u64) -> (f64, f64, Cells) {
     let cells = build(mesh, CellSize::Size(1.0), &unlimited()).unwrap();
     let site = asperity_surfca::voronoi::sites_at(&cells, &[seed_at]);
     let centre = cells.centre[site[0]];
-    let (labels, _) = voronoi(
-        &cells,
-        &site,
-        &VoronoiRule {
-            diagonal_p: asperity_surfca::voronoi::PAPER_P,
-        },
-        5,
-        steps,
-        |_, _| true,
-    );
+    let (labels, _) = paper_voronoi(&cells, &site, 5, steps);
     let r = steps as f64;
     let (mut area, mut inside, mut inside_hit) = (0.0, 0.0, 0.0);
     for c in 0..cells.len() {
@@ -160,16 +164,7 @@ fn sphere_voronoi_agrees_with_exact_spherical_distance() {
     let cells = build(&mesh, CellSize::Count(40_000), &unlimited()).unwrap();
     assert!((cells.total_area - mesh.area()).abs() < 1e-9 * mesh.area());
     let sites = asperity_surfca::voronoi::random_sites(&cells, 12, 3);
-    let (labels, stats) = voronoi(
-        &cells,
-        &sites,
-        &VoronoiRule {
-            diagonal_p: asperity_surfca::voronoi::PAPER_P,
-        },
-        3,
-        10_000,
-        |_, _| true,
-    );
+    let (labels, stats) = paper_voronoi(&cells, &sites, 3, 10_000);
     assert!(stats.stable);
     assert!(
         labels.iter().all(|&l| l != UNLABELLED),
@@ -436,16 +431,7 @@ fn torus_voronoi_agrees_with_geodesic_distances_on_a_fine_mesh() {
     assert!(mesh.is_watertight() && mesh.signed_volume() > 0.0);
     let cells = build(&mesh, CellSize::Count(30_000), &unlimited()).unwrap();
     let sites = asperity_surfca::voronoi::random_sites(&cells, 8, 5);
-    let (labels, stats) = voronoi(
-        &cells,
-        &sites,
-        &VoronoiRule {
-            diagonal_p: asperity_surfca::voronoi::PAPER_P,
-        },
-        5,
-        10_000,
-        |_, _| true,
-    );
+    let (labels, stats) = paper_voronoi(&cells, &sites, 5, 10_000);
     assert!(stats.stable && labels.iter().all(|&l| l != UNLABELLED));
     // Reference: multi-source Dijkstra on a fine parametric grid of the smooth
     // torus with 16 neighbours per node (axis, diagonal and knight moves: path
