@@ -16,7 +16,7 @@
 //! bit plane per binary digit of the count, 64 cells per word), so accumulation
 //! costs a few word operations per 64 cells and step instead of 64 additions.
 //!
-//! [peridier]: ../shared/papers/peridier_ca-rough-surfaces-facet-visualization.txt
+//! [peridier]: https://www.mathematica-journal.com/2011/07/facetsurface-representation/ "Peridier: Rough-Surface Simulation and the Visualization of Nonsmooth Arrays of Data. The Mathematica Journal, 2011"
 
 use asperity_core::{Grid2, HeightField, MemoryBudget, NoProgress, Progress, seeded};
 use rand::Rng;

@@ -25,7 +25,7 @@
 //!   planes. Rows are split over threads in fixed blocks, so the output does not
 //!   depend on the thread count.
 //!
-//! [peridier]: ../shared/papers/peridier_ca-rough-surfaces-facet-visualization.txt
+//! [peridier]: https://www.mathematica-journal.com/2011/07/facetsurface-representation/ "Peridier: Rough-Surface Simulation and the Visualization of Nonsmooth Arrays of Data. The Mathematica Journal, 2011"
 
 use rayon::prelude::*;
 

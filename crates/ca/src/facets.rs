@@ -19,7 +19,7 @@
 //!
 //! This is exactly the facet set of `HeightField::to_trimesh(Diagonal::Alternating)`.
 //!
-//! [peridier]: ../shared/papers/peridier_ca-rough-surfaces-facet-visualization.txt
+//! [peridier]: https://www.mathematica-journal.com/2011/07/facetsurface-representation/ "Peridier: Rough-Surface Simulation and the Visualization of Nonsmooth Arrays of Data. The Mathematica Journal, 2011"
 
 use asperity_core::{Diagonal, HeightField, TriMesh};
 use rayon::prelude::*;

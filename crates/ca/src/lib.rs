@@ -7,7 +7,7 @@
 //! | [`mod@accumulate`] | sum of the steps into a height field, weights, initial grids | Figures 1, 3, 4 |
 //! | [`facets`] | alternating-diagonal facets and the consistent triangulated interpolation | Figures 7, 8, 9 |
 //!
-//! [peridier]: ../shared/papers/peridier_ca-rough-surfaces-facet-visualization.txt
+//! [peridier]: https://www.mathematica-journal.com/2011/07/facetsurface-representation/ "Peridier: Rough-Surface Simulation and the Visualization of Nonsmooth Arrays of Data. The Mathematica Journal, 2011"
 
 pub mod accumulate;
 pub mod evolve;

@@ -25,7 +25,7 @@
 //! None for the numbering; codes are parsed as `u128`, which bounds k-colour
 //! totalistic rules at k ≤ 6 (9-neighbour) and k ≤ 12 (5-neighbour).
 //!
-//! [peridier]: ../shared/papers/peridier_ca-rough-surfaces-facet-visualization.txt
+//! [peridier]: https://www.mathematica-journal.com/2011/07/facetsurface-representation/ "Peridier: Rough-Surface Simulation and the Visualization of Nonsmooth Arrays of Data. The Mathematica Journal, 2011"
 
 use crate::CaError;
 

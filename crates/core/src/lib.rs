@@ -31,9 +31,23 @@
 //! - **Randomness**: a `u64` seed everywhere, never the OS; see [`rng`] for how
 //!   parallel code derives sub-streams so output does not depend on thread count.
 //!
-//! The five papers asperity implements are cited by the author part of their file
-//! names in `../shared/papers/`: kim-machiraju-thompson, peridier, velho-perlin,
-//! poull-gentil and gobron-chiba.
+//! The five papers asperity implements are cited in module docs by a short key:
+//!
+//! - **kim-machiraju-thompson** — Y. Kim, R. Machiraju, D. Thompson, "Modeling Rough
+//!   Surfaces", in G. Brunnett, B. Hamann, H. Müller, L. Linsen (eds.), *Geometric
+//!   Modeling for Scientific Visualization*, Springer 2004, pp. 123–138,
+//!   <https://doi.org/10.1007/978-3-662-07443-5>.
+//! - **peridier** — V. J. Peridier, "Rough-Surface Simulation and the Visualization of
+//!   Nonsmooth Arrays of Data", *The Mathematica Journal*, 2011,
+//!   <https://www.mathematica-journal.com/2011/07/facetsurface-representation/>.
+//! - **velho-perlin** — L. Velho, K. Perlin, L. Ying, H. Biermann, "Procedural Shape
+//!   Synthesis on Subdivision Surfaces", SIBGRAPI 2001, <https://lvelho.impa.br/spd/>.
+//! - **poull-gentil** — C. Poull, C. Gentil, C. Roudet, L. Druoton, M. Roy,
+//!   "Differential properties of rough fractal surfaces", JFIG 2024, Strasbourg,
+//!   <https://hal.science/hal-04790610>.
+//! - **gobron-chiba** — S. Gobron, N. Chiba, "3D Surface Cellular Automata and Their
+//!   Applications", *The Journal of Visualization and Computer Animation* 10(3):143–158,
+//!   1999, <https://infoscience.epfl.ch/record/162175>.
 
 pub mod aabb;
 pub mod error;

@@ -6,7 +6,7 @@
 //! The models live in [`crate::random_deposition`], [`crate::rdsr`] and
 //! [`crate::ballistic`]; the driver that runs them is [`crate::deposition`].
 //!
-//! [kim-machiraju-thompson]: ../shared/papers/kim-machiraju-thompson_modeling-rough-surfaces.txt
+//! [kim-machiraju-thompson]: https://doi.org/10.1007/978-3-662-07443-5 "Kim, Machiraju, Thompson: Modeling Rough Surfaces. In Geometric Modeling for Scientific Visualization, Springer 2004, pp. 123-138"
 
 use serde::Serialize;
 

@@ -18,7 +18,7 @@
 //! a run; ensembles run in parallel, one run per task, so results do not depend
 //! on the thread count (see [`rng`]).
 //!
-//! [kim-machiraju-thompson]: ../shared/papers/kim-machiraju-thompson_modeling-rough-surfaces.txt
+//! [kim-machiraju-thompson]: https://doi.org/10.1007/978-3-662-07443-5 "Kim, Machiraju, Thompson: Modeling Rough Surfaces. In Geometric Modeling for Scientific Visualization, Springer 2004, pp. 123-138"
 
 pub mod ballistic;
 pub mod curved;

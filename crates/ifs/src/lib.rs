@@ -20,7 +20,7 @@
 //! paper and against the tests here (Bézier curvature, the bicubic patch's
 //! analytic 𝒦 and ℋ, the Takagi w = 1/√2 range [102 − 72√2, 6 − 4√2]).
 //!
-//! [poull-gentil]: ../shared/papers/poull-gentil_differential-properties-rough-fractal-surfaces.txt
+//! [poull-gentil]: https://hal.science/hal-04790610 "Poull, Gentil, Roudet, Druoton, Roy: Differential properties of rough fractal surfaces. JFIG 2024, HAL hal-04790610"
 
 pub mod curvature;
 pub mod dcf;

@@ -11,7 +11,7 @@
 //!   second-order central-difference discretisation, with κ = 0 where |∇φ| is
 //!   below 10⁻⁶ (flat or singular points, where the paper's formula divides by 0).
 //!
-//! [kim-machiraju-thompson]: ../shared/papers/kim-machiraju-thompson_modeling-rough-surfaces.txt
+//! [kim-machiraju-thompson]: https://doi.org/10.1007/978-3-662-07443-5 "Kim, Machiraju, Thompson: Modeling Rough Surfaces. In Geometric Modeling for Scientific Visualization, Springer 2004, pp. 123-138"
 
 /// Read access to φ for the scalar stencils (the curvature term and marching
 /// cubes' curvature attribute).

@@ -51,17 +51,6 @@
 //! not follow, so each pass prefetches the rows it meets first a few runs ahead.
 //! N is T dilated by merging five sorted run lists per plane.
 //!
-//! **Arrest.** With the unsigned d of Eq. 6 the continuous front approaches the data
-//! asymptotically, but on the grid it has no steady state: the nodes on both sides
-//! of the data surface keep a speed of up to h/2, so the zero level creeps through
-//! S and then accelerates inward (d grows again inside). The tests show it on a
-//! sphere. Here nodes closer than an arrest distance δ to a data point have speed 0
-//! (default δ = h/2 for a continuous surface): the front then stops about δ outside
-//! the data and stays there (measured on a sphere, at every orientation of its
-//! surface). For sampled surfaces the pipeline sets δ from the sample spacing, at
-//! least 0.6h ([`crate::ReconstructParams::point_radius`]). δ = 0 gives the paper's
-//! model exactly, whose only stop is the iteration count.
-//!
 //! Progress is measured by the front movement: the mean |Δφ| of the flow update
 //! (before redistancing) over the nodes within one cell of the front, in cells per
 //! step, summed in fixed point (2⁻¹⁶ cells); a tolerance on it ends the evolution
@@ -75,6 +64,19 @@
 //!
 //! [`Band::Full`] updates every node at every step (same physics, no tubes): the
 //! naive scheme the tubes are measured against.
+//!
+//! # Deviations from the paper
+//!
+//! **Arrest.** With the unsigned d of Eq. 6 the continuous front approaches the data
+//! asymptotically, but on the grid it has no steady state: the nodes on both sides
+//! of the data surface keep a speed of up to h/2, so the zero level creeps through
+//! S and then accelerates inward (d grows again inside). The tests show it on a
+//! sphere. Here nodes closer than an arrest distance δ to a data point have speed 0
+//! (default δ = h/2 for a continuous surface): the front then stops about δ outside
+//! the data and stays there (measured on a sphere, at every orientation of its
+//! surface). For sampled surfaces the pipeline sets δ from the sample spacing, at
+//! least 0.6h ([`crate::ReconstructParams::point_radius`]). δ = 0 gives the paper's
+//! model exactly, whose only stop is the iteration count.
 
 use asperity_core::Progress;
 use rayon::prelude::*;

@@ -31,7 +31,7 @@
 //! assert_eq!(r.mesh.euler_characteristic(), 2);
 //! ```
 //!
-//! [kim-machiraju-thompson]: ../shared/papers/kim-machiraju-thompson_modeling-rough-surfaces.txt
+//! [kim-machiraju-thompson]: https://doi.org/10.1007/978-3-662-07443-5 "Kim, Machiraju, Thompson: Modeling Rough Surfaces. In Geometric Modeling for Scientific Visualization, Springer 2004, pp. 123-138"
 
 mod curvature;
 pub mod distance;

@@ -17,7 +17,7 @@
 //! Everything runs on the CPU with rayon (no GPU, no display), and the same
 //! input and options give the same pixels at any thread count.
 //!
-//! [gobron-chiba]: ../shared/papers/gobron-chiba_3d-surface-cellular-automata.txt
+//! [gobron-chiba]: https://infoscience.epfl.ch/record/162175 "Gobron, Chiba: 3D Surface Cellular Automata and Their Applications. J. Visualization and Computer Animation 10(3):143-158, 1999"
 
 pub mod ao;
 pub mod camera;

@@ -13,6 +13,8 @@
 //!   unreadable without them.
 //! - Two-sided: a normal facing away from the eye is flipped, so open sheets and
 //!   height fields seen from below are lit like their front.
+//! - [`two_layer`] uses the sign the paper's integral gives where its printed
+//!   closed form has the opposite one (next section).
 //!
 //! # Light through two layers
 //! [`two_layer`] is the paper's closed-form colour of a cell covered by two layers
@@ -26,7 +28,7 @@
 //! would not give c = l₂ for a vanishing top layer; the integral gives "−", used
 //! here (checked against numerical integration in the tests).
 //!
-//! [gobron-chiba]: ../shared/papers/gobron-chiba_3d-surface-cellular-automata.txt
+//! [gobron-chiba]: https://infoscience.epfl.ch/record/162175 "Gobron, Chiba: 3D Surface Cellular Automata and Their Applications. J. Visualization and Computer Animation 10(3):143-158, 1999"
 
 use glam::{Mat4, Vec3};
 

@@ -25,7 +25,9 @@
 //! adding levels never changes coarser ones (stable under re-subdivision) and
 //! results do not depend on the thread count.
 //!
-//! Our readings where the paper gives no formula: the berry's child seeds are
+//! # Readings where the paper gives no formula
+//!
+//! The berry's child seeds are
 //! a Poisson-disk set of up to `children` vertices inside the parent dome with
 //! radius R·ratio; the mushroom lifts a stem along the seed's normal with a
 //! smooth radial profile and spreads a cap outward near the top, both ∝ l;

@@ -22,7 +22,7 @@
 //! | [`evaluate`] | a scene's layers, blends and captured surfaces, evaluated | §2–6 |
 //! | [`scene`] | TOML scene files with animated parameters | §3, Fig. 2 |
 //!
-//! [velho-perlin]: ../shared/papers/velho-perlin_procedural-shape-synthesis-subdivision.txt
+//! [velho-perlin]: https://lvelho.impa.br/spd/ "Velho, Perlin, Ying, Biermann: Procedural Shape Synthesis on Subdivision Surfaces. SIBGRAPI 2001"
 
 pub mod base;
 pub mod blend;

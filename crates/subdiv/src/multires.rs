@@ -23,6 +23,13 @@
 //! 2V − VP(V)); a surface that is itself a subdivision surface is recovered
 //! with near-zero details, so the coarse levels carry the shape;
 //! *interpolation* takes c = V (no fitting at all).
+//!
+//! # Deviations from the paper
+//!
+//! None in substance. §2 names quasi-interpolation as the analysis it prefers
+//! without giving one, and says only that frames "are computed from the coarser
+//! level": the Richardson iteration and the frame construction above are our
+//! readings, and interpolation is offered beside the paper's choice.
 
 use asperity_core::vec3::{cross, dot, scale, sub, unit};
 use std::cell::OnceCell;

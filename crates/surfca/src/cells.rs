@@ -24,16 +24,18 @@
 //!   crosses every vertex;
 //! - on a boundary edge there is no neighbour.
 //!
-//! Links are then made symmetric (if a sees b, b sees a), so conservative rules
-//! stay conservative: every exchange has two ends. The paper transfers edge data
-//! at the end of each step instead; the symmetric graph gives the same reach
-//! without the duplicated cells (deviation, documented).
-//!
 //! **Redundancy.** When the two grids are rotated against each other several cells
 //! map to one cell across the edge (the paper's average 1 − 2√2/π ≈ 9.9 % for
 //! random orientations). [`CellStats::pairing_redundancy`] measures it: the share
 //! of side links across edges (per source triangle and direction) that land on a
 //! cell another such link already reaches.
+//!
+//! # Deviations from the paper
+//!
+//! **Symmetric links.** Links are made symmetric (if a sees b, b sees a), so
+//! conservative rules stay conservative: every exchange has two ends. The paper
+//! transfers edge data at the end of each step instead; the symmetric graph gives
+//! the same reach without the duplicated cells.
 
 use asperity_core::vec3::{cross, dot, norm, scale, sub};
 use asperity_core::{CoreError, MemoryBudget, TriMesh};

@@ -17,10 +17,14 @@
 //! 3. **Growth of the layers**: a corroded cell loses `k1` of metal and gains `k2`
 //!    of oxide, capped at `k3`; when its metal reaches 0 it becomes non-existent.
 //!
-//! (Appendix I writes S_ot(t + Δt) = S_ot(t) − k₂ for the oxide; the text says the
-//! patina grows, and the cap k₃ only makes sense for growth: + k₂ here.)
 //! Strong cells are drawn at random (`strong_fraction`) or from a smooth
 //! value-noise field over the surface (`strong_noise_scale`).
+//!
+//! # Deviations from the paper
+//!
+//! **Oxide grows.** Appendix I writes S_ot(t + Δt) = S_ot(t) − k₂ for the oxide;
+//! the text says the patina grows, and the cap k₃ only makes sense for growth, so
+//! the oxide gains + k₂ here.
 
 use crate::cells::{Cells, is_side};
 use crate::engine::{CellRng, Rule, View};

@@ -16,7 +16,7 @@
 //! | [`reaction_diffusion`] | Gray–Scott reaction–diffusion: a third application on the same engine | (engine generality) |
 //! | [`corrosion`] | copper corrosion: strong cells, seeds, attack/defence, metal and oxide thickness | "Corrosion and Patina Generation", Appendix I |
 //!
-//! [gobron-chiba]: ../shared/papers/gobron-chiba_3d-surface-cellular-automata.txt
+//! [gobron-chiba]: https://infoscience.epfl.ch/record/162175 "Gobron, Chiba: 3D Surface Cellular Automata and Their Applications. J. Visualization and Computer Animation 10(3):143-158, 1999"
 
 pub mod atlas;
 pub mod cells;
