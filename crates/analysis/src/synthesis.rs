@@ -34,7 +34,11 @@ pub fn fbm(
 ) -> Result<HeightField, AnalysisError> {
     p.validate()?;
     let n = p.n;
-    budget.check_elements((n * n) as u128, 16 * 2 + 8, "the Fourier synthesis buffers")?;
+    budget.check_elements(
+        n as u128 * n as u128,
+        16 * 2 + 8,
+        "the Fourier synthesis buffers",
+    )?;
     let mut data = vec![Complex::new(0.0f64, 0.0); n * n];
     let mut rng = seeded(seed);
     let tau = std::f64::consts::TAU;

@@ -9,6 +9,7 @@ use asperity_engine::ca::{
     FacetJob, GalleryGrid, RunJob, facets, gallery_image, parse_init, render_with_curves, rule,
     rule_measurements, run_measurements, step_image,
 };
+use asperity_engine::files::{load_height, load_xy};
 
 use crate::cli::{
     CaCommand, CaGalleryArgs, CaRuleArgs, CaRunArgs, FacetArgs, InterpolateArgs, RuleArgs,
@@ -32,7 +33,7 @@ fn ca_run(ctx: &Context, a: &CaRunArgs) -> anyhow::Result<()> {
     let rule = rule_of(&a.rule_args, &a.rule)?;
     let k = rule.states();
     let job = RunJob {
-        init: parse_init(&a.init, k, ctx.seed)?,
+        init: parse_init(&a.init, k, ctx.seed, &ctx.budget)?,
         rule,
         steps: a.steps,
         size: a.size.map(|(w, h)| [w as usize, h as usize]),
@@ -122,7 +123,7 @@ fn ca_gallery(ctx: &Context, a: &CaGalleryArgs) -> anyhow::Result<()> {
 
 pub fn facet(ctx: &Context, a: &FacetArgs) -> anyhow::Result<()> {
     let out = ctx.output("mesh.ply")?;
-    let h = asperity_io::read_height(&a.input)?;
+    let h = load_height(&a.input, &ctx.budget)?;
     let circle = match a.circle.as_deref() {
         None => None,
         Some([x, y, r]) => Some([*x, *y, *r]),
@@ -135,7 +136,7 @@ pub fn facet(ctx: &Context, a: &FacetArgs) -> anyhow::Result<()> {
         polyline: a
             .polyline
             .as_deref()
-            .map(asperity_io::read_xy)
+            .map(|p| load_xy(p, &ctx.budget))
             .transpose()?,
     };
     let (mesh, curves) = facets(&h, &job)?;
@@ -161,8 +162,8 @@ pub fn facet(ctx: &Context, a: &FacetArgs) -> anyhow::Result<()> {
 }
 
 pub fn interpolate(ctx: &Context, a: &InterpolateArgs) -> anyhow::Result<()> {
-    let h = asperity_io::read_height(&a.input)?;
-    let pts = asperity_io::read_xy(&a.points)?;
+    let h = load_height(&a.input, &ctx.budget)?;
+    let pts = load_xy(&a.points, &ctx.budget)?;
     let z = interpolate_many(&h, &pts);
     let outside = z.iter().filter(|v| v.is_none()).count();
     if ctx.json {

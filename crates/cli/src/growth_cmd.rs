@@ -2,7 +2,8 @@
 
 use std::path::Path;
 
-use asperity_engine::files::is_points_path;
+use asperity_core::MemoryBudget;
+use asperity_engine::files::{is_points_path, load_height, load_triangles};
 use asperity_engine::growth::curved::{self, CurvedJob, Substrate};
 use asperity_engine::growth::deposition::{self, DepositionJob, width_csv};
 use asperity_engine::growth::dla::{self, DlaJob};
@@ -89,7 +90,7 @@ fn deposit_curved(ctx: &Context, model: Model, a: &DepositArgs, out: &Path) -> a
                 .as_ref()
                 .ok_or_else(|| anyhow::anyhow!("--substrate mesh needs --mesh FILE"))?;
             Substrate::Mesh {
-                mesh: asperity_io::read_mesh(path)?,
+                mesh: load_triangles(path, &ctx.budget)?,
                 resolution: a.resolution,
             }
         }
@@ -131,7 +132,7 @@ pub fn parse_size(text: &str, dim: usize) -> anyhow::Result<[usize; 3]> {
     }
 }
 
-fn seed_spec(a: &DlaArgs) -> anyhow::Result<SeedSpec> {
+fn seed_spec(a: &DlaArgs, budget: &MemoryBudget) -> anyhow::Result<SeedSpec> {
     Ok(match a.seed_shape {
         SeedShapeArg::Point => SeedSpec::Point,
         SeedShapeArg::Plane => SeedSpec::Plane,
@@ -142,7 +143,7 @@ fn seed_spec(a: &DlaArgs) -> anyhow::Result<SeedSpec> {
                 .as_ref()
                 .ok_or_else(|| anyhow::anyhow!("--seed-shape mesh needs --mesh FILE"))?;
             SeedSpec::Mesh {
-                mesh: asperity_io::read_mesh(path)?,
+                mesh: load_triangles(path, budget)?,
                 resolution: a.resolution,
             }
         }
@@ -152,7 +153,7 @@ fn seed_spec(a: &DlaArgs) -> anyhow::Result<SeedSpec> {
                 .as_ref()
                 .ok_or_else(|| anyhow::anyhow!("--seed-shape image needs --image FILE"))?;
             SeedSpec::Image {
-                image: asperity_io::read_height(path)?,
+                image: load_height(path, budget)?,
                 density: a.seed_density,
             }
         }
@@ -171,7 +172,7 @@ fn grow_dla(ctx: &Context, a: &DlaArgs) -> anyhow::Result<()> {
         size: a.size.as_deref().map(|s| parse_size(s, dim)).transpose()?,
         particles: a.particles,
         stick: a.stick,
-        seed: seed_spec(a)?,
+        seed: seed_spec(a, &ctx.budget)?,
         launch_gap: a.launch_gap,
     };
     let r = dla::grow(job, ctx.seed, &ctx.budget, &ctx.bar())?;

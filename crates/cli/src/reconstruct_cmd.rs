@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use asperity_engine::files::{numbered, require_mesh_format};
+use asperity_engine::files::{load_points, numbered, require_mesh_format};
 use asperity_engine::reconstruct::{self, Defaults, Grown, PIPELINE, RECONSTRUCT};
 use asperity_levelset::{
     Band, DistanceMethod, ExtractOptions, ReconstructParams, Scheme, Sizing, TagRule,
@@ -110,7 +110,7 @@ fn surface(
 /// `asperity reconstruct POINTS -o MESH`
 pub fn run(ctx: &Context, a: &ReconstructArgs) -> anyhow::Result<()> {
     let out = mesh_output(ctx)?;
-    let points = asperity_io::read_points(&a.input)?;
+    let points = load_points(&a.input, &ctx.budget)?;
     let mut run = Run::new(ctx, "reconstruct");
     surface(
         &mut run,

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use asperity_core::Progress;
-use asperity_engine::files::{load_mesh, numbered, require_mesh_format};
+use asperity_engine::files::{load_mesh, load_points, numbered, require_mesh_format};
 use asperity_engine::surfca::{App, AppRun, Covered, OutputShape, cover, run_app, start_progress};
 use asperity_io::Format;
 use asperity_surfca::CellSize;
@@ -18,7 +18,7 @@ fn app(ctx: &Context, a: &SurfaceCaArgs, cov: &Covered) -> anyhow::Result<App> {
         SurfaceApp::Voronoi => {
             let sites = match &a.site_points {
                 Some(path) => {
-                    let pts = asperity_io::read_points(path)?;
+                    let pts = load_points(path, &ctx.budget)?;
                     App::sites_at(&cov.cells, &pts, &path.display().to_string())?
                 }
                 None => App::random_sites(&cov.cells, a.sites, ctx.seed)?,

@@ -1779,3 +1779,138 @@ fn subdiv_as_documented() {
     }
     assert!(!dir.join("x.ply").exists());
 }
+
+/// A PNG that declares 100000 × 100000 pixels in 60 bytes (a decompression bomb).
+fn png_bomb(path: &Path) {
+    fn chunk(kind: &[u8], data: &[u8]) -> Vec<u8> {
+        let mut crc_input = kind.to_vec();
+        crc_input.extend_from_slice(data);
+        let mut out = (data.len() as u32).to_be_bytes().to_vec();
+        out.extend_from_slice(&crc_input);
+        out.extend_from_slice(&crc32(&crc_input).to_be_bytes());
+        out
+    }
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut c = !0u32;
+        for &b in bytes {
+            c ^= b as u32;
+            for _ in 0..8 {
+                c = if c & 1 == 1 {
+                    0xEDB8_8320 ^ (c >> 1)
+                } else {
+                    c >> 1
+                };
+            }
+        }
+        !c
+    }
+    let mut ihdr = 100_000u32.to_be_bytes().to_vec();
+    ihdr.extend_from_slice(&100_000u32.to_be_bytes());
+    ihdr.extend_from_slice(&[16, 0, 0, 0, 0]);
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    png.extend(chunk(b"IHDR", &ihdr));
+    png.extend(chunk(
+        b"IDAT",
+        &[0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01],
+    ));
+    png.extend(chunk(b"IEND", &[]));
+    std::fs::write(path, png).unwrap();
+}
+
+/// Hostile inputs found by hand (#20): each gets one clean error, no panic,
+/// no abort, and nothing is written.
+#[test]
+fn hostile_inputs_are_refused_cleanly() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    png_bomb(&dir.join("bomb.png"));
+    for args in [
+        vec!["info", "bomb.png"],
+        vec!["convert", "bomb.png", "x.npy"],
+        vec!["analyze", "bomb.png"],
+        vec!["render", "bomb.png", "-o", "x.png"],
+        vec!["facet", "bomb.png", "-o", "x.ply"],
+        vec![
+            "growth",
+            "dla",
+            "--seed-shape",
+            "image",
+            "--image",
+            "bomb.png",
+            "-o",
+            "x.ply",
+        ],
+        vec![
+            "ca", "run", "--rule", "450", "--steps", "2", "--init", "bomb.png", "-o", "x.npy",
+        ],
+    ] {
+        let mut all = vec!["--max-memory", "1G"];
+        all.extend(args);
+        fails(dir, &all, "would need about");
+    }
+    // n² overflowed before the budget check (a panic) or wrapped to a small
+    // number (a hang).
+    for size in ["4294967296", "18446744073709551615"] {
+        fails(
+            dir,
+            &["generate", "fbm", "--size", size, "-o", "f.npy"],
+            "would need about",
+        );
+    }
+    // A welded STL triangle that repeats a corner, as a subdivision base.
+    std::fs::write(
+        dir.join("deg.stl"),
+        "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 0 0\nendloop\nendfacet\nendsolid\n",
+    )
+    .unwrap();
+    fails(
+        dir,
+        &["subdiv", "--base", "deg.stl", "-o", "s.ply"],
+        "degenerate",
+    );
+    // Faces of fewer than 3 corners are refused, not dropped.
+    std::fs::write(
+        dir.join("two.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\nf 1 2 3\n",
+    )
+    .unwrap();
+    fails(
+        dir,
+        &["info", "two.obj"],
+        "line 4: a face needs at least 3 corners",
+    );
+    // Cameras that cannot be.
+    std::fs::write(dir.join("t.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    fails(
+        dir,
+        &["render", "t.obj", "-o", "r.png", "--fov", "0"],
+        "field of view",
+    );
+    fails(
+        dir,
+        &["render", "t.obj", "-o", "r.png", "--fov", "nan"],
+        "field of view",
+    );
+    fails(
+        dir,
+        &[
+            "render", "t.obj", "-o", "r.png", "--eye", "1,1,1", "--target", "1,1,1",
+        ],
+        "same point",
+    );
+    fails(
+        dir,
+        &["render", "t.obj", "-o", "r.png", "--scalar", "nosuch"],
+        "no scalar 'nosuch'",
+    );
+    // A missing folder is named, not the temporary file beside it.
+    let o = asperity(
+        &["generate", "fbm", "--size", "64", "-o", "nosuch/f.npy"],
+        dir,
+    );
+    assert_clean_failure(&o, "nosuch: the folder does not exist");
+    assert!(!stderr(&o).contains(".tmp"), "{}", stderr(&o));
+    for f in ["x.npy", "x.png", "x.ply", "f.npy", "s.ply", "r.png"] {
+        assert!(!dir.join(f).exists(), "{f} was written");
+    }
+}

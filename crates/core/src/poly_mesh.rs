@@ -176,8 +176,12 @@ impl PolyMesh {
     }
 
     /// A polygon mesh with the triangles of `mesh` as faces.
-    pub fn from_trimesh(mesh: &TriMesh) -> Self {
-        Self::new(mesh.positions().to_vec(), mesh.triangles()).expect("a TriMesh is valid")
+    ///
+    /// # Errors
+    /// [`CoreError`] for a triangle that repeats a corner (a [`TriMesh`] may hold
+    /// one, a polygon mesh may not).
+    pub fn from_trimesh(mesh: &TriMesh) -> crate::Result<Self> {
+        Self::new(mesh.positions().to_vec(), mesh.triangles())
     }
 }
 

@@ -30,9 +30,9 @@ pub fn rule(family: &str, states: u8, text: &str) -> Result<Rule> {
 
 /// An initial grid from a file: `.npy`/`.csv` states 0…k−1, or an image
 /// thresholded at 50 %.
-fn init_from_file(text: &str, k: u8) -> Result<Init> {
+fn init_from_file(text: &str, k: u8, budget: &MemoryBudget) -> Result<Init> {
     let path = Path::new(text);
-    let h = asperity_io::read_height(path).map_err(|e| {
+    let h = crate::files::load_height(path, budget).map_err(|e| {
         invalid(format!(
             "initial grid {text:?} (use seed, random:DENSITY or a .npy/.png file): {e}"
         ))
@@ -66,13 +66,14 @@ fn init_from_file(text: &str, k: u8) -> Result<Init> {
 /// 50 %.
 ///
 /// # Errors
-/// A bad density or seed, an unreadable file, a value that is no state.
-pub fn parse_init(text: &str, k: u8, seed: u64) -> Result<Init> {
+/// A bad density or seed, an unreadable file or one over `budget`, a value
+/// that is no state.
+pub fn parse_init(text: &str, k: u8, seed: u64, budget: &MemoryBudget) -> Result<Init> {
     if text == "seed" {
         return Ok(Init::Seed);
     }
     let Some(r) = text.strip_prefix("random:") else {
-        return init_from_file(text, k);
+        return init_from_file(text, k, budget);
     };
     let (d, s) = r.split_once('@').map_or((r, None), |(d, s)| (d, Some(s)));
     let density: f64 = d
@@ -251,7 +252,7 @@ pub fn gallery_image(g: &GalleryGrid, seed: u64, budget: &MemoryBudget) -> Resul
     for (r, text) in g.rules.iter().enumerate() {
         let rule = rule(&g.family, g.states, text)?;
         for (c, init) in g.inits.iter().enumerate() {
-            let init = parse_init(init, rule.states(), seed)?;
+            let init = parse_init(init, rule.states(), seed, budget)?;
             let grid = initial_grid(&init, Some(g.size), rule.states(), budget)?;
             let out = accumulate(&grid, &CaParams::new(rule.clone(), g.steps), budget)?;
             let tile = render_facets(&out.heights, &opts)?;

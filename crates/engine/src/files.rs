@@ -4,30 +4,65 @@
 
 use std::path::{Path, PathBuf};
 
-use asperity_core::{MemoryBudget, TriMesh, shapes};
+use asperity_core::{HeightField, MemoryBudget, PointSet, TriMesh, shapes};
 use asperity_io::{Format, IoError, Surface};
 
 use crate::error::{Result, invalid};
 
-/// Rough peak memory of reading a file, as a multiple of its size: text formats
-/// shrink when parsed, STL's welded f32 corners grow about threefold into f64
-/// vertices plus the weld table; 8× covers every reader with margin.
-const READ_MEMORY_FACTOR: u64 = 8;
+/// Refuses to read `path` when [`asperity_io::read_estimate`] (its size, and the
+/// decoded size its header declares) exceeds the budget.
+///
+/// # Errors
+/// [`IoError`] naming the file; the memory budget.
+pub fn check_read(path: &Path, budget: &MemoryBudget) -> Result<()> {
+    let bytes = asperity_io::read_estimate(path)?;
+    budget.check(bytes, format!("reading {}", path.display()))?;
+    Ok(())
+}
 
-/// Reads whatever `path` holds (by extension), refusing files whose parsed size
-/// the budget cannot hold.
+/// Reads whatever `path` holds (by extension) under the budget ([`check_read`]).
 ///
 /// # Errors
 /// [`IoError`] naming the file; the memory budget.
 pub fn load(path: &Path, budget: &MemoryBudget) -> Result<Surface> {
-    let size = std::fs::metadata(path)
-        .map_err(|e| IoError::os(path, e))?
-        .len();
-    budget.check(
-        size.saturating_mul(READ_MEMORY_FACTOR),
-        format!("reading {}", path.display()),
-    )?;
+    check_read(path, budget)?;
     Ok(asperity_io::read(path)?)
+}
+
+/// A height field read under the budget ([`check_read`]).
+///
+/// # Errors
+/// As [`load`]; the file holds no height field.
+pub fn load_height(path: &Path, budget: &MemoryBudget) -> Result<HeightField> {
+    check_read(path, budget)?;
+    Ok(asperity_io::read_height(path)?)
+}
+
+/// A point set read under the budget ([`check_read`]).
+///
+/// # Errors
+/// As [`load`]; the file holds no point set.
+pub fn load_points(path: &Path, budget: &MemoryBudget) -> Result<PointSet> {
+    check_read(path, budget)?;
+    Ok(asperity_io::read_points(path)?)
+}
+
+/// A triangle mesh read from a file under the budget ([`check_read`]).
+///
+/// # Errors
+/// As [`load`]; the file holds no mesh.
+pub fn load_triangles(path: &Path, budget: &MemoryBudget) -> Result<TriMesh> {
+    check_read(path, budget)?;
+    Ok(asperity_io::read_mesh(path)?)
+}
+
+/// `x y` rows read under the budget ([`check_read`]).
+///
+/// # Errors
+/// As [`load`].
+pub fn load_xy(path: &Path, budget: &MemoryBudget) -> Result<Vec<[f64; 2]>> {
+    check_read(path, budget)?;
+    Ok(asperity_io::read_xy(path)?)
 }
 
 /// The names [`builtin_mesh`] knows.

@@ -25,7 +25,7 @@ pub const BUILTIN_BASES: &str = "cube, sphere, torus, cylinder, plane, fuse";
 ///
 /// # Errors
 /// An unreadable or invalid profile or mesh, naming the file.
-pub fn load_base(spec: &str, dir: &Path) -> Result<PolyMesh> {
+pub fn load_base(spec: &str, dir: &Path, budget: &MemoryBudget) -> Result<PolyMesh> {
     Ok(match spec {
         "cube" => base::cube(),
         "sphere" => base::quad_sphere(2),
@@ -41,6 +41,7 @@ pub fn load_base(spec: &str, dir: &Path) -> Result<PolyMesh> {
         }
         path => {
             let p = dir.join(path);
+            crate::files::check_read(&p, budget)?;
             asperity_io::read_poly_mesh(&p).map_err(|e| {
                 invalid(format!(
                     "reading the base mesh {e} (or use {BUILTIN_BASES})"
@@ -112,7 +113,7 @@ impl Session {
             Source::Options(_) => PathBuf::new(),
         };
         let first = scene_at(&source, seed, limit, t)?;
-        let base = Creased::with_creases(load_base(&first.base, &dir)?, &first.creases)?;
+        let base = Creased::with_creases(load_base(&first.base, &dir, budget)?, &first.creases)?;
         check_size(&base, first.levels, budget)?;
         let inputs = read_inputs(&first, &base, &dir)?;
         Ok(Self {

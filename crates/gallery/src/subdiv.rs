@@ -142,7 +142,7 @@ fn scene(env: &Env, name: &str, text: &str, title: &str) -> Result<Item> {
     if env.quick {
         scene.levels = scene.levels.saturating_sub(1).max(2);
     }
-    let base = Creased::smooth(load_base(&scene.base, Path::new(""))?);
+    let base = Creased::smooth(load_base(&scene.base, Path::new(""), &env.budget)?);
     let clock = std::time::Instant::now();
     let c = evaluate(
         &scene,

@@ -41,7 +41,10 @@ where
     // tempfile creates 0600 files; outputs should get the usual 0666 & !umask.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let tmp = builder.tempfile_in(dir).map_err(os)?;
+    let tmp = builder.tempfile_in(dir).map_err(|e| IoError::Os {
+        path: dir.to_path_buf(),
+        source: folder_error(dir, &e),
+    })?;
     let (file, tmp_path) = tmp.into_parts();
     let mut w = BufWriter::with_capacity(1 << 20, file);
     fill(&mut w)?;
@@ -51,6 +54,27 @@ where
     drop(file);
     tmp_path.persist(path).map_err(|e| os(e.error))?;
     Ok(())
+}
+
+/// Why no file can be made in `dir`, naming the folder rather than the
+/// temporary file's random name, and what to do.
+fn folder_error(dir: &Path, e: &std::io::Error) -> std::io::Error {
+    use std::io::{Error, ErrorKind};
+    match std::fs::metadata(dir) {
+        Err(_) => Error::new(
+            ErrorKind::NotFound,
+            "the folder does not exist (create it first, or write elsewhere)",
+        ),
+        Ok(m) if !m.is_dir() => Error::new(ErrorKind::NotADirectory, "this is not a folder"),
+        Ok(_) if e.kind() == ErrorKind::PermissionDenied => Error::new(
+            ErrorKind::PermissionDenied,
+            "no permission to create files in this folder",
+        ),
+        Ok(_) => Error::new(
+            e.kind(),
+            format!("cannot create a file in this folder ({})", e.kind()),
+        ),
+    }
 }
 
 #[cfg(test)]
@@ -150,5 +174,21 @@ mod tests {
         .unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"new");
         assert_eq!(leftovers(dir.path()).len(), 1);
+    }
+
+    #[test]
+    fn a_missing_folder_is_named_not_the_temporary() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("nosuch").join("out.npy");
+        let e = write_atomic::<IoError>(&target, |_| Ok(())).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.starts_with(&format!("{}:", dir.path().join("nosuch").display())),
+            "{text}"
+        );
+        assert!(
+            text.contains("does not exist") && !text.contains(".out.npy"),
+            "{text}"
+        );
     }
 }

@@ -42,6 +42,19 @@ pub(crate) fn write_height<W: Write + Seek>(w: W, h: &HeightField) -> std::io::R
         })
 }
 
+/// The largest pixel count any layer of the OpenEXR file at `path` declares in
+/// its header (nothing decoded).
+pub(crate) fn header_pixels(path: &std::path::Path) -> FResult<u128> {
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| FormatError::Malformed(e.to_string()))?;
+    Ok(meta
+        .headers
+        .iter()
+        .map(|h| h.layer_size.width() as u128 * h.layer_size.height() as u128)
+        .max()
+        .unwrap_or(0))
+}
+
 /// Reads a height field from the first layer of an EXR file.
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let image = read()

@@ -295,6 +295,35 @@ fn wrong(path: &Path, f: Format, kind: &'static str) -> IoError {
     }
 }
 
+/// Rough peak memory of reading a file, as a multiple of its size: text formats
+/// shrink when parsed, STL's welded f32 corners grow about threefold into f64
+/// vertices plus the weld table, a `u8` `.npy` grows eightfold into f64; 8×
+/// covers every reader whose data is stored uncompressed.
+const READ_MEMORY_FACTOR: u64 = 8;
+
+/// An upper estimate of the memory that reading `path` needs, from its size and,
+/// for compressed images (PNG, OpenEXR), from the dimensions in their header —
+/// so a small file that decompresses to gigabytes (a "decompression bomb") is
+/// refused before anything is decoded. Reads only the header.
+///
+/// # Errors
+/// [`IoError::Os`] when the file cannot be opened; [`IoError::Malformed`] for an
+/// unreadable header.
+pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
+    let size = std::fs::metadata(path)
+        .map_err(|e| IoError::os(path, e))?
+        .len();
+    let by_size = size.saturating_mul(READ_MEMORY_FACTOR);
+    let pixels = match Format::from_path(path) {
+        Ok(Format::Png) => Some(png_io::header_pixels(path).map_err(|e| e.at(path, "PNG"))?),
+        Ok(Format::Exr) => Some(exr_io::header_pixels(path).map_err(|e| e.at(path, "OpenEXR"))?),
+        _ => None,
+    };
+    // Decoded samples (up to four 16-bit or 32-bit channels) plus the f64 grid.
+    let decoded = pixels.map_or(0, |n: u128| u64::try_from(n * (16 + 8)).unwrap_or(u64::MAX));
+    Ok(by_size.max(decoded))
+}
+
 /// Reads whatever `path` holds, deciding by extension and content: PLY with faces,
 /// OBJ and STL give meshes; PLY without faces and XYZ give point sets; `.npy`
 /// gives a point set for shape `(N, 3)` with N ≠ 3 and a height field for other
@@ -412,7 +441,7 @@ pub fn read_poly_mesh(path: &Path) -> Result<PolyMesh, IoError> {
     let r = match f {
         Format::Ply => ply::read_poly(&bytes),
         Format::Obj => obj::read_poly(&bytes),
-        Format::Stl => stl::read_mesh(&bytes).map(|m| PolyMesh::from_trimesh(&m)),
+        Format::Stl => stl::read_mesh(&bytes).and_then(|m| Ok(PolyMesh::from_trimesh(&m)?)),
         _ => return Err(wrong(path, f, "a polygon mesh to read")),
     };
     r.map_err(|e| e.at(path, f.info().name))

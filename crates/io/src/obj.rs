@@ -29,7 +29,29 @@ struct ObjContents {
     uvs: Option<Vec<[f64; 2]>>,
 }
 
+/// Refuses faces with fewer than three corners, which tobj would drop without
+/// a word (a 1- or 2-corner `f` line is a broken file, not a line element).
+fn check_face_lines(bytes: &[u8]) -> FResult<()> {
+    for (n, line) in bytes.split(|&b| b == b'\n').enumerate() {
+        let mut tokens = line
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|t| !t.is_empty());
+        if tokens.next() != Some(b"f".as_slice()) {
+            continue;
+        }
+        let corners = tokens.take_while(|t| !t.starts_with(b"#")).count();
+        if corners < 3 {
+            return Err(FormatError::Malformed(format!(
+                "line {}: a face needs at least 3 corners, this one has {corners}",
+                n + 1
+            )));
+        }
+    }
+    Ok(())
+}
+
 fn parse(bytes: &[u8]) -> FResult<ObjContents> {
+    check_face_lines(bytes)?;
     let opts = tobj::LoadOptions {
         single_index: true,
         triangulate: false,

@@ -168,6 +168,25 @@ fn check_size(o: &RenderOptions) -> Result<(), RenderError> {
             o.supersample
         )));
     }
+    if let Projection::Perspective { fov_deg } = o.projection
+        && !(fov_deg > 0.0 && fov_deg < 180.0)
+    {
+        return Err(RenderError::BadOption(format!(
+            "the field of view must be between 0 and 180 degrees, got {fov_deg}"
+        )));
+    }
+    if let View::Explicit { eye, target } = o.view {
+        if !eye.iter().chain(&target).all(|v| v.is_finite()) {
+            return Err(RenderError::BadOption(format!(
+                "eye {eye:?} and target {target:?} must be finite"
+            )));
+        }
+        if eye == target {
+            return Err(RenderError::BadOption(format!(
+                "the eye and the target are the same point {eye:?}: there is no viewing direction"
+            )));
+        }
+    }
     let samples = o.width as u128 * o.height as u128 * (o.supersample as u128).pow(2);
     // depth f32 + triangle id u32 per sample, plus the shadow map and pixel buffers.
     o.budget.check_elements(
@@ -271,6 +290,19 @@ fn prepare(m: &TriMesh, o: &RenderOptions, center: [f64; 3]) -> Result<Prepared,
         uvs: None,
         texture: None,
     };
+    if let Some(name) = &o.scalar
+        && m.scalar(name).is_none()
+    {
+        let known: Vec<&str> = m.scalars().iter().map(|a| a.name.as_str()).collect();
+        return Err(RenderError::BadOption(format!(
+            "the mesh has no scalar '{name}' (it has: {})",
+            if known.is_empty() {
+                "none".to_string()
+            } else {
+                known.join(", ")
+            }
+        )));
+    }
     let named = |name: &str| {
         m.scalar(name)
             .map(<[f64]>::to_vec)

@@ -123,7 +123,7 @@ pub fn atlas_mesh(
 ) -> Result<TriMesh, CoreError> {
     let at = layout(cells);
     let (width, height) = (at.width, at.height);
-    budget.check_elements((width * height) as u128, 4 + 4, "the texture atlas")?;
+    budget.check_elements(width as u128 * height as u128, 4 + 4, "the texture atlas")?;
     let img = atlas_image(cells, &at, color);
     // Split the mesh: three corners per triangle with their chart UVs.
     let pos = mesh.positions();
