@@ -22,6 +22,9 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
     let name = a.input.display().to_string();
     let r = analyze_surface(&s, &name, &opts)?;
     let mut run = Run::new(ctx, "analyze");
+    for w in &r.warnings {
+        run.warn("warning", w.clone());
+    }
     if let Some(dir) = &a.plot {
         if r.plots.is_empty() {
             run.note("no plots for point sets (growth commands plot R_g(n) and ρ(z) with --plot)");

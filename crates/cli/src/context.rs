@@ -167,9 +167,14 @@ impl<'a> Run<'a> {
         self.report.extend(facts);
     }
 
-    /// Prints `kind: msg` (a note or a warning) and records it as a warning.
+    /// Prints `kind: msg` on stderr (unless `--quiet`, even with `--json`) and
+    /// records it as a warning in the report.
     pub fn warn(&mut self, kind: &str, msg: String) {
-        self.ctx.note(format!("{kind}: {msg}"));
+        // Warnings reach stderr with --json too (stdout holds the report); only
+        // --quiet hides them.
+        if !self.ctx.quiet {
+            eprintln!("{kind}: {msg}");
+        }
         self.report.warn(msg);
     }
 

@@ -665,11 +665,16 @@ fn analyze_and_generate() {
         &["analyze", "f.npy", "--fit-window", "5,1"],
         "QMIN,QMAX",
     );
-    fails(
-        d.path(),
-        &["analyze", "f.npy", "--fit-window", "1e6,2e6"],
-        "fit window",
+    // A window above the Nyquist frequency holds no PSD point: no Hurst
+    // exponent, but the rest of the report (#20).
+    let o = asperity(&["analyze", "f.npy", "--fit-window", "1e6,2e6"], d.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("only 0 points in the fit window"),
+        "{}",
+        stderr(&o)
     );
+    assert!(String::from_utf8_lossy(&o.stdout).contains("Sq"));
     fails(
         d.path(),
         &["generate", "fbm", "--hurst", "1.5", "-o", "x.npy"],
@@ -1913,4 +1918,41 @@ fn hostile_inputs_are_refused_cleanly() {
     for f in ["x.npy", "x.png", "x.ply", "f.npy", "s.ply", "r.png"] {
         assert!(!dir.join(f).exists(), "{f} was written");
     }
+}
+
+/// An estimate that needs more data than the field has is `null` with a
+/// warning; every other quantity is still reported, with exit code 0 (#20).
+#[test]
+fn analyze_reports_what_it_can() {
+    let d = tempfile::tempdir().unwrap();
+    // 4×4 samples of a tilted sine: ISO parameters are defined, the Hurst fit
+    // (one PSD point) and the dimension fits (≥ 32 samples a side) are not.
+    let mut text = String::new();
+    for j in 0..4 {
+        let row: Vec<String> = (0..4)
+            .map(|i| format!("{}", (i as f64 * 0.9).sin() + (j as f64 * 0.4).cos()))
+            .collect();
+        text += &row.join(",");
+        text.push('\n');
+    }
+    std::fs::write(d.path().join("small.csv"), text).unwrap();
+    let o = asperity(&["--json", "analyze", "small.csv"], d.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let m = &v["measurements"];
+    assert!(m["Sq"].as_f64().unwrap() > 0.1, "{m}");
+    assert!(m["hurst"].is_null(), "{m}");
+    assert!(m["fractal_dimension"]["triangulation"].is_null(), "{m}");
+    let warnings = v["warnings"].as_array().unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().starts_with("Hurst exponent")),
+        "{warnings:?}"
+    );
+    assert!(
+        stderr(&o).contains("warning: Hurst exponent"),
+        "{}",
+        stderr(&o)
+    );
 }

@@ -44,6 +44,8 @@ pub struct Analysis {
     pub facts: Measurements,
     /// PNG plots to write (empty unless asked for; none for point sets).
     pub plots: Vec<NamedPlot>,
+    /// The quantities that could not be estimated (their value is `null`) and why.
+    pub warnings: Vec<String>,
 }
 
 /// Analyses whatever `s` holds; `name` names it in messages.
@@ -59,12 +61,20 @@ pub fn analyze(s: &Surface, name: &str, o: &AnalyzeOptions) -> Result<Analysis> 
     }
 }
 
-fn dimension_json(d: Result<fractal::Dimension, AnalysisError>) -> Value {
+/// A fitted dimension, or `null` with a warning naming `what` and why.
+fn dimension_json(
+    d: Result<fractal::Dimension, AnalysisError>,
+    what: &str,
+    warnings: &mut Vec<String>,
+) -> Value {
     match d {
         Ok(d) => {
             json!({"D": d.d, "fit_range": d.fit.range, "r2": d.fit.r2, "points": d.fit.points})
         }
-        Err(e) => json!({"error": e.to_string()}),
+        Err(e) => {
+            warnings.push(format!("{what} not estimated: {e}"));
+            Value::Null
+        }
     }
 }
 
@@ -93,7 +103,18 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     let lv = level::level(h, how)?;
     let areal = areal::areal(&lv)?;
     let r = psd::radial_psd(&lv, o.bins)?;
-    let hu = psd::hurst(&r, &lv, o.fit_window)?;
+    if let Some([lo, hi]) = o.fit_window {
+        ensure(
+            lo.is_finite() && hi.is_finite() && 0.0 < lo && lo < hi,
+            || format!("--fit-window needs 0 < QMIN < QMAX, got [{lo}, {hi}]"),
+        )?;
+    }
+    // Estimates that need more data than a field may have: null and a warning,
+    // never a refusal of everything else.
+    let mut warnings = Vec::new();
+    let hu = psd::hurst(&r, &lv, o.fit_window)
+        .map_err(|e| warnings.push(format!("Hurst exponent (PSD fit) not estimated: {e}")))
+        .ok();
     let mut facts = Measurements::from_value(
         serde_json::to_value(areal).map_err(|e| invalid(format!("areal parameters: {e}")))?,
     );
@@ -103,60 +124,80 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     facts.set("levelling", how);
     facts.set("profile_x", areal::profile(&lv, false).ok());
     facts.set("profile_y", areal::profile(&lv, true).ok());
-    facts.set("hurst", hu.hurst);
+    facts.set("hurst", hu.as_ref().map(|hu| hu.hurst));
+    let psd_dimension = hu.as_ref().map(|hu| {
+        json!({"D": hu.fractal_dimension, "fit_range": hu.fit.range, "r2": hu.fit.r2, "points": hu.fit.points})
+    });
+    let triangulation = dimension_json(
+        fractal::triangulation(&lv),
+        "fractal dimension (triangulation)",
+        &mut warnings,
+    );
+    let partitioning = dimension_json(
+        fractal::partitioning(&lv),
+        "fractal dimension (partitioning)",
+        &mut warnings,
+    );
     facts.set(
         "fractal_dimension",
-        json!({
-            "psd": {"D": hu.fractal_dimension, "fit_range": hu.fit.range, "r2": hu.fit.r2, "points": hu.fit.points},
-            "triangulation": dimension_json(fractal::triangulation(&lv)),
-            "partitioning": dimension_json(fractal::partitioning(&lv)),
-        }),
+        json!({"psd": psd_dimension, "triangulation": triangulation, "partitioning": partitioning}),
     );
-    let sp = correlation::spatial(&lv)?;
-    facts.set("Sal", sp.Sal);
-    facts.set("Str", sp.Str);
-    facts.set("Str_capped", sp.capped);
+    let sp = correlation::spatial(&lv)
+        .map_err(|e| warnings.push(format!("Sal and Str not estimated: {e}")))
+        .ok();
+    facts.set("Sal", sp.as_ref().map(|s| s.Sal));
+    facts.set("Str", sp.as_ref().map(|s| s.Str));
+    facts.set("Str_capped", sp.as_ref().map(|s| s.capped));
     facts.set("psd", json!({"q": r.q, "C": r.c, "convention": "C(q) = A/N^2 |DFT|^2 (SurfaceTopography), radially averaged in log bins"}));
     let plots = if o.plots {
-        height_plots(&lv, &r, &hu)?
+        height_plots(&lv, &r, hu.as_ref())?
     } else {
         Vec::new()
     };
-    Ok(Analysis { facts, plots })
+    Ok(Analysis {
+        facts,
+        plots,
+        warnings,
+    })
 }
 
 /// The radial PSD with its Hurst fit.
-fn psd_plot(r: &psd::RadialPsd, hu: &psd::Hurst) -> NamedPlot {
-    let fit = &hu.fit;
-    let line: Vec<(f64, f64)> = [fit.range[0], fit.range[1]]
-        .iter()
-        .map(|&q| (q, (fit.intercept + fit.slope * q.ln()).exp()))
-        .collect();
-    NamedPlot {
-        name: "psd.png",
-        plot: log_log(
+/// The radial PSD, with its Hurst fit where there is one.
+fn psd_plot(r: &psd::RadialPsd, hu: Option<&psd::Hurst>) -> NamedPlot {
+    let mut series = vec![points(
+        "C(q), log bins",
+        r.q.iter().copied().zip(r.c.iter().copied()).collect(),
+    )];
+    let title = match hu {
+        Some(hu) => {
+            let fit = &hu.fit;
+            let line: Vec<(f64, f64)> = [fit.range[0], fit.range[1]]
+                .iter()
+                .map(|&q| (q, (fit.intercept + fit.slope * q.ln()).exp()))
+                .collect();
+            series.push(Series {
+                name: format!("fit, slope {:.3} = −2(1 + H)", fit.slope),
+                points: line,
+                style: Style::Fit,
+            });
             format!(
                 "Radially averaged PSD: H = {:.3}, D = {:.3} (r² = {:.4})",
                 hu.hurst, hu.fractal_dimension, fit.r2
-            ),
-            "q (rad / length)",
-            "C(q)",
-            vec![
-                points(
-                    "C(q), log bins",
-                    r.q.iter().copied().zip(r.c.iter().copied()).collect(),
-                ),
-                Series {
-                    name: format!("fit, slope {:.3} = −2(1 + H)", fit.slope),
-                    points: line,
-                    style: Style::Fit,
-                },
-            ],
-        ),
+            )
+        }
+        None => "Radially averaged PSD (too few points for a Hurst fit)".to_string(),
+    };
+    NamedPlot {
+        name: "psd.png",
+        plot: log_log(title, "q (rad / length)", "C(q)", series),
     }
 }
 
-fn height_plots(lv: &HeightField, r: &psd::RadialPsd, hu: &psd::Hurst) -> Result<Vec<NamedPlot>> {
+fn height_plots(
+    lv: &HeightField,
+    r: &psd::RadialPsd,
+    hu: Option<&psd::Hurst>,
+) -> Result<Vec<NamedPlot>> {
     let mut out = vec![psd_plot(r, hu)];
     if let Ok(hh) = correlation::hhcf_x(lv) {
         out.push(NamedPlot {
@@ -214,6 +255,16 @@ fn curvature_plots(c: &mesh::Curvature) -> Result<Vec<NamedPlot>> {
 /// The report on a mesh: topology, curvature, roughness, box-counting dimension.
 fn mesh_report(m: &TriMesh, plots: bool) -> Result<Analysis> {
     let c = mesh::curvature(m);
+    let mut warnings = Vec::new();
+    let box_counting = match mesh::box_counting(m) {
+        Ok(d) => json!({"D": d.d, "fit_range": d.fit.range, "r2": d.fit.r2}),
+        Err(e) => {
+            warnings.push(format!(
+                "fractal dimension (box counting) not estimated: {e}"
+            ));
+            Value::Null
+        }
+    };
     let chi = m.euler_characteristic();
     let watertight = m.is_watertight();
     let facts = Measurements::from_value(json!({
@@ -234,13 +285,11 @@ fn mesh_report(m: &TriMesh, plots: bool) -> Result<Analysis> {
             "gauss_bonnet_2pi_chi": 2.0 * std::f64::consts::PI * chi as f64,
         },
         "roughness_vs_smoothed": mesh::smoothed_roughness(m, 10),
-        "fractal_dimension": {"box_counting": match mesh::box_counting(m) {
-            Ok(d) => json!({"D": d.d, "fit_range": d.fit.range, "r2": d.fit.r2}),
-            Err(e) => json!({"error": e.to_string()}),
-        }},
+        "fractal_dimension": {"box_counting": box_counting},
     }));
     Ok(Analysis {
         facts,
+        warnings,
         plots: if plots {
             curvature_plots(&c)?
         } else {
@@ -272,5 +321,6 @@ fn point_report(p: &PointSet, name: &str) -> Result<Analysis> {
     Ok(Analysis {
         facts,
         plots: Vec::new(),
+        warnings: Vec::new(),
     })
 }
