@@ -49,7 +49,19 @@ use clap::Parser;
 
 fn main() -> ExitCode {
     let args = cli::Cli::parse();
-    match run(args) {
+    // Ctrl-C, SIGTERM, SIGHUP: delete the temporary files of unfinished outputs,
+    // then exit as a shell expects of an interrupted program.
+    let _ = ctrlc::set_handler(|| asperity_io::exit_removing_temporaries(130));
+    // Every output of the command is renamed into place only when the whole
+    // command succeeded: a failure leaves every existing file as it was.
+    // (`bench` writes only scratch files, timed with their rename.)
+    let outputs =
+        (!matches!(args.command, cli::Command::Bench(_))).then(asperity_io::Transaction::begin);
+    let result = run(args).and_then(|()| match outputs {
+        Some(tx) => Ok(tx.commit()?),
+        None => Ok(()),
+    });
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
             // A closed pipe (e.g. `asperity formats | head`) is not an error.

@@ -1956,3 +1956,89 @@ fn analyze_reports_what_it_can() {
         stderr(&o)
     );
 }
+
+/// Every output of a command lands together or not at all; an interrupted run
+/// leaves no temporary file (#20).
+#[test]
+fn outputs_land_together_and_interruptions_leave_nothing() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    std::fs::write(dir.join("h.npy"), "precious").unwrap();
+    // The secondary output's folder is missing: the primary must not replace
+    // the existing file.
+    fails(
+        dir,
+        &[
+            "ca",
+            "run",
+            "--rule",
+            "450",
+            "--steps",
+            "3",
+            "--init",
+            "seed",
+            "-o",
+            "h.npy",
+            "--states-out",
+            "nosuch/s.npy",
+        ],
+        "nosuch: the folder does not exist",
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("h.npy")).unwrap(),
+        "precious"
+    );
+    // A parameter refused after the first output was computed.
+    fails(
+        dir,
+        &[
+            "growth",
+            "rdsr",
+            "--size",
+            "32",
+            "--layers",
+            "5",
+            "--alpha-sizes",
+            "0,1",
+            "-o",
+            "h.npy",
+        ],
+        "needs at least 3 sizes",
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("h.npy")).unwrap(),
+        "precious"
+    );
+
+    // SIGTERM in the middle of writing animation frames.
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../subdiv/scenes/tentacle.toml");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["--quiet", "subdiv"])
+        .arg(&scene)
+        .args(["--frames", "2000", "-o", "t.glb"])
+        .current_dir(dir)
+        .spawn()
+        .unwrap();
+    // Wait until frames are being written (their temporaries appear).
+    let start = std::time::Instant::now();
+    while !std::fs::read_dir(dir)
+        .unwrap()
+        .any(|e| e.unwrap().file_name().to_string_lossy().ends_with(".tmp"))
+    {
+        assert!(start.elapsed().as_secs() < 60, "no frame was started");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    let left: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp") || n.starts_with("t_"))
+        .collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+}

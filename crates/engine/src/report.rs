@@ -63,7 +63,7 @@ impl Report {
         let format = asperity_io::Format::from_path(path)
             .map(|f| f.info().name)
             .unwrap_or("other");
-        let bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+        let bytes = asperity_io::staging::written_len(path).unwrap_or(0);
         self.outputs.push(Output {
             path: path.display().to_string(),
             format,

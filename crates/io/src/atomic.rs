@@ -27,6 +27,26 @@ where
         path: path.to_path_buf(),
         source,
     };
+    // A symlink's target is written, not the link.
+    let resolved;
+    let path = if std::fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        resolved = link_target(path).map_err(os)?;
+        resolved.as_path()
+    } else {
+        path
+    };
+    // A FIFO, a device or a socket is written in place, never replaced by a
+    // regular file (there is nothing to keep atomic about a stream).
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(os)?;
+        let mut w = BufWriter::new(file);
+        fill(&mut w)?;
+        w.flush().map_err(os)?;
+        return Ok(());
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -41,19 +61,31 @@ where
     // tempfile creates 0600 files; outputs should get the usual 0666 & !umask.
     #[cfg(unix)]
     builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let tmp = builder.tempfile_in(dir).map_err(|e| IoError::Os {
-        path: dir.to_path_buf(),
-        source: folder_error(dir, &e),
-    })?;
-    let (file, tmp_path) = tmp.into_parts();
+    let (file, tmp_path, live) =
+        crate::staging::Live::create(&builder, dir).map_err(|e| IoError::Os {
+            path: dir.to_path_buf(),
+            source: folder_error(dir, &e),
+        })?;
     let mut w = BufWriter::with_capacity(1 << 20, file);
     fill(&mut w)?;
     w.flush().map_err(os)?;
     let file = w.into_inner().map_err(|e| os(e.into_error()))?;
     file.sync_all().map_err(os)?;
     drop(file);
-    tmp_path.persist(path).map_err(|e| os(e.error))?;
+    crate::staging::persist_or_stage(tmp_path, path, live)?;
     Ok(())
+}
+
+/// Where the symlink `path` finally points (its target need not exist yet).
+fn link_target(path: &Path) -> std::io::Result<std::path::PathBuf> {
+    if let Ok(p) = std::fs::canonicalize(path) {
+        return Ok(p);
+    }
+    let target = std::fs::read_link(path)?;
+    Ok(match path.parent() {
+        Some(dir) if target.is_relative() => dir.join(target),
+        _ => target,
+    })
 }
 
 /// Why no file can be made in `dir`, naming the folder rather than the

@@ -29,6 +29,7 @@ pub mod npy;
 pub mod obj;
 pub mod ply;
 pub mod png_io;
+pub mod staging;
 pub mod stl;
 pub mod text;
 
@@ -41,6 +42,7 @@ pub use error::IoError;
 use error::{FResult, FormatError};
 pub use npy::NpyDtype;
 pub use ply::PlyEncoding;
+pub use staging::{Transaction, exit_removing_temporaries};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]

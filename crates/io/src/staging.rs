@@ -1,0 +1,139 @@
+//! All-or-nothing outputs and clean interruption.
+//!
+//! While a [`Transaction`] is open, every write of this crate ([`crate::atomic`])
+//! leaves its complete temporary file (`.NAME.XXXXXX.tmp` beside the target) in
+//! place instead of renaming it; [`Transaction::commit`] renames them all, and
+//! dropping the transaction uncommitted deletes them. A command that fails half
+//! way therefore leaves every existing file as it was, whichever output failed.
+//!
+//! Every temporary file alive in the process is registered, so a signal handler
+//! can delete them with [`exit_removing_temporaries`] (a
+//! SIGKILL cannot be caught: its leftovers keep the `.tmp` name and are never
+//! reused, since each temporary name is random).
+
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
+
+use tempfile::TempPath;
+
+use crate::IoError;
+
+/// A temporary file waiting for its rename, and the registration that lets a
+/// signal handler find it.
+type Staged = (TempPath, PathBuf, Live);
+
+static STAGED: Mutex<Option<Vec<Staged>>> = Mutex::new(None);
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    // A panic while holding the lock leaves plain data behind; keep using it.
+    m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// A registered temporary file: known to [`exit_removing_temporaries`] until dropped.
+pub(crate) struct Live(PathBuf);
+
+impl Live {
+    /// Creates a temporary file with `builder` in `dir` and registers it, both
+    /// under the registry's lock, so [`exit_removing_temporaries`] never misses a
+    /// file created while it runs.
+    pub(crate) fn create(
+        builder: &tempfile::Builder<'_, '_>,
+        dir: &Path,
+    ) -> std::io::Result<(std::fs::File, TempPath, Self)> {
+        let mut live = lock(&LIVE);
+        let (file, path) = builder.tempfile_in(dir)?.into_parts();
+        live.push(path.to_path_buf());
+        let registration = Self(path.to_path_buf());
+        Ok((file, path, registration))
+    }
+}
+
+impl Drop for Live {
+    fn drop(&mut self) {
+        let mut live = lock(&LIVE);
+        if let Some(i) = live.iter().rposition(|p| *p == self.0) {
+            live.swap_remove(i);
+        }
+    }
+}
+
+/// Renames `tmp` over `path` now, or stages it when a transaction is open.
+pub(crate) fn persist_or_stage(tmp: TempPath, path: &Path, live: Live) -> Result<(), IoError> {
+    if let Some(staged) = lock(&STAGED).as_mut() {
+        staged.push((tmp, path.to_path_buf(), live));
+        return Ok(());
+    }
+    tmp.persist(path).map_err(|e| IoError::os(path, e.error))?;
+    drop(live);
+    Ok(())
+}
+
+/// The size of what was last written to `path`: its staged temporary file while
+/// a transaction is open, else the file on disk.
+pub fn written_len(path: &Path) -> Option<u64> {
+    let staged = lock(&STAGED).as_ref().and_then(|s| {
+        s.iter()
+            .rev()
+            .find(|(_, p, _)| p == path)
+            .map(|(t, _, _)| t.to_path_buf())
+    });
+    std::fs::metadata(staged.as_deref().unwrap_or(path))
+        .ok()
+        .map(|m| m.len())
+}
+
+/// Deletes every temporary file this process has open or staged, then exits
+/// with `code`; for signal handlers. It holds the registry's lock until the
+/// process is gone, so no temporary file can be created behind it. A lock the
+/// interrupted program holds is waited for briefly (it is only held while a
+/// file is created or a list updated), then the exit goes ahead regardless.
+pub fn exit_removing_temporaries(code: i32) -> ! {
+    for _ in 0..500 {
+        if let Ok(live) = LIVE.try_lock() {
+            for p in live.iter() {
+                let _ = std::fs::remove_file(p);
+            }
+            std::process::exit(code);
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    std::process::exit(code);
+}
+
+/// The outputs of one command, committed together (see the module docs). Only
+/// one is open at a time in a process: it is meant for a command-line run.
+#[must_use = "outputs are only renamed into place by commit()"]
+pub struct Transaction(());
+
+impl Transaction {
+    /// Starts staging every write.
+    pub fn begin() -> Self {
+        *lock(&STAGED) = Some(Vec::new());
+        Self(())
+    }
+
+    /// Renames every staged file into place, in the order they were written.
+    ///
+    /// # Errors
+    /// [`IoError::Os`] when a rename fails; the files not yet renamed are
+    /// deleted.
+    pub fn commit(self) -> Result<(), IoError> {
+        let staged = lock(&STAGED).take().unwrap_or_default();
+        for (tmp, path, live) in staged {
+            tmp.persist(&path)
+                .map_err(|e| IoError::os(&path, e.error))?;
+            drop(live);
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Transaction {
+    fn drop(&mut self) {
+        // Uncommitted: deleting the temporaries (TempPath's drop) leaves every
+        // target as it was.
+        let staged = lock(&STAGED).take();
+        drop(staged);
+    }
+}

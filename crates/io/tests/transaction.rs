@@ -1,0 +1,79 @@
+//! Outputs committed together, symlinks and special files (#20). One test
+//! binary of its own: a transaction is process-wide.
+
+use std::path::Path;
+
+use asperity_io::{Transaction, write_text};
+
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn outputs_are_committed_together_links_followed_and_fifos_kept() {
+    let d = tempfile::tempdir().unwrap();
+    let (a, b) = (d.path().join("a.txt"), d.path().join("b.txt"));
+    std::fs::write(&a, "old a").unwrap();
+
+    // Uncommitted: nothing changes, nothing is left behind.
+    let tx = Transaction::begin();
+    write_text(&a, "new a").unwrap();
+    write_text(&b, "new b").unwrap();
+    assert_eq!(std::fs::read_to_string(&a).unwrap(), "old a");
+    assert!(!b.exists());
+    assert_eq!(
+        asperity_io::staging::written_len(&a),
+        Some(5),
+        "the staged size, not the old file's"
+    );
+    drop(tx);
+    assert_eq!(names(d.path()), vec!["a.txt"]);
+    assert_eq!(std::fs::read_to_string(&a).unwrap(), "old a");
+
+    // Committed: both in place.
+    let tx = Transaction::begin();
+    write_text(&a, "new a").unwrap();
+    write_text(&b, "new b").unwrap();
+    tx.commit().unwrap();
+    assert_eq!(std::fs::read_to_string(&a).unwrap(), "new a");
+    assert_eq!(std::fs::read_to_string(&b).unwrap(), "new b");
+    assert_eq!(names(d.path()), vec!["a.txt", "b.txt"]);
+
+    // Without a transaction a write lands at once.
+    write_text(&b, "b again").unwrap();
+    assert_eq!(std::fs::read_to_string(&b).unwrap(), "b again");
+
+    #[cfg(unix)]
+    {
+        // A symlink's target is written; the link stays a link.
+        let link = d.path().join("link.txt");
+        std::os::unix::fs::symlink("a.txt", &link).unwrap();
+        write_text(&link, "through the link").unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "through the link");
+
+        // A FIFO is written in place, not replaced by a regular file.
+        let fifo = d.path().join("pipe");
+        let ok = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if ok.is_ok_and(|s| s.success()) {
+            let reader = {
+                let fifo = fifo.clone();
+                std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+            };
+            write_text(&fifo, "streamed").unwrap();
+            assert_eq!(reader.join().unwrap(), "streamed");
+            use std::os::unix::fs::FileTypeExt;
+            assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+        }
+    }
+}
