@@ -889,7 +889,7 @@ pub struct SurfaceCaArgs {
     #[arg(long, value_name = "SCALE", allow_hyphen_values = true)]
     pub displace: Option<f64>,
     /// Write the coloured cell mesh every K steps as OUT_stepNNNN.EXT (animation frames).
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
     pub frames: Option<u64>,
     /// Gray–Scott: feed rate F.
     #[arg(long, default_value_t = 0.0367)]

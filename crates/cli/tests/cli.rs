@@ -1785,30 +1785,33 @@ fn subdiv_as_documented() {
     assert!(!dir.join("x.ply").exists());
 }
 
+/// A PNG chunk: length, type, data, CRC-32.
+fn png_chunk(kind: &[u8], data: &[u8]) -> Vec<u8> {
+    let mut crc_input = kind.to_vec();
+    crc_input.extend_from_slice(data);
+    let mut out = (data.len() as u32).to_be_bytes().to_vec();
+    out.extend_from_slice(&crc_input);
+    out.extend_from_slice(&crc32(&crc_input).to_be_bytes());
+    out
+}
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = !0u32;
+    for &b in bytes {
+        c ^= b as u32;
+        for _ in 0..8 {
+            c = if c & 1 == 1 {
+                0xEDB8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
+        }
+    }
+    !c
+}
+
 /// A PNG that declares 100000 × 100000 pixels in 60 bytes (a decompression bomb).
 fn png_bomb(path: &Path) {
-    fn chunk(kind: &[u8], data: &[u8]) -> Vec<u8> {
-        let mut crc_input = kind.to_vec();
-        crc_input.extend_from_slice(data);
-        let mut out = (data.len() as u32).to_be_bytes().to_vec();
-        out.extend_from_slice(&crc_input);
-        out.extend_from_slice(&crc32(&crc_input).to_be_bytes());
-        out
-    }
-    fn crc32(bytes: &[u8]) -> u32 {
-        let mut c = !0u32;
-        for &b in bytes {
-            c ^= b as u32;
-            for _ in 0..8 {
-                c = if c & 1 == 1 {
-                    0xEDB8_8320 ^ (c >> 1)
-                } else {
-                    c >> 1
-                };
-            }
-        }
-        !c
-    }
+    let chunk = png_chunk;
     let mut ihdr = 100_000u32.to_be_bytes().to_vec();
     ihdr.extend_from_slice(&100_000u32.to_be_bytes());
     ihdr.extend_from_slice(&[16, 0, 0, 0, 0]);
@@ -1820,6 +1823,36 @@ fn png_bomb(path: &Path) {
     ));
     png.extend(chunk(b"IEND", &[]));
     std::fs::write(path, png).unwrap();
+}
+
+/// A 1×1 16-bit grey PNG recording the height range [lo, hi] in asperity's
+/// tEXt keys (the IDAT is a stored, uncompressed zlib block).
+fn png_1x1_with_range(lo: f64, hi: f64) -> Vec<u8> {
+    let raw = [0u8, 0x80, 0x00]; // filter byte, one 16-bit sample
+    let (mut a, mut b) = (1u32, 0u32);
+    for &x in &raw {
+        a = (a + x as u32) % 65521;
+        b = (b + a) % 65521;
+    }
+    let mut idat = vec![0x78, 0x01, 0x01, 3, 0, 0xfc, 0xff];
+    idat.extend_from_slice(&raw);
+    idat.extend_from_slice(&((b << 16) | a).to_be_bytes());
+    let mut ihdr = 1u32.to_be_bytes().to_vec();
+    ihdr.extend_from_slice(&1u32.to_be_bytes());
+    ihdr.extend_from_slice(&[16, 0, 0, 0, 0]);
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    png.extend(png_chunk(b"IHDR", &ihdr));
+    png.extend(png_chunk(
+        b"tEXt",
+        format!("asperity:z_min\0{lo}").as_bytes(),
+    ));
+    png.extend(png_chunk(
+        b"tEXt",
+        format!("asperity:z_max\0{hi}").as_bytes(),
+    ));
+    png.extend(png_chunk(b"IDAT", &idat));
+    png.extend(png_chunk(b"IEND", &[]));
+    png
 }
 
 /// Hostile inputs found by hand (#20): each gets one clean error, no panic,
@@ -1907,6 +1940,43 @@ fn hostile_inputs_are_refused_cleanly() {
         dir,
         &["render", "t.obj", "-o", "r.png", "--scalar", "nosuch"],
         "no scalar 'nosuch'",
+    );
+    // Header values that cannot be: negative lengths, an inverted height range.
+    let mut gsf =
+        b"Gwyddion Simple Field 1.0\nXRes = 2\nYRes = 2\nXReal = -1\nYReal = 1\n".to_vec();
+    gsf.resize(gsf.len().div_ceil(4) * 4 + 16, 0);
+    std::fs::write(dir.join("neg.gsf"), gsf).unwrap();
+    fails(
+        dir,
+        &["info", "neg.gsf"],
+        "XReal and YReal must be positive",
+    );
+    std::fs::write(dir.join("inverted.png"), png_1x1_with_range(1.0, 0.0)).unwrap();
+    fails(dir, &["info", "inverted.png"], "height range is inverted");
+    std::fs::write(dir.join("ok.png"), png_1x1_with_range(0.0, 1.0)).unwrap();
+    let o = asperity(&["info", "ok.png"], dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Counts of zero that meant nothing.
+    fails(
+        dir,
+        &[
+            "growth",
+            "rdsr",
+            "--size",
+            "16",
+            "--layers",
+            "2",
+            "--samples-per-decade",
+            "0",
+            "-o",
+            "g.npy",
+        ],
+        "at least 1",
+    );
+    fails(
+        dir,
+        &["surface-ca", "builtin:cube", "--frames", "0", "-o", "c.ply"],
+        "--frames",
     );
     // A missing folder is named, not the temporary file beside it.
     let o = asperity(

@@ -107,6 +107,13 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         real("XReal", nx as f64)? / nx as f64,
         real("YReal", ny as f64)? / ny as f64,
     );
+    if !(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0) {
+        return Err(FormatError::Malformed(format!(
+            "XReal and YReal must be positive lengths, got {} and {}",
+            dx * nx as f64,
+            dy * ny as f64
+        )));
+    }
     let (xo, yo) = (real("XOffset", 0.0)?, real("YOffset", 0.0)?);
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_spacing([dx.abs(), dy.abs()])?

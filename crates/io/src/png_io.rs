@@ -134,6 +134,11 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     if !(lo.is_finite() && hi.is_finite()) {
         return malformed("recorded height range is not finite");
     }
+    if lo > hi {
+        return malformed(format!(
+            "recorded height range is inverted: z_min = {lo} > z_max = {hi}"
+        ));
+    }
     let data = (0..nx * ny)
         .map(|p| lo + lum(p) / max * (hi - lo))
         .collect();

@@ -8,7 +8,7 @@ use asperity_growth::Model;
 use asperity_growth::curved::{CurvedDeposit, CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::seeds::{LatticeFrame, mesh_substrate};
 
-use crate::error::Result;
+use crate::error::{Result, ensure};
 use crate::growth::deposition::{width_plot, width_records};
 use crate::plots::NamedPlot;
 use crate::report::Measurements;
@@ -77,11 +77,14 @@ pub fn deposit(
             mesh_substrate(mesh, *resolution, job.model, job.layers, budget)?
         }
     };
+    ensure(job.samples_per_decade >= 1, || {
+        "--samples-per-decade must be at least 1".into()
+    })?;
     let params = CurvedParams {
         model: job.model,
         substrate,
         layers: job.layers,
-        samples_per_decade: job.samples_per_decade.max(1),
+        samples_per_decade: job.samples_per_decade,
     };
     let deposit = deposit_curved(&params, seed, 0, budget, progress)?;
     let window = [1.0, job.layers.max(1.0)];

@@ -124,7 +124,10 @@ pub fn deposit(
     let lattice = Lattice::new(job.size, job.dim)?;
     let mut p = DepositionParams::new(job.model, lattice, job.layers);
     p.bin = job.bin;
-    p.samples_per_decade = job.samples_per_decade.max(1);
+    ensure(job.samples_per_decade >= 1, || {
+        "--samples-per-decade must be at least 1".into()
+    })?;
+    p.samples_per_decade = job.samples_per_decade;
     p.keep_particles = job.keep_points && job.model == Model::Bd;
     if job.keep_points {
         // Positions (24 bytes) plus the writer's buffer, per particle.
