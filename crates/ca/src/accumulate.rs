@@ -193,25 +193,24 @@ fn check(p: &CaParams) -> Result<(), CaError> {
     Ok(())
 }
 
-/// Evolves `init` for `p.steps` steps and accumulates the heights.
+/// Refuses, with its estimate, a run of `p` from an initial grid of `dims` that
+/// the budget cannot hold; returns the evolution's grid size (grown by 2T a side
+/// on an infinite background). Callers may check before building the initial
+/// grid itself.
 ///
 /// # Errors
-/// [`CaError`] for bad parameters; [`CaError::Core`] with the estimate when the
-/// grids would exceed `budget`.
-pub fn evolve_and_accumulate(
-    init: &Grid2<u8>,
+/// [`CaError::Core`] with the estimate.
+pub fn check_memory(
+    dims: [usize; 2],
     p: &CaParams,
     budget: &MemoryBudget,
-    progress: &dyn Progress,
-) -> Result<CaOutput, CaError> {
-    check(p)?;
-    let [nx0, ny0] = init.dims();
+) -> Result<[usize; 2], CaError> {
     let grow = if p.boundary == Boundary::Infinite {
-        2 * p.steps
+        p.steps.saturating_mul(2)
     } else {
         0
     };
-    let (nx, ny) = (nx0 + grow, ny0 + grow);
+    let (nx, ny) = (dims[0].saturating_add(grow), dims[1].saturating_add(grow));
     let cells = nx as u128 * ny as u128;
     // Two state buffers + heights (f64), plus every step if kept.
     let kept = if p.keep_states {
@@ -224,6 +223,22 @@ pub fn evolve_and_accumulate(
         1,
         &format!("a {nx}×{ny} evolution of {} steps", p.steps),
     )?;
+    Ok([nx, ny])
+}
+
+/// Evolves `init` for `p.steps` steps and accumulates the heights.
+///
+/// # Errors
+/// [`CaError`] for bad parameters; [`CaError::Core`] with the estimate when the
+/// grids would exceed `budget`.
+pub fn evolve_and_accumulate(
+    init: &Grid2<u8>,
+    p: &CaParams,
+    budget: &MemoryBudget,
+    progress: &dyn Progress,
+) -> Result<CaOutput, CaError> {
+    check(p)?;
+    let [nx, _] = check_memory(init.dims(), p, budget)?;
     progress.start(p.steps as u64, "evolving");
     let fast = p.rule.states() == 2
         && p.boundary == Boundary::Cyclic

@@ -1956,6 +1956,43 @@ fn hostile_inputs_are_refused_cleanly() {
     std::fs::write(dir.join("ok.png"), png_1x1_with_range(0.0, 1.0)).unwrap();
     let o = asperity(&["info", "ok.png"], dir);
     assert!(o.status.success(), "{}", stderr(&o));
+    // Grids refused before anything is allocated.
+    fails(
+        dir,
+        &[
+            "--max-memory",
+            "1G",
+            "ca",
+            "gallery",
+            "--rules",
+            "450",
+            "--inits",
+            "seed",
+            "--tile",
+            "100000x100000",
+            "-o",
+            "g.png",
+        ],
+        "--tile must be",
+    );
+    fails(
+        dir,
+        &[
+            "--max-memory",
+            "1G",
+            "ca",
+            "gallery",
+            "--rules",
+            "450,30,90",
+            "--inits",
+            "seed,random:0.5",
+            "--tile",
+            "16000x16000",
+            "-o",
+            "g.png",
+        ],
+        "the gallery image would need about",
+    );
     // Counts of zero that meant nothing.
     fails(
         dir,

@@ -136,7 +136,6 @@ pub fn run(
             "--boundary infinite takes its region from the pattern; drop --size (or use --boundary cyclic)".into()
         },
     )?;
-    let grid = initial_grid(&job.init, job.size, job.rule.states(), budget)?;
     let params = CaParams {
         boundary,
         include_step0: !job.no_step0,
@@ -145,6 +144,11 @@ pub fn run(
         keep_states: job.keep_states,
         ..CaParams::new(job.rule.clone(), job.steps)
     };
+    // The whole run's estimate before the initial grid is drawn.
+    if let Some(size) = job.size {
+        asperity_ca::accumulate::check_memory(size, &params, budget)?;
+    }
+    let grid = initial_grid(&job.init, job.size, job.rule.states(), budget)?;
     Ok((
         evolve_and_accumulate(&grid, &params, budget, progress)?,
         boundary,
@@ -242,7 +246,17 @@ pub fn gallery_image(g: &GalleryGrid, seed: u64, budget: &MemoryBudget) -> Resul
     ensure(rows > 0 && cols > 0, || {
         "need at least one rule and one initial condition".into()
     })?;
-    let mut img = RgbaImage::filled(cols * tw, rows * th, [255, 255, 255, 255]);
+    ensure(
+        (1..=16384).contains(&tw) && (1..=16384).contains(&th),
+        || format!("--tile must be 1..=16384 pixels a side, got {tw}x{th}"),
+    )?;
+    let (width, height) = (cols as u64 * tw as u64, rows as u64 * th as u64);
+    budget.check_elements(width as u128 * height as u128, 4, "the gallery image")?;
+    ensure(
+        width <= u32::MAX as u64 && height <= u32::MAX as u64,
+        || format!("a {width}x{height} gallery image is too large"),
+    )?;
+    let mut img = RgbaImage::filled(width as u32, height as u32, [255, 255, 255, 255]);
     let opts = RenderOptions {
         width: tw,
         height: th,
