@@ -193,6 +193,36 @@ pub fn smoothed_roughness(m: &TriMesh, iterations: usize) -> Roughness {
     }
 }
 
+/// Calls `mark` on points covering the triangle at spacing `step`: its corners,
+/// and those of the pieces that longest-edge bisection leaves once every edge is
+/// shorter than `step`. A long thin triangle costs about its length over `step`
+/// (a grid over its two long edges would cost the square of that).
+fn sample_triangle(tri: [[f64; 3]; 3], step: f64, mark: &mut impl FnMut([f64; 3])) {
+    let len2 = |u: [f64; 3], v: [f64; 3]| dot(sub(u, v), sub(u, v));
+    let mut stack = vec![tri];
+    while let Some([a, b, c]) = stack.pop() {
+        let edges = [len2(a, b), len2(b, c), len2(c, a)];
+        let (k, &longest) = edges
+            .iter()
+            .enumerate()
+            .max_by(|x, y| x.1.total_cmp(y.1))
+            .expect("three edges");
+        if longest.is_nan() || longest <= step * step {
+            // Every point of the piece is within `step` of its corners: the
+            // corners cover the boxes (four times smaller than the finest box).
+            for p in [a, b, c] {
+                mark(p);
+            }
+            continue;
+        }
+        // Split the longest edge (from corner k to corner k + 1) at its midpoint.
+        let [p, q, r] = [[a, b, c][k], [a, b, c][(k + 1) % 3], [a, b, c][(k + 2) % 3]];
+        let mid = [0, 1, 2].map(|x| 0.5 * (p[x] + q[x]));
+        stack.push([p, mid, r]);
+        stack.push([mid, q, r]);
+    }
+}
+
 /// Box-counting dimension of the surface: points sampled on every triangle at a
 /// spacing of a quarter of the finest box, then the occupied boxes counted at box
 /// sizes from 1/8 to 1/128 of the bounding-box diagonal; D = −slope of log N
@@ -212,28 +242,23 @@ pub fn box_counting(m: &TriMesh) -> Result<crate::fractal::Dimension, crate::Ana
     }
     let sizes: Vec<f64> = (3..=7).map(|k| diag / (1u32 << k) as f64).collect();
     let step = sizes[sizes.len() - 1] / 4.0;
-    let mut samples = Vec::new();
+    // Occupied boxes of the finest size, filled as the sample points are made
+    // (memory follows the boxes, not the samples). The sizes halve from one to
+    // the next on one grid origin, so a coarser box is a finest key halved.
+    let finest = sizes[sizes.len() - 1];
+    let mut occupied = std::collections::HashSet::<[i64; 3]>::new();
     for t in m.triangles() {
-        let [a, b2, c] = t.map(|v| m.positions()[v as usize]);
-        let len = |u: [f64; 3], v: [f64; 3]| dot(sub(u, v), sub(u, v)).sqrt();
-        let k = ((len(a, b2).max(len(a, c)).max(len(b2, c)) / step).ceil() as usize).max(1);
-        for i in 0..=k {
-            for j in 0..=k - i {
-                let (u, v) = (i as f64 / k as f64, j as f64 / k as f64);
-                samples.push([0, 1, 2].map(|x| a[x] + u * (b2[x] - a[x]) + v * (c[x] - a[x])));
-            }
-        }
+        sample_triangle(t.map(|v| m.positions()[v as usize]), step, &mut |p| {
+            occupied.insert([0, 1, 2].map(|x| ((p[x] - b.min[x]) / finest).floor() as i64));
+        });
     }
-    let counts: Vec<f64> = sizes
-        .iter()
-        .map(|&s| {
-            let mut keys: Vec<[i64; 3]> = samples
-                .iter()
-                .map(|p| [0, 1, 2].map(|x| ((p[x] - b.min[x]) / s).floor() as i64))
-                .collect();
-            keys.sort_unstable();
-            keys.dedup();
-            keys.len() as f64
+    let levels = sizes.len();
+    let counts: Vec<f64> = (0..levels)
+        .map(|i| {
+            let shift = (levels - 1 - i) as u32;
+            let coarse: std::collections::HashSet<[i64; 3]> =
+                occupied.iter().map(|k| k.map(|v| v >> shift)).collect();
+            coarse.len() as f64
         })
         .collect();
     let fit = crate::psd::log_fit(&sizes, &counts, [sizes[sizes.len() - 1], sizes[0]])?;

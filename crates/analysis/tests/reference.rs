@@ -139,3 +139,22 @@ fn smoothing_roughness_sees_noise_and_box_counting_sees_a_surface() {
     let d = mesh::box_counting(&s).unwrap();
     assert!((d.d - 2.0).abs() < 0.1, "sphere D = {}", d.d);
 }
+
+/// A disc given as one 2,000-corner polygon, fan-triangulated into long thin
+/// triangles: box counting sees a flat surface (D near 2) and its sampling
+/// follows the triangles' lengths, not their squares (#20: a 20,000-corner
+/// polygon took 24 GB before).
+#[test]
+fn box_counting_of_a_fan_of_slivers_is_a_plane() {
+    let n = 2000;
+    let positions: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            [a.cos(), a.sin(), 0.0]
+        })
+        .collect();
+    let triangles: Vec<[u32; 3]> = (1..n as u32 - 1).map(|i| [0, i, i + 1]).collect();
+    let disc = TriMesh::new(positions, triangles).unwrap();
+    let d = mesh::box_counting(&disc).unwrap();
+    assert!((1.8..2.05).contains(&d.d), "D = {}", d.d);
+}
