@@ -20,13 +20,22 @@ pub fn check_read(path: &Path, budget: &MemoryBudget) -> Result<()> {
     Ok(())
 }
 
+/// `read(path)` after [`check_read`].
+fn budgeted<T>(
+    path: &Path,
+    budget: &MemoryBudget,
+    read: impl FnOnce(&Path) -> std::result::Result<T, IoError>,
+) -> Result<T> {
+    check_read(path, budget)?;
+    Ok(read(path)?)
+}
+
 /// Reads whatever `path` holds (by extension) under the budget ([`check_read`]).
 ///
 /// # Errors
 /// [`IoError`] naming the file; the memory budget.
 pub fn load(path: &Path, budget: &MemoryBudget) -> Result<Surface> {
-    check_read(path, budget)?;
-    Ok(asperity_io::read(path)?)
+    budgeted(path, budget, asperity_io::read)
 }
 
 /// A height field read under the budget ([`check_read`]).
@@ -34,8 +43,7 @@ pub fn load(path: &Path, budget: &MemoryBudget) -> Result<Surface> {
 /// # Errors
 /// As [`load`]; the file holds no height field.
 pub fn load_height(path: &Path, budget: &MemoryBudget) -> Result<HeightField> {
-    check_read(path, budget)?;
-    Ok(asperity_io::read_height(path)?)
+    budgeted(path, budget, asperity_io::read_height)
 }
 
 /// A point set read under the budget ([`check_read`]).
@@ -43,8 +51,7 @@ pub fn load_height(path: &Path, budget: &MemoryBudget) -> Result<HeightField> {
 /// # Errors
 /// As [`load`]; the file holds no point set.
 pub fn load_points(path: &Path, budget: &MemoryBudget) -> Result<PointSet> {
-    check_read(path, budget)?;
-    Ok(asperity_io::read_points(path)?)
+    budgeted(path, budget, asperity_io::read_points)
 }
 
 /// A triangle mesh read from a file under the budget ([`check_read`]).
@@ -52,8 +59,7 @@ pub fn load_points(path: &Path, budget: &MemoryBudget) -> Result<PointSet> {
 /// # Errors
 /// As [`load`]; the file holds no mesh.
 pub fn load_triangles(path: &Path, budget: &MemoryBudget) -> Result<TriMesh> {
-    check_read(path, budget)?;
-    Ok(asperity_io::read_mesh(path)?)
+    budgeted(path, budget, asperity_io::read_mesh)
 }
 
 /// `x y` rows read under the budget ([`check_read`]).
@@ -61,8 +67,7 @@ pub fn load_triangles(path: &Path, budget: &MemoryBudget) -> Result<TriMesh> {
 /// # Errors
 /// As [`load`].
 pub fn load_xy(path: &Path, budget: &MemoryBudget) -> Result<Vec<[f64; 2]>> {
-    check_read(path, budget)?;
-    Ok(asperity_io::read_xy(path)?)
+    budgeted(path, budget, asperity_io::read_xy)
 }
 
 /// The names [`builtin_mesh`] knows.

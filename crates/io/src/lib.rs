@@ -316,11 +316,14 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
         .map_err(|e| IoError::os(path, e))?
         .len();
     let by_size = size.saturating_mul(READ_MEMORY_FACTOR);
-    let pixels = match Format::from_path(path) {
-        Ok(Format::Png) => Some(png_io::header_pixels(path).map_err(|e| e.at(path, "PNG"))?),
-        Ok(Format::Exr) => Some(exr_io::header_pixels(path).map_err(|e| e.at(path, "OpenEXR"))?),
+    let header = match Format::from_path(path) {
+        Ok(f @ Format::Png) => Some((f, png_io::header_pixels(path))),
+        Ok(f @ Format::Exr) => Some((f, exr_io::header_pixels(path))),
         _ => None,
     };
+    let pixels = header
+        .map(|(f, n)| n.map_err(|e| e.at(path, f.info().name)))
+        .transpose()?;
     // Decoded samples (up to four 16-bit or 32-bit channels) plus the f64 grid.
     let decoded = pixels.map_or(0, |n: u128| u64::try_from(n * (16 + 8)).unwrap_or(u64::MAX));
     Ok(by_size.max(decoded))

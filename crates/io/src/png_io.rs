@@ -69,24 +69,25 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField) -> std::io::Resul
     out.finish().map_err(std::io::Error::other)
 }
 
+fn decoding_error(e: png::DecodingError) -> FormatError {
+    match e {
+        png::DecodingError::IoError(io) => FormatError::from(io),
+        other => FormatError::Malformed(other.to_string()),
+    }
+}
+
 /// The pixel count the PNG at `path` declares in its header (nothing decoded).
 pub(crate) fn header_pixels(path: &std::path::Path) -> FResult<u128> {
     let file = std::fs::File::open(path)?;
     let dec = png::Decoder::new(std::io::BufReader::new(file));
-    let reader = dec.read_info().map_err(|e| match e {
-        png::DecodingError::IoError(io) => FormatError::from(io),
-        other => FormatError::Malformed(other.to_string()),
-    })?;
+    let reader = dec.read_info().map_err(decoding_error)?;
     let info = reader.info();
     Ok(info.width as u128 * info.height as u128)
 }
 
 /// Reads any PNG as a height field (see the module docs).
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
-    let err = |e: png::DecodingError| match e {
-        png::DecodingError::IoError(io) => FormatError::from(io),
-        other => FormatError::Malformed(other.to_string()),
-    };
+    let err = decoding_error;
     let mut dec = png::Decoder::new(Cursor::new(bytes));
     dec.set_transformations(png::Transformations::EXPAND);
     let mut reader = dec.read_info().map_err(err)?;
