@@ -172,6 +172,10 @@ pub struct ConvertArgs {
     /// Set the height-field spacing before writing: DX, or DX,DY.
     #[arg(long, value_name = "DX[,DY]", value_delimiter = ',')]
     pub spacing: Option<Vec<f64>>,
+    /// Meshes: drop degenerate triangles, orient them consistently and split
+    /// vertices where separate fans meet, so subdiv and surface-ca accept the mesh.
+    #[arg(long)]
+    pub repair: bool,
 }
 
 /// Camera placement for `render`.

@@ -68,6 +68,19 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
     if let Some(k) = a.as_kind {
         s = to_kind(s, k, diag)?;
     }
+    if a.repair {
+        let Surface::Mesh(m) = &s else {
+            bail!("--repair works on meshes; {} holds {}", a.input.display(), s.kind());
+        };
+        let (fixed, r) = asperity_core::mesh_check::repair_surface(m)
+            .with_context(|| format!("{}: cannot repair", a.input.display()))?;
+        run.note(format!(
+            "repaired: {} degenerate triangles dropped, {} flipped, {} vertices split",
+            r.dropped_degenerate, r.flipped, r.split_vertices
+        ));
+        run.report.measure("repair", &r);
+        s = Surface::Mesh(fixed);
+    }
     if let (Some(sp), Surface::Height(h)) = (&a.spacing, &mut s) {
         anyhow::ensure!(
             matches!(sp.len(), 1 | 2),

@@ -111,10 +111,10 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
         &ctx.budget,
     )?;
     if let Some(r) = &cov.repair {
-        if r.dropped_degenerate > 0 || r.flipped > 0 {
+        if r.dropped_degenerate > 0 || r.flipped > 0 || r.split_vertices > 0 {
             run.note(format!(
-                "repaired: {} degenerate triangles dropped, {} flipped",
-                r.dropped_degenerate, r.flipped
+                "repaired: {} degenerate triangles dropped, {} flipped, {} vertices split",
+                r.dropped_degenerate, r.flipped, r.split_vertices
             ));
         }
         run.report.measure("repair", r);

@@ -56,6 +56,7 @@ pub mod grid2;
 pub mod grid3;
 pub mod image;
 pub mod memory;
+pub mod mesh_check;
 pub mod point_set;
 pub mod poly_mesh;
 pub mod progress;

@@ -135,7 +135,7 @@ impl PolyMesh {
         &self.face_vertices[self.face_offsets[f] as usize..self.face_offsets[f + 1] as usize]
     }
     /// Iterator over all faces.
-    pub fn faces(&self) -> impl Iterator<Item = &[u32]> {
+    pub fn faces(&self) -> impl Iterator<Item = &[u32]> + Clone {
         (0..self.n_faces()).map(|f| self.face(f))
     }
     /// CSR offsets (length `n_faces() + 1`).

@@ -178,6 +178,39 @@ impl TriMesh {
         });
         Ok(self)
     }
+    /// A mesh whose vertex `i` is a copy of this mesh's vertex `origin[i]` (its
+    /// position, normal, colour, UV and scalars), with new `triangles`; the
+    /// texture is kept.
+    ///
+    /// # Errors
+    /// [`CoreError::IndexOutOfRange`] for an origin or a triangle index out of range.
+    pub fn with_vertices_from(&self, origin: &[u32], triangles: Vec<[u32; 3]>) -> crate::Result<Self> {
+        if let Some(k) = origin.iter().position(|&o| o as usize >= self.positions.len()) {
+            return Err(CoreError::IndexOutOfRange {
+                face: k,
+                index: origin[k] as u64,
+                len: self.positions.len(),
+            });
+        }
+        fn pick<T: Copy>(v: &[T], origin: &[u32]) -> Vec<T> {
+            origin.iter().map(|&o| v[o as usize]).collect()
+        }
+        let mut m = Self::new(pick(&self.positions, origin), triangles)?;
+        m.normals = self.normals.as_deref().map(|v| pick(v, origin));
+        m.colors = self.colors.as_deref().map(|v| pick(v, origin));
+        m.uvs = self.uvs.as_deref().map(|v| pick(v, origin));
+        m.scalars = self
+            .scalars
+            .iter()
+            .map(|a| Attribute {
+                name: a.name.clone(),
+                values: pick(&a.values, origin),
+            })
+            .collect();
+        m.texture = self.texture.clone();
+        Ok(m)
+    }
+
     /// Drops the stored normals.
     pub fn without_normals(mut self) -> Self {
         self.normals = None;
@@ -354,15 +387,10 @@ impl TriMesh {
     /// Whether the triangles around every used vertex form one fan (a disc or a
     /// half-disc), i.e. no two cones touch at a single vertex.
     pub fn is_vertex_manifold(&self) -> bool {
-        // Link of vertex v: the edges opposite v. It must be one path or one cycle.
-        let n = self.positions.len();
-        let mut link: Vec<Vec<[u32; 2]>> = vec![Vec::new(); n];
-        for &[a, b, c] in &self.triangles {
-            link[a as usize].push([b, c]);
-            link[b as usize].push([c, a]);
-            link[c as usize].push([a, b]);
-        }
-        link.iter().all(|edges| link_is_single_fan(edges))
+        crate::mesh_check::vertex_fans_single(
+            self.positions.len(),
+            self.triangles.iter().map(|t| t.as_slice()),
+        )
     }
 
     /// Edge- and vertex-manifold.
@@ -448,38 +476,6 @@ impl TriMesh {
         let b = self.boundary_loops().len() as i64;
         Some((2 * c - chi - b) / 2)
     }
-}
-
-/// Whether the link edges of one vertex form a single path or cycle.
-fn link_is_single_fan(edges: &[[u32; 2]]) -> bool {
-    if edges.len() <= 1 {
-        return true;
-    }
-    // Degree of each link vertex and connectivity over the small link graph.
-    let mut verts: Vec<u32> = edges.iter().flatten().copied().collect();
-    verts.sort_unstable();
-    verts.dedup();
-    let pos = |v: u32| verts.binary_search(&v).expect("link vertex listed");
-    let mut degree = vec![0u32; verts.len()];
-    let mut parent: Vec<usize> = (0..verts.len()).collect();
-    fn find(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
-        }
-        x
-    }
-    for &[a, b] in edges {
-        let (ia, ib) = (pos(a), pos(b));
-        degree[ia] += 1;
-        degree[ib] += 1;
-        let (ra, rb) = (find(&mut parent, ia), find(&mut parent, ib));
-        parent[ra] = rb;
-    }
-    let roots = (0..verts.len())
-        .filter(|&i| find(&mut parent, i) == i)
-        .count();
-    roots == 1 && degree.iter().all(|&d| d <= 2)
 }
 
 /// Connected components of `triangles` over `n` vertices (by shared vertices): the

@@ -73,12 +73,7 @@ pub fn voxelize(
         name: "mesh",
         reason: "cannot voxelise an empty mesh".into(),
     })?;
-    if !mesh.is_watertight() {
-        return Err(CoreError::InvalidParameter {
-            name: "mesh",
-            reason: "it is not watertight (closed, edge-manifold), so it bounds no solid".into(),
-        });
-    }
+    crate::mesh_check::check_triangles(mesh, crate::mesh_check::SurfaceNeeds { closed: true })?;
     let ext = bounds.extent();
     let longest = ext.iter().copied().fold(0.0, f64::max);
     if longest <= 0.0 {
@@ -182,6 +177,6 @@ mod tests {
         )
         .unwrap();
         let e = voxelize(&mesh, 10, 1, &MemoryBudget::unlimited()).unwrap_err();
-        assert!(e.to_string().contains("watertight"), "{e}");
+        assert!(e.to_string().contains("not closed: 3 edges belong to one face only"), "{e}");
     }
 }

@@ -31,6 +31,7 @@
 //! level": the Richardson iteration and the frame construction above are our
 //! readings, and interpolation is offered beside the paper's choice.
 
+use asperity_core::mesh_check::{SurfaceNeeds, check_polygons};
 use asperity_core::vec3::{cross, dot, scale, sub, unit};
 use std::cell::OnceCell;
 
@@ -196,9 +197,10 @@ where
 {
     let mut out = vec![base.clone()];
     let mut all = Vec::with_capacity(levels);
+    // The one surface check every command makes (degenerate faces, manifold
+    // edges and vertices, orientation), before the topology is built.
+    check_polygons(&base.mesh, SurfaceNeeds::default())?;
     let mut topo = Topology::new(base)?;
-    topo.check_base(base.mesh.face_vertices())?;
-    crate::catmull_clark::check_nondegenerate(&base.mesh)?;
     for k in 1..=levels {
         let coarse = &out[k - 1];
         let mut next = refine_with(coarse, &topo, boundary)?;

@@ -4,6 +4,7 @@
 //! blended as in [`crate::blend`], then shaded and used as relief with a
 //! sea-level clamp ([`Planet`], the paper's mushroom planet).
 
+use asperity_core::mesh_check::{SurfaceNeeds, check_polygons};
 use asperity_core::CoreError;
 use rayon::prelude::*;
 
@@ -92,9 +93,10 @@ pub fn scalar_field(
         .map(|(i, p)| [p[0], p[1], p[2], 0.0, map.as_ref().map_or(0.0, |m| m[i])])
         .collect();
     let mut mesh = base.clone();
+    // The one surface check every command makes (degenerate faces, manifold
+    // edges and vertices, orientation), before the topology is built.
+    check_polygons(&base.mesh, SurfaceNeeds::default())?;
     let mut topo = Topology::new(base)?;
-    topo.check_base(base.mesh.face_vertices())?;
-    crate::catmull_clark::check_nondegenerate(&base.mesh)?;
     let mut alpha = vec![0.0; vals.len()];
     let mut counts = vec![(mesh.mesh.n_vertices(), mesh.mesh.n_faces())];
     for l in 1..=levels {
