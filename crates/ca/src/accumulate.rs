@@ -325,23 +325,28 @@ fn accumulate_bits(init: &Grid2<u8>, p: &CaParams, progress: &dyn Progress) -> C
     // Bit-sliced counters: planes[word * P + b] holds bit b of 64 cells' counts.
     let planes = (usize::BITS - (p.steps + 1).leading_zeros()) as usize;
     let mut counters = vec![0u64; cur.bits.len() * planes];
+    let add_words = |c: &mut [u64], words: &[u64]| {
+        for (k, &w) in words.iter().enumerate() {
+            let mut carry = w;
+            for plane in &mut c[k * planes..(k + 1) * planes] {
+                if carry == 0 {
+                    break;
+                }
+                let t = *plane & carry;
+                *plane ^= carry;
+                carry = t;
+            }
+        }
+    };
     let add = |counters: &mut [u64], grid: &BitGrid| {
+        if grid.bits.len() < crate::evolve::SEQUENTIAL_WORDS {
+            add_words(counters, &grid.bits);
+            return;
+        }
         counters
             .par_chunks_mut(planes * 4096)
             .zip(grid.bits.par_chunks(4096))
-            .for_each(|(c, words)| {
-                for (k, &w) in words.iter().enumerate() {
-                    let mut carry = w;
-                    for plane in &mut c[k * planes..(k + 1) * planes] {
-                        if carry == 0 {
-                            break;
-                        }
-                        let t = *plane & carry;
-                        *plane ^= carry;
-                        carry = t;
-                    }
-                }
-            });
+            .for_each(|(c, words)| add_words(c, words));
     };
     if p.include_step0 {
         add(&mut counters, &cur);

@@ -117,6 +117,12 @@ pub struct BitGrid {
 /// Rows per parallel block of the bit-sliced step.
 const BLOCK: usize = 32;
 
+/// Bit grids of fewer words than this (64 cells each) step on one thread: a
+/// step of 2¹⁸ cells takes about as long as handing work to the pool and
+/// waiting for it (measured: a 64² grid spent 90 % of its time in futex and
+/// sched_yield when parallel).
+pub(crate) const SEQUENTIAL_WORDS: usize = 4096;
+
 impl BitGrid {
     /// Packs a 0/1 byte grid (`nx` must be a multiple of 64).
     ///
@@ -156,6 +162,14 @@ impl BitGrid {
         let luts = Luts::new(rule);
         let w = self.words;
         let simd = Simd::detect();
+        if dst.bits.len() < SEQUENTIAL_WORDS {
+            // A small grid: waking the thread pool costs more than the step.
+            dst.bits
+                .chunks_mut(BLOCK * w)
+                .enumerate()
+                .for_each(|(b, out)| simd.block(&luts, self, b, out));
+            return;
+        }
         dst.bits
             .par_chunks_mut(BLOCK * w)
             .enumerate()

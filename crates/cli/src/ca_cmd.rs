@@ -51,7 +51,7 @@ fn ca_run(ctx: &Context, a: &CaRunArgs) -> anyhow::Result<()> {
         keep_states: a.states_out.is_some() || a.steps_png.is_some(),
     };
     let t = Instant::now();
-    let (result, boundary) = asperity_engine::ca::run(&job, &ctx.budget, &ctx.bar())?;
+    let (result, boundary) = asperity_engine::ca::run(&job, &ctx.budget, &ctx.time, &ctx.bar())?;
     let seconds = t.elapsed().as_secs_f64();
     let h = &result.heights;
     let mut run = Run::new(ctx, "ca run");
@@ -107,7 +107,7 @@ fn ca_gallery(ctx: &Context, a: &CaGalleryArgs) -> anyhow::Result<()> {
         size: [a.size.0 as usize, a.size.1 as usize],
         tile: a.tile,
     };
-    let img = gallery_image(&grid, ctx.seed, &ctx.budget)?;
+    let img = gallery_image(&grid, ctx.seed, &ctx.budget, &ctx.time)?;
     let mut run = Run::new(ctx, "ca gallery");
     run.png(&out, &img)?;
     run.report.measure("rules", &a.rules);

@@ -65,6 +65,20 @@ pub struct Global {
     /// Refuse allocations estimated above this size, e.g. 512M, 4G (default: half of RAM).
     #[arg(long, global = true, value_name = "SIZE", value_parser = parse_memory)]
     pub max_memory: Option<u64>,
+    /// Refuse runs that even a fast machine could not finish within this time, e.g. 30m,
+    /// 12h, 1w, or none (default: 1d). Guards against step counts with a typo.
+    #[arg(long, global = true, value_name = "DURATION", value_parser = parse_time)]
+    pub max_time: Option<MaxTime>,
+}
+
+/// `--max-time`: a duration, or none for no limit.
+#[derive(Clone, Copy, Debug)]
+pub struct MaxTime(pub Option<std::time::Duration>);
+
+fn parse_time(s: &str) -> Result<MaxTime, String> {
+    asperity_core::time_budget::parse_duration(s)
+        .map(MaxTime)
+        .map_err(|e| e.to_string())
 }
 
 fn parse_memory(s: &str) -> Result<u64, String> {

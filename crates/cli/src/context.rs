@@ -5,13 +5,13 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use asperity_core::{MemoryBudget, PointSet, RgbaImage, TriMesh};
+use asperity_core::{MemoryBudget, PointSet, RgbaImage, TimeBudget, TriMesh};
 use asperity_engine::plots::NamedPlot;
 use asperity_engine::{Measurements, Report};
 use asperity_io::{Surface, WriteOptions};
 use asperity_render::plot::{plot_png, plot_svg};
 
-use crate::cli::Global;
+use crate::cli::{Global, MaxTime};
 use crate::progress::Bar;
 
 /// Settings shared by every command after parsing.
@@ -21,6 +21,7 @@ pub struct Context {
     pub json: bool,
     pub quiet: bool,
     pub budget: MemoryBudget,
+    pub time: TimeBudget,
     pub threads: usize,
 }
 
@@ -32,13 +33,20 @@ impl Context {
                 .build_global()
                 .context("starting the thread pool")?;
         }
+        let threads = rayon::current_num_threads();
+        let time = match g.max_time {
+            Some(MaxTime(None)) => TimeBudget::unlimited(),
+            Some(MaxTime(Some(limit))) => TimeBudget::new(limit, threads),
+            None => TimeBudget::new(asperity_core::time_budget::DEFAULT_LIMIT, threads),
+        };
         Ok(Self {
+            time,
             seed: g.seed,
             output: g.output.clone(),
             json: g.json,
             quiet: g.quiet,
             budget: g.max_memory.map(MemoryBudget::new).unwrap_or_default(),
-            threads: rayon::current_num_threads(),
+            threads,
         })
     }
 

@@ -43,7 +43,7 @@ fn deposit(ctx: &Context, model: Model, a: &DepositArgs) -> anyhow::Result<()> {
         alpha_sizes: a.alpha_sizes.clone(),
         keep_points: a.points.is_some() || is_points_path(&out)?,
     };
-    let r = deposition::deposit(&job, ctx.seed, &ctx.budget, &ctx.bar())?;
+    let r = deposition::deposit(&job, ctx.seed, &ctx.budget, &ctx.time, &ctx.bar())?;
     let mut run = Run::new(ctx, "growth");
     let name = model.name();
     if is_points_path(&out)? {
@@ -175,7 +175,7 @@ fn grow_dla(ctx: &Context, a: &DlaArgs) -> anyhow::Result<()> {
         seed: seed_spec(a, &ctx.budget)?,
         launch_gap: a.launch_gap,
     };
-    let r = dla::grow(job, ctx.seed, &ctx.budget, &ctx.bar())?;
+    let r = dla::grow(job, ctx.seed, &ctx.budget, &ctx.time, &ctx.bar())?;
     let mut run = Run::new(ctx, "growth dla");
     for (kind, msg) in r.warnings() {
         run.warn(kind, msg);

@@ -83,7 +83,7 @@ fn surface(
         points,
         &p,
         a.save_every,
-        &run.ctx.budget,
+        (&run.ctx.budget, &run.ctx.time),
         &run.ctx.bar(),
         &mut |step, mesh| {
             let path = numbered(out, "step", step as u64, 4);
@@ -151,7 +151,7 @@ pub fn dla_terrain(ctx: &Context, a: &DlaTerrainArgs) -> anyhow::Result<()> {
         size,
         a.particles,
         a.stick,
-        (ctx.seed, &ctx.budget, &ctx.bar()),
+        (ctx.seed, &ctx.budget, &ctx.time, &ctx.bar()),
     )?;
     pipeline(run, grown, a.points.as_deref(), &a.level_set, &out, "dla")
 }

@@ -68,6 +68,7 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
     let session = Session::open(source(a)?, ctx.seed, a.limit, a.time, &ctx.budget)?;
     let mut run = Run::new(ctx, "subdiv");
     let frames = a.frames.unwrap_or(1);
+    asperity_engine::estimate::check_file_count(u64::from(frames), "--frames")?;
     let bar = ctx.bar();
     if frames > 1 {
         bar.start(u64::from(frames), "subdiv frames");

@@ -53,10 +53,13 @@ fn run_with_frames(
     app: App,
     out: &Path,
 ) -> anyhow::Result<(AppRun, Vec<PathBuf>)> {
+    if let Some(k) = a.frames {
+        asperity_engine::estimate::check_file_count(app.steps() / k + 1, "--frames")?;
+    }
     let bar = ctx.bar();
     start_progress(&bar, &app);
     let (mut written, mut failed) = (Vec::new(), None);
-    let r = run_app(cov, app, ctx.seed, |step, color| {
+    let r = run_app(cov, app, ctx.seed, &ctx.time, |step, color| {
         bar.advance(1);
         let Some(k) = a.frames else { return };
         if failed.is_some() || !step.is_multiple_of(k) {
@@ -70,7 +73,7 @@ fn run_with_frames(
             Ok(()) => written.push(path),
             Err(e) => failed = Some(e),
         }
-    });
+    })?;
     bar.finish();
     match failed {
         Some(e) => Err(e),

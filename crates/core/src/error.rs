@@ -80,6 +80,22 @@ pub enum CoreError {
         /// The budget in bytes.
         limit: u64,
     },
+    /// A run would take longer than the time budget.
+    #[error(
+        "{what} would take at least {} ({detail}), over the time limit of {} (lower the counts, or raise --max-time if you mean it)",
+        crate::time_budget::format_seconds(*seconds),
+        crate::time_budget::format_seconds(*limit_s)
+    )]
+    TimeLimit {
+        /// What was about to run.
+        what: String,
+        /// The units, rate and threads behind the estimate.
+        detail: String,
+        /// Estimated seconds (a lower bound).
+        seconds: f64,
+        /// The limit in seconds.
+        limit_s: f64,
+    },
     /// A parameter is out of its valid range.
     #[error("invalid {name}: {reason}")]
     InvalidParameter {

@@ -62,6 +62,7 @@ pub mod poly_mesh;
 pub mod progress;
 pub mod rng;
 pub mod shapes;
+pub mod time_budget;
 pub mod tri_mesh;
 pub mod vec3;
 pub mod voxelize;
@@ -79,6 +80,7 @@ pub use point_set::PointSet;
 pub use poly_mesh::PolyMesh;
 pub use progress::{NoProgress, Progress};
 pub use rng::{SimRng, seeded, substream};
+pub use time_budget::{TimeBudget, Work};
 pub use tri_mesh::{Attribute, TriMesh};
 
 /// Result alias for the core crate.

@@ -10,7 +10,11 @@ use asperity_ca::{
     Boundary, CaParams, Family, Init, Rule, Weights, accumulate, evolve_and_accumulate,
     initial_grid,
 };
-use asperity_core::{Diagonal, Grid2, HeightField, MemoryBudget, Progress, RgbaImage, TriMesh};
+use asperity_core::{
+    Diagonal, Grid2, HeightField, MemoryBudget, Progress, RgbaImage, TimeBudget, TriMesh,
+};
+
+use crate::estimate;
 use asperity_render::cells::{blit, cell_image, grey};
 use asperity_render::font::draw_text;
 use asperity_render::{Polyline, RenderOptions, Shader, render_mesh};
@@ -122,6 +126,7 @@ pub type RunOutput = asperity_ca::CaOutput;
 pub fn run(
     job: &RunJob,
     budget: &MemoryBudget,
+    time: &TimeBudget,
     progress: &dyn Progress,
 ) -> Result<(RunOutput, Boundary)> {
     let seeded = matches!(job.init, Init::Seed);
@@ -144,15 +149,31 @@ pub fn run(
         keep_states: job.keep_states,
         ..CaParams::new(job.rule.clone(), job.steps)
     };
-    // The whole run's estimate before the initial grid is drawn.
+    // The whole run's estimates before the initial grid is drawn.
     if let Some(size) = job.size {
         asperity_ca::accumulate::check_memory(size, &params, budget)?;
     }
+    estimate::check(time, &run_work(job, boundary))?;
     let grid = initial_grid(&job.init, job.size, job.rule.states(), budget)?;
     Ok((
         evolve_and_accumulate(&grid, &params, budget, progress)?,
         boundary,
     ))
+}
+
+/// The work of a run: every step of the grid, or of the pattern's region on an
+/// infinite background, which grows by at least one cell a side each step
+/// while the pattern lives (Σ (2t+1)² ≈ 4T³/3 cells for a seed).
+fn run_work(job: &RunJob, boundary: Boundary) -> asperity_core::Work {
+    let t = job.steps as f64;
+    match (boundary, job.size) {
+        (Boundary::Cyclic, Some([w, h])) => estimate::ca(w as f64 * h as f64, t),
+        _ => {
+            let mut w = estimate::ca(1.0, t);
+            w.units = (4.0 / 3.0 * t * t * t).max(t * estimate::CA_MIN_CELLS_PER_STEP);
+            w
+        }
+    }
 }
 
 /// The measurements `asperity ca run --json` reports.
@@ -240,7 +261,12 @@ pub struct GalleryGrid {
 /// # Errors
 /// [`crate::EngineError::Invalid`] with no rule or no initial condition; as
 /// [`rule`], [`parse_init`] and the CA and renderer.
-pub fn gallery_image(g: &GalleryGrid, seed: u64, budget: &MemoryBudget) -> Result<RgbaImage> {
+pub fn gallery_image(
+    g: &GalleryGrid,
+    seed: u64,
+    budget: &MemoryBudget,
+    time: &TimeBudget,
+) -> Result<RgbaImage> {
     let (tw, th) = g.tile;
     let (rows, cols) = (g.rules.len() as u32, g.inits.len() as u32);
     ensure(rows > 0 && cols > 0, || {
@@ -250,6 +276,10 @@ pub fn gallery_image(g: &GalleryGrid, seed: u64, budget: &MemoryBudget) -> Resul
         (1..=16384).contains(&tw) && (1..=16384).contains(&th),
         || format!("--tile must be 1..=16384 pixels a side, got {tw}x{th}"),
     )?;
+    let tiles = f64::from(rows) * f64::from(cols);
+    let mut work = estimate::ca(g.size[0] as f64 * g.size[1] as f64, g.steps as f64 * tiles);
+    work.what = "the gallery's CA runs".into();
+    estimate::check(time, &work)?;
     let (width, height) = (cols as u64 * tw as u64, rows as u64 * th as u64);
     budget.check_elements(width as u128 * height as u128, 4, "the gallery image")?;
     ensure(

@@ -16,6 +16,7 @@
 //! | [`ifs`] | projected-IFS models, attractors, DCF/SDCF and curvature reports | poull-gentil |
 //! | [`surfca`] | Voronoi, corrosion and Gray–Scott on a mesh, coloured and textured | gobron-chiba |
 //! | [`render`] | turntable views and surface bounds | gobron-chiba light model |
+//! | [`estimate`] | run-time estimates of the long jobs, checked before they start | — |
 //! | [`workloads`] | the benchmark workloads the issues name | — |
 //! | [`report`] | what a job wrote and measured | — |
 //!
@@ -26,6 +27,7 @@ pub mod analyze;
 pub mod ca;
 pub mod describe;
 pub mod error;
+pub mod estimate;
 pub mod files;
 pub mod growth;
 pub mod ifs;

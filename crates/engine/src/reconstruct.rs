@@ -2,7 +2,7 @@
 //! two-pass pipelines (Fig. 2: growth, then reconstruction): a DLA terrain
 //! (Figs. 9–11) and an RDSR-grown sphere (Fig. 8).
 
-use asperity_core::{MemoryBudget, Progress, TriMesh};
+use asperity_core::{MemoryBudget, Progress, TimeBudget, TriMesh};
 use asperity_growth::Model;
 use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::dla::{DlaParams, SeedShape, dla};
@@ -48,12 +48,19 @@ pub fn surface(
     points: &[[f64; 3]],
     params: &ReconstructParams,
     save_every: Option<usize>,
-    budget: &MemoryBudget,
+    (budget, time): (&MemoryBudget, &TimeBudget),
     progress: &dyn Progress,
     on_snapshot: &mut dyn FnMut(usize, TriMesh),
 ) -> Result<Reconstruction> {
     if save_every == Some(0) {
         return Err(invalid("--save-every needs K ≥ 1"));
+    }
+    params.validate()?;
+    let grid = asperity_levelset::pipeline::grid_for(points, params, budget)?;
+    let iterations = params.iterations as f64;
+    crate::estimate::check(time, &crate::estimate::level_set(grid.len() as f64, iterations))?;
+    if let Some(k) = save_every {
+        crate::estimate::check_file_count(params.iterations as u64 / k as u64 + 1, "--save-every")?;
     }
     let rec = reconstruct(points, params, budget, progress, &mut |step, ls| {
         let Some(k) = save_every else { return };
@@ -169,8 +176,9 @@ pub fn dla_terrain(
     size: [usize; 3],
     particles: usize,
     stick: f64,
-    (seed, budget, progress): (u64, &MemoryBudget, &dyn Progress),
+    (seed, budget, time, progress): (u64, &MemoryBudget, &TimeBudget, &dyn Progress),
 ) -> Result<Grown> {
+    crate::estimate::check(time, &crate::estimate::dla(particles as f64))?;
     let params = DlaParams {
         dim: 3,
         size,

@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use asperity_core::{MemoryBudget, PointSet, Progress, TriMesh};
+use asperity_core::{MemoryBudget, PointSet, Progress, TimeBudget, TriMesh};
 use asperity_render::plot::{Plot, Series, Style};
 use asperity_surfca::corrosion::{
     Behaviour, CorrosionCell, CorrosionParams, CorrosionRule, corrode, initial,
@@ -234,6 +234,14 @@ impl App {
         })
     }
 
+    /// The most steps it runs (Voronoi stops earlier once every cell is reached).
+    pub fn steps(&self) -> u64 {
+        match self {
+            App::Voronoi { max_steps, .. } => *max_steps,
+            App::Corrosion { steps, .. } | App::GrayScott { steps, .. } => *steps,
+        }
+    }
+
     /// `voronoi`, `corrosion` or `gray-scott`.
     pub fn name(&self) -> &'static str {
         match self {
@@ -346,13 +354,26 @@ fn run_gray_scott(
 
 /// Runs `app` on the cells; `on_step(step, colour of cell c)` is called after
 /// every step (for progress and animation frames).
+///
+/// # Errors
+/// [`asperity_core::CoreError::TimeLimit`] when the cells × steps cannot finish
+/// within `time`.
 pub fn run_app(
     cov: &Covered,
     app: App,
     seed: u64,
+    time: &TimeBudget,
     mut on_step: impl FnMut(u64, &dyn Fn(usize) -> [u8; 4]),
-) -> AppRun {
+) -> Result<AppRun> {
     let cells = &cov.cells;
+    // Voronoi stops once its fronts have crossed the surface, about √cells
+    // steps: only what it must run counts.
+    let n = cells.len() as f64;
+    let steps = match &app {
+        App::Voronoi { max_steps, .. } => (*max_steps as f64).min(2.0 * n.sqrt()),
+        _ => app.steps() as f64,
+    };
+    crate::estimate::check(time, &crate::estimate::surface_ca(n, steps))?;
     let t = Instant::now();
     let (state, stats, classes) = match &app {
         App::Voronoi {
@@ -369,13 +390,13 @@ pub fn run_app(
             steps,
         } => run_gray_scott(cells, (rule, *patches, *steps), seed, &mut on_step),
     };
-    AppRun {
+    Ok(AppRun {
         app,
         state,
         stats,
         classes,
         seconds: t.elapsed().as_secs_f64(),
-    }
+    })
 }
 
 /// How the result is written.

@@ -3,7 +3,7 @@
 
 use std::f64::consts::PI;
 
-use asperity_core::{MemoryBudget, NoProgress};
+use asperity_core::{MemoryBudget, NoProgress, TimeBudget};
 use asperity_engine::ErrorKind;
 use asperity_engine::files::{builtin_mesh, load, load_mesh};
 use asperity_engine::reconstruct::{PIPELINE, rdsr_sphere, surface};
@@ -43,7 +43,7 @@ fn voronoi_of_antipodal_sites_is_two_hemispheres() {
         nearest_cell(&cov.cells.centre, [0.0, 0.0, -1.0]),
     ];
     let app = App::voronoi(sites, None, 100_000).unwrap();
-    let run = run_app(&cov, app, 7, |_, _| {});
+    let run = run_app(&cov, app, 7, &TimeBudget::unlimited(), |_, _| {}).unwrap();
     assert!(run.warnings().is_empty(), "{:?}", run.warnings());
 
     let labels = run.labels(&cov).unwrap();
@@ -79,13 +79,13 @@ fn outputs_an_application_cannot_give_are_refused() {
     let budget = MemoryBudget::unlimited();
     let cov = covered("cube", 5_000);
     let app = App::corrosion(CorrosionParams::default(), 5).unwrap();
-    let run = run_app(&cov, app, 3, |_, _| {});
+    let run = run_app(&cov, app, 3, &TimeBudget::unlimited(), |_, _| {}).unwrap();
     let e = run.labels(&cov).unwrap_err();
     assert_eq!(e.kind(), ErrorKind::Invalid);
     assert!(e.to_string().contains("voronoi"), "{e}");
 
     let sites = vec![0];
-    let voronoi = run_app(&cov, App::voronoi(sites, None, 1000).unwrap(), 3, |_, _| {});
+    let voronoi = run_app(&cov, App::voronoi(sites, None, 1000).unwrap(), 3, &TimeBudget::unlimited(), |_, _| {}).unwrap();
     let shape = OutputShape {
         displace: Some(1.0),
         ..OutputShape::default()
@@ -135,7 +135,7 @@ fn rdsr_sphere_pipeline_gives_a_closed_sphere_around_the_deposit() {
         &grown.points,
         &params,
         None,
-        &budget,
+        (&budget, &TimeBudget::unlimited()),
         &NoProgress,
         &mut |_, _| {},
     )

@@ -270,6 +270,25 @@ fn lap(slot: &mut f64, t: Instant) {
     *slot = t.elapsed().as_secs_f64();
 }
 
+/// The grid [`reconstruct`] uses for `points`: the sizing's spacing, padded for
+/// the offset ε and the tube (see [`padding_nodes`]), checked against `budget`.
+///
+/// # Errors
+/// As [`GridSpec::around`].
+pub fn grid_for(
+    points: &[[f64; 3]],
+    params: &ReconstructParams,
+    budget: &MemoryBudget,
+) -> asperity_core::Result<GridSpec> {
+    let offset_of = |h: f64| params.offset.unwrap_or(3.0 * h);
+    GridSpec::around(
+        points,
+        params.sizing,
+        |h| padding_nodes(offset_of(h), params.tube_cells * h, h),
+        budget,
+    )
+}
+
 /// Reconstructs a watertight surface from `points`; `on_step` sees the initial level
 /// set (step 0) and the level set every `params.snapshot_every` steps.
 ///
@@ -292,12 +311,7 @@ pub fn reconstruct(
     }
     let start = Instant::now();
     let offset_of = |h: f64| params.offset.unwrap_or(3.0 * h);
-    let grid = GridSpec::around(
-        points,
-        params.sizing,
-        |h| padding_nodes(offset_of(h), params.tube_cells * h, h),
-        budget,
-    )?;
+    let grid = grid_for(points, params, budget)?;
     let h = grid.spacing;
     let (eps, gamma) = (offset_of(h), params.tube_cells * h);
     let mut timings = Timings::default();

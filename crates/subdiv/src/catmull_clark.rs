@@ -234,34 +234,6 @@ impl Topology {
     }
 }
 
-/// Refuses faces of (near) zero area — Newell's area vector shorter than 1e-12
-/// of the squared bounding-box diagonal — whose frames and face points would
-/// be meaningless.
-///
-/// # Errors
-/// [`CoreError::InvalidParameter`] naming the first degenerate face.
-pub fn check_nondegenerate(mesh: &PolyMesh) -> Result<(), CoreError> {
-    let p = mesh.positions();
-    let diag2 = asperity_core::Aabb::from_points(p).map_or(0.0, |b| b.diagonal().powi(2));
-    for (f, face) in mesh.faces().enumerate() {
-        let mut n = [0.0; 3];
-        for k in 0..face.len() {
-            let (a, b) = (p[face[k] as usize], p[face[(k + 1) % face.len()] as usize]);
-            n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-            n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-            n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-        }
-        let area = 0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-        if area.is_nan() || area <= 1e-12 * diag2 {
-            return Err(CoreError::InvalidParameter {
-                name: "mesh",
-                reason: format!("face {f} is degenerate (area {area:e}); remove or repair it"),
-            });
-        }
-    }
-    Ok(())
-}
-
 /// One Catmull–Clark step (see the module docs).
 ///
 /// # Errors

@@ -7,7 +7,7 @@ use asperity_analysis::psd::LogFit;
 use asperity_analysis::scaling::{
     GrowthFit, growth_exponent, growth_exponent_intrinsic, roughness_exponent,
 };
-use asperity_core::{MemoryBudget, NoProgress, Progress};
+use asperity_core::{MemoryBudget, NoProgress, Progress, TimeBudget};
 use asperity_growth::deposition::deposit_on_schedule;
 use asperity_growth::interface_width::uniform_schedule;
 use asperity_growth::{Deposit, DepositionParams, Lattice, Model, WidthSeries, deposit_ensemble};
@@ -16,6 +16,7 @@ use rayon::prelude::*;
 use serde_json::{Value, json};
 
 use crate::error::{Result, ensure, invalid};
+use crate::estimate;
 use crate::plots::{fit_line, log_log, points};
 use crate::report::Measurements;
 
@@ -117,12 +118,19 @@ pub fn deposit(
     job: &DepositionJob,
     seed: u64,
     budget: &MemoryBudget,
+    time: &TimeBudget,
     progress: &dyn Progress,
 ) -> Result<DepositionRun> {
     ensure(job.runs >= 1, || "--runs must be at least 1".into())?;
     let window = job.window()?;
     let lattice = Lattice::new(job.size, job.dim)?;
     let mut p = DepositionParams::new(job.model, lattice, job.layers);
+    let mut work = estimate::deposition(p.depositions() as f64 * job.runs as f64);
+    if let Some(sizes) = &job.alpha_sizes {
+        let alpha = alpha_work(job, sizes, budget)?;
+        work.units += alpha.units;
+    }
+    estimate::check(time, &work)?;
     p.bin = job.bin;
     ensure(job.samples_per_decade >= 1, || {
         "--samples-per-decade must be at least 1".into()
@@ -175,6 +183,27 @@ fn saturated_w2(model: Model, lat: Lattice, z: f64, seed: u64, r: u64) -> f64 {
     let sched = uniform_schedule(total / 4 / n * n, total, 64);
     let d = deposit_on_schedule(&p, seed, 1000 + r, &sched, &NoProgress);
     d.series.w2.iter().sum::<f64>() / d.series.w2.len() as f64
+}
+
+/// The depositions of the α study (each size run to 2·L^z monolayers, `runs`
+/// times), after checking that the largest lattices fit the budget (the runs go
+/// in parallel, one lattice per thread).
+fn alpha_work(job: &DepositionJob, sizes: &[usize], budget: &MemoryBudget) -> Result<asperity_core::Work> {
+    let z = dynamic_exponent(job.model, job.dim);
+    let mut depositions = 0.0;
+    let mut largest = 0u128;
+    for &l in sizes {
+        let lat = Lattice::new(l, job.dim)?;
+        let columns = lat.columns() as f64;
+        depositions += job.runs as f64 * columns * (2.0 * (l as f64).powf(z)).ceil();
+        largest = largest.max(lat.columns() as u128);
+    }
+    // Heights and the binned/relaxed work arrays: 16 bytes per column.
+    let lanes = rayon::current_num_threads().min(sizes.len() * job.runs).max(1) as u128;
+    budget.check_elements(largest * lanes, 16, "the α study's lattices")?;
+    let mut w = estimate::deposition(depositions);
+    w.what = "the α study".into();
+    Ok(w)
 }
 
 /// Saturated widths for several sizes: each run to 2·L^z monolayers and W²

@@ -5,7 +5,7 @@ use asperity_analysis::scaling::{
     density_dimension, density_profile, gyration_dimension, mass_radius_dimension,
     radius_of_gyration,
 };
-use asperity_core::{MemoryBudget, Progress};
+use asperity_core::{MemoryBudget, Progress, TimeBudget};
 use asperity_growth::dla::{DlaCluster, DlaParams, dla};
 use asperity_growth::seeds::{LatticeFrame, SeedSpec};
 use serde_json::{Value, json};
@@ -79,8 +79,10 @@ pub fn grow(
     job: DlaJob,
     seed: u64,
     budget: &MemoryBudget,
+    time: &TimeBudget,
     progress: &dyn Progress,
 ) -> Result<DlaRun> {
+    crate::estimate::check(time, &crate::estimate::dla(job.particles as f64))?;
     let size = job
         .size
         .unwrap_or_else(|| job.seed.default_size(job.dim, job.particles, job.stick));
