@@ -51,8 +51,12 @@ pub struct Global {
     #[arg(long, global = true, default_value_t = 7, value_name = "U64")]
     pub seed: u64,
     /// Output file or directory (commands say which); the format follows the extension.
+    /// `-o -` writes a single-file output to stdout, in the format named by --format.
     #[arg(short = 'o', long = "output", global = true, value_name = "PATH")]
     pub output: Option<PathBuf>,
+    /// The format of `-o -` (stdout), by extension: npy, ply, stl, csv, …
+    #[arg(long, global = true, value_name = "EXT")]
+    pub format: Option<String>,
     /// Worker threads (default: all cores).
     #[arg(long, global = true, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=1024))]
     pub threads: Option<u16>,

@@ -23,6 +23,8 @@ pub struct Context {
     pub budget: MemoryBudget,
     pub time: TimeBudget,
     pub threads: usize,
+    /// `--format`: set when `-o -` sends the output to stdout.
+    pub format: Option<String>,
 }
 
 impl Context {
@@ -41,6 +43,7 @@ impl Context {
         };
         Ok(Self {
             time,
+            format: g.format.clone(),
             seed: g.seed,
             output: g.output.clone(),
             json: g.json,
@@ -53,7 +56,15 @@ impl Context {
     /// Prints an informational line on stderr unless `--quiet` or `--json`.
     pub fn note(&self, msg: impl AsRef<str>) {
         if !self.quiet && !self.json {
-            eprintln!("{}", msg.as_ref());
+            eprintln!("{}", self.shown(msg.as_ref()));
+        }
+    }
+
+    /// `msg` with the private file behind `-o -` called what it is: stdout.
+    pub fn shown(&self, msg: &str) -> String {
+        match (&self.format, &self.output) {
+            (Some(_), Some(out)) => msg.replace(&out.display().to_string(), "stdout"),
+            _ => msg.to_owned(),
         }
     }
 
@@ -180,6 +191,7 @@ impl<'a> Run<'a> {
     pub fn warn(&mut self, kind: &str, msg: String) {
         // Warnings reach stderr with --json too (stdout holds the report); only
         // --quiet hides them.
+        let msg = self.ctx.shown(&msg);
         if !self.ctx.quiet {
             eprintln!("{kind}: {msg}");
         }

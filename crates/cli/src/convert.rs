@@ -70,7 +70,11 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
     }
     if a.repair {
         let Surface::Mesh(m) = &s else {
-            bail!("--repair works on meshes; {} holds {}", a.input.display(), s.kind());
+            bail!(
+                "--repair works on meshes; {} holds {}",
+                a.input.display(),
+                s.kind()
+            );
         };
         let (fixed, r) = asperity_core::mesh_check::repair_surface(m)
             .with_context(|| format!("{}: cannot repair", a.input.display()))?;

@@ -40,6 +40,7 @@ mod ifs_cmd;
 mod progress;
 mod reconstruct_cmd;
 mod render_cmd;
+mod stdout;
 mod subdiv_cmd;
 mod surfca_cmd;
 
@@ -48,7 +49,16 @@ use std::process::ExitCode;
 use clap::Parser;
 
 fn main() -> ExitCode {
-    let args = cli::Cli::parse();
+    let mut args = cli::Cli::parse();
+    // `-o -`: the command writes into a private folder; the file goes to
+    // stdout only once the command has succeeded.
+    let stdout_dir = match stdout::redirect(&mut args.global) {
+        Ok(d) => d,
+        Err(err) => {
+            eprintln!("error: {}", message(&err));
+            return ExitCode::from(2);
+        }
+    };
     // Ctrl-C, SIGTERM, SIGHUP: delete the temporary files of unfinished outputs,
     // then exit as a shell expects of an interrupted program.
     let _ = ctrlc::set_handler(|| asperity_io::exit_removing_temporaries(130));
@@ -57,10 +67,21 @@ fn main() -> ExitCode {
     // (`bench` writes only scratch files, timed with their rename.)
     let outputs =
         (!matches!(args.command, cli::Command::Bench(_))).then(asperity_io::Transaction::begin);
-    let result = run(args).and_then(|()| match outputs {
-        Some(tx) => Ok(tx.commit()?),
-        None => Ok(()),
-    });
+    let quiet = args.global.quiet;
+    let result = run(args)
+        .and_then(|()| match outputs {
+            Some(tx) => Ok(tx.commit()?),
+            None => Ok(()),
+        })
+        .and_then(|()| stdout_dir.as_ref().map_or(Ok(()), stdout::send));
+    if !quiet {
+        for p in asperity_io::stale_temporaries() {
+            eprintln!(
+                "warning: {} was left by an interrupted run (it was not used; delete it)",
+                p.display()
+            );
+        }
+    }
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {

@@ -136,7 +136,8 @@ pub fn run(ctx: &Context, a: &RenderArgs) -> anyhow::Result<()> {
     let mut opts = options(a, &surface, colormap, ctx);
     let frames = a.turntable.unwrap_or(1);
     asperity_engine::estimate::check_file_count(u64::from(frames), "--turntable")?;
-    let pixels = f64::from(opts.width) * f64::from(opts.height) * f64::from(opts.supersample).powi(2);
+    let pixels =
+        f64::from(opts.width) * f64::from(opts.height) * f64::from(opts.supersample).powi(2);
     asperity_engine::estimate::check(
         &ctx.time,
         &asperity_engine::estimate::render_frames(pixels, f64::from(frames)),

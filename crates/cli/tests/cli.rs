@@ -2149,3 +2149,247 @@ fn outputs_land_together_and_interruptions_leave_nothing() {
         .collect();
     assert!(left.is_empty(), "left behind: {left:?}");
 }
+
+#[test]
+fn a_killed_run_s_temporary_is_named_and_left_alone() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    let leftover = dir.join(".h.npy.Ab12Cd.tmp");
+    std::fs::write(&leftover, "half a file").unwrap();
+    let o = asperity(&["generate", "fbm", "--size", "16", "-o", "h.npy"], dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("warning: .h.npy.Ab12Cd.tmp was left by an interrupted run"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read_to_string(&leftover).unwrap(), "half a file");
+}
+
+#[test]
+fn dash_o_dash_writes_one_file_to_stdout_on_success_only() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    let o = asperity(
+        &[
+            "generate", "fbm", "--size", "32", "-o", "-", "--format", "npy",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.stdout.starts_with(b"\x93NUMPY"), "an .npy on stdout");
+    assert_eq!(o.stdout.len(), 128 + 32 * 32 * 8);
+    assert!(stderr(&o).contains("wrote stdout"), "{}", stderr(&o));
+    // The same bytes as a file.
+    assert!(
+        asperity(&["generate", "fbm", "--size", "32", "-o", "f.npy"], dir)
+            .status
+            .success()
+    );
+    assert_eq!(std::fs::read(dir.join("f.npy")).unwrap(), o.stdout);
+    fails(
+        dir,
+        &["generate", "fbm", "-o", "-"],
+        "needs the format: add --format npy",
+    );
+    fails(
+        dir,
+        &["generate", "fbm", "-o", "x.npy", "--format", "npy"],
+        "--format names the format of -o -",
+    );
+    fails(
+        dir,
+        &["--json", "generate", "fbm", "-o", "-", "--format", "npy"],
+        "--json prints its report on stdout",
+    );
+    fails(
+        dir,
+        &["generate", "fbm", "-o", "-", "--format", "doc"],
+        "--format doc",
+    );
+    // A command that would write several files sends nothing.
+    let frames = asperity(
+        &[
+            "render",
+            "f.npy",
+            "--turntable",
+            "2",
+            "--size",
+            "32x32",
+            "-o",
+            "-",
+            "--format",
+            "png",
+        ],
+        dir,
+    );
+    assert_clean_failure(
+        &frames,
+        "sends one file to stdout, but this command wrote 2",
+    );
+    assert!(frames.stdout.is_empty());
+}
+
+#[test]
+fn runs_of_years_are_refused_before_any_work() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    std::fs::write(dir.join("h.npy"), "precious").unwrap();
+    fails(
+        dir,
+        &["growth", "rdsr", "--runs", "1000000000", "-o", "h.npy"],
+        "the deposition would take at least",
+    );
+    fails(
+        dir,
+        &[
+            "surface-ca",
+            "builtin:cube",
+            "--app",
+            "corrosion",
+            "--cells",
+            "2000",
+            "--steps",
+            "18446744073709551615",
+            "-o",
+            "c.ply",
+        ],
+        "years",
+    );
+    fails(
+        dir,
+        &[
+            "ca", "run", "--rule", "450", "--steps", "1000000", "--init", "seed", "-o", "h.npy",
+        ],
+        "raise --max-time",
+    );
+    fails(
+        dir,
+        &[
+            "--max-time",
+            "1s",
+            "ca",
+            "run",
+            "--rule",
+            "450",
+            "--steps",
+            "100000000",
+            "--size",
+            "64x64",
+            "-o",
+            "h.npy",
+        ],
+        "over the time limit of 1 s",
+    );
+    fails(dir, &["--max-time", "soon", "formats"], "not a duration");
+    fails(
+        dir,
+        &[
+            "surface-ca",
+            "builtin:cube",
+            "--app",
+            "corrosion",
+            "--cells",
+            "2000",
+            "--steps",
+            "1000000",
+            "--frames",
+            "1",
+            "-o",
+            "c.ply",
+        ],
+        "--frames would write 1000001 files",
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.join("h.npy")).unwrap(),
+        "precious"
+    );
+    // --max-time none lifts the limit (a small run passes either way).
+    let o = asperity(
+        &[
+            "--max-time",
+            "none",
+            "ca",
+            "run",
+            "--rule",
+            "450",
+            "--steps",
+            "3",
+            "--init",
+            "seed",
+            "-o",
+            "s.npy",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn every_surface_command_refuses_a_bowtie_alike_and_convert_repairs_it() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    std::fs::write(
+        dir.join("bowtie.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n",
+    )
+    .unwrap();
+    let needle = "vertex 0 joins 2 separate fans of faces (a non-manifold vertex)";
+    fails(
+        dir,
+        &["surface-ca", "bowtie.obj", "--cells", "500", "-o", "v.ply"],
+        needle,
+    );
+    fails(
+        dir,
+        &["subdiv", "--base", "bowtie.obj", "-o", "s.ply"],
+        needle,
+    );
+    let o = asperity(&["convert", "--repair", "bowtie.obj", "fixed.obj"], dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("1 vertices split"), "{}", stderr(&o));
+    let o = asperity(
+        &[
+            "subdiv",
+            "--base",
+            "fixed.obj",
+            "--levels",
+            "1",
+            "-o",
+            "s.ply",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = asperity(
+        &[
+            "surface-ca",
+            "fixed.obj",
+            "--cells",
+            "500",
+            "--sites",
+            "2",
+            "-o",
+            "v.ply",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    // A closed substrate is needed for growth on a mesh: the same wording.
+    fails(
+        dir,
+        &[
+            "growth",
+            "bd",
+            "--substrate",
+            "mesh",
+            "--mesh",
+            "fixed.obj",
+            "--layers",
+            "1",
+            "-o",
+            "c.ply",
+        ],
+        "it is not closed",
+    );
+}

@@ -86,7 +86,10 @@ impl fmt::Display for MeshDefect {
             MeshDefect::Degenerate { face, area } => {
                 write!(f, "face {face} is degenerate (area {area:.3e})")
             }
-            MeshDefect::NonManifoldEdge { edge: [a, b], faces } => write!(
+            MeshDefect::NonManifoldEdge {
+                edge: [a, b],
+                faces,
+            } => write!(
                 f,
                 "edge {a}–{b} is shared by {faces} faces (a non-manifold edge; at most 2 allowed)"
             ),
@@ -156,7 +159,10 @@ where
         .clone()
         .flat_map(|face| (0..face.len()).map(move |k| [face[k], face[(k + 1) % face.len()]]))
         .collect();
-    let mut undirected: Vec<[u32; 2]> = directed.iter().map(|&[a, b]| [a.min(b), a.max(b)]).collect();
+    let mut undirected: Vec<[u32; 2]> = directed
+        .iter()
+        .map(|&[a, b]| [a.min(b), a.max(b)])
+        .collect();
     undirected.sort_unstable();
     let mut boundary_edges = 0;
     for run in undirected.chunk_by(|a, b| a == b) {
@@ -209,10 +215,7 @@ fn polygon_area(p: &[[f64; 3]], face: &[u32]) -> f64 {
     let o = p[face[0] as usize];
     let mut n = [0.0; 3];
     for k in 1..face.len().saturating_sub(1) {
-        let c = cross(
-            sub(p[face[k] as usize], o),
-            sub(p[face[k + 1] as usize], o),
-        );
+        let c = cross(sub(p[face[k] as usize], o), sub(p[face[k + 1] as usize], o));
         n = [n[0] + c[0], n[1] + c[1], n[2] + c[2]];
     }
     0.5 * dot(n, n).sqrt()
@@ -308,10 +311,12 @@ pub fn split_vertex_fans(mesh: &TriMesh) -> crate::Result<(TriMesh, usize)> {
         // Fan 0 keeps the vertex; the others get copies.
         let mut ids = vec![v as u32];
         for _ in 1..fans {
-            ids.push(u32::try_from(origin.len()).map_err(|_| CoreError::InvalidParameter {
-                name: "mesh",
-                reason: "more than 2³² vertices".into(),
-            })?);
+            ids.push(
+                u32::try_from(origin.len()).map_err(|_| CoreError::InvalidParameter {
+                    name: "mesh",
+                    reason: "more than 2³² vertices".into(),
+                })?,
+            );
             origin.push(v as u32);
         }
         new_index[v] = label.iter().map(|&k| ids[k]).collect();
@@ -394,7 +399,11 @@ fn orient_components(tris: &mut [[u32; 3]]) -> crate::Result<usize> {
             edges.entry((a.min(b), a.max(b))).or_default().push(i);
         }
     }
-    if let Some((&(a, b), l)) = edges.iter().filter(|(_, l)| l.len() > 2).min_by_key(|(e, _)| **e) {
+    if let Some((&(a, b), l)) = edges
+        .iter()
+        .filter(|(_, l)| l.len() > 2)
+        .min_by_key(|(e, _)| **e)
+    {
         return Err(MeshDefect::NonManifoldEdge {
             edge: [a, b],
             faces: l.len(),
@@ -469,10 +478,7 @@ mod tests {
     #[test]
     fn the_closed_octahedron_passes_and_the_open_one_is_named() {
         let oct = crate::shapes::icosphere(0, 1.0);
-        assert_eq!(
-            check_triangles(&oct, SurfaceNeeds { closed: true }),
-            Ok(())
-        );
+        assert_eq!(check_triangles(&oct, SurfaceNeeds { closed: true }), Ok(()));
         let open = TriMesh::new(oct.positions().to_vec(), oct.triangles()[1..].to_vec()).unwrap();
         assert_eq!(check_triangles(&open, SurfaceNeeds::default()), Ok(()));
         assert_eq!(
@@ -492,22 +498,41 @@ mod tests {
         ];
         let flat = [[0u32, 1, 4]];
         assert!(matches!(
-            check_surface(&p, flat.iter().map(|f| f.as_slice()), SurfaceNeeds::default()),
+            check_surface(
+                &p,
+                flat.iter().map(|f| f.as_slice()),
+                SurfaceNeeds::default()
+            ),
             Err(MeshDefect::Degenerate { face: 0, .. })
         ));
         let three = [[0u32, 1, 2], [1, 0, 3], [0, 1, 3]];
         assert!(matches!(
-            check_surface(&p, three.iter().map(|f| f.as_slice()), SurfaceNeeds::default()),
-            Err(MeshDefect::NonManifoldEdge { edge: [0, 1], faces: 3 })
+            check_surface(
+                &p,
+                three.iter().map(|f| f.as_slice()),
+                SurfaceNeeds::default()
+            ),
+            Err(MeshDefect::NonManifoldEdge {
+                edge: [0, 1],
+                faces: 3
+            })
         ));
         let flipped = [[0u32, 1, 2], [0, 1, 3]];
         assert_eq!(
-            check_surface(&p, flipped.iter().map(|f| f.as_slice()), SurfaceNeeds::default()),
+            check_surface(
+                &p,
+                flipped.iter().map(|f| f.as_slice()),
+                SurfaceNeeds::default()
+            ),
             Err(MeshDefect::Inconsistent { edge: [0, 1] })
         );
         let none: [[u32; 3]; 0] = [];
         assert_eq!(
-            check_surface(&p, none.iter().map(|f| f.as_slice()), SurfaceNeeds::default()),
+            check_surface(
+                &p,
+                none.iter().map(|f| f.as_slice()),
+                SurfaceNeeds::default()
+            ),
             Err(MeshDefect::Empty)
         );
     }
@@ -515,9 +540,6 @@ mod tests {
     #[test]
     fn quads_are_checked_like_triangles() {
         let cube = crate::shapes::cube_cage();
-        assert_eq!(
-            check_polygons(&cube, SurfaceNeeds { closed: true }),
-            Ok(())
-        );
+        assert_eq!(check_polygons(&cube, SurfaceNeeds { closed: true }), Ok(()));
     }
 }

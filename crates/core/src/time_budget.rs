@@ -42,7 +42,12 @@ pub struct Work {
 
 impl Work {
     /// `units` of `unit` at `per_thread_per_s`, spread over the threads.
-    pub fn new(what: impl Into<String>, units: f64, unit: &'static str, per_thread_per_s: f64) -> Self {
+    pub fn new(
+        what: impl Into<String>,
+        units: f64,
+        unit: &'static str,
+        per_thread_per_s: f64,
+    ) -> Self {
         Self {
             what: what.into(),
             units,
@@ -179,9 +184,18 @@ mod tests {
 
     #[test]
     fn durations_parse_and_print() {
-        assert_eq!(parse_duration("90s").unwrap(), Some(Duration::from_secs(90)));
-        assert_eq!(parse_duration("2h").unwrap(), Some(Duration::from_secs(7200)));
-        assert_eq!(parse_duration("1.5d").unwrap(), Some(Duration::from_secs(129_600)));
+        assert_eq!(
+            parse_duration("90s").unwrap(),
+            Some(Duration::from_secs(90))
+        );
+        assert_eq!(
+            parse_duration("2h").unwrap(),
+            Some(Duration::from_secs(7200))
+        );
+        assert_eq!(
+            parse_duration("1.5d").unwrap(),
+            Some(Duration::from_secs(129_600))
+        );
         assert_eq!(parse_duration("none").unwrap(), None);
         for bad in ["", "-1h", "0", "1y", "nan", "1e400"] {
             assert!(parse_duration(bad).is_err(), "{bad}");
@@ -197,8 +211,14 @@ mod tests {
         // 2⁶⁴ steps on 10⁵ cells at 10⁹ per thread and second: ~29 000 years.
         let w = Work::new("the corrosion", 1.8447e19 * 1e5, "cell updates", 1e9);
         let e = b.check(&w).unwrap_err().to_string();
-        assert!(e.contains("the corrosion") && e.contains("years") && e.contains("--max-time"), "{e}");
-        assert!(b.check(&Work::new("a second", 2e9, "cell updates", 1e9)).is_ok());
+        assert!(
+            e.contains("the corrosion") && e.contains("years") && e.contains("--max-time"),
+            "{e}"
+        );
+        assert!(
+            b.check(&Work::new("a second", 2e9, "cell updates", 1e9))
+                .is_ok()
+        );
         // Sequential work does not get the second thread.
         let seq = Work::new("seq", 1.5 * 86400.0 * 1e9, "steps", 1e9).sequential();
         assert!(b.check(&seq).is_err());

@@ -184,8 +184,15 @@ impl TriMesh {
     ///
     /// # Errors
     /// [`CoreError::IndexOutOfRange`] for an origin or a triangle index out of range.
-    pub fn with_vertices_from(&self, origin: &[u32], triangles: Vec<[u32; 3]>) -> crate::Result<Self> {
-        if let Some(k) = origin.iter().position(|&o| o as usize >= self.positions.len()) {
+    pub fn with_vertices_from(
+        &self,
+        origin: &[u32],
+        triangles: Vec<[u32; 3]>,
+    ) -> crate::Result<Self> {
+        if let Some(k) = origin
+            .iter()
+            .position(|&o| o as usize >= self.positions.len())
+        {
             return Err(CoreError::IndexOutOfRange {
                 face: k,
                 index: origin[k] as u64,

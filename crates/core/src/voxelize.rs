@@ -177,6 +177,10 @@ mod tests {
         )
         .unwrap();
         let e = voxelize(&mesh, 10, 1, &MemoryBudget::unlimited()).unwrap_err();
-        assert!(e.to_string().contains("not closed: 3 edges belong to one face only"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("not closed: 3 edges belong to one face only"),
+            "{e}"
+        );
     }
 }

@@ -51,6 +51,8 @@ pub enum ErrorKind {
     Os,
     /// The job would exceed the memory budget.
     Memory,
+    /// The job would run longer than the time budget.
+    Time,
 }
 
 impl EngineError {
@@ -68,6 +70,7 @@ impl EngineError {
         };
         match core {
             Some(CoreError::MemoryLimit { .. }) => ErrorKind::Memory,
+            Some(CoreError::TimeLimit { .. }) => ErrorKind::Time,
             _ => ErrorKind::Invalid,
         }
     }

@@ -68,7 +68,13 @@ pub fn deposition(depositions: f64) -> Work {
 
 /// A DLA cluster of `particles` (sequential).
 pub fn dla(particles: f64) -> Work {
-    Work::new("the DLA growth", particles, "particles", DLA_PARTICLES_PER_S).sequential()
+    Work::new(
+        "the DLA growth",
+        particles,
+        "particles",
+        DLA_PARTICLES_PER_S,
+    )
+    .sequential()
 }
 
 /// A surface CA of `steps` steps on `cells` cells.

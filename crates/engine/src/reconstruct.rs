@@ -58,7 +58,10 @@ pub fn surface(
     params.validate()?;
     let grid = asperity_levelset::pipeline::grid_for(points, params, budget)?;
     let iterations = params.iterations as f64;
-    crate::estimate::check(time, &crate::estimate::level_set(grid.len() as f64, iterations))?;
+    crate::estimate::check(
+        time,
+        &crate::estimate::level_set(grid.len() as f64, iterations),
+    )?;
     if let Some(k) = save_every {
         crate::estimate::check_file_count(params.iterations as u64 / k as u64 + 1, "--save-every")?;
     }

@@ -85,7 +85,14 @@ fn outputs_an_application_cannot_give_are_refused() {
     assert!(e.to_string().contains("voronoi"), "{e}");
 
     let sites = vec![0];
-    let voronoi = run_app(&cov, App::voronoi(sites, None, 1000).unwrap(), 3, &TimeBudget::unlimited(), |_, _| {}).unwrap();
+    let voronoi = run_app(
+        &cov,
+        App::voronoi(sites, None, 1000).unwrap(),
+        3,
+        &TimeBudget::unlimited(),
+        |_, _| {},
+    )
+    .unwrap();
     let shape = OutputShape {
         displace: Some(1.0),
         ..OutputShape::default()

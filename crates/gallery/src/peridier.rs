@@ -132,7 +132,12 @@ fn figure_4(env: &Env) -> Result<Item> {
     };
     let fig4 = env.picture(
         "ca_fig4_gallery.png",
-        &gallery_image(&grid, env.seed, &env.budget, &asperity_core::TimeBudget::unlimited())?,
+        &gallery_image(
+            &grid,
+            env.seed,
+            &env.budget,
+            &asperity_core::TimeBudget::unlimited(),
+        )?,
     )?;
     Ok(Item::new(
         "Figure 4: rows = rules 8, 480; columns = two initial conditions",

@@ -8,8 +8,9 @@
 //!
 //! Every temporary file alive in the process is registered, so a signal handler
 //! can delete them with [`exit_removing_temporaries`] (a
-//! SIGKILL cannot be caught: its leftovers keep the `.tmp` name and are never
-//! reused, since each temporary name is random).
+//! SIGKILL cannot be caught: its leftovers keep the `.tmp` name, are never
+//! reused, since each temporary name is random, and are reported by
+//! [`stale_temporaries`] when a later run writes the same output).
 
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
@@ -24,6 +25,65 @@ type Staged = (TempPath, PathBuf, Live);
 
 static STAGED: Mutex<Option<Vec<Staged>>> = Mutex::new(None);
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// Names that look like our temporaries, per folder, as found at the first
+/// write into it (before this process made any there).
+static FOLDERS: Mutex<Vec<(PathBuf, Vec<String>)>> = Mutex::new(Vec::new());
+/// Leftover temporaries found beside this process's outputs.
+static STALE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Whether `name` has the shape of a temporary file of ours: `.NAME.XXXXXX.tmp`.
+fn is_temporary_name(name: &str) -> bool {
+    let Some(inner) = name.strip_prefix('.').and_then(|n| n.strip_suffix(".tmp")) else {
+        return false;
+    };
+    inner.rsplit_once('.').is_some_and(|(target, rand)| {
+        !target.is_empty() && rand.len() == 6 && rand.bytes().all(|b| b.is_ascii_alphanumeric())
+    })
+}
+
+/// Notes the temporaries a killed run (SIGKILL, a power cut) left for the
+/// target `name` in `dir`. They are never reused or overwritten — every
+/// temporary gets a fresh random name — but they are found and reported by
+/// [`stale_temporaries`], so a front end can say where they are.
+pub(crate) fn note_leftovers(dir: &Path, name: &str) {
+    let mut folders = lock(&FOLDERS);
+    let listed = match folders.iter().position(|(d, _)| d == dir) {
+        Some(i) => &folders[i].1,
+        None => {
+            let names = std::fs::read_dir(dir)
+                .map(|rd| {
+                    rd.filter_map(|e| e.ok())
+                        .map(|e| e.file_name().to_string_lossy().into_owned())
+                        .filter(|n| is_temporary_name(n))
+                        .collect()
+                })
+                .unwrap_or_default();
+            folders.push((dir.to_path_buf(), names));
+            &folders.last().expect("just pushed").1
+        }
+    };
+    let prefix = format!(".{name}.");
+    let mut stale = lock(&STALE);
+    for n in listed
+        .iter()
+        .filter(|n| n.starts_with(&prefix) && n.len() == prefix.len() + 10)
+    {
+        let p = if dir == Path::new(".") {
+            PathBuf::from(n)
+        } else {
+            dir.join(n)
+        };
+        if !stale.contains(&p) {
+            stale.push(p);
+        }
+    }
+}
+
+/// Temporary files left beside this process's outputs by an earlier run that
+/// was killed before it could clean up (they are not this process's own).
+pub fn stale_temporaries() -> Vec<PathBuf> {
+    lock(&STALE).clone()
+}
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     // A panic while holding the lock leaves plain data behind; keep using it.
@@ -135,5 +195,38 @@ impl Drop for Transaction {
         // target as it was.
         let staged = lock(&STAGED).take();
         drop(staged);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn temporary_names_are_recognised() {
+        assert!(is_temporary_name(".h.npy.Ab12Cd.tmp"));
+        assert!(is_temporary_name(".a.b.c.ply.zzzzzz.tmp"));
+        for other in [
+            ".h.npy.tmp",
+            "h.npy.Ab12Cd.tmp",
+            ".h.npy.Ab12C.tmp",
+            "..Ab12Cd.tmp",
+            ".h.npy.Ab-2Cd.tmp",
+        ] {
+            assert!(!is_temporary_name(other), "{other}");
+        }
+    }
+
+    #[test]
+    fn a_killed_run_s_leftover_is_reported_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let leftover = dir.path().join(".out.npy.Xy12Zw.tmp");
+        std::fs::write(&leftover, b"half").unwrap();
+        std::fs::write(dir.path().join(".other.npy.Xy12Zw.tmp"), b"x").unwrap();
+        crate::write_atomic::<IoError>(&dir.path().join("out.npy"), |_| Ok(())).unwrap();
+        let stale = stale_temporaries();
+        assert!(stale.contains(&leftover), "{stale:?}");
+        assert!(!stale.iter().any(|p| p.ends_with(".other.npy.Xy12Zw.tmp")));
+        assert_eq!(std::fs::read(&leftover).unwrap(), b"half");
     }
 }

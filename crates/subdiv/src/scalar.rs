@@ -4,8 +4,8 @@
 //! blended as in [`crate::blend`], then shaded and used as relief with a
 //! sea-level clamp ([`Planet`], the paper's mushroom planet).
 
-use asperity_core::mesh_check::{SurfaceNeeds, check_polygons};
 use asperity_core::CoreError;
+use asperity_core::mesh_check::{SurfaceNeeds, check_polygons};
 use rayon::prelude::*;
 
 use crate::blend::{AlphaSource, Blend};

@@ -29,4 +29,3 @@ pub fn check(mesh: &TriMesh) -> Result<(), CoreError> {
         }
     })
 }
-

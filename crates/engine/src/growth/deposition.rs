@@ -188,7 +188,11 @@ fn saturated_w2(model: Model, lat: Lattice, z: f64, seed: u64, r: u64) -> f64 {
 /// The depositions of the α study (each size run to 2·L^z monolayers, `runs`
 /// times), after checking that the largest lattices fit the budget (the runs go
 /// in parallel, one lattice per thread).
-fn alpha_work(job: &DepositionJob, sizes: &[usize], budget: &MemoryBudget) -> Result<asperity_core::Work> {
+fn alpha_work(
+    job: &DepositionJob,
+    sizes: &[usize],
+    budget: &MemoryBudget,
+) -> Result<asperity_core::Work> {
     let z = dynamic_exponent(job.model, job.dim);
     let mut depositions = 0.0;
     let mut largest = 0u128;
@@ -199,7 +203,9 @@ fn alpha_work(job: &DepositionJob, sizes: &[usize], budget: &MemoryBudget) -> Re
         largest = largest.max(lat.columns() as u128);
     }
     // Heights and the binned/relaxed work arrays: 16 bytes per column.
-    let lanes = rayon::current_num_threads().min(sizes.len() * job.runs).max(1) as u128;
+    let lanes = rayon::current_num_threads()
+        .min(sizes.len() * job.runs)
+        .max(1) as u128;
     budget.check_elements(largest * lanes, 16, "the α study's lattices")?;
     let mut w = estimate::deposition(depositions);
     w.what = "the α study".into();
