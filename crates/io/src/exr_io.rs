@@ -42,10 +42,10 @@ pub(crate) fn write_height<W: Write + Seek>(w: W, h: &HeightField) -> std::io::R
         })
 }
 
-/// The largest pixel count any layer of the OpenEXR file at `path` declares in
-/// its header (nothing decoded).
-pub(crate) fn header_pixels(path: &std::path::Path) -> FResult<u128> {
-    let meta = exr::meta::MetaData::read_from_file(path, false)
+/// The largest pixel count any layer of an OpenEXR file declares in its header,
+/// read from `r` (nothing decoded).
+pub(crate) fn header_pixels<R: std::io::Read + Seek>(r: R) -> FResult<u128> {
+    let meta = exr::meta::MetaData::read_from_buffered(r, false)
         .map_err(|e| FormatError::Malformed(e.to_string()))?;
     Ok(meta
         .headers

@@ -315,18 +315,60 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
     let size = std::fs::metadata(path)
         .map_err(|e| IoError::os(path, e))?
         .len();
-    let by_size = size.saturating_mul(READ_MEMORY_FACTOR);
-    let header = match Format::from_path(path) {
-        Ok(f @ Format::Png) => Some((f, png_io::header_pixels(path))),
-        Ok(f @ Format::Exr) => Some((f, exr_io::header_pixels(path))),
+    let format = Format::from_path(path)?;
+    let open = || {
+        std::fs::File::open(path)
+            .map(std::io::BufReader::new)
+            .map_err(|e| IoError::os(path, e))
+    };
+    let pixels = match format {
+        Format::Png => Some(png_io::header_pixels(open()?)),
+        Format::Exr => Some(exr_io::header_pixels(open()?)),
         _ => None,
     };
-    let pixels = header
-        .map(|(f, n)| n.map_err(|e| e.at(path, f.info().name)))
-        .transpose()?;
+    estimate_from(size, pixels, format).map_err(|e| e.at(path, format.info().name))
+}
+
+/// [`read_estimate`] for a file already in memory.
+fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
+    let cursor = || std::io::Cursor::new(bytes);
+    let pixels = match format {
+        Format::Png => Some(png_io::header_pixels(cursor())),
+        Format::Exr => Some(exr_io::header_pixels(cursor())),
+        _ => None,
+    };
+    estimate_from(bytes.len() as u64, pixels, format)
+}
+
+/// The larger of the size rule and the decoded pixels a header declares.
+fn estimate_from(size: u64, pixels: Option<FResult<u128>>, _format: Format) -> FResult<u64> {
+    let by_size = size.saturating_mul(READ_MEMORY_FACTOR);
+    let pixels = pixels.transpose()?;
     // Decoded samples (up to four 16-bit or 32-bit channels) plus the f64 grid.
-    let decoded = pixels.map_or(0, |n: u128| u64::try_from(n * (16 + 8)).unwrap_or(u64::MAX));
+    let decoded = pixels.map_or(0, |n: u128| u64::try_from(n.saturating_mul(16 + 8)).unwrap_or(u64::MAX));
     Ok(by_size.max(decoded))
+}
+
+/// Decodes `bytes` as a file in `format` — what [`read`] does once the file is
+/// read — after checking the memory estimate ([`read_estimate`]) against
+/// `budget`. `label` names the data in messages. For data that does not come
+/// from a file (a network buffer, a fuzzer).
+///
+/// # Errors
+/// [`IoError`] naming `label`; [`IoError::Invalid`] with
+/// [`CoreError::MemoryLimit`] when the estimate exceeds `budget`.
+pub fn decode(
+    label: &Path,
+    format: Format,
+    bytes: &[u8],
+    budget: &asperity_core::MemoryBudget,
+) -> Result<Surface, IoError> {
+    let at = |e: FormatError| e.at(label, format.info().name);
+    let needed = estimate_bytes(bytes, format).map_err(at)?;
+    budget
+        .check(needed, format!("reading {}", label.display()))
+        .map_err(|e| IoError::invalid(label, e))?;
+    surface_from_bytes(bytes, format).map_err(at)
 }
 
 /// Reads whatever `path` holds, deciding by extension and content: PLY with faces,
@@ -338,40 +380,44 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
 /// [`IoError`] naming the file and what is wrong.
 pub fn read(path: &Path) -> Result<Surface, IoError> {
     let f = Format::from_path(path)?;
+    if f == Format::Glb {
+        return Err(IoError::WrongKind {
+            path: path.to_path_buf(),
+            format: "glTF (write-only in asperity)",
+            kind: "data to read",
+        });
+    }
     let bytes = read_bytes(path)?;
-    let at = |e: FormatError| e.at(path, f.info().name);
-    let s = match f {
+    surface_from_bytes(&bytes, f).map_err(|e| e.at(path, f.info().name))
+}
+
+/// The decoding half of [`read`].
+fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
+    Ok(match f {
         Format::Ply => {
-            let c = ply::parse(&bytes).map_err(at)?;
+            let c = ply::parse(bytes)?;
             if c.has_face_element && !c.faces.is_empty() {
-                Surface::Mesh(ply::read_mesh(&bytes).map_err(at)?)
+                Surface::Mesh(ply::read_mesh(bytes)?)
             } else {
-                Surface::Points(ply::read_points(&bytes).map_err(at)?)
+                Surface::Points(ply::read_points(bytes)?)
             }
         }
-        Format::Obj => Surface::Mesh(obj::read_mesh(&bytes).map_err(at)?),
-        Format::Stl => Surface::Mesh(stl::read_mesh(&bytes).map_err(at)?),
-        Format::Glb => {
-            return Err(IoError::WrongKind {
-                path: path.to_path_buf(),
-                format: "glTF (write-only in asperity)",
-                kind: "data to read",
-            });
-        }
-        Format::Xyz => Surface::Points(text::read_xyz(&bytes).map_err(at)?),
+        Format::Obj => Surface::Mesh(obj::read_mesh(bytes)?),
+        Format::Stl => Surface::Mesh(stl::read_mesh(bytes)?),
+        Format::Glb => return error::malformed("glTF is write-only in asperity"),
+        Format::Xyz => Surface::Points(text::read_xyz(bytes)?),
         Format::Npy => {
-            let a = npy::read(&bytes).map_err(at)?;
+            let a = npy::read(bytes)?;
             if a.shape.len() == 2 && a.shape[1] == 3 && a.shape[0] != 3 {
-                Surface::Points(npy_points(a).map_err(at)?)
+                Surface::Points(npy_points(a)?)
             } else {
-                Surface::Height(npy_height(a).map_err(at)?)
+                Surface::Height(npy_height(a)?)
             }
         }
         Format::Png | Format::Exr | Format::Gsf | Format::Csv => {
-            Surface::Height(read_height_bytes(&bytes, f).map_err(at)?)
+            Surface::Height(read_height_bytes(bytes, f)?)
         }
-    };
-    Ok(s)
+    })
 }
 
 fn npy_points(a: npy::NpyArray) -> FResult<PointSet> {
@@ -442,14 +488,38 @@ pub fn read_mesh(path: &Path) -> Result<TriMesh, IoError> {
 /// [`IoError`].
 pub fn read_poly_mesh(path: &Path) -> Result<PolyMesh, IoError> {
     let f = Format::from_path(path)?;
+    if !matches!(f, Format::Ply | Format::Obj | Format::Stl) {
+        return Err(wrong(path, f, "a polygon mesh to read"));
+    }
     let bytes = read_bytes(path)?;
-    let r = match f {
-        Format::Ply => ply::read_poly(&bytes),
-        Format::Obj => obj::read_poly(&bytes),
-        Format::Stl => stl::read_mesh(&bytes).and_then(|m| Ok(PolyMesh::from_trimesh(&m)?)),
-        _ => return Err(wrong(path, f, "a polygon mesh to read")),
-    };
-    r.map_err(|e| e.at(path, f.info().name))
+    poly_from_bytes(&bytes, f).map_err(|e| e.at(path, f.info().name))
+}
+
+/// [`read_poly_mesh`] for bytes in memory, under `budget` (see [`decode`]).
+///
+/// # Errors
+/// As [`decode`]; formats that hold no polygon mesh.
+pub fn decode_poly_mesh(
+    label: &Path,
+    format: Format,
+    bytes: &[u8],
+    budget: &asperity_core::MemoryBudget,
+) -> Result<PolyMesh, IoError> {
+    let at = |e: FormatError| e.at(label, format.info().name);
+    let needed = estimate_bytes(bytes, format).map_err(at)?;
+    budget
+        .check(needed, format!("reading {}", label.display()))
+        .map_err(|e| IoError::invalid(label, e))?;
+    poly_from_bytes(bytes, format).map_err(at)
+}
+
+fn poly_from_bytes(bytes: &[u8], f: Format) -> FResult<PolyMesh> {
+    match f {
+        Format::Ply => ply::read_poly(bytes),
+        Format::Obj => obj::read_poly(bytes),
+        Format::Stl => stl::read_mesh(bytes).and_then(|m| Ok(PolyMesh::from_trimesh(&m)?)),
+        _ => error::malformed(format!("{} holds no polygon mesh", f.info().name)),
+    }
 }
 
 /// Reads a point set: the points of a point format, or the vertices of a mesh or

@@ -76,10 +76,9 @@ fn decoding_error(e: png::DecodingError) -> FormatError {
     }
 }
 
-/// The pixel count the PNG at `path` declares in its header (nothing decoded).
-pub(crate) fn header_pixels(path: &std::path::Path) -> FResult<u128> {
-    let file = std::fs::File::open(path)?;
-    let dec = png::Decoder::new(std::io::BufReader::new(file));
+/// The pixel count a PNG declares in its header, read from `r` (nothing decoded).
+pub(crate) fn header_pixels<R: std::io::BufRead + std::io::Seek>(r: R) -> FResult<u128> {
+    let dec = png::Decoder::new(r);
     let reader = dec.read_info().map_err(decoding_error)?;
     let info = reader.info();
     Ok(info.width as u128 * info.height as u128)
