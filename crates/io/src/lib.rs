@@ -345,7 +345,9 @@ fn estimate_from(size: u64, pixels: Option<FResult<u128>>, _format: Format) -> F
     let by_size = size.saturating_mul(READ_MEMORY_FACTOR);
     let pixels = pixels.transpose()?;
     // Decoded samples (up to four 16-bit or 32-bit channels) plus the f64 grid.
-    let decoded = pixels.map_or(0, |n: u128| u64::try_from(n.saturating_mul(16 + 8)).unwrap_or(u64::MAX));
+    let decoded = pixels.map_or(0, |n: u128| {
+        u64::try_from(n.saturating_mul(16 + 8)).unwrap_or(u64::MAX)
+    });
     Ok(by_size.max(decoded))
 }
 
@@ -548,8 +550,16 @@ pub fn read_points(path: &Path) -> Result<PointSet, IoError> {
 /// # Errors
 /// [`IoError`] naming the file and the line.
 pub fn read_xy(path: &Path) -> Result<Vec<[f64; 2]>, IoError> {
-    let bytes = read_bytes(path)?;
-    text::read_xy(&bytes).map_err(|e| e.at(path, "x,y list"))
+    decode_xy(path, &read_bytes(path)?)
+}
+
+/// [`read_xy`] for bytes in memory; `label` names them in messages (text is
+/// never larger parsed than read, so no budget is needed).
+///
+/// # Errors
+/// [`IoError`] naming `label` and the line.
+pub fn decode_xy(label: &Path, bytes: &[u8]) -> Result<Vec<[f64; 2]>, IoError> {
+    text::read_xy(bytes).map_err(|e| e.at(label, "x,y list"))
 }
 
 /// Writes the polygons of `poly` (quads, n-gons, kept as they are) with the

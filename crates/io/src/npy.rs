@@ -79,7 +79,9 @@ pub(crate) fn read(bytes: &[u8]) -> FResult<NpyArray> {
         if b.len() < 3 {
             return malformed(format!("unsupported dtype {descr:?}"));
         }
-        (b[0], b[1], descr[2..].parse::<usize>().unwrap_or(0))
+        // `get`: a non-ASCII descr has no character boundary at byte 2.
+        let size = descr.get(2..).and_then(|t| t.parse::<usize>().ok());
+        (b[0], b[1], size.unwrap_or(0))
     };
     let big = match order {
         b'<' | b'|' | b'=' => false,

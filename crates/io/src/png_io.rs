@@ -142,8 +142,17 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let data = (0..nx * ny)
         .map(|p| lo + lum(p) / max * (hi - lo))
         .collect();
-    let pair = |a: Option<f64>, b: Option<f64>| a.zip(b).map(|(a, b)| [a, b]);
-    let spacing = pair(get("dx")?, get("dy")?);
-    let origin = pair(get("x0")?, get("y0")?);
+    // Both of a pair, or neither: half a pair is a damaged file, not a default.
+    let pair = |a: &str, b: &str| -> FResult<Option<[f64; 2]>> {
+        match (get(a)?, get(b)?) {
+            (Some(x), Some(y)) => Ok(Some([x, y])),
+            (None, None) => Ok(None),
+            _ => malformed(format!(
+                "tEXt has one of asperity:{a} and asperity:{b} but not both"
+            )),
+        }
+    };
+    let spacing = pair("dx", "dy")?;
+    let origin = pair("x0", "y0")?;
     Ok(HeightField::from_vec([nx, ny], data)?.with_geometry(spacing, origin)?)
 }

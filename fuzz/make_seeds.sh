@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Writes the seed inputs of every fuzz target into fuzz/seeds/TARGET/ with the
+# asperity binary (small valid files of every flavour each reader accepts).
+# Usage: fuzz/make_seeds.sh [ASPERITY_BINARY]   (default: target/release/asperity)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+A=$(realpath "${1:-target/release/asperity}")
+S=fuzz/seeds
+rm -rf "$S"
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+q() { "$A" --quiet "$@"; }
+q generate fbm --size 8 --seed 1 -o "$T/h.npy"
+for f in gsf csv png exr; do q convert "$T/h.npy" "$S/$f/h8.$f"; done
+q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32
+cp "$T/h.npy" "$S/npy/h8_f64.npy"
+python3 - "$S/npy" <<'PY'
+import struct, sys
+d = sys.argv[1]
+def npy(path, descr, shape, payload):
+    h = "{'descr': '%s', 'fortran_order': False, 'shape': %s, }" % (descr, shape)
+    h += " " * (63 - (10 + len(h)) % 64) + "\n"
+    open(path, "wb").write(b"\x93NUMPY\x01\x00" + struct.pack("<H", len(h)) + h.encode() + payload)
+npy(d + "/u8.npy", "|u1", "(3, 4)", bytes(range(12)))
+npy(d + "/i4.npy", "<i4", "(2, 2)", struct.pack("<4i", 1, -2, 3, 4))
+npy(d + "/points.npy", "<f8", "(2, 3)", struct.pack("<6d", 0, 0, 0, 1, 2, 3))
+npy(d + "/big_endian.npy", ">f8", "(1, 2)", struct.pack(">2d", 1.5, 2.5))
+PY
+q convert "$T/h.npy" "$S/xyz/h8.xyz"
+q subdiv --base cube --levels 1 -o "$T/c.ply"
+q convert "$T/c.ply" "$S/ply/cube_binary.ply"
+q convert "$T/c.ply" "$S/ply/cube_ascii.ply" --ascii
+q convert "$T/c.ply" "$S/obj/cube.obj"
+q convert "$T/c.ply" "$S/stl/cube.stl"
+q convert "$S/xyz/h8.xyz" "$S/ply/points.ply"
+q surface-ca builtin:cube --cells 200 --sites 3 -o "$T/v.ply"
+cp "$T/v.ply" "$S/ply/colored.ply"
+printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' > "$S/stl/ascii.stl"
+printf 'v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 1 1 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\n' > "$S/obj/quad_uv.obj"
+printf '0,0\n1,0.5\n# comment\n2 1\n' > "$S/xy/curve.csv"
+cp crates/subdiv/scenes/*.toml "$S/scene_toml/"
+cp crates/ifs/presets/*.json "$S/ifs_json/"
+q subdiv --base cube --levels 2 --detail rock --export-details "$S/detail_json/rock.json" -o "$T/r.ply"
+printf '0.2 -1\n0.5 0\n0.2 1\n' > "$S/profile/vase.txt"
+printf '0\n0.5\n1\n0.25\n0\n0\n1\n1\n' > "$S/alpha_map/cube.txt"
+du -sh "$S"
