@@ -19,10 +19,13 @@ cargo fuzz build -O --debug-assertions
 for t in "${targets[@]}"; do
   mkdir -p "corpus/$t" "artifacts/$t"
   echo "==> fuzz $t for ${seconds}s"
+  status=0
   cargo fuzz run -O --debug-assertions "$t" "corpus/$t" "seeds/$t" -- \
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \
-    -max_len=65536 -print_final_stats=1 2>&1 | grep -E "^(Done|stat::number_of_executed_units|stat::peak_rss_mb)|ERROR|SUMMARY|panicked|Test unit written" || true
-  if [ -n "$(ls -A "artifacts/$t")" ]; then
+    -max_len=65536 -print_final_stats=1 >"artifacts/$t.log" 2>&1 || status=$?
+  grep -E "^(Done|stat::peak_rss_mb)|ERROR|SUMMARY|panicked|Test unit written" "artifacts/$t.log" || true
+  if [ "$status" -ne 0 ] || [ -n "$(ls -A "artifacts/$t")" ]; then
+    tail -n 30 "artifacts/$t.log" >&2
     echo "fuzz $t: failing inputs in fuzz/artifacts/$t" >&2
     exit 1
   fi
