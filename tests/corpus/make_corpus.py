@@ -67,6 +67,8 @@ OBJ_BAD = {
     "obj_index_word": OCT_V + "f a b c\n",
     "obj_huge_index": OCT_V + "f 1 2 99999999999999999999\n",
     "obj_texture_only_index": OCT_V + "f /1 /2 /3\n",
+    "obj_relative_normal_before_start": OCT_V + "vn 0 0 1\nf 1//-5 2//1 3//1\n",
+    "obj_index_beyond_listed": "v 0 0 0\nv 1 0 0\nf 1 2 3\nv 0 1 0\n",
 }
 for name, text in OBJ_BAD.items():
     f = file(name + ".obj", text)

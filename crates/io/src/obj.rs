@@ -30,21 +30,65 @@ struct ObjContents {
 }
 
 /// Refuses faces with fewer than three corners, which tobj would drop without
-/// a word (a 1- or 2-corner `f` line is a broken file, not a line element).
+/// a word (a 1- or 2-corner `f` line is a broken file, not a line element), and
+/// corner indices that name no earlier `v`, `vt` or `vn` (tobj turns a relative
+/// index past the start into a huge number and overflows on it: found by
+/// fuzzing).
 fn check_face_lines(bytes: &[u8]) -> FResult<()> {
+    let mut counts = [0usize; 3];
     for (n, line) in bytes.split(|&b| b == b'\n').enumerate() {
         let mut tokens = line
             .split(|b| b.is_ascii_whitespace())
             .filter(|t| !t.is_empty());
-        if tokens.next() != Some(b"f".as_slice()) {
+        match tokens.next() {
+            Some(b"v") => counts[0] += 1,
+            Some(b"vt") => counts[1] += 1,
+            Some(b"vn") => counts[2] += 1,
+            Some(b"f") => {
+                let corners: Vec<&[u8]> = tokens.take_while(|t| !t.starts_with(b"#")).collect();
+                if corners.len() < 3 {
+                    return Err(FormatError::Malformed(format!(
+                        "line {}: a face needs at least 3 corners, this one has {}",
+                        n + 1,
+                        corners.len()
+                    )));
+                }
+                for c in corners {
+                    check_corner(c, &counts, n + 1)?;
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// One `v[/vt[/vn]]` corner: every index present is a non-zero integer naming
+/// an element listed before (negative: counted back from the last one).
+fn check_corner(corner: &[u8], counts: &[usize; 3], line: usize) -> FResult<()> {
+    const KIND: [&str; 3] = ["vertex", "texture coordinate", "normal"];
+    for (k, part) in corner.split(|&b| b == b'/').enumerate() {
+        if part.is_empty() && k > 0 {
             continue;
         }
-        let corners = tokens.take_while(|t| !t.starts_with(b"#")).count();
-        if corners < 3 {
-            return Err(FormatError::Malformed(format!(
-                "line {}: a face needs at least 3 corners, this one has {corners}",
-                n + 1
-            )));
+        let text = String::from_utf8_lossy(part);
+        let bad = |why: String| {
+            Err(FormatError::Malformed(format!(
+                "line {line}: corner {text:?}: {why}"
+            )))
+        };
+        if k > 2 {
+            return bad("a corner has at most v/vt/vn".into());
+        }
+        let Ok(i) = text.parse::<i64>() else {
+            return bad(format!("{} index is not an integer", KIND[k]));
+        };
+        let n = counts[k] as i64;
+        if i == 0 || i > n || i < -n {
+            return bad(format!(
+                "{} index {i} is out of bounds ({n} listed before this line)",
+                KIND[k]
+            ));
         }
     }
     Ok(())
