@@ -1749,7 +1749,7 @@ fn subdiv_as_documented() {
         ),
         (
             vec!["subdiv", "--base", "fin.obj", "-o", "x.ply"],
-            "more than two faces",
+            "non-manifold edge",
         ),
         (
             vec!["subdiv", "--crease", "0-7:1", "-o", "x.ply"],
@@ -2106,7 +2106,7 @@ fn outputs_land_together_and_interruptions_leave_nothing() {
             "--layers",
             "5",
             "--alpha-sizes",
-            "0,1",
+            "8,16",
             "-o",
             "h.npy",
         ],

@@ -50,10 +50,10 @@ fn problems(dir: &Path, case: &serde_json::Value) -> Vec<String> {
     } else {
         p.push(format!("{} error lines", lines.len()));
     }
-    if let Some(needle) = case.get("needle").and_then(|n| n.as_str()) {
-        if !err.contains(needle) {
-            p.push(format!("no {needle:?} in the message"));
-        }
+    if let Some(needle) = case.get("needle").and_then(|n| n.as_str())
+        && !err.contains(needle)
+    {
+        p.push(format!("no {needle:?} in the message"));
     }
     if std::fs::read_to_string(&output).ok().as_deref() != Some("precious") {
         p.push("the existing output changed".into());

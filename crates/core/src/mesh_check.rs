@@ -273,13 +273,12 @@ fn fan_labels(link: &[[u32; 2]]) -> (usize, Vec<usize>) {
     }
     let mut label = vec![usize::MAX; link.len()];
     let mut roots: Vec<usize> = Vec::new();
-    for i in 0..link.len() {
+    for (i, l) in label.iter_mut().enumerate() {
         let r = find(&mut parent, i);
-        let k = roots.iter().position(|&x| x == r).unwrap_or_else(|| {
+        *l = roots.iter().position(|&x| x == r).unwrap_or_else(|| {
             roots.push(r);
             roots.len() - 1
         });
-        label[i] = k;
     }
     (roots.len(), label)
 }
