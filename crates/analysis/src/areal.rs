@@ -11,8 +11,14 @@
 //! | Sz | Sp + Sv | maximum height |
 //! | Ssk | mean z³ / Sq³ | skewness |
 //! | Sku | mean z⁴ / Sq⁴ | ISO kurtosis (3 for a Gaussian), **not** excess kurtosis |
-//! | Sdq | √(mean (∂z/∂x)² + (∂z/∂y)²) | rms gradient; central differences (z[i+1] − z[i−1]) / 2dx on interior nodes |
-//! | Sdr | (A_surface − A_projected) / A_projected | developed interfacial area ratio; each cell's area is the mean of its two diagonal triangulations |
+//! | Sdq | √(mean (∂z/∂x)² + (∂z/∂y)²) | rms gradient |
+//! | Sdr | mean (√(1 + (∂z/∂x)² + (∂z/∂y)²) − 1) | developed interfacial area ratio (ISO 25178-2 §4.3.2, the gradient form) |
+//!
+//! The gradient is SurfaceTopography's (`derivative(1)`, `rms_gradient`): forward
+//! differences (z[i+1] − z[i]) / dx and (z[j+1] − z[j]) / dy, wrapping around
+//! on periodic data and, on non-periodic data, over the (nx − 1) × (ny − 1)
+//! nodes that have both forward neighbours — so Sdq and Sdr equal
+//! SurfaceTopography's for the same levelling to rounding.
 //!
 //! Profile parameters Ra, Rq, Rp, Rv, Rz, Rsk, Rku are the same formulas on each
 //! row (x profiles) or column (y profiles), levelled by the profile's own mean,
@@ -65,6 +71,10 @@ pub struct Profile {
     pub Rsk: f64,
     /// Kurtosis.
     pub Rku: f64,
+    /// Root-mean-square slope (forward differences; wrapped round a periodic
+    /// profile, else over its n − 1 steps, as SurfaceTopography's
+    /// `rms_slope_from_profile`).
+    pub Rdq: f64,
 }
 
 /// Height moments: (Sa, Sq, Sp, Sv, Ssk, Sku) of already-levelled values.
@@ -85,11 +95,12 @@ fn moments(z: impl Iterator<Item = f64> + Clone) -> (f64, f64, f64, f64, f64, f6
     (a / n, sq, hi, -lo, q3 / n / sq.powi(3), q4 / n / sq.powi(4))
 }
 
-fn check(h: &HeightField) -> Result<(), AnalysisError> {
+/// Refuses NaN, constant fields and grids under `min` samples a side.
+fn check(h: &HeightField, [min_x, min_y]: [usize; 2]) -> Result<(), AnalysisError> {
     h.validate()?;
-    if h.nx() < 3 || h.ny() < 3 {
+    if h.nx() < min_x || h.ny() < min_y {
         return Err(AnalysisError::BadInput(format!(
-            "a {}×{} grid is too small (need at least 3×3)",
+            "a {}×{} grid is too small (need at least {min_x}×{min_y})",
             h.nx(),
             h.ny()
         )));
@@ -115,42 +126,30 @@ pub(crate) fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     0.5 * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]).sqrt()
 }
 
-/// Areal parameters of `h`, which should already be levelled.
+/// Areal parameters of `h`, which should already be levelled; `periodic`
+/// chooses the gradient's differences (see the module docs).
 ///
 /// # Errors
 /// [`AnalysisError::BadInput`] for NaN, constant or smaller-than-3×3 fields.
-pub fn areal(h: &HeightField) -> Result<Areal, AnalysisError> {
-    check(h)?;
+pub fn areal(h: &HeightField, periodic: bool) -> Result<Areal, AnalysisError> {
+    check(h, [3, 3])?;
     let (sa, sq, sp, sv, ssk, sku) = moments(h.data().iter().copied());
     let [nx, ny] = h.dims();
     let [dx, dy] = h.spacing();
-    let z = |i: usize, j: usize| *h.get(i, j);
-    let mut g2 = 0.0;
-    for j in 1..ny - 1 {
-        for i in 1..nx - 1 {
-            let gx = (z(i + 1, j) - z(i - 1, j)) / (2.0 * dx);
-            let gy = (z(i, j + 1) - z(i, j - 1)) / (2.0 * dy);
-            g2 += gx * gx + gy * gy;
+    let (mx, my) = if periodic { (nx, ny) } else { (nx - 1, ny - 1) };
+    let (mut g2, mut area) = (0.0, 0.0);
+    for j in 0..my {
+        let (row, next) = (h.row(j), h.row((j + 1) % ny));
+        for i in 0..mx {
+            let gx = (row[(i + 1) % nx] - row[i]) / dx;
+            let gy = (next[i] - row[i]) / dy;
+            let g = gx * gx + gy * gy;
+            g2 += g;
+            // √(1 + g) − 1 without cancellation for small slopes.
+            area += g / ((1.0 + g).sqrt() + 1.0);
         }
     }
-    let sdq = (g2 / ((nx - 2) * (ny - 2)) as f64).sqrt();
-    let mut area = 0.0;
-    for j in 0..ny - 1 {
-        for i in 0..nx - 1 {
-            let (a, b, c, d) = (
-                h.point(i, j),
-                h.point(i + 1, j),
-                h.point(i + 1, j + 1),
-                h.point(i, j + 1),
-            );
-            area += 0.5
-                * (triangle_area(a, b, c)
-                    + triangle_area(a, c, d)
-                    + triangle_area(a, b, d)
-                    + triangle_area(b, c, d));
-        }
-    }
-    let projected = (nx - 1) as f64 * dx * (ny - 1) as f64 * dy;
+    let nodes = (mx * my) as f64;
     Ok(Areal {
         Sa: sa,
         Sq: sq,
@@ -159,18 +158,21 @@ pub fn areal(h: &HeightField) -> Result<Areal, AnalysisError> {
         Sz: sp + sv,
         Ssk: ssk,
         Sku: sku,
-        Sdq: sdq,
-        Sdr: area / projected - 1.0,
+        Sdq: (g2 / nodes).sqrt(),
+        Sdr: area / nodes,
     })
 }
 
-/// Profile parameters along x (each row) or, with `along_y`, along y (each column).
+/// Profile parameters (ISO 4287) along x (each row) or, with `along_y`, along y
+/// (each column), averaged over the profiles; `periodic` wraps the slope's
+/// differences round each profile.
 ///
 /// # Errors
 /// As [`areal`].
-pub fn profile(h: &HeightField, along_y: bool) -> Result<Profile, AnalysisError> {
-    check(h)?;
+pub fn profile(h: &HeightField, along_y: bool, periodic: bool) -> Result<Profile, AnalysisError> {
+    check(h, if along_y { [1, 3] } else { [3, 1] })?;
     let [nx, ny] = h.dims();
+    let step = h.spacing()[usize::from(along_y)];
     let profiles: Vec<Vec<f64>> = if along_y {
         (0..nx)
             .map(|i| (0..ny).map(|j| *h.get(i, j)).collect())
@@ -178,7 +180,7 @@ pub fn profile(h: &HeightField, along_y: bool) -> Result<Profile, AnalysisError>
     } else {
         (0..ny).map(|j| h.row(j).to_vec()).collect()
     };
-    let mut acc = [0.0f64; 7];
+    let mut acc = [0.0f64; 8];
     let mut counted = 0.0;
     for p in &profiles {
         let mean = p.iter().sum::<f64>() / p.len() as f64;
@@ -186,7 +188,11 @@ pub fn profile(h: &HeightField, along_y: bool) -> Result<Profile, AnalysisError>
         if rq == 0.0 {
             continue; // a flat profile has no shape parameters
         }
-        for (a, v) in acc.iter_mut().zip([ra, rq, rp, rv, rp + rv, rsk, rku]) {
+        let wrap = periodic.then(|| p[0] - p[p.len() - 1]);
+        let diffs: Vec<f64> = p.windows(2).map(|w| w[1] - w[0]).chain(wrap).collect();
+        let rdq =
+            (diffs.iter().map(|d| d * d).sum::<f64>() / diffs.len().max(1) as f64).sqrt() / step;
+        for (a, v) in acc.iter_mut().zip([ra, rq, rp, rv, rp + rv, rsk, rku, rdq]) {
             *a += v;
         }
         counted += 1.0;
@@ -194,7 +200,7 @@ pub fn profile(h: &HeightField, along_y: bool) -> Result<Profile, AnalysisError>
     if counted == 0.0 {
         return Err(AnalysisError::BadInput("every profile is flat".into()));
     }
-    let [ra, rq, rp, rv, rz, rsk, rku] = acc.map(|v| v / counted);
+    let [ra, rq, rp, rv, rz, rsk, rku, rdq] = acc.map(|v| v / counted);
     Ok(Profile {
         Ra: ra,
         Rq: rq,
@@ -203,6 +209,7 @@ pub fn profile(h: &HeightField, along_y: bool) -> Result<Profile, AnalysisError>
         Rz: rz,
         Rsk: rsk,
         Rku: rku,
+        Rdq: rdq,
     })
 }
 
@@ -225,8 +232,11 @@ mod tests {
     #[test]
     fn exact_fields() {
         let tau = std::f64::consts::TAU;
-        let s = areal(&field(|x, _| (tau * x / N as f64).sin())).unwrap();
+        let s = areal(&field(|x, _| (tau * x / N as f64).sin()), true).unwrap();
         assert!((s.Sq - 0.5f64.sqrt()).abs() < 1e-12, "{}", s.Sq);
+        // Forward differences of sin θi: 2 sin(θ/2) cos(θ(i + ½)), rms √2 sin(π/N).
+        let d = 2.0 * (std::f64::consts::PI / N as f64).sin();
+        assert!((s.Sdq - d * 0.5f64.sqrt()).abs() < 1e-12, "{}", s.Sdq);
         assert!((s.Sku - 1.5).abs() < 1e-12, "{}", s.Sku);
         assert!(s.Ssk.abs() < 1e-12);
         assert!(
@@ -234,57 +244,71 @@ mod tests {
         );
         // Mean |sin| over whole periods, sampled: (1/N) Σ |sin(2πk/N)| = (2/N) cot(π/N).
         assert!((s.Sa - 2.0 / N as f64 / (std::f64::consts::PI / N as f64).tan()).abs() < 1e-12);
-        let s = areal(&field(|x, y| {
-            (tau * x / N as f64).sin() * (tau * y / N as f64).sin()
-        }))
+        let s = areal(
+            &field(|x, y| (tau * x / N as f64).sin() * (tau * y / N as f64).sin()),
+            true,
+        )
         .unwrap();
         assert!((s.Sku - 2.25).abs() < 1e-12, "{}", s.Sku);
         assert!((s.Sq - 0.5).abs() < 1e-12);
-        let c = areal(&field(|x, y| {
-            if (x as usize + y as usize).is_multiple_of(2) {
-                1.0
-            } else {
-                -1.0
-            }
-        }))
+        let c = areal(
+            &field(|x, y| {
+                if (x as usize + y as usize).is_multiple_of(2) {
+                    1.0
+                } else {
+                    -1.0
+                }
+            }),
+            true,
+        )
         .unwrap();
         assert!(
             (c.Sq - 1.0).abs() < 1e-12 && (c.Sa - 1.0).abs() < 1e-12 && (c.Sku - 1.0).abs() < 1e-12
         );
-        assert_eq!(
-            c.Sdq, 0.0,
-            "central differences skip the neighbours of a checkerboard"
-        );
+        // Every forward difference of a ±1 checkerboard is ±2: |∇z|² = 8.
+        assert!((c.Sdq - 8f64.sqrt()).abs() < 1e-12, "{}", c.Sdq);
+        assert!((c.Sdr - 2.0).abs() < 1e-12, "√9 − 1 = 2: {}", c.Sdr);
     }
 
     #[test]
     fn slopes_and_areas_of_a_plane() {
         // z = 0.75·x on unit spacing: gradient 0.75 everywhere, area ratio √(1 + 0.75²) − 1 = 0.25.
         let p = field(|x, _| 0.75 * x);
-        let s = areal(&p).unwrap();
+        let s = areal(&p, false).unwrap();
         assert!((s.Sdq - 0.75).abs() < 1e-12);
         assert!((s.Sdr - 0.25).abs() < 1e-12, "{}", s.Sdr);
-        let r = profile(&p, false).unwrap();
+        let r = profile(&p, false, false).unwrap();
         assert!((r.Rz - 0.75 * 255.0).abs() < 1e-9);
-        assert!(profile(&p, true).is_err(), "columns of z = x are flat");
+        assert!((r.Rdq - 0.75).abs() < 1e-12, "{}", r.Rdq);
+        // Wrapped, the ramp's one jump back of 0.75·255 joins the 255 steps of 0.75.
+        let wrapped = profile(&p, false, true).unwrap();
+        let expected = (0.75f64.powi(2) * (255.0 + 255.0f64.powi(2)) / 256.0).sqrt();
+        assert!((wrapped.Rdq - expected).abs() < 1e-9, "{}", wrapped.Rdq);
+        assert!(profile(&p, true, false).is_err(), "columns of z = x are flat");
+        // A single row is a profile (a line scan).
+        let line = HeightField::from_vec([5, 1], vec![0.0, 1.0, 0.0, -1.0, 0.0]).unwrap();
+        assert!((profile(&line, false, false).unwrap().Rdq - 1.0).abs() < 1e-12);
     }
 
     #[test]
     fn refusals() {
         assert!(
-            areal(&HeightField::filled([8, 8], 2.0))
+            areal(&HeightField::filled([8, 8], 2.0), false)
                 .unwrap_err()
                 .to_string()
                 .contains("constant")
         );
         assert!(
-            areal(&HeightField::from_vec([2, 2], vec![0.0, 1.0, 2.0, 3.0]).unwrap())
-                .unwrap_err()
-                .to_string()
-                .contains("too small")
+            areal(
+                &HeightField::from_vec([2, 2], vec![0.0, 1.0, 2.0, 3.0]).unwrap(),
+                false
+            )
+            .unwrap_err()
+            .to_string()
+            .contains("too small")
         );
         let mut h = field(|x, _| x);
         *h.get_mut(3, 3) = f64::NAN;
-        assert!(areal(&h).is_err());
+        assert!(areal(&h, false).is_err());
     }
 }

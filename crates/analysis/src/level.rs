@@ -4,8 +4,13 @@
 //! F-operator removes form; the most common F-operator is the least-squares
 //! mean plane. [`Level::Mean`] subtracts only the mean height (the right choice
 //! for periodic synthetic fields, whose exact parameters would be spoilt by a
-//! fitted tilt); [`Level::Plane`] subtracts the least-squares plane
-//! z = a + b·x + c·y; [`Level::Quadratic`] adds the x², xy, y² terms.
+//! fitted tilt); [`Level::Slope`] subtracts the plane whose slopes are the mean
+//! finite-difference gradient (SurfaceTopography's `detrend_mode='slope'`):
+//! on a periodic surface with a tilt added it removes exactly the tilt and
+//! leaves a periodic field, where a least-squares plane would leave edge steps;
+//! [`Level::Plane`] subtracts the least-squares plane z = a + b·x + c·y
+//! (SurfaceTopography's `'height'`); [`Level::Quadratic`] adds the x², xy, y²
+//! terms (`'curvature'`). On a profile (one row) the y terms are left out.
 
 use asperity_core::HeightField;
 
@@ -20,6 +25,8 @@ pub enum Level {
     /// The mean height (default).
     #[default]
     Mean,
+    /// The plane of the mean finite-difference gradient.
+    Slope,
     /// The least-squares plane.
     Plane,
     /// The least-squares quadratic surface.
@@ -27,11 +34,12 @@ pub enum Level {
 }
 
 impl Level {
-    /// Parses `none`, `mean`, `plane`, `quadratic`.
+    /// Parses `none`, `mean`, `slope`, `plane`, `quadratic`.
     pub fn from_name(s: &str) -> Option<Self> {
         Some(match s {
             "none" => Level::None,
             "mean" => Level::Mean,
+            "slope" => Level::Slope,
             "plane" => Level::Plane,
             "quadratic" | "poly2" => Level::Quadratic,
             _ => return None,
@@ -73,14 +81,23 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
 pub fn level(h: &HeightField, how: Level) -> Result<HeightField, AnalysisError> {
     h.validate()?;
     let [nx, ny] = h.dims();
-    let basis: fn(f64, f64) -> Vec<f64> = match how {
-        Level::None => return Ok(h.clone()),
-        Level::Mean => |_, _| vec![1.0],
-        Level::Plane => |x, y| vec![1.0, x, y],
-        Level::Quadratic => |x, y| vec![1.0, x, y, x * x, x * y, y * y],
+    let profile = ny == 1;
+    let basis: fn(f64, f64) -> Vec<f64> = match (how, profile) {
+        (Level::None, _) => return Ok(h.clone()),
+        (Level::Slope, _) => return Ok(slope_levelled(h)),
+        (Level::Mean, _) => |_, _| vec![1.0],
+        (Level::Plane, false) => |x, y| vec![1.0, x, y],
+        (Level::Quadratic, false) => |x, y| vec![1.0, x, y, x * x, x * y, y * y],
+        (Level::Plane, true) => |x, _| vec![1.0, x],
+        (Level::Quadratic, true) => |x, _| vec![1.0, x, x * x],
     };
     let m = basis(0.0, 0.0).len();
-    if nx * ny < m + 1 || (m > 1 && (nx < 2 || ny < 2)) || (m > 3 && (nx < 3 || ny < 3)) {
+    let too_small = if profile {
+        nx < m + 1
+    } else {
+        nx * ny < m + 1 || (m > 1 && (nx < 2 || ny < 2)) || (m > 3 && (nx < 3 || ny < 3))
+    };
+    if too_small {
         return Err(AnalysisError::BadInput(format!(
             "a {nx}×{ny} grid is too small for {how:?} levelling"
         )));
@@ -114,6 +131,43 @@ pub fn level(h: &HeightField, how: Level) -> Result<HeightField, AnalysisError> 
         }
     }
     Ok(out)
+}
+
+/// The mean slopes of `h` by forward differences, each over the region where
+/// both directions have a forward neighbour (SurfaceTopography's non-periodic
+/// derivative, trimmed to (nx − 1) × (ny − 1); a profile uses its nx − 1
+/// differences), in height per sample.
+pub fn mean_slopes(h: &HeightField) -> [f64; 2] {
+    let [nx, ny] = h.dims();
+    if nx < 2 {
+        return [0.0, 0.0];
+    }
+    if ny == 1 {
+        return [(h.row(0)[nx - 1] - h.row(0)[0]) / (nx - 1) as f64, 0.0];
+    }
+    let sx = (0..ny - 1)
+        .map(|j| h.row(j)[nx - 1] - h.row(j)[0])
+        .sum::<f64>()
+        / ((nx - 1) * (ny - 1)) as f64;
+    let sy = (0..nx - 1)
+        .map(|i| h.row(ny - 1)[i] - h.row(0)[i])
+        .sum::<f64>()
+        / ((nx - 1) * (ny - 1)) as f64;
+    [sx, sy]
+}
+
+/// `h` minus the plane of its mean slopes ([`mean_slopes`]) and its mean.
+fn slope_levelled(h: &HeightField) -> HeightField {
+    let ny = h.ny();
+    let [sx, sy] = mean_slopes(h);
+    let mut out = h.clone();
+    for j in 0..ny {
+        for (i, z) in out.row_mut(j).iter_mut().enumerate() {
+            *z -= sx * i as f64 + sy * j as f64;
+        }
+    }
+    let mean = out.mean();
+    out.map(|z| z - mean)
 }
 
 #[cfg(test)]

@@ -18,11 +18,15 @@
 pub mod areal;
 pub mod correlation;
 pub mod fractal;
+pub mod hurst;
 pub mod level;
 pub mod mesh;
+pub mod model;
 pub mod psd;
 pub mod scaling;
+pub mod statistics;
 pub mod synthesis;
+pub mod window;
 
 use asperity_core::CoreError;
 

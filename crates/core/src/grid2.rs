@@ -228,6 +228,11 @@ impl<T> Grid2<T> {
     pub fn row(&self, j: usize) -> &[T] {
         &self.data[j * self.dims[0]..(j + 1) * self.dims[0]]
     }
+    /// Mutable row j (all i), contiguous.
+    pub fn row_mut(&mut self, j: usize) -> &mut [T] {
+        let nx = self.dims[0];
+        &mut self.data[j * nx..(j + 1) * nx]
+    }
     /// A grid of the same geometry with `f` applied to every sample.
     pub fn map<U>(&self, f: impl FnMut(&T) -> U) -> Grid2<U> {
         Grid2 {

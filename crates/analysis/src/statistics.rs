@@ -1,0 +1,476 @@
+//! Scale-dependent statistics of a height field, each measured on the data and
+//! expressed as a kernel over its FFT modes for the model fits of
+//! [`crate::model`]:
+//!
+//! - [`StructureFunction`]: S(τ) = ⟨(z(x + τ) − z(x))²⟩, along x and along y
+//!   (summed), the height–height correlation function (HHCF). For periodic data
+//!   the pairs wrap around; otherwise only pairs inside the field count. Its
+//!   kernel is 2(1 − cos q_x τ) + 2(1 − cos q_y τ). The scale-dependent rms slope
+//!   √(S/2)/τ and curvature of SurfaceTopography (Jacobs, Junge & Pastewka 2017;
+//!   Sanner et al., Appl. Surf. Sci. Adv. 7, 100190, 2022) follow from it.
+//! - [`BoxVariance`]: the variance of the heights in square boxes of side ℓ,
+//!   after removing each box's mean (the partitioning or variance method) or
+//!   its least-squares plane (SurfaceTopography's variable bandwidth,
+//!   `variable_bandwidth_from_area`), averaged over the boxes that fit. A plane
+//!   wave's residual in a box is 1 − |D₀|² (− |D₁|² terms with a plane), with
+//!   D₀ and D₁ its projections on the constant and on the centred coordinate.
+//! - [`ProfileSpectrum`]: the mean 1-D periodogram of the rows (along x) or the
+//!   columns (along y), windowed for non-periodic data. Its kernel at
+//!   wavenumber index k is |Ŵ(k − k_x)|², the window's spectrum (a delta
+//!   without a window).
+//!
+//! Kernels are defined up to one constant factor shared by every scale (the
+//! model's prefactor C₀ absorbs it).
+
+use std::f64::consts::TAU;
+
+use asperity_core::HeightField;
+use rustfft::{FftPlanner, num_complex::Complex};
+
+use crate::model::Kernel;
+use crate::window::Window;
+
+/// Lags in samples: about `per_octave` per doubling from `lo` to `hi`, distinct.
+pub fn log_scales(lo: usize, hi: usize, per_octave: usize) -> Vec<usize> {
+    if hi < lo || lo == 0 {
+        return Vec::new();
+    }
+    let steps = ((hi as f64 / lo as f64).log2() * per_octave as f64).ceil() as usize;
+    let mut v: Vec<usize> = (0..=steps)
+        .map(|k| {
+            (lo as f64 * (hi as f64 / lo as f64).powf(k as f64 / steps.max(1) as f64)).round()
+                as usize
+        })
+        .collect();
+    v.dedup();
+    v
+}
+
+/// The structure function at lags τ (in x samples; along y the lag with the
+/// same physical length).
+#[derive(Clone, Debug)]
+pub struct StructureFunction {
+    /// Lags along x, in samples.
+    pub lags: Vec<usize>,
+    lags_y: Vec<usize>,
+    n: [usize; 2],
+    periodic: bool,
+    /// cos(2π k τ / n) per axis: `[scale][k]`.
+    cos_x: Vec<Vec<f64>>,
+    cos_y: Vec<Vec<f64>>,
+}
+
+impl StructureFunction {
+    /// The statistic at `lags` on the grid of `h`.
+    pub fn new(h: &HeightField, lags: Vec<usize>, periodic: bool) -> Self {
+        let [nx, ny] = h.dims();
+        let [dx, dy] = h.spacing();
+        let lags_y: Vec<usize> = lags
+            .iter()
+            .map(|&t| ((t as f64 * dx / dy).round() as usize).max(1))
+            .collect();
+        let table = |lags: &[usize], n: usize| -> Vec<Vec<f64>> {
+            lags.iter()
+                .map(|&t| {
+                    (0..n)
+                        .map(|k| (TAU * (k * t % n) as f64 / n as f64).cos())
+                        .collect()
+                })
+                .collect()
+        };
+        Self {
+            cos_x: table(&lags, nx),
+            cos_y: if ny > 1 {
+                table(&lags_y, ny)
+            } else {
+                Vec::new()
+            },
+            lags,
+            lags_y,
+            n: [nx, ny],
+            periodic,
+        }
+    }
+
+    /// The lags in length units (along x).
+    pub fn distances(&self, dx: f64) -> Vec<f64> {
+        self.lags.iter().map(|&t| t as f64 * dx).collect()
+    }
+
+    /// Measured S(τ): the x part plus, for areas, the y part.
+    pub fn measure(&self, h: &HeightField) -> Vec<f64> {
+        let [nx, ny] = self.n;
+        self.lags
+            .iter()
+            .zip(&self.lags_y)
+            .map(|(&t, &ty)| {
+                let sx = along(h, t, nx, ny, self.periodic, false);
+                if ny > 1 {
+                    sx + along(h, ty, nx, ny, self.periodic, true)
+                } else {
+                    sx
+                }
+            })
+            .collect()
+    }
+}
+
+/// Mean square difference at lag `t` along x (or y), wrapping if periodic.
+fn along(h: &HeightField, t: usize, nx: usize, ny: usize, periodic: bool, y: bool) -> f64 {
+    let (n, m) = if y { (ny, nx) } else { (nx, ny) };
+    if t == 0 || (!periodic && t >= n) {
+        return f64::NAN;
+    }
+    let z = |a: usize, b: usize| if y { *h.get(b, a) } else { *h.get(a, b) };
+    let (mut s, mut c) = (0.0, 0usize);
+    for b in 0..m {
+        let end = if periodic { n } else { n - t };
+        for a in 0..end {
+            let d = z((a + t) % n, b) - z(a, b);
+            s += d * d;
+        }
+        c += end;
+    }
+    s / c as f64
+}
+
+impl Kernel for StructureFunction {
+    fn scales(&self) -> usize {
+        self.lags.len()
+    }
+    fn eval(&self, kx: usize, ky: usize, out: &mut [f64]) {
+        for (s, o) in out.iter_mut().enumerate() {
+            let mut k = 2.0 * (1.0 - self.cos_x[s][kx]);
+            if self.n[1] > 1 {
+                k += 2.0 * (1.0 - self.cos_y[s][ky]);
+            }
+            *o = k;
+        }
+    }
+}
+
+/// What a box's reference is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoxReference {
+    /// The box's mean (partitioning).
+    Mean,
+    /// The box's least-squares plane (variable bandwidth).
+    Plane,
+}
+
+/// Variance of heights in boxes of side ℓ (see the module docs).
+#[derive(Clone, Debug)]
+pub struct BoxVariance {
+    /// Box sides along x, in samples.
+    pub sides: Vec<usize>,
+    sides_y: Vec<usize>,
+    n: [usize; 2],
+    reference: BoxReference,
+    /// |D₀|² and |D₁|² per axis: `[scale][k]`.
+    d_x: Vec<(Vec<f64>, Vec<f64>)>,
+    d_y: Vec<(Vec<f64>, Vec<f64>)>,
+}
+
+/// |D₀(k)|² and |D₁(k)|² of a box of `l` samples on an axis of `n`.
+fn projections(l: usize, n: usize) -> (Vec<f64>, Vec<f64>) {
+    let xc: Vec<f64> = (0..l).map(|x| x as f64 - (l - 1) as f64 / 2.0).collect();
+    let xx: f64 = xc.iter().map(|x| x * x).sum();
+    let mut d0 = Vec::with_capacity(n);
+    let mut d1 = Vec::with_capacity(n);
+    for k in 0..n {
+        let th = TAU * k as f64 / n as f64;
+        let (mut c0, mut s0, mut c1, mut s1) = (0.0, 0.0, 0.0, 0.0);
+        for (x, xcv) in xc.iter().enumerate() {
+            let (s, c) = (th * x as f64).sin_cos();
+            c0 += c;
+            s0 += s;
+            c1 += xcv * c;
+            s1 += xcv * s;
+        }
+        let l = l as f64;
+        d0.push((c0 * c0 + s0 * s0) / (l * l));
+        d1.push(if xx > 0.0 {
+            (c1 * c1 + s1 * s1) / (l * xx)
+        } else {
+            0.0
+        });
+    }
+    (d0, d1)
+}
+
+impl BoxVariance {
+    /// The statistic for boxes of `sides` samples along x (along y, the same
+    /// physical length) on the grid of `h`.
+    pub fn new(h: &HeightField, sides: Vec<usize>, reference: BoxReference) -> Self {
+        let [nx, ny] = h.dims();
+        let [dx, dy] = h.spacing();
+        let sides_y: Vec<usize> = sides
+            .iter()
+            .map(|&l| ((l as f64 * dx / dy).round() as usize).max(2))
+            .collect();
+        Self {
+            d_x: sides.iter().map(|&l| projections(l, nx)).collect(),
+            d_y: if ny > 1 {
+                sides_y.iter().map(|&l| projections(l, ny)).collect()
+            } else {
+                Vec::new()
+            },
+            sides,
+            sides_y,
+            n: [nx, ny],
+            reference,
+        }
+    }
+
+    /// Measured mean residual variance per box side.
+    pub fn measure(&self, h: &HeightField) -> Vec<f64> {
+        let [nx, ny] = self.n;
+        self.sides
+            .iter()
+            .zip(&self.sides_y)
+            .map(|(&lx, &ly)| {
+                let ly = if ny == 1 { 1 } else { ly };
+                let (bx, by) = (nx / lx, ny / ly);
+                if bx == 0 || by == 0 {
+                    return f64::NAN;
+                }
+                let mut total = 0.0;
+                for bj in 0..by {
+                    for bi in 0..bx {
+                        total += box_residual(h, [bi * lx, bj * ly], [lx, ly], self.reference);
+                    }
+                }
+                total / (bx * by) as f64
+            })
+            .collect()
+    }
+}
+
+/// Mean square residual of one box after its mean or plane.
+fn box_residual(
+    h: &HeightField,
+    [i0, j0]: [usize; 2],
+    [lx, ly]: [usize; 2],
+    r: BoxReference,
+) -> f64 {
+    let (cx, cy) = ((lx - 1) as f64 / 2.0, (ly - 1) as f64 / 2.0);
+    let (mut s, mut sx, mut sy, mut s2) = (0.0, 0.0, 0.0, 0.0);
+    for j in 0..ly {
+        for (i, &z) in h.row(j0 + j)[i0..i0 + lx].iter().enumerate() {
+            s += z;
+            sx += z * (i as f64 - cx);
+            sy += z * (j as f64 - cy);
+            s2 += z * z;
+        }
+    }
+    let n = (lx * ly) as f64;
+    let mut res = s2 - s * s / n;
+    if r == BoxReference::Plane {
+        // Σ (x − cx)² over the box = ly · lx (lx² − 1) / 12.
+        let xx = ly as f64 * lx as f64 * ((lx * lx) as f64 - 1.0) / 12.0;
+        let yy = lx as f64 * ly as f64 * ((ly * ly) as f64 - 1.0) / 12.0;
+        if xx > 0.0 {
+            res -= sx * sx / xx;
+        }
+        if yy > 0.0 {
+            res -= sy * sy / yy;
+        }
+    }
+    res.max(0.0) / n
+}
+
+impl Kernel for BoxVariance {
+    fn scales(&self) -> usize {
+        self.sides.len()
+    }
+    fn eval(&self, kx: usize, ky: usize, out: &mut [f64]) {
+        for (s, o) in out.iter_mut().enumerate() {
+            let (u, v) = (self.d_x[s].0[kx], self.d_x[s].1[kx]);
+            let (uy, vy) = if self.n[1] > 1 {
+                (self.d_y[s].0[ky], self.d_y[s].1[ky])
+            } else {
+                (1.0, 0.0)
+            };
+            *o = match self.reference {
+                BoxReference::Mean => 1.0 - u * uy,
+                BoxReference::Plane => 1.0 - u * uy - v * uy - u * vy,
+            };
+        }
+    }
+}
+
+/// The mean 1-D periodogram of profiles along one axis.
+#[derive(Clone, Debug)]
+pub struct ProfileSpectrum {
+    /// Wavenumber indices k (q = 2πk / L along the axis).
+    pub indices: Vec<usize>,
+    along_y: bool,
+    n_axis: usize,
+    window: Window,
+    /// |Ŵ(d)|² for d = 0..n (a delta without a window).
+    w2: Vec<f64>,
+}
+
+impl ProfileSpectrum {
+    /// The statistic along x (or y) of `h` at wavenumber indices `indices`,
+    /// windowed by `window` (use [`Window::None`] for periodic data).
+    pub fn new(h: &HeightField, along_y: bool, indices: Vec<usize>, window: Window) -> Self {
+        let n = if along_y { h.ny() } else { h.nx() };
+        let w2 = if window == Window::None {
+            (0..n)
+                .map(|d| if d == 0 { (n * n) as f64 } else { 0.0 })
+                .collect()
+        } else {
+            let w = window.profile(n);
+            let mut c: Vec<Complex<f64>> = w.iter().map(|&v| Complex::new(v, 0.0)).collect();
+            FftPlanner::new().plan_fft_forward(n).process(&mut c);
+            c.iter().map(|v| v.norm_sqr()).collect()
+        };
+        Self {
+            indices,
+            along_y,
+            n_axis: n,
+            window,
+            w2,
+        }
+    }
+
+    /// The wavenumbers in rad per length unit.
+    pub fn wavenumbers(&self, spacing: f64) -> Vec<f64> {
+        let l = self.n_axis as f64 * spacing;
+        self.indices.iter().map(|&k| TAU * k as f64 / l).collect()
+    }
+
+    /// Measured mean |FFT(w·z)|² of the profiles at each index, and the same
+    /// for every index 0..n/2 (for the report).
+    pub fn measure_all(&self, h: &HeightField) -> Vec<f64> {
+        let [nx, ny] = h.dims();
+        let (n, m) = if self.along_y { (ny, nx) } else { (nx, ny) };
+        let w = if self.window == Window::None {
+            vec![1.0; n]
+        } else {
+            self.window.profile(n)
+        };
+        let fft = FftPlanner::new().plan_fft_forward(n);
+        let mut acc = vec![0.0; n / 2 + 1];
+        let mut line = vec![Complex::new(0.0, 0.0); n];
+        for b in 0..m {
+            for (a, c) in line.iter_mut().enumerate() {
+                let z = if self.along_y {
+                    *h.get(b, a)
+                } else {
+                    *h.get(a, b)
+                };
+                *c = Complex::new(z * w[a], 0.0);
+            }
+            fft.process(&mut line);
+            for (k, v) in acc.iter_mut().enumerate() {
+                *v += line[k].norm_sqr();
+            }
+        }
+        acc.iter().map(|v| v / m as f64).collect()
+    }
+
+    /// Measured values at [`Self::indices`].
+    pub fn measure(&self, h: &HeightField) -> Vec<f64> {
+        let all = self.measure_all(h);
+        self.indices.iter().map(|&k| all[k]).collect()
+    }
+}
+
+impl Kernel for ProfileSpectrum {
+    fn scales(&self) -> usize {
+        self.indices.len()
+    }
+    fn eval(&self, kx: usize, ky: usize, out: &mut [f64]) {
+        let k_mode = if self.along_y { ky } else { kx };
+        let n = self.n_axis;
+        for (s, o) in out.iter_mut().enumerate() {
+            let d = (self.indices[s] + n - k_mode % n) % n;
+            *o = self.w2[d];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Compressed, ModeGrid};
+
+    fn wave(n: usize, kx: usize, ky: usize, phase: f64) -> HeightField {
+        HeightField::from_vec(
+            [n, n],
+            (0..n * n)
+                .map(|p| (TAU * ((kx * (p % n) + ky * (p / n)) as f64) / n as f64 + phase).cos())
+                .collect(),
+        )
+        .unwrap()
+    }
+
+    /// For a single plane wave of random phase the expected statistic is the
+    /// kernel at its mode (times the wave's power), scale by scale — the
+    /// identity the model rests on. The structure function has no phase
+    /// dependence; the boxes are averaged over eight phases, which cancels the
+    /// ±k cross terms exactly.
+    #[test]
+    fn measurements_match_their_kernels_on_plane_waves() {
+        let n = 32;
+        for (kx, ky) in [(3, 0), (2, 5), (7, 7)] {
+            let mean_over_phases = |f: &dyn Fn(&HeightField) -> Vec<f64>| -> Vec<f64> {
+                let mut acc = vec![0.0; 3];
+                for j in 0..8 {
+                    let m = f(&wave(n, kx, ky, j as f64 * TAU / 8.0));
+                    acc.iter_mut().zip(&m).for_each(|(a, v)| *a += v / 8.0);
+                }
+                acc
+            };
+            let h = wave(n, kx, ky, 0.3);
+            let sf = StructureFunction::new(&h, vec![1, 5, 8], true);
+            let bv = BoxVariance::new(&h, vec![4, 8, 16], BoxReference::Plane);
+            let bm = BoxVariance::new(&h, vec![4, 8, 16], BoxReference::Mean);
+            for (m, k) in [
+                (sf.measure(&h), eval_all(&sf, kx, ky)),
+                (mean_over_phases(&|h| bv.measure(h)), eval_all(&bv, kx, ky)),
+                (mean_over_phases(&|h| bm.measure(h)), eval_all(&bm, kx, ky)),
+            ] {
+                let ratio: Vec<f64> = m.iter().zip(&k).map(|(a, b)| a / b).collect();
+                for r in &ratio {
+                    assert!((r - ratio[0]).abs() < 1e-9, "({kx}, {ky}): {ratio:?}");
+                }
+            }
+        }
+    }
+
+    fn eval_all(k: &dyn Kernel, kx: usize, ky: usize) -> Vec<f64> {
+        let mut out = vec![0.0; k.scales()];
+        k.eval(kx, ky, &mut out);
+        out
+    }
+
+    #[test]
+    fn profile_spectrum_of_a_row_wave() {
+        let n = 64;
+        let h = wave(n, 5, 0, 0.0);
+        let p = ProfileSpectrum::new(&h, false, vec![4, 5, 6], Window::None);
+        let m = p.measure(&h);
+        assert!(m[0] < 1e-18 && m[2] < 1e-18);
+        assert!((m[1] - (n * n) as f64 / 4.0).abs() < 1e-6);
+        let c = Compressed::new(
+            &p,
+            &ModeGrid {
+                n: [n, n],
+                spacing: [1.0, 1.0],
+            },
+        );
+        assert!(c.expected(0.5).iter().all(|e| *e > 0.0));
+    }
+
+    #[test]
+    fn log_scales_are_distinct_and_bounded() {
+        let s = log_scales(1, 64, 3);
+        assert_eq!(s.first(), Some(&1));
+        assert_eq!(s.last(), Some(&64));
+        assert!(s.windows(2).all(|w| w[1] > w[0]));
+        assert!(log_scales(5, 2, 3).is_empty());
+    }
+}
