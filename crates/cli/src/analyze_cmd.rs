@@ -2,8 +2,9 @@
 
 use asperity_core::fourier_surface::FourierParams;
 use asperity_engine::analyze::{AnalyzeOptions, analyze as analyze_surface};
+use serde_json::Value;
 
-use crate::cli::{AnalyzeArgs, FbmArgs};
+use crate::cli::{AnalyzeArgs, FbmArgs, PeriodicArg};
 use crate::context::{Context, Run};
 
 pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
@@ -17,6 +18,12 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
         level: a.level.clone(),
         bins: a.bins,
         fit_window,
+        periodic: match a.periodic {
+            PeriodicArg::Auto => None,
+            PeriodicArg::Yes => Some(true),
+            PeriodicArg::No => Some(false),
+        },
+        window: a.window.clone(),
         plots: a.plot.is_some(),
     };
     let name = a.input.display().to_string();
@@ -40,14 +47,91 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
         return run.finish();
     }
     outln!("{name}");
-    for (k, v) in r.facts.0 {
-        if k == "psd" {
-            outln!(
-                "  {k:22} {} log-binned points (see --json)",
-                v["q"].as_array().map_or(0, Vec::len)
-            );
-        } else {
-            outln!("  {k:22} {v}");
+    text_report(&r.facts.0)
+}
+
+/// Six significant digits, or the JSON text for anything but a number.
+fn short(v: &Value) -> String {
+    match v.as_f64() {
+        Some(x) if v.is_f64() && x != 0.0 && x.is_finite() => {
+            let digits = (5 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
+            format!("{x:.digits$}")
+        }
+        _ => v.to_string(),
+    }
+}
+
+/// The report as text: the mode the data were analysed in first (periodic or
+/// not, levelling, window), the Hurst estimators and dimensions as tables,
+/// then every other quantity on its line.
+fn text_report(facts: &serde_json::Map<String, Value>) -> anyhow::Result<()> {
+    if let Some(p) = facts.get("periodic") {
+        let ratio = p["edge_ratio"]
+            .as_f64()
+            .map_or(String::new(), |r| format!(", edge ratio {r:.3}"));
+        outln!(
+            "  mode: {} ({}{ratio}), levelling {}, window {}",
+            if p["value"] == true {
+                "periodic"
+            } else {
+                "non-periodic"
+            },
+            p["source"].as_str().unwrap_or("?"),
+            facts["levelling"].as_str().unwrap_or("?"),
+            facts["window"].as_str().unwrap_or("?"),
+        );
+    }
+    if let Some(Value::Object(est)) = facts.get("hurst_estimates") {
+        outln!("  Hurst exponent        H        ± stderr   r²       fit range");
+        for (k, e) in est {
+            if e.is_null() {
+                outln!("    {k:19} not estimated (see the warnings)");
+            } else {
+                outln!(
+                    "    {k:19} {:8} {:10} {:8} {}–{} {}",
+                    short(&e["H"]),
+                    short(&e["stderr"]),
+                    short(&e["r2"]),
+                    short(&e["fit_range"][0]),
+                    short(&e["fit_range"][1]),
+                    e["range_unit"].as_str().unwrap_or(""),
+                );
+            }
+        }
+    }
+    if let Some(Value::Object(dims)) = facts.get("fractal_dimension") {
+        outln!("  fractal dimension     D        ± stderr   r²");
+        for (k, d) in dims {
+            if d.is_null() {
+                outln!("    {k:19} unreliable here (see the warnings)");
+            } else {
+                outln!(
+                    "    {k:19} {:8} {:10} {:8}",
+                    short(&d["D"]),
+                    short(&d["stderr"]),
+                    short(&d["r2"])
+                );
+            }
+        }
+    }
+    for (k, v) in facts {
+        match k.as_str() {
+            "periodic" | "levelling" | "window" | "hurst_estimates" | "fractal_dimension" => {}
+            "psd" | "scale_dependent" => outln!(
+                "  {k:22} {} scales (see --json, --plot)",
+                v.get("q")
+                    .or_else(|| v.get("distance"))
+                    .and_then(Value::as_array)
+                    .map_or(0, Vec::len)
+            ),
+            _ => match v {
+                Value::Object(m) if m.values().all(Value::is_number) => {
+                    let parts: Vec<String> =
+                        m.iter().map(|(k, v)| format!("{k} {}", short(v))).collect();
+                    outln!("  {k:22} {}", parts.join("  "));
+                }
+                _ => outln!("  {k:22} {}", short(v)),
+            },
         }
     }
     Ok(())

@@ -3,7 +3,10 @@
 //! height field; topology and curvature of a mesh; cluster dimensions of a
 //! point set — each with the plots that show them.
 
-use asperity_analysis::{AnalysisError, areal, correlation, fractal, level, mesh, psd, scaling};
+use asperity_analysis::window::{self, Window};
+use asperity_analysis::{
+    AnalysisError, areal, correlation, fractal, hurst, level, mesh, psd, scaling,
+};
 use asperity_core::{HeightField, PointSet, TriMesh};
 use asperity_io::Surface;
 use asperity_render::plot::{Series, Style, histogram_plot};
@@ -16,12 +19,20 @@ use crate::report::Measurements;
 /// How a height field is analysed, named and defaulted like `asperity analyze`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AnalyzeOptions {
-    /// Reference surface removed first: none, mean, plane, quadratic. Default plane.
+    /// Reference surface removed first: auto, none, mean, slope, plane,
+    /// quadratic. Default auto: the mean for periodic data, the mean-slope plane
+    /// for periodic data with a tilt, the least-squares plane otherwise.
     pub level: String,
     /// Log-spaced bins of the radial PSD. Default 40.
     pub bins: usize,
-    /// Hurst fit window [q_min, q_max] in rad/length (default: 2·q_min to Nyquist).
+    /// Hurst fit window [q_min, q_max] in rad/length (default: chosen from the
+    /// PSD, see `asperity_analysis::psd::auto_range`).
     pub fit_window: Option<[f64; 2]>,
+    /// Periodic data or not; `None` decides from the data (the edge-jump test of
+    /// `asperity_analysis::window::edge_ratio`).
+    pub periodic: Option<bool>,
+    /// Window of non-periodic data: hann (default), kaiser[:β], blackman-harris, none.
+    pub window: String,
     /// Also make the plots.
     pub plots: bool,
 }
@@ -29,9 +40,11 @@ pub struct AnalyzeOptions {
 impl Default for AnalyzeOptions {
     fn default() -> Self {
         Self {
-            level: "plane".into(),
+            level: "auto".into(),
             bins: 40,
             fit_window: None,
+            periodic: None,
+            window: "hann".into(),
             plots: false,
         }
     }
@@ -61,16 +74,40 @@ pub fn analyze(s: &Surface, name: &str, o: &AnalyzeOptions) -> Result<Analysis> 
     }
 }
 
-/// A fitted dimension, or `null` with a warning naming `what` and why.
+/// A dimension whose standard error exceeds this is reported as unreliable
+/// (null with a warning): at 256² and H = 0.9 box variances scatter by ±0.1
+/// from surface to surface, and the stated error tracks that scatter.
+pub const UNRELIABLE_STDERR: f64 = 0.03;
+
+/// A model-based dimension, or `null` with a warning naming `what` and why
+/// (no fit, a fit at the edge of the range, r² below 0.9 or a standard error
+/// above [`UNRELIABLE_STDERR`]).
 fn dimension_json(
-    d: Result<fractal::Dimension, AnalysisError>,
+    d: Result<fractal::ModelDimension, AnalysisError>,
     what: &str,
     warnings: &mut Vec<String>,
 ) -> Value {
-    match d {
-        Ok(d) => {
-            json!({"D": d.d, "fit_range": d.fit.range, "r2": d.fit.r2, "points": d.fit.points})
+    let d = d.and_then(|d| {
+        if d.fit.at_bound || d.fit.r2.is_nan() || d.fit.r2 < 0.9 {
+            Err(AnalysisError::BadInput(format!(
+                "the fit is poor (H = {:.3}, r² = {:.3})",
+                d.fit.hurst, d.fit.r2
+            )))
+        } else if d.fit.stderr.is_nan() || d.fit.stderr > UNRELIABLE_STDERR {
+            Err(AnalysisError::BadInput(format!(
+                "the fit is too uncertain (D = {:.3} ± {:.3}; the largest scales hold too few independent modes)",
+                d.d, d.fit.stderr
+            )))
+        } else {
+            Ok(d)
         }
+    });
+    match d {
+        Ok(d) => json!({
+            "D": d.d, "fit_range": d.fit_range, "r2": d.fit.r2, "points": d.fit.points,
+            "stderr": d.fit.stderr,
+            "clarke_D": d.clarke,
+        }),
         Err(e) => {
             warnings.push(format!("{what} not estimated: {e}"));
             Value::Null
@@ -78,79 +115,207 @@ fn dimension_json(
     }
 }
 
-/// The levelling `o` names, after checking its fit window.
-fn levelling(o: &AnalyzeOptions) -> Result<level::Level> {
-    let how = level::Level::from_name(&o.level).ok_or_else(|| {
+/// How the field was prepared: periodicity, levelling, window.
+#[derive(Clone, Debug)]
+struct Prepared {
+    levelled: HeightField,
+    periodic: bool,
+    /// "option" or "detected".
+    source: &'static str,
+    /// The edge-jump ratio behind a detection.
+    ratio: Option<f64>,
+    level: level::Level,
+    /// The window applied to spectra (none for periodic data).
+    window: Window,
+}
+
+/// The levelling and window `o` names, after checking its fit window.
+fn parse_options(o: &AnalyzeOptions) -> Result<(Option<level::Level>, Window)> {
+    let how = match o.level.as_str() {
+        "auto" => None,
+        name => Some(level::Level::from_name(name).ok_or_else(|| {
+            invalid(format!(
+                "unknown levelling {name:?} (auto, none, mean, slope, plane, quadratic)"
+            ))
+        })?),
+    };
+    let window = Window::from_name(&o.window).ok_or_else(|| {
         invalid(format!(
-            "unknown levelling {:?} (none, mean, plane, quadratic)",
-            o.level
+            "unknown window {:?} (hann, kaiser, kaiser:BETA, blackman-harris, none)",
+            o.window
         ))
     })?;
     if let Some(w) = o.fit_window {
-        ensure(w[0] > 0.0 && w[1] > w[0], || {
-            format!(
-                "--fit-window takes QMIN,QMAX with 0 < QMIN < QMAX, got {:?}",
-                w.to_vec()
-            )
-        })?;
-    }
-    Ok(how)
-}
-
-/// The report on a height field.
-fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
-    let how = levelling(o)?;
-    let lv = level::level(h, how)?;
-    let areal = areal::areal(&lv)?;
-    let r = psd::radial_psd(&lv, o.bins)?;
-    if let Some([lo, hi]) = o.fit_window {
         ensure(
-            lo.is_finite() && hi.is_finite() && 0.0 < lo && lo < hi,
-            || format!("--fit-window needs 0 < QMIN < QMAX, got [{lo}, {hi}]"),
+            w[0].is_finite() && w[1].is_finite() && w[0] > 0.0 && w[1] > w[0],
+            || {
+                format!(
+                    "--fit-window takes QMIN,QMAX with 0 < QMIN < QMAX, got {:?}",
+                    w.to_vec()
+                )
+            },
         )?;
     }
-    // Estimates that need more data than a field may have: null and a warning,
-    // never a refusal of everything else.
+    Ok((how, window))
+}
+
+/// Below this many rows the edge test is not repeated after removing the mean
+/// slope (see [`prepare`]).
+const MIN_ROWS_FOR_TILT_TEST: usize = 16;
+
+/// Decides periodicity and levelling (see [`AnalyzeOptions`]) and levels `h`.
+fn prepare(h: &HeightField, o: &AnalyzeOptions) -> Result<Prepared> {
+    let (how, window) = parse_options(o)?;
+    h.validate()?;
+    let below = |r: Option<f64>| r.is_some_and(|r| r < window::PERIODIC_BELOW);
+    let (periodic, source, ratio, auto_level) = match o.periodic {
+        Some(true) => (true, "option", None, level::Level::Slope),
+        Some(false) => (false, "option", None, level::Level::Plane),
+        None => {
+            let raw = window::edge_ratio(h);
+            if below(raw) {
+                (true, "detected", raw, level::Level::Mean)
+            } else if h.ny() < MIN_ROWS_FOR_TILT_TEST {
+                // Removing the mean slope closes a profile's end-to-end step
+                // exactly (and nearly so with few rows): no test of a tilted
+                // periodic profile is possible; --periodic yes says it.
+                (false, "detected", raw, level::Level::Plane)
+            } else {
+                let tilted = window::edge_ratio(&level::level(h, level::Level::Slope)?);
+                if below(tilted) {
+                    (true, "detected", tilted, level::Level::Slope)
+                } else {
+                    (false, "detected", raw, level::Level::Plane)
+                }
+            }
+        }
+    };
+    let level = how.unwrap_or(auto_level);
+    Ok(Prepared {
+        levelled: level::level(h, level)?,
+        periodic,
+        source,
+        ratio,
+        level,
+        window: if periodic { Window::None } else { window },
+    })
+}
+
+/// The report on a height field (or a profile, when it has one row).
+fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
+    let p = prepare(h, o)?;
+    let lv = &p.levelled;
+    let profile = h.ny() == 1;
     let mut warnings = Vec::new();
-    let hu = psd::hurst(&r, &lv, o.fit_window)
-        .map_err(|e| warnings.push(format!("Hurst exponent (PSD fit) not estimated: {e}")))
-        .ok();
-    let mut facts = Measurements::from_value(
-        serde_json::to_value(areal).map_err(|e| invalid(format!("areal parameters: {e}")))?,
-    );
-    facts.set("kind", "height field");
+    let mut facts = if profile {
+        let mut f = Measurements::from_value(json!({"kind": "profile"}));
+        f.set("profile_x", areal::profile(lv, false, p.periodic)?);
+        f
+    } else {
+        let mut f = Measurements::from_value(
+            serde_json::to_value(areal::areal(lv, p.periodic)?)
+                .map_err(|e| invalid(format!("areal parameters: {e}")))?,
+        );
+        f.set("kind", "height field");
+        f
+    };
     facts.set("size", h.dims());
     facts.set("spacing", h.spacing());
-    facts.set("levelling", how);
-    facts.set("profile_x", areal::profile(&lv, false).ok());
-    facts.set("profile_y", areal::profile(&lv, true).ok());
-    facts.set("hurst", hu.as_ref().map(|hu| hu.hurst));
-    let psd_dimension = hu.as_ref().map(|hu| {
-        json!({"D": hu.fractal_dimension, "fit_range": hu.fit.range, "r2": hu.fit.r2, "points": hu.fit.points})
-    });
-    let triangulation = dimension_json(
-        fractal::triangulation(&lv),
-        "fractal dimension (triangulation)",
-        &mut warnings,
-    );
-    let partitioning = dimension_json(
-        fractal::partitioning(&lv),
-        "fractal dimension (partitioning)",
-        &mut warnings,
-    );
     facts.set(
-        "fractal_dimension",
-        json!({"psd": psd_dimension, "triangulation": triangulation, "partitioning": partitioning}),
+        "periodic",
+        json!({"value": p.periodic, "source": p.source, "edge_ratio": p.ratio}),
     );
-    let sp = correlation::spatial(&lv)
-        .map_err(|e| warnings.push(format!("Sal and Str not estimated: {e}")))
-        .ok();
-    facts.set("Sal", sp.as_ref().map(|s| s.Sal));
-    facts.set("Str", sp.as_ref().map(|s| s.Str));
-    facts.set("Str_capped", sp.as_ref().map(|s| s.capped));
-    facts.set("psd", json!({"q": r.q, "C": r.c, "convention": "C(q) = A/N^2 |DFT|^2 (SurfaceTopography), radially averaged in log bins"}));
+    facts.set("levelling", p.level);
+    facts.set("window", p.window.name());
+    let w = (p.window != Window::None).then(|| {
+        if profile {
+            p.window.profile(h.nx())
+        } else {
+            p.window.radial(
+                h.dims(),
+                [
+                    h.nx() as f64 * h.spacing()[0],
+                    h.ny() as f64 * h.spacing()[1],
+                ],
+            )
+        }
+    });
+    let r = psd::radial_psd_windowed(lv, o.bins, w.as_deref())?;
+    // Estimates that need more data than a field may have: null and a warning,
+    // never a refusal of everything else.
+    let psd_fit = psd::hurst(&r, o.fit_window);
+    let setup = hurst::Setup {
+        periodic: p.periodic,
+        window: p.window,
+    };
+    let estimates = hurst::estimate_all(lv, setup, &r, &psd_fit);
+    let mut all = serde_json::Map::new();
+    for (name, e) in &estimates {
+        all.insert(
+            (*name).into(),
+            match e {
+                Ok(e) => json!(e),
+                Err(err) => {
+                    warnings.push(format!("Hurst exponent ({name}) not estimated: {err}"));
+                    Value::Null
+                }
+            },
+        );
+    }
+    if let Some(s) = hurst::spread(&estimates).filter(|s| *s > hurst::DISAGREEMENT) {
+        warnings.push(format!(
+            "the Hurst estimators disagree by {s:.2} (more than {}): the surface may not be self-affine over the fit range, or be anisotropic (compare psd_x and psd_y)",
+            hurst::DISAGREEMENT
+        ));
+    }
+    let hu = psd_fit.as_ref().ok();
+    facts.set("hurst", hu.map(|hu| hu.hurst));
+    facts.set("hurst_estimates", Value::Object(all));
+    let psd_dimension = hu.map(|hu| {
+        json!({"D": hu.fractal_dimension, "fit_range": hu.fit.range, "r2": hu.fit.r2, "points": hu.fit.points, "stderr": hu.stderr})
+    });
+    if profile {
+        facts.set("fractal_dimension", json!({"psd": psd_dimension}));
+    } else {
+        let triangulation = dimension_json(
+            fractal::triangulation(lv, p.periodic),
+            "fractal dimension (triangulation)",
+            &mut warnings,
+        );
+        let partitioning = dimension_json(
+            fractal::partitioning(lv),
+            "fractal dimension (partitioning)",
+            &mut warnings,
+        );
+        facts.set(
+            "fractal_dimension",
+            json!({"psd": psd_dimension, "triangulation": triangulation, "partitioning": partitioning}),
+        );
+        facts.set("profile_x", areal::profile(lv, false, p.periodic).ok());
+        facts.set("profile_y", areal::profile(lv, true, p.periodic).ok());
+        let sp = correlation::spatial(lv)
+            .map_err(|e| warnings.push(format!("Sal and Str not estimated: {e}")))
+            .ok();
+        facts.set("Sal", sp.as_ref().map(|s| s.Sal));
+        facts.set("Str", sp.as_ref().map(|s| s.Str));
+        facts.set("Str_capped", sp.as_ref().map(|s| s.capped));
+    }
+    let scale = hurst::scale_dependent(lv, p.periodic);
+    facts.set("scale_dependent", &scale);
+    facts.set(
+        "psd",
+        json!({
+            "q": r.q, "C": r.c, "modes": r.modes, "q_edges": r.edges,
+            "window": p.window.name(),
+            "convention": if profile {
+                "C(q) = L/N^2 |DFT(w h)|^2 (SurfaceTopography), log bins"
+            } else {
+                "C(q) = A/N^2 |DFT(w h)|^2 (SurfaceTopography), radially averaged in log bins"
+            },
+        }),
+    );
     let plots = if o.plots {
-        height_plots(&lv, &r, hu.as_ref())?
+        height_plots(lv, &r, hu, &scale)?
     } else {
         Vec::new()
     };
@@ -161,7 +326,33 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     })
 }
 
-/// The radial PSD with its Hurst fit.
+/// The scale-dependent rms height, slope and curvature on one log–log plot.
+fn scale_plot(s: &hurst::ScaleDependent) -> NamedPlot {
+    let pairs = |x: &[f64], y: &[f64]| x.iter().copied().zip(y.iter().copied()).collect();
+    let curvature: Vec<(f64, f64)> = s
+        .distance
+        .iter()
+        .zip(&s.rms_curvature)
+        .filter_map(|(d, c)| c.map(|c| (*d, c)))
+        .collect();
+    NamedPlot {
+        name: "scale_dependent.png",
+        plot: log_log(
+            "Scale-dependent rms height, slope and curvature".into(),
+            "scale (length)",
+            "rms value",
+            vec![
+                points(
+                    "rms height (variable bandwidth)",
+                    pairs(&s.bandwidth, &s.rms_height),
+                ),
+                points("rms slope", pairs(&s.distance, &s.rms_slope)),
+                points("rms curvature", curvature),
+            ],
+        ),
+    }
+}
+
 /// The radial PSD, with its Hurst fit where there is one.
 fn psd_plot(r: &psd::RadialPsd, hu: Option<&psd::Hurst>) -> NamedPlot {
     let mut series = vec![points(
@@ -197,8 +388,9 @@ fn height_plots(
     lv: &HeightField,
     r: &psd::RadialPsd,
     hu: Option<&psd::Hurst>,
+    scale: &hurst::ScaleDependent,
 ) -> Result<Vec<NamedPlot>> {
-    let mut out = vec![psd_plot(r, hu)];
+    let mut out = vec![psd_plot(r, hu), scale_plot(scale)];
     if let Ok(hh) = correlation::hhcf_x(lv) {
         out.push(NamedPlot {
             name: "hhcf.png",

@@ -431,14 +431,17 @@ fn npy_points(a: npy::NpyArray) -> FResult<PointSet> {
     Ok(p)
 }
 
+/// A 2-D array `(ny, nx)` is a height map; a 1-D array `(n,)` a line scan
+/// (a profile: `n × 1`).
 fn npy_height(a: npy::NpyArray) -> FResult<HeightField> {
-    if a.shape.len() != 2 {
-        return error::malformed(format!(
-            "a height field needs a 2-D array (ny, nx), got shape {:?}",
+    match a.shape[..] {
+        [n] => Ok(HeightField::from_vec([n, 1], a.data)?),
+        [ny, nx] => Ok(HeightField::from_vec([nx, ny], a.data)?),
+        _ => error::malformed(format!(
+            "a height field needs a 2-D array (ny, nx) or a 1-D profile (n,), got shape {:?}",
             a.shape
-        ));
+        )),
     }
-    Ok(HeightField::from_vec([a.shape[1], a.shape[0]], a.data)?)
 }
 
 fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {

@@ -6,7 +6,7 @@
 //!
 //! - Height fields are 2-D arrays of shape `(ny, nx)`, row j = grid row j, written
 //!   as `<f8` (or `<f4` on request). Read: any float or integer dtype of either
-//!   byte order, C or Fortran order.
+//!   byte order, C or Fortran order; a 1-D array `(n,)` is a line scan (profile).
 //! - Point sets are `(N, 3)` arrays of `<f8`.
 
 use std::io::Write;

@@ -88,13 +88,19 @@ fn wrong_npy_dtype_and_shape() {
     let p = dir.path().join("v.npy");
     asperity_io::write_points(&p, &crate::fixtures::points(), &WriteOptions::default()).unwrap();
     // A (20, 3) array is fine as points, and read_height refuses nothing about it
-    // (it is a legal 3×20 grid); a 1-D array is refused as a height field.
-    let mut f = b"\x93NUMPY\x01\x00".to_vec();
-    let h = "{'descr': '<f8', 'fortran_order': False, 'shape': (4,), }\n";
-    f.extend_from_slice(&(h.len() as u16).to_le_bytes());
-    f.extend_from_slice(h.as_bytes());
-    f.extend_from_slice(&[0u8; 32]);
-    let p = write(dir.path(), "flat.npy", &f);
+    // (it is a legal 3×20 grid); a 1-D array is a line scan (n × 1) and a 3-D
+    // array is refused as a height field.
+    let npy = |shape: &str, bytes: usize| {
+        let mut f = b"\x93NUMPY\x01\x00".to_vec();
+        let h = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}\n");
+        f.extend_from_slice(&(h.len() as u16).to_le_bytes());
+        f.extend_from_slice(h.as_bytes());
+        f.extend_from_slice(&vec![0u8; bytes]);
+        f
+    };
+    let p = write(dir.path(), "line.npy", &npy("(4,)", 32));
+    assert_eq!(asperity_io::read_height(&p).unwrap().dims(), [4, 1]);
+    let p = write(dir.path(), "cube.npy", &npy("(2, 2, 2)", 64));
     assert!(message(asperity_io::read_height(&p)).contains("needs a 2-D array"));
 }
 

@@ -1,67 +1,22 @@
 //! Every writer read back by Python's reference readers: numpy, plyfile, trimesh,
 //! Pillow and OpenEXR (`tests/python/check_formats.py`).
 //!
-//! The interpreter is `$ASPERITY_PYTHON`, else `.venv/bin/python` at the workspace
-//! root, else a virtual environment created under `target/asperity-pyenv` from
-//! `tests/python/requirements.txt` (needs PyPI once). Set `ASPERITY_SKIP_PYTHON=1`
-//! to skip on a machine without Python; CI never sets it.
+//! The interpreter: `tests/python/python_env.rs`.
 
-use std::path::{Path, PathBuf};
 use std::process::Command;
+
+#[path = "../../../../tests/python/python_env.rs"]
+mod python_env;
+use python_env::{python, workspace};
 
 use asperity_io::{NpyDtype, PlyEncoding, WriteOptions};
 use serde_json::json;
 
 use crate::fixtures::{flat3, height, octahedron, points, rich_mesh};
 
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .canonicalize()
-        .unwrap()
-}
-
-fn has_modules(py: &Path) -> bool {
-    Command::new(py)
-        .args(["-c", "import numpy, plyfile, trimesh, PIL, OpenEXR"])
-        .status()
-        .is_ok_and(|s| s.success())
-}
-
-fn python() -> PathBuf {
-    if let Ok(p) = std::env::var("ASPERITY_PYTHON") {
-        return PathBuf::from(p);
-    }
-    let root = workspace();
-    let venv = root.join(".venv/bin/python");
-    if has_modules(&venv) {
-        return venv;
-    }
-    let own = root.join("target/asperity-pyenv");
-    let py = own.join("bin/python");
-    if !has_modules(&py) {
-        let ok = Command::new("python3")
-            .args(["-m", "venv"])
-            .arg(&own)
-            .status()
-            .is_ok_and(|s| s.success())
-            && Command::new(&py)
-                .args(["-m", "pip", "install", "-q", "-r"])
-                .arg(root.join("tests/python/requirements.txt"))
-                .status()
-                .is_ok_and(|s| s.success());
-        assert!(
-            ok,
-            "could not set up Python readers; install tests/python/requirements.txt or set ASPERITY_PYTHON"
-        );
-    }
-    py
-}
-
 #[test]
 fn python_reference_readers_accept_every_writer() {
-    if std::env::var_os("ASPERITY_SKIP_PYTHON").is_some() {
-        eprintln!("skipped: ASPERITY_SKIP_PYTHON is set");
+    if python_env::skipped() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
