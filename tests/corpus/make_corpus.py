@@ -162,7 +162,7 @@ NPY_BAD = {
     "npy_header_past_end": b"\x93NUMPY\x01\x00\xff\xff{'descr': '<f8'",
     "npy_no_shape": b"\x93NUMPY\x01\x00" + struct.pack("<H", 46) + b"{'descr': '<f8', 'fortran_order': False, }   \n",
     "npy_non_ascii_dtype": npy("<\u00e9", "(1, 1)", b"\0" * 8),
-    "npy_one_dim": npy("<f8", "(5,)", b"\0" * 40),
+    "npy_empty_profile": npy("<f8", "(0,)", b""),
 }
 for name, data in NPY_BAD.items():
     f = file(name + ".npy", data)

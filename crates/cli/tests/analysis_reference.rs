@@ -1,0 +1,29 @@
+//! `asperity analyze` against SurfaceTopography (issue #21): the battery of
+//! `tests/python/check_analysis.py` — surfaces of known Hurst exponent made by
+//! SurfaceTopography's `fourier_synthesis`, periodic and cropped, tilted, 256² to
+//! 2048², and line scans — run through the real binary. The checks and their
+//! tolerances are in the script's docstring.
+
+use std::process::Command;
+
+#[path = "../../../tests/python/python_env.rs"]
+mod python_env;
+
+#[test]
+fn analyze_agrees_with_surface_topography_and_recovers_known_exponents() {
+    if python_env::skipped() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let script = python_env::workspace().join("tests/python/check_analysis.py");
+    let out = Command::new(python_env::python())
+        .arg(&script)
+        .arg(env!("CARGO_BIN_EXE_asperity"))
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "check_analysis.py failed (see above)");
+    assert!(stdout.contains("OK: every check passed"));
+}
