@@ -284,7 +284,10 @@ mod tests {
         let wrapped = profile(&p, false, true).unwrap();
         let expected = (0.75f64.powi(2) * (255.0 + 255.0f64.powi(2)) / 256.0).sqrt();
         assert!((wrapped.Rdq - expected).abs() < 1e-9, "{}", wrapped.Rdq);
-        assert!(profile(&p, true, false).is_err(), "columns of z = x are flat");
+        assert!(
+            profile(&p, true, false).is_err(),
+            "columns of z = x are flat"
+        );
         // A single row is a profile (a line scan).
         let line = HeightField::from_vec([5, 1], vec![0.0, 1.0, 0.0, -1.0, 0.0]).unwrap();
         assert!((profile(&line, false, false).unwrap().Rdq - 1.0).abs() < 1e-12);

@@ -40,8 +40,10 @@ const COARSE: f64 = 0.05;
 /// The variance of a ring's sum counts each mode twice: a real field's modes
 /// at q and −q are one random variable.
 const PAIRED: f64 = 2.0;
-/// Rows of modes per parallel task (fixed: the sums do not depend on threads).
-const ROWS_PER_TASK: usize = 16;
+/// Parallel tasks per sum, each over a fixed block of rows of modes (fixed:
+/// the sums do not depend on the thread count). Few, because every task
+/// holds its own covariance sums (scales² × rings, megabytes).
+const TASKS: usize = 8;
 
 /// A statistic at several scales, as a kernel over the FFT modes.
 pub trait Kernel: Sync {
@@ -49,6 +51,11 @@ pub trait Kernel: Sync {
     fn scales(&self) -> usize;
     /// K_s for every scale s at mode (kx, ky), FFT indices in 0..nx, 0..ny.
     fn eval(&self, kx: usize, ky: usize, out: &mut [f64]);
+    /// Whether K is the same at (±kx, ±ky): the sums then run over a quarter
+    /// of the modes, each counted with its mirror images.
+    fn mirror_symmetric(&self) -> bool {
+        false
+    }
 }
 
 /// The grid a model lives on.
@@ -132,7 +139,23 @@ impl Compressed {
         let fine = (span / FINE) as usize + 1;
         let coarse = (span / COARSE) as usize + 1;
         let [nx, ny] = grid.n;
-        let blocks: Vec<usize> = (0..ny.div_ceil(ROWS_PER_TASK)).collect();
+        let folded = kernel.mirror_symmetric();
+        // With mirror symmetry only kx, ky ≤ n/2 are visited; a mode stands for
+        // its images at −kx and −ky (one image on the axis and at Nyquist).
+        let (rows, cols) = if folded {
+            (ny / 2 + 1, nx / 2 + 1)
+        } else {
+            (ny, nx)
+        };
+        let images = |k: usize, n: usize| {
+            if !folded || n == 1 || k == 0 || 2 * k == n {
+                1.0
+            } else {
+                2.0
+            }
+        };
+        let rows_per_task = rows.div_ceil(TASKS).max(1);
+        let blocks: Vec<usize> = (0..rows.div_ceil(rows_per_task)).collect();
         let partials: Vec<Partial> = blocks
             .par_iter()
             .map(|&b| {
@@ -145,12 +168,15 @@ impl Compressed {
                     kk: vec![0.0; s * s * coarse],
                 };
                 let mut ks = vec![0.0; s];
-                for ky in b * ROWS_PER_TASK..((b + 1) * ROWS_PER_TASK).min(ny) {
-                    for kx in 0..nx {
+                let mut nonzero: Vec<(usize, f64)> = Vec::with_capacity(s);
+                for ky in b * rows_per_task..((b + 1) * rows_per_task).min(rows) {
+                    let wy = images(ky, ny);
+                    for kx in 0..cols {
                         let q = grid.q(kx, ky);
                         if q <= 0.0 || q > q_hi * (1.0 + 1e-12) {
                             continue;
                         }
+                        let w = wy * images(kx, nx);
                         let lq = q.ln();
                         let x = (lq - q_lo.ln()).max(0.0);
                         let (rf, rc) = (
@@ -158,17 +184,19 @@ impl Compressed {
                             ((x / COARSE) as usize).min(coarse - 1),
                         );
                         kernel.eval(kx, ky, &mut ks);
-                        p.count[rf] += 1.0;
-                        p.sum_ln[rf] += lq;
-                        p.count_c[rc] += 1.0;
-                        p.sum_ln_c[rc] += lq;
-                        for (a, &ka) in ks.iter().enumerate() {
-                            if ka == 0.0 {
-                                continue;
-                            }
-                            p.k[a * fine + rf] += ka;
-                            for (b, &kb) in ks.iter().enumerate().skip(a) {
-                                p.kk[(a * s + b) * coarse + rc] += ka * kb;
+                        p.count[rf] += w;
+                        p.sum_ln[rf] += w * lq;
+                        p.count_c[rc] += w;
+                        p.sum_ln_c[rc] += w * lq;
+                        // Sparse kernels (a profile PSD touches a few modes
+                        // per scale) cost only their non-zero products.
+                        nonzero.clear();
+                        nonzero.extend(ks.iter().copied().enumerate().filter(|(_, k)| *k != 0.0));
+                        for (i, &(a, ka)) in nonzero.iter().enumerate() {
+                            p.k[a * fine + rf] += w * ka;
+                            let row = &mut p.kk[a * s * coarse..];
+                            for &(b, kb) in &nonzero[i..] {
+                                row[b * coarse + rc] += w * ka * kb;
                             }
                         }
                     }

@@ -22,6 +22,7 @@
 //! Kernels are defined up to one constant factor shared by every scale (the
 //! model's prefactor C₀ absorbs it).
 
+use rayon::prelude::*;
 use std::f64::consts::TAU;
 
 use asperity_core::HeightField;
@@ -100,8 +101,9 @@ impl StructureFunction {
     /// Measured S(τ): the x part plus, for areas, the y part.
     pub fn measure(&self, h: &HeightField) -> Vec<f64> {
         let [nx, ny] = self.n;
+        // One lag per task; each lag's sum runs in a fixed order.
         self.lags
-            .iter()
+            .par_iter()
             .zip(&self.lags_y)
             .map(|(&t, &ty)| {
                 let sx = along(h, t, nx, ny, self.periodic, false);
@@ -116,20 +118,32 @@ impl StructureFunction {
 }
 
 /// Mean square difference at lag `t` along x (or y), wrapping if periodic.
+/// Both directions walk rows (contiguous memory): along y, row b against row
+/// b + t.
 fn along(h: &HeightField, t: usize, nx: usize, ny: usize, periodic: bool, y: bool) -> f64 {
-    let (n, m) = if y { (ny, nx) } else { (nx, ny) };
+    let n = if y { ny } else { nx };
     if t == 0 || (!periodic && t >= n) {
         return f64::NAN;
     }
-    let z = |a: usize, b: usize| if y { *h.get(b, a) } else { *h.get(a, b) };
+    let t = t % n;
+    let sq = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| (q - p) * (q - p)).sum::<f64>();
     let (mut s, mut c) = (0.0, 0usize);
-    for b in 0..m {
-        let end = if periodic { n } else { n - t };
-        for a in 0..end {
-            let d = z((a + t) % n, b) - z(a, b);
-            s += d * d;
+    if y {
+        let end = if periodic { ny } else { ny - t };
+        for b in 0..end {
+            s += sq(h.row(b), h.row((b + t) % ny));
         }
-        c += end;
+        c += end * nx;
+    } else {
+        for b in 0..ny {
+            let r = h.row(b);
+            s += sq(&r[..nx - t], &r[t..]);
+            if periodic {
+                // The wrapped pairs: z[a + t − n] − z[a] for a ≥ n − t.
+                s += sq(&r[nx - t..], &r[..t]);
+            }
+        }
+        c += ny * if periodic { nx } else { nx - t };
     }
     s / c as f64
 }
@@ -137,6 +151,9 @@ fn along(h: &HeightField, t: usize, nx: usize, ny: usize, periodic: bool, y: boo
 impl Kernel for StructureFunction {
     fn scales(&self) -> usize {
         self.lags.len()
+    }
+    fn mirror_symmetric(&self) -> bool {
+        true
     }
     fn eval(&self, kx: usize, ky: usize, out: &mut [f64]) {
         for (s, o) in out.iter_mut().enumerate() {
@@ -283,6 +300,9 @@ impl Kernel for BoxVariance {
     fn scales(&self) -> usize {
         self.sides.len()
     }
+    fn mirror_symmetric(&self) -> bool {
+        true
+    }
     fn eval(&self, kx: usize, ky: usize, out: &mut [f64]) {
         for (s, o) in out.iter_mut().enumerate() {
             let (u, v) = (self.d_x[s].0[kx], self.d_x[s].1[kx]);
@@ -309,14 +329,18 @@ pub struct ProfileSpectrum {
     window: Window,
     /// |Ŵ(d)|² for d = 0..n (a delta without a window).
     w2: Vec<f64>,
+    /// The non-zero entries of `w2` as (d, value).
+    taps: Vec<(usize, f64)>,
+    /// The scale measured at each wavenumber index, if any.
+    scale_of: Vec<Option<usize>>,
 }
 
 impl ProfileSpectrum {
-    /// The statistic along x (or y) of `h` at wavenumber indices `indices`,
+    /// The statistic along x (or y) of `h` at distinct wavenumber indices `indices`,
     /// windowed by `window` (use [`Window::None`] for periodic data).
     pub fn new(h: &HeightField, along_y: bool, indices: Vec<usize>, window: Window) -> Self {
         let n = if along_y { h.ny() } else { h.nx() };
-        let w2 = if window == Window::None {
+        let w2: Vec<f64> = if window == Window::None {
             (0..n)
                 .map(|d| if d == 0 { (n * n) as f64 } else { 0.0 })
                 .collect()
@@ -324,14 +348,33 @@ impl ProfileSpectrum {
             let w = window.profile(n);
             let mut c: Vec<Complex<f64>> = w.iter().map(|&v| Complex::new(v, 0.0)).collect();
             FftPlanner::new().plan_fft_forward(n).process(&mut c);
-            c.iter().map(|v| v.norm_sqr()).collect()
+            // Rounding leaves ~1e-30 where a window's spectrum is zero (all
+            // but 3 taps of a periodic Hann window): exact zeros keep the
+            // model's sums sparse.
+            let peak = (n * n) as f64;
+            c.iter()
+                .map(|v| v.norm_sqr())
+                .map(|p| if p < 1e-15 * peak { 0.0 } else { p })
+                .collect()
         };
+        let taps = w2
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|(_, v)| *v != 0.0)
+            .collect();
+        let mut scale_of = vec![None; n];
+        for (s, &k) in indices.iter().enumerate() {
+            scale_of[k % n] = Some(s);
+        }
         Self {
             indices,
             along_y,
             n_axis: n,
             window,
             w2,
+            taps,
+            scale_of,
         }
     }
 
@@ -385,9 +428,20 @@ impl Kernel for ProfileSpectrum {
     fn eval(&self, kx: usize, ky: usize, out: &mut [f64]) {
         let k_mode = if self.along_y { ky } else { kx };
         let n = self.n_axis;
-        for (s, o) in out.iter_mut().enumerate() {
-            let d = (self.indices[s] + n - k_mode % n) % n;
-            *o = self.w2[d];
+        if self.taps.len() < out.len() {
+            // K_s = w2[(k_s − k) mod n] is non-zero only where k_s = k + d for
+            // a tap d: visit the taps, not the scales.
+            out.fill(0.0);
+            for &(d, v) in &self.taps {
+                if let Some(s) = self.scale_of[(k_mode % n + d) % n] {
+                    out[s] = v;
+                }
+            }
+        } else {
+            for (s, o) in out.iter_mut().enumerate() {
+                let d = (self.indices[s] + n - k_mode % n) % n;
+                *o = self.w2[d];
+            }
         }
     }
 }
@@ -396,6 +450,56 @@ impl Kernel for ProfileSpectrum {
 mod tests {
     use super::*;
     use crate::model::{Compressed, ModeGrid};
+
+    /// A kernel seen without its symmetry: the model's sums over every mode.
+    struct Unfolded<'a>(&'a dyn Kernel);
+    impl Kernel for Unfolded<'_> {
+        fn scales(&self) -> usize {
+            self.0.scales()
+        }
+        fn eval(&self, kx: usize, ky: usize, out: &mut [f64]) {
+            self.0.eval(kx, ky, out);
+        }
+    }
+
+    /// The kernels that claim mirror symmetry have it, and the model summed
+    /// over a quarter of the modes equals the full sum.
+    #[test]
+    fn mirror_symmetric_kernels_fold_exactly() {
+        let (nx, ny) = (24, 18);
+        let h = HeightField::from_vec([nx, ny], vec![0.0; nx * ny]).unwrap();
+        let grid = ModeGrid {
+            n: [nx, ny],
+            spacing: [1.0, 1.0],
+        };
+        let sf = StructureFunction::new(&h, vec![1, 2, 5], false);
+        let mean = BoxVariance::new(&h, vec![2, 3, 6], BoxReference::Mean);
+        let plane = BoxVariance::new(&h, vec![3, 4, 6], BoxReference::Plane);
+        for k in [&sf as &dyn Kernel, &mean, &plane] {
+            assert!(k.mirror_symmetric());
+            let (mut a, mut b, mut c) = (vec![0.0; 3], vec![0.0; 3], vec![0.0; 3]);
+            for ky in 0..ny {
+                for kx in 0..nx {
+                    k.eval(kx, ky, &mut a);
+                    k.eval((nx - kx) % nx, ky, &mut b);
+                    k.eval(kx, (ny - ky) % ny, &mut c);
+                    for s in 0..3 {
+                        assert!((a[s] - b[s]).abs() < 1e-12 && (a[s] - c[s]).abs() < 1e-12);
+                    }
+                }
+            }
+            let folded = Compressed::new(k, &grid);
+            let full = Compressed::new(&Unfolded(k), &grid);
+            for hu in [0.3, 0.9] {
+                for (x, y) in folded.expected(hu).iter().zip(full.expected(hu)) {
+                    assert!((x / y - 1.0).abs() < 1e-12, "{x} vs {y}");
+                }
+                for (x, y) in folded.expected_log(hu).iter().zip(full.expected_log(hu)) {
+                    assert!((x - y).abs() < 1e-12, "{x} vs {y}");
+                }
+            }
+        }
+    }
 
     fn wave(n: usize, kx: usize, ky: usize, phase: f64) -> HeightField {
         HeightField::from_vec(
