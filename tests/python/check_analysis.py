@@ -14,7 +14,8 @@ its default settings. Checks:
 * Sq, Sdq, Sdr equal to SurfaceTopography's to 1e-6 relative, Ssk and Sku to its
   detrended heights' moments;
 * line scans (1-D .npy): the profile PSD against `power_spectrum_from_profile`,
-  Rq and Rdq against SurfaceTopography, H within 0.05.
+  Rq, Rdq and the scale-dependent rms slope and curvature against
+  SurfaceTopography, H within 0.05 and the other estimators within 0.1.
 
 Usage: python check_analysis.py ASPERITY_BINARY WORKDIR [quick]
 Prints one line per surface and a summary of the worst errors; exits 1 on the
@@ -206,6 +207,18 @@ def profile_case(n, hurst, seed):
         err = abs(m["profile_x"][k] / v - 1)
         note(f"{k} vs SurfaceTopography", err)
         check(case, k, err <= AREAL_TOL, f"{m['profile_x'][k]!r} vs {v!r}")
+    # Scale-dependent slope and curvature (Sanner et al. 2022), at asperity's distances.
+    sd = m["scale_dependent"]
+    for key, fn in (("rms_slope", line.scale_dependent_slope_from_profile),
+                    ("rms_curvature", line.scale_dependent_curvature_from_profile)):
+        r, v = fn(resampling_method=None)
+        ours = np.array([np.nan if x is None else x for x in sd[key]])
+        at = np.array([np.argmin(np.abs(r - x)) for x in sd["distance"]])
+        ok = ~np.isnan(ours)
+        check(case, f"{key} distances", np.allclose(r[at], sd["distance"]), "not on SurfaceTopography's grid")
+        err = np.max(np.abs(ours[ok] / v[at][ok] - 1))
+        note(f"profile scale-dependent {key} (rel.)", err)
+        check(case, f"scale-dependent {key}", err <= AREAL_TOL, f"off by {err:.2e}")
     p = m["psd"]
     # SurfaceTopography returns q = 0 … (n/2 - 1)·2π/L; asperity counts +q and
     # -q and the Nyquist mode: compare on both signs, counts up to the Nyquist mode.

@@ -6,9 +6,10 @@
 use std::path::PathBuf;
 
 use asperity_core::fourier_surface::{FourierParams, benchmark_mesh, fourier_surface};
-use asperity_core::{Grid2, MemoryBudget, NoProgress};
+use asperity_core::{Grid2, HeightField, MemoryBudget, NoProgress};
 use asperity_growth::dla::{DlaParams, SeedShape, dla};
 use asperity_growth::{DepositionParams, Lattice, Model, deposit_ensemble};
+use asperity_io::Surface;
 use asperity_render::{RenderOptions, render_mesh};
 
 use crate::error::{Result, invalid};
@@ -99,6 +100,7 @@ const WORKLOADS: &[(&str, Builder)] = &[
     ("ca/accumulate-8192x256", ca_accumulate),
     ("core/fourier-surface", fourier),
     ("io/write-ply", write_ply),
+    ("analysis/analyze-2048", analyze_2048),
     ("growth/rd-2d", rd),
     ("growth/rdsr-2d", rdsr),
     ("growth/bd-2d", bd),
@@ -264,6 +266,43 @@ fn fourier(s: &Setup) -> Result<Workload> {
             fourier_surface(&p, 7, &budget)
                 .map(|_| ())
                 .map_err(Into::into)
+        }),
+    })
+}
+
+/// `asperity analyze` of a non-periodic 2048² field on its defaults: periodicity
+/// test, levelling, Hann window, PSD, five Hurst estimators, three dimensions,
+/// scale-dependent parameters (#21).
+fn analyze_2048(s: &Setup) -> Result<Workload> {
+    let n = s.size(2048, 128);
+    let p = asperity_core::fourier_surface::FourierParams {
+        n: 2 * n,
+        hurst: 0.7,
+        modes: n,
+        rms: 1.0,
+        spacing: 1.0,
+    };
+    let big = asperity_analysis::synthesis::fbm(&p, 7, &s.budget)?;
+    // A crop of a periodic surface: the non-periodic case of measured data.
+    let crop = HeightField::from_vec(
+        [n, n],
+        (0..n).flat_map(|j| big.row(j)[..n].to_vec()).collect(),
+    )?;
+    let surface = Surface::Height(crop);
+    Ok(Workload {
+        name: "analysis/analyze-2048",
+        what: format!("analyze a {n}×{n} non-periodic field (defaults: Hann window, 5 estimators)"),
+        elements: (n * n) as u64,
+        unit: "samples",
+        target_s: None,
+        once: false,
+        job: Box::new(move || {
+            crate::analyze::analyze(
+                &surface,
+                "bench",
+                &crate::analyze::AnalyzeOptions::default(),
+            )
+            .map(|_| ())
         }),
     })
 }
