@@ -130,14 +130,23 @@ struct Partial {
     kk: Vec<f64>,
 }
 
-impl Compressed {
-    /// Sums `kernel` over the modes of `grid` (see the module docs).
-    pub fn new(kernel: &dyn Kernel, grid: &ModeGrid) -> Self {
-        let s = kernel.scales();
+/// How the modes are visited: the rings, and whether mirror images are folded.
+struct Layout {
+    scales: usize,
+    fine: usize,
+    coarse: usize,
+    ln_q_lo: f64,
+    q_hi: f64,
+    folded: bool,
+    /// Rows and columns of modes visited.
+    rows: usize,
+    cols: usize,
+}
+
+impl Layout {
+    fn new(kernel: &dyn Kernel, grid: &ModeGrid) -> Self {
         let [q_lo, q_hi] = grid.band();
         let span = (q_hi / q_lo).ln().max(0.0);
-        let fine = (span / FINE) as usize + 1;
-        let coarse = (span / COARSE) as usize + 1;
         let [nx, ny] = grid.n;
         let folded = kernel.mirror_symmetric();
         // With mirror symmetry only kx, ky ≤ n/2 are visited; a mode stands for
@@ -147,79 +156,117 @@ impl Compressed {
         } else {
             (ny, nx)
         };
-        let images = |k: usize, n: usize| {
-            if !folded || n == 1 || k == 0 || 2 * k == n {
-                1.0
-            } else {
-                2.0
+        Self {
+            scales: kernel.scales(),
+            fine: (span / FINE) as usize + 1,
+            coarse: (span / COARSE) as usize + 1,
+            ln_q_lo: q_lo.ln(),
+            q_hi,
+            folded,
+            rows,
+            cols,
+        }
+    }
+
+    /// How many modes index `k` of an axis of `n` stands for.
+    fn images(&self, k: usize, n: usize) -> f64 {
+        if !self.folded || n == 1 || k == 0 || 2 * k == n {
+            1.0
+        } else {
+            2.0
+        }
+    }
+}
+
+impl Partial {
+    fn zeros(l: &Layout) -> Self {
+        let s = l.scales;
+        Self {
+            count: vec![0.0; l.fine],
+            sum_ln: vec![0.0; l.fine],
+            k: vec![0.0; s * l.fine],
+            count_c: vec![0.0; l.coarse],
+            sum_ln_c: vec![0.0; l.coarse],
+            kk: vec![0.0; s * s * l.coarse],
+        }
+    }
+
+    fn add(&mut self, p: &Partial) {
+        let add = |a: &mut [f64], b: &[f64]| a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+        add(&mut self.count, &p.count);
+        add(&mut self.sum_ln, &p.sum_ln);
+        add(&mut self.k, &p.k);
+        add(&mut self.count_c, &p.count_c);
+        add(&mut self.sum_ln_c, &p.sum_ln_c);
+        add(&mut self.kk, &p.kk);
+    }
+
+    /// The sums over rows `ky_range` of the visited modes.
+    fn of_rows(
+        kernel: &dyn Kernel,
+        grid: &ModeGrid,
+        l: &Layout,
+        ky_range: std::ops::Range<usize>,
+    ) -> Self {
+        let (s, fine, coarse) = (l.scales, l.fine, l.coarse);
+        let [nx, ny] = grid.n;
+        let mut p = Self::zeros(l);
+        let mut ks = vec![0.0; s];
+        let mut nonzero: Vec<(usize, f64)> = Vec::with_capacity(s);
+        for ky in ky_range {
+            let wy = l.images(ky, ny);
+            for kx in 0..l.cols {
+                let q = grid.q(kx, ky);
+                if q <= 0.0 || q > l.q_hi * (1.0 + 1e-12) {
+                    continue;
+                }
+                let w = wy * l.images(kx, nx);
+                let lq = q.ln();
+                let x = (lq - l.ln_q_lo).max(0.0);
+                let (rf, rc) = (
+                    ((x / FINE) as usize).min(fine - 1),
+                    ((x / COARSE) as usize).min(coarse - 1),
+                );
+                kernel.eval(kx, ky, &mut ks);
+                p.count[rf] += w;
+                p.sum_ln[rf] += w * lq;
+                p.count_c[rc] += w;
+                p.sum_ln_c[rc] += w * lq;
+                // Sparse kernels (a profile PSD touches a few modes per scale)
+                // cost only their non-zero products.
+                nonzero.clear();
+                nonzero.extend(ks.iter().copied().enumerate().filter(|(_, k)| *k != 0.0));
+                for (i, &(a, ka)) in nonzero.iter().enumerate() {
+                    p.k[a * fine + rf] += w * ka;
+                    let row = &mut p.kk[a * s * coarse..];
+                    for &(b, kb) in &nonzero[i..] {
+                        row[b * coarse + rc] += w * ka * kb;
+                    }
+                }
             }
-        };
-        let rows_per_task = rows.div_ceil(TASKS).max(1);
-        let blocks: Vec<usize> = (0..rows.div_ceil(rows_per_task)).collect();
+        }
+        p
+    }
+}
+
+impl Compressed {
+    /// Sums `kernel` over the modes of `grid` (see the module docs).
+    pub fn new(kernel: &dyn Kernel, grid: &ModeGrid) -> Self {
+        let l = Layout::new(kernel, grid);
+        let (s, coarse) = (l.scales, l.coarse);
+        let rows_per_task = l.rows.div_ceil(TASKS).max(1);
+        let blocks: Vec<usize> = (0..l.rows.div_ceil(rows_per_task)).collect();
         let partials: Vec<Partial> = blocks
             .par_iter()
             .map(|&b| {
-                let mut p = Partial {
-                    count: vec![0.0; fine],
-                    sum_ln: vec![0.0; fine],
-                    k: vec![0.0; s * fine],
-                    count_c: vec![0.0; coarse],
-                    sum_ln_c: vec![0.0; coarse],
-                    kk: vec![0.0; s * s * coarse],
-                };
-                let mut ks = vec![0.0; s];
-                let mut nonzero: Vec<(usize, f64)> = Vec::with_capacity(s);
-                for ky in b * rows_per_task..((b + 1) * rows_per_task).min(rows) {
-                    let wy = images(ky, ny);
-                    for kx in 0..cols {
-                        let q = grid.q(kx, ky);
-                        if q <= 0.0 || q > q_hi * (1.0 + 1e-12) {
-                            continue;
-                        }
-                        let w = wy * images(kx, nx);
-                        let lq = q.ln();
-                        let x = (lq - q_lo.ln()).max(0.0);
-                        let (rf, rc) = (
-                            ((x / FINE) as usize).min(fine - 1),
-                            ((x / COARSE) as usize).min(coarse - 1),
-                        );
-                        kernel.eval(kx, ky, &mut ks);
-                        p.count[rf] += w;
-                        p.sum_ln[rf] += w * lq;
-                        p.count_c[rc] += w;
-                        p.sum_ln_c[rc] += w * lq;
-                        // Sparse kernels (a profile PSD touches a few modes
-                        // per scale) cost only their non-zero products.
-                        nonzero.clear();
-                        nonzero.extend(ks.iter().copied().enumerate().filter(|(_, k)| *k != 0.0));
-                        for (i, &(a, ka)) in nonzero.iter().enumerate() {
-                            p.k[a * fine + rf] += w * ka;
-                            let row = &mut p.kk[a * s * coarse..];
-                            for &(b, kb) in &nonzero[i..] {
-                                row[b * coarse + rc] += w * ka * kb;
-                            }
-                        }
-                    }
-                }
-                p
+                let rows = b * rows_per_task..((b + 1) * rows_per_task).min(l.rows);
+                Partial::of_rows(kernel, grid, &l, rows)
             })
             .collect();
-        let mut total = Partial {
-            count: vec![0.0; fine],
-            sum_ln: vec![0.0; fine],
-            k: vec![0.0; s * fine],
-            count_c: vec![0.0; coarse],
-            sum_ln_c: vec![0.0; coarse],
-            kk: vec![0.0; s * s * coarse],
-        };
-        for p in partials {
-            let add = |a: &mut [f64], b: &[f64]| a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
-            add(&mut total.count, &p.count);
-            add(&mut total.sum_ln, &p.sum_ln);
-            add(&mut total.k, &p.k);
-            add(&mut total.count_c, &p.count_c);
-            add(&mut total.sum_ln_c, &p.sum_ln_c);
-            add(&mut total.kk, &p.kk);
+        // Added in block order: the same sums at any thread count.
+        let mut total = Partial::zeros(&l);
+        for p in &partials {
+            total.add(p);
         }
         // Symmetric covariance: fill the lower triangle.
         for a in 0..s {

@@ -207,70 +207,26 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     let lv = &p.levelled;
     let profile = h.ny() == 1;
     let mut warnings = Vec::new();
-    let mut facts = if profile {
-        let mut f = Measurements::from_value(json!({"kind": "profile"}));
-        f.set("profile_x", areal::profile(lv, false, p.periodic)?);
-        f
-    } else {
-        let mut f = Measurements::from_value(
-            serde_json::to_value(areal::areal(lv, p.periodic)?)
-                .map_err(|e| invalid(format!("areal parameters: {e}")))?,
-        );
-        f.set("kind", "height field");
-        f
-    };
-    facts.set("size", h.dims());
-    facts.set("spacing", h.spacing());
-    facts.set(
-        "periodic",
-        json!({"value": p.periodic, "source": p.source, "edge_ratio": p.ratio}),
-    );
-    facts.set("levelling", p.level);
-    facts.set("window", p.window.name());
+    let mut facts = parameters(h, &p)?;
     let w = (p.window != Window::None).then(|| {
         if profile {
             p.window.profile(h.nx())
         } else {
-            p.window.radial(
-                h.dims(),
-                [
-                    h.nx() as f64 * h.spacing()[0],
-                    h.ny() as f64 * h.spacing()[1],
-                ],
-            )
+            let [dx, dy] = h.spacing();
+            p.window
+                .radial(h.dims(), [h.nx() as f64 * dx, h.ny() as f64 * dy])
         }
     });
     let r = psd::radial_psd_windowed(lv, o.bins, w.as_deref())?;
     // Estimates that need more data than a field may have: null and a warning,
     // never a refusal of everything else.
     let psd_fit = psd::hurst(&r, o.fit_window);
-    let setup = hurst::Setup {
-        periodic: p.periodic,
-        window: p.window,
-    };
-    let estimates = hurst::estimate_all(lv, setup, &r, &psd_fit);
-    let mut all = serde_json::Map::new();
-    for (name, e) in &estimates {
-        all.insert(
-            (*name).into(),
-            match e {
-                Ok(e) => json!(e),
-                Err(err) => {
-                    warnings.push(format!("Hurst exponent ({name}) not estimated: {err}"));
-                    Value::Null
-                }
-            },
-        );
-    }
-    if let Some(s) = hurst::spread(&estimates).filter(|s| *s > hurst::DISAGREEMENT) {
-        warnings.push(format!(
-            "the Hurst estimators disagree by {s:.2} (more than {}): the surface may not be self-affine over the fit range, or be anisotropic (compare psd_x and psd_y)",
-            hurst::DISAGREEMENT
-        ));
-    }
     let hu = psd_fit.as_ref().ok();
     facts.set("hurst", hu.map(|hu| hu.hurst));
-    facts.set("hurst_estimates", Value::Object(all));
+    facts.set(
+        "hurst_estimates",
+        estimates_json(&p, &r, &psd_fit, &mut warnings),
+    );
     let psd_dimension = hu.map(|hu| {
         json!({"D": hu.fractal_dimension, "fit_range": hu.fit.range, "r2": hu.fit.r2, "points": hu.fit.points, "stderr": hu.stderr})
     });
@@ -291,8 +247,6 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
             "fractal_dimension",
             json!({"psd": psd_dimension, "triangulation": triangulation, "partitioning": partitioning}),
         );
-        facts.set("profile_x", areal::profile(lv, false, p.periodic).ok());
-        facts.set("profile_y", areal::profile(lv, true, p.periodic).ok());
         let sp = correlation::spatial(lv)
             .map_err(|e| warnings.push(format!("Sal and Str not estimated: {e}")))
             .ok();
@@ -302,18 +256,7 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     }
     let scale = hurst::scale_dependent(lv, p.periodic);
     facts.set("scale_dependent", &scale);
-    facts.set(
-        "psd",
-        json!({
-            "q": r.q, "C": r.c, "modes": r.modes, "q_edges": r.edges,
-            "window": p.window.name(),
-            "convention": if profile {
-                "C(q) = L/N^2 |DFT(w h)|^2 (SurfaceTopography), log bins"
-            } else {
-                "C(q) = A/N^2 |DFT(w h)|^2 (SurfaceTopography), radially averaged in log bins"
-            },
-        }),
-    );
+    facts.set("psd", psd_json(&r, p.window, profile));
     let plots = if o.plots {
         height_plots(lv, &r, hu, &scale)?
     } else {
@@ -323,6 +266,83 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
         facts,
         plots,
         warnings,
+    })
+}
+
+/// The mode (periodicity, levelling, window) and the ISO 25178 / ISO 4287
+/// parameters of the levelled field.
+fn parameters(h: &HeightField, p: &Prepared) -> Result<Measurements> {
+    let lv = &p.levelled;
+    let mut facts = if h.ny() == 1 {
+        let mut f = Measurements::from_value(json!({"kind": "profile"}));
+        f.set("profile_x", areal::profile(lv, false, p.periodic)?);
+        f
+    } else {
+        let mut f = Measurements::from_value(
+            serde_json::to_value(areal::areal(lv, p.periodic)?)
+                .map_err(|e| invalid(format!("areal parameters: {e}")))?,
+        );
+        f.set("kind", "height field");
+        f.set("profile_x", areal::profile(lv, false, p.periodic).ok());
+        f.set("profile_y", areal::profile(lv, true, p.periodic).ok());
+        f
+    };
+    facts.set("size", h.dims());
+    facts.set("spacing", h.spacing());
+    facts.set(
+        "periodic",
+        json!({"value": p.periodic, "source": p.source, "edge_ratio": p.ratio}),
+    );
+    facts.set("levelling", p.level);
+    facts.set("window", p.window.name());
+    Ok(facts)
+}
+
+/// Every Hurst estimator by name (null with a warning where it failed), and a
+/// warning when they disagree.
+fn estimates_json(
+    p: &Prepared,
+    r: &psd::RadialPsd,
+    psd_fit: &std::result::Result<psd::Hurst, AnalysisError>,
+    warnings: &mut Vec<String>,
+) -> Value {
+    let setup = hurst::Setup {
+        periodic: p.periodic,
+        window: p.window,
+    };
+    let estimates = hurst::estimate_all(&p.levelled, setup, r, psd_fit);
+    let mut all = serde_json::Map::new();
+    for (name, e) in &estimates {
+        all.insert(
+            (*name).into(),
+            match e {
+                Ok(e) => json!(e),
+                Err(err) => {
+                    warnings.push(format!("Hurst exponent ({name}) not estimated: {err}"));
+                    Value::Null
+                }
+            },
+        );
+    }
+    if let Some(s) = hurst::spread(&estimates).filter(|s| *s > hurst::DISAGREEMENT) {
+        warnings.push(format!(
+            "the Hurst estimators disagree by {s:.2} (more than {}): the surface may not be self-affine over the fit range, or be anisotropic (compare psd_x and psd_y)",
+            hurst::DISAGREEMENT
+        ));
+    }
+    Value::Object(all)
+}
+
+/// The radial (or profile) PSD with its bins and convention.
+fn psd_json(r: &psd::RadialPsd, window: Window, profile: bool) -> Value {
+    json!({
+        "q": r.q, "C": r.c, "modes": r.modes, "q_edges": r.edges,
+        "window": window.name(),
+        "convention": if profile {
+            "C(q) = L/N^2 |DFT(w h)|^2 (SurfaceTopography), log bins"
+        } else {
+            "C(q) = A/N^2 |DFT(w h)|^2 (SurfaceTopography), radially averaged in log bins"
+        },
     })
 }
 
