@@ -782,6 +782,29 @@ fn growth_commands_as_documented() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert!(v["measurements"]["fractal_dimension"].as_f64().unwrap() > 1.8);
     assert!(d.join("plots/gyration.svg").exists());
+    // Around a ball R_g(n) measures the seed (it gave D = 6.4, #22): no D, a warning.
+    let o = asperity(
+        &[
+            "growth",
+            "dla",
+            "--seed-shape",
+            "sphere",
+            "--particles",
+            "2000",
+            "-o",
+            "s.xyz",
+            "--json",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["measurements"]["fractal_dimension"].is_null(), "{v}");
+    assert!(
+        stderr(&o).contains("not reported for a seed of"),
+        "{}",
+        stderr(&o)
+    );
     // Bad input: clear one-line errors.
     assert_clean_failure(
         &asperity(&["growth", "dla", "--stick", "0", "-o", "x.ply"], d),

@@ -194,10 +194,17 @@ pub fn dla_terrain(
     let mut facts = Measurements::new();
     facts.set("particles", cluster.particles().len());
     facts.set("lattice", size);
+    facts.set("reached_top_after", cluster.capped_at);
+    // The same words as `growth dla` (#22: only that command said it).
+    let capped = cluster.capped_at.map(|k| {
+        format!(
+            "the deposit reached the lattice top after {k} particles; later particles were released from the top layer (a taller --size keeps the growth free)"
+        )
+    });
     Ok(Grown {
         points: cluster.points(),
         facts,
-        warnings: cluster.stopped.into_iter().collect(),
+        warnings: capped.into_iter().chain(cluster.stopped).collect(),
     })
 }
 

@@ -53,6 +53,23 @@ pub struct Dimension {
     pub method: &'static str,
     /// The fits behind it (JSON).
     pub details: Value,
+    /// Why `value` is absent or was withheld, for the user.
+    pub warning: Option<String>,
+}
+
+impl Dimension {
+    /// Withholds a fitted D outside [1, d] (a fit that measured something
+    /// else), with a warning saying so.
+    fn within(mut self, dim: usize) -> Self {
+        if let Some(d) = self.value.filter(|d| !(1.0..=dim as f64).contains(d)) {
+            self.value = None;
+            self.warning = Some(format!(
+                "the fractal dimension is not reported: the fit ({}) gave D = {d:.2}, outside [1, {dim}]",
+                self.method
+            ));
+        }
+        self
+    }
 }
 
 /// What a DLA run gives.
@@ -106,8 +123,9 @@ pub fn grow(
     let dimension = if plane {
         plane_dimension(&parts, size, job.dim)
     } else {
-        radial_dimension(&cluster, &parts)
-    };
+        radial_dimension(&cluster)
+    }
+    .within(job.dim);
     Ok(DlaRun {
         params,
         cluster,
@@ -129,28 +147,45 @@ fn plane_dimension(parts: &[[f64; 3]], size: [usize; 3], dim: usize) -> Dimensio
         value: dd.as_ref().ok().map(|d| d.d),
         method: "density profile rho(z) ~ z^(D-d)",
         details: json!({"density_profile": rho, "fit": dd.as_ref().ok().map(|d| d.fit)}),
+        warning: dd
+            .as_ref()
+            .err()
+            .map(|e| format!("the fractal dimension is not reported: {e}")),
     }
 }
 
-/// D from R_g(n) ∝ n^(1/D) (and the mass–radius relation) of a radial cluster.
-fn radial_dimension(c: &DlaCluster, parts: &[[f64; 3]]) -> Dimension {
-    // A point seed starts the deposition order; solid seeds are left out.
-    let all;
-    let cluster = if c.seeds == 1 {
-        all = c.points();
-        &all
-    } else {
-        parts
-    };
-    let g = gyration_dimension(cluster);
-    let m = mass_radius_dimension(cluster, 2.0);
+/// D from R_g(n) ∝ n^(1/D) (and the mass–radius relation) of a cluster grown
+/// from a point. Around a seed of many cells (a sphere, a mesh) R_g(n) stays
+/// near the seed's own size, and the law measures the seed, not the deposit
+/// (it gave D = 6.4 on a sphere, 7.5 on a mesh): D is then not reported.
+fn radial_dimension(c: &DlaCluster) -> Dimension {
+    let method = "radius of gyration R_g(n) ~ n^(1/D)";
+    if c.seeds > 1 {
+        return Dimension {
+            value: None,
+            method,
+            details: json!({"gyration_fit": null, "mass_radius": null}),
+            warning: Some(format!(
+                "the fractal dimension is not reported for a seed of {} cells: R_g(n) ~ n^(1/D) holds for a cluster grown from a point (use --seed-shape point), or measure a plane deposit's density profile",
+                c.seeds
+            )),
+        };
+    }
+    // A point seed starts the deposition order.
+    let all = c.points();
+    let g = gyration_dimension(&all);
+    let m = mass_radius_dimension(&all, 2.0);
     Dimension {
         value: g.as_ref().ok().map(|d| d.d),
-        method: "radius of gyration R_g(n) ~ n^(1/D)",
+        method,
         details: json!({
             "gyration_fit": g.as_ref().ok().map(|d| d.fit),
             "mass_radius": m.as_ref().ok().map(|d| json!({"D": d.d, "fit": d.fit})),
         }),
+        warning: g
+            .as_ref()
+            .err()
+            .map(|e| format!("the fractal dimension is not reported: {e}")),
     }
 }
 
@@ -174,6 +209,9 @@ impl DlaRun {
             ));
         }
         if let Some(why) = &self.cluster.stopped {
+            out.push(("warning", why.clone()));
+        }
+        if let Some(why) = &self.dimension.warning {
             out.push(("warning", why.clone()));
         }
         out
