@@ -15,7 +15,7 @@
 //! | Sdr | mean (√(1 + (∂z/∂x)² + (∂z/∂y)²) − 1) | developed interfacial area ratio (ISO 25178-2 §4.3.2, the gradient form) |
 //!
 //! The gradient is SurfaceTopography's (`derivative(1)`, `rms_gradient`): forward
-//! differences (z[i+1] − z[i]) / dx and (z[j+1] − z[j]) / dy, wrapping around
+//! differences `(z[i+1] − z[i]) / dx` and `(z[j+1] − z[j]) / dy`, wrapping around
 //! on periodic data and, on non-periodic data, over the (nx − 1) × (ny − 1)
 //! nodes that have both forward neighbours — so Sdq and Sdr equal
 //! SurfaceTopography's for the same levelling to rounding.

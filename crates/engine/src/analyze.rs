@@ -31,7 +31,7 @@ pub struct AnalyzeOptions {
     /// Periodic data or not; `None` decides from the data (the edge-jump test of
     /// `asperity_analysis::window::edge_ratio`).
     pub periodic: Option<bool>,
-    /// Window of non-periodic data: hann (default), kaiser[:β], blackman-harris, none.
+    /// Window of non-periodic data: hann (default), `kaiser[:β]`, blackman-harris, none.
     pub window: String,
     /// Also make the plots.
     pub plots: bool,
