@@ -574,9 +574,10 @@ pub struct LevelSetArgs {
     /// Grid spacing h in the points' units (instead of --resolution).
     #[arg(long)]
     pub spacing: Option<f64>,
-    /// Offset ε of the initial surface from the points, in their units (default: 3h; pipelines: 3).
-    #[arg(long, value_name = "EPS")]
-    pub offset: Option<f64>,
+    /// Offset ε of the initial surface from the points: in their units (0.5) or in grid cells
+    /// with an h suffix (3h, the paper's "3 grid cells"). Default: 3h; pipelines: 3 units.
+    #[arg(long, value_name = "EPS", value_parser = asperity_levelset::Length::parse)]
+    pub offset: Option<asperity_levelset::Length>,
     /// Time steps of the flow (default 30; pipelines 60).
     #[arg(long)]
     pub iterations: Option<usize>,

@@ -923,6 +923,37 @@ fn reconstruct_and_pipelines_as_documented() {
     }
     let mesh = std::fs::read(d.path().join("mesh.ply")).unwrap();
     assert!(String::from_utf8_lossy(&mesh[..400]).contains("mean_curvature"));
+    // ε in grid cells, as the paper gives it (#22): --offset 3h is 3 × the spacing.
+    let o = asperity(
+        &[
+            "reconstruct",
+            "pts.xyz",
+            "--resolution",
+            "32",
+            "--offset",
+            "3h",
+            "--iterations",
+            "5",
+            "-o",
+            "cells.ply",
+            "--json",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let (eps, h) = (
+        v["measurements"]["offset"].as_f64().unwrap(),
+        v["measurements"]["spacing"].as_f64().unwrap(),
+    );
+    assert!((eps - 3.0 * h).abs() < 1e-12, "ε {eps}, h {h}");
+    assert_clean_failure(
+        &asperity(
+            &["reconstruct", "pts.xyz", "--offset", "3x", "-o", "x.ply"],
+            d.path(),
+        ),
+        "3h (grid cells)",
+    );
 
     let o = asperity(
         &[

@@ -6,7 +6,7 @@ use asperity_core::{MemoryBudget, Progress, TimeBudget, TriMesh};
 use asperity_growth::Model;
 use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::dla::{DlaParams, SeedShape, dla};
-use asperity_levelset::{ReconstructParams, Reconstruction, Sizing, extract, reconstruct};
+use asperity_levelset::{Length, ReconstructParams, Reconstruction, Sizing, extract, reconstruct};
 use serde_json::json;
 
 use crate::error::{Result, invalid};
@@ -18,7 +18,7 @@ pub struct Defaults {
     /// Grid sizing.
     pub sizing: Sizing,
     /// ε; `None` is 3h.
-    pub offset: Option<f64>,
+    pub offset: Option<Length>,
     /// Time steps.
     pub iterations: usize,
 }
@@ -34,7 +34,7 @@ pub const RECONSTRUCT: Defaults = Defaults {
 /// gives about the paper's 115-node grid with its padding), 60 steps.
 pub const PIPELINE: Defaults = Defaults {
     sizing: Sizing::Spacing(0.7),
-    offset: Some(3.0),
+    offset: Some(Length::World(3.0)),
     iterations: 60,
 };
 

@@ -94,7 +94,7 @@ type Movement = Vec<(f64, f64)>;
 fn pipeline_params() -> ReconstructParams {
     ReconstructParams {
         sizing: Sizing::Spacing(0.7),
-        offset: Some(3.0),
+        offset: Some(asperity_levelset::Length::World(3.0)),
         iterations: 60,
         extract: ExtractOptions {
             curvature: false,

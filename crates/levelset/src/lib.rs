@@ -48,5 +48,5 @@ pub use distance::{DistanceField, DistanceMethod, unsigned_distance};
 pub use evolve::{Band, EvolveParams, EvolveStats, Flow, LevelSet, Scheme, StepStats, evolve};
 pub use grid::{GridSpec, Sizing};
 pub use marching_cubes::{ExtractOptions, ExtractStats, extract};
-pub use pipeline::{ReconstructParams, Reconstruction, Timings, reconstruct};
+pub use pipeline::{Length, ReconstructParams, Reconstruction, Timings, reconstruct};
 pub use tagging::{TagRule, Tags, tag};

@@ -19,8 +19,9 @@ use crate::tagging::{TagRule, tag};
 pub struct ReconstructParams {
     /// Grid spacing.
     pub sizing: Sizing,
-    /// Offset ε of the initial surface, world units (default 3h).
-    pub offset: Option<f64>,
+    /// Offset ε of the initial surface, in world units or in cells of h
+    /// (default 3h, the paper's ε = 3 grid cells).
+    pub offset: Option<Length>,
     /// Tube half-width γ in cells (≥ 2; default 3).
     pub tube_cells: f64,
     /// Full-speed half-width β in cells (< γ; default 2).
@@ -122,6 +123,54 @@ pub struct Reconstruction {
     pub level_set: LevelSet,
 }
 
+/// A length in world units or in grid cells (multiples of the spacing h).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Length {
+    /// In the points' units.
+    World(f64),
+    /// In cells of the grid spacing h (the paper gives ε this way: "3 grid cells").
+    Cells(f64),
+}
+
+impl Length {
+    /// The length in world units on a grid of spacing `h`.
+    pub fn world(self, h: f64) -> f64 {
+        match self {
+            Self::World(v) => v,
+            Self::Cells(c) => c * h,
+        }
+    }
+
+    /// The number itself, whatever its unit.
+    fn value(self) -> f64 {
+        match self {
+            Self::World(v) | Self::Cells(v) => v,
+        }
+    }
+
+    /// Parses `3` (world units) or `3h` (cells of h).
+    ///
+    /// # Errors
+    /// A message naming the text, for anything else.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let t = text.trim();
+        let (number, cells) = match t.strip_suffix('h') {
+            Some(n) => (n.trim(), true),
+            None => (t, false),
+        };
+        let v: f64 = number.parse().map_err(|_| {
+            format!(
+                "expected a length like 0.5 (units of the points) or 3h (grid cells), got {text:?}"
+            )
+        })?;
+        Ok(if cells {
+            Self::Cells(v)
+        } else {
+            Self::World(v)
+        })
+    }
+}
+
 fn invalid(name: &'static str, reason: String) -> CoreError {
     CoreError::InvalidParameter { name, reason }
 }
@@ -132,7 +181,7 @@ impl ReconstructParams {
     /// # Errors
     /// [`CoreError::InvalidParameter`] naming the bad setting.
     pub fn validate(&self) -> asperity_core::Result<()> {
-        if let Some(e) = self.offset
+        if let Some(e) = self.offset.map(Length::value)
             && !(e.is_finite() && e > 0.0)
         {
             return Err(invalid(
@@ -280,7 +329,7 @@ pub fn grid_for(
     params: &ReconstructParams,
     budget: &MemoryBudget,
 ) -> asperity_core::Result<GridSpec> {
-    let offset_of = |h: f64| params.offset.unwrap_or(3.0 * h);
+    let offset_of = |h: f64| params.offset.unwrap_or(Length::Cells(3.0)).world(h);
     GridSpec::around(
         points,
         params.sizing,
@@ -310,7 +359,7 @@ pub fn reconstruct(
         ));
     }
     let start = Instant::now();
-    let offset_of = |h: f64| params.offset.unwrap_or(3.0 * h);
+    let offset_of = |h: f64| params.offset.unwrap_or(Length::Cells(3.0)).world(h);
     let grid = grid_for(points, params, budget)?;
     let h = grid.spacing;
     let (eps, gamma) = (offset_of(h), params.tube_cells * h);

@@ -2,7 +2,7 @@
 //! a real DLA deposit.
 
 use asperity_core::{CoreError, MemoryBudget, NoProgress, TriMesh};
-use asperity_levelset::{ReconstructParams, Reconstruction, Sizing, reconstruct};
+use asperity_levelset::{Length, ReconstructParams, Reconstruction, Sizing, reconstruct};
 
 /// Fibonacci points on a sphere of radius `r` about `c`.
 fn sphere(n: usize, r: f64, c: [f64; 3]) -> Vec<[f64; 3]> {
@@ -168,7 +168,7 @@ fn two_nearby_spheres_are_two_components_after_the_flow() {
             &pts,
             &ReconstructParams {
                 sizing: Sizing::Resolution(64),
-                offset: Some(offset),
+                offset: Some(Length::World(offset)),
                 ..Default::default()
             },
             &MemoryBudget::unlimited(),
@@ -210,7 +210,7 @@ fn dla_terrain_is_watertight_with_arches_and_hugs_the_particles() {
         &pts,
         &ReconstructParams {
             sizing: Sizing::Spacing(0.7),
-            offset: Some(3.0),
+            offset: Some(Length::World(3.0)),
             iterations: 60,
             ..Default::default()
         },
@@ -275,7 +275,7 @@ fn bad_input_gets_a_clear_error() {
     let e = err(
         &sphere(100, 1.0, [0.0; 3]),
         &ReconstructParams {
-            offset: Some(-1.0),
+            offset: Some(Length::World(-1.0)),
             ..p
         },
         &b,
