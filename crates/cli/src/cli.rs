@@ -924,7 +924,8 @@ pub struct SurfaceCaArgs {
     /// Voronoi: number of random sites (area-weighted).
     #[arg(long, default_value_t = 12)]
     pub sites: usize,
-    /// Voronoi: sites at these points instead (any point-set file; the nearest cell each).
+    /// Voronoi: sites at these points instead; corrosion: cells corroded from the start
+    /// (any point-set file; the nearest cell each).
     #[arg(long, value_name = "FILE", conflicts_with = "sites")]
     pub site_points: Option<PathBuf>,
     /// For .glb/.obj output: write the cells as their own mesh with vertex colours instead of

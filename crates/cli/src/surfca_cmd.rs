@@ -25,8 +25,8 @@ fn app(ctx: &Context, a: &SurfaceCaArgs, cov: &Covered) -> anyhow::Result<App> {
             };
             App::voronoi(sites, a.diagonal_p, a.max_steps)?
         }
-        SurfaceApp::Corrosion => App::corrosion(
-            CorrosionParams {
+        SurfaceApp::Corrosion => {
+            let params = CorrosionParams {
                 k1: a.k1,
                 k2: a.k2,
                 k3: a.k3,
@@ -38,9 +38,16 @@ fn app(ctx: &Context, a: &SurfaceCaArgs, cov: &Covered) -> anyhow::Result<App> {
                 attack: a.attack,
                 maturity: a.maturity,
                 ..CorrosionParams::default()
-            },
-            a.steps,
-        )?,
+            };
+            match &a.site_points {
+                Some(path) => {
+                    let pts = load_points(path, &ctx.budget)?;
+                    let sites = App::sites_at(&cov.cells, &pts, &path.display().to_string())?;
+                    App::corrosion_at(params, a.steps, sites)?
+                }
+                None => App::corrosion(params, a.steps)?,
+            }
+        }
         SurfaceApp::GrayScott => App::gray_scott(a.feed, a.kill, a.patches, a.steps)?,
     })
 }

@@ -1399,6 +1399,33 @@ fn surface_ca_as_documented() {
         ),
         "max-attacked",
     );
+    // Chosen corrosion sites (#22): with no random seeding, corrosion spreads
+    // only from the given point; without it nothing corrodes.
+    std::fs::write(dir.join("site.xyz"), "0.3 0.2 5\n").unwrap();
+    let corroded = |extra: &[&str]| {
+        let mut args = vec![
+            "surface-ca",
+            "builtin:cube",
+            "--app",
+            "corrosion",
+            "--cells",
+            "3000",
+            "--steps",
+            "40",
+            "--seed-rate",
+            "0",
+            "-o",
+            "site.ply",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let o = asperity(&args, dir);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        v["measurements"]["corroded"].as_u64().unwrap()
+    };
+    assert_eq!(corroded(&[]), 0);
+    assert!(corroded(&["--site-points", "site.xyz"]) > 0);
     // OBJ: the original mesh with the cells as a texture atlas (.mtl + PNG).
     let o = asperity(
         &[

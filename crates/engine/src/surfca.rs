@@ -146,6 +146,9 @@ pub enum App {
         params: CorrosionParams,
         /// Steps.
         steps: u64,
+        /// Cells corroded from the start (besides the random seeding of
+        /// `params.seed_rate`): the paper's chosen initial corrosion sites.
+        sites: Vec<usize>,
     },
     /// Gray–Scott reaction–diffusion.
     GrayScott {
@@ -211,7 +214,27 @@ impl App {
         params
             .validate()
             .map_err(|e| invalid(format!("corrosion: {e}")))?;
-        Ok(App::Corrosion { params, steps })
+        Ok(App::Corrosion {
+            params,
+            steps,
+            sites: Vec::new(),
+        })
+    }
+
+    /// Corrosion with `params` that starts at `sites` (cells corroded at step 0).
+    ///
+    /// # Errors
+    /// As [`App::corrosion`]; no site.
+    pub fn corrosion_at(params: CorrosionParams, steps: u64, sites: Vec<usize>) -> Result<Self> {
+        ensure(!sites.is_empty(), || "corrosion: no initial site".into())?;
+        Ok(match Self::corrosion(params, steps)? {
+            App::Corrosion { params, steps, .. } => App::Corrosion {
+                params,
+                steps,
+                sites,
+            },
+            other => other,
+        })
     }
 
     /// Gray–Scott with feed F and kill k, checked.
@@ -319,12 +342,15 @@ fn run_voronoi(
 
 fn run_corrosion(
     cells: &Cells,
-    params: &CorrosionParams,
+    (params, sites): (&CorrosionParams, &[usize]),
     steps: u64,
     seed: u64,
     on_step: &mut OnStep,
 ) -> Ran {
     let mut states = initial(cells, params, seed);
+    for &c in sites {
+        states[c].behaviour = Behaviour::Corroded;
+    }
     let stats = corrode(cells, params, &mut states, seed, steps, |step, st| {
         on_step(step, &|c| patina_color(&st[c]));
         true
@@ -381,9 +407,11 @@ pub fn run_app(
             diagonal_p,
             max_steps,
         } => run_voronoi(cells, (sites, *diagonal_p, *max_steps), seed, &mut on_step),
-        App::Corrosion { params, steps } => {
-            run_corrosion(cells, params, *steps, seed, &mut on_step)
-        }
+        App::Corrosion {
+            params,
+            steps,
+            sites,
+        } => run_corrosion(cells, (params, sites), *steps, seed, &mut on_step),
         App::GrayScott {
             rule,
             patches,
