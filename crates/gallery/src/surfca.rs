@@ -5,8 +5,9 @@
 
 use asperity_core::{TriMesh, shapes};
 use asperity_engine::Result;
-use asperity_engine::surfca::{Covered, label_color, patina_color, rd_color};
+use asperity_engine::surfca::{Covered, corrosion_mesh, label_color, patina_shading, rd_color};
 use asperity_render::plot::{Plot, Series, Style, plot_png};
+use asperity_render::{RenderOptions, Shader};
 use asperity_surfca::corrosion::{Behaviour, CorrosionParams, corrode, initial};
 use asperity_surfca::engine::{RunOptions, RunStats, run};
 use asperity_surfca::reaction_diffusion::{GrayScott, seeded_state};
@@ -139,8 +140,15 @@ fn corrosion(env: &Env) -> Result<Item> {
     let mut states = initial(&cov.cells, &p, env.seed);
     let steps = if env.quick { 150 } else { 300 };
     corrode(&cov.cells, &p, &mut states, env.seed, steps, |_, _| true);
-    let m = cov.cell_mesh(|c| patina_color(&states[c]))?;
-    let (file, pic) = env.colored_mesh("surfca_patina_cup", &m)?;
+    let m = corrosion_mesh(&cov, &states)?;
+    let file = env.mesh("surfca_patina_cup.ply", &m)?;
+    // Each layer lit with its own material, then mixed (the paper's order).
+    let opts = RenderOptions {
+        shader: Shader::VertexColor,
+        two_layer: Some(patina_shading()),
+        ..env.view()
+    };
+    let pic = env.render("surfca_patina_cup.png", &m, &opts)?;
     let corroded = states
         .iter()
         .filter(|s| s.behaviour == Behaviour::Corroded)
@@ -157,7 +165,7 @@ fn corrosion(env: &Env) -> Result<Item> {
             ),
             fact(
                 "colour",
-                "patina over copper by the paper's two-layer light model",
+                "matte patina over shiny copper, each lit first, then mixed through the layers (the paper's two-layer model)",
             ),
             fact(
                 "CLI",

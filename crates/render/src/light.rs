@@ -27,6 +27,9 @@
 //! The paper prints "+ (l₁ − l₂)e^(−t₁f₁)" (and t₁d₁ as a lower limit): that sign
 //! would not give c = l₂ for a vanishing top layer; the integral gives "−", used
 //! here (checked against numerical integration in the tests).
+//! [`TwoLayerShading`] does it in the paper's order: each layer's material
+//! colour is lit by the light model with that material's coefficients (a matte
+//! patina, a shiny metal), and the *lit* colours are mixed.
 //!
 //! [gobron-chiba]: https://infoscience.epfl.ch/record/162175 "Gobron, Chiba: 3D Surface Cellular Automata and Their Applications. J. Visualization and Computer Animation 10(3):143-158, 1999"
 
@@ -193,8 +196,118 @@ pub fn two_layer(top: [f64; 3], t1: f64, o1: f64, bottom: [f64; 3], t2: f64, o2:
     std::array::from_fn(|i| (top[i] - (top[i] - bottom[i]) * ea + bottom[i] * k) / (1.0 + k))
 }
 
+/// One layer's material: its colour, opacity and light-model coefficients.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Layer {
+    /// Material colour C_m (linear, 0–1).
+    pub color: [f64; 3],
+    /// Opacity o in [0, 1).
+    pub opacity: f64,
+    /// K_a, K_d, K_s and the specular power n of this material.
+    pub ambient: f64,
+    /// Diffuse coefficient K_d.
+    pub diffuse: f64,
+    /// Specular coefficient K_s.
+    pub specular: f64,
+    /// Specular power n.
+    pub shininess: f64,
+}
+
+impl Layer {
+    fn model(&self, direction: [f64; 3]) -> LightModel {
+        LightModel {
+            direction,
+            ambient: self.ambient,
+            diffuse: self.diffuse,
+            specular: self.specular,
+            shininess: self.shininess,
+        }
+    }
+}
+
+/// The paper's rendering of a two-layer cell: each layer's colour lit by the
+/// light model with its own material first, then the lit colours mixed by
+/// [`two_layer`] through the layers' thicknesses, read per vertex from the
+/// mesh scalars `top_scalar` and `bottom_scalar`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TwoLayerShading {
+    /// The covering layer (patina).
+    pub top: Layer,
+    /// The layer below (metal).
+    pub bottom: Layer,
+    /// Scalar holding the top layer's thickness.
+    pub top_scalar: String,
+    /// Scalar holding the bottom layer's thickness.
+    pub bottom_scalar: String,
+}
+
+impl TwoLayerShading {
+    /// The colour at a point with layer thicknesses `[t1, t2]` (top, bottom),
+    /// normal, light and eye directions `[n, l, e]` and shadow factor `s`, the
+    /// key light's direction taken from `light`.
+    pub fn shade(
+        &self,
+        light: &LightModel,
+        [t1, t2]: [f64; 2],
+        [n, l, e]: [Vec3; 3],
+        s: f32,
+    ) -> [f64; 3] {
+        let lit = |layer: &Layer| {
+            let k = f64::from(intensity(&layer.model(light.direction), n, l, e, s));
+            layer.color.map(|c| c * k)
+        };
+        two_layer(
+            lit(&self.top),
+            t1,
+            self.top.opacity,
+            lit(&self.bottom),
+            t2,
+            self.bottom.opacity,
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
+
+    /// Each layer is lit with its own material before the mix: with no top
+    /// layer the metal's specular highlight is all there (K_a + K_d + K_s head
+    /// on), under a thick one only the matte patina's light remains.
+    #[test]
+    fn two_layers_are_lit_before_they_mix() {
+        use super::{Layer, LightModel, TwoLayerShading};
+        use glam::Vec3;
+        let layer = |color, specular| Layer {
+            color,
+            opacity: 0.5,
+            ambient: 0.2,
+            diffuse: 0.6,
+            specular,
+            shininess: 40.0,
+        };
+        let sh = TwoLayerShading {
+            top: layer([0.2, 0.6, 0.5], 0.0),
+            bottom: layer([0.7, 0.4, 0.25], 0.9),
+            top_scalar: "top".into(),
+            bottom_scalar: "bottom".into(),
+        };
+        let light = LightModel {
+            direction: [0.0, 0.0, 1.0],
+            ..LightModel::default()
+        };
+        let z = Vec3::Z;
+        let bare = sh.shade(&light, [0.0, 1.0], [z, z, z], 1.0);
+        for (c, m) in bare.iter().zip([0.7, 0.4, 0.25]) {
+            assert!((c - m * 1.7).abs() < 1e-6, "{bare:?}");
+        }
+        let covered = sh.shade(&light, [40.0, 1.0], [z, z, z], 1.0);
+        for (c, m) in covered.iter().zip([0.2, 0.6, 0.5]) {
+            assert!((c - m * 0.8).abs() < 1e-6, "{covered:?}");
+        }
+        // In shadow the highlight goes, the ambient term stays.
+        let dark = sh.shade(&light, [0.0, 1.0], [z, z, z], 0.0);
+        assert!((dark[0] - 0.7 * 0.2).abs() < 1e-6);
+    }
 
     #[test]
     fn two_layer_matches_the_integral() {

@@ -111,6 +111,10 @@ pub struct RenderOptions {
     pub z_scale: f64,
     /// Memory limit for the frame buffers.
     pub budget: MemoryBudget,
+    /// Two layers lit separately, then mixed through their thicknesses
+    /// (gobron-chiba "light through two layers"), where the mesh has the two
+    /// thickness scalars; elsewhere the shader's colour.
+    pub two_layer: Option<crate::light::TwoLayerShading>,
 }
 
 impl Default for RenderOptions {
@@ -135,6 +139,7 @@ impl Default for RenderOptions {
             scalar: None,
             z_scale: 1.0,
             budget: MemoryBudget::unlimited(),
+            two_layer: None,
         }
     }
 }
@@ -149,6 +154,8 @@ struct Prepared {
     scalar: Option<(Vec<f32>, f32, f32, ColorMap)>,
     uvs: Option<Vec<Vec2>>,
     texture: Option<RgbaImage>,
+    /// Top and bottom layer thicknesses (with [`RenderOptions::two_layer`]).
+    layers: Option<(Vec<f32>, Vec<f32>)>,
 }
 
 fn v3(p: [f64; 3]) -> Vec3 {
@@ -289,7 +296,18 @@ fn prepare(m: &TriMesh, o: &RenderOptions, center: [f64; 3]) -> Result<Prepared,
         scalar: None,
         uvs: None,
         texture: None,
+        layers: None,
     };
+    if let Some(sh) = &o.two_layer {
+        let thickness = |name: &str| {
+            m.scalar(name)
+                .map(|v| v.iter().map(|&x| x as f32).collect::<Vec<f32>>())
+                .ok_or_else(|| {
+                    RenderError::MissingData(format!("scalar '{name}' (a layer's thickness)"))
+                })
+        };
+        prep.layers = Some((thickness(&sh.top_scalar)?, thickness(&sh.bottom_scalar)?));
+    }
     if let Some(name) = &o.scalar
         && m.scalar(name).is_none()
     {
@@ -468,6 +486,7 @@ pub fn render_points(p: &PointSet, o: &RenderOptions) -> Result<RgbaImage, Rende
         scalar: None,
         uvs: None,
         texture: None,
+        layers: None,
     };
     let opts = RenderOptions {
         shader: if o.shader == Shader::Normals {
@@ -795,6 +814,15 @@ fn shade_point(
     };
     let n_lit = if n.dot(eye_dir) < 0.0 { -n } else { n };
     let s = shadow.map_or(1.0, |sm| sm.lit(pos, n_lit));
+    if let (Some(sh), Some((top, bottom))) = (&o.two_layer, &p.layers) {
+        let at = |v: &[f32]| f64::from(v[i] * b[0] + v[j] * b[1] + v[k] * b[2]);
+        let (t1, t2) = (at(top), at(bottom));
+        // Where neither layer is left (a hole) the shader's own colour shows.
+        if t1 > 0.0 || t2 > 0.0 {
+            let c = sh.shade(&o.light, [t1, t2], [n, light, eye_dir], s);
+            return (v3(c), view_d, ndc);
+        }
+    }
     (
         albedo * intensity(&o.light, n, light, eye_dir, s),
         view_d,
