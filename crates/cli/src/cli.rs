@@ -298,6 +298,11 @@ pub struct RenderArgs {
     /// Scalar attribute for the height/curvature shaders.
     #[arg(long)]
     pub scalar: Option<String>,
+    /// A corrosion mesh from `surface-ca --app corrosion`: light the patina and the copper each
+    /// with its own material, then mix them through the `oxide` and `metal` thicknesses the
+    /// mesh carries (gobron-chiba's two-layer model); holes keep their vertex colour.
+    #[arg(long)]
+    pub patina: bool,
     /// Vertical exaggeration for height fields.
     #[arg(long, default_value_t = 1.0)]
     pub z_scale: f64,

@@ -71,7 +71,12 @@ fn options(a: &RenderArgs, surface: &Surface, colormap: ColorMap, ctx: &Context)
         } else {
             Projection::Perspective { fov_deg: a.fov }
         },
-        shader: a.shader.map(shader).unwrap_or(default_shader),
+        shader: a.shader.map(shader).unwrap_or(if a.patina {
+            Shader::VertexColor
+        } else {
+            default_shader
+        }),
+        two_layer: a.patina.then(asperity_engine::surfca::patina_shading),
         supersample: a.supersample,
         light: match &a.light {
             Some(l) => LightModel {

@@ -1426,6 +1426,21 @@ fn surface_ca_as_documented() {
     };
     assert_eq!(corroded(&[]), 0);
     assert!(corroded(&["--site-points", "site.xyz"]) > 0);
+    // The corrosion mesh carries both layers: render --patina lights each, then mixes.
+    let o = asperity(
+        &[
+            "render", "site.ply", "--patina", "-o", "site.png", "--size", "120x90",
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let m = asperity_io::read_mesh(&dir.join("site.ply")).unwrap();
+    assert!(m.scalar("oxide").is_some() && m.scalar("metal").is_some());
+    std::fs::write(dir.join("tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    assert_clean_failure(
+        &asperity(&["render", "tri.obj", "--patina", "-o", "x.png"], dir),
+        "scalar 'oxide'",
+    );
     // OBJ: the original mesh with the cells as a texture atlas (.mtl + PNG).
     let o = asperity(
         &[

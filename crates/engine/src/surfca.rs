@@ -148,8 +148,8 @@ pub fn patina_shading() -> TwoLayerShading {
         bottom: Layer {
             color: COPPER,
             opacity: COPPER_OPACITY,
-            ambient: 0.2,
-            diffuse: 0.6,
+            ambient: 0.25,
+            diffuse: 0.75,
             specular: 0.9,
             shininess: 48.0,
         },
@@ -531,6 +531,10 @@ impl AppRun {
             return Ok(asperity_surfca::atlas::atlas_mesh(
                 mesh, cells, color, budget,
             )?);
+        }
+        if let State::Corrosion(states) = &self.state {
+            // The unlit colours plus both layers' thicknesses (render --patina).
+            return corrosion_mesh(cov, states);
         }
         let mut m = cov.cell_mesh(color)?;
         if let Some((name, values)) = field {
