@@ -144,6 +144,21 @@ impl Default for RenderOptions {
     }
 }
 
+/// The top and bottom layer thicknesses `sh` names, per vertex.
+fn layer_thicknesses(
+    m: &TriMesh,
+    sh: &crate::light::TwoLayerShading,
+) -> Result<(Vec<f32>, Vec<f32>), RenderError> {
+    let thickness = |name: &str| {
+        m.scalar(name)
+            .map(|v| v.iter().map(|&x| x as f32).collect::<Vec<f32>>())
+            .ok_or_else(|| {
+                RenderError::MissingData(format!("scalar '{name}' (a layer's thickness)"))
+            })
+    };
+    Ok((thickness(&sh.top_scalar)?, thickness(&sh.bottom_scalar)?))
+}
+
 /// Per-vertex data the shading pass interpolates.
 struct Prepared {
     positions: Vec<Vec3>,
@@ -299,14 +314,7 @@ fn prepare(m: &TriMesh, o: &RenderOptions, center: [f64; 3]) -> Result<Prepared,
         layers: None,
     };
     if let Some(sh) = &o.two_layer {
-        let thickness = |name: &str| {
-            m.scalar(name)
-                .map(|v| v.iter().map(|&x| x as f32).collect::<Vec<f32>>())
-                .ok_or_else(|| {
-                    RenderError::MissingData(format!("scalar '{name}' (a layer's thickness)"))
-                })
-        };
-        prep.layers = Some((thickness(&sh.top_scalar)?, thickness(&sh.bottom_scalar)?));
+        prep.layers = Some(layer_thicknesses(m, sh)?);
     }
     if let Some(name) = &o.scalar
         && m.scalar(name).is_none()
