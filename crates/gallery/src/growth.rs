@@ -1,12 +1,13 @@
 //! Surface growth (kim-machiraju-thompson §4): RD, RDSR and BD height fields
-//! and their widths (Figure 3), a DLA cluster (Figure 4), DLA terrains from the
+//! and their widths (Figure 3), DLA clusters in 2-D (Figure 1) and 3-D (Figure
+//! 4), DLA terrains from the
 //! plane, dendritic and moss-like (Figures 9–11), and RDSR on a sphere
 //! (Figure 8).
 
 use asperity_analysis::scaling::{
     density_dimension, density_profile, growth_exponent, gyration_dimension,
 };
-use asperity_core::{NoProgress, PointSet};
+use asperity_core::{NoProgress, PointSet, RgbaImage};
 use asperity_engine::Result;
 use asperity_growth::curved::{CurvedDeposit, CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::dla::{DlaParams, SeedShape, dla};
@@ -23,6 +24,7 @@ use crate::{Env, Item, Section, fact};
 /// Any simulation's, writer's or renderer's.
 pub fn section(env: &Env) -> Result<Section> {
     let mut items = deposition(env)?;
+    items.push(dla_2d(env)?);
     items.push(dla_point(env)?);
     for (stick, tag) in [(1.0, "dendritic"), (0.1, "moss")] {
         items.push(dla_plane(env, stick, tag)?);
@@ -162,7 +164,60 @@ fn width_item(env: &Env, series: &[(&str, WidthSeries)]) -> Result<Item> {
     ))
 }
 
-/// Figure 4 / Figure 1: a DLA cluster from a point seed.
+/// Figure 1: a 2-D DLA cluster from a point seed, one pixel per lattice cell,
+/// coloured by deposition order.
+fn dla_2d(env: &Env) -> Result<Item> {
+    let n = if env.quick { 3_000 } else { 20_000 };
+    let params = DlaParams::point(2, n);
+    let c = dla(&params, env.seed, 0, &env.budget, &NoProgress)?;
+    // A 2-D lattice is the x–z plane (one cell thick in y); the picture is
+    // the cluster's bounding box with a margin.
+    let margin = 8;
+    let (lo, hi) = c
+        .cells
+        .iter()
+        .fold(([i32::MAX; 2], [i32::MIN; 2]), |(lo, hi), p| {
+            (
+                [lo[0].min(p[0]), lo[1].min(p[2])],
+                [hi[0].max(p[0]), hi[1].max(p[2])],
+            )
+        });
+    let (w, h) = (
+        hi[0] - lo[0] + 1 + 2 * margin,
+        hi[1] - lo[1] + 1 + 2 * margin,
+    );
+    let mut img = RgbaImage::filled(w as u32, h as u32, [250, 250, 252, 255]);
+    let total = c.cells.len() as f64;
+    for (k, p) in c.cells.iter().enumerate() {
+        let rgb = ColorMap::Magma.map(0.85 * k as f64 / total);
+        // Row 0 of the picture is the top (z up).
+        let (x, y) = (p[0] - lo[0] + margin, hi[1] - p[2] + margin);
+        img.put(x as u32, y as u32, [rgb[0], rgb[1], rgb[2], 255]);
+    }
+    let pic = env.picture("growth_dla_2d.png", &img)?;
+    let d = gyration_dimension(&c.points())
+        .map(|d| d.d)
+        .unwrap_or(f64::NAN);
+    Ok(Item::new(
+        format!("2-D DLA from a point seed, {n} particles (Figure 1)"),
+        Some(pic),
+        vec![],
+        vec![
+            fact(
+                "fractal dimension (R_g fit)",
+                format!("{d:.3} (2-D DLA ≈ 1.71)"),
+            ),
+            fact("picture", format!("{w}×{h} cells, one pixel each")),
+            fact("colour", "deposition order (magma)"),
+            fact(
+                "CLI",
+                format!("asperity growth dla --dim 2 --particles {n} -o pts.ply"),
+            ),
+        ],
+    ))
+}
+
+/// Figure 4: a DLA cluster from a point seed.
 fn dla_point(env: &Env) -> Result<Item> {
     let n = if env.quick { 5_000 } else { 30_000 };
     let c = dla(
