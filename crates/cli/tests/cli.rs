@@ -647,6 +647,13 @@ fn analyze_and_generate() {
         .as_f64()
         .unwrap();
     assert!((box_d - 2.0).abs() < 0.15, "torus box-counting D = {box_d}");
+    assert!(!stderr(&o).contains("covering dimension"), "{}", stderr(&o));
+    // The mesh of a height field: box counting is not 3 − H, and the report says so (#21).
+    let o = asperity(&["convert", "f.npy", "f.ply"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = asperity(&["analyze", "f.ply"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("covering dimension"), "{}", stderr(&o));
     assert!(
         v["measurements"]["roughness_vs_smoothed"]["rms"]
             .as_f64()

@@ -469,7 +469,15 @@ fn mesh_report(m: &TriMesh, plots: bool) -> Result<Analysis> {
     let c = mesh::curvature(m);
     let mut warnings = Vec::new();
     let box_counting = match mesh::box_counting(m) {
-        Ok(d) => json!({"D": d.d, "fit_range": d.fit.range, "r2": d.fit.r2}),
+        Ok(d) => {
+            if is_graph_over_a_plane(m) {
+                warnings.push(format!(
+                    "box counting gives this sheet's covering dimension (D = {:.3}); for a rough surface over a plane it equals 3 − H only at boxes smaller than the height steps — analyse the height field itself (asperity analyze FILE.npy) for H and D = 3 − H",
+                    d.d
+                ));
+            }
+            json!({"D": d.d, "fit_range": d.fit.range, "r2": d.fit.r2})
+        }
         Err(e) => {
             warnings.push(format!(
                 "fractal dimension (box counting) not estimated: {e}"
@@ -508,6 +516,19 @@ fn mesh_report(m: &TriMesh, plots: bool) -> Result<Analysis> {
             Vec::new()
         },
     })
+}
+
+/// Whether `m` is an open sheet whose faces all face one side of their mean
+/// normal: the surface of a height field (where box counting is not 3 − H).
+fn is_graph_over_a_plane(m: &TriMesh) -> bool {
+    let normals = m.face_normals();
+    let mean = normals
+        .iter()
+        .fold([0.0; 3], |a, n| [a[0] + n[0], a[1] + n[1], a[2] + n[2]]);
+    !m.boundary_loops().is_empty()
+        && normals
+            .iter()
+            .all(|n| n[0] * mean[0] + n[1] * mean[1] + n[2] * mean[2] > 0.0)
 }
 
 /// The report on a point set (a growth cluster): R_g and two fractal dimensions.
