@@ -67,13 +67,6 @@ fn too_small(h: &HeightField) -> AnalysisError {
     ))
 }
 
-fn grid(h: &HeightField) -> ModeGrid {
-    ModeGrid {
-        n: h.dims(),
-        spacing: h.spacing(),
-    }
-}
-
 /// Partitioning (variance) dimension of a levelled field.
 ///
 /// # Errors
@@ -85,7 +78,7 @@ pub fn partitioning(h: &HeightField) -> Result<ModelDimension, AnalysisError> {
         return Err(too_small(h));
     }
     let stat = BoxVariance::new(h, sides.clone(), BoxReference::Mean);
-    let model = Compressed::new(&stat, &grid(h));
+    let model = Compressed::new(&stat, &ModeGrid::of(h));
     let measured = stat.measure(h);
     let f = fit(&measured, &model, &vec![true; sides.len()])
         .ok_or_else(|| AnalysisError::BadInput("the box variances are not positive".into()))?;
@@ -168,7 +161,7 @@ pub fn triangulation(h: &HeightField, periodic: bool) -> Result<ModelDimension, 
     let eps2: Vec<f64> = steps.iter().map(|&s| (s * s) as f64 * dx * dy).collect();
     let w: Vec<f64> = steps.iter().map(|&s| 1.0 / (s * s) as f64).collect();
     let stat = StructureFunction::new(h, steps.clone(), periodic);
-    let model = Compressed::new(&stat, &grid(h));
+    let model = Compressed::new(&stat, &ModeGrid::of(h));
     let ln_a: Vec<f64> = area.iter().map(|a| a.ln()).collect();
     // For a given H, the best prefactor, found on ln c; then the best H.
     let misfit_c = |e: &[f64], ln_c: f64| -> f64 {
@@ -222,11 +215,7 @@ pub fn triangulation(h: &HeightField, periodic: bool) -> Result<ModelDimension, 
         fit: ModelFit {
             hurst,
             stderr,
-            r2: if sst > 0.0 {
-                (1.0 - ssr / sst).max(0.0)
-            } else {
-                1.0
-            },
+            r2: crate::model::r_squared(ssr, sst),
             points: steps.len(),
             ln_prefactor: ln_c,
             at_bound: crate::model::at_bound(hurst),

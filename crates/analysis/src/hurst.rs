@@ -72,10 +72,12 @@ fn wavelengths(range: [f64; 2]) -> [f64; 2] {
     [t / range[1], t / range[0]]
 }
 
-fn mode_grid(h: &HeightField) -> ModeGrid {
-    ModeGrid {
-        n: h.dims(),
-        spacing: h.spacing(),
+/// Samples along the shorter side (the length of a profile).
+fn shortest_side(h: &HeightField) -> usize {
+    if h.ny() == 1 {
+        h.nx()
+    } else {
+        h.nx().min(h.ny())
     }
 }
 
@@ -86,11 +88,7 @@ fn structure_function(
     range: [f64; 2],
 ) -> Result<Estimate, AnalysisError> {
     let dx = h.spacing()[0];
-    let n = if h.ny() == 1 {
-        h.nx()
-    } else {
-        h.nx().min(h.ny())
-    };
+    let n = shortest_side(h);
     let lo = ((range[0] / dx).round() as usize).max(1);
     let hi = ((range[1] / dx) as usize).min(n / 4);
     let lags = log_scales(lo, hi, 2);
@@ -103,11 +101,7 @@ fn structure_function(
 /// The variable-bandwidth estimate over box sides in `range`.
 fn variable_bandwidth(h: &HeightField, range: [f64; 2]) -> Result<Estimate, AnalysisError> {
     let dx = h.spacing()[0];
-    let n = if h.ny() == 1 {
-        h.nx()
-    } else {
-        h.nx().min(h.ny())
-    };
+    let n = shortest_side(h);
     let lo = ((range[0] / dx).round() as usize).max(4);
     let hi = ((range[1] / dx) as usize).min(n / 2);
     // One side per octave: neighbouring sides closer than that are so
@@ -160,7 +154,7 @@ fn model_estimate(
             "{method}: fewer than 3 scales in the fit range; widen it or use a larger field"
         )));
     }
-    let model = Compressed::new(stat, &mode_grid(h));
+    let model = Compressed::new(stat, &ModeGrid::of(h));
     let f = fit(measured, &model, &vec![true; n])
         .ok_or_else(|| AnalysisError::BadInput(format!("{method}: fewer than 3 usable scales")))?;
     if f.at_bound {

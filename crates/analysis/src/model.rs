@@ -68,6 +68,14 @@ pub struct ModeGrid {
 }
 
 impl ModeGrid {
+    /// The modes of `h`'s grid.
+    pub fn of(h: &asperity_core::HeightField) -> Self {
+        Self {
+            n: h.dims(),
+            spacing: h.spacing(),
+        }
+    }
+
     /// Spatial dimension d of the spectrum: 1 for a profile, 2 for an area.
     pub fn dim(&self) -> usize {
         if self.n[1] == 1 { 1 } else { 2 }
@@ -391,6 +399,15 @@ pub struct ModelFit {
     pub at_bound: bool,
 }
 
+/// The coefficient of determination from residual and total sums of squares.
+pub(crate) fn r_squared(ssr: f64, sst: f64) -> f64 {
+    if sst > 0.0 {
+        (1.0 - ssr / sst).max(0.0)
+    } else {
+        1.0
+    }
+}
+
 /// Whether a fitted H sits on the edge of the search range [0, 1.5].
 pub(crate) fn at_bound(hurst: f64) -> bool {
     !(1e-3..=1.5 - 1e-3).contains(&hurst)
@@ -522,11 +539,7 @@ pub fn fit(measured: &[f64], model: &Compressed, use_scale: &[bool]) -> Option<M
     Some(ModelFit {
         hurst,
         stderr,
-        r2: if sst > 0.0 {
-            (1.0 - ssr / sst).max(0.0)
-        } else {
-            1.0
-        },
+        r2: r_squared(ssr, sst),
         points: m,
         ln_prefactor: c,
         at_bound: at_bound(hurst),

@@ -47,6 +47,16 @@ pub fn log_scales(lo: usize, hi: usize, per_octave: usize) -> Vec<usize> {
     v
 }
 
+/// Sample counts along y with the same physical length as `along_x` along x,
+/// at least `min`.
+fn same_length_along_y(h: &HeightField, along_x: &[usize], min: usize) -> Vec<usize> {
+    let [dx, dy] = h.spacing();
+    along_x
+        .iter()
+        .map(|&k| ((k as f64 * dx / dy).round() as usize).max(min))
+        .collect()
+}
+
 /// The structure function at lags τ (in x samples; along y the lag with the
 /// same physical length).
 #[derive(Clone, Debug)]
@@ -65,11 +75,7 @@ impl StructureFunction {
     /// The statistic at `lags` on the grid of `h`.
     pub fn new(h: &HeightField, lags: Vec<usize>, periodic: bool) -> Self {
         let [nx, ny] = h.dims();
-        let [dx, dy] = h.spacing();
-        let lags_y: Vec<usize> = lags
-            .iter()
-            .map(|&t| ((t as f64 * dx / dy).round() as usize).max(1))
-            .collect();
+        let lags_y = same_length_along_y(h, &lags, 1);
         let table = |lags: &[usize], n: usize| -> Vec<Vec<f64>> {
             lags.iter()
                 .map(|&t| {
@@ -220,11 +226,7 @@ impl BoxVariance {
     /// physical length) on the grid of `h`.
     pub fn new(h: &HeightField, sides: Vec<usize>, reference: BoxReference) -> Self {
         let [nx, ny] = h.dims();
-        let [dx, dy] = h.spacing();
-        let sides_y: Vec<usize> = sides
-            .iter()
-            .map(|&l| ((l as f64 * dx / dy).round() as usize).max(2))
-            .collect();
+        let sides_y = same_length_along_y(h, &sides, 2);
         Self {
             d_x: sides.iter().map(|&l| projections(l, nx)).collect(),
             d_y: if ny > 1 {

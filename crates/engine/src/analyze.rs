@@ -168,6 +168,8 @@ fn prepare(h: &HeightField, o: &AnalyzeOptions) -> Result<Prepared> {
     let (how, window) = parse_options(o)?;
     h.validate()?;
     let below = |r: Option<f64>| r.is_some_and(|r| r < window::PERIODIC_BELOW);
+    // The slope-levelled field of the tilt test, kept when it is the answer.
+    let mut slope_levelled = None;
     let (periodic, source, ratio, auto_level) = match o.periodic {
         Some(true) => (true, "option", None, level::Level::Slope),
         Some(false) => (false, "option", None, level::Level::Plane),
@@ -181,7 +183,9 @@ fn prepare(h: &HeightField, o: &AnalyzeOptions) -> Result<Prepared> {
                 // periodic profile is possible; --periodic yes says it.
                 (false, "detected", raw, level::Level::Plane)
             } else {
-                let tilted = window::edge_ratio(&level::level(h, level::Level::Slope)?);
+                let s = level::level(h, level::Level::Slope)?;
+                let tilted = window::edge_ratio(&s);
+                slope_levelled = Some(s);
                 if below(tilted) {
                     (true, "detected", tilted, level::Level::Slope)
                 } else {
@@ -191,8 +195,12 @@ fn prepare(h: &HeightField, o: &AnalyzeOptions) -> Result<Prepared> {
         }
     };
     let level = how.unwrap_or(auto_level);
+    let levelled = match slope_levelled {
+        Some(s) if level == level::Level::Slope => s,
+        _ => level::level(h, level)?,
+    };
     Ok(Prepared {
-        levelled: level::level(h, level)?,
+        levelled,
         periodic,
         source,
         ratio,
