@@ -534,6 +534,24 @@ pub enum GenerateCommand {
     RdsrSphere(RdsrSphereArgs),
 }
 
+/// The x and y sides of a plane deposit.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SidesArg {
+    /// Periodic (growth physics' standard: no edge effects); one cluster only across the wrap.
+    Periodic,
+    /// Reflecting walls: the deposit is one connected piece without any wrap; any size.
+    Walls,
+}
+
+impl From<SidesArg> for asperity_engine::growth::dla::Sides {
+    fn from(s: SidesArg) -> Self {
+        match s {
+            SidesArg::Periodic => Self::Periodic,
+            SidesArg::Walls => Self::Walls,
+        }
+    }
+}
+
 /// Space discretisation of the flow.
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SchemeArg {
@@ -550,6 +568,17 @@ pub enum FlowArg {
     Convection,
     /// Convection plus a curvature term weighted by d (Zhao's weighted minimal surface): smoother.
     Regularized,
+    /// Zhao's φ_t = ∇d·∇φ (velocity −∇d), which the paper replaces by Eq. 6: ∇d is unstable on rough data.
+    Zhao,
+}
+
+/// How the tube T grows into N.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TubeNArg {
+    /// One node along each axis (6 neighbours; fastest).
+    Axes,
+    /// The 3×3×3 block (26 neighbours), the paper's N (Eq. 10's outline, step 1).
+    Cube,
 }
 
 /// Unsigned-distance method.
@@ -573,6 +602,11 @@ pub enum TagRuleArg {
 /// Settings of the level-set reconstruction, shared by `reconstruct` and the pipelines.
 #[derive(Args, Debug, Clone)]
 pub struct LevelSetArgs {
+    /// The paper's own settings and algorithms for what is not given: ε = 3h, 30 steps, Godunov
+    /// distance, the 3×3×3 tube N, the pure Eq. 6 flow (reconstruct; the pipelines keep δ, see
+    /// ARCHITECTURE), and the paper's grid (pipelines: 96 cells along the lattice, 115 nodes).
+    #[arg(long)]
+    pub paper: bool,
     /// Cells along the longest axis of the points' bounding box.
     #[arg(long, conflicts_with = "spacing")]
     pub resolution: Option<usize>,
@@ -583,7 +617,7 @@ pub struct LevelSetArgs {
     /// with an h suffix (3h, the paper's "3 grid cells"). Default: 3h; pipelines: 3 units.
     #[arg(long, value_name = "EPS", value_parser = asperity_levelset::Length::parse)]
     pub offset: Option<asperity_levelset::Length>,
-    /// Time steps of the flow (default 30; pipelines 60).
+    /// Time steps of the flow (default 30; pipelines 60; --paper 30).
     #[arg(long)]
     pub iterations: Option<usize>,
     /// Stop early once the front moves less than this many cells per step.
@@ -601,9 +635,13 @@ pub struct LevelSetArgs {
     /// Curvature weight λ of the regularised flow, in cells.
     #[arg(long, default_value_t = 1.0)]
     pub curvature_weight: f64,
-    /// Unsigned-distance method.
-    #[arg(long, value_enum, default_value_t = DistanceArg::ClosestPoint)]
-    pub distance: DistanceArg,
+    /// Unsigned-distance method (default closest-point; --paper godunov).
+    #[arg(long, value_enum)]
+    pub distance: Option<DistanceArg>,
+    /// The neighbourhood that grows the flow tube T into the redistancing tube N (default
+    /// axes; --paper cube).
+    #[arg(long, value_enum, value_name = "NEIGHBOURHOOD")]
+    pub tube_n: Option<TubeNArg>,
     /// Tagging rule.
     #[arg(long, value_enum, default_value_t = TagRuleArg::Paper)]
     pub tagging: TagRuleArg,
@@ -649,12 +687,17 @@ pub struct DlaTerrainArgs {
     /// Lattice NXxNYxNZ.
     #[arg(long, default_value = "64x64x64", value_name = "NXxNYxNZ")]
     pub size: String,
-    /// DLA particles released from above the plane.
-    #[arg(long, default_value_t = 8_000)]
-    pub particles: usize,
+    /// DLA particles released from above the plane (default 8000; --paper 2500, a deposit
+    /// about 20 cells high as the paper's 49-node grid height implies).
+    #[arg(long)]
+    pub particles: Option<usize>,
     /// Sticking probability p in (0, 1].
     #[arg(long, default_value_t = 1.0)]
     pub stick: f64,
+    /// The lattice's x and y sides: walls keep the terrain in one piece; periodic
+    /// sides wrap the deposit, which the bounded reconstruction then cuts into pieces.
+    #[arg(long, value_enum, default_value_t = SidesArg::Walls)]
+    pub sides: SidesArg,
     /// Also write the particles (PLY, XYZ, CSV).
     #[arg(long, value_name = "FILE")]
     pub points: Option<PathBuf>,
@@ -809,6 +852,9 @@ pub struct DlaArgs {
     /// Gap δ between the cluster and the launch sphere or plane, in cells.
     #[arg(long, default_value_t = 2.0)]
     pub launch_gap: f64,
+    /// Plane and image seeds: periodic x and y sides (sizes multiples of 8) or reflecting walls.
+    #[arg(long, value_enum, default_value_t = SidesArg::Periodic)]
+    pub sides: SidesArg,
     /// Write plots (SVG and PNG): R_g(n), and the density profile ρ(z) in plane modes.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,

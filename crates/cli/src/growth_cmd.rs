@@ -174,6 +174,7 @@ fn grow_dla(ctx: &Context, a: &DlaArgs) -> anyhow::Result<()> {
         stick: a.stick,
         seed: seed_spec(a, &ctx.budget)?,
         launch_gap: a.launch_gap,
+        sides: a.sides.into(),
     };
     let r = dla::grow(job, ctx.seed, &ctx.budget, &ctx.time, &ctx.bar())?;
     let mut run = Run::new(ctx, "growth dla");

@@ -5,18 +5,20 @@
 use std::path::{Path, PathBuf};
 
 use asperity_engine::files::{load_points, numbered, require_mesh_format};
-use asperity_engine::reconstruct::{self, Defaults, Grown, PIPELINE, RECONSTRUCT};
+use asperity_engine::reconstruct::{self, Grown, Job};
 use asperity_levelset::{
-    Band, DistanceMethod, ExtractOptions, ReconstructParams, Scheme, Sizing, TagRule,
+    Band, DistanceMethod, ExtractOptions, FlowChoice, Neighbourhood, ReconstructParams, Scheme,
+    Sizing, TagRule,
 };
 
 use crate::cli::{
     DistanceArg, DlaTerrainArgs, FlowArg, LevelSetArgs, RdsrSphereArgs, ReconstructArgs, SchemeArg,
-    TagRuleArg,
+    TagRuleArg, TubeNArg,
 };
 use crate::context::{Context, Run};
 
-fn params(a: &LevelSetArgs, d: &Defaults) -> ReconstructParams {
+fn params(a: &LevelSetArgs, job: Job) -> ReconstructParams {
+    let d = &job.defaults(a.paper);
     let sizing = match (a.resolution, a.spacing) {
         (Some(n), _) => Sizing::Resolution(n),
         (None, Some(h)) => Sizing::Spacing(h),
@@ -28,8 +30,9 @@ fn params(a: &LevelSetArgs, d: &Defaults) -> ReconstructParams {
         tube_cells: a.tube,
         beta_cells: a.beta,
         distance: match a.distance {
-            DistanceArg::ClosestPoint => DistanceMethod::ClosestPoint,
-            DistanceArg::Godunov => DistanceMethod::GODUNOV,
+            None => d.distance,
+            Some(DistanceArg::ClosestPoint) => DistanceMethod::ClosestPoint,
+            Some(DistanceArg::Godunov) => DistanceMethod::GODUNOV,
         },
         tag_rule: match a.tagging {
             TagRuleArg::Paper => TagRule::Paper,
@@ -40,9 +43,12 @@ fn params(a: &LevelSetArgs, d: &Defaults) -> ReconstructParams {
             SchemeArg::Eno2 => Scheme::Eno2,
             SchemeArg::Upwind => Scheme::Upwind,
         },
-        curvature_weight: match a.flow {
-            FlowArg::Convection => None,
-            FlowArg::Regularized => Some(a.curvature_weight),
+        flow: match a.flow {
+            FlowArg::Convection => FlowChoice::Convection,
+            FlowArg::Regularized => FlowChoice::Regularized {
+                weight_cells: a.curvature_weight,
+            },
+            FlowArg::Zhao => FlowChoice::Zhao,
         },
         cfl: a.cfl,
         redistance_iterations: a.redistance,
@@ -52,12 +58,17 @@ fn params(a: &LevelSetArgs, d: &Defaults) -> ReconstructParams {
         } else {
             Band::Narrow
         },
-        point_radius: a.point_radius,
+        point_radius: a.point_radius.or(d.point_radius),
         extract: ExtractOptions {
             curvature: a.curvature,
             min_shell_triangles: a.min_shell,
         },
         snapshot_every: a.save_every,
+        neighbourhood: match a.tube_n {
+            None => d.neighbourhood,
+            Some(TubeNArg::Axes) => Neighbourhood::Axes,
+            Some(TubeNArg::Cube) => Neighbourhood::Cube,
+        },
     }
 }
 
@@ -72,10 +83,10 @@ fn surface(
     run: &mut Run,
     points: &[[f64; 3]],
     a: &LevelSetArgs,
-    defaults: &Defaults,
+    job: Job,
     out: &Path,
 ) -> anyhow::Result<()> {
-    let p = params(a, defaults);
+    let p = params(a, job);
     // Saved steps are written as they come (a long run holds none in memory).
     let mut saved = Vec::new();
     let mut failed = None;
@@ -116,7 +127,7 @@ pub fn run(ctx: &Context, a: &ReconstructArgs) -> anyhow::Result<()> {
         &mut run,
         points.positions(),
         &a.level_set,
-        &RECONSTRUCT,
+        Job::Reconstruct,
         &out,
     )?;
     run.finish()
@@ -129,8 +140,12 @@ fn pipeline(
     points_out: Option<&Path>,
     a: &LevelSetArgs,
     out: &Path,
-    title: &str,
+    job: Job,
 ) -> anyhow::Result<()> {
+    let title = match job {
+        Job::DlaTerrain => "dla",
+        _ => "rdsr",
+    };
     for w in grown.warnings {
         run.warn("warning", w);
     }
@@ -138,7 +153,7 @@ fn pipeline(
     if let Some(pp) = points_out {
         run.points(pp, grown.points.clone(), title)?;
     }
-    surface(&mut run, &grown.points, a, &PIPELINE, out)?;
+    surface(&mut run, &grown.points, a, job, out)?;
     run.finish()
 }
 
@@ -149,11 +164,22 @@ pub fn dla_terrain(ctx: &Context, a: &DlaTerrainArgs) -> anyhow::Result<()> {
     let run = Run::new(ctx, "generate dla-terrain");
     let grown = reconstruct::dla_terrain(
         size,
-        a.particles,
-        a.stick,
+        a.particles.unwrap_or(if a.level_set.paper {
+            reconstruct::PAPER_TERRAIN_PARTICLES
+        } else {
+            8_000
+        }),
+        (a.stick, a.sides.into()),
         (ctx.seed, &ctx.budget, &ctx.time, &ctx.bar()),
     )?;
-    pipeline(run, grown, a.points.as_deref(), &a.level_set, &out, "dla")
+    pipeline(
+        run,
+        grown,
+        a.points.as_deref(),
+        &a.level_set,
+        &out,
+        Job::DlaTerrain,
+    )
 }
 
 /// `asperity generate rdsr-sphere`
@@ -166,5 +192,12 @@ pub fn rdsr_sphere(ctx: &Context, a: &RdsrSphereArgs) -> anyhow::Result<()> {
         a.relax,
         (ctx.seed, &ctx.budget, &ctx.bar()),
     )?;
-    pipeline(run, grown, a.points.as_deref(), &a.level_set, &out, "rdsr")
+    pipeline(
+        run,
+        grown,
+        a.points.as_deref(),
+        &a.level_set,
+        &out,
+        Job::RdsrSphere,
+    )
 }

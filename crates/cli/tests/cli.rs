@@ -981,7 +981,45 @@ fn reconstruct_and_pipelines_as_documented() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["measurements"]["watertight"], true);
+    assert_eq!(v["measurements"]["pieces"], 1);
+    assert_eq!(v["measurements"]["sides"], "walls");
     assert!(d.path().join("terrain.glb").exists());
+    // Paper mode: the paper's settings (ε = 3h, 30 steps); periodic sides are
+    // cut by the bounded reconstruction, and a warning says so.
+    let o = asperity(
+        &[
+            "generate",
+            "dla-terrain",
+            "--paper",
+            "--size",
+            "24x24x24",
+            "--particles",
+            "500",
+            "--sides",
+            "periodic",
+            "-o",
+            "paper.glb",
+            "--json",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["measurements"]["iterations"], 30);
+    let (h, eps) = (
+        v["measurements"]["spacing"].as_f64().unwrap(),
+        v["measurements"]["offset"].as_f64().unwrap(),
+    );
+    assert!((eps - 3.0 * h).abs() < 1e-9);
+    assert!(
+        v["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("periodic sides")),
+        "{}",
+        v["warnings"]
+    );
 
     let o = asperity(
         &[

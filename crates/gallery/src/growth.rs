@@ -10,7 +10,7 @@ use asperity_analysis::scaling::{
 use asperity_core::{NoProgress, PointSet, RgbaImage};
 use asperity_engine::Result;
 use asperity_growth::curved::{CurvedDeposit, CurvedParams, CurvedSubstrate, deposit_curved};
-use asperity_growth::dla::{DlaParams, SeedShape, dla};
+use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla};
 use asperity_growth::{DepositionParams, Lattice, Model, WidthSeries, deposit_ensemble};
 use asperity_io::Surface;
 use asperity_render::plot::{Plot, Series, Style, plot_svg};
@@ -260,6 +260,7 @@ fn dla_plane(env: &Env, stick: f64, tag: &str) -> Result<Item> {
         stick,
         seed_shape: SeedShape::Plane,
         launch_gap: 2.0,
+        sides: Sides::Periodic,
     };
     let c = dla(&params, env.seed, 0, &env.budget, &NoProgress)?;
     let parts: Vec<[f64; 3]> = c.particles().iter().map(|p| p.map(f64::from)).collect();

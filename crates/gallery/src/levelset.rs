@@ -7,8 +7,10 @@
 use asperity_core::{NoProgress, TriMesh};
 use asperity_engine::Result;
 use asperity_engine::error::invalid;
-use asperity_growth::dla::{DlaParams, SeedShape, dla};
-use asperity_levelset::{ExtractOptions, ReconstructParams, Sizing, extract, reconstruct};
+use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla};
+use asperity_levelset::{
+    ExtractOptions, FlowChoice, ReconstructParams, Sizing, extract, reconstruct,
+};
 use asperity_render::plot::{Plot, Series, Style, plot_svg};
 
 use crate::growth::rdsr_sphere;
@@ -63,6 +65,7 @@ fn cases(env: &Env) -> Result<Vec<Case>> {
         stick: 1.0,
         seed_shape: SeedShape::Plane,
         launch_gap: 2.0,
+        sides: Sides::Walls,
     };
     let terrain = dla(&params, env.seed, 0, &env.budget, &NoProgress)?.points();
     Ok(vec![
@@ -217,7 +220,10 @@ fn bumpy_sphere(seed: u64, n: usize) -> Vec<[f64; 3]> {
 fn flow_contrast(env: &Env, rough: &[[f64; 3]], flow: &str, weight: Option<f64>) -> Result<Item> {
     let params = ReconstructParams {
         sizing: Sizing::Resolution(if env.quick { 48 } else { 80 }),
-        curvature_weight: weight,
+        flow: match weight {
+            Some(weight_cells) => FlowChoice::Regularized { weight_cells },
+            None => FlowChoice::Convection,
+        },
         ..Default::default()
     };
     let rec = reconstruct(rough, &params, &env.budget, &NoProgress, &mut |_, _| {})?;

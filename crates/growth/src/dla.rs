@@ -12,7 +12,8 @@
 //! p moss-like, §4.2); if it does not, it walks on (Meakin's rule, not a bounce).
 //!
 //! **Seeds.** A point (the classic cluster), the bottom plane (terrain, the
-//! paper's Figs. 9–11; periodic in x and y), a solid ball, any set of cells (a
+//! paper's Figs. 9–11; periodic in x and y, or between reflecting side walls,
+//! see [`Sides`]), a solid ball, any set of cells (a
 //! voxelised mesh), or sparse cells on the bottom plane drawn from a density
 //! image (§7: "use an image as the distribution of the initial seeds"). Solid
 //! seeds are occupied throughout, but only their surface cells are listed.
@@ -32,7 +33,10 @@
 //! - plane modes, above the launch plane at height h over it: the walker moves to
 //!   its first hitting point on the plane, at a horizontal offset drawn from the
 //!   half-space Poisson kernel (density ∝ h/(ρ² + h²)^{3/2} in 3-D, Cauchy with
-//!   scale h in 2-D), wrapped periodically — exact for the periodic slab too.
+//!   scale h in 2-D), wrapped periodically — exact for the periodic slab too —
+//!   or folded back between the side walls (a walk between reflecting walls is
+//!   the free walk folded by the mirror images of the box, so the kernel stays
+//!   exact there as well).
 //!
 //! A plane deposit that reaches the lattice top is capped there: later walkers
 //! are released from the top layer, and the region above is treated as empty,
@@ -100,6 +104,22 @@ impl SeedShape {
     }
 }
 
+/// What happens at the x and y sides of a plane deposit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Sides {
+    /// Periodic in x and y (the standard set-up of growth physics: no edge
+    /// effects). The deposit is one cluster only when the wrap is counted, so
+    /// as a bounded object it falls into pieces at the sides.
+    #[default]
+    Periodic,
+    /// Reflecting walls: a walker that steps out of the box stays in its cell,
+    /// and a particle sticks only to neighbours inside the box. The deposit is
+    /// one connected set without any wrap — a terrain that is one piece
+    /// (kim-machiraju-thompson Figs. 9–11 show one connected surface). Any size.
+    Walls,
+}
+
 /// DLA parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DlaParams {
@@ -116,6 +136,8 @@ pub struct DlaParams {
     /// Launch gap δ between the farthest (highest) occupied cell and the
     /// launch sphere (plane), in cells.
     pub launch_gap: f64,
+    /// Plane modes: periodic sides or reflecting walls (ignored by radial modes).
+    pub sides: Sides,
 }
 
 impl DlaParams {
@@ -129,7 +151,13 @@ impl DlaParams {
             stick: 1.0,
             seed_shape: SeedShape::Point,
             launch_gap: 2.0,
+            sides: Sides::Periodic,
         }
+    }
+
+    /// Whether the lattice wraps in x and y (a plane deposit with periodic sides).
+    pub fn periodic(&self) -> bool {
+        self.seed_shape.is_plane() && self.sides == Sides::Periodic
     }
 
     /// Checks the parameters, the lattice capacity and the memory estimate.
@@ -192,20 +220,20 @@ impl DlaParams {
                 self.size[1]
             )));
         }
-        let plane = self.seed_shape.is_plane();
-        if plane
+        let periodic = self.periodic();
+        if periodic
             && (!self.size[0].is_multiple_of(8)
                 || (self.size[1] > 1 && !self.size[1].is_multiple_of(8)))
         {
             return Err(bad(format!(
-                "a plane deposit is periodic in x and y, which must be multiples of 8, got {}x{}",
+                "a plane deposit with periodic sides needs x and y sizes that are multiples of 8, got {}x{} (or use walls at the sides)",
                 self.size[0], self.size[1]
             )));
         }
         let bytes = Occupancy::estimate_bytes(self.size)
             + DistanceMap::estimate_bytes(self.size, 2)
             + DistanceMap::estimate_bytes(self.size, 3)
-            + DistanceMap::estimate_bytes(self.size, coarse_shift(self.size, plane))
+            + DistanceMap::estimate_bytes(self.size, coarse_shift(self.size, periodic))
             + self.particles as u128 * 12;
         budget.check_elements(bytes, 1, "DLA lattice and particle list")?;
         Ok(())
@@ -297,6 +325,8 @@ struct Walk<'a> {
     params: &'a DlaParams,
     three_d: bool,
     plane: bool,
+    /// Plane mode between reflecting side walls.
+    walls: bool,
     occ: Occupancy,
     fine: DistanceMap,
     medium: DistanceMap,
@@ -362,12 +392,18 @@ impl Walk<'_> {
         }
     }
 
-    /// Wraps x and y in plane mode and mirrors below the floor.
+    /// Wraps x and y in plane mode (or folds them back between the walls) and
+    /// mirrors below the floor.
     fn settle(&self, mut p: [i32; 3]) -> [i32; 3] {
         if self.plane {
             let [nx, ny, _] = self.params.size;
-            p[0] = p[0].rem_euclid(nx as i32);
-            p[1] = p[1].rem_euclid(ny as i32);
+            if self.walls {
+                p[0] = fold(p[0], nx as i32);
+                p[1] = fold(p[1], ny as i32);
+            } else {
+                p[0] = p[0].rem_euclid(nx as i32);
+                p[1] = p[1].rem_euclid(ny as i32);
+            }
             if p[2] < 0 {
                 p[2] = -1 - p[2];
             }
@@ -398,8 +434,11 @@ impl Walk<'_> {
                     0.0,
                 )
             };
-            let x = (w[0] as f64 + dx).rem_euclid(nx as f64);
-            let y = (w[1] as f64 + dy).rem_euclid(ny as f64);
+            // The offset can span many periods: reduce it before rounding to a
+            // cell (by the period of the mirror images between walls).
+            let period = if self.walls { 2.0 } else { 1.0 };
+            let x = (w[0] as f64 + dx).rem_euclid(period * nx as f64);
+            let y = (w[1] as f64 + dy).rem_euclid(period * ny as f64);
             let p = self.settle([x.round() as i32, y.round() as i32, lv.round() as i32]);
             // Only a deposit capped at the lattice top can occupy the launch plane.
             return Some(if self.occ.get(p) { self.launch() } else { p });
@@ -643,16 +682,18 @@ pub fn dla(
 ) -> Result<DlaCluster, GrowthError> {
     params.validate(budget)?;
     let plane = params.seed_shape.is_plane();
-    let occ = Occupancy::new(params.size, plane, budget)?;
+    let periodic = params.periodic();
+    let occ = Occupancy::new(params.size, periodic, budget)?;
     let size = params.size;
     let center = [0, 1, 2].map(|a| ((size[a] - 1) / 2) as f64);
     let mut walk = Walk {
         params,
         three_d: params.dim == 3,
         plane,
+        walls: plane && !periodic,
         fine: DistanceMap::new(&occ, 2, MAP_CAP),
         medium: DistanceMap::new(&occ, 3, MAP_CAP),
-        coarse: DistanceMap::new(&occ, coarse_shift(size, plane), MAP_CAP),
+        coarse: DistanceMap::new(&occ, coarse_shift(size, periodic), MAP_CAP),
         occ,
         center,
         reach: 0.0,
@@ -693,6 +734,14 @@ pub fn dla(
         capped_at: end.capped_at,
         stats: walk.stats,
     })
+}
+
+/// Cell `v` of the unfolded line mapped into `0..n` between reflecting walls at
+/// −½ and n − ½: the mirror images of the box tile the line with period 2n.
+#[inline(always)]
+fn fold(v: i32, n: i32) -> i32 {
+    let m = v.rem_euclid(2 * n);
+    if m >= n { 2 * n - 1 - m } else { m }
 }
 
 /// Nearest cell (ties up). `f64::round` is a libm call on baseline x86-64;

@@ -12,7 +12,7 @@ use asperity_analysis::scaling::{
 use asperity_core::{MemoryBudget, NoProgress};
 use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::deposition::deposit_on_schedule;
-use asperity_growth::dla::{DlaParams, SeedShape, dla};
+use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla};
 use asperity_growth::interface_width::uniform_schedule;
 use asperity_growth::occupancy::FACE_NEIGHBOURS;
 use asperity_growth::{DepositionParams, Lattice, Model, deposit, deposit_ensemble};
@@ -280,6 +280,51 @@ fn assert_touching(c: &asperity_growth::dla::DlaCluster) {
     }
 }
 
+/// Between reflecting walls a plane deposit is one face-connected set with
+/// no wrap (every particle touches the substrate through particles inside the
+/// box), any size is accepted, and the bulk is the same DLA: D from ρ(z) ≈ 2.5
+/// as with periodic sides.
+#[test]
+fn dla_between_walls_is_connected_without_wrap() {
+    let params = DlaParams {
+        dim: 3,
+        size: [115, 115, 200],
+        particles: 40_000,
+        stick: 1.0,
+        seed_shape: SeedShape::Plane,
+        launch_gap: 2.0,
+        sides: Sides::Walls,
+    };
+    let c = dla(&params, 5, 0, &unlimited(), &NoProgress).unwrap();
+    assert!(c.stopped.is_none() && c.capped_at.is_none());
+    let mut occ: HashSet<[i32; 3]> = c.cells[..c.seeds].iter().copied().collect();
+    for p in c.particles() {
+        assert!((0..2).all(|a| (0..115).contains(&p[a])), "{p:?} outside");
+        assert!(
+            faces(*p).iter().any(|q| occ.contains(q)),
+            "particle {p:?} touches nothing inside the box"
+        );
+        assert!(occ.insert(*p));
+    }
+    // Particles reach every side wall (the walls reflect, they do not repel).
+    for (a, edge) in [(0, 0), (0, 114), (1, 0), (1, 114)] {
+        assert!(
+            c.particles().iter().any(|p| p[a] == edge),
+            "axis {a} at {edge}"
+        );
+    }
+    let top = c.particles().iter().map(|p| p[2]).max().unwrap() as usize;
+    let mut count = vec![0f64; top + 1];
+    for p in c.particles() {
+        count[p[2] as usize] += 1.0;
+    }
+    let z: Vec<f64> = (0..=top).map(|z| z as f64).collect();
+    let rho: Vec<f64> = count.iter().map(|n| n / (115.0 * 115.0)).collect();
+    let fit = log_fit(&z, &rho, [4.0, top as f64 / 3.0]).unwrap();
+    let d = 3.0 + fit.slope;
+    assert!((2.2..=2.8).contains(&d), "D from ρ(z) = {d}");
+}
+
 #[test]
 fn dla_3d_dimension_and_contact() {
     let ds: Vec<f64> = (0..3u64)
@@ -343,6 +388,7 @@ fn dla_on_a_plane_sphere_and_image() {
         stick: 1.0,
         seed_shape: SeedShape::Plane,
         launch_gap: 2.0,
+        sides: Sides::Periodic,
     };
     let c = dla(&params, 4, 0, &unlimited(), &NoProgress).unwrap();
     assert!(c.stopped.is_none(), "{:?}", c.stopped);
@@ -370,6 +416,7 @@ fn dla_on_a_plane_sphere_and_image() {
         stick: 1.0,
         seed_shape: SeedShape::Sphere(10.0),
         launch_gap: 2.0,
+        sides: Sides::Periodic,
     };
     let c = dla(&params, 4, 0, &unlimited(), &NoProgress).unwrap();
     let center = c.center;
@@ -397,6 +444,7 @@ fn dla_on_a_plane_sphere_and_image() {
         stick: 1.0,
         seed_shape: SeedShape::Density(density),
         launch_gap: 2.0,
+        sides: Sides::Periodic,
     };
     let c = dla(&params, 4, 0, &unlimited(), &NoProgress).unwrap();
     assert!(c.seeds > 50 && c.seeds < 200, "{} seeds", c.seeds);

@@ -118,6 +118,21 @@ pub enum Flow {
         /// λ in world units.
         weight: f64,
     },
+    /// φ_t = ∇d·∇φ: Zhao's convection by the velocity v = −∇d (Eq. 5 with
+    /// Zhao's v), the flow the paper replaces by Eq. 6.
+    Zhao,
+}
+
+/// The neighbourhood that grows T into the redistancing tube N.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Neighbourhood {
+    /// One node along each axis (6 neighbours): enough for the first-order
+    /// redistancing stencil, and the fastest.
+    #[default]
+    Axes,
+    /// The 3 × 3 × 3 block (26 neighbours), the paper's N =
+    /// {min over −1 ≤ ν, µ ≤ 1 of |φ| ≤ γ} (§5.2, step 1) in 3-D.
+    Cube,
 }
 
 /// Where φ is updated.
@@ -153,6 +168,8 @@ pub struct EvolveParams {
     pub arrest: f64,
     /// Call `on_step` with the level set every this many steps (`None`: never).
     pub snapshot_every: Option<usize>,
+    /// How T grows into N.
+    pub neighbourhood: Neighbourhood,
 }
 
 impl EvolveParams {
@@ -170,6 +187,7 @@ impl EvolveParams {
             band: Band::Narrow,
             arrest: ARREST_CELLS * h,
             snapshot_every: None,
+            neighbourhood: Neighbourhood::Cube,
         }
     }
 }
@@ -429,13 +447,14 @@ struct Step<'a> {
     /// The curvature weight λ of the regularised flow (world units, f64 as the
     /// scalar curvature stencil).
     curvature: Option<f64>,
+    /// Zhao's flow ∇d·∇φ instead of d|∇φ|.
+    zhao: bool,
 }
 
 impl Step<'_> {
-    /// The cut-off c(φ) of Eq. 10 times d at eight nodes, 0 closer than the
-    /// arrest distance.
+    /// The cut-off c(φ) of Eq. 10 at eight nodes.
     #[inline(always)]
-    fn speeds<V: Lanes>(&self, phi: V, d: V) -> V {
+    fn cutoff<V: Lanes>(&self, phi: V) -> V {
         let splat = V::splat;
         let a = phi.abs();
         let t = a - splat(self.gamma);
@@ -443,12 +462,37 @@ impl Step<'_> {
             * t
             * (splat(2.0) * a + splat(self.gamma) - splat(3.0 * self.beta))
             * splat(self.inv_cube);
-        let c = a.simd_le(splat(self.beta)).select(
+        a.simd_le(splat(self.beta)).select(
             splat(1.0),
             a.simd_le(splat(self.gamma)).select(cubic, splat(0.0)),
-        );
-        d.simd_lt(splat(self.arrest)).select(splat(0.0), c * d)
+        )
     }
+
+    /// The cut-off c(φ) of Eq. 10 times d at eight nodes, 0 closer than the
+    /// arrest distance.
+    #[inline(always)]
+    fn speeds<V: Lanes>(&self, phi: V, d: V) -> V {
+        let c = self.cutoff(phi);
+        d.simd_lt(V::splat(self.arrest))
+            .select(V::splat(0.0), c * d)
+    }
+}
+
+/// Zhao's rate c(φ) ∇d·∇φ at eight nodes from node `u` (`src[at]`): ∇d by
+/// central differences of the distance (1-Lipschitz, so each component is at
+/// most 1), ∇φ upwinded for the velocity v = −∇d: D⁻ where v points along +x,
+/// D⁺ where it points back.
+#[inline(always)]
+fn zhao_rate<V: Lanes>(c: &Step, src: &[f32], at: usize, u: usize, p0: V) -> V {
+    let zero = V::splat(0.0);
+    let half_inv_h = V::splat(0.5 * c.inv_h);
+    let mut sum = zero;
+    for &s in &c.strides {
+        let (dm, dp) = one_sided(c, src, at, s, p0);
+        let g = (load::<V>(c.d, u + s) - load::<V>(c.d, u - s)) * half_inv_h;
+        sum += g * g.simd_lt(zero).select(dm, dp);
+    }
+    c.cutoff(p0) * sum
 }
 
 /// One-sided differences (D⁻, D⁺) along stride `s` for eight nodes from `at`
@@ -478,6 +522,9 @@ fn one_sided<V: Lanes>(c: &Step, src: &[f32], at: usize, s: usize, p0: V) -> (V,
 fn rate<V: Lanes>(c: &Step, src: &[f32], base: usize, u: usize, valid: usize) -> V {
     let at = u - base;
     let p0 = load::<V>(src, at);
+    if c.zhao {
+        return zhao_rate(c, src, at, u, p0);
+    }
     let zero = V::splat(0.0);
     let mut g2 = zero;
     for &s in &c.strides {
@@ -1183,9 +1230,10 @@ fn evolve_in_order(
         eno: params.scheme == Scheme::Eno2,
         keep_all: full,
         curvature: match params.flow {
-            Flow::Convection => None,
+            Flow::Convection | Flow::Zhao => None,
             Flow::Regularized { weight } => Some(weight),
         },
+        zhao: params.flow == Flow::Zhao,
     };
     let plan = Plan::new(params.redistance_iterations);
     // φ lives in two buffers during the flow, `ls.phi` (current) and `scratch`,
@@ -1196,7 +1244,12 @@ fn evolve_in_order(
     // tube rebuild copies φ back into the scratch on N.
     let mut scratch = ls.phi.clone();
     let (mut t, mut vmax) = first_tube(&c, &ls.phi);
-    let mut n = if full { t.clone() } else { t.dilate(&grid) };
+    let grow = |t: &RunTube| match (full, params.neighbourhood) {
+        (true, _) => t.clone(),
+        (false, Neighbourhood::Axes) => t.dilate(&grid),
+        (false, Neighbourhood::Cube) => t.dilate_cube(&grid),
+    };
+    let mut n = grow(&t);
     progress.start(params.iterations as u64, "convection flow");
     let mut stats = EvolveStats {
         steps: Vec::new(),
@@ -1208,8 +1261,13 @@ fn evolve_in_order(
             break;
         }
         let mut dt = params.cfl * h / f64::from(vmax);
-        if let Flow::Regularized { weight } = params.flow {
-            dt = dt.min(0.9 * h * h / (6.0 * weight.max(1e-300) * f64::from(vmax)));
+        match params.flow {
+            Flow::Regularized { weight } => {
+                dt = dt.min(0.9 * h * h / (6.0 * weight.max(1e-300) * f64::from(vmax)));
+            }
+            // |v|₁ = Σ|∂d| ≤ √3 (each difference of the 1-Lipschitz d is at most 1).
+            Flow::Zhao => dt = params.cfl * h / 3f64.sqrt(),
+            Flow::Convection => {}
         }
         c.dt = dt as f32;
         let tubes = Tubes { t: &t, n: &n };
@@ -1228,7 +1286,7 @@ fn evolve_in_order(
         };
         stats.steps.push(s);
         (t, vmax) = (new_t, new_vmax);
-        n = if full { t.clone() } else { t.dilate(&grid) };
+        n = grow(&t);
         if params
             .snapshot_every
             .is_some_and(|k| k > 0 && step.is_multiple_of(k))
@@ -1322,6 +1380,7 @@ mod tests {
             eno: true,
             keep_all: false,
             curvature: None,
+            zhao: false,
         };
         let p0 = load::<wide::f32x8>(&phi, 5);
         let (dm, dp) = one_sided(&c, &phi, 5, 1, p0);
@@ -1476,7 +1535,11 @@ mod tests {
         curved.flow = Flow::Regularized { weight: h };
         let mut full = upwind;
         full.band = Band::Full;
-        cases.extend([upwind, curved, full]);
+        let mut zhao = upwind;
+        zhao.flow = Flow::Zhao;
+        let mut axes = upwind;
+        axes.neighbourhood = Neighbourhood::Axes;
+        cases.extend([upwind, curved, full, zhao, axes]);
         for params in &cases {
             let reference = run(params, Order::PassByPass);
             assert!(reference.1.iter().any(|&m| f64::from_bits(m) > 0.01));

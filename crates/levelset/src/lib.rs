@@ -45,8 +45,10 @@ pub mod tagging;
 mod tube;
 
 pub use distance::{DistanceField, DistanceMethod, unsigned_distance};
-pub use evolve::{Band, EvolveParams, EvolveStats, Flow, LevelSet, Scheme, StepStats, evolve};
+pub use evolve::{
+    Band, EvolveParams, EvolveStats, Flow, LevelSet, Neighbourhood, Scheme, StepStats, evolve,
+};
 pub use grid::{GridSpec, Sizing};
 pub use marching_cubes::{ExtractOptions, ExtractStats, extract};
-pub use pipeline::{Length, ReconstructParams, Reconstruction, Timings, reconstruct};
+pub use pipeline::{FlowChoice, Length, ReconstructParams, Reconstruction, Timings, reconstruct};
 pub use tagging::{TagRule, Tags, tag};

@@ -4,11 +4,12 @@
 use std::sync::atomic::AtomicU64;
 use std::time::Instant;
 
-use asperity_core::{CoreError, MemoryBudget, Progress, TriMesh};
+use asperity_core::{CoreError, MemoryBudget, NoProgress, Progress, TriMesh};
 
 use crate::distance::{DistanceField, DistanceMethod, closest_points, unsigned_distance};
 use crate::evolve::{
-    Band, EvolveParams, EvolveStats, Flow, LevelSet, Scheme, StepStats, evolve, from_tags_reusing,
+    Band, EvolveParams, EvolveStats, Flow, LevelSet, Neighbourhood, Scheme, StepStats, evolve,
+    from_tags_reusing,
 };
 use crate::grid::{GridSpec, Sizing, padding_nodes};
 use crate::marching_cubes::{ExtractOptions, ExtractStats, extract};
@@ -34,8 +35,8 @@ pub struct ReconstructParams {
     pub iterations: usize,
     /// Space discretisation.
     pub scheme: Scheme,
-    /// Curvature weight λ in cells for the regularised flow; `None` for the paper's convection.
-    pub curvature_weight: Option<f64>,
+    /// The flow: the paper's convection (Eq. 6), regularised, or Zhao's.
+    pub flow: FlowChoice,
     /// CFL number.
     pub cfl: f64,
     /// Redistancing iterations per step.
@@ -52,6 +53,23 @@ pub struct ReconstructParams {
     pub extract: ExtractOptions,
     /// Show `on_step` the level set every this many steps (step 0 is always shown).
     pub snapshot_every: Option<usize>,
+    /// How the flow tube T grows into the redistancing tube N.
+    pub neighbourhood: Neighbourhood,
+}
+
+/// The flow of [`ReconstructParams`] (lengths in cells, as the other settings).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum FlowChoice {
+    /// φ_t = d|∇φ| (Eq. 6), the paper's.
+    #[default]
+    Convection,
+    /// Eq. 6 plus the curvature term d·λκ|∇φ| of weight λ cells.
+    Regularized {
+        /// λ in cells.
+        weight_cells: f64,
+    },
+    /// Zhao's φ_t = ∇d·∇φ (v = −∇d), the flow the paper replaces.
+    Zhao,
 }
 
 impl Default for ReconstructParams {
@@ -65,7 +83,7 @@ impl Default for ReconstructParams {
             tag_rule: TagRule::Paper,
             iterations: 30,
             scheme: Scheme::Eno2,
-            curvature_weight: None,
+            flow: FlowChoice::Convection,
             cfl: 0.9,
             redistance_iterations: 2,
             tolerance: None,
@@ -73,6 +91,7 @@ impl Default for ReconstructParams {
             point_radius: None,
             extract: ExtractOptions::default(),
             snapshot_every: None,
+            neighbourhood: Neighbourhood::Axes,
         }
     }
 }
@@ -227,7 +246,7 @@ impl ReconstructParams {
                 format!("at most 10⁶, got {}", self.iterations),
             ));
         }
-        if let Some(w) = self.curvature_weight
+        if let FlowChoice::Regularized { weight_cells: w } = self.flow
             && !(w.is_finite() && w > 0.0)
         {
             return Err(invalid(
@@ -287,11 +306,20 @@ fn distance_stage(
                 Some(cells),
             )
         }
-        DistanceMethod::Godunov { .. } => (
-            unsigned_distance(points, grid, method, cap, progress),
-            nearest_neighbour_spacing(points, h),
-            None,
-        ),
+        DistanceMethod::Godunov { .. } => {
+            // The same spacing measure as the closest-point method, so that δ
+            // (0.75 × spacing) does not depend on the distance method: a thin
+            // wavefront of 2h gives the nodes' nearest points.
+            let near = 2.0 * h;
+            let (cells, _) = closest_points(points, grid, near, &NoProgress, None);
+            let spacing = sample_spacing(points, grid, &cells, near);
+            drop(cells);
+            (
+                unsigned_distance(points, grid, method, cap, progress),
+                spacing,
+                None,
+            )
+        }
     }
 }
 
@@ -300,9 +328,12 @@ fn evolve_params(params: &ReconstructParams, h: f64, point_radius: f64) -> Evolv
     EvolveParams {
         iterations: params.iterations,
         scheme: params.scheme,
-        flow: match params.curvature_weight {
-            None => Flow::Convection,
-            Some(w) => Flow::Regularized { weight: w * h },
+        flow: match params.flow {
+            FlowChoice::Convection => Flow::Convection,
+            FlowChoice::Regularized { weight_cells } => Flow::Regularized {
+                weight: weight_cells * h,
+            },
+            FlowChoice::Zhao => Flow::Zhao,
         },
         cfl: params.cfl,
         beta: params.beta_cells * h,
@@ -311,6 +342,7 @@ fn evolve_params(params: &ReconstructParams, h: f64, point_radius: f64) -> Evolv
         band: params.band,
         arrest: point_radius,
         snapshot_every: params.snapshot_every,
+        neighbourhood: params.neighbourhood,
     }
 }
 
@@ -471,63 +503,4 @@ fn sample_spacing(
     let mid = gaps.len() / 2;
     let (_, m, _) = gaps.select_nth_unstable_by(mid, f32::total_cmp);
     Some(f64::from(*m))
-}
-
-/// The median nearest-neighbour distance of up to 10 000 evenly strided points, by a
-/// hash grid of cell `h` (for the Godunov method, which carries no nearest points).
-fn nearest_neighbour_spacing(points: &[[f64; 3]], h: f64) -> Option<f64> {
-    use rayon::prelude::*;
-    use std::collections::HashMap;
-    if points.len() < 2 {
-        return None;
-    }
-    let key = |p: &[f64; 3]| p.map(|x| (x / h).floor() as i64);
-    let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
-    for (i, p) in points.iter().enumerate() {
-        cells.entry(key(p)).or_default().push(i as u32);
-    }
-    let stride = points.len().div_ceil(10_000);
-    let mut gaps: Vec<f64> = (0..points.len())
-        .into_par_iter()
-        .step_by(stride)
-        .filter_map(|i| {
-            let q = points[i];
-            let k = key(&q);
-            let mut best = f64::INFINITY;
-            for ring in 0..32i64 {
-                for dz in -ring..=ring {
-                    for dy in -ring..=ring {
-                        for dx in -ring..=ring {
-                            if dx.abs().max(dy.abs()).max(dz.abs()) != ring {
-                                continue;
-                            }
-                            for &j in cells
-                                .get(&[k[0] + dx, k[1] + dy, k[2] + dz])
-                                .into_iter()
-                                .flatten()
-                            {
-                                let p = points[j as usize];
-                                let d2 = (p[0] - q[0]).powi(2)
-                                    + (p[1] - q[1]).powi(2)
-                                    + (p[2] - q[2]).powi(2);
-                                if j as usize != i && d2 > 0.0 {
-                                    best = best.min(d2.sqrt());
-                                }
-                            }
-                        }
-                    }
-                }
-                if best <= ring as f64 * h {
-                    break;
-                }
-            }
-            best.is_finite().then_some(best)
-        })
-        .collect();
-    if gaps.is_empty() {
-        return None;
-    }
-    let mid = gaps.len() / 2;
-    let (_, m, _) = gaps.select_nth_unstable_by(mid, f64::total_cmp);
-    Some(*m)
 }

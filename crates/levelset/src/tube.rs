@@ -94,6 +94,36 @@ impl RunTube {
             .collect();
         Self { planes }
     }
+
+    /// The tube grown by the 3 × 3 × 3 block (26-neighbourhood), the paper's N.
+    /// Every node must be at least one node from each face.
+    pub fn dilate_cube(&self, grid: &GridSpec) -> Self {
+        let [_, sy, sz] = grid.strides();
+        let (sy, sz) = (i64::from(sy as u32), i64::from(sz as u32));
+        let nz = self.planes.len();
+        let planes = (0..nz)
+            .into_par_iter()
+            .map(|k| {
+                // Nine sorted streams: the rows j − 1, j, j + 1 of the planes
+                // k − 1, k, k + 1, each widened by one node along x.
+                let mut sources = Vec::with_capacity(9);
+                for dk in -1i64..=1 {
+                    let Some(runs) = (k as i64 + dk)
+                        .try_into()
+                        .ok()
+                        .and_then(|q: usize| self.planes.get(q))
+                    else {
+                        continue;
+                    };
+                    for dj in -1i64..=1 {
+                        sources.push(Shifted::new(runs, -(dk * sz + dj * sy), 1));
+                    }
+                }
+                merge(&mut sources)
+            })
+            .collect();
+        Self { planes }
+    }
 }
 
 /// A sorted run list read with every run moved by `shift` nodes and widened by
@@ -237,6 +267,48 @@ mod tests {
         }
         assert_eq!(nodes(&grown), expected);
         assert_eq!(grown.nodes(), expected.len());
+        for (k, plane) in grown.planes.iter().enumerate() {
+            for w in plane.windows(2) {
+                assert!(w[0].end() < w[1].start, "runs sorted and apart");
+            }
+            for r in plane {
+                assert_eq!(g.coords(r.start as usize)[2], k);
+                let last = g.coords((r.end() - 1) as usize);
+                assert_eq!(last[1], g.coords(r.start as usize)[1], "one row per run");
+            }
+        }
+    }
+
+    /// The cube dilation equals the 26-neighbourhood union node by node.
+    #[test]
+    fn cube_dilation_is_the_26_neighbourhood() {
+        let g = grid();
+        let s = g.strides();
+        let mut set = BTreeSet::new();
+        for t in 2..9 {
+            set.insert(g.index(t, (t + 1).min(g.dims[1] - 3), 2 + t % 4));
+        }
+        set.insert(g.index(3, 3, 3));
+        set.insert(g.index(g.dims[0] - 2, g.dims[1] - 2, g.dims[2] - 2));
+        let mut tube = RunTube {
+            planes: vec![Vec::new(); g.dims[2]],
+        };
+        for &u in &set {
+            push_node(&mut tube.planes[g.coords(u)[2]], u);
+        }
+        let grown = tube.dilate_cube(&g);
+        let mut expected = BTreeSet::new();
+        for &u in &set {
+            for dk in -1i64..=1 {
+                for dj in -1i64..=1 {
+                    for di in -1i64..=1 {
+                        let v = u as i64 + di + dj * s[1] as i64 + dk * s[2] as i64;
+                        expected.insert(v as usize);
+                    }
+                }
+            }
+        }
+        assert_eq!(nodes(&grown), expected);
         for (k, plane) in grown.planes.iter().enumerate() {
             for w in plane.windows(2) {
                 assert!(w[0].end() < w[1].start, "runs sorted and apart");

@@ -6,6 +6,7 @@ use asperity_analysis::scaling::{
     radius_of_gyration,
 };
 use asperity_core::{MemoryBudget, Progress, TimeBudget};
+pub use asperity_growth::dla::Sides;
 use asperity_growth::dla::{DlaCluster, DlaParams, dla};
 use asperity_growth::seeds::{LatticeFrame, SeedSpec};
 use serde_json::{Value, json};
@@ -29,6 +30,8 @@ pub struct DlaJob {
     pub seed: SeedSpec,
     /// Gap between the cluster and the launch sphere (plane), in cells. Default 2.
     pub launch_gap: f64,
+    /// Plane seeds: periodic sides or walls. Default periodic.
+    pub sides: Sides,
 }
 
 impl Default for DlaJob {
@@ -40,6 +43,7 @@ impl Default for DlaJob {
             stick: 1.0,
             seed: SeedSpec::Point,
             launch_gap: 2.0,
+            sides: Sides::Periodic,
         }
     }
 }
@@ -112,6 +116,7 @@ pub fn grow(
         stick: job.stick,
         seed_shape,
         launch_gap: job.launch_gap,
+        sides: job.sides,
     };
     let cluster = dla(&params, seed, 0, budget, progress)?;
     let parts = particle_points(&cluster);
