@@ -687,7 +687,7 @@ pub struct DlaTerrainArgs {
     /// Lattice NXxNYxNZ.
     #[arg(long, default_value = "64x64x64", value_name = "NXxNYxNZ")]
     pub size: String,
-    /// DLA particles released from above the plane (default 8000; --paper 2500, a deposit
+    /// DLA particles released from above the plane (default 6000, below the lattice top; --paper 2500, a deposit
     /// about 20 cells high as the paper's 49-node grid height implies).
     #[arg(long)]
     pub particles: Option<usize>,

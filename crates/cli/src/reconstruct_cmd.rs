@@ -167,7 +167,7 @@ pub fn dla_terrain(ctx: &Context, a: &DlaTerrainArgs) -> anyhow::Result<()> {
         a.particles.unwrap_or(if a.level_set.paper {
             reconstruct::PAPER_TERRAIN_PARTICLES
         } else {
-            8_000
+            6_000
         }),
         (a.stick, a.sides.into()),
         (ctx.seed, &ctx.budget, &ctx.time, &ctx.bar()),

@@ -235,7 +235,7 @@ fn dla_terrain_is_one_piece_with_arches() {
             seed,
         )
     };
-    for (particles, paper, seed) in [(8_000, false, 7), (2_500, true, 7), (2_500, true, 3)] {
+    for (particles, paper, seed) in [(6_000, false, 7), (2_500, true, 7), (2_500, true, 3)] {
         let (grown, rec) = terrain(particles, Sides::Walls, paper, seed);
         let m = &rec.mesh;
         assert!(m.is_watertight() && m.is_manifold());

@@ -57,7 +57,7 @@ struct Case {
 fn cases(env: &Env) -> Result<Vec<Case>> {
     let (radius, layers) = if env.quick { (10.0, 5.0) } else { (20.0, 10.0) };
     let sphere = rdsr_sphere(radius, layers, env)?.points();
-    let (side, particles) = if env.quick { (32, 1_500) } else { (64, 8_000) };
+    let (side, particles) = if env.quick { (32, 1_500) } else { (64, 6_000) };
     let params = DlaParams {
         dim: 3,
         size: [side, side, side],
