@@ -12,7 +12,7 @@ use asperity_engine::subdiv::load_base;
 use asperity_render::{Polyline, RenderOptions};
 use asperity_subdiv::catmull_clark::{Boundary, Creased, limit_positions};
 use asperity_subdiv::compose::{Layer, grow};
-use asperity_subdiv::detail::{Feature, Procedure, Seeds, Spur, Tentacle};
+use asperity_subdiv::detail::{Feature, Procedure, Seeds, Spur, Tentacle, TentacleReading};
 use asperity_subdiv::evaluate::{Composed, evaluate};
 use asperity_subdiv::multires::synthesize;
 
@@ -236,9 +236,9 @@ fn one_feature(name: &str, feature: Feature) -> Layer {
     }
 }
 
-/// A tentacle from the paper's pseudo-code, with or without the sign flip on
-/// even levels.
-fn tentacle(alternate: bool) -> Layer {
+/// A tentacle from the paper's pseudo-code, grown as a limb or applied to the
+/// seed vertex alone (with or without the sign flip on even levels).
+fn tentacle(reading: TentacleReading, alternate: bool) -> Layer {
     one_feature(
         "t",
         Feature {
@@ -247,6 +247,7 @@ fn tentacle(alternate: bool) -> Layer {
                 theta: 0.5,
                 alternate,
                 twist: true,
+                reading,
             }),
             seeds: Seeds::Points(vec![[0.3, -1.0, 0.3]]),
             levels: None,
@@ -254,27 +255,42 @@ fn tentacle(alternate: bool) -> Layer {
     )
 }
 
-/// Figure 5: tentacle growth, levels 1–4, with and without the sign flip.
+/// Figure 5: tentacle growth, levels 1–4: the limb reading, and the literal
+/// one with and without the sign flip.
 fn figure_5(env: &Env) -> Result<Vec<Item>> {
+    let limb = TentacleReading::Limb {
+        radius: 0.45,
+        taper: 0.7,
+    };
     let mut items = Vec::new();
-    for (alternate, stem, title) in [
+    for (reading, alternate, stem, title) in [
         (
+            limb,
+            false,
+            "subdiv_fig5_tentacle_limb",
+            "Figure 5: a tentacle growing over levels 1 to 4 (left to right) — each level extrudes a narrower cap further out, turned by π/3 (the limb reading of the pseudo-code)",
+        ),
+        (
+            TentacleReading::Literal,
             true,
             "subdiv_fig5_tentacle_levels",
-            "Figure 5: a tentacle by the paper's pseudo-code, levels 1 to 4 (left to right) — the sign flip on even levels digs the tip in",
+            "Figure 5, literal reading: the pseudo-code's offset on the seed vertex alone — the sign flip on even levels digs the tip in",
         ),
         (
+            TentacleReading::Literal,
             false,
             "subdiv_fig5_tentacle_levels_no_flip",
-            "Figure 5 without the sign flip: the same procedure grows a curling horn",
+            "Figure 5, literal reading without the sign flip: a short curling horn",
         ),
     ] {
-        let tri = row(env, (1..=4).map(|l| (l, tentacle(alternate))))?;
+        let tri = row(env, (1..=4).map(|l| (l, tentacle(reading, alternate))))?;
         let (file, pic) = env.shaded_mesh(stem, &tri)?;
-        let law = if alternate {
-            "length·l·(sin(θ + πl/3), cos(θ + πl/3), 1), negated on even levels"
-        } else {
-            "length·l·(sin(θ + πl/3), cos(θ + πl/3), 1)"
+        let law = match (reading, alternate) {
+            (TentacleReading::Limb { .. }, _) => {
+                "a ball of radius 0.45·0.7ˡ⁻¹ around the tip moved length·l along (sin(θ + πl/3), cos(θ + πl/3), 1)"
+            }
+            (_, true) => "length·l·(sin(θ + πl/3), cos(θ + πl/3), 1), negated on even levels",
+            (_, false) => "length·l·(sin(θ + πl/3), cos(θ + πl/3), 1)",
         };
         let facts = vec![fact("per level", law)];
         items.push(Item::new(title, Some(pic), vec![file], facts));

@@ -31,7 +31,9 @@
 //! a Poisson-disk set of up to `children` vertices inside the parent dome with
 //! radius R·ratio; the mushroom lifts a stem along the seed's normal with a
 //! smooth radial profile and spreads a cap outward near the top, both ∝ l;
-//! the mine is the tentacle without twist or sign alternation (straight horns).
+//! the mine is the tentacle without twist or sign alternation (straight horns);
+//! the tentacle grows as a tapering limb by default (two readings of its
+//! pseudo-code, see [`Tentacle`]).
 
 use noise::{NoiseFn, Perlin, Value};
 use rayon::prelude::*;
@@ -200,19 +202,49 @@ pub struct Berry {
     pub height: f64,
 }
 
-/// Tentacle (§4.2 pseudo-code): at level l the seed vertex moves by
-/// length·l·(sin(θ + πl/3), cos(θ + πl/3), 1) in its local frame, negated on
-/// even levels; the mine (Fig. 6) drops the twist and the sign.
+/// Tentacle (§4.2 pseudo-code): at level l the seed moves by
+/// length·l·(sin(θ + πl/3), cos(θ + πl/3), 1), negated on even levels; the
+/// mine (Fig. 6) drops the twist and the sign.
+///
+/// Two readings of the pseudo-code (the paper gives no more):
+/// - [`TentacleReading::Literal`]: the offset moves the seed vertex alone, in
+///   its own local frame at each level. Subdivision then smooths a one-vertex
+///   push into a short spike, and the sign flip digs every other level back
+///   in: nothing like Fig. 5's limb.
+/// - [`TentacleReading::Limb`] (the default): the offset is a growth step of
+///   the tip. At level l a ball of radius r·taperˡ⁻¹ around the tip's current
+///   position moves by length·l along the direction (sin(θ + πl/3),
+///   cos(θ + πl/3), 1) of the seed's *starting* frame, with a smooth fall-off
+///   (1 − ρ²/r²)². Each level extrudes a narrower cap further out along a
+///   direction turned by π/3: a tapered limb that twists as it grows over the
+///   levels, as Fig. 5 shows. The sign flip would undo each step, so this
+///   reading ignores it (the steps are all outward).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tentacle {
     /// Reference length.
     pub length: f64,
     /// Rotation angle θ (radians).
     pub theta: f64,
-    /// Negate on even levels (the paper's pseudo-code).
+    /// Negate on even levels (the paper's pseudo-code; the literal reading only).
     pub alternate: bool,
     /// Turn by π/3 per level and lean sideways (false: straight along n).
     pub twist: bool,
+    /// How the offset is applied.
+    pub reading: TentacleReading,
+}
+
+/// How a [`Tentacle`]'s per-level offset is applied.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TentacleReading {
+    /// To the seed vertex alone, in its local frame.
+    Literal,
+    /// As a growth step of a tapering limb (see [`Tentacle`]).
+    Limb {
+        /// Radius r of the ball moved at level 1 (world units).
+        radius: f64,
+        /// Factor on the radius per level (< 1 tapers).
+        taper: f64,
+    },
 }
 
 impl Tentacle {
@@ -379,6 +411,10 @@ impl Feature {
             Procedure::Tentacle(t) => {
                 finite("length", t.length)?;
                 finite("theta", t.theta)?;
+                if let TentacleReading::Limb { radius, taper } = t.reading {
+                    positive("radius", radius)?;
+                    positive("taper", taper)?;
+                }
             }
             Procedure::Mushroom(m) => {
                 finite("height", m.height)?;
@@ -663,12 +699,18 @@ impl Grower {
         let p = input.positions();
         let mut d = vec![[0.0; 3]; p.len()];
         match self.feature.procedure {
-            Procedure::Tentacle(t) => {
-                let o = t.offset(l);
-                for s in seeds {
-                    d[s.vertex as usize] = o;
+            Procedure::Tentacle(t) => match t.reading {
+                TentacleReading::Literal => {
+                    let o = t.offset(l);
+                    for s in seeds {
+                        d[s.vertex as usize] = o;
+                    }
                 }
-            }
+                TentacleReading::Limb { radius, taper } => {
+                    let r = radius * taper.powi(l as i32 - 1);
+                    limb_details(input, seeds, t, r, &mut d);
+                }
+            },
             Procedure::Spur(sp) => spur_details(input, seeds, sp, &mut d),
             Procedure::Berry(b) => berry_details(p, seeds, b, &mut d),
             Procedure::Mushroom(m) => Mushrooms::new(input, seeds, m).details(input, &mut d),
@@ -676,6 +718,67 @@ impl Grower {
         }
         d
     }
+}
+
+/// Limbs: around each seed's tip, a ball of radius `r` moved one growth step
+/// along the seed's twisting direction (see [`Tentacle`]), in every vertex's
+/// local frame.
+fn limb_details(
+    input: &LevelInput<'_>,
+    seeds: &[SeedState],
+    t: Tentacle,
+    r: f64,
+    d: &mut [[f64; 3]],
+) {
+    let l = input.level;
+    let p = input.positions();
+    let fr = input.frames();
+    let grid = Grid::new(p.iter().enumerate().map(|(i, q)| (i as u32, *q)), r);
+    let angle = t.theta + std::f64::consts::FRAC_PI_3 * l as f64;
+    let lean = if t.twist { 1.0 } else { 0.0 };
+    let step = t.length * l as f64;
+    for s in seeds {
+        let (e1, e2) = tangents(s.axis);
+        let dir: [f64; 3] =
+            std::array::from_fn(|c| s.axis[c] + lean * (angle.sin() * e1[c] + angle.cos() * e2[c]));
+        let norm = dir.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let tip = p[s.vertex as usize];
+        let mut near: Vec<u32> = grid.near(tip, r).collect();
+        near.sort_unstable();
+        for v in near {
+            let rho2 = dist2(p[v as usize], tip) / (r * r);
+            if rho2 >= 1.0 {
+                continue;
+            }
+            let w = step * (1.0 - rho2).powi(2) / norm;
+            let world = dir.map(|x| x * w);
+            let local = crate::multires::to_local(&fr[v as usize], world);
+            for c in 0..3 {
+                d[v as usize][c] += local[c];
+            }
+        }
+    }
+}
+
+/// Two unit tangents completing the unit `n` to a right-handed frame (a fixed
+/// choice, so θ is measured from the same direction at every level).
+fn tangents(n: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+    let a = if n[0].abs() < 0.9 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let cross = |u: [f64; 3], v: [f64; 3]| {
+        [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ]
+    };
+    let e1 = cross(n, a);
+    let len = e1.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let e1 = e1.map(|x| x / len);
+    (e1, cross(n, e1))
 }
 
 /// Spurs: each seed vertex pushed `height` mean edge lengths of its level
@@ -883,6 +986,7 @@ mod tests {
             theta: 0.3,
             alternate: true,
             twist: true,
+            reading: TentacleReading::Literal,
         };
         // Level 2: magnitude 0.2, angle θ + 2π/3, negated (even level).
         let o = t.offset(2);

@@ -50,6 +50,7 @@ use crate::catmull_clark::Boundary;
 use crate::compose::{Anchor, Edit, Layer};
 use crate::detail::{
     Berry, Coords, Fbm, Feature, Law, Mushroom, Procedure, Rock, Seeds, Spur, Tentacle,
+    TentacleReading,
 };
 use crate::scalar::Planet;
 
@@ -278,6 +279,22 @@ fn procedure(kind: &str, k: &mut Keys<'_>, what: &str) -> Result<(Procedure, f64
                     theta: k.num("theta", 0.0)?,
                     alternate: k.boolean("alternate", !mine)?,
                     twist: k.boolean("twist", !mine)?,
+                    reading: match k.string("reading")?.unwrap_or(if mine {
+                        "literal"
+                    } else {
+                        "limb"
+                    }) {
+                        "literal" => TentacleReading::Literal,
+                        "limb" => TentacleReading::Limb {
+                            radius: k.num("radius", 0.35)?,
+                            taper: k.num("taper", 0.7)?,
+                        },
+                        other => {
+                            return Err(format!(
+                                "{what}: unknown tentacle reading {other:?} (limb, literal)"
+                            ));
+                        }
+                    },
                 }),
                 if mine { 0.6 } else { 0.8 },
             )

@@ -9,7 +9,9 @@ use asperity_subdiv::catmull_clark::{
     Boundary, Creased, Topology, limit_normals, limit_positions, subdivide,
 };
 use asperity_subdiv::compose::{Anchor, Edit, Layer, grow};
-use asperity_subdiv::detail::{Berry, Feature, Mushroom, Procedure, Rock, Seeds, Spur};
+use asperity_subdiv::detail::{
+    Berry, Feature, Mushroom, Procedure, Rock, Seeds, Spur, Tentacle, TentacleReading,
+};
 use asperity_subdiv::multires::synthesize;
 use asperity_subdiv::scalar::{Planet, scalar_field};
 
@@ -416,6 +418,80 @@ fn placement_levels_berry_domes_and_stability() {
     let r3 = grow(&base, 3, Boundary::EdgeOnly, &rock_layer(0.1), 5).unwrap();
     let r5 = grow(&base, 5, Boundary::EdgeOnly, &rock_layer(0.1), 5).unwrap();
     assert_eq!(r3.details[..], r5.details[..3]);
+}
+
+/// The tentacle (§4.2, Fig. 5) read as a growing limb: after each level the
+/// tip stands higher over the sphere by about that level's step length·l,
+/// leaning the way the turned direction says, and the limb is thin (only
+/// vertices near the seed's axis are raised far); read literally (the offset
+/// on the seed vertex alone, sign flipped on even levels), the same
+/// parameters leave a stub.
+#[test]
+fn the_tentacle_grows_a_limb_over_the_levels() {
+    let base = smooth(base::quad_sphere(2));
+    let radius0 = base.mesh.positions()[0]
+        .iter()
+        .map(|x| x * x)
+        .sum::<f64>()
+        .sqrt();
+    let tentacle = |reading, levels: usize| {
+        let feature = Feature {
+            procedure: Procedure::Tentacle(Tentacle {
+                length: 0.2,
+                theta: 0.5,
+                alternate: true,
+                twist: true,
+                reading,
+            }),
+            seeds: Seeds::Points(vec![[0.0, 0.0, radius0]]),
+            levels: None,
+        };
+        let m = grow(
+            &base,
+            levels,
+            Boundary::EdgeOnly,
+            &Layer {
+                features: vec![feature],
+                ..Layer::default()
+            },
+            1,
+        )
+        .unwrap();
+        let p = m.finest().mesh.positions().to_vec();
+        let height = |q: &[f64; 3]| q.iter().map(|x| x * x).sum::<f64>().sqrt() - radius0;
+        let tip = *p
+            .iter()
+            .max_by(|a, b| height(a).total_cmp(&height(b)))
+            .unwrap();
+        let raised = p.iter().filter(|q| height(q) > 0.5 * height(&tip)).count();
+        (height(&tip), tip, raised as f64 / p.len() as f64)
+    };
+    let limb = TentacleReading::Limb {
+        radius: 0.45,
+        taper: 0.7,
+    };
+    let grown: Vec<_> = (1..=4).map(|levels| tentacle(limb, levels)).collect();
+    for l in 2..=4 {
+        // Each step leans 45° off the normal: its rise is length·l/√2,
+        // less what the next subdivision smooths away (measured 10–17 %).
+        let rise = grown[l - 1].0 - grown[l - 2].0;
+        let step = 0.2 * l as f64 / 2f64.sqrt();
+        assert!(
+            rise > 0.7 * step && rise < 1.05 * step,
+            "level {l}: rise {rise}, step {step}"
+        );
+    }
+    let (top, tip, share) = grown[3];
+    assert!(
+        top > 1.0 && share < 0.01,
+        "tip {top}, {share} of the vertices raised"
+    );
+    // The lean turns with the levels (π/3 each): the tip's bearing moves.
+    let bearing = |q: [f64; 3]| q[1].atan2(q[0]).to_degrees();
+    let turn = (bearing(tip) - bearing(grown[1].1)).abs();
+    assert!(turn > 20.0, "the tip turned {turn}°");
+    let (literal, _, _) = tentacle(TentacleReading::Literal, 4);
+    assert!(literal < 0.1, "literal reading: a stub of {literal}");
 }
 
 #[test]
