@@ -1820,6 +1820,43 @@ fn subdiv_as_documented() {
         &asperity(&["subdiv", "short.toml", "-o", "x.ply"], dir),
         "the alpha map has 2 values",
     );
+    // Painted alpha (§6): the base exported, painted per vertex (here in
+    // reverse vertex order, as exporters may reorder), read back by colour
+    // luminance or by a named scalar — the same blend as the text map.
+    run(&[
+        "subdiv", "--base", "sphere", "--levels", "0", "-o", "base.ply", "-q",
+    ]);
+    let base = asperity_io::read_mesh(&dir.join("base.ply")).unwrap();
+    let n = base.n_vertices() as u32;
+    assert_eq!(n, 26);
+    let flip = |v: u32| n - 1 - v;
+    let positions: Vec<[f64; 3]> = (0..n).map(|v| base.positions()[flip(v) as usize]).collect();
+    let triangles = base.triangles().iter().map(|t| t.map(flip)).collect();
+    let alpha = |v: u32| f64::from(flip(v) % 2);
+    let painted = asperity_core::TriMesh::new(positions, triangles)
+        .unwrap()
+        .with_colors((0..n).map(|v| [(255.0 * alpha(v)) as u8; 4]).collect())
+        .unwrap()
+        .with_scalar("mask", (0..n).map(alpha).collect())
+        .unwrap();
+    asperity_io::write_mesh(&dir.join("painted.ply"), &painted, &Default::default()).unwrap();
+    std::fs::write(dir.join("paint.toml"), mapped("painted.ply")).unwrap();
+    let by_scalar = mapped("painted.ply") + "alpha_from = \"mask\"\n";
+    std::fs::write(dir.join("paint_mask.toml"), by_scalar).unwrap();
+    let unknown = mapped("painted.ply") + "alpha_from = \"wetness\"\n";
+    std::fs::write(dir.join("paint_bad.toml"), unknown).unwrap();
+    let text_map = std::fs::read(dir.join("map.ply")).unwrap();
+    for scene in ["paint.toml", "paint_mask.toml"] {
+        run(&["subdiv", scene, "-o", "painted_out.ply", "-q"]);
+        assert!(
+            std::fs::read(dir.join("painted_out.ply")).unwrap() == text_map,
+            "{scene}: not the text map's blend"
+        );
+    }
+    assert_clean_failure(
+        &asperity(&["subdiv", "paint_bad.toml", "-o", "x.ply"], dir),
+        "no scalar \"wetness\" (its scalars: mask)",
+    );
     // Scenes: an example scene, byte-identical at 1 and 2 threads.
     let scene = dir.join("berry.toml");
     std::fs::write(

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use asperity_core::{MemoryBudget, PolyMesh, Progress};
 use asperity_subdiv::base;
-use asperity_subdiv::blend::parse_alpha_map;
+use asperity_subdiv::blend::{painted_alpha, parse_alpha_map};
 use asperity_subdiv::catmull_clark::{Boundary, Creased};
 use asperity_subdiv::detail_file::DetailFile;
 use asperity_subdiv::evaluate::{Captured, Composed, Inputs, evaluate};
@@ -115,7 +115,7 @@ impl Session {
         let first = scene_at(&source, seed, limit, t)?;
         let base = Creased::with_creases(load_base(&first.base, &dir, budget)?, &first.creases)?;
         check_size(&base, first.levels, budget)?;
-        let inputs = read_inputs(&first, &base, &dir)?;
+        let inputs = read_inputs(&first, &base, &dir, budget)?;
         Ok(Self {
             source,
             seed,
@@ -231,12 +231,23 @@ fn check_size(base: &Creased, levels: usize, budget: &MemoryBudget) -> Result<()
 }
 
 /// The alpha map and the captured surfaces a scene names.
-fn read_inputs(scene: &Scene, base: &Creased, dir: &Path) -> Result<Inputs> {
+fn read_inputs(scene: &Scene, base: &Creased, dir: &Path, budget: &MemoryBudget) -> Result<Inputs> {
     let alpha_map = match &scene.alpha_map {
-        Some(p) => {
-            let path = dir.join(p);
-            let map = parse_alpha_map(&read_text(&path)?)
-                .map_err(|e| invalid(format!("alpha map {}: {e}", path.display())))?;
+        Some(file) => {
+            let path = dir.join(&file.path);
+            use asperity_io::Format;
+            let painted = matches!(
+                Format::from_path(&path),
+                Ok(Format::Ply | Format::Obj | Format::Stl | Format::Glb)
+            );
+            let map = if painted {
+                let mesh = crate::files::load_triangles(&path, budget)?;
+                painted_alpha(base.mesh.positions(), &mesh, &file.paint)
+                    .map_err(|e| invalid(format!("alpha map {}: {e}", path.display())))?
+            } else {
+                parse_alpha_map(&read_text(&path)?)
+                    .map_err(|e| invalid(format!("alpha map {}: {e}", path.display())))?
+            };
             Some(map)
         }
         None => None,

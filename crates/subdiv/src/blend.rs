@@ -11,6 +11,15 @@
 //! ones switch sharply. Where αₗ is exactly 0 or 1 the detail is copied, not
 //! interpolated, so far from the seam the result is bit-identical to each input.
 //!
+//! **Painted alpha.** The paper's central interactive idea is an alpha map
+//! painted on the surface. [`painted_alpha`] takes one painted in Blender or
+//! MeshLab — a mesh over the base (the base itself as exported, or any finer
+//! mesh on it) with a per-vertex colour or scalar — and gives each base vertex
+//! the value of the nearest painted vertex: the luminance of a colour
+//! (0.2126 R + 0.7152 G + 0.0722 B of the stored sRGB bytes, so black is
+//! layer a and white layer b), or a scalar as it is. Vertex order, duplicated
+//! vertices (split at UV seams by exporters) and triangulation do not matter.
+//!
 //! # Deviations from the paper
 //! - The paper blends images of the two surfaces' levels with a mask; here the
 //!   mask is a side function on the reference surface, evaluated per vertex, so
@@ -249,6 +258,121 @@ pub fn blend(
     })?;
     let last = alphas.last().cloned().unwrap_or_default();
     Ok((m, last))
+}
+
+/// What a painted mesh's alpha is read from.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Paint {
+    /// The luminance of the vertex colours (sRGB bytes, alpha ignored).
+    Colour,
+    /// A named per-vertex scalar, in [0, 1].
+    Scalar(String),
+}
+
+/// Farthest a base vertex may be from the painted mesh's nearest vertex, as a
+/// share of the base's bounding-box diagonal (beyond it the painting is not of
+/// this base).
+pub const PAINT_TOLERANCE: f64 = 0.05;
+
+/// The alpha of each base vertex (`base` positions) from a mesh painted over
+/// the base: the value of its nearest painted vertex (see the module docs).
+///
+/// # Errors
+/// [`CoreError::InvalidParameter`]: no colours or no such scalar (the message
+/// lists those present), values outside [0, 1], an empty painted mesh, or a
+/// painting farther than [`PAINT_TOLERANCE`] from the base.
+pub fn painted_alpha(
+    base: &[[f64; 3]],
+    painted: &asperity_core::TriMesh,
+    from: &Paint,
+) -> Result<Vec<f64>, CoreError> {
+    let bad = |reason: String| CoreError::InvalidParameter {
+        name: "alpha map",
+        reason,
+    };
+    let values = paint_values(painted, from).map_err(bad)?;
+    let points = painted.positions();
+    if points.is_empty() || base.is_empty() {
+        return Err(bad("the painted mesh or the base has no vertices".into()));
+    }
+    let (lo, hi) = bounds(base);
+    let diagonal = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt();
+    let limit = PAINT_TOLERANCE * diagonal;
+    // A brute-force nearest search: bases are coarse (the painted mesh may be
+    // fine), and the searches are independent, so rayon spreads them.
+    base.par_iter()
+        .enumerate()
+        .map(|(v, p)| {
+            let (d2, k) = points
+                .iter()
+                .enumerate()
+                .map(|(k, q)| ((0..3).map(|a| (p[a] - q[a]).powi(2)).sum::<f64>(), k))
+                .fold((f64::INFINITY, 0), |best, c| if c.0 < best.0 { c } else { best });
+            if d2.sqrt() > limit {
+                return Err(bad(format!(
+                    "base vertex {v} is {:.3} from the nearest painted vertex, more than {:.0} % of the base's size: paint the base itself (asperity subdiv --levels 0 exports it)",
+                    d2.sqrt(),
+                    100.0 * PAINT_TOLERANCE
+                )));
+            }
+            Ok(values[k])
+        })
+        .collect()
+}
+
+/// The painted values, one per painted vertex, checked to lie in [0, 1].
+fn paint_values(painted: &asperity_core::TriMesh, from: &Paint) -> Result<Vec<f64>, String> {
+    let names = || {
+        let n: Vec<&str> = painted.scalars().iter().map(|a| a.name.as_str()).collect();
+        if n.is_empty() {
+            "none".to_string()
+        } else {
+            n.join(", ")
+        }
+    };
+    let values: Vec<f64> = match from {
+        Paint::Colour => painted
+            .colors()
+            .ok_or_else(|| {
+                format!(
+                    "the painted mesh has no vertex colours (its scalars: {})",
+                    names()
+                )
+            })?
+            .iter()
+            .map(|c| {
+                // Integer weights (Rec. 709 × 10⁴, summing to 10⁴): a grey c
+                // gives exactly c/255, so black and white are exactly 0 and 1.
+                let w = 2126 * u32::from(c[0]) + 7152 * u32::from(c[1]) + 722 * u32::from(c[2]);
+                f64::from(w) / 2_550_000.0
+            })
+            .collect(),
+        Paint::Scalar(name) => painted
+            .scalar(name)
+            .ok_or_else(|| {
+                format!(
+                    "the painted mesh has no scalar {name:?} (its scalars: {})",
+                    names()
+                )
+            })?
+            .to_vec(),
+    };
+    match values.iter().find(|v| !(0.0..=1.0).contains(*v)) {
+        Some(v) => Err(format!("painted values must lie in [0, 1], found {v}")),
+        None => Ok(values),
+    }
+}
+
+fn bounds(p: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
+    p.iter().fold(
+        ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+        |(lo, hi), q| {
+            (
+                std::array::from_fn(|a| lo[a].min(q[a])),
+                std::array::from_fn(|a| hi[a].max(q[a])),
+            )
+        },
+    )
 }
 
 /// An alpha map from text: one number in [0, 1] per base vertex, separated by

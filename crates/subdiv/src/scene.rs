@@ -30,6 +30,8 @@
 //! b = "rust"
 //! width = 0.6              # c; the width at level l is c/2^(l-1)
 //! plane = { normal = [1, 2, 0], offset = 0.0 }   # or noise = {..}, or alpha_map = "file"
+//! # alpha_map = "painted.ply"  # a text column per base vertex, or a mesh painted over the
+//! # alpha_from = "colour"      # base: its colour's luminance (black a, white b) or a scalar
 //!
 //! [[surface]]              # a captured surface as a layer (blend it with details)
 //! layer = "scan"
@@ -45,7 +47,7 @@ use std::collections::BTreeMap;
 
 use toml::{Table, Value};
 
-use crate::blend::{AlphaSource, Blend};
+use crate::blend::{AlphaSource, Blend, Paint};
 use crate::catmull_clark::Boundary;
 use crate::compose::{Anchor, Edit, Layer};
 use crate::detail::{
@@ -81,8 +83,8 @@ pub struct Scene {
     /// A blend of two layers: (a, b, how). The alpha map, if any, is a path
     /// still to be read ([`Scene::alpha_map`]).
     pub blend: Option<(String, String, Blend)>,
-    /// The alpha-map path of the blend, if it uses one.
-    pub alpha_map: Option<String>,
+    /// The alpha map of the blend, if it uses one: a path still to be read.
+    pub alpha_map: Option<AlphaFile>,
     /// Displacement or scalar mode.
     pub mode: Mode,
     /// Tagged creases of the base: (vertex, vertex, sharpness).
@@ -392,7 +394,7 @@ fn edit(table: &Table, t: f64, what: &str) -> Result<(String, Edit), String> {
     Ok((layer, e))
 }
 
-fn blend(table: &Table, t: f64) -> Result<(String, String, Blend, Option<String>), String> {
+fn blend(table: &Table, t: f64) -> Result<(String, String, Blend, Option<AlphaFile>), String> {
     let mut k = Keys::new(table, "[blend]".into(), t);
     let a = k
         .string("a")?
@@ -433,9 +435,27 @@ fn blend(table: &Table, t: f64) -> Result<(String, String, Blend, Option<String>
             );
         }
     };
-    let map = map.map(str::to_string);
+    let paint = match k.string("alpha_from")? {
+        None | Some("colour" | "color") => Paint::Colour,
+        Some(name) => Paint::Scalar(name.to_string()),
+    };
+    let map = map.map(|path| AlphaFile {
+        path: path.to_string(),
+        paint,
+    });
     k.finish()?;
     Ok((a, b, Blend { source, width }, map))
+}
+
+/// A blend's alpha-map file: a text column of values per base vertex, or a
+/// mesh painted over the base (PLY, OBJ, glTF …) read through `paint`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AlphaFile {
+    /// The path, relative to the scene.
+    pub path: String,
+    /// What a painted mesh's alpha is read from (`alpha_from = "colour"`, the
+    /// default, or the name of a per-vertex scalar).
+    pub paint: Paint,
 }
 
 /// The scene's global keys: base, levels, seed, boundary, limit.
@@ -549,7 +569,7 @@ fn surface(d: &Table, t: f64, what: String) -> Result<(String, String), String> 
 }
 
 /// The `[blend]` table, its layers checked against those mentioned.
-type SceneBlend = (Option<(String, String, Blend)>, Option<String>);
+type SceneBlend = (Option<(String, String, Blend)>, Option<AlphaFile>);
 
 fn scene_blend(k: &mut Keys<'_>, t: f64, layers: &Layers) -> Result<SceneBlend, String> {
     match k.get("blend") {

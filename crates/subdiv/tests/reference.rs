@@ -4,7 +4,7 @@
 
 use asperity_core::PolyMesh;
 use asperity_subdiv::base;
-use asperity_subdiv::blend::{AlphaSource, Blend, blend};
+use asperity_subdiv::blend::{AlphaSource, Blend, Paint, blend, painted_alpha};
 use asperity_subdiv::catmull_clark::{
     Boundary, Creased, Topology, limit_normals, limit_positions, subdivide,
 };
@@ -492,6 +492,45 @@ fn the_tentacle_grows_a_limb_over_the_levels() {
     assert!(turn > 20.0, "the tip turned {turn}°");
     let (literal, _, _) = tentacle(TentacleReading::Literal, 4);
     assert!(literal < 0.1, "literal reading: a stub of {literal}");
+}
+
+/// A painted alpha map: every base vertex takes the value of the nearest
+/// painted vertex — duplicated vertices (split at seams) and a finer painted
+/// mesh over the base work; a painting of another shape is refused.
+#[test]
+fn painted_alpha_follows_the_nearest_painted_vertex() {
+    let base = base::quad_sphere(1);
+    let p = base.positions();
+    // Painted: every base vertex twice (as an exporter splits at seams), plus
+    // midpoints of consecutive vertices, coloured by the sign of x.
+    let mut points: Vec<[f64; 3]> = p.iter().chain(p.iter()).copied().collect();
+    points.extend(
+        p.windows(2)
+            .map(|w| std::array::from_fn(|a| 0.5 * (w[0][a] + w[1][a]))),
+    );
+    let grey = |q: &[f64; 3]| if q[0] > 0.0 { 255u8 } else { 0 };
+    let colors = points.iter().map(|q| [grey(q); 4]).collect();
+    let n = points.len() as u32;
+    let painted = asperity_core::TriMesh::new(points.clone(), vec![[0, 1, n - 1]])
+        .unwrap()
+        .with_colors(colors)
+        .unwrap();
+    let a = painted_alpha(p, &painted, &Paint::Colour).unwrap();
+    for (q, a) in p.iter().zip(&a) {
+        assert_eq!(*a, if q[0] > 0.0 { 1.0 } else { 0.0 }, "{q:?}");
+    }
+    let far: Vec<[f64; 3]> = points.iter().map(|q| q.map(|x| 3.0 * x)).collect();
+    let moved = asperity_core::TriMesh::new(far, vec![[0, 1, n - 1]])
+        .unwrap()
+        .with_scalar("mask", vec![0.5; n as usize])
+        .unwrap();
+    let err = painted_alpha(p, &moved, &Paint::Scalar("mask".into())).unwrap_err();
+    assert!(err.to_string().contains("paint the base itself"), "{err}");
+    let no_colour = painted_alpha(p, &moved, &Paint::Colour).unwrap_err();
+    assert!(
+        no_colour.to_string().contains("its scalars: mask"),
+        "{no_colour}"
+    );
 }
 
 #[test]
