@@ -665,7 +665,7 @@ pub struct LevelSetArgs {
     pub curvature: bool,
     /// Drop connected pieces with fewer triangles than this (single-node voids the flow opens
     /// inside a deposit have 8); 0 keeps everything.
-    #[arg(long, default_value_t = 32, value_name = "TRIANGLES")]
+    #[arg(long, default_value_t = asperity_engine::reconstruct::MIN_SHELL_TRIANGLES, value_name = "TRIANGLES")]
     pub min_shell: usize,
     /// Also write the surface every K steps (and the initial one) as OUT_stepNNNN.EXT.
     #[arg(long, value_name = "K")]

@@ -343,6 +343,99 @@ pub fn figure(
     Ok(drawing_svg(&Drawing { title, strokes }, 900, 700)?)
 }
 
+/// The elements of the paper's Figures 2 and 3 on curve `c` as SVG: the
+/// attractor (black) and its control polygon (grey), the family of DCFs of
+/// T0 (red), the DCF of T1 from the fixed point c₀ of T0 (blue), the orbit
+/// T1ⁿ·c₀ (green crosses, n = 0 … 10, running into c₁), and with `tangents`
+/// the pseudo-tangents of both transformations at their fixed points (purple:
+/// the projected eigenvector of λ₁).
+///
+/// # Errors
+/// The IFS's (a depth too large), no DCF for an operator, and the plot's.
+pub fn orbit_figure(
+    c: &CurveIfs,
+    an: &DirectionAnalysis,
+    title: &str,
+    tangents: bool,
+) -> Result<String> {
+    let control: Vec<[f64; 3]> = c.control().to_vec();
+    let mut strokes = vec![
+        Stroke {
+            points: xy(&control),
+            color: [150, 150, 150],
+            width: 1,
+            label: Some("control polygon".into()),
+        },
+        Stroke {
+            points: xy(&c.attractor(12)?),
+            color: [0, 0, 0],
+            width: 2,
+            label: Some("attractor".into()),
+        },
+    ];
+    let [t0, t1] = &an.operators;
+    strokes.extend(family_strokes(c, t0, 10)?);
+    let c0 = c.pifs.fixed_point(0).clone();
+    strokes.push(Stroke {
+        points: xy(&dcf_polyline(c, t1, &c0, 200)?),
+        color: T1_COLOR,
+        width: 2,
+        label: Some("DCF of T1 from c₀".into()),
+    });
+    let size = control
+        .iter()
+        .flat_map(|p| {
+            control
+                .iter()
+                .map(move |q| (p[0] - q[0]).hypot(p[1] - q[1]))
+        })
+        .fold(0.0, f64::max);
+    let mut q = c0.clone();
+    for n in 0..=10 {
+        let p = c.project(q.as_slice());
+        let r = 0.008 * size;
+        for (dx, dy) in [(r, r), (r, -r)] {
+            strokes.push(Stroke {
+                points: vec![(p[0] - dx, p[1] - dy), (p[0] + dx, p[1] + dy)],
+                color: [44, 160, 44],
+                width: 2,
+                label: (n == 0 && dx == dy).then(|| "T1ⁿ·c₀, n = 0 … 10".to_string()),
+            });
+        }
+        q = c.pifs.operator(1) * q;
+    }
+    if tangents {
+        for a in [t0, t1] {
+            let asperity_ifs::spectrum::Structure::Diagonalisable { vectors, .. } =
+                &a.spectrum.structure
+            else {
+                continue;
+            };
+            let at = c.project(c.pifs.fixed_point(a.operator).as_slice());
+            // A barycentric vector (entries summing to 0) projects to Σ vₖPₖ.
+            let v = vectors.column(1);
+            let dir = (0..3).map(|k| (0..v.len()).map(|i| v[i] * control[i][k]).sum::<f64>());
+            let dir: Vec<f64> = dir.collect();
+            let len = dir[0].hypot(dir[1]).max(1e-300);
+            let h = 0.25 * size / len;
+            strokes.push(Stroke {
+                points: vec![
+                    (at[0] - h * dir[0], at[1] - h * dir[1]),
+                    (at[0] + h * dir[0], at[1] + h * dir[1]),
+                ],
+                color: [128, 0, 160],
+                width: 2,
+                label: Some(format!(
+                    "pseudo-tangent of T{} at c{}",
+                    a.operator, a.operator
+                )),
+            });
+        }
+    }
+    let title = title.to_string();
+    Ok(drawing_svg(&Drawing { title, strokes }, 900, 700)?)
+}
+
 /// Grid lines of a surface's control net (rows, then columns).
 pub fn control_net(s: &SurfaceIfs) -> Vec<Vec<[f64; 3]>> {
     let (n, m) = s.grid_size();

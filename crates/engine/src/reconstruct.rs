@@ -55,16 +55,27 @@ pub const PIPELINE: Defaults = Defaults {
 
 /// `--paper` for `asperity reconstruct`: the paper's own settings and
 /// algorithms (kim-machiraju-thompson §5.2, §6) — ε = 3 grid cells, 30 steps,
-/// Godunov fast sweeping (Eqs. 8–9), the 3 × 3 × 3 tube N — with one
-/// deviation: the arrest distance δ stays (`--point-radius 0` gives the pure
-/// flow of Eq. 6). On the grid the pure flow has no steady state (the nodes on
-/// both sides of the data keep a speed, see `asperity_levelset::evolve`), and
-/// at the paper's 30 steps it has gone through every kind of data measured:
-/// - a densely sampled sphere (10⁵ samples, R = 10, h = 0.156): within 0.14 of
-///   it at step 10, then 0.46 inside at step 20 and 1.16 (7.4h) at step 30;
-/// - the RDSR sphere of Fig. 8 (lattice cells 1 apart, h = 0.6): eaten down to
-///   the substrate (mean radius 19.9 against 26.0 with δ);
-/// - the DLA terrain of Fig. 9: 43 pieces against one with δ.
+/// Godunov fast sweeping (Eqs. 8–9), the 3 × 3 × 3 tube N, the redistancing of
+/// Eq. 11 — with one deviation: the arrest distance δ stays
+/// (`--point-radius 0` gives the pure flow of Eq. 6). Measured:
+/// - Eq. 6 alone (δ = 0, no redistancing) keeps a densely sampled sphere (10⁵
+///   samples, R = 10, h = 0.156) within 0.08 (0.5h) for 200 steps: the flow
+///   itself stops on the data.
+/// - With Eq. 11's redistancing (Sussman's first-order scheme, two iterations
+///   per step, as the paper does), the zero level drifts where the front sits
+///   between samples, and at 30 steps the front has crept through every kind
+///   of data measured: the dense sphere (within 0.14 at step 10, then 0.46
+///   inside at step 20 and 1.16 = 7.4h at step 30); the RDSR sphere of Fig. 8
+///   (lattice cells 1 apart, h = 0.6: eaten down to the substrate, mean radius
+///   19.9 against 26.0 with δ); the DLA terrain of Fig. 9 (43 pieces against
+///   one with δ). Pinning the nodes next to the front during redistancing does
+///   not stop it.
+/// - Without redistancing the front stalls where it must travel far (Fig. 7's
+///   ε = 17 cells: after 200 steps the synthetic bunny's ears are still not
+///   carved out), so dropping Eq. 11 is no cure either.
+///
+/// δ (0.75 × the sample spacing, at least 0.6h) stops the front before the
+/// drift can carry it through, and keeps Eq. 11.
 pub const RECONSTRUCT_PAPER: Defaults = Defaults {
     sizing: Sizing::Resolution(128),
     offset: Some(Length::Cells(3.0)),
@@ -82,11 +93,19 @@ pub const PIPELINE_PAPER: Defaults = Defaults {
     ..RECONSTRUCT_PAPER
 };
 
+/// Pieces with fewer triangles are dropped from the mesh (single-node voids the
+/// flow opens inside a deposit have 8).
+pub const MIN_SHELL_TRIANGLES: usize = 32;
+
 impl Defaults {
-    /// The reconstruction settings with these defaults (the rest as
-    /// [`ReconstructParams::default`]).
+    /// The reconstruction settings with these defaults, shells below
+    /// [`MIN_SHELL_TRIANGLES`] dropped (the rest as [`ReconstructParams::default`]).
     pub fn params(&self) -> ReconstructParams {
         ReconstructParams {
+            extract: asperity_levelset::ExtractOptions {
+                curvature: false,
+                min_shell_triangles: MIN_SHELL_TRIANGLES,
+            },
             sizing: self.sizing,
             offset: self.offset,
             iterations: self.iterations,

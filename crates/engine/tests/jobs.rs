@@ -199,6 +199,30 @@ fn files_are_refused_with_the_right_kind() {
     );
 }
 
+/// Fig. 8 in paper mode: RDSR on a ball of radius 20 with 10 monolayers gives
+/// the paper's grid size (112 × 115 × 114 there; 115 × 115 × 114 here, the
+/// deposit being as round across x as across y) and one closed genus-0
+/// surface around the deposit after 30 steps.
+#[test]
+fn rdsr_sphere_in_paper_mode_has_the_papers_grid() {
+    let budget = MemoryBudget::unlimited();
+    let grown = rdsr_sphere(20.0, 10.0, 1, (7, &budget, &NoProgress)).unwrap();
+    let rec = surface(
+        &grown.points,
+        &Job::RdsrSphere.defaults(true).params(),
+        None,
+        (&budget, &TimeBudget::unlimited()),
+        &NoProgress,
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let d = rec.grid.dims;
+    assert!(d.iter().all(|&n| (110..=118).contains(&n)), "{d:?}");
+    assert_eq!(d[0], 115);
+    assert_eq!((pieces(&rec), rec.mesh.euler_characteristic()), (1, 2));
+    assert_eq!(rec.evolution.steps.len(), 30);
+}
+
 /// A DLA terrain is one connected, watertight surface with arches
 /// (kim-machiraju-thompson Figs. 9–10), with the defaults and with the paper's
 /// settings on its 115 × 115 × 49 grid (the height follows the deposit's:
@@ -263,9 +287,10 @@ fn dla_terrain_is_one_piece_with_arches() {
 
 /// `--paper` for `reconstruct` (30 steps, ε = 3h, Godunov distance, the
 /// 3 × 3 × 3 tube N, with the arrest δ) keeps a densely sampled sphere's
-/// surface within 1.5 h of the sphere. The pure flow of Eq. 6 (δ = 0) gets
-/// there too (by step 10), then creeps through the data: the deviation the
-/// preset documents, measured.
+/// surface within 1.5 h of the sphere. The pure flow of Eq. 6 (δ = 0) does
+/// too, for 200 steps, on its own; with the redistancing of Eq. 11 added it
+/// gets there (by step 10) and then creeps through the data: the deviation
+/// the preset documents, measured.
 #[test]
 fn paper_mode_keeps_a_dense_sphere_within_one_and_a_half_cells() {
     let radius = 10.0;
@@ -307,6 +332,25 @@ fn paper_mode_keeps_a_dense_sphere_within_one_and_a_half_cells() {
     };
     let (h, paper, _) = run(None);
     assert!(paper <= 1.5 * h, "worst {paper} > 1.5 h = {}", 1.5 * h);
+    // Eq. 6 alone: δ = 0 and no redistancing, 200 steps.
+    let mut pure_eq6 = Job::Reconstruct.defaults(true).params();
+    pure_eq6.point_radius = Some(0.0);
+    pure_eq6.redistance_iterations = 0;
+    pure_eq6.iterations = 200;
+    let rec = surface(
+        &points,
+        &pure_eq6,
+        None,
+        (&budget, &TimeBudget::unlimited()),
+        &NoProgress,
+        &mut |_, _| {},
+    )
+    .unwrap();
+    assert!(
+        worst(&rec.mesh) <= 1.5 * h,
+        "pure Eq. 6, 200 steps: {}",
+        worst(&rec.mesh)
+    );
     let (_, pure, steps) = run(Some(0.0));
     // Zhao's flow stops on smooth data by itself (v = −∇d vanishes there and
     // points back from both sides): a quarter of a cell.

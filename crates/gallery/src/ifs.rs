@@ -7,13 +7,13 @@
 use asperity_core::TriMesh;
 use asperity_engine::Result;
 use asperity_engine::error::invalid;
-use asperity_engine::ifs::{control_net, figure, sdcf_for, surface_mesh};
+use asperity_engine::ifs::{control_net, figure, orbit_figure, sdcf_for, surface_mesh};
 use asperity_ifs::curvature::{curve_report, surface_report};
 use asperity_ifs::sdcf::Start;
 use asperity_ifs::{
     CurveIfs, DirectionAnalysis, FamilyOptions, Model, PresetParams, SurfaceIfs, preset,
 };
-use asperity_render::{Polyline, RenderOptions, Shader};
+use asperity_render::{Polyline, RenderOptions, Shader, View};
 
 use crate::{Env, Item, Section, fact};
 
@@ -26,6 +26,8 @@ pub fn section(env: &Env) -> Result<Section> {
     let takagi = surface_preset("takagi-landsberg-surface")?;
     let items = vec![
         figure_2(env, &opts)?,
+        orbits(env, &opts, false)?,
+        orbits(env, &opts, true)?,
         takagi_surface(env, &opts, &takagi)?,
         sdcf(env, &opts, &takagi)?,
         mixed(env, &opts)?,
@@ -91,6 +93,52 @@ fn figure_2(env: &Env, opts: &FamilyOptions) -> Result<Item> {
     ))
 }
 
+/// Figs. 2 and 3's elements — DCF of T1 from c₀, the orbit T1ⁿ·c₀, and (Fig. 3)
+/// another projection with the pseudo-tangents — on asperity's Takagi P-IFS.
+/// The paper's own is a 4-point P-IFS whose operators it does not print; this
+/// one has 3 points, so Fig. 3's change of the 4th control point is shown as a
+/// move of the third.
+fn orbits(env: &Env, opts: &FamilyOptions, reprojected: bool) -> Result<Item> {
+    let mut curve = curve_preset("takagi-landsberg")?;
+    if reprojected {
+        curve.move_point(2, [0.6, -0.8, 0.0])?;
+    }
+    let an = DirectionAnalysis::new(&curve.pifs, opts);
+    let (stem, title, caption) = if reprojected {
+        (
+            "ifs_fig3_tangents",
+            "Fig. 3: the same P-IFS, another projection, with the transformations' tangents",
+            "Figure 3: the same P-IFS with another projection (third control point moved to (0.6, −0.8)); the pseudo-tangents of T0 and T1 at their fixed points in purple",
+        )
+    } else {
+        (
+            "ifs_fig2_orbit",
+            "Fig. 2: DCF family of T0, DCF of T1 from c₀, and the orbit T1ⁿ·c₀",
+            "Figure 2: the Takagi P-IFS — family of DCFs of T0 (red), the DCF of T1 from c₀ (blue), the points T1ⁿ·c₀ (green) running into c₁",
+        )
+    };
+    let svg = orbit_figure(&curve, &an, title, reprojected)?;
+    let fig = env.text(&format!("{stem}.svg"), &svg)?;
+    let control = curve
+        .control()
+        .iter()
+        .map(|p| format!("({}, {})", p[0], p[1]))
+        .collect::<Vec<_>>()
+        .join(", ");
+    Ok(Item::new(
+        caption,
+        Some(fig),
+        vec![],
+        vec![
+            fact("control points", control),
+            fact(
+                "P-IFS",
+                "3 points (the paper's 4-point operators are not printed)",
+            ),
+        ],
+    ))
+}
+
 /// The attractor mesh of `s` at `depth` with its curvature attributes.
 fn mesh_with_curvature(
     env: &Env,
@@ -140,20 +188,68 @@ fn takagi_surface(env: &Env, opts: &FamilyOptions, surf: &SurfaceIfs) -> Result<
     ))
 }
 
-/// Fig. 4: the attractor with one SDCF of T0⊗T'0 (from the opposite corner).
+/// Fig. 4: the attractor with one SDCF of T0⊗T'0 (from the opposite corner),
+/// and the three DCFs it contains: those of T0 and T′0 (green, cyan) along its
+/// edges t = 0 and s = 0, and that of 𝒯00 = T0⊗T′0 (yellow) along its diagonal
+/// s = t — the square surface has λ₁ = λ′₁, so 𝒯00's exponents are
+/// αᵢ + α′ⱼ and its DCF is the SDCF at s = t.
 fn sdcf(env: &Env, opts: &FamilyOptions, surf: &SurfaceIfs) -> Result<Item> {
     let starts = (Start::Parameter(1.0), Start::Parameter(1.0));
     let resolution = if env.quick { 32 } else { 64 };
     let sd = sdcf_for(surf, opts, (0, 0), starts, resolution, &env.budget)?;
     let att = surf.attractor_mesh(if env.quick { 5 } else { 6 }, &env.budget)?;
     let both = TriMesh::merge_colored(&[(&att, [200, 200, 200, 255]), (&sd, [40, 90, 220, 255])])?;
-    let (file, pic) = env.colored_mesh("ifs_sdcf", &both)?;
+    let uv = sd
+        .uvs()
+        .ok_or_else(|| invalid("the SDCF mesh carries (s, t) as uv"))?;
+    let along = |keep: &dyn Fn([f64; 2]) -> bool, color: [u8; 4]| {
+        let mut pts: Vec<([f64; 2], [f64; 3])> = uv
+            .iter()
+            .zip(sd.positions())
+            .filter(|(w, _)| keep(**w))
+            .map(|(w, p)| (*w, *p))
+            .collect();
+        pts.sort_by(|a, b| (a.0[0] + a.0[1]).total_cmp(&(b.0[0] + b.0[1])));
+        Polyline {
+            points: pts.into_iter().map(|(_, p)| p).collect(),
+            color,
+            closed: false,
+        }
+    };
+    let eps = 1e-9;
+    let lines = vec![
+        along(&|w| w[1].abs() < eps, [40, 170, 60, 255]),
+        along(&|w| w[0].abs() < eps, [0, 190, 200, 255]),
+        along(&|w| (w[0] - w[1]).abs() < eps, [235, 200, 0, 255]),
+    ];
+    let file = env.mesh("ifs_sdcf.ply", &both)?;
+    // From below: the SDCF lies under the attractor's cusps, which would
+    // hide the DCFs drawn on it.
+    let b = both
+        .bounds()
+        .ok_or_else(|| invalid("the attractor has vertices"))?;
+    let (c, e) = (b.center(), b.extent());
+    let size = e[0].max(e[1]).max(e[2]);
+    let view = RenderOptions {
+        polylines: lines,
+        shader: Shader::VertexColor,
+        view: View::Explicit {
+            eye: [c[0] + 1.2 * size, c[1] - 1.6 * size, c[2] - 1.1 * size],
+            target: c,
+        },
+        ..env.view()
+    };
+    let pic = env.render("ifs_sdcf.png", &both, &view)?;
     Ok(Item::new(
-        "An SDCF (blue) of T0⊗T′0 on the attractor (Fig. 4)",
+        "Fig. 4: an SDCF (blue) of 𝒯00 = T0⊗T′0 on the attractor, with the DCFs of T0 (green), T′0 (cyan) and 𝒯00 (yellow) it contains",
         Some(pic),
         vec![file],
         vec![
             fact("start", "Q = c₁ ⊗ c′₁ (the opposite corner)"),
+            fact(
+                "DCF of 𝒯00",
+                "the SDCF at s = t (λ₁ = λ′₁: exponents αᵢ + α′ⱼ)",
+            ),
             fact(
                 "CLI",
                 "asperity ifs sdcf --preset takagi-landsberg-surface --with-attractor 6 -o sdcf.ply",

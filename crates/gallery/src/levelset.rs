@@ -1,17 +1,21 @@
 //! Level-set reconstruction (kim-machiraju-thompson §5–6): the two-pass
-//! pipeline on the paper's examples — RDSR on a sphere (Figure 8) and a DLA
-//! terrain with arches (Figures 9–10) — from the initial surface by tagging to
-//! the converged flow, and the §6 contrast of the convection flow with a
-//! curvature-regularised one.
+//! pipeline on the paper's examples with its settings (`--paper`) — RDSR on a
+//! sphere (Figure 8), a DLA terrain with arches (Figures 9–10) and one from
+//! other initial conditions (Figure 11) — from the initial surface by tagging
+//! to 30 steps of the flow; Zhao's −∇d flow on the terrain (§5.1), and the §6
+//! contrast of the convection flow with a curvature-regularised one.
 
+use asperity_core::PointSet;
+use asperity_core::TimeBudget;
 use asperity_core::{NoProgress, TriMesh};
 use asperity_engine::Result;
 use asperity_engine::error::invalid;
-use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla};
-use asperity_levelset::{
-    ExtractOptions, FlowChoice, ReconstructParams, Sizing, extract, reconstruct,
-};
+use asperity_engine::growth::dla::Sides;
+use asperity_engine::reconstruct::{Job, PAPER_TERRAIN_PARTICLES, dla_terrain, pieces};
+use asperity_io::Surface;
+use asperity_levelset::{FlowChoice, GridSpec, ReconstructParams, Sizing, extract, reconstruct};
 use asperity_render::plot::{Plot, Series, Style, plot_svg};
+use asperity_render::render_points;
 
 use crate::growth::rdsr_sphere;
 use crate::{Env, Item, Section, fact};
@@ -24,12 +28,17 @@ pub fn section(env: &Env) -> Result<Section> {
     let mut items = Vec::new();
     let mut movement = Vec::new();
     for case in cases(env)? {
-        let (initial, converged, steps) = pipeline(env, &case)?;
+        let (initial, converged, steps, mesh) = pipeline(env, &case)?;
         items.push(initial);
         items.push(converged);
+        if case.name == "terrain" {
+            items.push(arches(env, &mesh)?);
+            items.push(zhao_contrast(env, &case)?);
+        }
         movement.push((case.name, steps));
     }
     items.push(convergence(env, movement)?);
+    items.extend(figure_7(env)?);
     let rough = bumpy_sphere(env.seed, if env.quick { 3_000 } else { 12_000 });
     for (flow, weight) in [("convection", None), ("regularized", Some(2.0))] {
         items.push(flow_contrast(env, &rough, flow, weight)?);
@@ -53,39 +62,53 @@ struct Case {
     cli: String,
 }
 
-/// Fig. 8: RDSR on a sphere; Fig. 9: DLA from the plane.
+/// The paper's figures with its settings (`--paper`): Fig. 8, RDSR on a
+/// sphere; Fig. 9, DLA from the plane on a 64³ lattice (the 115 × 115 × ~49
+/// grid); Fig. 11, DLA from other initial conditions (a taller deposit of
+/// another seed, the paper's 115 × 115 × 75).
 fn cases(env: &Env) -> Result<Vec<Case>> {
     let (radius, layers) = if env.quick { (10.0, 5.0) } else { (20.0, 10.0) };
     let sphere = rdsr_sphere(radius, layers, env)?.points();
-    let (side, particles) = if env.quick { (32, 1_500) } else { (64, 6_000) };
-    let params = DlaParams {
-        dim: 3,
-        size: [side, side, side],
-        particles,
-        stick: 1.0,
-        seed_shape: SeedShape::Plane,
-        launch_gap: 2.0,
-        sides: Sides::Walls,
+    let side = if env.quick { 32 } else { 64 };
+    let scale = (side * side) as f64 / (64.0 * 64.0);
+    let fig9 = (PAPER_TERRAIN_PARTICLES as f64 * scale) as usize;
+    let fig11 = (6_000.0 * scale) as usize;
+    let terrain = |particles: usize, seed: u64| -> Result<Vec<[f64; 3]>> {
+        let grown = dla_terrain(
+            [side, side, side],
+            particles,
+            (1.0, Sides::Walls),
+            (seed, &env.budget, &TimeBudget::unlimited(), &NoProgress),
+        )?;
+        Ok(grown.points)
     };
-    let terrain = dla(&params, env.seed, 0, &env.budget, &NoProgress)?.points();
+    let dla_cli = |particles: usize, seed: u64| {
+        format!(
+            "asperity generate dla-terrain --paper --size {side}x{side}x{side} --particles {particles} --seed {seed} -o terrain.glb"
+        )
+    };
     Ok(vec![
         Case {
             name: "sphere",
             title: format!("Figure 8: RDSR on a sphere (radius {radius}, {layers} monolayers)"),
             points: sphere,
             cli: format!(
-                "asperity generate rdsr-sphere --radius {radius} --layers {layers} -o sphere.glb"
+                "asperity generate rdsr-sphere --paper --radius {radius} --layers {layers} -o sphere.glb"
             ),
         },
         Case {
             name: "terrain",
+            title: format!("Figure 9: DLA terrain ({side}³ lattice, {fig9} particles, walls)"),
+            points: terrain(fig9, env.seed)?,
+            cli: dla_cli(fig9, env.seed),
+        },
+        Case {
+            name: "terrain_2",
             title: format!(
-                "Figures 9–10: DLA terrain with arches ({side}³ lattice, {particles} particles)"
+                "Figure 11: DLA terrain from other initial conditions ({fig11} particles, another seed)"
             ),
-            points: terrain,
-            cli: format!(
-                "asperity generate dla-terrain --size {side}x{side}x{side} --particles {particles} -o terrain.glb"
-            ),
+            points: terrain(fig11, env.seed + 1)?,
+            cli: dla_cli(fig11, env.seed + 1),
         },
     ])
 }
@@ -93,31 +116,27 @@ fn cases(env: &Env) -> Result<Vec<Case>> {
 /// Front movement per step: (step, cells).
 type Movement = Vec<(f64, f64)>;
 
-/// The pipelines' settings (`asperity generate …`): h = 0.7, ε = 3, 60 steps.
+/// The pipelines' paper settings (`asperity generate … --paper`): 96 cells
+/// along the lattice, ε = 3h, 30 steps, Godunov distance, the 3 × 3 × 3 tube N.
 fn pipeline_params() -> ReconstructParams {
-    ReconstructParams {
-        sizing: Sizing::Spacing(0.7),
-        offset: Some(asperity_levelset::Length::World(3.0)),
-        iterations: 60,
-        extract: ExtractOptions {
-            curvature: false,
-            min_shell_triangles: 32,
-        },
-        ..Default::default()
-    }
+    Job::DlaTerrain.defaults(true).params()
 }
 
 /// The card of the initial surface by tagging.
-fn initial_item(env: &Env, case: &Case, initial: &TriMesh, dims: [usize; 3]) -> Result<Item> {
+fn initial_item(env: &Env, case: &Case, initial: &TriMesh, grid: &GridSpec) -> Result<Item> {
+    let dims = grid.dims;
     let (file, pic) = env.shaded_mesh(&format!("levelset_{}_initial", case.name), initial)?;
     Ok(Item::new(
-        format!("{}: initial surface by tagging (ε = 3)", case.title),
+        format!("{} (a): initial surface by tagging (ε = 3h)", case.title),
         Some(pic),
         vec![file],
         vec![
             fact(
                 "grid",
-                format!("{}×{}×{}, h = 0.7", dims[0], dims[1], dims[2]),
+                format!(
+                    "{}×{}×{}, h = {:.3}",
+                    dims[0], dims[1], dims[2], grid.spacing
+                ),
             ),
             fact("triangles", initial.n_faces()),
         ],
@@ -126,7 +145,7 @@ fn initial_item(env: &Env, case: &Case, initial: &TriMesh, dims: [usize; 3]) -> 
 
 /// The pipeline's defaults (`asperity generate …`): the initial surface and the
 /// converged one as cards, and the front movement per step.
-fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement)> {
+fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement, TriMesh)> {
     let params = pipeline_params();
     let mut initial = None;
     let rec = reconstruct(
@@ -142,13 +161,13 @@ fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement)> {
     )?;
     let initial: TriMesh =
         initial.ok_or_else(|| invalid("the pipeline reports its initial surface"))?;
-    let start = initial_item(env, case, &initial, rec.grid.dims)?;
+    let start = initial_item(env, case, &initial, &rec.grid)?;
     let m = &rec.mesh;
     let (file, pic) = env.shaded_mesh(&format!("levelset_{}", case.name), m)?;
     let steps = &rec.evolution.steps;
     let end = Item::new(
         format!(
-            "{}: after {} steps of the convection flow",
+            "{} (b): after {} steps of the convection flow",
             case.title,
             steps.len()
         ),
@@ -159,7 +178,7 @@ fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement)> {
             fact("triangles", m.n_faces()),
             fact("watertight", m.is_watertight()),
             fact("genus", m.genus().map_or("—".into(), |g| g.to_string())),
-            fact("pieces", rec.extraction.components),
+            fact("pieces", pieces(&rec)),
             fact("CLI", &case.cli),
         ],
     );
@@ -167,7 +186,218 @@ fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement)> {
         .iter()
         .map(|s| (s.step as f64, s.front_movement.max(1e-6)))
         .collect();
-    Ok((start, end, movement))
+    Ok((start, end, movement, rec.mesh))
+}
+
+/// Figure 10: the arches, close up — the largest piece of the terrain's
+/// middle third (the triangles whose centres lie there), seen from the default
+/// view.
+fn arches(env: &Env, terrain: &TriMesh) -> Result<Item> {
+    let b = terrain
+        .bounds()
+        .ok_or_else(|| invalid("the terrain has vertices"))?;
+    let third = |a: usize| {
+        let w = (b.max[a] - b.min[a]) / 3.0;
+        (b.min[a] + w, b.max[a] - w)
+    };
+    let ((x0, x1), (y0, y1)) = (third(0), third(1));
+    let p = terrain.positions();
+    let kept: Vec<[u32; 3]> = terrain
+        .triangles()
+        .iter()
+        .copied()
+        .filter(|t| {
+            let c = |a: usize| t.iter().map(|&v| p[v as usize][a]).sum::<f64>() / 3.0;
+            (x0..x1).contains(&c(0)) && (y0..y1).contains(&c(1))
+        })
+        .collect();
+    // Branches whose connection lies outside the box would float: keep the
+    // largest connected piece of the block.
+    let (count, labels) = asperity_core::tri_mesh::component_labels(p.len(), &kept);
+    let mut size = vec![0usize; count];
+    for t in &kept {
+        size[labels[t[0] as usize] as usize] += 1;
+    }
+    let largest = (0..count)
+        .max_by_key(|&c| (size[c], usize::MAX - c))
+        .unwrap_or(0) as u32;
+    let kept: Vec<[u32; 3]> = kept
+        .into_iter()
+        .filter(|t| labels[t[0] as usize] == largest)
+        .collect();
+    // Only the vertices the kept triangles use, renumbered in order.
+    let mut index = vec![u32::MAX; p.len()];
+    let mut positions = Vec::new();
+    let kept: Vec<[u32; 3]> = kept
+        .iter()
+        .map(|t| {
+            t.map(|v| {
+                if index[v as usize] == u32::MAX {
+                    index[v as usize] = positions.len() as u32;
+                    positions.push(p[v as usize]);
+                }
+                index[v as usize]
+            })
+        })
+        .collect();
+    let crop = TriMesh::new(positions, kept)?.with_computed_normals();
+    let (file, pic) = env.shaded_mesh("levelset_terrain_arches", &crop)?;
+    Ok(Item::new(
+        "Figure 10: arches of the DLA terrain, close up (its middle third)",
+        Some(pic),
+        vec![file],
+        vec![
+            fact("triangles", crop.n_faces()),
+            fact(
+                "handles of the whole terrain",
+                terrain.genus().map_or("—".into(), |g| g.to_string()),
+            ),
+        ],
+    ))
+}
+
+/// A stand-in for Fig. 7's scanned bunny (the Stanford scan ships under no
+/// licence a registry package states): a synthetic bunny of five ellipsoids
+/// — body, head, two ears, tail — sampled on the boundary of their union
+/// (`n` samples per ellipsoid before the hidden ones are dropped), with
+/// scanner-like jitter of 0.2 % of its size. It has what the figure needs: a
+/// concave neck and ear gaps that a far offset surface (ε = 17 cells) spans
+/// and the flow must carve back out over 100 and 200 steps.
+fn synthetic_bunny(seed: u64, n: usize) -> Vec<[f64; 3]> {
+    // (centre, semi-axes) of body, head, ears and tail.
+    let parts: [([f64; 3], [f64; 3]); 5] = [
+        ([0.0, 0.0, 0.0], [1.0, 0.7, 0.65]),
+        ([0.85, 0.0, 0.55], [0.42, 0.38, 0.4]),
+        ([0.8, 0.16, 1.15], [0.1, 0.06, 0.38]),
+        ([0.8, -0.16, 1.15], [0.1, 0.06, 0.38]),
+        ([-1.0, 0.0, 0.15], [0.18, 0.18, 0.18]),
+    ];
+    let inside = |q: [f64; 3], (c, r): ([f64; 3], [f64; 3])| {
+        (0..3).map(|a| ((q[a] - c[a]) / r[a]).powi(2)).sum::<f64>() < 1.0
+    };
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let mut state = seed ^ 0x2545_f491_4f6c_dd1d;
+    let mut jitter = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.008
+    };
+    let mut points = Vec::new();
+    for (k, &(c, r)) in parts.iter().enumerate() {
+        for i in 0..n {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let s = (1.0 - z * z).sqrt();
+            let t = golden * i as f64;
+            let q = [
+                c[0] + r[0] * s * t.cos(),
+                c[1] + r[1] * s * t.sin(),
+                c[2] + r[2] * z,
+            ];
+            let hidden = parts
+                .iter()
+                .enumerate()
+                .any(|(j, &part)| j != k && inside(q, part));
+            if !hidden {
+                points.push(q.map(|x| x + jitter()));
+            }
+        }
+    }
+    points
+}
+
+/// Figure 7 with the synthetic stand-in: the point set, the initial surface
+/// with ε = 17 cells on the paper's 135 × 134 × 112 grid, and the surface
+/// after 100 and 200 steps of the convection flow.
+fn figure_7(env: &Env) -> Result<Vec<Item>> {
+    let points = synthetic_bunny(env.seed, if env.quick { 6_000 } else { 30_000 });
+    let (resolution, steps) = if env.quick {
+        (64, [50, 100])
+    } else {
+        (134, [100, 200])
+    };
+    let params = ReconstructParams {
+        sizing: Sizing::Resolution(resolution),
+        offset: Some(asperity_levelset::Length::Cells(17.0)),
+        iterations: steps[1],
+        snapshot_every: Some(steps[0]),
+        ..Job::Reconstruct.defaults(true).params()
+    };
+    let mut shots: Vec<(usize, TriMesh)> = Vec::new();
+    let rec = reconstruct(&points, &params, &env.budget, &NoProgress, &mut |s, ls| {
+        shots.push((s.step, extract(&ls.phi, &ls.grid, &params.extract).0));
+    })?;
+    let dims = rec.grid.dims;
+    let grid = format!("{}×{}×{}", dims[0], dims[1], dims[2]);
+    let cloud = PointSet::new(points.clone());
+    let file = env.write("levelset_bunny_points.ply", &Surface::Points(cloud.clone()))?;
+    let img = render_points(&cloud, &env.view())?;
+    let pic = env.picture("levelset_bunny_points.png", &img)?;
+    let mut items = vec![Item::new(
+        "Figure 7 (a), stand-in: a synthetic 'bunny' point set (five ellipsoids; the Stanford scan carries no licence a package states)",
+        Some(pic),
+        vec![file],
+        vec![fact("points", points.len())],
+    )];
+    for (step, mesh) in shots {
+        let label = match step {
+            0 => "(b) the initial surface, ε = 17 cells".to_string(),
+            k => format!(
+                "({}) after {k} steps",
+                if k == steps[0] { "c" } else { "d" }
+            ),
+        };
+        let (file, pic) = env.shaded_mesh(&format!("levelset_bunny_step{step:04}"), &mesh)?;
+        items.push(Item::new(
+            format!("Figure 7 {label}, {grid} grid"),
+            Some(pic),
+            vec![file],
+            vec![
+                fact("triangles", mesh.n_faces()),
+                fact(
+                    "CLI",
+                    format!(
+                        "asperity reconstruct pts.ply --paper --resolution {resolution} --offset 17h --iterations {} --save-every {} -o bunny.ply",
+                        steps[1], steps[0]
+                    ),
+                ),
+            ],
+        ));
+    }
+    Ok(items)
+}
+
+/// §5.1's contrast: Zhao's flow v = −∇d on the Fig. 9 terrain, where ∇d is
+/// unstable — the terrain the convection keeps whole falls apart.
+fn zhao_contrast(env: &Env, case: &Case) -> Result<Item> {
+    let params = ReconstructParams {
+        flow: FlowChoice::Zhao,
+        ..pipeline_params()
+    };
+    let rec = reconstruct(
+        &case.points,
+        &params,
+        &env.budget,
+        &NoProgress,
+        &mut |_, _| {},
+    )?;
+    let (file, pic) = env.shaded_mesh("levelset_terrain_zhao", &rec.mesh)?;
+    Ok(Item::new(
+        "§5.1: Zhao's flow v = −∇d on the Figure 9 terrain — ∇d is unstable on rough data, the surface breaks up",
+        Some(pic),
+        vec![file],
+        vec![
+            fact("pieces", pieces(&rec)),
+            fact("convection flow", "one piece (the card above)"),
+            fact(
+                "CLI",
+                format!(
+                    "{} --flow zhao",
+                    case.cli.replace(" -o terrain.glb", " -o zhao.glb")
+                ),
+            ),
+        ],
+    ))
 }
 
 /// The front movement per step of every case on one plot.

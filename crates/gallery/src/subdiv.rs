@@ -11,8 +11,8 @@ use asperity_engine::error::invalid;
 use asperity_engine::subdiv::load_base;
 use asperity_render::{Polyline, RenderOptions};
 use asperity_subdiv::catmull_clark::{Boundary, Creased, limit_positions};
-use asperity_subdiv::compose::{Layer, grow};
-use asperity_subdiv::detail::{Feature, Procedure, Seeds, Spur, Tentacle, TentacleReading};
+use asperity_subdiv::compose::{Anchor, Layer, grow};
+use asperity_subdiv::detail::{Berry, Feature, Procedure, Seeds, Spur, Tentacle, TentacleReading};
 use asperity_subdiv::evaluate::{Composed, evaluate};
 use asperity_subdiv::multires::synthesize;
 
@@ -61,9 +61,19 @@ const SCENES: &[(&str, &str, &str)] = &[
         "Rusted fuse (§6.1, Fig. 11): fuse and rock blended across a (1, 2, 0) plane",
     ),
     (
+        "planet_earth",
+        include_str!("../../subdiv/scenes/planet_earth.toml"),
+        "Earth-like planet (§6.2, Fig. 12a): the 1/f rock scalar alone, shaded",
+    ),
+    (
+        "planet_alien",
+        include_str!("../../subdiv/scenes/planet_alien.toml"),
+        "Alien planet (§6.2, Fig. 12b): the rougher, slower-decaying rock scalar alone, shaded",
+    ),
+    (
         "planet",
         include_str!("../../subdiv/scenes/planet.toml"),
-        "Blended planet (§6.2, Fig. 12): two rock scalars blended, then shaded",
+        "Blended planet (§6.2, Fig. 12c): 12a and 12b blended level by level, then shaded",
     ),
 ];
 
@@ -76,6 +86,8 @@ pub fn section(env: &Env) -> Result<Section> {
     for (name, text, title) in SCENES {
         items.push(scene(env, name, text, title)?);
     }
+    items.push(figure_4(env)?);
+    items.extend(figure_10(env)?);
     items.extend(figure_5(env)?);
     items.push(figure_9(env)?);
     Ok(Section {
@@ -294,6 +306,163 @@ fn figure_5(env: &Env) -> Result<Vec<Item>> {
         };
         let facts = vec![fact("per level", law)];
         items.push(Item::new(title, Some(pic), vec![file], facts));
+    }
+    Ok(items)
+}
+
+/// Figure 4: the berry's construction — domes from the initial seeds (a,
+/// level 1 of detail), the first recursion added (b), the final berry after
+/// three levels of detail (c).
+fn figure_4(env: &Env) -> Result<Item> {
+    let berry = |detail_levels: Vec<usize>| {
+        one_feature(
+            "b",
+            Feature {
+                procedure: Procedure::Berry(Berry {
+                    radius: 0.45,
+                    ratio: 0.5,
+                    children: 5,
+                    height: 0.8,
+                }),
+                seeds: Seeds::Poisson { spacing: 0.9 },
+                levels: Some(detail_levels),
+            },
+        )
+    };
+    let levels = if env.quick { 4 } else { 5 };
+    let tri = row(
+        env,
+        [vec![2], vec![2, 3], vec![2, 3, 4]]
+            .into_iter()
+            .map(|ls| (levels, berry(ls))),
+    )?;
+    let (file, pic) = env.shaded_mesh("subdiv_fig4_berry_stages", &tri)?;
+    Ok(Item::new(
+        "Figure 4: the berry — (a) base domes from the initial seeds, (b) the first recursion added, (c) three levels of detail",
+        Some(pic),
+        vec![file],
+        vec![
+            fact(
+                "dome",
+                "R·√(1 − r²/R²) along the evolving normal, R halved per level",
+            ),
+            fact(
+                "children",
+                "up to 5 Poisson-disk seeds inside each parent dome",
+            ),
+        ],
+    ))
+}
+
+/// Figure 10: local signal processing — (a) the rock of `edited_rock.toml`
+/// without its edits, (b) with them: smoothed near +z, exaggerated near +x.
+/// Red rings mark each edit's disc: its radius in base edges (the edit
+/// measures it in edge hops on the surface; the ring is that length along a
+/// great circle).
+fn figure_10(env: &Env) -> Result<Vec<Item>> {
+    let text = include_str!("../../subdiv/scenes/edited_rock.toml");
+    let mut scene = asperity_subdiv::scene::parse(text, 0.0)
+        .map_err(|e| invalid(format!("scene edited_rock: {e}")))?;
+    if env.quick {
+        scene.levels = scene.levels.saturating_sub(1).max(2);
+    }
+    let base = Creased::smooth(load_base(&scene.base, Path::new(""), &env.budget)?);
+    let edits = scene.layers[0].edits.clone();
+    let p = base.mesh.positions();
+    let (mut total, mut count) = (0.0, 0usize);
+    for f in base.mesh.faces() {
+        for (k, &a) in f.iter().enumerate() {
+            let b = f[(k + 1) % f.len()];
+            total += (0..3)
+                .map(|c| (p[a as usize][c] - p[b as usize][c]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            count += 1;
+        }
+    }
+    let edge = total / count.max(1) as f64;
+    let rings: Vec<Polyline> = edits
+        .iter()
+        .filter_map(|e| match e.at {
+            Anchor::Point(c) => Some((c, e.radius * edge)),
+            Anchor::Vertex(v) => p.get(v as usize).map(|&c| (c, e.radius * edge)),
+        })
+        .map(|(c, r)| {
+            let n = {
+                let l = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt().max(1e-12);
+                c.map(|x| x / l)
+            };
+            let a = if n[0].abs() < 0.9 {
+                [1.0, 0.0, 0.0]
+            } else {
+                [0.0, 1.0, 0.0]
+            };
+            let u = {
+                let d = a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
+                let v = [a[0] - d * n[0], a[1] - d * n[1], a[2] - d * n[2]];
+                let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                v.map(|x| x / l)
+            };
+            let w = [
+                n[1] * u[2] - n[2] * u[1],
+                n[2] * u[0] - n[0] * u[2],
+                n[0] * u[1] - n[1] * u[0],
+            ];
+            // A geodesic circle of the sphere through c, lifted a little off
+            // the surface so the relief does not hide it.
+            let radius = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+            let theta = r / radius.max(1e-12);
+            let lift = 1.08 * radius;
+            let points = (0..96)
+                .map(|k| {
+                    let t = std::f64::consts::TAU * k as f64 / 96.0;
+                    std::array::from_fn(|i| {
+                        lift * (theta.cos() * n[i]
+                            + theta.sin() * (t.cos() * u[i] + t.sin() * w[i]))
+                    })
+                })
+                .collect();
+            Polyline {
+                points,
+                color: [220, 30, 30, 255],
+                closed: true,
+            }
+        })
+        .collect();
+    let mut items = Vec::new();
+    for (edited, stem, title) in [
+        (
+            false,
+            "subdiv_fig10_original",
+            "Figure 10 (a): the rock before local editing",
+        ),
+        (
+            true,
+            "subdiv_fig10_edited",
+            "Figure 10 (b): local signal processing — fine levels removed near +z (smoothed), levels 2–5 tripled near +x; red rings: the edit discs",
+        ),
+    ] {
+        let mut sc = scene.clone();
+        if !edited {
+            sc.layers[0].edits.clear();
+        }
+        let c = evaluate(&sc, &base, &Default::default(), &asperity_core::NoProgress)?;
+        let tri = c.mesh.mesh.triangulate().with_computed_normals();
+        let file = env.mesh(&format!("{stem}.ply"), &tri)?;
+        let opts = RenderOptions {
+            polylines: rings.clone(),
+            ..env.view()
+        };
+        let pic = env.render(&format!("{stem}.png"), &tri, &opts)?;
+        items.push(Item::new(
+            title,
+            Some(pic),
+            vec![file],
+            vec![fact(
+                "CLI",
+                "asperity subdiv crates/subdiv/scenes/edited_rock.toml -o e.glb",
+            )],
+        ));
     }
     Ok(items)
 }

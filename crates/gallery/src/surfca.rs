@@ -23,7 +23,9 @@ use crate::{Env, Item, Section, fact};
 pub fn section(env: &Env) -> Result<Section> {
     let (cup, _) = voronoi_item(env, "cup", shapes::cup(48), 16)?;
     let (sphere, steps) = voronoi_item(env, "sphere", shapes::icosphere(3, 1.0), 12)?;
-    let mut items = vec![cup, sphere];
+    let cylinder = asperity_engine::files::builtin_mesh("cylinder")?;
+    let (cylinder, _) = voronoi_item(env, "cylinder", cylinder, 10)?;
+    let mut items = vec![cup, sphere, cylinder];
     items.extend(steps);
     items.push(corrosion(env)?);
     items.push(gray_scott(env)?);
@@ -90,7 +92,12 @@ fn voronoi_item(
         facts.push(fact("agreement with the exact diagram", area));
         steps_item = Some(steps_plot(env, &stats, cells.len())?);
     }
-    let title = format!("Surface Voronoi diagram on the {name} ({sites} sites)");
+    let title = match name {
+        "cylinder" => format!(
+            "Figure 13(b): a cylindrical Voronoi diagram ({sites} sites), grown on the capped cylinder"
+        ),
+        _ => format!("Surface Voronoi diagram on the {name} ({sites} sites)"),
+    };
     Ok((Item::new(title, Some(pic), vec![file], facts), steps_item))
 }
 

@@ -68,15 +68,19 @@
 //! # Deviations from the paper
 //!
 //! **Arrest.** With the unsigned d of Eq. 6 the continuous front approaches the data
-//! asymptotically, but on the grid it has no steady state: the nodes on both sides
-//! of the data surface keep a speed of up to h/2, so the zero level creeps through
-//! S and then accelerates inward (d grows again inside). The tests show it on a
-//! sphere. Here nodes closer than an arrest distance δ to a data point have speed 0
-//! (default δ = h/2 for a continuous surface): the front then stops about δ outside
-//! the data and stays there (measured on a sphere, at every orientation of its
-//! surface). For sampled surfaces the pipeline sets δ from the sample spacing, at
-//! least 0.6h ([`crate::ReconstructParams::point_radius`]). δ = 0 gives the paper's
-//! model exactly, whose only stop is the iteration count.
+//! asymptotically. On the grid, Eq. 6 alone keeps that property (a densely sampled
+//! sphere stays within h/2 for 200 steps without redistancing), but the
+//! redistancing of Eq. 11 moves the zero level a little wherever the front sits
+//! between data samples, and the flow then carries it on: the zero level creeps
+//! through S and accelerates inward (d grows again inside). The tests show it on
+//! a sphere (`asperity_engine::reconstruct::RECONSTRUCT_PAPER` lists the
+//! numbers). Without redistancing, though, φ flattens and a front that must
+//! travel far stalls. So nodes closer than an arrest distance δ to a data point
+//! have speed 0 (default δ = h/2 for a continuous surface): the front then stops
+//! about δ outside the data and stays there (measured on a sphere, at every
+//! orientation of its surface). For sampled surfaces the pipeline sets δ from the
+//! sample spacing, at least 0.6h ([`crate::ReconstructParams::point_radius`]).
+//! δ = 0 gives the paper's model exactly, whose only stop is the iteration count.
 
 use asperity_core::Progress;
 use rayon::prelude::*;

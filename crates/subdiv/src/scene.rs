@@ -448,7 +448,7 @@ fn blend(table: &Table, t: f64) -> Result<(String, String, Blend, Option<AlphaFi
 }
 
 /// A blend's alpha-map file: a text column of values per base vertex, or a
-/// mesh painted over the base (PLY, OBJ, glTF …) read through `paint`.
+/// mesh painted over the base (PLY or OBJ) read through `paint`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AlphaFile {
     /// The path, relative to the scene.
