@@ -390,10 +390,25 @@ pub fn orbit_figure(
                 .map(move |q| (p[0] - q[0]).hypot(p[1] - q[1]))
         })
         .fold(0.0, f64::max);
-    let mut q = c0.clone();
+    strokes.extend(orbit_strokes(c, 0.008 * size));
+    if tangents {
+        strokes.extend(
+            [t0, t1]
+                .into_iter()
+                .filter_map(|a| tangent_stroke(c, a, 0.25 * size)),
+        );
+    }
+    let title = title.to_string();
+    Ok(drawing_svg(&Drawing { title, strokes }, 900, 700)?)
+}
+
+/// Green crosses of half-size `r` at the orbit T1ⁿ·c₀, n = 0 … 10 (c₀ the
+/// fixed point of T0).
+fn orbit_strokes(c: &CurveIfs, r: f64) -> Vec<Stroke> {
+    let mut strokes = Vec::new();
+    let mut q = c.pifs.fixed_point(0).clone();
     for n in 0..=10 {
         let p = c.project(q.as_slice());
-        let r = 0.008 * size;
         for (dx, dy) in [(r, r), (r, -r)] {
             strokes.push(Stroke {
                 points: vec![(p[0] - dx, p[1] - dy), (p[0] + dx, p[1] + dy)],
@@ -404,36 +419,36 @@ pub fn orbit_figure(
         }
         q = c.pifs.operator(1) * q;
     }
-    if tangents {
-        for a in [t0, t1] {
-            let asperity_ifs::spectrum::Structure::Diagonalisable { vectors, .. } =
-                &a.spectrum.structure
-            else {
-                continue;
-            };
-            let at = c.project(c.pifs.fixed_point(a.operator).as_slice());
-            // A barycentric vector (entries summing to 0) projects to Σ vₖPₖ.
-            let v = vectors.column(1);
-            let dir = (0..3).map(|k| (0..v.len()).map(|i| v[i] * control[i][k]).sum::<f64>());
-            let dir: Vec<f64> = dir.collect();
-            let len = dir[0].hypot(dir[1]).max(1e-300);
-            let h = 0.25 * size / len;
-            strokes.push(Stroke {
-                points: vec![
-                    (at[0] - h * dir[0], at[1] - h * dir[1]),
-                    (at[0] + h * dir[0], at[1] + h * dir[1]),
-                ],
-                color: [128, 0, 160],
-                width: 2,
-                label: Some(format!(
-                    "pseudo-tangent of T{} at c{}",
-                    a.operator, a.operator
-                )),
-            });
-        }
-    }
-    let title = title.to_string();
-    Ok(drawing_svg(&Drawing { title, strokes }, 900, 700)?)
+    strokes
+}
+
+/// The pseudo-tangent of operator `a` at its fixed point, a purple segment of
+/// half-length `half`: the projected eigenvector of λ₁ (a barycentric vector,
+/// entries summing to 0, projects to Σ vₖPₖ). None without an eigenbasis.
+fn tangent_stroke(c: &CurveIfs, a: &asperity_ifs::OperatorAnalysis, half: f64) -> Option<Stroke> {
+    let asperity_ifs::spectrum::Structure::Diagonalisable { vectors, .. } = &a.spectrum.structure
+    else {
+        return None;
+    };
+    let control = c.control();
+    let at = c.project(c.pifs.fixed_point(a.operator).as_slice());
+    let v = vectors.column(1);
+    let dir: Vec<f64> = (0..2)
+        .map(|k| (0..v.len()).map(|i| v[i] * control[i][k]).sum::<f64>())
+        .collect();
+    let h = half / dir[0].hypot(dir[1]).max(1e-300);
+    Some(Stroke {
+        points: vec![
+            (at[0] - h * dir[0], at[1] - h * dir[1]),
+            (at[0] + h * dir[0], at[1] + h * dir[1]),
+        ],
+        color: [128, 0, 160],
+        width: 2,
+        label: Some(format!(
+            "pseudo-tangent of T{} at c{}",
+            a.operator, a.operator
+        )),
+    })
 }
 
 /// Grid lines of a surface's control net (rows, then columns).

@@ -199,29 +199,7 @@ fn sdcf(env: &Env, opts: &FamilyOptions, surf: &SurfaceIfs) -> Result<Item> {
     let sd = sdcf_for(surf, opts, (0, 0), starts, resolution, &env.budget)?;
     let att = surf.attractor_mesh(if env.quick { 5 } else { 6 }, &env.budget)?;
     let both = TriMesh::merge_colored(&[(&att, [200, 200, 200, 255]), (&sd, [40, 90, 220, 255])])?;
-    let uv = sd
-        .uvs()
-        .ok_or_else(|| invalid("the SDCF mesh carries (s, t) as uv"))?;
-    let along = |keep: &dyn Fn([f64; 2]) -> bool, color: [u8; 4]| {
-        let mut pts: Vec<([f64; 2], [f64; 3])> = uv
-            .iter()
-            .zip(sd.positions())
-            .filter(|(w, _)| keep(**w))
-            .map(|(w, p)| (*w, *p))
-            .collect();
-        pts.sort_by(|a, b| (a.0[0] + a.0[1]).total_cmp(&(b.0[0] + b.0[1])));
-        Polyline {
-            points: pts.into_iter().map(|(_, p)| p).collect(),
-            color,
-            closed: false,
-        }
-    };
-    let eps = 1e-9;
-    let lines = vec![
-        along(&|w| w[1].abs() < eps, [40, 170, 60, 255]),
-        along(&|w| w[0].abs() < eps, [0, 190, 200, 255]),
-        along(&|w| (w[0] - w[1]).abs() < eps, [235, 200, 0, 255]),
-    ];
+    let lines = dcf_lines(&sd)?;
     let file = env.mesh("ifs_sdcf.ply", &both)?;
     // From below: the SDCF lies under the attractor's cusps, which would
     // hide the DCFs drawn on it.
@@ -256,6 +234,34 @@ fn sdcf(env: &Env, opts: &FamilyOptions, surf: &SurfaceIfs) -> Result<Item> {
             ),
         ],
     ))
+}
+
+/// The DCFs on an SDCF mesh (uv = (s, t)): T0's along t = 0 (green), T′0's
+/// along s = 0 (cyan), 𝒯00's along s = t (yellow).
+fn dcf_lines(sd: &TriMesh) -> Result<Vec<Polyline>> {
+    let uv = sd
+        .uvs()
+        .ok_or_else(|| invalid("the SDCF mesh carries (s, t) as uv"))?;
+    let along = |keep: &dyn Fn([f64; 2]) -> bool, color: [u8; 4]| {
+        let mut pts: Vec<([f64; 2], [f64; 3])> = uv
+            .iter()
+            .zip(sd.positions())
+            .filter(|(w, _)| keep(**w))
+            .map(|(w, p)| (*w, *p))
+            .collect();
+        pts.sort_by(|a, b| (a.0[0] + a.0[1]).total_cmp(&(b.0[0] + b.0[1])));
+        Polyline {
+            points: pts.into_iter().map(|(_, p)| p).collect(),
+            color,
+            closed: false,
+        }
+    };
+    let eps = 1e-9;
+    Ok(vec![
+        along(&|w| w[1].abs() < eps, [40, 170, 60, 255]),
+        along(&|w| w[0].abs() < eps, [0, 190, 200, 255]),
+        along(&|w| (w[0] - w[1]).abs() < eps, [235, 200, 0, 255]),
+    ])
 }
 
 /// A surface with a smooth and a rough direction, with its control net.

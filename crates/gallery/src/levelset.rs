@@ -201,46 +201,7 @@ fn arches(env: &Env, terrain: &TriMesh) -> Result<Item> {
         (b.min[a] + w, b.max[a] - w)
     };
     let ((x0, x1), (y0, y1)) = (third(0), third(1));
-    let p = terrain.positions();
-    let kept: Vec<[u32; 3]> = terrain
-        .triangles()
-        .iter()
-        .copied()
-        .filter(|t| {
-            let c = |a: usize| t.iter().map(|&v| p[v as usize][a]).sum::<f64>() / 3.0;
-            (x0..x1).contains(&c(0)) && (y0..y1).contains(&c(1))
-        })
-        .collect();
-    // Branches whose connection lies outside the box would float: keep the
-    // largest connected piece of the block.
-    let (count, labels) = asperity_core::tri_mesh::component_labels(p.len(), &kept);
-    let mut size = vec![0usize; count];
-    for t in &kept {
-        size[labels[t[0] as usize] as usize] += 1;
-    }
-    let largest = (0..count)
-        .max_by_key(|&c| (size[c], usize::MAX - c))
-        .unwrap_or(0) as u32;
-    let kept: Vec<[u32; 3]> = kept
-        .into_iter()
-        .filter(|t| labels[t[0] as usize] == largest)
-        .collect();
-    // Only the vertices the kept triangles use, renumbered in order.
-    let mut index = vec![u32::MAX; p.len()];
-    let mut positions = Vec::new();
-    let kept: Vec<[u32; 3]> = kept
-        .iter()
-        .map(|t| {
-            t.map(|v| {
-                if index[v as usize] == u32::MAX {
-                    index[v as usize] = positions.len() as u32;
-                    positions.push(p[v as usize]);
-                }
-                index[v as usize]
-            })
-        })
-        .collect();
-    let crop = TriMesh::new(positions, kept)?.with_computed_normals();
+    let crop = largest_piece_within(terrain, [x0, x1], [y0, y1])?;
     let (file, pic) = env.shaded_mesh("levelset_terrain_arches", &crop)?;
     Ok(Item::new(
         "Figure 10: arches of the DLA terrain, close up (its middle third)",
@@ -365,6 +326,46 @@ fn figure_7(env: &Env) -> Result<Vec<Item>> {
         ));
     }
     Ok(items)
+}
+
+/// The largest connected piece of the triangles of `mesh` whose centres lie
+/// in the column x ∈ `xs`, y ∈ `ys` (branches whose connection lies outside
+/// it would float), with only the vertices it uses, renumbered in order.
+fn largest_piece_within(mesh: &TriMesh, xs: [f64; 2], ys: [f64; 2]) -> Result<TriMesh> {
+    let p = mesh.positions();
+    let kept: Vec<[u32; 3]> = mesh
+        .triangles()
+        .iter()
+        .copied()
+        .filter(|t| {
+            let c = |a: usize| t.iter().map(|&v| p[v as usize][a]).sum::<f64>() / 3.0;
+            (xs[0]..xs[1]).contains(&c(0)) && (ys[0]..ys[1]).contains(&c(1))
+        })
+        .collect();
+    let (count, labels) = asperity_core::tri_mesh::component_labels(p.len(), &kept);
+    let mut size = vec![0usize; count];
+    for t in &kept {
+        size[labels[t[0] as usize] as usize] += 1;
+    }
+    let largest = (0..count)
+        .max_by_key(|&c| (size[c], usize::MAX - c))
+        .unwrap_or(0) as u32;
+    let mut index = vec![u32::MAX; p.len()];
+    let mut positions = Vec::new();
+    let triangles = kept
+        .iter()
+        .filter(|t| labels[t[0] as usize] == largest)
+        .map(|t| {
+            t.map(|v| {
+                if index[v as usize] == u32::MAX {
+                    index[v as usize] = positions.len() as u32;
+                    positions.push(p[v as usize]);
+                }
+                index[v as usize]
+            })
+        })
+        .collect();
+    Ok(TriMesh::new(positions, triangles)?.with_computed_normals())
 }
 
 /// §5.1's contrast: Zhao's flow v = −∇d on the Fig. 9 terrain, where ∇d is

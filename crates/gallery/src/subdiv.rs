@@ -6,6 +6,7 @@
 use std::path::Path;
 
 use asperity_core::TriMesh;
+use asperity_core::vec3::{add, cross, dist, dot, norm, scale, sub, unit};
 use asperity_engine::Result;
 use asperity_engine::error::invalid;
 use asperity_engine::subdiv::load_base;
@@ -367,68 +368,7 @@ fn figure_10(env: &Env) -> Result<Vec<Item>> {
         scene.levels = scene.levels.saturating_sub(1).max(2);
     }
     let base = Creased::smooth(load_base(&scene.base, Path::new(""), &env.budget)?);
-    let edits = scene.layers[0].edits.clone();
-    let p = base.mesh.positions();
-    let (mut total, mut count) = (0.0, 0usize);
-    for f in base.mesh.faces() {
-        for (k, &a) in f.iter().enumerate() {
-            let b = f[(k + 1) % f.len()];
-            total += (0..3)
-                .map(|c| (p[a as usize][c] - p[b as usize][c]).powi(2))
-                .sum::<f64>()
-                .sqrt();
-            count += 1;
-        }
-    }
-    let edge = total / count.max(1) as f64;
-    let rings: Vec<Polyline> = edits
-        .iter()
-        .filter_map(|e| match e.at {
-            Anchor::Point(c) => Some((c, e.radius * edge)),
-            Anchor::Vertex(v) => p.get(v as usize).map(|&c| (c, e.radius * edge)),
-        })
-        .map(|(c, r)| {
-            let n = {
-                let l = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt().max(1e-12);
-                c.map(|x| x / l)
-            };
-            let a = if n[0].abs() < 0.9 {
-                [1.0, 0.0, 0.0]
-            } else {
-                [0.0, 1.0, 0.0]
-            };
-            let u = {
-                let d = a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
-                let v = [a[0] - d * n[0], a[1] - d * n[1], a[2] - d * n[2]];
-                let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-                v.map(|x| x / l)
-            };
-            let w = [
-                n[1] * u[2] - n[2] * u[1],
-                n[2] * u[0] - n[0] * u[2],
-                n[0] * u[1] - n[1] * u[0],
-            ];
-            // A geodesic circle of the sphere through c, lifted a little off
-            // the surface so the relief does not hide it.
-            let radius = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
-            let theta = r / radius.max(1e-12);
-            let lift = 1.08 * radius;
-            let points = (0..96)
-                .map(|k| {
-                    let t = std::f64::consts::TAU * k as f64 / 96.0;
-                    std::array::from_fn(|i| {
-                        lift * (theta.cos() * n[i]
-                            + theta.sin() * (t.cos() * u[i] + t.sin() * w[i]))
-                    })
-                })
-                .collect();
-            Polyline {
-                points,
-                color: [220, 30, 30, 255],
-                closed: true,
-            }
-        })
-        .collect();
+    let rings = edit_rings(&base, &scene.layers[0].edits);
     let mut items = Vec::new();
     for (edited, stem, title) in [
         (
@@ -465,6 +405,55 @@ fn figure_10(env: &Env) -> Result<Vec<Item>> {
         ));
     }
     Ok(items)
+}
+
+/// A red ring per edit: a great circle of the sphere through its centre with
+/// the edit's radius in mean base-edge lengths, lifted off the relief.
+fn edit_rings(base: &Creased, edits: &[asperity_subdiv::compose::Edit]) -> Vec<Polyline> {
+    let p = base.mesh.positions();
+    let edges: Vec<f64> = base
+        .mesh
+        .faces()
+        .flat_map(|f| (0..f.len()).map(move |k| (f[k], f[(k + 1) % f.len()])))
+        .map(|(a, b)| dist(p[a as usize], p[b as usize]))
+        .collect();
+    let edge = edges.iter().sum::<f64>() / edges.len().max(1) as f64;
+    edits
+        .iter()
+        .filter_map(|e| match e.at {
+            Anchor::Point(c) => Some((c, e.radius * edge)),
+            Anchor::Vertex(v) => p.get(v as usize).map(|&c| (c, e.radius * edge)),
+        })
+        .filter_map(|(c, r)| ring(c, r))
+        .collect()
+}
+
+/// The circle of the sphere through `c` (centred at the origin) of geodesic
+/// radius `r` around `c`, lifted 8 % off the surface so the relief does not
+/// hide it.
+fn ring(c: [f64; 3], r: f64) -> Option<Polyline> {
+    let n = unit(c)?;
+    let a = if n[0].abs() < 0.9 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let u = unit(sub(a, scale(n, dot(a, n))))?;
+    let w = cross(n, u);
+    let theta = r / norm(c);
+    let lift = 1.08 * norm(c);
+    let points = (0..96)
+        .map(|k| {
+            let t = std::f64::consts::TAU * k as f64 / 96.0;
+            let around = add(scale(u, t.cos()), scale(w, t.sin()));
+            scale(add(scale(n, theta.cos()), scale(around, theta.sin())), lift)
+        })
+        .collect();
+    Some(Polyline {
+        points,
+        color: [220, 30, 30, 255],
+        closed: true,
+    })
 }
 
 /// Figure 9: spurs placed at level 1 (a), at level 3 (b), at both (c).
