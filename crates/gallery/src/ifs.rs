@@ -93,28 +93,27 @@ fn figure_2(env: &Env, opts: &FamilyOptions) -> Result<Item> {
     ))
 }
 
-/// Figs. 2 and 3's elements — DCF of T1 from c₀, the orbit T1ⁿ·c₀, and (Fig. 3)
-/// another projection with the pseudo-tangents — on asperity's Takagi P-IFS.
-/// The paper's own is a 4-point P-IFS whose operators it does not print; this
-/// one has 3 points, so Fig. 3's change of the 4th control point is shown as a
-/// move of the third.
+/// Figs. 2 and 3 on the 4-point P-IFS over the square (0,0), (0,1), (1,1),
+/// (1,0) (`takagi-square`): the DCF family of T0, the DCF of T1 from c₀, the
+/// orbit T1ⁿ·c₀; Fig. 3 projects the same P-IFS with (1,1) moved to (1,−1)
+/// and adds the transformations' pseudo-tangents.
 fn orbits(env: &Env, opts: &FamilyOptions, reprojected: bool) -> Result<Item> {
-    let mut curve = curve_preset("takagi-landsberg")?;
+    let mut curve = curve_preset("takagi-square")?;
     if reprojected {
-        curve.move_point(2, [0.6, -0.8, 0.0])?;
+        curve.move_point(2, [1.0, -1.0, 0.0])?;
     }
     let an = DirectionAnalysis::new(&curve.pifs, opts);
     let (stem, title, caption) = if reprojected {
         (
             "ifs_fig3_tangents",
-            "Fig. 3: the same P-IFS, another projection, with the transformations' tangents",
-            "Figure 3: the same P-IFS with another projection (third control point moved to (0.6, −0.8)); the pseudo-tangents of T0 and T1 at their fixed points in purple",
+            "Fig. 3: the same P-IFS, control points (0,0), (0,1), (1,−1), (1,0)",
+            "Figure 3: the same P-IFS projected with (1,1) moved to (1,−1) — the curve bends by −2x² — and the pseudo-tangents of T0 and T1 at their fixed points (purple)",
         )
     } else {
         (
             "ifs_fig2_orbit",
-            "Fig. 2: DCF family of T0, DCF of T1 from c₀, and the orbit T1ⁿ·c₀",
-            "Figure 2: the Takagi P-IFS — family of DCFs of T0 (red), the DCF of T1 from c₀ (blue), the points T1ⁿ·c₀ (green) running into c₁",
+            "Fig. 2: a P-IFS whose attractor is the Takagi curve",
+            "Figure 2: a 4-point P-IFS whose attractor is the Takagi curve — the family of DCFs of T0 (red), the DCF of T1 from c₀ (blue), the points T1ⁿ·c₀ (green) running into c₁",
         )
     };
     let svg = orbit_figure(&curve, &an, title, reprojected)?;

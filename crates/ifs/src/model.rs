@@ -20,6 +20,9 @@
 //! - `takagi-landsberg` (`--w`): y = Σ wⁿ dist(2ⁿx, ℤ) from the maps
 //!   (x, y) ↦ (x/2, x/2 + wy) and ((1 + x)/2, (1 − x)/2 + wy) in barycentric
 //!   coordinates of (0,0), (1,0), (0,1) (paper Fig. 2 uses w = ½'s relative).
+//! - `takagi-square` (`--w`): the same curve as a 4-point P-IFS over the square
+//!   (0,0), (0,1), (1,1), (1,0), the paper's set-up of Figs. 2–3 (see
+//!   [`takagi_square_operators`]).
 //! - `bezier-bicubic`: a bicubic Bézier patch (tensor product of cubic de Casteljau).
 //! - `takagi-landsberg-surface` (`--w`, `--height`, paper Figs. 1, 4): Takagi ⊗ Takagi,
 //!   z = h(T_w(s) + T_w(t)) with a small shear so the corners are not pinched
@@ -205,6 +208,10 @@ const PRESETS: &[(&str, &str)] = &[
         "Takagi–Landsberg curve y = Σ wⁿ dist(2ⁿx, ℤ) (--w, default 1/√2: a finite curvature range)",
     ),
     (
+        "takagi-square",
+        "Takagi–Landsberg curve as a 4-point P-IFS over the square (0,0),(0,1),(1,1),(1,0), as in the paper's Figs. 2–3 (--w); moving (1,1) bends it",
+    ),
+    (
         "bezier-bicubic",
         "bicubic Bézier patch (tensor product of cubic de Casteljau P-IFS)",
     ),
@@ -269,6 +276,37 @@ pub fn takagi_operators(w: f64) -> Vec<Vec<Vec<f64>>> {
             vec![0.0, 0.0, -w],
             vec![0.5, 1.0, 0.5],
             vec![0.5, 0.0, 0.5 + w],
+        ],
+    ]
+}
+
+/// The Takagi–Landsberg maps as a 4-point P-IFS (row-major) for the control
+/// points (0,0), (0,1), (1,1), (1,0) — the paper's Figs. 2–3 use a 4-point
+/// P-IFS on this square, without printing its operators; this is one.
+///
+/// A 3-point P-IFS carries (1, x, y); the maps (x, y) ↦ (x/2, x/2 + wy) and
+/// ((1 + x)/2, (1 − x)/2 + wy) also act linearly on x², so (1, x, y, x²) is
+/// closed under them: S₀, S₁ below. The square's corners are the states
+/// (1, xₖ, yₖ, qₖ) with q = xy at the corners (so the four are independent),
+/// the columns of E, and Tᵢ = E⁻¹SᵢE. On the attractor q = x², so with the
+/// square as control points the curve is y = Σ wⁿ dist(2ⁿx, ℤ); moving (1,1)
+/// by δ adds x²·δ — Fig. 3's (1,1) → (1,−1) bends it down by 2x². The
+/// eigenvalues are 1, ½, w, ¼: for w = 1/√2, λ₁ = w and α₂ = 2, as for the
+/// 3-point P-IFS.
+pub fn takagi_square_operators(w: f64) -> Vec<Vec<Vec<f64>>> {
+    // E⁻¹SᵢE, worked out once (columns sum to 1).
+    vec![
+        vec![
+            vec![1.0, 1.0 - w, 0.25 - w, 0.0],
+            vec![0.0, w, w + 0.25, 0.5],
+            vec![0.0, 0.0, 0.25, 0.0],
+            vec![0.0, 0.0, 0.25, 0.5],
+        ],
+        vec![
+            vec![0.25, 0.25 - w, 1.0 - w, 0.75],
+            vec![0.25, w + 0.25, w - 1.0, -0.75],
+            vec![0.25, 0.25, 1.0, 0.75],
+            vec![0.25, 0.25, 0.0, 0.25],
         ],
     ]
 }
@@ -357,7 +395,7 @@ struct Checked {
 fn check_preset(name: &str, p: &PresetParams) -> Result<Checked> {
     let takes_w = matches!(
         name,
-        "takagi-landsberg" | "takagi-landsberg-surface" | "bezier-takagi"
+        "takagi-landsberg" | "takagi-square" | "takagi-landsberg-surface" | "bezier-takagi"
     );
     if p.w.is_some() && !takes_w {
         return Err(invalid(
@@ -515,6 +553,15 @@ pub fn preset(name: &str, p: &PresetParams) -> Result<ModelFile> {
         "takagi-landsberg" => curve(
             takagi_operators(w),
             vec![vec![0.0, 0.0], vec![1.0, 0.0], vec![0.0, 1.0]],
+        ),
+        "takagi-square" => curve(
+            takagi_square_operators(w),
+            vec![
+                vec![0.0, 0.0],
+                vec![0.0, 1.0],
+                vec![1.0, 1.0],
+                vec![1.0, 0.0],
+            ],
         ),
         "bezier-bicubic" => surf(bezier_operators(3), bezier_operators(3), bicubic_grid(h)),
         "takagi-landsberg-surface" => surf(

@@ -136,3 +136,52 @@ fn bad_files_and_parameters_are_clear() {
     assert!(asperity_ifs::curvature::dyadic(f64::NAN).is_err());
     assert_eq!(asperity_ifs::curvature::dyadic(0.375).unwrap(), (3, 3));
 }
+
+/// The 4-point Takagi P-IFS over the square (the paper's set-up of Figs. 2–3)
+/// draws the same curve as the 3-point one, y = Σ wⁿ dist(2ⁿx, ℤ), checked at
+/// the dyadic points against the closed sum; moving (1,1) to (1,−1) (Fig. 3)
+/// bends it down by exactly 2x²; and T0 keeps the exponent α₂ = 2.
+#[test]
+fn the_square_takagi_draws_the_takagi_curve_and_bends_with_its_fourth_point() {
+    use asperity_ifs::Model;
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let takagi = |x: f64| {
+        (0..60)
+            .map(|n| {
+                let t = 2f64.powi(n) * x;
+                w.powi(n) * (t - t.round()).abs()
+            })
+            .sum::<f64>()
+    };
+    let curve = |name: &str| match preset(name, &PresetParams::default())
+        .unwrap()
+        .build()
+        .unwrap()
+    {
+        Model::Curve(c) => c,
+        Model::Surface(_) => panic!("{name} is a curve"),
+    };
+    let mut square = curve("takagi-square");
+    let pts = square.attractor(8).unwrap();
+    assert!(pts.len() > 200);
+    // The depth-8 attractor is within 10⁻⁶ of the closed sum, and equal to the
+    // 3-point P-IFS's point for point.
+    let three = curve("takagi-landsberg").attractor(8).unwrap();
+    assert_eq!(three.len(), pts.len());
+    for (p, q) in pts.iter().zip(&three) {
+        assert!(
+            (p[1] - takagi(p[0])).abs() < 1e-6,
+            "{p:?} vs {}",
+            takagi(p[0])
+        );
+        assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12);
+    }
+    square.move_point(2, [1.0, -1.0, 0.0]).unwrap();
+    for p in square.attractor(8).unwrap() {
+        let bent = takagi(p[0]) - 2.0 * p[0] * p[0];
+        assert!((p[1] - bent).abs() < 1e-6, "{p:?} vs {bent}");
+    }
+    let an = asperity_ifs::DirectionAnalysis::new(&square.pifs, &Default::default());
+    let alpha = an.operators[0].spectrum.alpha().unwrap();
+    assert_eq!(&alpha[..3], &[0.0, 1.0, 2.0]);
+}
