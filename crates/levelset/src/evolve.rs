@@ -523,10 +523,16 @@ fn one_sided<V: Lanes>(c: &Step, src: &[f32], at: usize, s: usize, p0: V) -> (V,
 /// node `u`, whose φ is `src[u - base]`; |∇φ| upwinded for the inward-moving
 /// front (F < 0): √Σ max(min(D⁻,0)², max(D⁺,0)²). `valid` lanes are real nodes.
 #[inline(always)]
-fn rate<V: Lanes>(c: &Step, src: &[f32], base: usize, u: usize, valid: usize) -> V {
+fn rate<V: Lanes, const ZHAO: bool>(
+    c: &Step,
+    src: &[f32],
+    base: usize,
+    u: usize,
+    valid: usize,
+) -> V {
     let at = u - base;
     let p0 = load::<V>(src, at);
-    if c.zhao {
+    if ZHAO {
         return zhao_rate(c, src, at, u, p0);
     }
     let zero = V::splat(0.0);
@@ -783,9 +789,14 @@ fn run_region<V: Lanes>(
             };
             let runs = &tube.planes[p][..];
             match op {
-                Op::Advance => advance::<V>(c, base, phi, scratch, runs),
+                Op::Advance if c.zhao => advance::<V, true>(c, base, phi, scratch, runs),
+                Op::Advance => advance::<V, false>(c, base, phi, scratch, runs),
                 Op::Finish => {
-                    let m = finish::<V>(c, base, scratch, phi, runs);
+                    let m = if c.zhao {
+                        finish::<V, true>(c, base, scratch, phi, runs)
+                    } else {
+                        finish::<V, false>(c, base, scratch, phi, runs)
+                    };
                     out.moved = (out.moved.0 + m.0, out.moved.1 + m.1);
                 }
                 Op::Redistance { into, clamp } => match into {
@@ -874,17 +885,23 @@ impl Iterator for Chunks<'_> {
 
 /// Stage 1 of RK2 on one plane's runs: `stage` = φ + Δt L(φ).
 #[inline(always)]
-fn advance<V: Lanes>(c: &Step, base: usize, phi: &[f32], stage: &mut [f32], runs: &[Run]) {
+fn advance<V: Lanes, const ZHAO: bool>(
+    c: &Step,
+    base: usize,
+    phi: &[f32],
+    stage: &mut [f32],
+    runs: &[Run],
+) {
     let dt = V::splat(c.dt);
     for (u, n) in Chunks::new(c, runs, phi, base, 2 * c.strides[2]) {
-        let v = load::<V>(phi, u - base) + dt * rate::<V>(c, phi, base, u, n);
+        let v = load::<V>(phi, u - base) + dt * rate::<V, ZHAO>(c, phi, base, u, n);
         store(stage, u - base, v, n);
     }
 }
 
 /// Stage 2 of RK2 on one plane's runs, in place in `phi`; the front movement.
 #[inline(always)]
-fn finish<V: Lanes>(
+fn finish<V: Lanes, const ZHAO: bool>(
     c: &Step,
     base: usize,
     stage: &[f32],
@@ -895,7 +912,7 @@ fn finish<V: Lanes>(
     let mut moved = (0u64, 0u64);
     for (u, n) in Chunks::new(c, runs, stage, base, 2 * c.strides[2]) {
         let at = u - base;
-        let v = load::<V>(stage, at) + dt * rate::<V>(c, stage, base, u, n);
+        let v = load::<V>(stage, at) + dt * rate::<V, ZHAO>(c, stage, base, u, n);
         let old = load::<V>(phi, at);
         let new = V::splat(0.5) * (old + v);
         // Movement within a cell of the front, in fixed point (2⁻¹⁶ cells) so
