@@ -8,6 +8,9 @@ use crate::cli::{AnalyzeArgs, FbmArgs, PeriodicArg};
 use crate::context::{Context, Run};
 
 pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
+    // The run (and its clock) starts first, so elapsed_s counts the reading
+    // and the analysis.
+    let mut run = Run::new(ctx, "analyze");
     let s = ctx.load(&a.input)?;
     let fit_window = match a.fit_window.as_deref() {
         None => None,
@@ -28,7 +31,6 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
     };
     let name = a.input.display().to_string();
     let r = analyze_surface(&s, &name, &opts)?;
-    let mut run = Run::new(ctx, "analyze");
     for w in &r.warnings {
         run.warn("warning", w.clone());
     }
@@ -146,9 +148,9 @@ pub fn fbm(ctx: &Context, a: &FbmArgs) -> anyhow::Result<()> {
         rms: a.rms,
         spacing: a.spacing,
     };
+    let mut run = Run::new(ctx, "generate fbm");
     // The FFT synthesis (O(N² log N)); the same field as core's direct sum.
     let h = asperity_analysis::synthesis::fbm(&p, ctx.seed, &ctx.budget)?;
-    let mut run = Run::new(ctx, "generate fbm");
     run.height(&out, &h, format!("fBm H={}", a.hurst))?;
     run.report.measure("size", a.size);
     run.report.measure("hurst", a.hurst);

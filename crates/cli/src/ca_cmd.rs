@@ -62,8 +62,7 @@ fn ca_run(ctx: &Context, a: &CaRunArgs) -> anyhow::Result<()> {
         run.report.output(path);
     }
     if let (Some(st), Some(dir)) = (&result.states, &a.steps_png) {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| anyhow::anyhow!("creating {}: {e}", dir.display()))?;
+        asperity_io::create_output_dir(dir)?;
         for (t, step) in st.chunks(nx * ny).enumerate() {
             run.png(
                 &dir.join(format!("step_{t:03}.png")),

@@ -165,7 +165,7 @@ impl<'a> Run<'a> {
         plots: &[NamedPlot],
         size: (u32, u32),
     ) -> anyhow::Result<()> {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        asperity_io::create_output_dir(dir)?;
         for p in plots {
             let path = dir.join(p.name);
             if p.name.ends_with(".svg") {

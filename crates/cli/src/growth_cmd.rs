@@ -43,8 +43,8 @@ fn deposit(ctx: &Context, model: Model, a: &DepositArgs) -> anyhow::Result<()> {
         alpha_sizes: a.alpha_sizes.clone(),
         keep_points: a.points.is_some() || is_points_path(&out)?,
     };
-    let r = deposition::deposit(&job, ctx.seed, &ctx.budget, &ctx.time, &ctx.bar())?;
     let mut run = Run::new(ctx, "growth");
+    let r = deposition::deposit(&job, ctx.seed, &ctx.budget, &ctx.time, &ctx.bar())?;
     let name = model.name();
     if is_points_path(&out)? {
         run.points(&out, r.deposit.point_set().positions().to_vec(), name)?;
@@ -102,8 +102,8 @@ fn deposit_curved(ctx: &Context, model: Model, a: &DepositArgs, out: &Path) -> a
         layers: a.layers,
         samples_per_decade: a.samples_per_decade,
     };
-    let r = curved::deposit(&job, ctx.seed, &ctx.budget, &ctx.bar())?;
     let mut run = Run::new(ctx, "growth");
+    let r = curved::deposit(&job, ctx.seed, &ctx.budget, &ctx.bar())?;
     run.points(out, r.world_points(), model.name())?;
     if let Some(c) = &a.width_csv {
         run.text(c, &width_csv(&r.deposit.series))?;
@@ -176,8 +176,8 @@ fn grow_dla(ctx: &Context, a: &DlaArgs) -> anyhow::Result<()> {
         launch_gap: a.launch_gap,
         sides: a.sides.into(),
     };
-    let r = dla::grow(job, ctx.seed, &ctx.budget, &ctx.time, &ctx.bar())?;
     let mut run = Run::new(ctx, "growth dla");
+    let r = dla::grow(job, ctx.seed, &ctx.budget, &ctx.time, &ctx.bar())?;
     for (kind, msg) in r.warnings() {
         run.warn(kind, msg);
     }

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 
 use asperity_core::Progress;
 use asperity_engine::files::{load_mesh, load_points, numbered, require_mesh_format};
-use asperity_engine::surfca::{App, AppRun, Covered, OutputShape, cover, run_app, start_progress};
+use asperity_engine::surfca::{
+    App, AppKind, AppRun, Covered, OutputShape, check_time, cover, run_app, start_progress,
+};
 use asperity_io::Format;
 use asperity_surfca::CellSize;
 use asperity_surfca::corrosion::CorrosionParams;
@@ -113,13 +115,16 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
         Some(h) => CellSize::Size(h),
         None => CellSize::Count(a.cells),
     };
-    let cov = cover(
-        load_mesh(&a.mesh, &ctx.budget)?,
-        &a.mesh,
-        a.repair,
-        size,
-        &ctx.budget,
-    )?;
+    let mesh = load_mesh(&a.mesh, &ctx.budget)?;
+    // Refuse a run no machine could finish before building its cells.
+    let kind = match a.app {
+        SurfaceApp::Voronoi => AppKind::Voronoi(a.max_steps),
+        _ => AppKind::Steps(a.steps),
+    };
+    if let Ok(cells) = asperity_surfca::cells::estimated_count(&mesh, size) {
+        check_time(cells, &kind, &ctx.time)?;
+    }
+    let cov = cover(mesh, &a.mesh, a.repair, size, &ctx.budget)?;
     if let Some(r) = &cov.repair {
         if r.dropped_degenerate > 0 || r.flipped > 0 || r.split_vertices > 0 {
             run.note(format!(

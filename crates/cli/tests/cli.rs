@@ -594,6 +594,12 @@ fn analyze_and_generate() {
     let o = asperity(&["--json", "analyze", "f.npy", "--level", "mean"], d.path());
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    // The clock runs from before the reading: a 128² analysis takes a while.
+    assert!(
+        v["elapsed_s"].as_f64().unwrap() > 1e-4,
+        "{}",
+        v["elapsed_s"]
+    );
     let m = &v["measurements"];
     for k in [
         "Sa", "Sq", "Sp", "Sv", "Sz", "Ssk", "Sku", "Sdq", "Sdr", "hurst",
@@ -2460,6 +2466,29 @@ fn runs_of_years_are_refused_before_any_work() {
         "over the time limit of 1 s",
     );
     fails(dir, &["--max-time", "soon", "formats"], "not a duration");
+    // The surface-CA refusal comes before the cells are built: a mesh the
+    // cell builder would refuse (an edge of three triangles) is never reached.
+    std::fs::write(
+        dir.join("fin.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    )
+    .unwrap();
+    fails(
+        dir,
+        &[
+            "surface-ca",
+            "fin.obj",
+            "--app",
+            "corrosion",
+            "--cells",
+            "2000",
+            "--steps",
+            "18446744073709551615",
+            "-o",
+            "c.ply",
+        ],
+        "years",
+    );
     fails(
         dir,
         &[

@@ -34,6 +34,32 @@ pub struct Covered {
     pub cells_s: f64,
 }
 
+/// What a run of an application will take, before its sites are chosen: its
+/// kind and step count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AppKind {
+    /// Voronoi growth, at most this many steps.
+    Voronoi(u64),
+    /// Corrosion or Gray–Scott, this many steps.
+    Steps(u64),
+}
+
+/// Refuses a run of `app` on about `cells` cells that no machine could finish
+/// within `time` — before the cells are built when `cells` is
+/// [`asperity_surfca::cells::estimated_count`].
+///
+/// # Errors
+/// [`crate::EngineError`] of kind time, with the estimate.
+pub fn check_time(cells: f64, app: &AppKind, time: &TimeBudget) -> Result<()> {
+    // Voronoi stops once its fronts have crossed the surface, about √cells
+    // steps: only what it must run counts.
+    let steps = match *app {
+        AppKind::Voronoi(max_steps) => (max_steps as f64).min(2.0 * cells.sqrt()),
+        AppKind::Steps(steps) => steps as f64,
+    };
+    crate::estimate::check(time, &crate::estimate::surface_ca(cells, steps))
+}
+
 /// Checks `mesh` (after repairing it when `fix`) and covers it with cells of
 /// `size`; `name` names it in messages.
 ///
@@ -326,6 +352,14 @@ impl App {
         }
     }
 
+    /// Its kind and step count (see [`check_time`]).
+    pub fn kind(&self) -> AppKind {
+        match self {
+            App::Voronoi { max_steps, .. } => AppKind::Voronoi(*max_steps),
+            _ => AppKind::Steps(self.steps()),
+        }
+    }
+
     /// `voronoi`, `corrosion` or `gray-scott`.
     pub fn name(&self) -> &'static str {
         match self {
@@ -453,14 +487,7 @@ pub fn run_app(
     mut on_step: impl FnMut(u64, &dyn Fn(usize) -> [u8; 4]),
 ) -> Result<AppRun> {
     let cells = &cov.cells;
-    // Voronoi stops once its fronts have crossed the surface, about √cells
-    // steps: only what it must run counts.
-    let n = cells.len() as f64;
-    let steps = match &app {
-        App::Voronoi { max_steps, .. } => (*max_steps as f64).min(2.0 * n.sqrt()),
-        _ => app.steps() as f64,
-    };
-    crate::estimate::check(time, &crate::estimate::surface_ca(n, steps))?;
+    check_time(cells.len() as f64, &app.kind(), time)?;
     let t = Instant::now();
     let (state, stats, classes) = match &app {
         App::Voronoi {

@@ -42,7 +42,7 @@ pub use error::IoError;
 use error::{FResult, FormatError};
 pub use npy::NpyDtype;
 pub use ply::PlyEncoding;
-pub use staging::{Transaction, exit_removing_temporaries, stale_temporaries};
+pub use staging::{Transaction, create_output_dir, exit_removing_temporaries, stale_temporaries};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]

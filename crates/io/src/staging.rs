@@ -24,6 +24,9 @@ use crate::IoError;
 type Staged = (TempPath, PathBuf, Live);
 
 static STAGED: Mutex<Option<Vec<Staged>>> = Mutex::new(None);
+/// Folders made for outputs while a transaction is open, deepest first: an
+/// uncommitted transaction removes the ones it left empty.
+static MADE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 /// Names that look like our temporaries, per folder, as found at the first
 /// write into it (before this process made any there).
@@ -161,6 +164,31 @@ pub fn exit_removing_temporaries(code: i32) -> ! {
     std::process::exit(code);
 }
 
+/// Makes the folder `dir` and any missing parents for outputs. While a
+/// [`Transaction`] is open the folders made are recorded, and dropping the
+/// transaction uncommitted removes those it leaves empty, so a failed command
+/// leaves no empty output folder behind.
+///
+/// # Errors
+/// [`IoError::Os`] when a folder cannot be made.
+pub fn create_output_dir(dir: &Path) -> Result<(), IoError> {
+    let mut missing = Vec::new();
+    let mut d = Some(dir);
+    while let Some(p) = d {
+        if p.as_os_str().is_empty() || p.exists() {
+            break;
+        }
+        missing.push(p.to_path_buf());
+        d = p.parent();
+    }
+    std::fs::create_dir_all(dir).map_err(|e| IoError::os(dir, e))?;
+    if lock(&STAGED).is_some() {
+        // `missing` runs from `dir` up: deepest first, the order to remove them.
+        lock(&MADE).extend(missing);
+    }
+    Ok(())
+}
+
 /// The outputs of one command, committed together (see the module docs). Only
 /// one is open at a time in a process: it is meant for a command-line run.
 #[must_use = "outputs are only renamed into place by commit()"]
@@ -170,6 +198,7 @@ impl Transaction {
     /// Starts staging every write.
     pub fn begin() -> Self {
         *lock(&STAGED) = Some(Vec::new());
+        lock(&MADE).clear();
         Self(())
     }
 
@@ -179,6 +208,7 @@ impl Transaction {
     /// [`IoError::Os`] when a rename fails; the files not yet renamed are
     /// deleted.
     pub fn commit(self) -> Result<(), IoError> {
+        lock(&MADE).clear();
         let staged = lock(&STAGED).take().unwrap_or_default();
         for (tmp, path, live) in staged {
             tmp.persist(&path)
@@ -195,6 +225,11 @@ impl Drop for Transaction {
         // target as it was.
         let staged = lock(&STAGED).take();
         drop(staged);
+        // Then the folders made for them, where now empty (remove_dir refuses
+        // a folder with anything in it).
+        for dir in std::mem::take(&mut *lock(&MADE)) {
+            let _ = std::fs::remove_dir(&dir);
+        }
     }
 }
 

@@ -1,4 +1,4 @@
-//! Outputs committed together, symlinks and special files (#20). One test
+//! Outputs committed together, their folders, symlinks and special files (#20). One test
 //! binary of its own: a transaction is process-wide.
 
 use std::path::Path;
@@ -76,4 +76,18 @@ fn outputs_are_committed_together_links_followed_and_fifos_kept() {
             assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
         }
     }
+
+    // Folders made for the outputs of a failed command are removed; a
+    // committed one keeps them.
+    let plots = d.path().join("plots/deep");
+    let tx = Transaction::begin();
+    asperity_io::create_output_dir(&plots).unwrap();
+    assert!(plots.is_dir());
+    drop(tx);
+    assert!(!d.path().join("plots").exists(), "an empty folder was left");
+    let tx = Transaction::begin();
+    asperity_io::create_output_dir(&plots).unwrap();
+    write_text(&plots.join("p.svg"), "<svg/>").unwrap();
+    tx.commit().unwrap();
+    assert_eq!(names(&plots), vec!["p.svg"]);
 }

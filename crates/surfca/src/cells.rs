@@ -339,6 +339,18 @@ fn measure(pos: &[[f64; 3]], tris: &[[u32; 3]]) -> Result<MeshMeasures, CoreErro
     Ok(m)
 }
 
+/// About how many cells [`build`] makes on `mesh` for `size` (A/h² + 0.64·P/h,
+/// the relation [`CellSize::Count`] solves), without building them: for checks
+/// of time and memory before the work.
+///
+/// # Errors
+/// The mesh's (degenerate or non-finite) or a bad size.
+pub fn estimated_count(mesh: &TriMesh, size: CellSize) -> Result<f64, CoreError> {
+    let m = measure(mesh.positions(), mesh.triangles())?;
+    let h = cell_side(size, &m)?;
+    Ok(m.area / (h * h) + 0.64 * m.perimeter / h)
+}
+
 /// The cell side for `size` on a mesh of these measures.
 fn cell_side(size: CellSize, m: &MeshMeasures) -> Result<f64, CoreError> {
     let h = match size {
