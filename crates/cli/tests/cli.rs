@@ -672,7 +672,15 @@ fn analyze_and_generate() {
         "1,1,1,1\n1,1,1,1\n1,1,1,1\n1,1,1,1\n",
     )
     .unwrap();
-    fails(d.path(), &["analyze", "flat.csv"], "constant");
+    // A constant field is analysed, not refused: zeros where defined, null
+    // where not, and a warning.
+    let o = asperity(&["--json", "analyze", "flat.csv"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("constant (z = 1)"), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let m = &v["measurements"];
+    assert_eq!((m["Sa"].as_f64(), m["Sq"].as_f64()), (Some(0.0), Some(0.0)));
+    assert!(m["Ssk"].is_null() && m["Sku"].is_null() && m["hurst"].is_null());
     fails(
         d.path(),
         &["analyze", "f.npy", "--fit-window", "5,1"],

@@ -211,6 +211,11 @@ fn prepare(h: &HeightField, o: &AnalyzeOptions) -> Result<Prepared> {
 
 /// The report on a height field (or a profile, when it has one row).
 fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
+    h.validate()?;
+    let (lo, hi) = h.min_max();
+    if lo == hi {
+        return Ok(constant(h, lo));
+    }
     let p = prepare(h, o)?;
     let lv = &p.levelled;
     let profile = h.ny() == 1;
@@ -275,6 +280,50 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
         plots,
         warnings,
     })
+}
+
+/// The report of a constant field z = `c`: every height, slope and area
+/// parameter is 0 (Sdr too: the surface is its own projection); skewness,
+/// kurtosis, spectra, Hurst exponents, dimensions and correlation lengths are
+/// undefined — null, with one warning saying why.
+fn constant(h: &HeightField, c: f64) -> Analysis {
+    let profile = h.ny() == 1;
+    let zeros = |p: &str| {
+        let mut m = serde_json::Map::new();
+        for k in ["a", "q", "p", "v", "z", "dq"] {
+            m.insert(format!("{p}{k}"), json!(0.0));
+        }
+        m.insert(format!("{p}sk"), Value::Null);
+        m.insert(format!("{p}ku"), Value::Null);
+        Value::Object(m)
+    };
+    let mut facts = if profile {
+        let mut f = Measurements::from_value(json!({"kind": "profile"}));
+        f.set("profile_x", zeros("R"));
+        f
+    } else {
+        let mut f = Measurements::from_value(zeros("S"));
+        f.set("Sdr", 0.0);
+        f.set("kind", "height field");
+        f.set("profile_x", zeros("R"));
+        f.set("profile_y", zeros("R"));
+        f.set("Sal", Value::Null);
+        f.set("Str", Value::Null);
+        f
+    };
+    facts.set("size", h.dims());
+    facts.set("spacing", h.spacing());
+    facts.set("constant", c);
+    facts.set("hurst", Value::Null);
+    facts.set("hurst_estimates", Value::Null);
+    facts.set("fractal_dimension", Value::Null);
+    Analysis {
+        facts,
+        plots: Vec::new(),
+        warnings: vec![format!(
+            "the height field is constant (z = {c}): its height, slope and area parameters are 0; skewness, kurtosis, the spectrum, Hurst exponents and dimensions are undefined (null)"
+        )],
+    }
 }
 
 /// The mode (periodicity, levelling, window) and the ISO 25178 / ISO 4287
