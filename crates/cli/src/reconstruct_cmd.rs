@@ -164,11 +164,8 @@ pub fn dla_terrain(ctx: &Context, a: &DlaTerrainArgs) -> anyhow::Result<()> {
     let run = Run::new(ctx, "generate dla-terrain");
     let grown = reconstruct::dla_terrain(
         size,
-        a.particles.unwrap_or(if a.level_set.paper {
-            reconstruct::PAPER_TERRAIN_PARTICLES
-        } else {
-            6_000
-        }),
+        a.particles
+            .unwrap_or(reconstruct::terrain_particles(a.level_set.paper)),
         (a.stick, a.sides.into()),
         (ctx.seed, &ctx.budget, &ctx.time, &ctx.bar()),
     )?;

@@ -140,6 +140,16 @@ impl Job {
     }
 }
 
+/// Particles of `generate dla-terrain`: the default (6 000, which stays below
+/// the top of a 64-cell lattice), or [`PAPER_TERRAIN_PARTICLES`] for `--paper`.
+pub fn terrain_particles(paper: bool) -> usize {
+    if paper {
+        PAPER_TERRAIN_PARTICLES
+    } else {
+        6_000
+    }
+}
+
 /// The paper's particle count for a DLA terrain on a 64³ lattice: a deposit
 /// about 20 cells high, which the paper's 49-node grid height implies.
 pub const PAPER_TERRAIN_PARTICLES: usize = 2_500;

@@ -233,6 +233,20 @@ mod tests {
             .collect()
     }
 
+    /// Runs sorted and apart, each within one row of its own plane.
+    fn well_formed(t: &RunTube, g: &GridSpec) {
+        for (k, plane) in t.planes.iter().enumerate() {
+            for w in plane.windows(2) {
+                assert!(w[0].end() < w[1].start, "runs sorted and apart");
+            }
+            for r in plane {
+                assert_eq!(g.coords(r.start as usize)[2], k);
+                let last = g.coords((r.end() - 1) as usize);
+                assert_eq!(last[1], g.coords(r.start as usize)[1], "one row per run");
+            }
+        }
+    }
+
     /// Dilation equals the 6-neighbourhood union computed node by node.
     #[test]
     fn dilation_is_the_six_neighbourhood() {
@@ -267,16 +281,7 @@ mod tests {
         }
         assert_eq!(nodes(&grown), expected);
         assert_eq!(grown.nodes(), expected.len());
-        for (k, plane) in grown.planes.iter().enumerate() {
-            for w in plane.windows(2) {
-                assert!(w[0].end() < w[1].start, "runs sorted and apart");
-            }
-            for r in plane {
-                assert_eq!(g.coords(r.start as usize)[2], k);
-                let last = g.coords((r.end() - 1) as usize);
-                assert_eq!(last[1], g.coords(r.start as usize)[1], "one row per run");
-            }
-        }
+        well_formed(&grown, &g);
     }
 
     /// The cube dilation equals the 26-neighbourhood union node by node.
@@ -309,16 +314,7 @@ mod tests {
             }
         }
         assert_eq!(nodes(&grown), expected);
-        for (k, plane) in grown.planes.iter().enumerate() {
-            for w in plane.windows(2) {
-                assert!(w[0].end() < w[1].start, "runs sorted and apart");
-            }
-            for r in plane {
-                assert_eq!(g.coords(r.start as usize)[2], k);
-                let last = g.coords((r.end() - 1) as usize);
-                assert_eq!(last[1], g.coords(r.start as usize)[1], "one row per run");
-            }
-        }
+        well_formed(&grown, &g);
     }
 
     #[test]
