@@ -1,6 +1,7 @@
 //! The Python interpreter for the tests that run independent reference code
 //! (`tests/python/requirements.txt`: numpy, plyfile, trimesh, Pillow, OpenEXR,
-//! SurfaceTopography). Shared by the test crates through `#[path]`.
+//! SurfaceTopography) and the Python package's suite (pytest, tqdm, pandas,
+//! Dask distributed, nbclient, ipykernel, matplotlib). Shared by the test crates through `#[path]`.
 //!
 //! The interpreter is `$ASPERITY_PYTHON`, else `.venv/bin/python` at the
 //! workspace root, else a virtual environment created under
@@ -11,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Every module the reference scripts import.
-const MODULES: &str = "import numpy, plyfile, trimesh, PIL, OpenEXR, SurfaceTopography";
+const MODULES: &str = "import numpy, plyfile, trimesh, PIL, OpenEXR, SurfaceTopography, pytest, tqdm, pandas, distributed, nbclient, ipykernel, matplotlib";
 
 /// The workspace root.
 pub fn workspace() -> PathBuf {

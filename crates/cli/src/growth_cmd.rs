@@ -53,8 +53,7 @@ fn deposit(ctx: &Context, model: Model, a: &DepositArgs) -> anyhow::Result<()> {
         asperity_io::write_npy_f64(&out, &[a.size], &h)?;
         run.report.output(&out);
     } else {
-        let title = format!("{name} L={} T={}", a.size, a.layers);
-        run.height(&out, &r.deposit.height_field(), title)?;
+        run.height(&out, &r.deposit.height_field(), job.title())?;
     }
     if let Some(pp) = &a.points {
         run.points(pp, r.deposit.point_set().positions().to_vec(), name)?;

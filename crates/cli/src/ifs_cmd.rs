@@ -7,12 +7,11 @@ use std::time::Instant;
 use asperity_core::TriMesh;
 use asperity_engine::files::{extension, require_mesh_format};
 use asperity_engine::ifs::{
-    CurvatureReport, Loaded, ModelSpec, control_net, curvature_report, figure, load, pair,
-    sdcf_for, surface_mesh,
+    CurvatureReport, Loaded, ModelSpec, control_net, curvature_doc, curvature_report, dcf_for,
+    figure, load, pair, sdcf_for, surface_mesh,
 };
-use asperity_ifs::sdcf::{Start, dcf_polyline, start_point};
+use asperity_ifs::sdcf::Start;
 use asperity_ifs::{DirectionAnalysis, FamilyOptions, PresetParams, preset, preset_names};
-use serde_json::{Value, json};
 
 use crate::cli::{
     BoundArg, IfsCommand, IfsCurvatureArgs, IfsCurveArgs, IfsDcfArgs, IfsModelArgs, IfsPresetArgs,
@@ -44,6 +43,7 @@ fn model(a: &IfsModelArgs) -> anyhow::Result<Loaded> {
     Ok(load(&ModelSpec {
         preset: a.preset.clone(),
         file: a.ifs.clone(),
+        json: None,
         params: params(&a.params),
         control: a.control.clone(),
         moves: a.moves.clone(),
@@ -56,16 +56,7 @@ fn model(a: &IfsModelArgs) -> anyhow::Result<Loaded> {
 
 fn presets(ctx: &Context) -> anyhow::Result<()> {
     if ctx.json {
-        let v: Vec<Value> = preset_names()
-            .iter()
-            .map(|(n, d)| {
-                let kind = match preset(n, &PresetParams::default()).map(|f| f.surface.is_some()) {
-                    Ok(true) => "surface",
-                    _ => "curve",
-                };
-                json!({"name": n, "kind": kind, "description": d})
-            })
-            .collect();
+        let v = asperity_engine::ifs::presets();
         outln!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
@@ -188,16 +179,17 @@ fn start(bound: Option<BoundArg>, param: f64) -> Start {
 fn dcf(ctx: &Context, a: &IfsDcfArgs) -> anyhow::Result<()> {
     let (name, c, opts) = model(&a.model)?.curve()?;
     let out = ctx.output("FILE (e.g. -o dcf.svg, dcf.csv or dcf.obj)")?;
-    let an = DirectionAnalysis::new(&c.pifs, &opts);
     let i = a.operator as usize;
-    let op = &an.operators[i];
-    let s0 = a.start.unwrap_or(1.0 - i as f64);
-    let q = start_point(&c.pifs, op, start(a.bound, s0))?;
-    let pts = dcf_polyline(&c, op, &q, a.samples)?;
+    let first = start(a.bound, a.start.unwrap_or(1.0 - i as f64));
+    let d = dcf_for(&c, &opts, i, Some(first), a.samples)?;
+    let (pts, class) = (d.points, d.class);
     let mut run = Run::new(ctx, "ifs dcf");
     match extension(&out).as_str() {
         "csv" => run.text(&out, &csv("t,x,y,z", &pts, 3, a.samples as f64))?,
-        "svg" => run.text(&out, &figure(&c, &an, &name, a.family, Some((i, &pts)))?)?,
+        "svg" => {
+            let an = DirectionAnalysis::new(&c.pifs, &opts);
+            run.text(&out, &figure(&c, &an, &name, a.family, Some((i, &pts)))?)?
+        }
         "obj" | "ply" => write_lines(&mut run, &out, std::slice::from_ref(&pts))?,
         e => anyhow::bail!(
             "{}: a DCF is written as .svg, .csv or .obj/.ply (a polyline), not .{e}",
@@ -205,13 +197,11 @@ fn dcf(ctx: &Context, a: &IfsDcfArgs) -> anyhow::Result<()> {
         ),
     }
     run.report.measure("operator", i);
-    run.report.measure("class", op.class.name());
-    run.report
-        .measure("alpha", op.dcf.as_ref().map(|d| d.alpha.clone()));
+    run.report.measure("class", class);
+    run.report.measure("alpha", d.alpha);
     run.report.measure("samples", a.samples);
     run.note(format!(
-        "DCF of T{i} ({}) written to {}",
-        op.class.name(),
+        "DCF of T{i} ({class}) written to {}",
         out.display()
     ));
     run.finish()
@@ -260,26 +250,8 @@ fn curvature(ctx: &Context, a: &IfsCurvatureArgs) -> anyhow::Result<()> {
     let l = model(&a.model)?;
     let t = Instant::now();
     let report = curvature_report(&l, &a.at)?;
-    let file = l.file();
-    let mut doc = json!({
-        "model": l.name,
-        "family": {"dyadic_depth": l.opts.dyadic_depth, "period": l.opts.period},
-    });
-    match &report {
-        CurvatureReport::Curve(ops, at) => {
-            doc["kind"] = json!("curve");
-            doc["control_points"] = json!(file.curve.as_ref().map(|c| &c.control_points));
-            doc["operators"] = serde_json::to_value(ops)?;
-            doc["at"] = serde_json::to_value(at)?;
-        }
-        CurvatureReport::Surface(ops, at) => {
-            doc["kind"] = json!("surface");
-            doc["control_points"] = json!(file.surface.as_ref().map(|s| &s.control_points));
-            doc["operators"] = serde_json::to_value(ops)?;
-            doc["at"] = serde_json::to_value(at)?;
-        }
-    }
-    doc["seconds"] = json!(t.elapsed().as_secs_f64());
+    let mut doc = curvature_doc(&l, &report)?;
+    doc["seconds"] = serde_json::json!(t.elapsed().as_secs_f64());
     if ctx.json {
         outln!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());

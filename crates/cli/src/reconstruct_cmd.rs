@@ -5,10 +5,9 @@
 use std::path::{Path, PathBuf};
 
 use asperity_engine::files::{load_points, numbered, require_mesh_format};
-use asperity_engine::reconstruct::{self, Grown, Job};
+use asperity_engine::reconstruct::{self, Grown, Job, LevelSetOptions};
 use asperity_levelset::{
-    Band, DistanceMethod, ExtractOptions, FlowChoice, Neighbourhood, ReconstructParams, Scheme,
-    Sizing, TagRule,
+    DistanceMethod, FlowChoice, Neighbourhood, ReconstructParams, Scheme, TagRule,
 };
 
 use crate::cli::{
@@ -18,27 +17,14 @@ use crate::cli::{
 use crate::context::{Context, Run};
 
 fn params(a: &LevelSetArgs, job: Job) -> ReconstructParams {
-    let d = &job.defaults(a.paper);
-    let sizing = match (a.resolution, a.spacing) {
-        (Some(n), _) => Sizing::Resolution(n),
-        (None, Some(h)) => Sizing::Spacing(h),
-        (None, None) => d.sizing,
-    };
-    ReconstructParams {
-        sizing,
-        offset: a.offset.or(d.offset),
-        tube_cells: a.tube,
-        beta_cells: a.beta,
-        distance: match a.distance {
-            None => d.distance,
-            Some(DistanceArg::ClosestPoint) => DistanceMethod::ClosestPoint,
-            Some(DistanceArg::Godunov) => DistanceMethod::GODUNOV,
-        },
-        tag_rule: match a.tagging {
-            TagRuleArg::Paper => TagRule::Paper,
-            TagRuleArg::Threshold => TagRule::Threshold,
-        },
-        iterations: a.iterations.unwrap_or(d.iterations),
+    LevelSetOptions {
+        paper: a.paper,
+        resolution: a.resolution,
+        spacing: a.spacing,
+        offset: a.offset,
+        iterations: a.iterations,
+        tolerance: a.tolerance,
+        point_radius: a.point_radius,
         scheme: match a.scheme {
             SchemeArg::Eno2 => Scheme::Eno2,
             SchemeArg::Upwind => Scheme::Upwind,
@@ -50,26 +36,28 @@ fn params(a: &LevelSetArgs, job: Job) -> ReconstructParams {
             },
             FlowArg::Zhao => FlowChoice::Zhao,
         },
+        distance: a.distance.map(|d| match d {
+            DistanceArg::ClosestPoint => DistanceMethod::ClosestPoint,
+            DistanceArg::Godunov => DistanceMethod::GODUNOV,
+        }),
+        neighbourhood: a.tube_n.map(|n| match n {
+            TubeNArg::Axes => Neighbourhood::Axes,
+            TubeNArg::Cube => Neighbourhood::Cube,
+        }),
+        tag_rule: match a.tagging {
+            TagRuleArg::Paper => TagRule::Paper,
+            TagRuleArg::Threshold => TagRule::Threshold,
+        },
+        tube_cells: a.tube,
+        beta_cells: a.beta,
         cfl: a.cfl,
         redistance_iterations: a.redistance,
-        tolerance: a.tolerance,
-        band: if a.full_grid {
-            Band::Full
-        } else {
-            Band::Narrow
-        },
-        point_radius: a.point_radius.or(d.point_radius),
-        extract: ExtractOptions {
-            curvature: a.curvature,
-            min_shell_triangles: a.min_shell,
-        },
-        snapshot_every: a.save_every,
-        neighbourhood: match a.tube_n {
-            None => d.neighbourhood,
-            Some(TubeNArg::Axes) => Neighbourhood::Axes,
-            Some(TubeNArg::Cube) => Neighbourhood::Cube,
-        },
+        full_grid: a.full_grid,
+        curvature: a.curvature,
+        min_shell_triangles: a.min_shell,
+        save_every: a.save_every,
     }
+    .params(job)
 }
 
 fn mesh_output(ctx: &Context) -> anyhow::Result<PathBuf> {

@@ -57,11 +57,7 @@ fn view(a: &RenderArgs, surface: &Surface) -> View {
 }
 
 fn options(a: &RenderArgs, surface: &Surface, colormap: ColorMap, ctx: &Context) -> RenderOptions {
-    let default_shader = match surface {
-        Surface::Height(_) => Shader::Height,
-        Surface::Points(p) if p.colors().is_some() => Shader::VertexColor,
-        _ => Shader::Phong,
-    };
+    let default_shader = asperity_engine::render::default_shader(surface);
     RenderOptions {
         width: a.size.0,
         height: a.size.1,

@@ -58,20 +58,27 @@ pub enum ErrorKind {
 impl EngineError {
     /// The kind of failure.
     pub fn kind(&self) -> ErrorKind {
-        let core = match self {
-            EngineError::Core(e) => Some(e),
-            EngineError::Growth(GrowthError::Core(e))
+        if let EngineError::File(IoError::Os { .. }) = self {
+            return ErrorKind::Os;
+        }
+        match self.core() {
+            Some(CoreError::MemoryLimit { .. }) => ErrorKind::Memory,
+            Some(CoreError::TimeLimit { .. }) => ErrorKind::Time,
+            _ => ErrorKind::Invalid,
+        }
+    }
+
+    /// The shared-type error behind this one, if any (a memory refusal's
+    /// estimate, for a front end that reports it as numbers).
+    pub fn core(&self) -> Option<&CoreError> {
+        match self {
+            EngineError::Core(e)
+            | EngineError::Growth(GrowthError::Core(e))
             | EngineError::Ca(CaError::Core(e))
             | EngineError::Ifs(IfsError::Core(e))
             | EngineError::Analysis(AnalysisError::Core(e))
             | EngineError::Render(RenderError::Core(e)) => Some(e),
-            EngineError::File(IoError::Os { .. }) => return ErrorKind::Os,
             _ => None,
-        };
-        match core {
-            Some(CoreError::MemoryLimit { .. }) => ErrorKind::Memory,
-            Some(CoreError::TimeLimit { .. }) => ErrorKind::Time,
-            _ => ErrorKind::Invalid,
         }
     }
 }

@@ -28,6 +28,9 @@ pub struct ModelSpec {
     pub preset: Option<String>,
     /// … or a model file (JSON).
     pub file: Option<std::path::PathBuf>,
+    /// A model file's JSON text given inline (the Python package builds it
+    /// from arrays); used when neither a preset nor a file is named.
+    pub json: Option<String>,
     /// Preset parameters (w, degree, height).
     pub params: PresetParams,
     /// A file of control points replacing the model's (JSON or CSV).
@@ -66,7 +69,17 @@ pub fn load(spec: &ModelSpec) -> Result<Loaded> {
                 .map_err(|e| invalid(format!("{}: {e}", path.display())))?;
             (f.name.clone(), f)
         }
-        (None, None) => return Err(invalid("give --preset NAME or --ifs FILE")),
+        (None, None) => match &spec.json {
+            Some(text) => {
+                ensure(*p == PresetParams::default(), || {
+                    "--w, --degree and --height apply to presets; edit the model file instead"
+                        .into()
+                })?;
+                let f = ModelFile::from_json(text).map_err(|e| invalid(format!("model: {e}")))?;
+                (f.name.clone(), f)
+            }
+            None => return Err(invalid("give --preset NAME or --ifs FILE")),
+        },
     };
     let mut model = file
         .build()
@@ -575,4 +588,93 @@ pub fn pair<T: std::str::FromStr>(s: &str, what: &str) -> Result<(T, T)> {
             .map_err(|_| invalid(format!("{what} {s:?}: {x:?} is not valid")))
     };
     Ok((p(a)?, p(b)?))
+}
+
+/// Every preset with its kind ("curve" or "surface") and description, as the
+/// CLI's `ifs presets --json` lists them.
+pub fn presets() -> Vec<Value> {
+    asperity_ifs::preset_names()
+        .iter()
+        .map(|(n, d)| {
+            let kind = match preset(n, &PresetParams::default()).map(|f| f.surface.is_some()) {
+                Ok(true) => "surface",
+                _ => "curve",
+            };
+            serde_json::json!({"name": n, "kind": kind, "description": d})
+        })
+        .collect()
+}
+
+/// A DCF drawn as a polyline, with what its operator is.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DcfCurve {
+    /// The polyline's points.
+    pub points: Vec<[f64; 3]>,
+    /// The operator's class name.
+    pub class: &'static str,
+    /// Its α exponents, when it has a DCF.
+    pub alpha: Option<Vec<f64>>,
+}
+
+/// The DCF of operator `i` of a curve (poull-gentil §3): its polyline of
+/// `samples` + 1 points from the start (`start`, else the operator's fixed
+/// end 1 − i, or a bound), with the operator's class and its α exponents.
+///
+/// # Errors
+/// The IFS's (no DCF for the operator, a start outside [0, 1]).
+pub fn dcf_for(
+    c: &CurveIfs,
+    opts: &FamilyOptions,
+    i: usize,
+    start: Option<Start>,
+    samples: usize,
+) -> Result<DcfCurve> {
+    ensure(i < 2, || format!("--operator {i}: the operator is 0 or 1"))?;
+    let an = DirectionAnalysis::new(&c.pifs, opts);
+    let op = &an.operators[i];
+    let q = start_point(
+        &c.pifs,
+        op,
+        start.unwrap_or(Start::Parameter(1.0 - i as f64)),
+    )?;
+    Ok(DcfCurve {
+        points: dcf_polyline(c, op, &q, samples)?,
+        class: op.class.name(),
+        alpha: op.dcf.as_ref().map(|d| d.alpha.clone()),
+    })
+}
+
+/// The CLI's `ifs curvature --json` document (without its timing): the
+/// model, its family options, control points, per-operator reports and the
+/// reports at the asked points.
+///
+/// # Errors
+/// Serialising a report (never for finite numbers).
+pub fn curvature_doc(l: &Loaded, report: &CurvatureReport) -> Result<Value> {
+    let file = l.file();
+    let mut doc = serde_json::json!({
+        "model": l.name,
+        "family": {"dyadic_depth": l.opts.dyadic_depth, "period": l.opts.period},
+    });
+    match report {
+        CurvatureReport::Curve(ops, at) => {
+            doc["kind"] = "curve".into();
+            doc["control_points"] =
+                serde_json::json!(file.curve.as_ref().map(|c| &c.control_points));
+            doc["operators"] = json_value(ops)?;
+            doc["at"] = json_value(at)?;
+        }
+        CurvatureReport::Surface(ops, at) => {
+            doc["kind"] = "surface".into();
+            doc["control_points"] =
+                serde_json::json!(file.surface.as_ref().map(|s| &s.control_points));
+            doc["operators"] = json_value(ops)?;
+            doc["at"] = json_value(at)?;
+        }
+    }
+    Ok(doc)
+}
+
+fn json_value(v: &impl serde::Serialize) -> Result<Value> {
+    serde_json::to_value(v).map_err(|e| invalid(format!("a curvature report: {e}")))
 }

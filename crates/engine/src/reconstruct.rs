@@ -7,8 +7,8 @@ use asperity_growth::Model;
 use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla};
 use asperity_levelset::{
-    DistanceMethod, Length, Neighbourhood, ReconstructParams, Reconstruction, Sizing, extract,
-    reconstruct,
+    Band, DistanceMethod, ExtractOptions, FlowChoice, Length, Neighbourhood, ReconstructParams,
+    Reconstruction, Scheme, Sizing, TagRule, extract, reconstruct,
 };
 use serde_json::json;
 
@@ -30,6 +30,119 @@ pub struct Defaults {
     pub neighbourhood: Neighbourhood,
     /// The arrest distance δ; `None` sets it from the sample spacing.
     pub point_radius: Option<f64>,
+}
+
+/// What a front end asks of a reconstruction, every choice optional where the
+/// job has a default ([`Job::defaults`]): the CLI's level-set flags and the
+/// Python keywords map one to one onto these fields.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LevelSetOptions {
+    /// The paper's settings for what is not given (`--paper`).
+    pub paper: bool,
+    /// Cells along the longest axis (wins over `spacing`).
+    pub resolution: Option<usize>,
+    /// Grid spacing h in the points' units.
+    pub spacing: Option<f64>,
+    /// ε, in world units or grid cells.
+    pub offset: Option<Length>,
+    /// Time steps.
+    pub iterations: Option<usize>,
+    /// Stop when the front moves less than this per step.
+    pub tolerance: Option<f64>,
+    /// The arrest distance δ.
+    pub point_radius: Option<f64>,
+    /// The convection scheme.
+    pub scheme: Scheme,
+    /// The flow.
+    pub flow: FlowChoice,
+    /// The unsigned-distance method.
+    pub distance: Option<DistanceMethod>,
+    /// The redistancing tube N.
+    pub neighbourhood: Option<Neighbourhood>,
+    /// The inside/outside tagging rule.
+    pub tag_rule: TagRule,
+    /// The flow tube's half-width in cells.
+    pub tube_cells: f64,
+    /// The reinitialisation band's half-width in cells.
+    pub beta_cells: f64,
+    /// CFL number.
+    pub cfl: f64,
+    /// Redistancing iterations per step.
+    pub redistance_iterations: usize,
+    /// Evolve the whole grid instead of the narrow band.
+    pub full_grid: bool,
+    /// Mean curvature per vertex on the mesh.
+    pub curvature: bool,
+    /// Shells with fewer triangles are dropped.
+    pub min_shell_triangles: usize,
+    /// A mesh every this many steps.
+    pub save_every: Option<usize>,
+}
+
+impl Default for LevelSetOptions {
+    /// The CLI's defaults.
+    fn default() -> Self {
+        Self {
+            paper: false,
+            resolution: None,
+            spacing: None,
+            offset: None,
+            iterations: None,
+            tolerance: None,
+            point_radius: None,
+            scheme: Scheme::Eno2,
+            flow: FlowChoice::Convection,
+            distance: None,
+            neighbourhood: None,
+            tag_rule: TagRule::Paper,
+            tube_cells: 3.0,
+            beta_cells: 2.0,
+            cfl: 0.9,
+            redistance_iterations: 2,
+            full_grid: false,
+            curvature: false,
+            min_shell_triangles: MIN_SHELL_TRIANGLES,
+            save_every: None,
+        }
+    }
+}
+
+impl LevelSetOptions {
+    /// The parameters of `job` with these choices over its defaults.
+    pub fn params(&self, job: Job) -> ReconstructParams {
+        let d = job.defaults(self.paper);
+        let sizing = match (self.resolution, self.spacing) {
+            (Some(n), _) => Sizing::Resolution(n),
+            (None, Some(h)) => Sizing::Spacing(h),
+            (None, None) => d.sizing,
+        };
+        ReconstructParams {
+            sizing,
+            offset: self.offset.or(d.offset),
+            tube_cells: self.tube_cells,
+            beta_cells: self.beta_cells,
+            distance: self.distance.unwrap_or(d.distance),
+            tag_rule: self.tag_rule,
+            iterations: self.iterations.unwrap_or(d.iterations),
+            scheme: self.scheme,
+            flow: self.flow,
+            cfl: self.cfl,
+            redistance_iterations: self.redistance_iterations,
+            tolerance: self.tolerance,
+            band: if self.full_grid {
+                Band::Full
+            } else {
+                Band::Narrow
+            },
+            point_radius: self.point_radius.or(d.point_radius),
+            extract: ExtractOptions {
+                curvature: self.curvature,
+                min_shell_triangles: self.min_shell_triangles,
+            },
+            snapshot_every: self.save_every,
+            neighbourhood: self.neighbourhood.unwrap_or(d.neighbourhood),
+        }
+    }
 }
 
 /// `asperity reconstruct`: 128 cells along the longest axis, ε = 3h, 30 steps.

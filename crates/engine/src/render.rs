@@ -3,7 +3,7 @@
 
 use asperity_core::{Aabb, RgbaImage};
 use asperity_io::Surface;
-use asperity_render::{RenderOptions, View, render_height, render_mesh, render_points};
+use asperity_render::{RenderOptions, Shader, View, render_height, render_mesh, render_points};
 
 use crate::error::Result;
 
@@ -53,4 +53,14 @@ pub fn picture(s: &Surface, opts: &RenderOptions) -> Result<RgbaImage> {
         Surface::Points(p) => render_points(p, opts)?,
         Surface::Height(h) => render_height(h, opts)?,
     })
+}
+
+/// The shader a surface is drawn with when none is asked for: heights by a
+/// colour map, coloured points by their colours, anything else Phong.
+pub fn default_shader(s: &Surface) -> Shader {
+    match s {
+        Surface::Height(_) => Shader::Height,
+        Surface::Points(p) if p.colors().is_some() => Shader::VertexColor,
+        _ => Shader::Phong,
+    }
 }

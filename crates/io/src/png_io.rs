@@ -15,7 +15,7 @@ use asperity_core::{HeightField, RgbaImage};
 use crate::error::{FResult, FormatError, malformed};
 
 /// Encodes an RGBA8 image as PNG bytes.
-pub(crate) fn encode_rgba(img: &RgbaImage) -> Result<Vec<u8>, png::EncodingError> {
+pub fn encode_rgba(img: &RgbaImage) -> Result<Vec<u8>, png::EncodingError> {
     let mut out = Vec::new();
     let mut enc = png::Encoder::new(&mut out, img.width(), img.height());
     enc.set_color(png::ColorType::Rgba);

@@ -62,6 +62,12 @@ impl DepositionJob {
         }
     }
 
+    /// The title a height field of this run carries (where the format has
+    /// one): "rd L=256 T=100".
+    pub fn title(&self) -> String {
+        format!("{} L={} T={}", self.model.name(), self.size, self.layers)
+    }
+
     /// The β fit window actually used.
     fn window(&self) -> Result<[f64; 2]> {
         match self.fit_window {

@@ -1,0 +1,540 @@
+"""asperity's methods with the CLI's flag names and defaults as keywords.
+
+Each function calls one job of the Rust engine (the same code the ``asperity``
+CLI runs), so the same ``seed`` gives the same bytes as the CLI. Long jobs
+release the GIL, stop on Ctrl-C within about a second, and take
+``progress=True`` (a tqdm bar) or a callable ``(done, total, message)``.
+``threads=None`` uses every core; results do not depend on the count.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, Dict, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _asperity
+from ._run import call
+from .types import HeightField, Mesh, PointSet, _wrap
+
+Surface = Union[Mesh, HeightField, PointSet]
+
+
+class Result(dict):
+    """A job's result: a dict whose keys are also attributes
+    (``r.points``, ``r.measurements``)."""
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __repr__(self) -> str:
+        parts = []
+        for k, v in self.items():
+            if isinstance(v, np.ndarray):
+                parts.append(f"{k}=<array {v.shape} {v.dtype}>")
+            elif isinstance(v, dict):
+                parts.append(f"{k}={{{len(v)} keys}}")
+            else:
+                parts.append(f"{k}={v!r}")
+        return f"Result({', '.join(parts)})"
+
+
+def _parse(text: str) -> dict:
+    return json.loads(text)
+
+
+def set_limits(max_memory: Optional[int] = None, max_time: Optional[float] = None) -> None:
+    """Sets the memory budget (bytes; default half of RAM) and the time limit
+    (seconds; default one day; ``float('inf')`` for none) every job checks its
+    estimate against before it starts, as the CLI's ``--max-memory`` and
+    ``--max-time``."""
+    mt = 0 if max_time is None else (2**64 - 1 if max_time == float("inf") else max(1, int(max_time)))
+    _asperity.set_limits(int(max_memory or 0), mt)
+
+
+# ---------------------------------------------------------------- growth
+
+
+def _deposit(model, size, dim, layers, runs, relax, bin, samples_per_decade, fit_window,
+             alpha_sizes, points, substrate, radius, mesh, resolution, seed, threads, progress):
+    d = call(_asperity.deposit, model, size, dim, layers, runs, relax, bin, samples_per_decade,
+             None if fit_window is None else tuple(fit_window),
+             None if alpha_sizes is None else list(alpha_sizes), points, substrate, radius, mesh,
+             resolution, seed, threads, progress=progress)
+    m = _parse(d["measurements"])
+    r = Result(measurements=m, beta=m.get("beta"))
+    series = m.get("width_series") or []
+    r["width"] = {k: np.array([row[k] for row in series]) for k in (series[0] if series else {})}
+    r["alpha"] = (m.get("alpha") or {}).get("exponent")
+    if "heights" in d:
+        surface = HeightField._from(d["heights"], d["title"])
+        r["surface"] = surface
+        r["heights"] = surface.heights[0] if dim == 1 else surface.heights
+    if "points" in d:
+        r["points"] = PointSet._from(d["points"], d["title"])
+    return r
+
+
+_DEPOSIT_DOC = """{name} on a flat or curved substrate (kim-machiraju-thompson §4).
+
+    Parameters (the CLI's ``growth {cmd}`` flags):
+        size: columns per side L (default 256).
+        dim: substrate dimension d, 1 or 2 (default 2).
+        layers: monolayers T deposited (default 100).
+        runs: independent runs averaged for W(t) (default 1).{relax}
+        bin: max-height binning side ε in columns (must divide L; default none).
+        samples_per_decade: W(t) samples per decade of time (default 10).
+        fit_window: (t_min, t_max) of the β fit in monolayers.
+        alpha_sizes: sizes L for the saturated widths that give α.
+        points: also return every particle as ``points`` (lattice units).
+        substrate: "flat", "sphere" or "mesh" (curved substrates give points).
+        radius: sphere radius in cells (default 40).
+        mesh: a closed :class:`Mesh` substrate, voxelised at ``resolution`` cells.
+        seed: random seed (default 0, as the CLI's ``--seed``).
+
+    Returns a :class:`Result` with ``heights`` (``(L,)`` or ``(L, L)``), ``surface``
+    (a :class:`HeightField`), ``width`` (arrays ``t``, ``w2``…), ``beta``, ``alpha``,
+    ``points`` when asked, and ``measurements`` (the CLI's JSON keys).
+    """
+
+
+def rd(size: int = 256, dim: int = 2, layers: float = 100.0, runs: int = 1, bin: Optional[int] = None,
+       samples_per_decade: int = 10, fit_window: Optional[Sequence[float]] = None,
+       alpha_sizes: Optional[Sequence[int]] = None, points: bool = False, substrate: str = "flat",
+       radius: float = 40.0, mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 0,
+       threads: Optional[int] = None, progress=False) -> Result:
+    return _deposit("rd", size, dim, layers, runs, 1, bin, samples_per_decade, fit_window, alpha_sizes,
+                    points, substrate, radius, mesh, resolution, seed, threads, progress)
+
+
+def rdsr(size: int = 256, dim: int = 2, layers: float = 100.0, runs: int = 1, relax: int = 1,
+         bin: Optional[int] = None, samples_per_decade: int = 10,
+         fit_window: Optional[Sequence[float]] = None, alpha_sizes: Optional[Sequence[int]] = None,
+         points: bool = False, substrate: str = "flat", radius: float = 40.0,
+         mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 0,
+         threads: Optional[int] = None, progress=False) -> Result:
+    return _deposit("rdsr", size, dim, layers, runs, relax, bin, samples_per_decade, fit_window,
+                    alpha_sizes, points, substrate, radius, mesh, resolution, seed, threads, progress)
+
+
+def bd(size: int = 256, dim: int = 2, layers: float = 100.0, runs: int = 1, bin: Optional[int] = None,
+       samples_per_decade: int = 10, fit_window: Optional[Sequence[float]] = None,
+       alpha_sizes: Optional[Sequence[int]] = None, points: bool = False, substrate: str = "flat",
+       radius: float = 40.0, mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 0,
+       threads: Optional[int] = None, progress=False) -> Result:
+    return _deposit("bd", size, dim, layers, runs, 1, bin, samples_per_decade, fit_window, alpha_sizes,
+                    points, substrate, radius, mesh, resolution, seed, threads, progress)
+
+
+rd.__doc__ = _DEPOSIT_DOC.format(name="Random deposition (RD)", cmd="rd", relax="")
+rdsr.__doc__ = _DEPOSIT_DOC.format(
+    name="Random deposition with surface relaxation (RDSR)", cmd="rdsr",
+    relax="\n        relax: relaxation radius in columns (default 1, the Family model).")
+bd.__doc__ = _DEPOSIT_DOC.format(name="Ballistic deposition (BD)", cmd="bd", relax="")
+
+
+def dla(seed_shape: str = "point", size: Optional[Sequence[int]] = None, dim: int = 3,
+        particles: int = 20_000, stick: float = 1.0, seed_radius: float = 10.0,
+        mesh: Optional[Mesh] = None, resolution: int = 32, image: Optional[HeightField] = None,
+        seed_density: float = 0.02, launch_gap: float = 2.0, sides: str = "periodic",
+        seed: int = 0, threads: Optional[int] = None, progress=False) -> Result:
+    """Diffusion-limited aggregation (kim-machiraju-thompson §4.3).
+
+    Parameters (the CLI's ``growth dla`` flags):
+        seed_shape: "point", "plane", "sphere", "mesh" or "image".
+        size: lattice (nx, ny, nz) in cells (2-D: (nx, nz)); default from ``particles``.
+        dim: 2 or 3 (default 3).
+        particles: particles released (default 20000).
+        stick: sticking probability in (0, 1] (default 1).
+        seed_radius: radius in cells of a sphere seed (default 10).
+        mesh: a :class:`Mesh` seed, voxelised at ``resolution`` cells along its
+            longest axis (default 32).
+        image: a :class:`HeightField` whose bright columns seed a plane deposit,
+            a white column with probability ``seed_density`` (default 0.02).
+        launch_gap: cells between the cluster and the launch surface (default 2).
+        sides: "periodic" or "walls" for plane deposits (default periodic).
+
+    Returns a :class:`Result` with ``points`` (a :class:`PointSet`), ``warnings``,
+    ``measurements`` (R_g, D, ρ(z) as the CLI's JSON), ``radius_of_gyration`` and
+    ``dimension``.
+    """
+    if size is not None:
+        size = list(size)
+        if dim == 2 and len(size) == 2:
+            size = [size[0], 1, size[1]]
+        if len(size) == 1:
+            size = size * 3
+        if len(size) != 3:
+            raise ValueError(f"size {size}: expected (nx, ny, nz) (or (nx, nz) in 2-D)")
+    d = call(_asperity.dla, seed_shape, None if size is None else tuple(size), dim, particles, stick,
+             seed_radius, mesh, resolution, image, seed_density, launch_gap, sides, seed, threads,
+             progress=progress)
+    m = _parse(d["measurements"])
+    return Result(points=PointSet._from(d["points"], d["title"]), warnings=d["warnings"],
+                  measurements=m, radius_of_gyration=m.get("radius_of_gyration"),
+                  dimension=m.get("fractal_dimension"))
+
+
+# ---------------------------------------------------------------- level sets
+
+_LEVEL_SET_DOC = """
+    Level-set keywords (the CLI's flags; None means the job's default):
+        paper: the paper's settings for what is not given (ε = 3h, 30 steps,
+            Godunov distance, 3×3×3 tube).
+        resolution: grid cells along the longest axis; spacing: grid spacing h.
+        offset: ε, a length in the points' units or a string such as "3h".
+        iterations, tolerance, point_radius (δ), scheme ("eno2", "upwind"),
+        flow ("convection", "regularized", "zhao"), curvature_weight,
+        distance ("closest-point", "godunov"), tube_n ("axes", "cube"),
+        tagging ("paper", "threshold"), tube (cells, 3), beta (cells, 2),
+        cfl (0.9), redistance (2), full_grid, curvature (per-vertex mean
+        curvature scalar), min_shell (triangles).
+"""
+
+_LEVEL_SET_KEYS = ("paper", "resolution", "spacing", "offset", "iterations", "tolerance",
+                   "point_radius", "scheme", "flow", "curvature_weight", "distance", "tube_n",
+                   "tagging", "tube", "beta", "cfl", "redistance", "full_grid", "curvature",
+                   "min_shell")
+
+
+def _level_set(kw: Dict[str, Any]) -> Dict[str, Any]:
+    unknown = set(kw) - set(_LEVEL_SET_KEYS)
+    if unknown:
+        raise TypeError(f"unexpected keyword argument(s): {', '.join(sorted(unknown))}")
+    return {k: v for k, v in kw.items() if v is not None}
+
+
+def _reconstructed(d: dict) -> Result:
+    r = Result(mesh=Mesh._from(d["mesh"]), measurements=_parse(d["measurements"]))
+    if "points" in d:
+        r["points"] = PointSet._from(d["points"])
+        r["warnings"] = d["warnings"]
+        r["grown"] = _parse(d["grown"])
+    return r
+
+
+def reconstruct(points: Union[PointSet, np.ndarray], threads: Optional[int] = None, progress=False,
+                **level_set) -> Result:
+    """A watertight surface around (N, 3) points by the level-set flow
+    (kim-machiraju-thompson §5). Returns ``mesh`` (with normals, and a
+    ``curvature`` scalar with ``curvature=True``) and ``measurements`` (grid,
+    timings, topology as the CLI's JSON).
+    """
+    pts = points.points if isinstance(points, PointSet) else np.ascontiguousarray(points, dtype=np.float64)
+    return _reconstructed(call(_asperity.reconstruct, pts, _level_set(level_set), threads,
+                               progress=progress))
+
+
+def dla_terrain(size: Sequence[int] = (64, 64, 64), particles: Optional[int] = None, stick: float = 1.0,
+                sides: str = "walls", seed: int = 0, threads: Optional[int] = None, progress=False,
+                **level_set) -> Result:
+    """A plane DLA deposit reconstructed as a terrain (Figs. 9–11): the CLI's
+    ``generate dla-terrain``. Returns ``mesh``, ``points``, ``grown`` (the growth
+    facts), ``warnings`` and ``measurements``."""
+    return _reconstructed(call(_asperity.dla_terrain, tuple(size), particles, stick, sides,
+                               _level_set(level_set), seed, threads, progress=progress))
+
+
+def rdsr_sphere(radius: float = 20.0, layers: float = 10.0, relax: int = 1, seed: int = 0,
+                threads: Optional[int] = None, progress=False, **level_set) -> Result:
+    """RDSR layers grown on a sphere and reconstructed (Fig. 8): the CLI's
+    ``generate rdsr-sphere``."""
+    return _reconstructed(call(_asperity.rdsr_sphere, radius, layers, relax, _level_set(level_set),
+                               seed, threads, progress=progress))
+
+
+reconstruct.__doc__ += _LEVEL_SET_DOC
+dla_terrain.__doc__ += _LEVEL_SET_DOC
+rdsr_sphere.__doc__ += _LEVEL_SET_DOC
+
+
+# ---------------------------------------------------------------- cellular automata
+
+
+def ca_run(rule: Union[int, str], steps: int, family: str = "totalistic9", states: int = 2,
+           init: str = "seed", size: Optional[Sequence[int]] = None, boundary: Optional[str] = None,
+           no_step0: bool = False, decay: Optional[float] = None,
+           weights: Optional[Sequence[float]] = None, values: Optional[Sequence[float]] = None,
+           keep_states: bool = False, seed: int = 0, threads: Optional[int] = None,
+           progress=False) -> Result:
+    """A height field accumulated from a 2-D totalistic CA (peridier): the CLI's
+    ``ca run RULE --steps T``.
+
+    rule: Wolfram code (Mathematica numbering); family: "totalistic9",
+    "totalistic5", "outer9" or "outer5"; states: k (2–12); init: "seed",
+    "random:P" or a file; size: (width, height) cells; boundary: "cyclic" or
+    "infinite"; decay / weights: step weights; values: the height of each
+    state; keep_states: also return every step as ``states`` (T+1, ny, nx).
+    """
+    d = call(_asperity.ca_run, str(rule), steps, family, states, init,
+             None if size is None else tuple(size), boundary, no_step0, decay,
+             None if weights is None else list(weights), None if values is None else list(values),
+             keep_states, seed, threads, progress=progress)
+    surface = HeightField._from(d["heights"], d["title"])
+    r = Result(surface=surface, heights=surface.heights, measurements=_parse(d["measurements"]))
+    if "states" in d:
+        r["states"] = d["states"]
+    return r
+
+
+def ca_rule(rule: Union[int, str], family: str = "totalistic9", states: int = 2) -> Result:
+    """A rule's look-up table (``describe``, text) and facts (the CLI's ``ca rule``)."""
+    d = _asperity.ca_rule(str(rule), family, states)
+    return Result(describe=d["describe"], measurements=_parse(d["measurements"]))
+
+
+def facet(heights: HeightField, smooth: bool = False, shared: bool = False,
+          circle: Optional[Sequence[float]] = None, polyline=None) -> Result:
+    """The alternating-diagonal facet mesh of a height field with curves draped
+    on it (peridier §3; the CLI's ``facet``): ``mesh`` and ``curves`` (a list of
+    (n, 3) arrays). circle: (cx, cy, r); polyline: (n, 2) x, y points."""
+    d = _asperity.facet(heights, smooth, shared, None if circle is None else tuple(circle),
+                        None if polyline is None else np.ascontiguousarray(polyline, dtype=np.float64))
+    return Result(mesh=Mesh._from(d["mesh"]), curves=d["curves"])
+
+
+def interpolate(heights: HeightField, points) -> np.ndarray:
+    """Heights on the facets at (N, 2) x, y points (peridier's consistent
+    interpolation; the CLI's ``interpolate``); NaN outside the field."""
+    return _asperity.interpolate(heights, np.ascontiguousarray(points, dtype=np.float64))
+
+
+# ---------------------------------------------------------------- subdivision
+
+
+def subdiv(scene: Optional[Union[str, Path]] = None, base: str = "cube", levels: int = 3,
+           detail: Sequence[str] = (), crease: Sequence[str] = (), boundary: str = "edge-only",
+           limit: bool = False, time: float = 0.0, apply_details: Optional[Union[str, Path]] = None,
+           export_details: bool = False, seed: int = 0, threads: Optional[int] = None,
+           progress=False) -> Result:
+    """A multiresolution Catmull–Clark surface with procedural detail
+    (velho-perlin): the CLI's ``subdiv … --triangles``.
+
+    scene: a scene file (path) or the TOML text of one (relative paths inside
+    resolve against the current folder); otherwise base ("cube",
+    "builtin:…" or a mesh file), levels, detail (e.g. ["rock:1:0.2"]),
+    crease and boundary as the CLI's flags. time: animation time 0…1;
+    limit: push to the limit surface; apply_details: a detail file to re-apply;
+    export_details: return the detail file's text as ``details``.
+
+    Returns ``mesh`` (triangles), ``levels`` ((vertices, faces) per level),
+    ``euler_characteristic`` and ``details``.
+    """
+    path = text = None
+    if scene is not None:
+        p = Path(scene)
+        if isinstance(scene, Path) or (len(str(scene)) < 4096 and "\n" not in str(scene) and p.suffix == ".toml"):
+            path, text = p, p.read_text()
+        else:
+            path, text = Path.cwd() / "scene.toml", str(scene)
+    d = call(_asperity.subdiv, None if path is None else str(path), text, base, levels, list(detail),
+             list(crease), boundary, limit, time,
+             None if apply_details is None else str(apply_details), export_details, seed, threads,
+             progress=progress)
+    return Result(mesh=Mesh._from(d["mesh"]), levels=[tuple(c) for c in d["levels"]],
+                  euler_characteristic=d["euler_characteristic"], details=d["details"])
+
+
+# ---------------------------------------------------------------- projected IFS
+
+
+def _model(preset, model, w, degree, height, moves, family_depth, family_period):
+    if isinstance(model, dict):
+        model = json.dumps(model)
+    return {"preset": preset, "model": model, "w": w, "degree": degree, "height": height,
+            "moves": list(moves), "family_depth": family_depth, "family_period": family_period}
+
+
+_IFS_DOC = """
+    Model keywords: preset (see :func:`ifs_presets`) or model (a model file as
+    a dict or JSON text, e.g. built from numpy arrays of control points and
+    operator matrices); w, degree, height (preset parameters); moves
+    (["I,J=X,Y[,Z]"] control-point moves); family_depth (10), family_period (12).
+"""
+
+
+def ifs_presets() -> list:
+    """Every IFS preset: dicts with name, kind ("curve"/"surface") and description."""
+    return _parse(_asperity.ifs_presets())
+
+
+def ifs_model(preset: Optional[str] = None, model=None, w=None, degree=None, height=None,
+              moves: Sequence[str] = (), family_depth: int = 10, family_period: int = 12) -> dict:
+    """The model as a model-file dict (what ``asperity ifs preset`` writes); edit
+    it and pass it back as ``model=``."""
+    return _parse(_asperity.ifs_model(_model(preset, model, w, degree, height, moves, family_depth,
+                                             family_period)))
+
+
+def ifs_curve(preset: Optional[str] = None, model=None, depth: int = 12, w=None, degree=None,
+              height=None, moves: Sequence[str] = (), family_depth: int = 10,
+              family_period: int = 12) -> np.ndarray:
+    """A projected-IFS curve's attractor: (2^depth + 1, 3) points (poull-gentil §2)."""
+    pts, _ = _asperity.ifs_curve(_model(preset, model, w, degree, height, moves, family_depth,
+                                        family_period), depth)
+    return pts
+
+
+def ifs_surface(preset: Optional[str] = None, model=None, depth: int = 8, curvature: bool = True,
+                w=None, degree=None, height=None, moves: Sequence[str] = (), family_depth: int = 10,
+                family_period: int = 12, threads: Optional[int] = None) -> Mesh:
+    """A tensor-product IFS surface's attractor mesh, with pseudo-curvature
+    scalars unless ``curvature=False`` (poull-gentil §2, §4)."""
+    d = _asperity.ifs_surface(_model(preset, model, w, degree, height, moves, family_depth,
+                                     family_period), depth, curvature, threads)
+    return Mesh._from(d["mesh"], d["name"])
+
+
+def ifs_dcf(preset: Optional[str] = None, model=None, operator: int = 0, start: Optional[float] = None,
+            bound: Optional[str] = None, samples: int = 256, w=None, degree=None, height=None,
+            moves: Sequence[str] = (), family_depth: int = 10, family_period: int = 12) -> Result:
+    """The DCF of operator T_i of a curve (poull-gentil §3): ``points``
+    (samples + 1, 3), ``class`` and ``alpha``. start: the parameter it starts
+    at (default the operator's fixed end); bound: "lower" or "upper"."""
+    d = _asperity.ifs_dcf(_model(preset, model, w, degree, height, moves, family_depth,
+                                 family_period), operator, start, bound, samples)
+    return Result(points=d["points"], **{"class": d["class"]}, alpha=d["alpha"])
+
+
+def ifs_sdcf(preset: Optional[str] = None, model=None, operator: Tuple[int, int] = (0, 0),
+             start: Optional[Tuple[float, float]] = None, bound: Optional[str] = None,
+             resolution: int = 64, w=None, degree=None, height=None, moves: Sequence[str] = (),
+             family_depth: int = 10, family_period: int = 12) -> Mesh:
+    """The SDCF of T_i ⊗ T'_j of a surface as a mesh (poull-gentil §4, Fig. 4)."""
+    d = _asperity.ifs_sdcf(_model(preset, model, w, degree, height, moves, family_depth,
+                                  family_period), tuple(operator),
+                           None if start is None else tuple(start), bound, resolution)
+    return Mesh._from(d)
+
+
+def ifs_curvature(preset: Optional[str] = None, model=None, at: Sequence[Union[str, float]] = (),
+                  w=None, degree=None, height=None, moves: Sequence[str] = (), family_depth: int = 10,
+                  family_period: int = 12) -> dict:
+    """Pseudo-curvature ranges per operator and at points (poull-gentil §5):
+    the CLI's ``ifs curvature --json`` document. at: parameters s (curves) or
+    "s,t" strings / (s, t) pairs (surfaces)."""
+    pts = [",".join(map(str, a)) if isinstance(a, (tuple, list)) else str(a) for a in at]
+    return _parse(_asperity.ifs_curvature(_model(preset, model, w, degree, height, moves,
+                                                 family_depth, family_period), pts))
+
+
+for _f in (ifs_curve, ifs_surface, ifs_dcf, ifs_sdcf, ifs_curvature, ifs_model):
+    _f.__doc__ += _IFS_DOC
+
+
+# ---------------------------------------------------------------- surface CA
+
+_CORROSION_KEYS = ("k1", "k2", "k3", "seed_rate", "max_seeds", "strong_fraction", "strong_noise",
+                   "max_attacked", "attack", "maturity")
+
+
+def surface_ca(mesh: Union[Mesh, str], app: str = "voronoi", cells: int = 100_000,
+               cell_size: Optional[float] = None, repair: bool = False, sites: int = 12,
+               site_points=None, diagonal_p: Optional[float] = None, max_steps: int = 100_000,
+               steps: int = 600, feed: float = 0.0367, kill: float = 0.0649, patches: int = 20,
+               textured: bool = True, cell_mesh: bool = False, displace: Optional[float] = None,
+               seed: int = 0, threads: Optional[int] = None, progress=False, **corrosion) -> Result:
+    """A cellular automaton on a triangle mesh (gobron-chiba): the CLI's
+    ``surface-ca``.
+
+    mesh: a :class:`Mesh`, or "builtin:sphere|cube|cylinder|cup" or a path.
+    app: "voronoi", "corrosion" or "gray-scott". cells: about this many cells
+    (default 100000) or cell_size: their side. sites / site_points ((n, 3)
+    points): the Voronoi or corrosion sites. Corrosion keywords: k1, k2, k3,
+    seed_rate, max_seeds, strong_fraction, strong_noise, max_attacked,
+    attack, maturity. textured: the original mesh with the cell atlas as
+    ``mesh.texture`` (as the CLI writes .glb/.obj); otherwise coloured cells.
+
+    Returns ``mesh``, ``labels`` (Voronoi: a :class:`PointSet` of cell centres
+    with their region label; None otherwise), ``field`` (per-cell oxide or activator, or None), ``warnings`` and
+    ``measurements``.
+    """
+    unknown = set(corrosion) - set(_CORROSION_KEYS)
+    if unknown:
+        raise TypeError(f"unexpected keyword argument(s): {', '.join(sorted(unknown))}")
+    sp = None if site_points is None else np.ascontiguousarray(
+        site_points.points if isinstance(site_points, PointSet) else site_points, dtype=np.float64)
+    d = call(_asperity.surface_ca, mesh, app, cells, cell_size, repair, sites, sp, diagonal_p,
+             max_steps, steps, feed, kill, patches, corrosion, textured, cell_mesh, displace, seed,
+             threads, progress=progress)
+    labels = None if d["labels"] is None else PointSet._from(d["labels"])
+    return Result(mesh=Mesh._from(d["mesh"]), labels=labels,
+                  field=d["field"], warnings=d["warnings"], measurements=_parse(d["measurements"]))
+
+
+# ---------------------------------------------------------------- analysis
+
+
+def analyze(surface: Surface, level: str = "auto", periodic: Optional[bool] = None,
+            window: str = "hann", bins: int = 40, fit_window: Optional[Sequence[float]] = None,
+            name: str = "array", threads: Optional[int] = None) -> dict:
+    """Roughness numbers of a height field (ISO 25178 parameters, profiles,
+    PSD, five Hurst estimators, fractal dimensions), of a mesh (topology,
+    curvature) or of a point set: the CLI's ``analyze --json`` measurements,
+    same keys, plus ``warnings``. A numpy 2-D array is taken as heights with
+    unit spacing."""
+    if isinstance(surface, np.ndarray):
+        surface = HeightField(surface)
+    d = _asperity.analyze(surface, name, level, periodic, window, bins,
+                          None if fit_window is None else tuple(fit_window), threads)
+    m = _parse(d["measurements"])
+    m["warnings"] = d["warnings"]
+    return m
+
+
+def psd(surface: Union[HeightField, np.ndarray], **options) -> Tuple[np.ndarray, np.ndarray]:
+    """The radially averaged power spectral density of a height field as
+    (q, C(q)) arrays (the ``psd`` of :func:`analyze`)."""
+    p = analyze(surface, **options)["psd"]
+    return np.asarray(p["q"]), np.asarray(p["C"])
+
+
+def hurst(surface: Union[HeightField, np.ndarray], **options) -> Tuple[float, dict]:
+    """The Hurst exponent H of a height field and every estimator's result."""
+    m = analyze(surface, **options)
+    return m["hurst"], m["hurst_estimates"]
+
+
+def fractal_dimensions(surface: Union[HeightField, np.ndarray], **options) -> dict:
+    """Fractal dimension estimates (D = 3 − H from the PSD, partitioning…)."""
+    return analyze(surface, **options)["fractal_dimension"]
+
+
+def fbm(size: int = 256, hurst: float = 0.8, rms: float = 1.0, spacing: float = 1.0, seed: int = 0,
+        threads: Optional[int] = None) -> HeightField:
+    """A periodic self-affine (fBm) test surface by Fourier synthesis: the CLI's
+    ``generate fbm``. size: N (N×N samples), hurst: H in (0, 1), rms: the
+    heights' rms, spacing: sample spacing."""
+    d = _asperity.fbm(size, hurst, rms, spacing, seed, threads)
+    return HeightField._from(d, d["title"])
+
+
+# ---------------------------------------------------------------- io and render
+
+
+def load(path: Union[str, Path]) -> Surface:
+    """Reads any file asperity reads (by content and extension): a
+    :class:`Mesh`, :class:`HeightField` or :class:`PointSet`. Its ``title``
+    is the file's stem, as ``asperity convert`` titles what it writes."""
+    return _wrap(_asperity.load(str(path)), Path(path).stem)
+
+
+def save(path: Union[str, Path], surface: Surface, title: Optional[str] = None) -> None:
+    """Writes a surface by the path's extension (atomically)."""
+    surface.save(path, title)
+
+
+def render(surface: Surface, width: int = 1024, height: int = 768, view: str = "iso",
+           shader: Optional[str] = None, colormap: str = "viridis", z_scale: float = 1.0,
+           shadows: bool = True, ao: float = 0.6, patina: bool = False,
+           scalar: Optional[str] = None, threads: Optional[int] = None) -> np.ndarray:
+    """A picture of a surface as an (H, W, 4) uint8 array, with the CLI's
+    ``render`` defaults. view: "iso", "top", "front", "side"; shader: "phong",
+    "flat", "normals", "height", "curvature", "vertex-color", "texture"."""
+    return _asperity.render(surface, width, height, view, shader, colormap, z_scale, shadows, ao,
+                            patina, scalar, threads)
