@@ -98,7 +98,7 @@ _DEPOSIT_DOC = """{name} on a flat or curved substrate (kim-machiraju-thompson Â
         seed: random seed (default 0, as the CLI's ``--seed``).
 
     Returns a :class:`Result` with ``heights`` (``(L,)`` or ``(L, L)``), ``surface``
-    (a :class:`HeightField`), ``width`` (arrays ``t``, ``w2``â€¦), ``beta``, ``alpha``,
+    (a :class:`HeightField`), ``width`` (arrays ``t`` and ``w``: W(t)), ``beta``, ``alpha``,
     ``points`` when asked, and ``measurements`` (the CLI's JSON keys).
     """
 

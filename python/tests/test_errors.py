@@ -1,0 +1,165 @@
+"""A Python library's manners: bad arguments raise ValueError/TypeError with
+the CLI's message, files raise OSError, a memory refusal raises
+MemoryLimitError with its estimate; nothing crashes the interpreter; Ctrl-C
+stops a long run; the GIL is released while the engine works."""
+
+import os
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import asperity
+
+PTS = np.random.default_rng(0).normal(size=(50, 3))
+CUBE = asperity.Mesh(
+    [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]],
+    [[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5],
+     [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]])
+
+CASES = [
+    (ValueError, lambda: asperity.rd(size=0)),
+    (ValueError, lambda: asperity.rd(dim=3)),
+    (ValueError, lambda: asperity.rd(layers=-1)),
+    (ValueError, lambda: asperity.rd(runs=0)),
+    (ValueError, lambda: asperity.rd(size=32, bin=7)),
+    (ValueError, lambda: asperity.rdsr(fit_window=(5, 1))),
+    (ValueError, lambda: asperity.bd(substrate="cone")),
+    (ValueError, lambda: asperity.bd(substrate="mesh")),
+    (TypeError, lambda: asperity.rd(size="big")),
+    (ValueError, lambda: asperity.dla(seed_shape="blob")),
+    (ValueError, lambda: asperity.dla(stick=0)),
+    (ValueError, lambda: asperity.dla(dim=4)),
+    (ValueError, lambda: asperity.dla(size=(1, 2))),
+    (ValueError, lambda: asperity.dla(particles=0)),
+    (ValueError, lambda: asperity.reconstruct(np.zeros((0, 3)))),
+    (ValueError, lambda: asperity.reconstruct(np.zeros((5, 2)))),
+    (ValueError, lambda: asperity.reconstruct(PTS, flow="wavy")),
+    (TypeError, lambda: asperity.reconstruct(PTS, flux=1)),
+    (ValueError, lambda: asperity.ca_run(10**12, 10)),
+    (ValueError, lambda: asperity.ca_run(450, 10, family="hex")),
+    (ValueError, lambda: asperity.ca_run(450, 10, init="bogus")),
+    (ValueError, lambda: asperity.ifs_surface("no-such-preset")),
+    (ValueError, lambda: asperity.ifs_curve("bezier-bicubic")),
+    (ValueError, lambda: asperity.ifs_dcf("bezier-cubic", operator=2)),
+    (ValueError, lambda: asperity.surface_ca("builtin:torus")),
+    (ValueError, lambda: asperity.surface_ca(CUBE, app="life")),
+    (TypeError, lambda: asperity.surface_ca(CUBE, colour=3)),
+    (ValueError, lambda: asperity.subdiv(detail=["lava"])),
+    (OSError, lambda: asperity.subdiv("levels = 2\nbase = 'nothing-here.ply'\n")),
+    (ValueError, lambda: asperity.fbm(size=0)),
+    (ValueError, lambda: asperity.fbm(hurst=1.5)),
+    (OSError, lambda: asperity.load("/nonexistent/file.ply")),
+    (OSError, lambda: CUBE.save("/nonexistent-dir/x.ply")),
+    (ValueError, lambda: CUBE.save("/tmp/x.unknownext")),
+    (TypeError, lambda: asperity.analyze("not a surface")),
+    (ValueError, lambda: asperity.analyze(asperity.Mesh(CUBE.vertices, [[0, 1, 99]]))),
+    (ValueError, lambda: asperity.render(CUBE, view="diagonal")),
+    (ValueError, lambda: asperity.render(CUBE, shader="toon")),
+    (ValueError, lambda: asperity.rd(size=16, layers=2, threads=0)),
+    (ValueError, lambda: asperity.Mesh(np.zeros((3, 2)), [[0, 1, 2]])),
+    (ValueError, lambda: asperity.HeightField(np.zeros(5))),
+]
+
+
+@pytest.mark.parametrize("expected,call", CASES, ids=[f"case{i}" for i in range(len(CASES))])
+def test_bad_arguments_raise(expected, call):
+    with pytest.raises(expected) as e:
+        call()
+    assert str(e.value), "the exception says why"
+
+
+def test_at_least_twenty_cases():
+    assert len(CASES) >= 20
+
+
+@pytest.mark.parametrize("py_call,cli_args", [
+    (lambda: asperity.rdsr(fit_window=(5, 1)), ["growth", "rdsr", "--fit-window", "5,1", "-o", "x.npy"]),
+    (lambda: asperity.dla(stick=0), ["growth", "dla", "--stick", "0", "-o", "x.ply"]),
+    (lambda: asperity.rd(size=32, bin=7), ["growth", "rd", "--size", "32", "--bin", "7", "-o", "x.npy"]),
+    (lambda: asperity.fbm(hurst=1.5), ["generate", "fbm", "--hurst", "1.5", "-o", "x.npy"]),
+    (lambda: asperity.ifs_surface("no-such-preset"), ["ifs", "surface", "--preset", "no-such-preset", "-o", "x.ply"]),
+    (lambda: asperity.ca_run(450, 10, init="bogus"), ["ca", "run", "--rule", "450", "--steps", "10", "--init", "bogus", "-o", "x.npy"]),
+])
+def test_messages_are_the_clis(cli, tmp, py_call, cli_args):
+    with pytest.raises(ValueError) as e:
+        py_call()
+    p = cli(*[tmp / a if a.startswith("x.") else a for a in cli_args], json_report=False, check=False)
+    assert p.returncode != 0
+    first = p.stderr.strip().splitlines()[0]
+    assert first == f"error: {e.value}"
+
+
+def test_memory_refusal_has_its_estimate():
+    asperity.set_limits(max_memory=1 << 20)
+    try:
+        with pytest.raises(asperity.MemoryLimitError) as e:
+            asperity.fbm(size=4096)
+        assert isinstance(e.value, MemoryError)
+        assert e.value.needed > e.value.limit == 1 << 20
+        assert "MiB" in str(e.value)
+    finally:
+        asperity.set_limits()
+    assert asperity.fbm(size=16).heights.shape == (16, 16)
+
+
+def test_time_refusal():
+    with pytest.raises(asperity.TimeLimitError):
+        asperity.ca_run(450, 10**9, size=(4096, 4096), init="random:0.5")
+
+
+def _task_count():
+    return len(os.listdir("/proc/self/task"))
+
+
+def test_keyboard_interrupt_stops_a_long_run_within_a_second():
+    script = textwrap.dedent("""
+        import os, signal, threading, time, asperity
+        def tasks(): return len(os.listdir('/proc/self/task'))
+        before = tasks()
+        threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+        t0 = time.time()
+        try:
+            asperity.dla(particles=10**7, threads=2)   # minutes of work
+            print('NOT INTERRUPTED')
+        except KeyboardInterrupt:
+            print('interrupted after', round(time.time() - t0 - 1.0, 3))
+        time.sleep(0.5)
+        print('threads left', tasks() - before)
+        print('still works', asperity.fbm(size=16).heights.shape)
+    """)
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    out = p.stdout
+    assert p.returncode == 0, p.stderr
+    assert "interrupted after" in out, out
+    delay = float(out.split("interrupted after")[1].split()[0])
+    assert delay < 1.0, out
+    assert "threads left 0" in out, out  # the worker thread stopped, not abandoned
+    assert "still works (16, 16)" in out
+
+
+def test_two_threads_run_at_once():
+    kw = dict(size=256, layers=400, threads=1)
+    asperity.rd(size=16, layers=2)
+    t = time.perf_counter()
+    asperity.rd(**kw)
+    one = time.perf_counter() - t
+    workers = [threading.Thread(target=asperity.rd, kwargs=kw) for _ in range(2)]
+    t = time.perf_counter()
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    two = time.perf_counter() - t
+    assert two < 1.6 * one, f"two calls {two:.2f}s vs one {one:.2f}s: the GIL is held"
+
+
+def test_progress_callback_is_called():
+    seen = []
+    asperity.dla(particles=30_000, progress=lambda d, t, m: seen.append((d, t, m)))
+    assert seen, "progress was reported"
+    assert all(t >= d for d, t, _ in seen if t)
