@@ -95,7 +95,7 @@ _DEPOSIT_DOC = """{name} on a flat or curved substrate (kim-machiraju-thompson �
         substrate: "flat", "sphere" or "mesh" (curved substrates give points).
         radius: sphere radius in cells (default 40).
         mesh: a closed :class:`Mesh` substrate, voxelised at ``resolution`` cells.
-        seed: random seed (default 0, as the CLI's ``--seed``).
+        seed: random seed (default 7, as the CLI's ``--seed``).
 
     Returns a :class:`Result` with ``heights`` (``(L,)`` or ``(L, L)``), ``surface``
     (a :class:`HeightField`), ``width`` (arrays ``t`` and ``w``: W(t)), ``beta``, ``alpha``,
@@ -106,7 +106,7 @@ _DEPOSIT_DOC = """{name} on a flat or curved substrate (kim-machiraju-thompson �
 def rd(size: int = 256, dim: int = 2, layers: float = 100.0, runs: int = 1, bin: Optional[int] = None,
        samples_per_decade: int = 10, fit_window: Optional[Sequence[float]] = None,
        alpha_sizes: Optional[Sequence[int]] = None, points: bool = False, substrate: str = "flat",
-       radius: float = 40.0, mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 0,
+       radius: float = 40.0, mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 7,
        threads: Optional[int] = None, progress=False) -> Result:
     return _deposit("rd", size, dim, layers, runs, 1, bin, samples_per_decade, fit_window, alpha_sizes,
                     points, substrate, radius, mesh, resolution, seed, threads, progress)
@@ -116,7 +116,7 @@ def rdsr(size: int = 256, dim: int = 2, layers: float = 100.0, runs: int = 1, re
          bin: Optional[int] = None, samples_per_decade: int = 10,
          fit_window: Optional[Sequence[float]] = None, alpha_sizes: Optional[Sequence[int]] = None,
          points: bool = False, substrate: str = "flat", radius: float = 40.0,
-         mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 0,
+         mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 7,
          threads: Optional[int] = None, progress=False) -> Result:
     return _deposit("rdsr", size, dim, layers, runs, relax, bin, samples_per_decade, fit_window,
                     alpha_sizes, points, substrate, radius, mesh, resolution, seed, threads, progress)
@@ -125,7 +125,7 @@ def rdsr(size: int = 256, dim: int = 2, layers: float = 100.0, runs: int = 1, re
 def bd(size: int = 256, dim: int = 2, layers: float = 100.0, runs: int = 1, bin: Optional[int] = None,
        samples_per_decade: int = 10, fit_window: Optional[Sequence[float]] = None,
        alpha_sizes: Optional[Sequence[int]] = None, points: bool = False, substrate: str = "flat",
-       radius: float = 40.0, mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 0,
+       radius: float = 40.0, mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 7,
        threads: Optional[int] = None, progress=False) -> Result:
     return _deposit("bd", size, dim, layers, runs, 1, bin, samples_per_decade, fit_window, alpha_sizes,
                     points, substrate, radius, mesh, resolution, seed, threads, progress)
@@ -142,7 +142,7 @@ def dla(seed_shape: str = "point", size: Optional[Sequence[int]] = None, dim: in
         particles: int = 20_000, stick: float = 1.0, seed_radius: float = 10.0,
         mesh: Optional[Mesh] = None, resolution: int = 32, image: Optional[HeightField] = None,
         seed_density: float = 0.02, launch_gap: float = 2.0, sides: str = "periodic",
-        seed: int = 0, threads: Optional[int] = None, progress=False) -> Result:
+        seed: int = 7, threads: Optional[int] = None, progress=False) -> Result:
     """Diffusion-limited aggregation (kim-machiraju-thompson §4.3).
 
     Parameters (the CLI's ``growth dla`` flags):
@@ -231,7 +231,7 @@ def reconstruct(points: Union[PointSet, np.ndarray], threads: Optional[int] = No
 
 
 def dla_terrain(size: Sequence[int] = (64, 64, 64), particles: Optional[int] = None, stick: float = 1.0,
-                sides: str = "walls", seed: int = 0, threads: Optional[int] = None, progress=False,
+                sides: str = "walls", seed: int = 7, threads: Optional[int] = None, progress=False,
                 **level_set) -> Result:
     """A plane DLA deposit reconstructed as a terrain (Figs. 9–11): the CLI's
     ``generate dla-terrain``. Returns ``mesh``, ``points``, ``grown`` (the growth
@@ -240,7 +240,7 @@ def dla_terrain(size: Sequence[int] = (64, 64, 64), particles: Optional[int] = N
                                _level_set(level_set), seed, threads, progress=progress))
 
 
-def rdsr_sphere(radius: float = 20.0, layers: float = 10.0, relax: int = 1, seed: int = 0,
+def rdsr_sphere(radius: float = 20.0, layers: float = 10.0, relax: int = 1, seed: int = 7,
                 threads: Optional[int] = None, progress=False, **level_set) -> Result:
     """RDSR layers grown on a sphere and reconstructed (Fig. 8): the CLI's
     ``generate rdsr-sphere``."""
@@ -260,7 +260,7 @@ def ca_run(rule: Union[int, str], steps: int, family: str = "totalistic9", state
            init: str = "seed", size: Optional[Sequence[int]] = None, boundary: Optional[str] = None,
            no_step0: bool = False, decay: Optional[float] = None,
            weights: Optional[Sequence[float]] = None, values: Optional[Sequence[float]] = None,
-           keep_states: bool = False, seed: int = 0, threads: Optional[int] = None,
+           keep_states: bool = False, seed: int = 7, threads: Optional[int] = None,
            progress=False) -> Result:
     """A height field accumulated from a 2-D totalistic CA (peridier): the CLI's
     ``ca run RULE --steps T``.
@@ -310,7 +310,7 @@ def interpolate(heights: HeightField, points) -> np.ndarray:
 def subdiv(scene: Optional[Union[str, Path]] = None, base: str = "cube", levels: int = 3,
            detail: Sequence[str] = (), crease: Sequence[str] = (), boundary: str = "edge-only",
            limit: bool = False, time: float = 0.0, apply_details: Optional[Union[str, Path]] = None,
-           export_details: bool = False, seed: int = 0, threads: Optional[int] = None,
+           export_details: bool = False, seed: int = 7, threads: Optional[int] = None,
            progress=False) -> Result:
     """A multiresolution Catmull–Clark surface with procedural detail
     (velho-perlin): the CLI's ``subdiv … --triangles``.
@@ -345,7 +345,8 @@ def subdiv(scene: Optional[Union[str, Path]] = None, base: str = "cube", levels:
 
 def _model(preset, model, w, degree, height, moves, family_depth, family_period):
     if isinstance(model, dict):
-        model = json.dumps(model)
+        # numpy arrays of control points and matrices become JSON lists
+        model = json.dumps(model, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
     return {"preset": preset, "model": model, "w": w, "degree": degree, "height": height,
             "moves": list(moves), "family_depth": family_depth, "family_period": family_period}
 
@@ -438,7 +439,7 @@ def surface_ca(mesh: Union[Mesh, str], app: str = "voronoi", cells: int = 100_00
                site_points=None, diagonal_p: Optional[float] = None, max_steps: int = 100_000,
                steps: int = 600, feed: float = 0.0367, kill: float = 0.0649, patches: int = 20,
                textured: bool = True, cell_mesh: bool = False, displace: Optional[float] = None,
-               seed: int = 0, threads: Optional[int] = None, progress=False, **corrosion) -> Result:
+               seed: int = 7, threads: Optional[int] = None, progress=False, **corrosion) -> Result:
     """A cellular automaton on a triangle mesh (gobron-chiba): the CLI's
     ``surface-ca``.
 
@@ -505,7 +506,7 @@ def fractal_dimensions(surface: Union[HeightField, np.ndarray], **options) -> di
     return analyze(surface, **options)["fractal_dimension"]
 
 
-def fbm(size: int = 256, hurst: float = 0.8, rms: float = 1.0, spacing: float = 1.0, seed: int = 0,
+def fbm(size: int = 256, hurst: float = 0.8, rms: float = 1.0, spacing: float = 1.0, seed: int = 7,
         threads: Optional[int] = None) -> HeightField:
     """A periodic self-affine (fBm) test surface by Fourier synthesis: the CLI's
     ``generate fbm``. size: N (N×N samples), hurst: H in (0, 1), rms: the

@@ -159,6 +159,7 @@ def test_ifs_surface_dcf_sdcf_curvature(cli, tmp):
     # a custom model from arrays: the preset's own file, edited, passed back
     f = asperity.ifs_model("bezier-quadratic")
     f["name"] = "mine"
+    f["curve"]["control_points"] = np.array(f["curve"]["control_points"])  # arrays are welcome
     pts = asperity.ifs_curve(model=f, depth=6)
     assert pts.shape == (2**6 + 1, 3)
     np.testing.assert_allclose(pts, asperity.ifs_curve("bezier-quadratic", depth=6))

@@ -163,3 +163,12 @@ def test_progress_callback_is_called():
     asperity.dla(particles=30_000, progress=lambda d, t, m: seen.append((d, t, m)))
     assert seen, "progress was reported"
     assert all(t >= d for d, t, _ in seen if t)
+
+
+def test_progress_bar_with_tqdm(capsys):
+    r = asperity.dla(particles=30_000, progress=True)
+    assert len(r.points) > 30_000
+    err = capsys.readouterr().err
+    assert "100%" in err or "it/s" in err, err[-300:]
+    with pytest.raises(TypeError):
+        asperity.dla(particles=10, progress="yes")

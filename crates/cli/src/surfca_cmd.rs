@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use asperity_core::Progress;
 use asperity_engine::files::{load_mesh, load_points, numbered, require_mesh_format};
 use asperity_engine::surfca::{
-    App, AppKind, AppRun, Covered, OutputShape, check_time, cover, run_app, start_progress,
+    App, AppRequest, AppRun, Covered, OutputShape, check_time, cover, run_app, start_progress,
 };
 use asperity_io::Format;
 use asperity_surfca::CellSize;
@@ -15,20 +15,20 @@ use asperity_surfca::corrosion::CorrosionParams;
 use crate::cli::{SurfaceApp, SurfaceCaArgs};
 use crate::context::{Context, Run};
 
-fn app(ctx: &Context, a: &SurfaceCaArgs, cov: &Covered) -> anyhow::Result<App> {
+fn request(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<AppRequest> {
+    let at = match &a.site_points {
+        Some(path) => Some((load_points(path, &ctx.budget)?, path.display().to_string())),
+        None => None,
+    };
     Ok(match a.app {
-        SurfaceApp::Voronoi => {
-            let sites = match &a.site_points {
-                Some(path) => {
-                    let pts = load_points(path, &ctx.budget)?;
-                    App::sites_at(&cov.cells, &pts, &path.display().to_string())?
-                }
-                None => App::random_sites(&cov.cells, a.sites, ctx.seed)?,
-            };
-            App::voronoi(sites, a.diagonal_p, a.max_steps)?
-        }
-        SurfaceApp::Corrosion => {
-            let params = CorrosionParams {
+        SurfaceApp::Voronoi => AppRequest::Voronoi {
+            sites: a.sites,
+            at,
+            diagonal_p: a.diagonal_p,
+            max_steps: a.max_steps,
+        },
+        SurfaceApp::Corrosion => AppRequest::Corrosion {
+            params: CorrosionParams {
                 k1: a.k1,
                 k2: a.k2,
                 k3: a.k3,
@@ -40,17 +40,16 @@ fn app(ctx: &Context, a: &SurfaceCaArgs, cov: &Covered) -> anyhow::Result<App> {
                 attack: a.attack,
                 maturity: a.maturity,
                 ..CorrosionParams::default()
-            };
-            match &a.site_points {
-                Some(path) => {
-                    let pts = load_points(path, &ctx.budget)?;
-                    let sites = App::sites_at(&cov.cells, &pts, &path.display().to_string())?;
-                    App::corrosion_at(params, a.steps, sites)?
-                }
-                None => App::corrosion(params, a.steps)?,
-            }
-        }
-        SurfaceApp::GrayScott => App::gray_scott(a.feed, a.kill, a.patches, a.steps)?,
+            },
+            steps: a.steps,
+            at,
+        },
+        SurfaceApp::GrayScott => AppRequest::GrayScott {
+            feed: a.feed,
+            kill: a.kill,
+            patches: a.patches,
+            steps: a.steps,
+        },
     })
 }
 
@@ -116,13 +115,10 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
         None => CellSize::Count(a.cells),
     };
     let mesh = load_mesh(&a.mesh, &ctx.budget)?;
+    let request = request(ctx, a)?;
     // Refuse a run no machine could finish before building its cells.
-    let kind = match a.app {
-        SurfaceApp::Voronoi => AppKind::Voronoi(a.max_steps),
-        _ => AppKind::Steps(a.steps),
-    };
     if let Ok(cells) = asperity_surfca::cells::estimated_count(&mesh, size) {
-        check_time(cells, &kind, &ctx.time)?;
+        check_time(cells, &request.kind(), &ctx.time)?;
     }
     let cov = cover(mesh, &a.mesh, a.repair, size, &ctx.budget)?;
     if let Some(r) = &cov.repair {
@@ -139,7 +135,7 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
         run.warn("warning", w.clone());
     }
     run.note(cov.summary());
-    let app = app(ctx, a, &cov)?;
+    let app = request.build(&cov, ctx.seed)?;
     let (r, frames) = run_with_frames(ctx, a, &cov, app, &out)?;
     for p in &frames {
         run.report.output(p);

@@ -44,6 +44,95 @@ pub enum AppKind {
     Steps(u64),
 }
 
+/// An application as a front end asks for it, before the cells exist: the
+/// sites are chosen once the mesh is covered ([`AppRequest::build`]).
+#[derive(Clone, Debug)]
+pub enum AppRequest {
+    /// Surface Voronoi from `sites` random cells, or the cells nearest `at`.
+    Voronoi {
+        /// How many random sites.
+        sites: usize,
+        /// Sites at these points (named `name` in messages) instead.
+        at: Option<(PointSet, String)>,
+        /// The diagonal-neighbour probability (gobron-chiba §4.1).
+        diagonal_p: Option<f64>,
+        /// The most steps it may run.
+        max_steps: u64,
+    },
+    /// Copper corrosion and patina, from random sites or those nearest `at`.
+    Corrosion {
+        /// The model's parameters.
+        params: CorrosionParams,
+        /// Steps.
+        steps: u64,
+        /// Initial corrosion sites at these points (named in messages).
+        at: Option<(PointSet, String)>,
+    },
+    /// Gray–Scott reaction–diffusion.
+    GrayScott {
+        /// Feed rate.
+        feed: f32,
+        /// Kill rate.
+        kill: f32,
+        /// Initial patches.
+        patches: usize,
+        /// Steps.
+        steps: u64,
+    },
+}
+
+impl AppRequest {
+    /// Its kind and length, for [`check_time`] before the cells are built.
+    pub fn kind(&self) -> AppKind {
+        match self {
+            AppRequest::Voronoi { max_steps, .. } => AppKind::Voronoi(*max_steps),
+            AppRequest::Corrosion { steps, .. } | AppRequest::GrayScott { steps, .. } => {
+                AppKind::Steps(*steps)
+            }
+        }
+    }
+
+    /// The application on the cells of `cov`, its sites chosen with `seed`.
+    ///
+    /// # Errors
+    /// Parameters out of range; sites that do not fit the cells.
+    pub fn build(self, cov: &Covered, seed: u64) -> Result<App> {
+        let sites_at = |at: &Option<(PointSet, String)>| {
+            at.as_ref()
+                .map(|(p, name)| App::sites_at(&cov.cells, p, name))
+                .transpose()
+        };
+        match self {
+            AppRequest::Voronoi {
+                sites,
+                ref at,
+                diagonal_p,
+                max_steps,
+            } => {
+                let chosen = match sites_at(at)? {
+                    Some(s) => s,
+                    None => App::random_sites(&cov.cells, sites, seed)?,
+                };
+                App::voronoi(chosen, diagonal_p, max_steps)
+            }
+            AppRequest::Corrosion {
+                params,
+                steps,
+                ref at,
+            } => match sites_at(at)? {
+                Some(s) => App::corrosion_at(params, steps, s),
+                None => App::corrosion(params, steps),
+            },
+            AppRequest::GrayScott {
+                feed,
+                kill,
+                patches,
+                steps,
+            } => App::gray_scott(feed, kill, patches, steps),
+        }
+    }
+}
+
 /// Refuses a run of `app` on about `cells` cells that no machine could finish
 /// within `time` — before the cells are built when `cells` is
 /// [`asperity_surfca::cells::estimated_count`].

@@ -1,8 +1,8 @@
 //! The Python binding of asperity: `import asperity`.
 //!
 //! This crate is a front end like the CLI: it converts numpy arrays to
-//! asperity's shared types and back ([`convert`]), runs one engine job per
-//! call off the GIL and stoppable by Ctrl-C ([`job`]), and maps engine errors
+//! asperity's shared types and back (`convert`), runs one engine job per
+//! call off the GIL and stoppable by Ctrl-C (`job`), and maps engine errors
 //! to Python exceptions. It holds no algorithm — every function calls
 //! `asperity_engine`. The Python package (`python/asperity`) wraps these
 //! functions with documented keyword arguments, result classes and the Dask

@@ -1,7 +1,7 @@
 //! `asperity.surface_ca`: cellular automata on a triangle mesh — Voronoi,
 //! corrosion and patina, Gray–Scott (gobron-chiba; `asperity_engine::surfca`).
 
-use asperity_engine::surfca::{App, AppKind, OutputShape, check_time, cover, run_app};
+use asperity_engine::surfca::{AppRequest, OutputShape, check_time, cover, run_app};
 use asperity_surfca::CellSize;
 use asperity_surfca::corrosion::CorrosionParams;
 use numpy::PyArray1;
@@ -80,11 +80,29 @@ pub fn surface_ca<'py>(
         ),
         Err(_) => (mesh_in(mesh)?, "mesh".to_string()),
     };
-    let which = crate::choice(app, &["voronoi", "corrosion", "gray-scott"], "app")?;
-    let params = corrosion_params(corrosion)?;
     let at = site_points
         .map(|p| rows::<3>(&p, "site_points"))
-        .transpose()?;
+        .transpose()?
+        .map(|p| (asperity_core::PointSet::new(p), "site_points".to_string()));
+    let request = match crate::choice(app, &["voronoi", "corrosion", "gray-scott"], "app")? {
+        "voronoi" => AppRequest::Voronoi {
+            sites,
+            at,
+            diagonal_p,
+            max_steps,
+        },
+        "corrosion" => AppRequest::Corrosion {
+            params: corrosion_params(corrosion)?,
+            steps,
+            at,
+        },
+        _ => AppRequest::GrayScott {
+            feed,
+            kill,
+            patches,
+            steps,
+        },
+    };
     let size = match cell_size {
         Some(h) => CellSize::Size(h),
         None => CellSize::Count(cells),
@@ -96,33 +114,11 @@ pub fn surface_ca<'py>(
     };
     let opts = RunOptions { threads, progress };
     let (cov, r, result) = run(py, &opts, move |w, time| {
-        let kind = match which {
-            "voronoi" => AppKind::Voronoi(max_steps),
-            _ => AppKind::Steps(steps),
-        };
         if let Ok(n) = asperity_surfca::cells::estimated_count(&base, size) {
-            check_time(n, &kind, time)?;
+            check_time(n, &request.kind(), time)?;
         }
         let cov = cover(base, &name, repair, size, &budget())?;
-        let site_set = at.map(asperity_core::PointSet::new);
-        let chosen = |cov: &asperity_engine::surfca::Covered| match &site_set {
-            Some(p) => App::sites_at(&cov.cells, p, "site_points").map(Some),
-            None => Ok(None),
-        };
-        let application = match which {
-            "voronoi" => {
-                let s = match chosen(&cov)? {
-                    Some(s) => s,
-                    None => App::random_sites(&cov.cells, sites, seed)?,
-                };
-                App::voronoi(s, diagonal_p, max_steps)?
-            }
-            "corrosion" => match chosen(&cov)? {
-                Some(s) => App::corrosion_at(params, steps, s)?,
-                None => App::corrosion(params, steps)?,
-            },
-            _ => App::gray_scott(feed, kill, patches, steps)?,
-        };
+        let application = request.build(&cov, seed)?;
         asperity_engine::surfca::start_progress(w, &application);
         let r = run_app(&cov, application, seed, time, |_, _| {
             asperity_core::Progress::advance(w, 1)
