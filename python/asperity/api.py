@@ -183,17 +183,30 @@ def dla(seed_shape: str = "point", size: Optional[Sequence[int]] = None, dim: in
 # ---------------------------------------------------------------- level sets
 
 _LEVEL_SET_DOC = """
-    Level-set keywords (the CLI's flags; None means the job's default):
-        paper: the paper's settings for what is not given (ε = 3h, 30 steps,
-            Godunov distance, 3×3×3 tube).
-        resolution: grid cells along the longest axis; spacing: grid spacing h.
-        offset: ε, a length in the points' units or a string such as "3h".
-        iterations, tolerance, point_radius (δ), scheme ("eno2", "upwind"),
-        flow ("convection", "regularized", "zhao"), curvature_weight,
-        distance ("closest-point", "godunov"), tube_n ("axes", "cube"),
-        tagging ("paper", "threshold"), tube (cells, 3), beta (cells, 2),
-        cfl (0.9), redistance (2), full_grid, curvature (per-vertex mean
-        curvature scalar), min_shell (triangles).
+    Level-set keywords (the CLI's flags with ``_`` for ``-``; None means the job's
+    own default, which ``paper=True`` changes to the paper's settings):
+        paper: ε = 3h, 30 steps, Godunov distance, the 3×3×3 tube N (default False).
+        resolution: grid cells along the longest axis (reconstruct: 128; pipelines:
+            spacing 0.7 lattice units, paper 96 cells).
+        spacing: grid spacing h in the points' units (instead of resolution).
+        offset: ε, the starting distance from the points: a length in the points'
+            units, or a string in grid cells such as "3h" (default 3h).
+        iterations: time steps (reconstruct 30, pipelines 60).
+        tolerance: stop when the front moves less than this many cells per step.
+        point_radius: the arrest distance δ in the points' units (default 0.75 × the
+            measured sample spacing, at least 0.6h; 0 is the paper's model).
+        scheme: "eno2" (default) or "upwind".
+        flow: "convection" (default), "regularized" (with curvature_weight, in
+            cells, default 1) or "zhao" (v = −∇d).
+        distance: "closest-point" (default) or "godunov" (fast sweeping).
+        tube_n: "axes" (default) or "cube" (the 3×3×3 neighbourhood).
+        tagging: "paper" (default) or "threshold".
+        tube: flow tube half-width in cells (default 3); beta: reinitialisation band
+            half-width in cells (default 2); cfl: CFL number (default 0.9);
+            redistance: redistancing iterations per step (default 2).
+        full_grid: evolve every node, not the narrow band (default False).
+        curvature: add a per-vertex ``mean_curvature`` scalar (default False).
+        min_shell: drop shells of fewer triangles (default 32).
 """
 
 _LEVEL_SET_KEYS = ("paper", "resolution", "spacing", "offset", "iterations", "tolerance",
