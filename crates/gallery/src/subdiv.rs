@@ -170,11 +170,11 @@ fn scene(env: &Env, name: &str, text: &str, title: &str) -> Result<Item> {
     );
     let tri = c.mesh.mesh.triangulate().with_computed_normals();
     let n_vertices = tri.n_vertices();
-    let (file, pic) = scene_files(env, name, &c, tri)?;
+    let (files, pic) = scene_files(env, name, &c, tri)?;
     Ok(Item::new(
         title,
         Some(pic),
-        vec![file],
+        files,
         vec![
             fact("levels", scene.levels),
             fact("vertices", n_vertices),
@@ -188,16 +188,17 @@ fn scene(env: &Env, name: &str, text: &str, title: &str) -> Result<Item> {
 }
 
 /// A scene's mesh and picture: in its colours (scalar mode), polished metal to
-/// rust by the blend weight (blends), or shaded.
-fn scene_files(env: &Env, name: &str, c: &Composed, tri: TriMesh) -> Result<(String, String)> {
+/// rust by the blend weight (blends), or shaded. A coloured scene is also
+/// written as `.glb` (linear `COLOR_0`), the file Blender users open.
+fn scene_files(env: &Env, name: &str, c: &Composed, tri: TriMesh) -> Result<(Vec<String>, String)> {
     let stem = format!("subdiv_{name}");
     let alpha = c
         .scalars
         .iter()
         .find(|(n, _)| n == "alpha")
         .map(|(_, v)| v.clone());
-    match (&c.colors, alpha) {
-        (Some(col), _) => env.colored_mesh(&stem, &tri.with_colors(col.clone())?),
+    let colored = match (&c.colors, alpha) {
+        (Some(col), _) => tri.with_colors(col.clone())?,
         (None, Some(a)) => {
             let col = a
                 .iter()
@@ -206,11 +207,16 @@ fn scene_files(env: &Env, name: &str, c: &Composed, tri: TriMesh) -> Result<(Str
                     [m(175.0, 140.0), m(180.0, 70.0), m(190.0, 30.0), 255]
                 })
                 .collect();
-            let tri = tri.with_scalar("alpha", a)?;
-            env.colored_mesh(&stem, &tri.with_colors(col)?)
+            tri.with_scalar("alpha", a)?.with_colors(col)?
         }
-        (None, None) => env.shaded_mesh(&stem, &tri),
-    }
+        (None, None) => {
+            let (file, pic) = env.shaded_mesh(&stem, &tri)?;
+            return Ok((vec![file], pic));
+        }
+    };
+    let (file, pic) = env.colored_mesh(&stem, &colored)?;
+    let glb = env.mesh(&format!("{stem}.glb"), &colored)?;
+    Ok((vec![file, glb], pic))
 }
 
 /// Meshes placed in a row along x (for figures that compare stages).

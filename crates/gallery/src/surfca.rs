@@ -71,6 +71,18 @@ fn voronoi_item(
     let (labels, stats) = voronoi(cells, &s, &rule, env.seed, 100_000, |_, _| true);
     let m = cov.cell_mesh(|c| label_color(labels[c]))?;
     let (file, pic) = env.colored_mesh(&format!("surfca_voronoi_{name}"), &m)?;
+    let mut files = vec![file];
+    if name == "cup" {
+        // The original mesh with the cells in a texture atlas, as
+        // `surface-ca … -o v.glb` writes it.
+        let textured = asperity_surfca::atlas::atlas_mesh(
+            &cov.mesh,
+            cells,
+            |c| label_color(labels[c]),
+            &env.budget,
+        )?;
+        files.push(env.mesh("surfca_voronoi_cup.glb", &textured)?);
+    }
     let cli = format!(
         "asperity surface-ca builtin:{name} --app voronoi --sites {sites} --cells {target} -o v.glb"
     );
@@ -98,7 +110,7 @@ fn voronoi_item(
         ),
         _ => format!("Surface Voronoi diagram on the {name} ({sites} sites)"),
     };
-    Ok((Item::new(title, Some(pic), vec![file], facts), steps_item))
+    Ok((Item::new(title, Some(pic), files, facts), steps_item))
 }
 
 /// Cells labelled and changed per step: the logistic curve of Figure 16.

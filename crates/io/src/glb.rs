@@ -10,20 +10,76 @@
 //! (x, z, −y), a rotation that keeps faces front-facing, so Blender's importer
 //! (which turns y-up back into z-up) shows the surface as asperity does.
 //! glTF's texture origin is the top-left, so `v` is written as `1 − v`.
+//!
+//! # Colour spaces
+//! glTF defines `COLOR_0` as **linear** RGB, while asperity's vertex colours
+//! (like PLY's and OBJ's) are sRGB bytes: they are converted with the sRGB
+//! transfer function and written as normalized 16-bit integers, so that a
+//! viewer's conversion back to sRGB lands within 1/255 of the original even in
+//! the darks (8-bit linear would lose them). Alpha is linear already. Texture
+//! images stay sRGB, as the specification says of `baseColorTexture`.
+//!
+//! # Validator-clean output
+//! `TEXCOORD_0` is written only with the texture it addresses (the Khronos
+//! validator reports unused UVs), and a texture whose sides are not powers of
+//! two is padded to the next ones (edge pixels repeated, UVs scaled to the
+//! original block): mipmapped sampling needs power-of-two images in some
+//! viewers, and the validator reports them otherwise.
 
 use std::io::Write;
 
-use asperity_core::TriMesh;
+use asperity_core::{RgbaImage, TriMesh};
 use serde_json::{Value, json};
 
 const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 const FLOAT: u32 = 5126;
-const UNSIGNED_BYTE: u32 = 5121;
+const UNSIGNED_SHORT: u32 = 5123;
 const UNSIGNED_INT: u32 = 5125;
 
 fn to_y_up(p: [f64; 3]) -> [f32; 3] {
     [p[0] as f32, p[2] as f32, -p[1] as f32]
+}
+
+/// An sRGB byte as a linear value in [0, 1] (the sRGB transfer function,
+/// IEC 61966-2-1).
+pub fn srgb_to_linear(c: u8) -> f64 {
+    let c = f64::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// An sRGB colour with linear alpha as linear 16-bit RGBA.
+fn linear_u16(rgba: [u8; 4]) -> [u16; 4] {
+    let q = |v: f64| (v * 65535.0).round() as u16;
+    [
+        q(srgb_to_linear(rgba[0])),
+        q(srgb_to_linear(rgba[1])),
+        q(srgb_to_linear(rgba[2])),
+        q(f64::from(rgba[3]) / 255.0),
+    ]
+}
+
+/// `tex` padded to power-of-two sides (the original in the top-left corner,
+/// its last column and row repeated into the padding) and the factors that
+/// map the original's texture coordinates into the padded image.
+fn power_of_two(tex: &RgbaImage) -> (RgbaImage, [f64; 2]) {
+    let (w, h) = (tex.width(), tex.height());
+    let (pw, ph) = (w.next_power_of_two(), h.next_power_of_two());
+    if (pw, ph) == (w, h) {
+        return (tex.clone(), [1.0, 1.0]);
+    }
+    let mut out = RgbaImage::filled(pw, ph, [0, 0, 0, 0]);
+    for y in 0..ph {
+        for x in 0..pw {
+            out.put(x, y, tex.get(x.min(w - 1), y.min(h - 1)));
+        }
+    }
+    let scale = [f64::from(w) / f64::from(pw), f64::from(h) / f64::from(ph)];
+    (out, scale)
 }
 
 /// Collects buffer views and accessors over one binary chunk.
@@ -100,17 +156,26 @@ pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> 
         .collect();
     attributes["NORMAL"] = json!(bin.floats(&normals, "VEC3", false));
     if let Some(c) = m.colors() {
-        let bytes: Vec<u8> = c.iter().flatten().copied().collect();
-        let acc = json!({"componentType": UNSIGNED_BYTE, "normalized": true, "count": c.len(), "type": "VEC4"});
+        let bytes: Vec<u8> = c
+            .iter()
+            .flat_map(|&rgba| linear_u16(rgba))
+            .flat_map(u16::to_le_bytes)
+            .collect();
+        let acc = json!({"componentType": UNSIGNED_SHORT, "normalized": true, "count": c.len(), "type": "VEC4"});
         attributes["COLOR_0"] = json!(bin.accessor(&bytes, ARRAY_BUFFER, acc));
     }
-    if let Some(uv) = m.uvs() {
-        let t: Vec<[f32; 2]> = uv
-            .iter()
-            .map(|t| [t[0] as f32, 1.0 - t[1] as f32])
-            .collect();
-        attributes["TEXCOORD_0"] = json!(bin.floats(&t, "VEC2", false));
-    }
+    let texture = match (m.texture(), m.uvs()) {
+        (Some(tex), Some(uv)) => {
+            let (image, scale) = power_of_two(tex);
+            let t: Vec<[f32; 2]> = uv
+                .iter()
+                .map(|t| [(t[0] * scale[0]) as f32, ((1.0 - t[1]) * scale[1]) as f32])
+                .collect();
+            attributes["TEXCOORD_0"] = json!(bin.floats(&t, "VEC2", false));
+            Some(image)
+        }
+        _ => None,
+    };
     for a in m.scalars() {
         let vals: Vec<[f32; 1]> = a.values.iter().map(|&v| [v as f32]).collect();
         let name: String = a
@@ -146,7 +211,7 @@ pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> 
         "nodes": [{"mesh": 0, "name": "surface"}],
         "meshes": [{"name": "surface", "primitives": [{"attributes": attributes, "indices": indices, "material": 0, "mode": 4}]}],
     });
-    if let Some(tex) = m.texture().filter(|_| m.uvs().is_some()) {
+    if let Some(tex) = &texture {
         let png = crate::png_io::encode_rgba(tex).map_err(std::io::Error::other)?;
         let view = bin.view(&png, None);
         doc["images"] = json!([{"bufferView": view, "mimeType": "image/png"}]);

@@ -152,7 +152,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: W,
         points: No,
         height: No,
-        notes: "y-up (x, z, -y); normals, COLOR_0, TEXCOORD_0 + embedded PNG texture, scalars as _NAME",
+        notes: "y-up (x, z, -y); normals, linear COLOR_0, TEXCOORD_0 + embedded PNG texture (padded to powers of two), scalars as _NAME",
     },
     FormatInfo {
         format: Format::Xyz,

@@ -33,8 +33,20 @@ fn glb_validates_and_carries_every_attribute() {
         let l = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
         assert!((l - 1.0).abs() < 1e-5, "unit normals");
     }
-    let colors: Vec<[u8; 4]> = reader.read_colors(0).unwrap().into_rgba_u8().collect();
-    assert_eq!(colors, m.colors().unwrap());
+    // COLOR_0 is linear (glTF 2.0 §3.7.2.1): the sRGB bytes through the sRGB
+    // transfer function, 16-bit; back to sRGB they are the bytes again.
+    let colors: Vec<[f32; 4]> = reader.read_colors(0).unwrap().into_rgba_f32().collect();
+    for (g, c) in colors.iter().zip(m.colors().unwrap()) {
+        for k in 0..3 {
+            let lin = asperity_io::glb::srgb_to_linear(c[k]);
+            assert!(
+                (f64::from(g[k]) - lin).abs() < 1.0 / 65535.0,
+                "{g:?} vs {c:?}"
+            );
+            assert_eq!(srgb_byte(g[k]), c[k]);
+        }
+        assert!((f64::from(g[3]) - f64::from(c[3]) / 255.0).abs() < 1e-4);
+    }
     let uv: Vec<[f32; 2]> = reader.read_tex_coords(0).unwrap().into_f32().collect();
     for (g, t) in uv.iter().zip(m.uvs().unwrap()) {
         assert!((g[0] as f64 - t[0]).abs() < 1e-6 && (g[1] as f64 - (1.0 - t[1])).abs() < 1e-6);
@@ -56,6 +68,58 @@ fn glb_validates_and_carries_every_attribute() {
         prim.attributes()
             .any(|(s, _)| s.to_string() == "_CURVATURE")
     );
+}
+
+/// A linear value as the sRGB byte a viewer shows (the inverse transfer
+/// function, written out here independently of the writer's).
+fn srgb_byte(linear: f32) -> u8 {
+    let l = f64::from(linear);
+    let s = if l <= 0.0031308 {
+        12.92 * l
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
+#[test]
+fn glb_pads_a_texture_to_powers_of_two_and_keeps_what_each_vertex_sees() {
+    let mut tex = asperity_core::RgbaImage::filled(3, 5, [0, 0, 0, 255]);
+    for y in 0..5 {
+        for x in 0..3 {
+            tex.put(x, y, [40 * x as u8, 50 * y as u8, 7, 255]);
+        }
+    }
+    let m = octahedron();
+    // each vertex addresses the centre of one texel (x, row y from the top)
+    let texels: Vec<(u32, u32)> = (0..m.n_vertices() as u32).map(|k| (k % 3, k % 5)).collect();
+    let uvs: Vec<[f64; 2]> = texels
+        .iter()
+        .map(|&(x, y)| [(f64::from(x) + 0.5) / 3.0, 1.0 - (f64::from(y) + 0.5) / 5.0])
+        .collect();
+    let m = m.with_uvs(uvs).unwrap().with_texture(tex.clone());
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("t.glb");
+    asperity_io::write_mesh(&path, &m, &WriteOptions::default()).unwrap();
+    let (doc, buffers, images) = gltf::import(&path).unwrap();
+    assert_eq!((images[0].width, images[0].height), (4, 8));
+    let prim = doc.meshes().next().unwrap().primitives().next().unwrap();
+    let reader = prim.reader(|b| Some(&buffers[b.index()]));
+    let uv: Vec<[f32; 2]> = reader.read_tex_coords(0).unwrap().into_f32().collect();
+    let px = &images[0].pixels;
+    for (t, &(x, y)) in uv.iter().zip(&texels) {
+        let (gx, gy) = ((t[0] * 4.0) as usize, (t[1] * 8.0) as usize);
+        assert_eq!(
+            &px[4 * (gx + 4 * gy)..4 * (gx + 4 * gy) + 4],
+            &tex.get(x, y)
+        );
+    }
+    // without a texture no TEXCOORD_0 is written (it would be unused)
+    let bare = octahedron().with_uvs(vec![[0.5, 0.5]; 6]).unwrap();
+    asperity_io::write_mesh(&path, &bare, &WriteOptions::default()).unwrap();
+    let (doc, _, _) = gltf::import(&path).unwrap();
+    let prim = doc.meshes().next().unwrap().primitives().next().unwrap();
+    assert!(prim.get(&gltf::Semantic::TexCoords(0)).is_none());
 }
 
 #[test]
