@@ -7,9 +7,10 @@
 //! Gwyddion treats samples as pixels of size `XReal/XRes` whose *edges* start at
 //! `XOffset`; asperity samples sit at `origin + i·dx`. So we write
 //! `XReal = nx·dx` and `XOffset = x0 − dx/2` (likewise y), and invert that on
-//! reading. Heights are `f32` (relative error near 6e-8). Units are written as
-//! `XYUnits = m`, `ZUnits = m` unless the height field is unitless in practice;
-//! asperity does not track units, so this is a labelling convention.
+//! reading. Heights are `f32` (relative error near 6e-8). No `XYUnits` or
+//! `ZUnits` is written: asperity's height fields carry no units (synthetic
+//! data are unitless), and Gwyddion reads a field without them as unitless —
+//! writing `m` made it show a 256 m field with heights in metres (#24).
 
 use std::io::Write;
 
@@ -35,7 +36,6 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> s
         x0 - 0.5 * dx,
         y0 - 0.5 * dy
     );
-    head += "XYUnits = m\nZUnits = m\n";
     let title: String = title.chars().filter(|c| !c.is_control()).collect();
     head += &format!(
         "Title = {title}\nGenerator = asperity {}\n",

@@ -179,7 +179,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: RW,
-        notes: "height range and spacing in tEXt chunks; 8-bit/RGB PNGs read as [0, 1]",
+        notes: "height range and spacing in tEXt chunks (asperity's and Gwyddion's Gwy:: keys); 8-bit/RGB PNGs read as [0, 1]",
     },
     FormatInfo {
         format: Format::Exr,
@@ -197,7 +197,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: RW,
-        notes: "float32; XReal/XOffset follow Gwyddion's pixel convention",
+        notes: "float32; XReal/XOffset follow Gwyddion's pixel convention; unitless",
     },
     FormatInfo {
         format: Format::Csv,
@@ -709,7 +709,9 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
         Format::Npy => write_atomic(path, |w| {
             npy::write(w, &[h.ny(), h.nx()], h.data(), opts.npy_dtype).map_err(os)
         }),
-        Format::Png => write_atomic(path, |w| png_io::write_height(w, h).map_err(os)),
+        Format::Png => write_atomic(path, |w| {
+            png_io::write_height(w, h, &opts.title).map_err(os)
+        }),
         Format::Exr => write_atomic(path, |w| exr_io::write_height(w, h).map_err(os)),
         Format::Gsf => write_atomic(path, |w| gsf::write_height(w, h, &opts.title).map_err(os)),
         Format::Csv => write_atomic(path, |w| text::write_csv(w, h).map_err(os)),

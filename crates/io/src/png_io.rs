@@ -5,8 +5,12 @@
 //! `z_max`, the spacing and the origin go into `tEXt` chunks with keywords
 //! `asperity:z_min`, `asperity:z_max`, `asperity:dx`, `asperity:dy`,
 //! `asperity:x0`, `asperity:y0`, so reading restores heights to within
-//! (z_max − z_min)/131070. Any other PNG (8-bit, RGB, palette) is read as
-//! heights in [0, 1] from its Rec. 709 luminance.
+//! (z_max − z_min)/131070. The same facts go into Gwyddion's own keys
+//! (`Gwy::XReal`, `Gwy::YReal`, `Gwy::XOffset`, `Gwy::YOffset`, `Gwy::ZMin`,
+//! `Gwy::ZMax`, `Gwy::XYUnit`, `Gwy::ZUnit`, `Gwy::Title`), so Gwyddion opens
+//! the map with its sizes and heights (crates/cli/tests/gwyddion.rs). Any other
+//! PNG (8-bit, RGB, palette) is read as heights in [0, 1] from its Rec. 709
+//! luminance.
 
 use std::io::{Cursor, Write};
 
@@ -39,7 +43,7 @@ fn dims_u32(h: &HeightField) -> std::io::Result<(u32, u32)> {
 }
 
 /// Writes a height field as a 16-bit grayscale PNG with its range in tEXt chunks.
-pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField) -> std::io::Result<()> {
+pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> std::io::Result<()> {
     let (nx, ny) = dims_u32(h)?;
     let (lo, hi) = h.min_max();
     let scale = if hi > lo { 65535.0 / (hi - lo) } else { 0.0 };
@@ -57,6 +61,26 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField) -> std::io::Resul
         ("y0", y0),
     ] {
         enc.add_text_chunk(format!("asperity:{k}"), format!("{v:e}"))
+            .map_err(std::io::Error::other)?;
+    }
+    // Gwyddion's own keys (its gwyddion.h GWY_IMGKEY_*): the field's extent and
+    // the offset of its first pixel's edge (Gwyddion's pixel-area convention,
+    // as in GSF), and the heights at 0 and 65535. Units stay empty: asperity's
+    // synthetic data have none.
+    let gwy = [
+        ("XReal", dx * nx as f64),
+        ("YReal", dy * ny as f64),
+        ("XOffset", x0 - 0.5 * dx),
+        ("YOffset", y0 - 0.5 * dy),
+        ("ZMin", lo),
+        ("ZMax", if hi > lo { hi } else { lo + 1.0 }),
+    ];
+    for (k, v) in gwy {
+        enc.add_text_chunk(format!("Gwy::{k}"), format!("{v:e}"))
+            .map_err(std::io::Error::other)?;
+    }
+    for (k, v) in [("XYUnit", ""), ("ZUnit", ""), ("Title", title)] {
+        enc.add_text_chunk(format!("Gwy::{k}"), v.to_string())
             .map_err(std::io::Error::other)?;
     }
     let mut out = enc.write_header().map_err(std::io::Error::other)?;
