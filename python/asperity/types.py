@@ -8,7 +8,7 @@ into the engine's own types (see docs/python.md, "Copies").
 from __future__ import annotations
 
 import json
-from typing import Dict, Optional, Sequence
+from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -104,10 +104,13 @@ class Mesh(_Surface):
 
 class HeightField(_Surface):
     """Heights on a regular grid: ``heights`` (ny, nx) float64, row j at
-    y = origin[1] + j·spacing[1], column i at x = origin[0] + i·spacing[0]."""
+    y = origin[1] + j·spacing[1], column i at x = origin[0] + i·spacing[0].
+    ``units`` = (xy, z), each "m", "mm", "µm", "nm" or "none" (the default):
+    the unit of the spacing and origin, and of the heights."""
 
     def __init__(self, heights, spacing: Sequence[float] = (1.0, 1.0),
-                 origin: Sequence[float] = (0.0, 0.0), title: Optional[str] = None):
+                 origin: Sequence[float] = (0.0, 0.0), title: Optional[str] = None,
+                 units: Tuple[str, str] = ("none", "none")):
         h = np.ascontiguousarray(heights, dtype=np.float64)
         if h.ndim != 2:
             raise ValueError(f"heights must be a 2-D array (ny, nx), got shape {h.shape}")
@@ -115,6 +118,7 @@ class HeightField(_Surface):
         self.spacing = (float(spacing[0]), float(spacing[1]))
         self.origin = (float(origin[0]), float(origin[1]))
         self.title = title
+        self.units = (str(units[0]), str(units[1]))
 
     @classmethod
     def _from(cls, d: dict, title: Optional[str] = None) -> "HeightField":
@@ -122,6 +126,7 @@ class HeightField(_Surface):
         h.heights = d["heights"]
         h.spacing = tuple(d["spacing"])
         h.origin = tuple(d["origin"])
+        h.units = tuple(d.get("units", ("none", "none")))
         h.title = title
         return h
 
@@ -139,7 +144,8 @@ class HeightField(_Surface):
 
     def __repr__(self) -> str:
         ny, nx = self.heights.shape
-        return f"<asperity.HeightField {nx}×{ny}, spacing {self.spacing}>"
+        units = "" if self.units == ("none", "none") else f", units {self.units[0]} / {self.units[1]}"
+        return f"<asperity.HeightField {nx}×{ny}, spacing {self.spacing}{units}>"
 
 
 class PointSet(_Surface):

@@ -226,6 +226,14 @@ def test_render_and_load_save(cli, tmp):
         cli("convert", tmp / "h.gsf", tmp / f"c.{ext}")
         h.save(tmp / f"p.{ext}")
         same_bytes(tmp / f"c.{ext}", tmp / f"p.{ext}")
+    # units travel: a field in µm / nm, saved and loaded, keeps them
+    hu = asperity.HeightField(h.heights, spacing=(0.5, 0.5), units=("µm", "nm"))
+    for ext in ["gsf", "png", "exr", "csv"]:
+        hu.save(tmp / f"u.{ext}")
+        back = asperity.load(tmp / f"u.{ext}")
+        info = cli("info", tmp / f"u.{ext}")["measurements"]
+        assert back.units == (info["units"]["xy"], info["units"]["z"])
+        assert back.units == (("m", "m") if ext == "gsf" else ("µm", "nm")), ext
     # and what is read back is what was written
     for ext in ["npy", "gsf", "exr"]:
         back = asperity.load(tmp / f"p.{ext}")

@@ -73,6 +73,13 @@ pub struct Global {
     /// 12h, 1w, or none (default: 1d). Guards against step counts with a typo.
     #[arg(long, global = true, value_name = "DURATION", value_parser = parse_time)]
     pub max_time: Option<MaxTime>,
+    /// Length unit of the x, y coordinates of height fields written: m, mm, µm, nm or
+    /// none (the default for synthetic data). Carried by GSF, PNG, EXR and CSV.
+    #[arg(long, global = true, value_name = "UNIT", value_parser = asperity_core::LengthUnit::parse)]
+    pub xy_unit: Option<asperity_core::LengthUnit>,
+    /// Length unit of the heights of height fields written (as --xy-unit).
+    #[arg(long, global = true, value_name = "UNIT", value_parser = asperity_core::LengthUnit::parse)]
+    pub z_unit: Option<asperity_core::LengthUnit>,
 }
 
 /// `--max-time`: a duration, or none for no limit.

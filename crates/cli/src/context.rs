@@ -5,7 +5,9 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use asperity_core::{MemoryBudget, PointSet, RgbaImage, TimeBudget, TriMesh};
+use asperity_core::{
+    HeightField, LengthUnit, MemoryBudget, PointSet, RgbaImage, TimeBudget, TriMesh,
+};
 use asperity_engine::plots::NamedPlot;
 use asperity_engine::{Measurements, Report};
 use asperity_io::{Surface, WriteOptions};
@@ -25,6 +27,8 @@ pub struct Context {
     pub threads: usize,
     /// `--format`: set when `-o -` sends the output to stdout.
     pub format: Option<String>,
+    /// `--xy-unit`, `--z-unit`: units given to height fields written.
+    pub units: (Option<LengthUnit>, Option<LengthUnit>),
 }
 
 impl Context {
@@ -50,7 +54,21 @@ impl Context {
             quiet: g.quiet,
             budget: g.max_memory.map(MemoryBudget::new).unwrap_or_default(),
             threads,
+            units: (g.xy_unit, g.z_unit),
         })
+    }
+
+    /// `h` in the units `--xy-unit` and `--z-unit` give (each kept where not
+    /// given): a unitless field is labelled, one with units is converted.
+    pub fn with_units(&self, h: HeightField) -> HeightField {
+        let mut u = h.units();
+        if let Some(xy) = self.units.0 {
+            u.xy = xy;
+        }
+        if let Some(z) = self.units.1 {
+            u.z = z;
+        }
+        h.in_units(u)
     }
 
     /// Prints an informational line on stderr unless `--quiet` or `--json`.
@@ -80,9 +98,13 @@ impl Context {
         Bar::new(self.quiet || self.json)
     }
 
-    /// Reads any file under the memory budget.
+    /// Reads any file under the memory budget; a height field gets the units
+    /// `--xy-unit`/`--z-unit` give (for files that record none, such as .npy).
     pub fn load(&self, path: &Path) -> anyhow::Result<Surface> {
-        Ok(asperity_engine::files::load(path, &self.budget)?)
+        Ok(match asperity_engine::files::load(path, &self.budget)? {
+            Surface::Height(h) => Surface::Height(self.with_units(h)),
+            s => s,
+        })
     }
 }
 
@@ -119,7 +141,10 @@ impl<'a> Run<'a> {
             title,
             ..WriteOptions::default()
         };
-        asperity_io::write_height(path, h, &opts)?;
+        match self.ctx.units {
+            (None, None) => asperity_io::write_height(path, h, &opts)?,
+            _ => asperity_io::write_height(path, &self.ctx.with_units(h.clone()), &opts)?,
+        }
         self.report.output(path);
         Ok(())
     }

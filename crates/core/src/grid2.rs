@@ -1,6 +1,6 @@
 //! Regular 2-D grids and height fields.
 
-use crate::{CoreError, MemoryBudget, PointSet, TriMesh};
+use crate::{CoreError, MemoryBudget, PointSet, TriMesh, Units};
 
 /// Regular 2-D grid, x fastest: value (i, j) is `data[i + nx * j]`, and
 /// sample (i, j) sits at `origin + [i·spacing[0], j·spacing[1]]`.
@@ -9,6 +9,7 @@ pub struct Grid2<T> {
     dims: [usize; 2],
     spacing: [f64; 2],
     origin: [f64; 2],
+    units: Units,
     data: Vec<T>,
 }
 
@@ -35,6 +36,28 @@ pub(crate) fn check_spacing(spacing: &[f64]) -> crate::Result<()> {
         Ok(())
     } else {
         Err(CoreError::BadSpacing(spacing.to_vec()))
+    }
+}
+
+impl Grid2<f64> {
+    /// The field in `units`: where both the old and the new unit are lengths,
+    /// the spacing and origin (xy) or the heights (z) are converted; a unitless
+    /// side is only labelled.
+    pub fn in_units(mut self, units: Units) -> Self {
+        let factor =
+            |from: crate::LengthUnit, to: crate::LengthUnit| match (from.metres(), to.metres()) {
+                (Some(a), Some(b)) if a != b => Some(a / b),
+                _ => None,
+            };
+        if let Some(k) = factor(self.units.xy, units.xy) {
+            self.spacing = self.spacing.map(|v| v * k);
+            self.origin = self.origin.map(|v| v * k);
+        }
+        if let Some(k) = factor(self.units.z, units.z) {
+            self.data.iter_mut().for_each(|v| *v *= k);
+        }
+        self.units = units;
+        self
     }
 }
 
@@ -69,6 +92,7 @@ impl<T: Clone> Grid2<T> {
             dims,
             spacing: [1.0, 1.0],
             origin: [0.0, 0.0],
+            units: Units::default(),
             data: vec![value; dims[0] * dims[1]],
         })
     }
@@ -92,6 +116,7 @@ impl<T> Grid2<T> {
             dims,
             spacing: [1.0, 1.0],
             origin: [0.0, 0.0],
+            units: Units::default(),
             data,
         })
     }
@@ -120,6 +145,17 @@ impl<T> Grid2<T> {
         }
         self.origin = origin;
         Ok(self)
+    }
+
+    /// Sets the length units of the spacing, origin and values.
+    pub fn with_units(mut self, units: Units) -> Self {
+        self.units = units;
+        self
+    }
+
+    /// The length units (none for synthetic data).
+    pub fn units(&self) -> Units {
+        self.units
     }
 
     /// Applies the spacing and origin that a file recorded, where it recorded them.
@@ -239,6 +275,7 @@ impl<T> Grid2<T> {
             dims: self.dims,
             spacing: self.spacing,
             origin: self.origin,
+            units: self.units,
             data: self.data.iter().map(f).collect(),
         }
     }

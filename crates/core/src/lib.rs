@@ -64,6 +64,7 @@ pub mod rng;
 pub mod shapes;
 pub mod time_budget;
 pub mod tri_mesh;
+pub mod units;
 pub mod vec3;
 pub mod voxelize;
 
@@ -82,6 +83,7 @@ pub use progress::{NoProgress, Progress};
 pub use rng::{SimRng, seeded, substream};
 pub use time_budget::{TimeBudget, Work};
 pub use tri_mesh::{Attribute, TriMesh};
+pub use units::{LengthUnit, Units};
 
 /// Result alias for the core crate.
 pub type Result<T, E = CoreError> = std::result::Result<T, E>;

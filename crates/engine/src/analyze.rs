@@ -313,6 +313,7 @@ fn constant(h: &HeightField, c: f64) -> Analysis {
     };
     facts.set("size", h.dims());
     facts.set("spacing", h.spacing());
+    facts.set("units", units_json(h));
     facts.set("constant", c);
     facts.set("hurst", Value::Null);
     facts.set("hurst_estimates", Value::Null);
@@ -346,6 +347,7 @@ fn parameters(h: &HeightField, p: &Prepared) -> Result<Measurements> {
     };
     facts.set("size", h.dims());
     facts.set("spacing", h.spacing());
+    facts.set("units", units_json(h));
     facts.set(
         "periodic",
         json!({"value": p.periodic, "source": p.source, "edge_ratio": p.ratio}),
@@ -613,4 +615,12 @@ fn point_report(p: &PointSet, name: &str) -> Result<Analysis> {
         plots: Vec::new(),
         warnings: Vec::new(),
     })
+}
+
+/// A height field's units as the reports give them: `{"xy": "µm", "z": "nm"}`
+/// (`"none"` for unitless data). Lengths and heights in a report are in
+/// these units; derived quantities follow (Sq in z units, Sdq as z per xy…).
+pub fn units_json(h: &HeightField) -> Value {
+    let u = h.units();
+    serde_json::json!({"xy": u.xy.to_string(), "z": u.z.to_string()})
 }

@@ -47,6 +47,7 @@ fn height_facts(h: &HeightField) -> serde_json::Value {
         "kind": "height field",
         "nx": h.nx(), "ny": h.ny(),
         "spacing": h.spacing(), "origin": h.origin(), "extent": h.extent(),
+        "units": crate::analyze::units_json(h),
         "min": lo, "max": hi, "mean": mean, "rms_deviation": rms,
     })
 }

@@ -3,17 +3,20 @@
 //!
 //! Heights are stored as `f32` (EXR has no `f64` samples): expect a relative
 //! error near 6e-8. The spacing and origin go into `double` header attributes
-//! `asperity.dx`, `asperity.dy`, `asperity.x0`, `asperity.y0`. Reading accepts
+//! `asperity.dx`, `asperity.dy`, `asperity.x0`, `asperity.y0` (one text
+//! attribute `asperity.geometry`), units into `asperity.units` (`xy=um z=nm`,
+//! when the field has any). Reading accepts
 //! the first layer's `Y`, `Z`, `R` or only channel, in any sample type.
 
 use std::io::{Cursor, Seek, Write};
 
-use asperity_core::HeightField;
+use asperity_core::{HeightField, LengthUnit, Units};
 use exr::prelude::*;
 
 use crate::error::{FResult, FormatError, malformed};
 
 const GEOMETRY: &str = "asperity.geometry";
+const UNITS: &str = "asperity.units";
 
 /// Writes a height field as a single-channel float EXR (ZIP-compressed, lossless).
 pub(crate) fn write_height<W: Write + Seek>(w: W, h: &HeightField) -> std::io::Result<()> {
@@ -27,6 +30,14 @@ pub(crate) fn write_height<W: Write + Seek>(w: W, h: &HeightField) -> std::io::R
         Text::from(GEOMETRY),
         AttributeValue::Text(Text::from(geometry.as_str())),
     );
+    let units = h.units();
+    if !units.is_none() {
+        let text = format!("xy={} z={}", units.xy.ascii(), units.z.ascii());
+        attrs.other.insert(
+            Text::from(UNITS),
+            AttributeValue::Text(Text::from(text.as_str())),
+        );
+    }
     let layer = Layer::new(
         (h.nx(), h.ny()),
         attrs,
@@ -87,6 +98,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             return malformed(format!("attribute {GEOMETRY} = {t:?} is not four numbers"));
         };
         h = h.with_spacing([dx, dy])?.with_origin([x0, y0])?;
+    }
+    if let Some(AttributeValue::Text(t)) = layer.attributes.other.get(&Text::from(UNITS)) {
+        let text = t.to_string();
+        let mut units = Units::default();
+        for part in text.split_whitespace() {
+            let parsed = match part.split_once('=') {
+                Some(("xy", u)) => LengthUnit::parse(u).map(|u| units.xy = u),
+                Some(("z", u)) => LengthUnit::parse(u).map(|u| units.z = u),
+                _ => Err(format!("{part:?} is not xy=UNIT or z=UNIT")),
+            };
+            parsed.map_err(|e| FormatError::Malformed(format!("attribute {UNITS}: {e}")))?;
+        }
+        h = h.with_units(units);
     }
     Ok(h)
 }

@@ -7,14 +7,17 @@
 //! Gwyddion treats samples as pixels of size `XReal/XRes` whose *edges* start at
 //! `XOffset`; asperity samples sit at `origin + i·dx`. So we write
 //! `XReal = nx·dx` and `XOffset = x0 − dx/2` (likewise y), and invert that on
-//! reading. Heights are `f32` (relative error near 6e-8). No `XYUnits` or
-//! `ZUnits` is written: asperity's height fields carry no units (synthetic
-//! data are unitless), and Gwyddion reads a field without them as unitless —
-//! writing `m` made it show a 256 m field with heights in metres (#24).
+//! reading. Heights are `f32` (relative error near 6e-8).
+//!
+//! Units: a unitless field (synthetic data) is written without `XYUnits` and
+//! `ZUnits`, which Gwyddion reads as unitless (writing `m` made it show a 256 m
+//! field, #24). A field with units is written in base units, as the GSF
+//! specification asks: `XYUnits = m`, `ZUnits = m`, lengths and heights in
+//! metres; reading gives a field in the file's units (metres for our files).
 
 use std::io::Write;
 
-use asperity_core::HeightField;
+use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
 
@@ -22,8 +25,11 @@ const MAGIC: &[u8] = b"Gwyddion Simple Field 1.0\n";
 
 /// Writes a GSF file.
 pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> std::io::Result<()> {
-    let [dx, dy] = h.spacing();
-    let [x0, y0] = h.origin();
+    let units = h.units();
+    let fx = units.xy.metres().unwrap_or(1.0);
+    let fz = units.z.metres().unwrap_or(1.0);
+    let [dx, dy] = h.spacing().map(|v| v * fx);
+    let [x0, y0] = h.origin().map(|v| v * fx);
     let mut head = String::from_utf8_lossy(MAGIC).into_owned();
     head += &format!("XRes = {}\nYRes = {}\n", h.nx(), h.ny());
     head += &format!(
@@ -36,6 +42,12 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> s
         x0 - 0.5 * dx,
         y0 - 0.5 * dy
     );
+    if units.xy.metres().is_some() {
+        head += "XYUnits = m\n";
+    }
+    if units.z.metres().is_some() {
+        head += "ZUnits = m\n";
+    }
     let title: String = title.chars().filter(|c| !c.is_control()).collect();
     head += &format!(
         "Title = {title}\nGenerator = asperity {}\n",
@@ -47,7 +59,7 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> s
     let data: Vec<u8> = h
         .data()
         .iter()
-        .flat_map(|&z| (z as f32).to_le_bytes())
+        .flat_map(|&z| ((z * fz) as f32).to_le_bytes())
         .collect();
     w.write_all(&data)
 }
@@ -115,7 +127,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         )));
     }
     let (xo, yo) = (real("XOffset", 0.0)?, real("YOffset", 0.0)?);
+    // Units other than lengths (V, A…) cannot be represented: the numbers are
+    // kept, unitless.
+    let unit = |k: &str| {
+        keys.get(k)
+            .and_then(|v| LengthUnit::parse(v).ok())
+            .unwrap_or_default()
+    };
+    let units = Units {
+        xy: unit("XYUnits"),
+        z: unit("ZUnits"),
+    };
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_spacing([dx.abs(), dy.abs()])?
-        .with_origin([xo + 0.5 * dx, yo + 0.5 * dy])?)
+        .with_origin([xo + 0.5 * dx, yo + 0.5 * dy])?
+        .with_units(units))
 }

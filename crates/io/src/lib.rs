@@ -902,7 +902,10 @@ pub fn lost_data(s: &Surface, format: Format) -> Vec<String> {
             lost.push("faces".into());
         }
     }
-    if let Surface::Height(_) = s {
+    if let Surface::Height(h) = s {
+        if !h.units().is_none() && format == Format::Npy {
+            lost.push("units (npy has no metadata)".into());
+        }
         if matches!(format, Format::Exr | Format::Gsf) {
             lost.push("f64 precision (stored as f32)".into());
         }

@@ -14,7 +14,7 @@
 
 use std::io::{Cursor, Write};
 
-use asperity_core::{HeightField, RgbaImage};
+use asperity_core::{HeightField, LengthUnit, RgbaImage, Units};
 
 use crate::error::{FResult, FormatError, malformed};
 
@@ -63,23 +63,39 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> s
         enc.add_text_chunk(format!("asperity:{k}"), format!("{v:e}"))
             .map_err(std::io::Error::other)?;
     }
+    let units = h.units();
+    for (k, u) in [("xy_unit", units.xy), ("z_unit", units.z)] {
+        if u.metres().is_some() {
+            enc.add_text_chunk(format!("asperity:{k}"), u.ascii().to_string())
+                .map_err(std::io::Error::other)?;
+        }
+    }
     // Gwyddion's own keys (its gwyddion.h GWY_IMGKEY_*): the field's extent and
     // the offset of its first pixel's edge (Gwyddion's pixel-area convention,
-    // as in GSF), and the heights at 0 and 65535. Units stay empty: asperity's
-    // synthetic data have none.
+    // as in GSF), and the heights at 0 and 65535, in base units (metres) when
+    // the field has units, with empty units when it has none.
+    let (fx, fz) = (
+        units.xy.metres().unwrap_or(1.0),
+        units.z.metres().unwrap_or(1.0),
+    );
     let gwy = [
-        ("XReal", dx * nx as f64),
-        ("YReal", dy * ny as f64),
-        ("XOffset", x0 - 0.5 * dx),
-        ("YOffset", y0 - 0.5 * dy),
-        ("ZMin", lo),
-        ("ZMax", if hi > lo { hi } else { lo + 1.0 }),
+        ("XReal", dx * nx as f64 * fx),
+        ("YReal", dy * ny as f64 * fx),
+        ("XOffset", (x0 - 0.5 * dx) * fx),
+        ("YOffset", (y0 - 0.5 * dy) * fx),
+        ("ZMin", lo * fz),
+        ("ZMax", if hi > lo { hi } else { lo + 1.0 } * fz),
     ];
     for (k, v) in gwy {
         enc.add_text_chunk(format!("Gwy::{k}"), format!("{v:e}"))
             .map_err(std::io::Error::other)?;
     }
-    for (k, v) in [("XYUnit", ""), ("ZUnit", ""), ("Title", title)] {
+    let base = |u: LengthUnit| if u.metres().is_some() { "m" } else { "" };
+    for (k, v) in [
+        ("XYUnit", base(units.xy)),
+        ("ZUnit", base(units.z)),
+        ("Title", title),
+    ] {
         enc.add_text_chunk(format!("Gwy::{k}"), v.to_string())
             .map_err(std::io::Error::other)?;
     }
@@ -178,5 +194,18 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     };
     let spacing = pair("dx", "dy")?;
     let origin = pair("x0", "y0")?;
-    Ok(HeightField::from_vec([nx, ny], data)?.with_geometry(spacing, origin)?)
+    let unit = |key: &str| -> FResult<LengthUnit> {
+        match text.iter().find(|(k, _)| k == &format!("asperity:{key}")) {
+            None => Ok(LengthUnit::None),
+            Some((_, v)) => LengthUnit::parse(v)
+                .map_err(|e| FormatError::Malformed(format!("tEXt asperity:{key}: {e}"))),
+        }
+    };
+    let units = Units {
+        xy: unit("xy_unit")?,
+        z: unit("z_unit")?,
+    };
+    Ok(HeightField::from_vec([nx, ny], data)?
+        .with_geometry(spacing, origin)?
+        .with_units(units))
 }

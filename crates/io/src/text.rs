@@ -3,6 +3,7 @@
 //! **CSV** height fields: one line per grid row j, values separated by commas, in
 //! Rust's shortest round-trip decimal form (so reading gives back the same `f64`).
 //! A first comment line `# asperity height field: nx=… ny=… dx=… dy=… x0=… y0=…`
+//! (and `xy_unit=… z_unit=…` when the field has units)
 //! records the geometry; `numpy.loadtxt(f, delimiter=",")` skips it. Reading
 //! accepts commas, semicolons, tabs or spaces, and `#` comment lines.
 //!
@@ -15,7 +16,7 @@
 
 use std::io::Write;
 
-use asperity_core::{HeightField, PointSet};
+use asperity_core::{HeightField, LengthUnit, PointSet, Units};
 
 use crate::error::{FResult, FormatError, malformed};
 
@@ -33,9 +34,15 @@ fn numbers(line: &str) -> impl Iterator<Item = &str> {
 pub(crate) fn write_csv(w: &mut dyn Write, h: &HeightField) -> std::io::Result<()> {
     let [dx, dy] = h.spacing();
     let [x0, y0] = h.origin();
+    let units = h.units();
+    let units = if units.is_none() {
+        String::new()
+    } else {
+        format!(" xy_unit={} z_unit={}", units.xy.ascii(), units.z.ascii())
+    };
     writeln!(
         w,
-        "# asperity height field: nx={} ny={} dx={dx} dy={dy} x0={x0} y0={y0}",
+        "# asperity height field: nx={} ny={} dx={dx} dy={dy} x0={x0} y0={y0}{units}",
         h.nx(),
         h.ny()
     )?;
@@ -104,7 +111,18 @@ pub(crate) fn read_csv(bytes: &[u8]) -> FResult<HeightField> {
     let pair = |a: Option<f64>, b: Option<f64>| a.zip(b).map(|(a, b)| [a, b]);
     let spacing = pair(get("dx")?, get("dy")?);
     let origin = pair(get("x0")?, get("y0")?);
-    Ok(HeightField::from_vec([nx, ny], data)?.with_geometry(spacing, origin)?)
+    let unit = |k: &str| -> FResult<LengthUnit> {
+        meta.get(k).map_or(Ok(LengthUnit::None), |v| {
+            LengthUnit::parse(v).map_err(|e| FormatError::Malformed(format!("header {k}: {e}")))
+        })
+    };
+    let units = Units {
+        xy: unit("xy_unit")?,
+        z: unit("z_unit")?,
+    };
+    Ok(HeightField::from_vec([nx, ny], data)?
+        .with_geometry(spacing, origin)?
+        .with_units(units))
 }
 
 /// Writes an XYZ point list.

@@ -13,7 +13,7 @@
 //! `scalars`, `texture`), a height field anything with `heights`, `spacing`
 //! and `origin`, a point set anything with `points`.
 
-use asperity_core::{HeightField, PointSet, RgbaImage, TriMesh};
+use asperity_core::{HeightField, LengthUnit, PointSet, RgbaImage, TriMesh, Units};
 use asperity_io::Surface;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -136,9 +136,24 @@ pub fn height_in(obj: &Bound<'_, PyAny>) -> PyResult<HeightField> {
     let data = arr.as_slice().map_err(invalid)?.to_vec();
     let spacing: [f64; 2] = attr(obj, "spacing", "a height field")?.extract()?;
     let origin: [f64; 2] = attr(obj, "origin", "a height field")?.extract()?;
+    let units = match attr_opt(obj, "units")? {
+        None => Units::default(),
+        Some(u) => {
+            let (xy, z): (String, String) = u.extract().map_err(|_| {
+                PyTypeError::new_err(
+                    "units must be a pair of unit names (xy, z), e.g. (\"µm\", \"nm\")",
+                )
+            })?;
+            Units {
+                xy: LengthUnit::parse(&xy).map_err(invalid)?,
+                z: LengthUnit::parse(&z).map_err(invalid)?,
+            }
+        }
+    };
     HeightField::from_vec([shape[1], shape[0]], data)
         .and_then(|g| g.with_spacing(spacing))
         .and_then(|g| g.with_origin(origin))
+        .map(|g| g.with_units(units))
         .map_err(invalid)
 }
 
@@ -220,6 +235,8 @@ pub fn height_out<'py>(py: Python<'py>, h: HeightField) -> PyResult<Bound<'py, P
     let [nx, ny] = h.dims();
     d.set_item("spacing", h.spacing())?;
     d.set_item("origin", h.origin())?;
+    let u = h.units();
+    d.set_item("units", (u.xy.to_string(), u.z.to_string()))?;
     let heights = PyArray1::from_vec(py, h.into_data()).reshape([ny, nx])?;
     d.set_item("heights", heights)?;
     Ok(d)

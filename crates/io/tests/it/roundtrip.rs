@@ -185,3 +185,43 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn height_units_survive_every_format_that_has_a_place_for_them() {
+    use asperity_core::{LengthUnit, Units};
+    let units = Units {
+        xy: LengthUnit::Um,
+        z: LengthUnit::Nm,
+    };
+    let h = crate::fixtures::height().with_units(units);
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["csv", "png", "exr"] {
+        let path = dir.path().join(format!("u.{ext}"));
+        asperity_io::write_height(&path, &h, &WriteOptions::default()).unwrap();
+        let back = asperity_io::read_height(&path).unwrap();
+        assert_eq!(back.units(), units, "{ext}");
+        assert_eq!(back.spacing(), h.spacing(), "{ext}");
+    }
+    // GSF holds base units (Gwyddion's specification): metres, numbers scaled.
+    let path = dir.path().join("u.gsf");
+    asperity_io::write_height(&path, &h, &WriteOptions::default()).unwrap();
+    let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+    assert!(text.contains("XYUnits = m\n") && text.contains("ZUnits = m\n"));
+    let back = asperity_io::read_height(&path).unwrap();
+    assert_eq!(
+        back.units(),
+        Units {
+            xy: LengthUnit::M,
+            z: LengthUnit::M
+        }
+    );
+    assert!((back.spacing()[0] - h.spacing()[0] * 1e-6).abs() < 1e-15);
+    let (z, zb) = (h.data()[7], back.data()[7]);
+    assert!((zb - z * 1e-9).abs() <= 1e-6 * (z * 1e-9).abs().max(1e-15));
+    // a unitless field stays unitless and says nothing about units
+    let plain = crate::fixtures::height();
+    asperity_io::write_height(&path, &plain, &WriteOptions::default()).unwrap();
+    let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+    assert!(!text.contains("Units"));
+    assert!(asperity_io::read_height(&path).unwrap().units().is_none());
+}
