@@ -134,9 +134,9 @@ impl Bin {
     }
 }
 
-/// Writes `m` as a single-mesh, single-node `.glb`.
-pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> {
-    let mut bin = Bin::default();
+/// The vertex attributes of `m` in `bin`: positions, unit normals, linear
+/// colours, UVs (with the power-of-two texture they address) and scalars.
+fn vertex_attributes(bin: &mut Bin, m: &TriMesh) -> (Value, Option<RgbaImage>) {
     let pos: Vec<[f32; 3]> = m.positions().iter().map(|&p| to_y_up(p)).collect();
     let mut attributes = json!({"POSITION": bin.floats(&pos, "VEC3", true)});
     // glTF requires unit normals; degenerate vertices get the up vector.
@@ -191,6 +191,13 @@ pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> 
             .collect();
         attributes[format!("_{name}")] = json!(bin.floats(&vals, "SCALAR", false));
     }
+    (attributes, texture)
+}
+
+/// Writes `m` as a single-mesh, single-node `.glb`.
+pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> {
+    let mut bin = Bin::default();
+    let (attributes, texture) = vertex_attributes(&mut bin, m);
     let idx: Vec<u8> = m
         .triangles()
         .iter()
