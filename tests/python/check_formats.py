@@ -77,12 +77,13 @@ for name in ["m.ply", "m_ascii.ply"]:
     ok(name, np.array_equal(pos, P) and np.array_equal(faces, T) and np.array_equal(col, C)
        and np.array_equal(v["curvature"], np.array(M["curvature"])) and np.allclose(v["s"], np.array(M["uvs"])[:, 0], atol=1e-7))
 
+# OBJ and glTF are y-up: asperity's (x, y, z) is written (x, z, -y)
+yup = np.stack([P[:, 0], P[:, 2], -P[:, 1]], axis=1)
 obj = trimesh.load(d / "m.obj", process=False, maintain_order=True)
-ok("m.obj", np.allclose(obj.vertices, P) and np.array_equal(obj.faces, T) and abs(obj.area - M["area"]) < 1e-9,
+ok("m.obj", np.allclose(obj.vertices, yup) and np.array_equal(obj.faces, T) and abs(obj.area - M["area"]) < 1e-9,
    f"{obj.vertices.shape} {obj.faces.shape}")
 
 glb = trimesh.load(d / "m.glb", force="mesh", process=False)
-yup = np.stack([P[:, 0], P[:, 2], -P[:, 1]], axis=1)
 ok("m.glb", np.allclose(glb.vertices, yup, atol=1e-6) and np.array_equal(glb.faces, T)
    and abs(glb.area - M["area"]) < 1e-5, f"{glb.vertices.shape}")
 
@@ -101,7 +102,7 @@ ok("q.ply", np.array_equal(np.stack([v["x"], v["y"], v["z"]], axis=1), PP)
 text = (d / "q.obj").read_text().splitlines()
 faces = [[int(t.split("/")[0]) - 1 for t in l.split()[1:]] for l in text if l.startswith("f ")]
 verts = np.array([[float(x) for x in l.split()[1:4]] for l in text if l.startswith("v ")])
-ok("q.obj", faces == PF and np.array_equal(verts, PP))
+ok("q.obj", faces == PF and np.array_equal(verts, np.stack([PP[:, 0], PP[:, 2], -PP[:, 1]], axis=1)))
 
 # --- point sets --------------------------------------------------------------
 Q = np.array(m["points"]["positions"]).reshape(-1, 3)
@@ -122,4 +123,4 @@ ok("l.ply", len(e) == 2 and list(e["vertex1"]) == [6, 7] and list(e["vertex2"]) 
    and abs(v["z"][8] - 2.0) < 1e-12 and len(ply["face"]) == 8)
 lines = [l.split() for l in (d / "l.obj").read_text().splitlines() if l.startswith("l ")]
 verts = [l.split() for l in (d / "l.obj").read_text().splitlines() if l.startswith("v ")]
-ok("l.obj", lines == [["l", "7", "8", "9"]] and [float(x) for x in verts[8][1:4]] == [1.0, 0.0, 2.0])
+ok("l.obj", lines == [["l", "7", "8", "9"]] and [float(x) for x in verts[8][1:4]] == [1.0, 2.0, 0.0])  # y-up

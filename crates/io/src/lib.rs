@@ -134,7 +134,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: RW,
         points: No,
         height: No,
-        notes: "vertex colours (v x y z r g b), UVs, normals; texture as .mtl + .png; no scalars",
+        notes: "y-up (x, z, -y), read back unchanged; vertex colours (v x y z r g b), UVs, normals; texture as .mtl + .png; no scalars",
     },
     FormatInfo {
         format: Format::Stl,

@@ -9,6 +9,13 @@
 //! [`crate::read_poly_mesh`] or fan-triangulated for [`crate::read_mesh`]; corners with different
 //! `v/vt/vn` combinations become separate vertices (tobj's `single_index`).
 //!
+//! **Up axis:** OBJ's ecosystem is y-up (Blender's and MeshLab's importers
+//! assume it), asperity is z-up. Written coordinates are therefore
+//! (x, z, −y) — the rotation glTF uses, so faces stay front-facing — and the
+//! file says so in its header (`# up: y …`). Reading a file with that line
+//! turns it back, so asperity reads its own OBJ unchanged; any other OBJ is
+//! taken as it is.
+//!
 //! **Vertex order:** tobj numbers vertices in order of first use by a face and
 //! drops vertices no face uses. asperity's own OBJ files list vertices in that
 //! order only when faces use them in order, so compare OBJ geometry by triangle
@@ -94,7 +101,39 @@ fn check_corner(corner: &[u8], counts: &[usize; 3], line: usize) -> FResult<()> 
     Ok(())
 }
 
+/// The header line of an OBJ written y-up by asperity.
+const Y_UP_LINE: &str = "# up: y (asperity's z-up coordinates written as x, z, -y)";
+
+/// asperity's z-up (x, y, z) in OBJ's y-up frame.
+fn to_y_up(p: [f64; 3]) -> [f64; 3] {
+    [p[0], p[2], -p[1]]
+}
+
+/// OBJ's y-up (x, y, z) back in asperity's z-up frame.
+fn from_y_up(p: [f64; 3]) -> [f64; 3] {
+    [p[0], -p[2], p[1]]
+}
+
+/// Whether the file is one asperity wrote y-up (the header's first lines say).
+fn written_y_up(bytes: &[u8]) -> bool {
+    bytes
+        .split(|&b| b == b'\n')
+        .take(4)
+        .any(|l| l.trim_ascii() == Y_UP_LINE.as_bytes())
+}
+
 fn parse(bytes: &[u8]) -> FResult<ObjContents> {
+    let mut c = parse_as_written(bytes)?;
+    if written_y_up(bytes) {
+        c.positions.iter_mut().for_each(|p| *p = from_y_up(*p));
+        if let Some(n) = &mut c.normals {
+            n.iter_mut().for_each(|v| *v = from_y_up(*v));
+        }
+    }
+    Ok(c)
+}
+
+fn parse_as_written(bytes: &[u8]) -> FResult<ObjContents> {
     check_face_lines(bytes)?;
     let opts = tobj::LoadOptions {
         single_index: true,
@@ -190,12 +229,14 @@ pub(crate) fn write_faces(
 ) -> std::io::Result<()> {
     let n_faces = offsets.len().saturating_sub(1);
     writeln!(w, "# written by asperity {}", env!("CARGO_PKG_VERSION"))?;
+    writeln!(w, "{Y_UP_LINE}")?;
     writeln!(w, "# {} vertices, {} faces", m.n_vertices(), n_faces)?;
     if let Some(lib) = mtl {
         writeln!(w, "mtllib {lib}")?;
     }
     writeln!(w, "o surface")?;
-    for (i, p) in m.positions().iter().enumerate() {
+    for (i, &p) in m.positions().iter().enumerate() {
+        let p = to_y_up(p);
         match m.colors() {
             Some(c) => {
                 let c = c[i];
@@ -217,7 +258,8 @@ pub(crate) fn write_faces(
     for t in m.uvs().unwrap_or(&[]) {
         writeln!(w, "vt {} {}", t[0], t[1])?;
     }
-    for n in m.normals().unwrap_or(&[]) {
+    for &n in m.normals().unwrap_or(&[]) {
+        let n = to_y_up(n);
         writeln!(w, "vn {} {} {}", n[0], n[1], n[2])?;
     }
     if mtl.is_some() {
@@ -280,6 +322,36 @@ mod tests {
         let p = read_poly(src).unwrap();
         assert_eq!(p.n_faces(), 2);
         assert!(p.faces().any(|f| f.len() == 4));
+    }
+
+    #[test]
+    fn written_y_up_standing_upright_and_read_back_unchanged() {
+        // a tall thin triangle along asperity's z
+        let m = TriMesh::new(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.5, 3.0]],
+            vec![[0, 1, 2]],
+        )
+        .unwrap()
+        .with_computed_normals();
+        let mut text = Vec::new();
+        write_mesh(&mut text, &m, None).unwrap();
+        let s = String::from_utf8(text.clone()).unwrap();
+        // in the file the height is along y, as Blender's OBJ import expects
+        let ys: Vec<f64> = s
+            .lines()
+            .filter(|l| l.starts_with("v "))
+            .map(|l| l.split_whitespace().nth(2).unwrap().parse().unwrap())
+            .collect();
+        assert_eq!(ys, vec![0.0, 0.0, 3.0]);
+        let back = read_mesh(&text).unwrap();
+        assert_eq!(back.positions(), m.positions());
+        for (a, b) in back.normals().unwrap().iter().zip(m.normals().unwrap()) {
+            assert!((0..3).all(|k| (a[k] - b[k]).abs() < 1e-12));
+        }
+        // an OBJ asperity did not write is taken as it is (the test above reads
+        // one whose z is 0 everywhere and finds it so)
+        let foreign = b"v 0 0 0\nv 1 0 0\nv 0 0 3\nf 1 2 3\n";
+        assert_eq!(read_mesh(foreign).unwrap().positions()[2], [0.0, 0.0, 3.0]);
     }
 
     #[test]
