@@ -1,6 +1,6 @@
 //! The Python package's test suite (`python/tests`, pytest) run against this
 //! build: the extension module `cargo test` just built
-//! (`target/<profile>/lib_asperity.so`) is assembled with the package's
+//! (`target/<profile>/deps/lib_asperity.so`) is assembled with the package's
 //! Python files into `target/<profile>/python-pkg`, and the CLI built beside
 //! it (`target/<profile>/asperity`) is what the byte-for-byte checks compare
 //! with. The interpreter and its packages: `tests/python/python_env.rs`.
@@ -36,7 +36,9 @@ fn copy_dir(from: &Path, to: &Path) {
 /// The package as `pip install ./python` lays it out, built from this tree.
 fn assemble(dir: &Path) -> PathBuf {
     let root = python_env::workspace();
-    let module = dir.join("lib_asperity.so");
+    // `cargo test` builds the library (see Cargo.toml) into deps/; a `cargo
+    // build` also copies it up a level, where it may be older.
+    let module = dir.join("deps/lib_asperity.so");
     assert!(
         module.exists(),
         "{} is missing: run `cargo test --workspace` (it builds the module)",
