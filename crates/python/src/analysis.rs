@@ -34,11 +34,9 @@ pub fn analyze<'py>(
         window,
         plots: false,
     };
-    let ro = RunOptions {
-        threads,
-        progress: None,
-    };
-    let r = run(py, &ro, move |_, _| analyze_surface(&s, &name, &opts))?;
+    let r = run(py, &RunOptions::quiet(threads), move |_, _| {
+        analyze_surface(&s, &name, &opts)
+    })?;
     let out = PyDict::new(py);
     out.set_item("measurements", json(&r.facts)?)?;
     out.set_item("warnings", r.warnings)?;
@@ -66,11 +64,7 @@ pub fn fbm<'py>(
         rms,
         spacing,
     };
-    let ro = RunOptions {
-        threads,
-        progress: None,
-    };
-    let h = run(py, &ro, move |_, _| {
+    let h = run(py, &RunOptions::quiet(threads), move |_, _| {
         Ok(asperity_analysis::synthesis::fbm(&p, seed, &budget())?)
     })?;
     let d = height_out(py, h)?;

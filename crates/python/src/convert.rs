@@ -74,6 +74,32 @@ fn invalid(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
 
+/// The `scalars` dict (name → 1-D float64 array) of a Python mesh or point set.
+fn scalars_in(obj: &Bound<'_, PyAny>) -> PyResult<Vec<(String, Vec<f64>)>> {
+    let Some(s) = attr_opt(obj, "scalars")? else {
+        return Ok(Vec::new());
+    };
+    s.cast::<PyDict>()?
+        .iter()
+        .map(|(k, v)| {
+            let values = v.extract::<numpy::PyReadonlyArray1<'_, f64>>()?.to_vec()?;
+            Ok((k.extract()?, values))
+        })
+        .collect()
+}
+
+/// Named per-vertex values as a dict of 1-D arrays.
+fn scalars_out<'py>(
+    py: Python<'py>,
+    attributes: &[asperity_core::Attribute],
+) -> PyResult<Bound<'py, PyDict>> {
+    let scalars = PyDict::new(py);
+    for a in attributes {
+        scalars.set_item(&a.name, PyArray1::from_slice(py, &a.values))?;
+    }
+    Ok(scalars)
+}
+
 /// A `TriMesh` from a Python mesh.
 pub fn mesh_in(obj: &Bound<'_, PyAny>) -> PyResult<TriMesh> {
     let vertices = rows::<3>(&attr(obj, "vertices", "a mesh")?, "mesh.vertices")?;
@@ -92,13 +118,8 @@ pub fn mesh_in(obj: &Bound<'_, PyAny>) -> PyResult<TriMesh> {
     if let Some(uv) = attr_opt(obj, "uvs")? {
         m = m.with_uvs(rows::<2>(&uv, "mesh.uvs")?).map_err(invalid)?;
     }
-    if let Some(s) = attr_opt(obj, "scalars")? {
-        let d = s.cast::<PyDict>()?;
-        for (k, v) in d.iter() {
-            let name: String = k.extract()?;
-            let values: Vec<f64> = v.extract::<numpy::PyReadonlyArray1<'_, f64>>()?.to_vec()?;
-            m = m.with_scalar(&name, values).map_err(invalid)?;
-        }
+    for (name, values) in scalars_in(obj)? {
+        m = m.with_scalar(&name, values).map_err(invalid)?;
     }
     if let Some(t) = attr_opt(obj, "texture")? {
         m = m.with_texture(image_in(&t, "mesh.texture")?);
@@ -168,12 +189,8 @@ pub fn points_in(obj: &Bound<'_, PyAny>) -> PyResult<PointSet> {
         ps.set_colors(typed_rows::<u8, 4>(&c, "colors", "uint8")?)
             .map_err(invalid)?;
     }
-    if let Some(s) = attr_opt(obj, "scalars")? {
-        for (k, v) in s.cast::<PyDict>()?.iter() {
-            let name: String = k.extract()?;
-            let values: Vec<f64> = v.extract::<numpy::PyReadonlyArray1<'_, f64>>()?.to_vec()?;
-            ps.add_attribute(&name, values).map_err(invalid)?;
-        }
+    for (name, values) in scalars_in(obj)? {
+        ps.add_attribute(&name, values).map_err(invalid)?;
     }
     Ok(ps)
 }
@@ -217,11 +234,7 @@ pub fn mesh_out<'py>(py: Python<'py>, m: &TriMesh) -> PyResult<Bound<'py, PyDict
     if let Some(uv) = m.uvs() {
         d.set_item("uvs", rows_out(py, uv.to_vec())?)?;
     }
-    let scalars = PyDict::new(py);
-    for a in m.scalars() {
-        scalars.set_item(&a.name, PyArray1::from_slice(py, &a.values))?;
-    }
-    d.set_item("scalars", scalars)?;
+    d.set_item("scalars", scalars_out(py, m.scalars())?)?;
     if let Some(t) = m.texture() {
         d.set_item("texture", image_out(py, t)?)?;
     }
@@ -252,11 +265,7 @@ pub fn points_out<'py>(py: Python<'py>, p: &PointSet) -> PyResult<Bound<'py, PyD
     if let Some(c) = p.colors() {
         d.set_item("colors", rows_out(py, c.to_vec())?)?;
     }
-    let scalars = PyDict::new(py);
-    for a in p.attributes() {
-        scalars.set_item(&a.name, PyArray1::from_slice(py, &a.values))?;
-    }
-    d.set_item("scalars", scalars)?;
+    d.set_item("scalars", scalars_out(py, p.attributes())?)?;
     Ok(d)
 }
 

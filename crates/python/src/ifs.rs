@@ -49,13 +49,6 @@ fn start(bound: Option<&str>, param: f64) -> PyResult<Start> {
     })
 }
 
-fn quiet(threads: Option<usize>) -> RunOptions {
-    RunOptions {
-        threads,
-        progress: None,
-    }
-}
-
 /// Every preset: a list of dicts (name, kind, description) as JSON text.
 #[pyfunction]
 pub fn ifs_presets() -> PyResult<String> {
@@ -77,7 +70,7 @@ pub fn ifs_curve<'py>(
     depth: u32,
 ) -> PyResult<(Bound<'py, PyAny>, String)> {
     let spec = spec(model)?;
-    let (name, pts) = run(py, &quiet(None), move |_, _| {
+    let (name, pts) = run(py, &RunOptions::quiet(None), move |_, _| {
         let (name, c, _) = load(&spec)?.curve()?;
         Ok((name, c.attractor(depth)?))
     })?;
@@ -96,7 +89,7 @@ pub fn ifs_surface<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let spec = spec(model)?;
     let height = spec.params.height;
-    let (name, mesh, note) = run(py, &quiet(threads), move |_, _| {
+    let (name, mesh, note) = run(py, &RunOptions::quiet(threads), move |_, _| {
         let (name, s, opts) = load(&spec)?.surface(height)?;
         let (mesh, note) = surface_mesh(&s, &opts, depth, curvature, &budget())?;
         Ok((name, mesh, note))
@@ -122,7 +115,7 @@ pub fn ifs_dcf<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let spec = spec(model)?;
     let first = start(bound, start_at.unwrap_or(1.0 - operator.min(1) as f64))?;
-    let d = run(py, &quiet(None), move |_, _| {
+    let d = run(py, &RunOptions::quiet(None), move |_, _| {
         let (_, c, opts) = load(&spec)?.curve()?;
         dcf_for(&c, &opts, operator, Some(first), samples)
     })?;
@@ -154,7 +147,7 @@ pub fn ifs_sdcf<'py>(
     let height = spec.params.height;
     let st = start_at.unwrap_or((1.0 - i as f64, 1.0 - j as f64));
     let starts = (start(bound, st.0)?, start(bound, st.1)?);
-    let mesh = run(py, &quiet(None), move |_, _| {
+    let mesh = run(py, &RunOptions::quiet(None), move |_, _| {
         let (_, s, opts) = load(&spec)?.surface(height)?;
         sdcf_for(&s, &opts, (i, j), starts, resolution, &budget())
     })?;
@@ -169,7 +162,7 @@ pub fn ifs_curvature(
     at: Vec<String>,
 ) -> PyResult<String> {
     let spec = spec(model)?;
-    let doc = run(py, &quiet(None), move |_, _| {
+    let doc = run(py, &RunOptions::quiet(None), move |_, _| {
         let l = load(&spec)?;
         let report = curvature_report(&l, &at)?;
         curvature_doc(&l, &report)

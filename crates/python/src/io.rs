@@ -10,17 +10,10 @@ use pyo3::types::PyDict;
 use crate::convert::{json, surface_in, surface_out};
 use crate::job::{RunOptions, budget, run};
 
-fn quiet() -> RunOptions {
-    RunOptions {
-        threads: None,
-        progress: None,
-    }
-}
-
 /// Reads any file under the memory budget; a dict with its `kind`.
 #[pyfunction]
 pub fn load<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
-    let s = run(py, &quiet(), move |_, _| {
+    let s = run(py, &RunOptions::quiet(None), move |_, _| {
         asperity_engine::files::load(&path, &budget())
     })?;
     surface_out(py, s)
@@ -41,7 +34,7 @@ pub fn save(
     if let Some(t) = title {
         opts.title = t;
     }
-    run(py, &quiet(), move |_, _| {
+    run(py, &RunOptions::quiet(None), move |_, _| {
         match &s {
             Surface::Points(p) if p.is_empty() => {
                 return Err(asperity_engine::error::invalid("no point to write"));

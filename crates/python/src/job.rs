@@ -60,6 +60,16 @@ pub struct RunOptions {
     pub progress: Option<Py<PyAny>>,
 }
 
+impl RunOptions {
+    /// A job without a progress callback, on `threads` threads (None: all).
+    pub fn quiet(threads: Option<usize>) -> Self {
+        Self {
+            threads,
+            progress: None,
+        }
+    }
+}
+
 /// The payload a cancelled job unwinds with.
 struct Cancelled;
 

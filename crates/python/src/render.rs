@@ -64,11 +64,7 @@ pub fn render<'py>(
         budget: budget(),
         ..RenderOptions::default()
     };
-    let ro = RunOptions {
-        threads,
-        progress: None,
-    };
-    let img = run(py, &ro, move |_, time| {
+    let img = run(py, &RunOptions::quiet(threads), move |_, time| {
         let pixels =
             f64::from(opts.width) * f64::from(opts.height) * f64::from(opts.supersample).powi(2);
         asperity_engine::estimate::check(
