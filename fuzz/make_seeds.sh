@@ -7,12 +7,19 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
 q generate fbm --size 8 --seed 1 -o "$T/h.npy"
 for f in gsf csv png exr; do q convert "$T/h.npy" "$S/$f/h8.$f"; done
+q convert "$T/h.npy" "$S/gwy/asperity.gwy"
+q --xy-unit um --z-unit nm convert "$T/h.npy" "$S/x3p/asperity.x3p"
+# Files other programs wrote, where they are installed (.ci/run installs both).
+if command -v gwyddion >/dev/null; then gwyddion --convert-to-gwy="$S/gwy/gwyddion.gwy" "$S/gsf/h8.gsf"; fi
+if python3 -c "import x3pio" 2>/dev/null; then
+  python3 -c "import sys, numpy as np, x3pio; x3pio.write(sys.argv[1], np.arange(20.).reshape(4, 5) * 1e-9, x_scale=1e-6, y_scale=1e-6, z_type=x3pio.DataType.INT16)" "$S/x3p/x3pio_int16.x3p"
+fi
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32
 cp "$T/h.npy" "$S/npy/h8_f64.npy"
 python3 - "$S/npy" <<'PY'

@@ -222,19 +222,19 @@ def test_render_and_load_save(cli, tmp):
         same_bytes(tmp / f"c.{ext}", tmp / f"p.{ext}")
     asperity.fbm(size=32).save(tmp / "h.gsf")
     h = asperity.load(tmp / "h.gsf")
-    for ext in ["npy", "gsf", "csv", "exr", "png"]:
+    for ext in ["npy", "gsf", "csv", "exr", "png", "gwy", "x3p"]:
         cli("convert", tmp / "h.gsf", tmp / f"c.{ext}")
         h.save(tmp / f"p.{ext}")
         same_bytes(tmp / f"c.{ext}", tmp / f"p.{ext}")
     # units travel: a field in µm / nm, saved and loaded, keeps them
     hu = asperity.HeightField(h.heights, spacing=(0.5, 0.5), units=("µm", "nm"))
-    for ext in ["gsf", "png", "exr", "csv"]:
+    for ext in ["gsf", "png", "exr", "csv", "gwy", "x3p"]:
         hu.save(tmp / f"u.{ext}")
         back = asperity.load(tmp / f"u.{ext}")
         info = cli("info", tmp / f"u.{ext}")["measurements"]
         assert back.units == (info["units"]["xy"], info["units"]["z"])
-        assert back.units == (("m", "m") if ext == "gsf" else ("µm", "nm")), ext
+        assert back.units == (("m", "m") if ext in ("gsf", "gwy", "x3p") else ("µm", "nm")), ext
     # and what is read back is what was written
-    for ext in ["npy", "gsf", "exr"]:
+    for ext in ["npy", "gsf", "exr", "gwy", "x3p"]:
         back = asperity.load(tmp / f"p.{ext}")
         np.testing.assert_allclose(back.heights, h.heights, rtol=1e-6)

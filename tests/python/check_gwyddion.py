@@ -1,16 +1,27 @@
-"""Gwyddion (the real program) reads asperity's height fields (issue #24).
+"""Gwyddion (the real program) reads asperity's height fields, and asperity
+reads the .gwy files Gwyddion writes (issue #24).
 
 A field with a non-unit spacing and a non-zero origin is written by
-`asperity convert` as .gsf and 16-bit .png; `gwyddion --convert-to-gwy` turns
-each into a .gwy, which the `gwyfile` package reads. Checks: sizes, physical
-extents, offsets (Gwyddion's pixel-edge convention: x0 − dx/2), units (none for
-unitless data; for a field in µm and nm, metres with the numbers scaled, as
-Gwyddion keeps base units), the title, and the heights against what asperity reads back
-from the same file (1e-6 of the range) and against the original (GSF: float32;
-PNG: 16-bit, half a step of the range).
+`asperity convert` as .gsf, 16-bit .png, .x3p and .gwy; `gwyddion
+--convert-to-gwy` turns each into a .gwy, which the `gwyfile` package reads.
+Checks: sizes, physical extents, offsets (Gwyddion's pixel-edge convention:
+x0 − dx/2; Gwyddion 2.62 ignores an x3p file's offsets, so 0 there), units (none
+for unitless data; for a field in µm and nm, metres with the numbers scaled, as
+Gwyddion keeps base units; x3p is always metres), the title, and the heights
+against what asperity reads back from the same file (1e-6 of the range) and
+against the original (GSF: float32; PNG: 16-bit, half a step of the range;
+x3p and .gwy: float64).
 
-Usage: python check_gwyddion.py ASPERITY_BINARY WORKDIR
+Then asperity reads each .gwy that Gwyddion wrote: the heights equal gwyfile's
+reading exactly, and size, spacing, origin and units match the DataField.
+
+With a demo gallery folder as a third argument, Gwyddion also converts the
+demo's sample height field as .gsf, 16-bit .png and .x3p: size, extent, units
+and heights as asperity reads the same file.
+
+Usage: python check_gwyddion.py ASPERITY_BINARY WORKDIR [DEMO_DIR]
 """
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -43,10 +54,28 @@ def run(*args):
         sys.exit(f"{' '.join(map(str, args))} failed: {p.stderr}")
 
 
+def read_back_gwyddions_file(tag, gwy, d):
+    """asperity reads the .gwy Gwyddion wrote: gwyfile's heights, size, geometry and units."""
+    npy = gwy.with_suffix(".back.npy")
+    run(BIN, "--quiet", "convert", gwy, npy)
+    ours = np.load(npy)
+    check(f"{tag}: asperity reads Gwyddion's .gwy heights exactly", np.array_equal(ours, np.asarray(d.data)))
+    info = json.loads(subprocess.run([BIN, "--quiet", "info", "--json", gwy], capture_output=True,
+                                     text=True, check=True).stdout)["measurements"]
+    px, py = d.xreal / d["xres"], d.yreal / d["yres"]
+    expect = [px, py, d.get("xoff", 0.0) + px / 2, d.get("yoff", 0.0) + py / 2]
+    got = info["spacing"] + info["origin"]
+    units = {k: v.get("unitstr", "") for k, v in d.items() if k.startswith("si_unit")}
+    check(f"{tag}: asperity reads Gwyddion's .gwy geometry and units",
+          np.allclose(got, expect, rtol=1e-12, atol=0)
+          and info["units"]["xy"] == (units.get("si_unit_xy") or "none")
+          and info["units"]["z"] == (units.get("si_unit_z") or "none"), f"{got} vs {expect}, {info['units']}")
+
+
 # (units flags, metres per xy unit, metres per z unit, Gwyddion's unit strings)
 CASES = [([], 1.0, 1.0, ""), (["--xy-unit", "µm", "--z-unit", "nm"], 1e-6, 1e-9, "m")]
 for flags, fx, fz, unit in CASES:
-    for ext in ["gsf", "png"]:
+    for ext in ["gsf", "png", "x3p", "gwy"]:
         tag = f"{ext}{' ' + ' '.join(flags) if flags else ''}"
         src = WORK / f"field{len(flags)}.{ext}"
         run(BIN, "--quiet", *flags, "convert", WORK / "field.csv", src)
@@ -61,21 +90,56 @@ for flags, fx, fz, unit in CASES:
         # Gwyddion holds base units: metres when the field has units
         check(f"{tag}: extent", abs(d.xreal - nx * dx * fx) <= 1e-9 * nx * dx * fx
               and abs(d.yreal - ny * dy * fx) <= 1e-9 * ny * dy * fx, f"{d.xreal} × {d.yreal}")
-        check(f"{tag}: offset", abs(d.get("xoff", 0.0) - (x0 - dx / 2) * fx) <= 1e-9 * abs(x0 * fx)
-              and abs(d.get("yoff", 0.0) - (y0 - dy / 2) * fx) <= 1e-9 * abs(y0 * fx),
+        # Gwyddion 2.62's x3p import drops CX/CY Offset (the field starts at 0); the x3p
+        # offsets are checked against SurfaceTopography and x3pio in check_x3p.py instead
+        x_off, y_off = (0.0, 0.0) if ext == "x3p" else ((x0 - dx / 2) * fx, (y0 - dy / 2) * fx)
+        check(f"{tag}: offset", abs(d.get("xoff", 0.0) - x_off) <= 1e-9 * abs(x0 * fx)
+              and abs(d.get("yoff", 0.0) - y_off) <= 1e-9 * abs(y0 * fx),
               f"{d.get('xoff')}, {d.get('yoff')}")
         units = {k: v.get("unitstr", "") for k, v in d.items() if k.startswith("si_unit")}
-        check(f"{tag}: units {unit or 'none'}", all(units.get(k, "") == unit for k in ("si_unit_xy", "si_unit_z")),
+        want = "m" if ext == "x3p" else unit  # x3p lengths are always metres
+        check(f"{tag}: units {want or 'none'}", all(units.get(k, "") == want for k in ("si_unit_xy", "si_unit_z")),
               str(units))
         back = np.load(WORK / f"back_{ext}.npy")  # asperity's reading, in the file's units
         span = np.ptp(z) * fz
-        check(f"{tag}: heights = asperity's reading", np.max(np.abs(data - back * (1.0 if ext == "gsf" else fz)))
-              <= 1e-6 * span, f"{np.max(np.abs(data - back * (1.0 if ext == 'gsf' else fz))) / span:.2e} of the range")
-        # GSF holds float32 (1e-6 relative to the heights); PNG 16-bit steps of the range
-        scale = np.max(np.abs(z * fz)) * 1e-6 if ext == "gsf" else span * 0.5 / 65535 * 1.001
+        # asperity reads .png in the file's own units, the others in metres when they have units
+        factor = fz if ext == "png" else 1.0
+        check(f"{tag}: heights = asperity's reading", np.max(np.abs(data - back * factor))
+              <= 1e-6 * span, f"{np.max(np.abs(data - back * factor)) / span:.2e} of the range")
+        # GSF holds float32 (1e-6 relative to the heights); PNG 16-bit steps of the range;
+        # x3p and .gwy float64
+        scale = {"gsf": np.max(np.abs(z * fz)) * 1e-6, "png": span * 0.5 / 65535 * 1.001}.get(
+            ext, np.max(np.abs(z * fz)) * 1e-14)
         check(f"{tag}: heights = the original", np.max(np.abs(data - z * fz)) <= scale,
               f"{np.max(np.abs(data - z * fz)):.2e} (allowed {scale:.2e})")
-        if ext == "png":
+        if ext in ("png", "gwy"):
             check(f"{tag}: title", title == "field", repr(title))  # convert titles by the input
+        read_back_gwyddions_file(tag, gwy, d)
 
+
+
+def check_demo(demo):
+    """Gwyddion opens the demo's sample height field as asperity reads it."""
+    for ext, unit in [("gsf", ""), ("png", ""), ("x3p", "m")]:
+        src = demo / f"sample_height.{ext}"
+        gwy, npy = WORK / f"demo_{ext}.gwy", WORK / f"demo_{ext}.npy"
+        run("gwyddion", f"--convert-to-gwy={gwy}", src)
+        run(BIN, "--quiet", "convert", src, npy)
+        info = json.loads(subprocess.run([BIN, "--quiet", "info", "--json", src], capture_output=True,
+                                         text=True, check=True).stdout)["measurements"]
+        (_, d), = gwyfile.util.get_datafields(gwyfile.load(str(gwy))).items()
+        data, ours = np.asarray(d.data), np.load(npy)
+        check(f"demo .{ext}: size", data.shape == ours.shape == (info["ny"], info["nx"]), str(data.shape))
+        check(f"demo .{ext}: extent", np.allclose([d.xreal, d.yreal], [info["nx"] * info["spacing"][0],
+              info["ny"] * info["spacing"][1]], rtol=1e-9, atol=0), f"{d.xreal} × {d.yreal}")
+        units = {k: v.get("unitstr", "") for k, v in d.items() if k.startswith("si_unit")}
+        check(f"demo .{ext}: units {unit or 'none'}", all(units.get(k, "") == unit
+              for k in ("si_unit_xy", "si_unit_z")), str(units))
+        span = np.ptp(ours)
+        check(f"demo .{ext}: heights", np.max(np.abs(data - ours)) <= 1e-6 * span,
+              f"{np.max(np.abs(data - ours)) / span:.2e} of the range")
+
+
+if len(sys.argv) > 3:
+    check_demo(Path(sys.argv[3]))
 sys.exit(1 if failures else 0)

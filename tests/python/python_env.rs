@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// Every module the reference scripts import.
-const MODULES: &str = "import numpy, plyfile, trimesh, PIL, OpenEXR, SurfaceTopography, pytest, tqdm, pandas, distributed, nbclient, ipykernel, matplotlib, gwyfile";
+const MODULES: &str = "import numpy, plyfile, trimesh, PIL, OpenEXR, SurfaceTopography, pytest, tqdm, pandas, distributed, nbclient, ipykernel, matplotlib, gwyfile, x3pio";
 
 /// The workspace root.
 pub fn workspace() -> PathBuf {

@@ -74,7 +74,7 @@ pub struct Global {
     #[arg(long, global = true, value_name = "DURATION", value_parser = parse_time)]
     pub max_time: Option<MaxTime>,
     /// Length unit of the x, y coordinates of height fields written: m, mm, µm, nm or
-    /// none (the default for synthetic data). Carried by GSF, PNG, EXR and CSV.
+    /// none (the default for synthetic data). Carried by GSF, .gwy, x3p (metres), PNG, EXR and CSV.
     #[arg(long, global = true, value_name = "UNIT", value_parser = asperity_core::LengthUnit::parse)]
     pub xy_unit: Option<asperity_core::LengthUnit>,
     /// Length unit of the heights of height fields written (as --xy-unit).

@@ -243,7 +243,7 @@ fn formats_lists_everything() {
         })
         .collect();
     for e in [
-        "ply", "obj", "stl", "glb", "xyz", "npy", "png", "exr", "gsf", "csv",
+        "ply", "obj", "stl", "glb", "xyz", "npy", "png", "exr", "gsf", "csv", "gwy", "x3p",
     ] {
         assert!(exts.contains(&e), "{e}");
     }

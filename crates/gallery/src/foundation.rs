@@ -2,7 +2,7 @@
 //! self-affine sample surface (not a paper's method).
 
 use asperity_core::fourier_surface::{FourierParams, fourier_surface};
-use asperity_core::{Diagonal, HeightField, RgbaImage, TriMesh, shapes};
+use asperity_core::{Diagonal, HeightField, LengthUnit, RgbaImage, TriMesh, Units, shapes};
 use asperity_engine::Result;
 use asperity_io::Surface;
 use asperity_render::{ColorMap, RenderOptions, Shader, hillshade};
@@ -33,7 +33,7 @@ pub fn section(env: &Env) -> Result<Section> {
         title: "Foundation: shared types and file formats".into(),
         source: "asperity-core, asperity-io".into(),
         blurb: "A built-in self-affine test surface written in every height-field, mesh and point format asperity supports. \
-                Open the .gsf in Gwyddion, the .ply/.obj/.glb in Blender or MeshLab, the .npy with numpy.load. \
+                Open the .gsf or .gwy in Gwyddion, the .x3p in any ISO 25178-72 reader, the .ply/.obj/.glb in Blender or MeshLab, the .npy with numpy.load. \
                 Pictures are rendered headless on the CPU by asperity-render."
             .into(),
         items,
@@ -48,9 +48,18 @@ fn height_formats(env: &Env, h: &HeightField) -> Result<Item> {
         &hillshade::height_map(h, ColorMap::Viridis, 0.5, true),
     )?;
     let mut files = Vec::new();
-    for ext in ["png", "npy", "exr", "gsf", "csv"] {
+    for ext in ["png", "npy", "exr", "gsf", "gwy", "csv"] {
         files.push(env.write(&format!("sample_height.{ext}"), &Surface::Height(h.clone()))?);
     }
+    // x3p lengths are metres: the field is labelled as a scan in µm there.
+    let micrometres = Units {
+        xy: LengthUnit::Um,
+        z: LengthUnit::Um,
+    };
+    files.push(env.write(
+        "sample_height.x3p",
+        &Surface::Height(h.clone().with_units(micrometres)),
+    )?);
     let (lo, hi) = h.min_max();
     Ok(Item::new(
         format!("Sample height field {n}×{n} (Fourier synthesis, H = 0.8)"),
@@ -61,6 +70,7 @@ fn height_formats(env: &Env, h: &HeightField) -> Result<Item> {
             fact("spacing", format!("{:.5}", h.spacing()[0])),
             fact("height range", format!("{lo:.4} … {hi:.4}")),
             fact("rms height", "0.05"),
+            fact(".x3p", "the same numbers as µm (x3p stores metres)"),
             fact("seed", env.seed),
         ],
     ))

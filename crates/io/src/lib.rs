@@ -15,6 +15,8 @@
 //! | PNG, 16-bit gray | `.png` | — | — | read + write | [`png_io`] |
 //! | OpenEXR float | `.exr` | — | — | read + write | [`exr_io`] |
 //! | Gwyddion Simple Field | `.gsf` | — | — | read + write | [`gsf`] |
+//! | Gwyddion native | `.gwy` | — | — | read + write | [`gwy`] |
+//! | ISO 25178-72 x3p | `.x3p` | — | — | read + write | [`x3p`] |
 //! | CSV grid | `.csv` | — | — | read + write | [`text`] |
 //!
 //! Height fields written to a mesh format are triangulated; meshes and height
@@ -25,6 +27,7 @@ mod error;
 pub mod exr_io;
 pub mod glb;
 pub mod gsf;
+pub mod gwy;
 pub mod npy;
 pub mod obj;
 pub mod ply;
@@ -32,6 +35,7 @@ pub mod png_io;
 pub mod staging;
 pub mod stl;
 pub mod text;
+pub mod x3p;
 
 use std::path::Path;
 
@@ -68,6 +72,10 @@ pub enum Format {
     Gsf,
     /// Comma-separated grid.
     Csv,
+    /// Gwyddion's native format.
+    Gwy,
+    /// ISO 25178-72 x3p.
+    X3p,
 }
 
 /// What a format can do with one kind of data.
@@ -208,6 +216,24 @@ pub const FORMATS: &[FormatInfo] = &[
         height: RW,
         notes: "one row per line, geometry in a # comment line",
     },
+    FormatInfo {
+        format: Format::Gwy,
+        name: "Gwyddion native (.gwy)",
+        extensions: &["gwy"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "GwyContainer with one GwyDataField (the first channel is read); f64; base units (metres) or unitless",
+    },
+    FormatInfo {
+        format: Format::X3p,
+        name: "ISO 25178-72 x3p",
+        extensions: &["x3p"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "zip of main.xml + f64 data with MD5 checksums; always metres; surfaces and profiles read (int16/32, f32, f64), not point clouds",
+    },
 ];
 
 impl Format {
@@ -270,7 +296,7 @@ pub struct WriteOptions {
     pub npy_dtype: NpyDtype,
     /// Diagonal used when a height field is written to a mesh format.
     pub diagonal: Diagonal,
-    /// Title stored where the format has one (GSF).
+    /// Title stored where the format has one (GSF, PNG, .gwy).
     pub title: String,
 }
 
@@ -324,6 +350,7 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
     let pixels = match format {
         Format::Png => Some(png_io::header_pixels(open()?)),
         Format::Exr => Some(exr_io::header_pixels(open()?)),
+        Format::X3p => Some(x3p::header_pixels(&read_bytes(path)?)),
         _ => None,
     };
     estimate_from(size, pixels, format).map_err(|e| e.at(path, format.info().name))
@@ -335,6 +362,7 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
     let pixels = match format {
         Format::Png => Some(png_io::header_pixels(cursor())),
         Format::Exr => Some(exr_io::header_pixels(cursor())),
+        Format::X3p => Some(x3p::header_pixels(bytes)),
         _ => None,
     };
     estimate_from(bytes.len() as u64, pixels, format)
@@ -416,7 +444,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
                 Surface::Height(npy_height(a)?)
             }
         }
-        Format::Png | Format::Exr | Format::Gsf | Format::Csv => {
+        Format::Png | Format::Exr | Format::Gsf | Format::Csv | Format::Gwy | Format::X3p => {
             Surface::Height(read_height_bytes(bytes, f)?)
         }
     })
@@ -451,6 +479,8 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
         Format::Exr => exr_io::read_height(bytes)?,
         Format::Gsf => gsf::read_height(bytes)?,
         Format::Csv => text::read_csv(bytes)?,
+        Format::Gwy => gwy::read_height(bytes)?,
+        Format::X3p => x3p::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     h.validate()?;
@@ -715,6 +745,8 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
         Format::Exr => write_atomic(path, |w| exr_io::write_height(w, h).map_err(os)),
         Format::Gsf => write_atomic(path, |w| gsf::write_height(w, h, &opts.title).map_err(os)),
         Format::Csv => write_atomic(path, |w| text::write_csv(w, h).map_err(os)),
+        Format::Gwy => write_atomic(path, |w| gwy::write_height(w, h, &opts.title).map_err(os)),
+        Format::X3p => write_atomic(path, |w| x3p::write_height(w, h).map_err(os)),
         Format::Ply | Format::Obj | Format::Stl | Format::Glb => {
             let mesh = h
                 .to_trimesh(opts.diagonal)
@@ -914,6 +946,11 @@ pub fn lost_data(s: &Surface, format: Format) -> Vec<String> {
         }
         if format == Format::Npy {
             lost.push("spacing and origin (npy has no metadata)".into());
+        }
+        if format == Format::X3p && h.units().is_none() {
+            lost.push(
+                "unitlessness (x3p lengths are metres: the numbers are written as metres)".into(),
+            );
         }
     }
     lost

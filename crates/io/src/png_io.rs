@@ -8,7 +8,7 @@
 //! (z_max − z_min)/131070. The same facts go into Gwyddion's own keys
 //! (`Gwy::XReal`, `Gwy::YReal`, `Gwy::XOffset`, `Gwy::YOffset`, `Gwy::ZMin`,
 //! `Gwy::ZMax`, `Gwy::XYUnit`, `Gwy::ZUnit`, `Gwy::Title`), so Gwyddion opens
-//! the map with its sizes and heights (crates/cli/tests/gwyddion.rs). Any other
+//! the map with its sizes and heights (crates/cli/tests/real_programs.rs). Any other
 //! PNG (8-bit, RGB, palette) is read as heights in [0, 1] from its Rec. 709
 //! luminance.
 

@@ -59,7 +59,7 @@ fn nan_in_height_fields_is_refused_on_read_and_write() {
     );
     let mut h = height();
     *h.get_mut(2, 3) = f64::NAN;
-    for ext in ["npy", "png", "exr", "gsf", "csv", "ply"] {
+    for ext in ["npy", "png", "exr", "gsf", "gwy", "x3p", "csv", "ply"] {
         let target = dir.path().join(format!("out.{ext}"));
         let m = message(asperity_io::write_height(
             &target,
@@ -131,6 +131,19 @@ fn missing_unknown_and_wrong_kind() {
     assert!(message(asperity_io::read_height(&p)).contains("junk.exr"));
     let p = write(dir.path(), "junk.png", b"\x89PNG\r\n\x1a\nxx");
     assert!(message(asperity_io::read_height(&p)).contains("junk.png"));
+    let p = write(dir.path(), "junk.x3p", b"PK\x03\x04 not a zip");
+    let m = message(asperity_io::read_height(&p));
+    assert!(
+        m.contains("junk.x3p") && m.contains("not a zip archive"),
+        "{m}"
+    );
+    let p = write(
+        dir.path(),
+        "junk.gwy",
+        b"GWYPGwyContainer\0\xff\xff\xff\x00",
+    );
+    let m = message(asperity_io::read_height(&p));
+    assert!(m.contains("junk.gwy") && m.contains("truncated"), "{m}");
 }
 
 #[test]

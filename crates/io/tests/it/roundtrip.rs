@@ -105,6 +105,8 @@ fn height_formats_roundtrip_within_their_precision() {
         ("npy", 0.0, true),
         ("csv", 0.0, true),
         ("gsf", 1e-6, true),
+        ("gwy", 0.0, true),
+        ("x3p", 0.0, true),
         ("exr", 1e-6, true),
         ("png", (hi - lo) / 65535.0 * 0.5 + 1e-12, true),
     ];
@@ -174,10 +176,10 @@ proptest! {
 
     #[test]
     fn any_height_field_roundtrips(h in strategies::height_field(12)) {
-        for ext in ["npy", "csv", "gsf", "exr", "png"] {
+        for ext in ["npy", "csv", "gsf", "gwy", "x3p", "exr", "png"] {
             let r = height_roundtrip(ext, &WriteOptions::default(), &h);
             let (lo, hi) = h.min_max();
-            let tol = match ext { "npy" | "csv" => 0.0, "png" => (hi - lo) / 65535.0, _ => 1e-4 };
+            let tol = match ext { "npy" | "csv" | "gwy" | "x3p" => 0.0, "png" => (hi - lo) / 65535.0, _ => 1e-4 };
             prop_assert_eq!(r.dims(), h.dims());
             for (a, b) in r.data().iter().zip(h.data()) {
                 prop_assert!((a - b).abs() <= tol, "{}: {} vs {}", ext, a, b);

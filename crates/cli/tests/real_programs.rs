@@ -1,0 +1,191 @@
+//! asperity's files in the programs and libraries people open them with, for
+//! real (issue #24); `.ci/run` installs every one of them:
+//! - the Khronos glTF validator (npm `gltf-validator`, `tests/gltf`) on every
+//!   `.glb` that `asperity demo --quick` writes: no errors, warnings, infos or
+//!   hints. `npm ci` installs it into `tests/gltf` on first use. Set
+//!   `ASPERITY_SKIP_NODE=1` on a machine without Node.js;
+//! - Gwyddion (Debian's `gwyddion`; `--convert-to-gwy` needs no display) reads
+//!   asperity's `.gsf`, 16-bit `.png`, `.x3p` and `.gwy` height fields and the
+//!   demo's with the right sizes, extents, offsets, units and heights, and
+//!   asperity reads the `.gwy` files Gwyddion writes
+//!   (`tests/python/check_gwyddion.py`, read back with `gwyfile`). Set
+//!   `ASPERITY_SKIP_GWYDDION=1` on a machine without it;
+//! - `.x3p` both ways with SurfaceTopography and x3pio
+//!   (`tests/python/check_x3p.py`);
+//! - Blender (Debian's `blender`, headless) imports the demo's `.glb`, `.obj`,
+//!   `.ply` and `.stl` upright, with the planet's colours equal in `.glb` and
+//!   `.ply` and the cup's image texture (`tests/blender/check_import.py`). Set
+//!   `ASPERITY_SKIP_BLENDER=1` on a machine without it.
+//!
+//! CI never sets the skip variables.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+#[path = "../../../tests/python/python_env.rs"]
+mod python_env;
+
+/// `asperity demo --quick`, written once for every test here.
+fn demo() -> PathBuf {
+    static DEMO: OnceLock<tempfile::TempDir> = OnceLock::new();
+    let dir = DEMO.get_or_init(|| {
+        let d = tempfile::tempdir().unwrap();
+        let o = Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["--quiet", "demo", "--quick", "--out"])
+            .arg(d.path().join("g"))
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        d
+    });
+    dir.path().join("g")
+}
+
+fn skipped(variable: &str) -> bool {
+    let skip = std::env::var_os(variable).is_some();
+    if skip {
+        eprintln!("skipped: {variable} is set");
+    }
+    skip
+}
+
+/// Runs `program args…`; asserts it passed and returns the number of `ok`
+/// lines it printed (the check scripts print `ok   what` or `FAIL what`).
+fn run_checks(program: &Path, args: &[&std::ffi::OsStr]) -> usize {
+    let out = Command::new(program).args(args).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{} failed (see above)",
+        program.display()
+    );
+    stdout.lines().filter(|l| l.starts_with("ok   ")).count()
+}
+
+fn script(path: &str) -> PathBuf {
+    python_env::workspace().join(path)
+}
+
+#[test]
+fn every_demo_glb_is_validator_clean() {
+    if skipped("ASPERITY_SKIP_NODE") {
+        return;
+    }
+    let dir = script("tests/gltf");
+    if !dir.join("node_modules/gltf-validator").exists() {
+        let ok = Command::new("npm")
+            .args(["ci", "--silent", "--no-audit", "--no-fund"])
+            .current_dir(&dir)
+            .status()
+            .is_ok_and(|s| s.success());
+        assert!(
+            ok,
+            "could not install the glTF validator: run `npm ci` in tests/gltf"
+        );
+    }
+    let mut glbs: Vec<PathBuf> = std::fs::read_dir(demo())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "glb"))
+        .collect();
+    glbs.sort();
+    let names: Vec<_> = glbs.iter().map(|p| p.file_name().unwrap()).collect();
+    // the textured cup, the coloured planets, the torus: every kind of .glb
+    for want in ["surfca_voronoi_cup.glb", "subdiv_planet.glb", "torus.glb"] {
+        assert!(names.iter().any(|n| *n == want), "{want} in {names:?}");
+    }
+    let v = Command::new("node")
+        .arg(dir.join("validate.mjs"))
+        .args(&glbs)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&v.stdout);
+    assert!(
+        v.status.success(),
+        "the validator found messages:\n{text}{}",
+        String::from_utf8_lossy(&v.stderr)
+    );
+    assert_eq!(
+        text.matches("0 errors, 0 warnings, 0 infos, 0 hints")
+            .count(),
+        glbs.len(),
+        "{text}"
+    );
+}
+
+#[test]
+fn gwyddion_reads_our_height_fields_and_we_read_its_gwy() {
+    if python_env::skipped() || skipped("ASPERITY_SKIP_GWYDDION") {
+        return;
+    }
+    let found = Command::new("gwyddion").arg("--version").output().is_ok();
+    assert!(
+        found,
+        "gwyddion is not installed (apt-get install gwyddion), or set ASPERITY_SKIP_GWYDDION=1"
+    );
+    let work = tempfile::tempdir().unwrap();
+    let checks = run_checks(
+        &python_env::python(),
+        &[
+            script("tests/python/check_gwyddion.py").as_os_str(),
+            env!("CARGO_BIN_EXE_asperity").as_ref(),
+            work.path().as_os_str(),
+            demo().as_os_str(),
+        ],
+    );
+    assert_eq!(checks, 88, "every check ran");
+}
+
+#[test]
+fn x3p_round_trips_through_surface_topography_and_x3pio() {
+    if python_env::skipped() {
+        return;
+    }
+    let work = tempfile::tempdir().unwrap();
+    let checks = run_checks(
+        &python_env::python(),
+        &[
+            script("tests/python/check_x3p.py").as_os_str(),
+            env!("CARGO_BIN_EXE_asperity").as_ref(),
+            work.path().as_os_str(),
+        ],
+    );
+    assert_eq!(checks, 17, "every check ran");
+}
+
+#[test]
+fn blender_imports_the_demo_meshes_upright_with_their_colours() {
+    if skipped("ASPERITY_SKIP_BLENDER") {
+        return;
+    }
+    assert!(
+        Command::new("blender").arg("--version").output().is_ok(),
+        "blender is not installed (apt-get install blender python3-numpy), or set ASPERITY_SKIP_BLENDER=1"
+    );
+    let work = tempfile::tempdir().unwrap();
+    let info = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["--quiet", "info", "--json"])
+        .arg(demo().join("sample_mesh.ply"))
+        .output()
+        .unwrap();
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    let bounds = work.path().join("bounds.json");
+    std::fs::write(&bounds, info["measurements"]["bounds"].to_string()).unwrap();
+    let checks = run_checks(
+        Path::new("blender"),
+        &[
+            "-b".as_ref(),
+            "--factory-startup".as_ref(),
+            "--python-exit-code".as_ref(),
+            "1".as_ref(),
+            "--python".as_ref(),
+            script("tests/blender/check_import.py").as_os_str(),
+            "--".as_ref(),
+            demo().as_os_str(),
+            bounds.as_os_str(),
+        ],
+    );
+    assert_eq!(checks, 13, "every check ran");
+}
