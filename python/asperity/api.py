@@ -531,16 +531,20 @@ def fbm(size: int = 256, hurst: float = 0.8, rms: float = 1.0, spacing: float = 
 # ---------------------------------------------------------------- io and render
 
 
-def load(path: Union[str, Path]) -> Surface:
+def load(path: Union[str, Path], up: Optional[str] = None) -> Surface:
     """Reads any file asperity reads (by content and extension): a
     :class:`Mesh`, :class:`HeightField` or :class:`PointSet`. Its ``title``
-    is the file's stem, as ``asperity convert`` titles what it writes."""
-    return _wrap(_asperity.load(str(path)), Path(path).stem)
+    is the file's stem, as ``asperity convert`` titles what it writes.
+    ``up="y"`` reads a mesh or point file as y-up, ``up="z"`` as it is (the
+    CLI's ``--up``; by default asperity's own OBJ is turned back from y-up)."""
+    return _wrap(_asperity.load(str(path), up), Path(path).stem)
 
 
-def save(path: Union[str, Path], surface: Surface, title: Optional[str] = None) -> None:
-    """Writes a surface by the path's extension (atomically)."""
-    surface.save(path, title)
+def save(path: Union[str, Path], surface: Surface, title: Optional[str] = None,
+         up: Optional[str] = None) -> None:
+    """Writes a surface by the path's extension (atomically); ``up`` as the
+    CLI's ``--up`` (by default OBJ is written y-up, the others z-up)."""
+    surface.save(path, title, up)
 
 
 def render(surface: Surface, width: int = 1024, height: int = 768, view: str = "iso",

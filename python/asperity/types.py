@@ -25,10 +25,11 @@ def _f64(a, shape_tail, what):
 class _Surface:
     title: Optional[str]
 
-    def save(self, path, title: Optional[str] = None) -> None:
+    def save(self, path, title: Optional[str] = None, up: Optional[str] = None) -> None:
         """Writes the surface to ``path``; the format follows the extension
-        (``asperity formats`` lists them). The write is atomic."""
-        _asperity.save(str(path), self, title if title is not None else self.title)
+        (``asperity formats`` lists them). The write is atomic. ``up``: "y" or
+        "z", the CLI's ``--up`` for mesh and point files."""
+        _asperity.save(str(path), self, title if title is not None else self.title, up)
 
     def info(self) -> dict:
         """The CLI's ``info`` facts: counts, bounds, topology, height range."""

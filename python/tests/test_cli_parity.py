@@ -220,6 +220,23 @@ def test_render_and_load_save(cli, tmp):
         cli("convert", tmp / "m.ply", tmp / f"c.{ext}")
         m.save(tmp / f"p.{ext}")
         same_bytes(tmp / f"c.{ext}", tmp / f"p.{ext}")
+    # --up names the axis of every mesh file a command reads and writes: load(up=) + save(up=)
+    # write the CLI's bytes, and load(up=) reads as `info --up` does
+    for up, ext in [("y", "ply"), ("z", "obj"), ("y", "stl")]:
+        cli("--up", up, "convert", tmp / "m.ply", tmp / f"cu.{ext}")
+        asperity.load(tmp / "m.ply", up=up).save(tmp / f"pu.{ext}", up=up)
+        same_bytes(tmp / f"cu.{ext}", tmp / f"pu.{ext}")
+        for read_up in [None, "y", "z"]:
+            flags = ["--up", read_up] if read_up else []
+            bounds = cli(*flags, "info", tmp / f"pu.{ext}")["measurements"]["bounds"]
+            v = asperity.load(tmp / f"pu.{ext}", up=read_up).vertices
+            np.testing.assert_allclose([v.min(axis=0), v.max(axis=0)], [bounds["min"], bounds["max"]],
+                                       rtol=0, atol=1e-12)
+        back = asperity.load(tmp / f"pu.{ext}", up=up).vertices  # as it was read
+        np.testing.assert_allclose(back.min(axis=0), asperity.load(tmp / "m.ply", up=up).vertices.min(axis=0),
+                                   atol=1e-6)
+    with pytest.raises(ValueError, match="y or z"):
+        asperity.load(tmp / "m.ply", up="x")
     asperity.fbm(size=32).save(tmp / "h.gsf")
     h = asperity.load(tmp / "h.gsf")
     for ext in ["npy", "gsf", "csv", "exr", "png", "gwy", "x3p"]:

@@ -80,6 +80,12 @@ pub struct Global {
     /// Length unit of the heights of height fields written (as --xy-unit).
     #[arg(long, global = true, value_name = "UNIT", value_parser = asperity_core::LengthUnit::parse)]
     pub z_unit: Option<asperity_core::LengthUnit>,
+    /// Up axis of mesh and point files (OBJ, PLY, STL, XYZ, npy) read and written: y writes
+    /// (x, z, -y) and reads files as y-up, z takes coordinates as they are. Default: OBJ y-up
+    /// (asperity's own OBJ read back unchanged, others as they are), the rest z-up; glTF is
+    /// always y-up.
+    #[arg(long, global = true, value_name = "AXIS", value_parser = ["y", "z"])]
+    pub up: Option<String>,
 }
 
 /// `--max-time`: a duration, or none for no limit.

@@ -10,7 +10,7 @@ use asperity_core::{
 };
 use asperity_engine::plots::NamedPlot;
 use asperity_engine::{Measurements, Report};
-use asperity_io::{Surface, WriteOptions};
+use asperity_io::{Surface, UpAxis, WriteOptions};
 use asperity_render::plot::{plot_png, plot_svg};
 
 use crate::cli::{Global, MaxTime};
@@ -29,6 +29,8 @@ pub struct Context {
     pub format: Option<String>,
     /// `--xy-unit`, `--z-unit`: units given to height fields written.
     pub units: (Option<LengthUnit>, Option<LengthUnit>),
+    /// `--up`: the up axis of mesh and point files read and written.
+    pub up: Option<UpAxis>,
 }
 
 impl Context {
@@ -55,6 +57,12 @@ impl Context {
             budget: g.max_memory.map(MemoryBudget::new).unwrap_or_default(),
             threads,
             units: (g.xy_unit, g.z_unit),
+            up: g
+                .up
+                .as_deref()
+                .map(str::parse)
+                .transpose()
+                .map_err(anyhow::Error::msg)?,
         })
     }
 
@@ -99,12 +107,61 @@ impl Context {
     }
 
     /// Reads any file under the memory budget; a height field gets the units
-    /// `--xy-unit`/`--z-unit` give (for files that record none, such as .npy).
+    /// `--xy-unit`/`--z-unit` give (for files that record none, such as .npy),
+    /// a mesh or point set the up axis `--up` gives.
     pub fn load(&self, path: &Path) -> anyhow::Result<Surface> {
         Ok(match asperity_engine::files::load(path, &self.budget)? {
             Surface::Height(h) => Surface::Height(self.with_units(h)),
-            s => s,
+            s => self.oriented(path, s)?,
         })
+    }
+
+    /// `s`, read from `path`, turned to the up axis `--up` gives (unchanged
+    /// without it).
+    pub fn oriented(&self, path: &Path, s: Surface) -> anyhow::Result<Surface> {
+        Ok(match self.up {
+            Some(up) => asperity_io::reorient(s, path, up)?,
+            None => s,
+        })
+    }
+
+    /// A triangle mesh (`builtin:NAME` or a file), turned as `--up` says.
+    pub fn load_mesh(&self, spec: &str) -> anyhow::Result<TriMesh> {
+        let m = asperity_engine::files::load_mesh(spec, &self.budget)?;
+        if spec.starts_with("builtin:") {
+            return Ok(m);
+        }
+        match self.oriented(Path::new(spec), Surface::Mesh(m))? {
+            Surface::Mesh(m) => Ok(m),
+            _ => unreachable!("reorient keeps the kind"),
+        }
+    }
+
+    /// A triangle mesh from a mesh file, turned as `--up` says.
+    pub fn load_triangles(&self, path: &Path) -> anyhow::Result<TriMesh> {
+        let m = asperity_engine::files::load_triangles(path, &self.budget)?;
+        match self.oriented(path, Surface::Mesh(m))? {
+            Surface::Mesh(m) => Ok(m),
+            _ => unreachable!("reorient keeps the kind"),
+        }
+    }
+
+    /// A point set (the points of a point file, the vertices of a mesh, the
+    /// samples of a height field), turned as `--up` says.
+    pub fn load_points(&self, path: &Path) -> anyhow::Result<PointSet> {
+        let p = asperity_engine::files::load_points(path, &self.budget)?;
+        match self.oriented(path, Surface::Points(p))? {
+            Surface::Points(p) => Ok(p),
+            _ => unreachable!("reorient keeps the kind"),
+        }
+    }
+
+    /// Writer options with `--up`.
+    pub fn write_options(&self) -> WriteOptions {
+        WriteOptions {
+            up: self.up,
+            ..WriteOptions::default()
+        }
     }
 }
 
@@ -125,7 +182,7 @@ impl<'a> Run<'a> {
 
     /// Writes a triangle mesh.
     pub fn mesh(&mut self, path: &Path, m: &TriMesh) -> anyhow::Result<()> {
-        asperity_io::write_mesh(path, m, &WriteOptions::default())?;
+        asperity_io::write_mesh(path, m, &self.ctx.write_options())?;
         self.report.output(path);
         Ok(())
     }
@@ -139,7 +196,7 @@ impl<'a> Run<'a> {
     ) -> anyhow::Result<()> {
         let opts = WriteOptions {
             title,
-            ..WriteOptions::default()
+            ..self.ctx.write_options()
         };
         match self.ctx.units {
             (None, None) => asperity_io::write_height(path, h, &opts)?,
@@ -154,7 +211,7 @@ impl<'a> Run<'a> {
         anyhow::ensure!(!pts.is_empty(), "no particle to write");
         let opts = WriteOptions {
             title: title.into(),
-            ..WriteOptions::default()
+            ..self.ctx.write_options()
         };
         asperity_io::write_points(path, &PointSet::new(pts), &opts)?;
         self.report.output(path);
@@ -163,7 +220,7 @@ impl<'a> Run<'a> {
 
     /// Writes a point set.
     pub fn point_set(&mut self, path: &Path, ps: &PointSet) -> anyhow::Result<()> {
-        asperity_io::write_points(path, ps, &WriteOptions::default())?;
+        asperity_io::write_points(path, ps, &self.ctx.write_options())?;
         self.report.output(path);
         Ok(())
     }

@@ -122,6 +122,7 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
+        up: ctx.up,
     };
     asperity_io::write(&out, &s, &opts)?;
     bar.finish();

@@ -2,8 +2,7 @@
 
 use std::path::Path;
 
-use asperity_core::MemoryBudget;
-use asperity_engine::files::{is_points_path, load_height, load_triangles};
+use asperity_engine::files::{is_points_path, load_height};
 use asperity_engine::growth::curved::{self, CurvedJob, Substrate};
 use asperity_engine::growth::deposition::{self, DepositionJob, width_csv};
 use asperity_engine::growth::dla::{self, DlaJob};
@@ -89,7 +88,7 @@ fn deposit_curved(ctx: &Context, model: Model, a: &DepositArgs, out: &Path) -> a
                 .as_ref()
                 .ok_or_else(|| anyhow::anyhow!("--substrate mesh needs --mesh FILE"))?;
             Substrate::Mesh {
-                mesh: load_triangles(path, &ctx.budget)?,
+                mesh: ctx.load_triangles(path)?,
                 resolution: a.resolution,
             }
         }
@@ -131,7 +130,7 @@ pub fn parse_size(text: &str, dim: usize) -> anyhow::Result<[usize; 3]> {
     }
 }
 
-fn seed_spec(a: &DlaArgs, budget: &MemoryBudget) -> anyhow::Result<SeedSpec> {
+fn seed_spec(a: &DlaArgs, ctx: &Context) -> anyhow::Result<SeedSpec> {
     Ok(match a.seed_shape {
         SeedShapeArg::Point => SeedSpec::Point,
         SeedShapeArg::Plane => SeedSpec::Plane,
@@ -142,7 +141,7 @@ fn seed_spec(a: &DlaArgs, budget: &MemoryBudget) -> anyhow::Result<SeedSpec> {
                 .as_ref()
                 .ok_or_else(|| anyhow::anyhow!("--seed-shape mesh needs --mesh FILE"))?;
             SeedSpec::Mesh {
-                mesh: load_triangles(path, budget)?,
+                mesh: ctx.load_triangles(path)?,
                 resolution: a.resolution,
             }
         }
@@ -152,7 +151,7 @@ fn seed_spec(a: &DlaArgs, budget: &MemoryBudget) -> anyhow::Result<SeedSpec> {
                 .as_ref()
                 .ok_or_else(|| anyhow::anyhow!("--seed-shape image needs --image FILE"))?;
             SeedSpec::Image {
-                image: load_height(path, budget)?,
+                image: load_height(path, &ctx.budget)?,
                 density: a.seed_density,
             }
         }
@@ -171,7 +170,7 @@ fn grow_dla(ctx: &Context, a: &DlaArgs) -> anyhow::Result<()> {
         size: a.size.as_deref().map(|s| parse_size(s, dim)).transpose()?,
         particles: a.particles,
         stick: a.stick,
-        seed: seed_spec(a, &ctx.budget)?,
+        seed: seed_spec(a, ctx)?,
         launch_gap: a.launch_gap,
         sides: a.sides.into(),
     };

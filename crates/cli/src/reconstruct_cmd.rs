@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use asperity_engine::files::{load_points, numbered, require_mesh_format};
+use asperity_engine::files::{numbered, require_mesh_format};
 use asperity_engine::reconstruct::{self, Grown, Job, LevelSetOptions};
 use asperity_levelset::{
     DistanceMethod, FlowChoice, Neighbourhood, ReconstructParams, Scheme, TagRule,
@@ -87,7 +87,7 @@ fn surface(
         &mut |step, mesh| {
             let path = numbered(out, "step", step as u64, 4);
             if failed.is_none() {
-                match asperity_io::write_mesh(&path, &mesh, &Default::default()) {
+                match asperity_io::write_mesh(&path, &mesh, &run.ctx.write_options()) {
                     Ok(()) => saved.push(path),
                     Err(e) => failed = Some(e),
                 }
@@ -109,7 +109,7 @@ fn surface(
 /// `asperity reconstruct POINTS -o MESH`
 pub fn run(ctx: &Context, a: &ReconstructArgs) -> anyhow::Result<()> {
     let out = mesh_output(ctx)?;
-    let points = load_points(&a.input, &ctx.budget)?;
+    let points = ctx.load_points(&a.input)?;
     let mut run = Run::new(ctx, "reconstruct");
     surface(
         &mut run,

@@ -5,7 +5,6 @@
 use asperity_core::{NoProgress, Progress};
 use asperity_engine::files::{numbered, read_text, require_mesh_format};
 use asperity_engine::subdiv::{Options, Session, Source};
-use asperity_io::WriteOptions;
 use asperity_subdiv::catmull_clark::Boundary;
 use asperity_subdiv::evaluate::Composed;
 use serde_json::json;
@@ -85,7 +84,7 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
         if a.triangles {
             run.mesh(&path, &tri)?;
         } else {
-            let opts = WriteOptions::default();
+            let opts = ctx.write_options();
             asperity_io::write_poly_mesh(&path, &composed.mesh.mesh, &tri, &opts)?;
             run.report.output(&path);
         }

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use asperity_core::Progress;
-use asperity_engine::files::{load_mesh, load_points, numbered, require_mesh_format};
+use asperity_engine::files::{numbered, require_mesh_format};
 use asperity_engine::surfca::{
     App, AppRequest, AppRun, Covered, OutputShape, check_time, cover, run_app, start_progress,
 };
@@ -17,7 +17,7 @@ use crate::context::{Context, Run};
 
 fn request(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<AppRequest> {
     let at = match &a.site_points {
-        Some(path) => Some((load_points(path, &ctx.budget)?, path.display().to_string())),
+        Some(path) => Some((ctx.load_points(path)?, path.display().to_string())),
         None => None,
     };
     Ok(match a.app {
@@ -76,7 +76,7 @@ fn run_with_frames(
         let path = numbered(out, "step", step, 4);
         let m = cov.cell_mesh(color);
         match m.map_err(anyhow::Error::from).and_then(|m| {
-            asperity_io::write_mesh(&path, &m, &Default::default()).map_err(Into::into)
+            asperity_io::write_mesh(&path, &m, &ctx.write_options()).map_err(Into::into)
         }) {
             Ok(()) => written.push(path),
             Err(e) => failed = Some(e),
@@ -114,7 +114,7 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
         Some(h) => CellSize::Size(h),
         None => CellSize::Count(a.cells),
     };
-    let mesh = load_mesh(&a.mesh, &ctx.budget)?;
+    let mesh = ctx.load_mesh(&a.mesh)?;
     let request = request(ctx, a)?;
     // Refuse a run no machine could finish before building its cells.
     if let Ok(cells) = asperity_surfca::cells::estimated_count(&mesh, size) {

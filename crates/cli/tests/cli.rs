@@ -150,6 +150,58 @@ fn convert_height_fields_and_meshes() {
     );
 }
 
+/// `--up`: OBJ is y-up by default and read back unchanged; `--up z` takes its
+/// coordinates as they are; `--up y` turns PLY (and the others) on both sides.
+#[test]
+fn up_axis_on_read_and_write() {
+    let d = tempfile::tempdir().unwrap();
+    // a 3 × 3 field 1 wide and deep, heights 0…0.25: flat along z
+    std::fs::write(
+        d.path().join("h.csv"),
+        b"# dx=0.5 dy=0.5\n0,0.1,0.2\n0,0.1,0.25\n0,0.1,0.2\n",
+    )
+    .unwrap();
+    let bounds = |args: &[&str]| {
+        let o = asperity(&[&["--json", "info"], args].concat(), d.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let b = &v["measurements"]["bounds"];
+        let f = |k: &str| -> Vec<f64> {
+            b[k].as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        };
+        (f("min"), f("max"))
+    };
+    let upright = (vec![0.0, 0.0, 0.0], vec![1.0, 1.0, 0.25]);
+    for (flags, file) in [
+        (&[][..], "h.obj"),
+        (&["--up", "y"][..], "y.ply"),
+        (&["--up", "z"][..], "z.obj"),
+    ] {
+        let o = asperity(&[flags, &["convert", "h.csv", file]].concat(), d.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(
+            bounds(&[flags, &[file]].concat()),
+            upright,
+            "{file} read as written"
+        );
+    }
+    // as the files are: the OBJ and the y-up PLY hold (x, z, -y)
+    let lying = (vec![0.0, 0.0, -1.0], vec![1.0, 0.25, 0.0]);
+    assert_eq!(bounds(&["--up", "z", "h.obj"]), lying);
+    assert_eq!(bounds(&["y.ply"]), lying);
+    assert_eq!(bounds(&["z.obj"]), upright);
+    assert!(
+        !std::fs::read_to_string(d.path().join("z.obj"))
+            .unwrap()
+            .contains("# up: y")
+    );
+    fails(d.path(), &["--up", "x", "info", "h.obj"], "--up");
+}
+
 #[test]
 fn memory_limit_refuses_with_the_estimate() {
     let d = tempfile::tempdir().unwrap();

@@ -12,6 +12,15 @@ pub struct PointSet {
 }
 
 impl PointSet {
+    /// The points with `f` applied to every position and normal (a rotation or
+    /// reflection, as [`crate::TriMesh::map_vectors`]).
+    pub fn map_vectors(mut self, f: impl Fn([f64; 3]) -> [f64; 3]) -> Self {
+        self.positions.iter_mut().for_each(|p| *p = f(*p));
+        if let Some(n) = &mut self.normals {
+            n.iter_mut().for_each(|v| *v = f(*v));
+        }
+        self
+    }
     /// Points at `positions`, with no attributes.
     pub fn new(positions: Vec<[f64; 3]>) -> Self {
         Self {

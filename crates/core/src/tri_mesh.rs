@@ -134,6 +134,15 @@ impl TriMesh {
         self.normals = Some(normals);
         Ok(self)
     }
+    /// The mesh with `f` applied to every position and normal — for a rotation
+    /// or reflection (such as a change of up axis), which keeps normals normals.
+    pub fn map_vectors(mut self, f: impl Fn([f64; 3]) -> [f64; 3]) -> Self {
+        self.positions.iter_mut().for_each(|p| *p = f(*p));
+        if let Some(n) = &mut self.normals {
+            n.iter_mut().for_each(|v| *v = f(*v));
+        }
+        self
+    }
     /// Adds per-vertex RGBA colours.
     ///
     /// # Errors

@@ -35,6 +35,7 @@ pub mod png_io;
 pub mod staging;
 pub mod stl;
 pub mod text;
+pub mod up;
 pub mod x3p;
 
 use std::path::Path;
@@ -47,6 +48,7 @@ use error::{FResult, FormatError};
 pub use npy::NpyDtype;
 pub use ply::PlyEncoding;
 pub use staging::{Transaction, create_output_dir, exit_removing_temporaries, stale_temporaries};
+pub use up::{UpAxis, reorient};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -298,6 +300,9 @@ pub struct WriteOptions {
     pub diagonal: Diagonal,
     /// Title stored where the format has one (GSF, PNG, .gwy).
     pub title: String,
+    /// The up axis of mesh and point files written (see [`up`]); `None` keeps
+    /// each format's convention (OBJ y-up, the others z-up). glTF is always y-up.
+    pub up: Option<UpAxis>,
 }
 
 impl Default for WriteOptions {
@@ -307,6 +312,7 @@ impl Default for WriteOptions {
             npy_dtype: NpyDtype::Float64,
             diagonal: Diagonal::Forward,
             title: "asperity surface".into(),
+            up: None,
         }
     }
 }
@@ -629,11 +635,12 @@ pub fn write_poly_mesh(
         ));
     }
     let os = |e| IoError::os(path, e);
+    let up = up::written_up(f, opts.up);
     match f {
         Format::Ply if poly.n_faces() > 0 => write_atomic(path, |w| {
             ply::write_poly(
                 w,
-                attrs,
+                &up::mesh_in_file_frame(attrs, up),
                 poly.face_offsets(),
                 poly.face_vertices(),
                 opts.ply_encoding,
@@ -641,7 +648,15 @@ pub fn write_poly_mesh(
             .map_err(os)
         }),
         Format::Obj if poly.n_faces() > 0 && attrs.texture().is_none() => write_atomic(path, |w| {
-            obj::write_faces(w, attrs, poly.face_offsets(), poly.face_vertices(), None).map_err(os)
+            obj::write_faces(
+                w,
+                &up::mesh_in_file_frame(attrs, up),
+                poly.face_offsets(),
+                poly.face_vertices(),
+                None,
+                up == UpAxis::Y,
+            )
+            .map_err(os)
         }),
         _ => write_mesh(path, attrs, opts),
     }
@@ -662,11 +677,14 @@ pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<()
         ));
     }
     let os = |e| IoError::os(path, e);
+    let up = up::written_up(f, opts.up);
+    // glTF's writer turns the mesh to y-up itself (with f32 positions)
+    let in_file = || up::mesh_in_file_frame(mesh, if f == Format::Glb { UpAxis::Z } else { up });
     match f {
         Format::Ply => write_atomic(path, |w| {
-            ply::write_mesh(w, mesh, opts.ply_encoding).map_err(os)
+            ply::write_mesh(w, &in_file(), opts.ply_encoding).map_err(os)
         }),
-        Format::Stl => write_atomic(path, |w| stl::write_mesh(w, mesh).map_err(os)),
+        Format::Stl => write_atomic(path, |w| stl::write_mesh(w, &in_file()).map_err(os)),
         Format::Glb => write_atomic(path, |w| glb::write_mesh(w, mesh).map_err(os)),
         Format::Obj => {
             let mtl = match mesh.texture().filter(|_| mesh.uvs().is_some()) {
@@ -674,7 +692,7 @@ pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<()
                 None => None,
             };
             write_atomic(path, |w| {
-                obj::write_mesh(w, mesh, mtl.as_deref()).map_err(os)
+                obj::write_mesh(w, &in_file(), mtl.as_deref(), up == UpAxis::Y).map_err(os)
             })
         }
         Format::Xyz | Format::Npy => {
@@ -712,6 +730,7 @@ pub fn write_points(path: &Path, points: &PointSet, opts: &WriteOptions) -> Resu
     }
     points.validate().map_err(|e| IoError::invalid(path, e))?;
     let os = |e| IoError::os(path, e);
+    let points = &*up::points_in_file_frame(points, up::written_up(f, opts.up));
     match f {
         Format::Ply => write_atomic(path, |w| {
             ply::write_points(w, points, opts.ply_encoding).map_err(os)
@@ -887,12 +906,14 @@ pub fn write_mesh_with_polylines(
             .map_err(invalid)?;
     }
     let os = |e| IoError::os(path, e);
+    let up = up::written_up(f, opts.up);
+    let m = up::mesh_in_file_frame(&m, up);
     match f {
         Format::Ply => write_atomic(path, |w| {
             ply::write_mesh_edges(w, &m, &edges, opts.ply_encoding).map_err(os)
         }),
         _ => write_atomic(path, |w| {
-            obj::write_mesh(w, &m, None)
+            obj::write_mesh(w, &m, None, up == UpAxis::Y)
                 .and_then(|()| obj::write_lines(w, lines, mesh.n_vertices()))
                 .map_err(os)
         }),

@@ -104,18 +104,8 @@ fn check_corner(corner: &[u8], counts: &[usize; 3], line: usize) -> FResult<()> 
 /// The header line of an OBJ written y-up by asperity.
 const Y_UP_LINE: &str = "# up: y (asperity's z-up coordinates written as x, z, -y)";
 
-/// asperity's z-up (x, y, z) in OBJ's y-up frame.
-fn to_y_up(p: [f64; 3]) -> [f64; 3] {
-    [p[0], p[2], -p[1]]
-}
-
-/// OBJ's y-up (x, y, z) back in asperity's z-up frame.
-fn from_y_up(p: [f64; 3]) -> [f64; 3] {
-    [p[0], -p[2], p[1]]
-}
-
 /// Whether the file is one asperity wrote y-up (the header's first lines say).
-fn written_y_up(bytes: &[u8]) -> bool {
+pub(crate) fn written_y_up(bytes: &[u8]) -> bool {
     bytes
         .split(|&b| b == b'\n')
         .take(4)
@@ -125,9 +115,11 @@ fn written_y_up(bytes: &[u8]) -> bool {
 fn parse(bytes: &[u8]) -> FResult<ObjContents> {
     let mut c = parse_as_written(bytes)?;
     if written_y_up(bytes) {
-        c.positions.iter_mut().for_each(|p| *p = from_y_up(*p));
+        c.positions
+            .iter_mut()
+            .for_each(|p| *p = crate::up::from_y_up(*p));
         if let Some(n) = &mut c.normals {
-            n.iter_mut().for_each(|v| *v = from_y_up(*v));
+            n.iter_mut().for_each(|v| *v = crate::up::from_y_up(*v));
         }
     }
     Ok(c)
@@ -213,10 +205,15 @@ pub(crate) fn read_poly(bytes: &[u8]) -> FResult<PolyMesh> {
 }
 
 /// Writes `m`; `mtl` names the material library to reference (when textured).
-pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh, mtl: Option<&str>) -> std::io::Result<()> {
+pub(crate) fn write_mesh(
+    w: &mut dyn Write,
+    m: &TriMesh,
+    mtl: Option<&str>,
+    y_up: bool,
+) -> std::io::Result<()> {
     let flat = m.triangles().as_flattened();
     let offsets: Vec<u32> = (0..=m.n_faces() as u32).map(|f| 3 * f).collect();
-    write_faces(w, m, &offsets, flat, mtl)
+    write_faces(w, m, &offsets, flat, mtl, y_up)
 }
 
 /// Writes polygons (CSR) with the per-vertex data of `m` (same vertices).
@@ -226,17 +223,19 @@ pub(crate) fn write_faces(
     offsets: &[u32],
     verts: &[u32],
     mtl: Option<&str>,
+    y_up: bool,
 ) -> std::io::Result<()> {
     let n_faces = offsets.len().saturating_sub(1);
     writeln!(w, "# written by asperity {}", env!("CARGO_PKG_VERSION"))?;
-    writeln!(w, "{Y_UP_LINE}")?;
+    if y_up {
+        writeln!(w, "{Y_UP_LINE}")?;
+    }
     writeln!(w, "# {} vertices, {} faces", m.n_vertices(), n_faces)?;
     if let Some(lib) = mtl {
         writeln!(w, "mtllib {lib}")?;
     }
     writeln!(w, "o surface")?;
     for (i, &p) in m.positions().iter().enumerate() {
-        let p = to_y_up(p);
         match m.colors() {
             Some(c) => {
                 let c = c[i];
@@ -259,7 +258,6 @@ pub(crate) fn write_faces(
         writeln!(w, "vt {} {}", t[0], t[1])?;
     }
     for &n in m.normals().unwrap_or(&[]) {
-        let n = to_y_up(n);
         writeln!(w, "vn {} {} {}", n[0], n[1], n[2])?;
     }
     if mtl.is_some() {
@@ -334,7 +332,9 @@ mod tests {
         .unwrap()
         .with_computed_normals();
         let mut text = Vec::new();
-        write_mesh(&mut text, &m, None).unwrap();
+        // what lib.rs hands the writer for an OBJ: the mesh in the y-up frame
+        let file_frame = m.clone().map_vectors(crate::up::to_y_up);
+        write_mesh(&mut text, &file_frame, None, true).unwrap();
         let s = String::from_utf8(text.clone()).unwrap();
         // in the file the height is along y, as Blender's OBJ import expects
         let ys: Vec<f64> = s

@@ -10,11 +10,23 @@ use pyo3::types::PyDict;
 use crate::convert::{json, surface_in, surface_out};
 use crate::job::{RunOptions, budget, run};
 
-/// Reads any file under the memory budget; a dict with its `kind`.
+fn up_axis(up: Option<&str>) -> PyResult<Option<asperity_io::UpAxis>> {
+    up.map(|u| u.parse().map_err(pyo3::exceptions::PyValueError::new_err))
+        .transpose()
+}
+
+/// Reads any file under the memory budget; a dict with its `kind`. `up`
+/// ("y" or "z") overrides the file's up axis, as the CLI's `--up`.
 #[pyfunction]
-pub fn load<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (path, up = None))]
+pub fn load<'py>(py: Python<'py>, path: PathBuf, up: Option<&str>) -> PyResult<Bound<'py, PyDict>> {
+    let up = up_axis(up)?;
     let s = run(py, &RunOptions::quiet(None), move |_, _| {
-        asperity_engine::files::load(&path, &budget())
+        let s = asperity_engine::files::load(&path, &budget())?;
+        Ok(match up {
+            Some(up) => asperity_io::reorient(s, &path, up)?,
+            None => s,
+        })
     })?;
     surface_out(py, s)
 }
@@ -22,15 +34,19 @@ pub fn load<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>>
 /// Writes a mesh, height field or point set by the path's extension,
 /// atomically (a failure leaves no partial file).
 #[pyfunction]
-#[pyo3(signature = (path, surface, title = None))]
+#[pyo3(signature = (path, surface, title = None, up = None))]
 pub fn save(
     py: Python<'_>,
     path: PathBuf,
     surface: &Bound<'_, PyAny>,
     title: Option<String>,
+    up: Option<&str>,
 ) -> PyResult<()> {
     let s = surface_in(surface)?;
-    let mut opts = WriteOptions::default();
+    let mut opts = WriteOptions {
+        up: up_axis(up)?,
+        ..WriteOptions::default()
+    };
     if let Some(t) = title {
         opts.title = t;
     }

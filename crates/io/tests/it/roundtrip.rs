@@ -227,3 +227,56 @@ fn height_units_survive_every_format_that_has_a_place_for_them() {
     assert!(!text.contains("Units"));
     assert!(asperity_io::read_height(&path).unwrap().units().is_none());
 }
+
+#[test]
+fn up_axis_override_writes_and_reads_every_mesh_format_back_unchanged() {
+    use asperity_io::{UpAxis, reorient};
+    let m = crate::fixtures::octahedron();
+    // positions in a fixed order (OBJ and STL readers renumber vertices)
+    let sorted = |mut v: Vec<[f64; 3]>| {
+        v.sort_by(|a, b| {
+            a.iter()
+                .zip(b)
+                .map(|(x, y)| x.total_cmp(y))
+                .find(|o| o.is_ne())
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        v
+    };
+    let tall = |s: &Surface| match s {
+        Surface::Mesh(r) => sorted(r.positions().to_vec()),
+        _ => unreachable!(),
+    };
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["obj", "ply", "stl"] {
+        for up in [None, Some(UpAxis::Y), Some(UpAxis::Z)] {
+            let path = dir.path().join(format!("u.{ext}"));
+            let opts = WriteOptions {
+                up,
+                ..Default::default()
+            };
+            asperity_io::write_mesh(&path, &m, &opts).unwrap();
+            let read = asperity_io::read(&path).unwrap();
+            // what the file holds, as a program that takes it as it is sees it
+            let raw = tall(&reorient(read.clone(), &path, UpAxis::Z).unwrap());
+            let y_up = up == Some(UpAxis::Y) || (up.is_none() && ext == "obj");
+            let expected: Vec<[f64; 3]> = m
+                .positions()
+                .iter()
+                .map(|p| if y_up { [p[0], p[2], -p[1]] } else { *p })
+                .collect();
+            let expected = sorted(expected);
+            assert_eq!(raw, expected, "{ext} {up:?}: the file's frame");
+            // and read with the same --up (or none, for the defaults) it is the original
+            let back = match up {
+                Some(u) => reorient(read, &path, u).unwrap(),
+                None => read,
+            };
+            assert_eq!(
+                tall(&back),
+                sorted(m.positions().to_vec()),
+                "{ext} {up:?}: back unchanged"
+            );
+        }
+    }
+}
