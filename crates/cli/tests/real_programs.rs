@@ -15,7 +15,13 @@
 //! - Blender (Debian's `blender`, headless) imports the demo's `.glb`, `.obj`,
 //!   `.ply` and `.stl` upright, with the planet's colours equal in `.glb` and
 //!   `.ply` and the cup's image texture (`tests/blender/check_import.py`). Set
-//!   `ASPERITY_SKIP_BLENDER=1` on a machine without it.
+//!   `ASPERITY_SKIP_BLENDER=1` on a machine without it;
+//! - the gallery in headless Chromium (Debian's `chromium`, driven by npm
+//!   `playwright-core` in `tests/browser`) from `file://`: no console errors,
+//!   every image loaded, no horizontal overflow at 1280 and 390 px, every 3-D
+//!   view paints its mesh (`tests/browser/check_gallery.mjs`); screenshots in
+//!   `target/gallery-screenshots/`. Set `ASPERITY_SKIP_BROWSER=1` on a machine
+//!   without Chromium.
 //!
 //! CI never sets the skip variables.
 
@@ -68,13 +74,10 @@ fn script(path: &str) -> PathBuf {
     python_env::workspace().join(path)
 }
 
-#[test]
-fn every_demo_glb_is_validator_clean() {
-    if skipped("ASPERITY_SKIP_NODE") {
-        return;
-    }
-    let dir = script("tests/gltf");
-    if !dir.join("node_modules/gltf-validator").exists() {
+/// `tests/NAME`, with its npm packages installed (`npm ci`, the registry once).
+fn npm_package(name: &str, module: &str) -> PathBuf {
+    let dir = script(&format!("tests/{name}"));
+    if !dir.join("node_modules").join(module).exists() {
         let ok = Command::new("npm")
             .args(["ci", "--silent", "--no-audit", "--no-fund"])
             .current_dir(&dir)
@@ -82,9 +85,18 @@ fn every_demo_glb_is_validator_clean() {
             .is_ok_and(|s| s.success());
         assert!(
             ok,
-            "could not install the glTF validator: run `npm ci` in tests/gltf"
+            "could not install {module}: run `npm ci` in tests/{name}"
         );
     }
+    dir
+}
+
+#[test]
+fn every_demo_glb_is_validator_clean() {
+    if skipped("ASPERITY_SKIP_NODE") {
+        return;
+    }
+    let dir = npm_package("gltf", "gltf-validator");
     let mut glbs: Vec<PathBuf> = std::fs::read_dir(demo())
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -188,4 +200,55 @@ fn blender_imports_the_demo_meshes_upright_with_their_colours() {
         ],
     );
     assert_eq!(checks, 13, "every check ran");
+}
+
+#[test]
+fn gallery_works_in_headless_chromium() {
+    if skipped("ASPERITY_SKIP_NODE") || skipped("ASPERITY_SKIP_BROWSER") {
+        return;
+    }
+    let chromium = Path::new("/usr/bin/chromium");
+    assert!(
+        chromium.exists(),
+        "chromium is not installed (apt-get install chromium), or set ASPERITY_SKIP_BROWSER=1"
+    );
+    let dir = npm_package("browser", "playwright-core");
+    let shots = python_env::workspace().join("target/gallery-screenshots");
+    let out = Command::new("node")
+        .arg(dir.join("check_gallery.mjs"))
+        .arg(demo())
+        .arg(&shots)
+        .arg(chromium)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    eprintln!("{stdout}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "the gallery failed in Chromium (see above)"
+    );
+    let models = std::fs::read_dir(demo().join("viewer"))
+        .unwrap()
+        .filter(|e| {
+            let name = e
+                .as_ref()
+                .unwrap()
+                .file_name()
+                .to_string_lossy()
+                .into_owned();
+            name.ends_with(".js")
+                && !["asperity-viewer.js", "model-viewer-umd.min.js"].contains(&name.as_str())
+        })
+        .count();
+    let painted = stdout
+        .lines()
+        .filter(|l| l.starts_with("ok   3D view "))
+        .count();
+    assert!(models >= 40, "{models} 3-D views in the quick demo");
+    assert_eq!(painted, models, "every 3-D view painted");
+    assert_eq!(
+        stdout.lines().filter(|l| l.starts_with("ok   ")).count(),
+        models + 6
+    );
+    assert!(shots.join("gallery_phone.png").exists());
 }

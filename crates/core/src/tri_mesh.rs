@@ -233,6 +233,12 @@ impl TriMesh {
         self
     }
 
+    /// The mesh without its named per-vertex scalars.
+    pub fn without_scalars(mut self) -> Self {
+        self.scalars.clear();
+        self
+    }
+
     /// Number of vertices.
     pub fn n_vertices(&self) -> usize {
         self.positions.len()

@@ -21,6 +21,7 @@
 //! the same bytes on every run with the same seed.
 
 use std::cell::RefCell;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use asperity_core::{MemoryBudget, Progress, RgbaImage, TriMesh};
@@ -38,6 +39,7 @@ pub mod peridier;
 pub mod renderer;
 pub mod subdiv;
 pub mod surfca;
+pub mod viewer;
 
 /// What the gallery is asked for.
 #[derive(Clone, Debug)]
@@ -68,6 +70,8 @@ pub struct Env {
     pub quick: bool,
     /// Outputs and measurements so far.
     pub report: RefCell<Report>,
+    /// The 3-D view of each mesh file written (file name → `viewer/STEM.js`).
+    pub models: RefCell<BTreeMap<String, String>>,
 }
 
 impl Env {
@@ -79,7 +83,29 @@ impl Env {
         let path = self.dir.join(name);
         asperity_io::write(&path, s, &WriteOptions::default())?;
         self.report.borrow_mut().output(&path);
+        if let Surface::Mesh(m) = s {
+            self.model(name, m)?;
+        }
         Ok(name.to_owned())
+    }
+
+    /// Gives the mesh file `name` a 3-D view (one per file stem: a `.ply` and
+    /// a `.glb` of the same mesh share it).
+    fn model(&self, name: &str, m: &TriMesh) -> Result<()> {
+        let stem = std::path::Path::new(name)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let script = format!("{}/{stem}.js", viewer::DIR);
+        let known = self.models.borrow().values().any(|v| *v == script);
+        let script = match known {
+            true => Some(script),
+            false => viewer::write_model(&self.dir, &stem, m)?,
+        };
+        if let Some(script) = script {
+            self.models.borrow_mut().insert(name.to_owned(), script);
+        }
+        Ok(())
     }
 
     /// Writes a mesh as `name`.
@@ -172,6 +198,9 @@ pub struct Item {
     pub image: Option<String>,
     /// Files to download.
     pub files: Vec<String>,
+    /// The script of its 3-D view (`viewer/STEM.js`), set for cards with a mesh
+    /// file when the page is written.
+    pub model: Option<String>,
     /// Facts, as (name, value).
     pub facts: Vec<(String, String)>,
 }
@@ -189,6 +218,7 @@ impl Item {
             image,
             files,
             facts,
+            model: None,
         }
     }
 }
@@ -240,9 +270,16 @@ fn check_only(only: &[String]) -> Result<()> {
 }
 
 /// Writes `index.html` and `report.json` for `sections`; returns the report.
-fn finish(env: Env, sections: &[Section], o: &Options) -> Result<Report> {
+fn finish(env: Env, mut sections: Vec<Section>, o: &Options) -> Result<Report> {
+    let models = env.models.borrow().clone();
+    for it in sections.iter_mut().flat_map(|s| s.items.iter_mut()) {
+        it.model = it.files.iter().find_map(|f| models.get(f)).cloned();
+    }
+    if !models.is_empty() {
+        viewer::write_assets(&o.dir)?;
+    }
     let index = o.dir.join("index.html");
-    asperity_io::write_text(&index, &page::page(sections, o.seed, o.quick))?;
+    asperity_io::write_text(&index, &page::page(&sections, o.seed, o.quick))?;
     let mut report = env.report.into_inner();
     report.output(&index);
     let titles: Vec<String> = sections.iter().map(|s| s.title.clone()).collect();
@@ -260,7 +297,7 @@ fn finish(env: Env, sections: &[Section], o: &Options) -> Result<Report> {
 /// failure, named.
 pub fn run(o: &Options, progress: &dyn Progress) -> Result<Report> {
     check_only(&o.only)?;
-    std::fs::create_dir_all(&o.dir).map_err(|e| {
+    std::fs::create_dir_all(o.dir.join(viewer::DIR)).map_err(|e| {
         invalid(format!(
             "cannot create gallery directory {}: {e}",
             o.dir.display()
@@ -272,6 +309,7 @@ pub fn run(o: &Options, progress: &dyn Progress) -> Result<Report> {
         budget: o.budget,
         quick: o.quick,
         report: RefCell::new(Report::new("demo", o.seed, o.threads)),
+        models: RefCell::default(),
     };
     let chosen: Vec<&(&str, SectionFn)> = SECTIONS
         .iter()
@@ -287,5 +325,5 @@ pub fn run(o: &Options, progress: &dyn Progress) -> Result<Report> {
         progress.advance(1);
     }
     progress.finish();
-    finish(env, &sections, o)
+    finish(env, sections, o)
 }

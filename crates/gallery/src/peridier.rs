@@ -216,7 +216,7 @@ fn figure_9(env: &Env, h: &HeightField, flat: &RenderOptions) -> Result<Item> {
     Ok(Item::new(
         "Figure 9: a circle drawn on the facets",
         Some(fig9),
-        vec!["ca_fig9_circle.obj".into()],
+        vec!["ca_fig9_circle.ply".into(), "ca_fig9_circle.obj".into()],
         vec![
             fact("curve points", ring.len()),
             fact(

@@ -194,6 +194,17 @@ fn vertex_attributes(bin: &mut Bin, m: &TriMesh) -> (Value, Option<RgbaImage>) {
     (attributes, texture)
 }
 
+/// `m` as the bytes of a `.glb` file (what [`crate::write_mesh`] writes), for
+/// embedding elsewhere (the gallery's 3-D views).
+///
+/// # Errors
+/// As the writer (a mesh too large for glTF's 32-bit sizes).
+pub fn encode(m: &TriMesh) -> std::io::Result<Vec<u8>> {
+    let mut out = Vec::new();
+    write_mesh(&mut out, m)?;
+    Ok(out)
+}
+
 /// Writes `m` as a single-mesh, single-node `.glb`.
 pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> {
     let mut bin = Bin::default();

@@ -1,0 +1,74 @@
+//! The gallery's 3-D views: every mesh card can be turned and zoomed in the
+//! page, offline, from `file://`.
+//!
+//! The viewer is Google's `<model-viewer>` web component (Apache-2.0; it
+//! bundles three.js, MIT, and lit, BSD-3-Clause), version 4.4.0, shipped in
+//! `assets/` as its UMD build: a classic script, because browsers refuse ES
+//! modules from `file://`. For the same reason a page opened from disk cannot
+//! `fetch` a `.glb`, so each mesh is written as `viewer/STEM.js`, a script
+//! that hands the `.glb` bytes (base64) to `asperityModel`; the page's own
+//! script (`assets/asperity-viewer.js`) loads it when the card's "Turn in 3D"
+//! button is pressed and gives `<model-viewer>` a `blob:` URL of it. Nothing is
+//! loaded until asked, so the page stays light.
+//!
+//! To update model-viewer: `npm pack @google/model-viewer@VERSION`, copy
+//! `package/dist/model-viewer-umd.min.js` and `package/LICENSE` here, and run
+//! the browser test (`crates/cli/tests/real_programs.rs`).
+
+use std::path::Path;
+
+use asperity_core::TriMesh;
+use asperity_engine::Result;
+use base64::Engine as _;
+
+/// The folder (inside the gallery) holding the viewer and the models.
+pub const DIR: &str = "viewer";
+
+const MODEL_VIEWER: &[u8] = include_bytes!("../assets/model-viewer-umd.min.js");
+const MODEL_VIEWER_LICENSE: &[u8] = include_bytes!("../assets/LICENSE-model-viewer.txt");
+const PAGE_SCRIPT: &[u8] = include_bytes!("../assets/asperity-viewer.js");
+
+/// Meshes larger than this get no 3-D view (their `.glb` data would make the
+/// gallery heavy); the demo's largest has about 400 000.
+pub const MAX_TRIANGLES: usize = 1_000_000;
+
+/// Writes the viewer's scripts and licence into `gallery/viewer/`.
+///
+/// # Errors
+/// The writer's.
+pub fn write_assets(gallery: &Path) -> Result<()> {
+    let dir = gallery.join(DIR); // made with the gallery folder
+    for (name, bytes) in [
+        ("model-viewer-umd.min.js", MODEL_VIEWER),
+        ("LICENSE-model-viewer.txt", MODEL_VIEWER_LICENSE),
+        ("asperity-viewer.js", PAGE_SCRIPT),
+    ] {
+        let path = dir.join(name);
+        asperity_io::write_atomic(&path, |w| {
+            std::io::Write::write_all(w, bytes).map_err(|e| asperity_io::IoError::os(&path, e))
+        })?;
+    }
+    Ok(())
+}
+
+/// Writes `gallery/viewer/STEM.js` holding `m` as `.glb`; returns its path
+/// relative to the gallery, or `None` for a mesh too large for the page.
+///
+/// # Errors
+/// The writer's.
+pub fn write_model(gallery: &Path, stem: &str, m: &TriMesh) -> Result<Option<String>> {
+    if m.n_faces() == 0 || m.n_faces() > MAX_TRIANGLES {
+        return Ok(None);
+    }
+    // what the view shows: geometry, normals, colours, texture (no scalars)
+    let glb = asperity_io::glb::encode(&m.clone().without_scalars())
+        .map_err(|e| asperity_engine::error::invalid(format!("3-D view of {stem}: {e}")))?;
+    let name = format!("{DIR}/{stem}.js");
+    let b64 = base64::engine::general_purpose::STANDARD.encode(glb);
+    let quoted = serde_json::to_string(stem).unwrap_or_default(); // a JS string literal
+    asperity_io::write_text(
+        &gallery.join(&name),
+        &format!("asperityModel({quoted}, \"{b64}\");\n"),
+    )?;
+    Ok(Some(name))
+}
