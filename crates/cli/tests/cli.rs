@@ -253,12 +253,22 @@ fn demo_is_byte_identical_across_thread_counts() {
     names.sort();
     assert!(names.iter().any(|n| n == "index.html"));
     assert!(names.len() >= 15, "{names:?}");
-    for n in &names {
-        if n == "report.json" {
+    let viewer: Vec<_> = std::fs::read_dir(g1.join("viewer"))
+        .unwrap()
+        .map(|e| std::path::Path::new("viewer").join(e.unwrap().file_name()))
+        .collect();
+    assert!(viewer.len() > 10, "the 3-D views: {viewer:?}");
+    let files = names
+        .iter()
+        .map(std::path::PathBuf::from)
+        .filter(|n| n.as_os_str() != "viewer")
+        .chain(viewer);
+    for n in files {
+        if n.as_os_str() == "report.json" {
             continue; // holds timings and the thread count
         }
-        let a = std::fs::read(g1.join(n)).unwrap();
-        let b = std::fs::read(d.path().join("g2").join(n)).unwrap();
+        let a = std::fs::read(g1.join(&n)).unwrap();
+        let b = std::fs::read(d.path().join("g2").join(&n)).unwrap();
         assert!(a == b, "{n:?} differs between 1 and 2 threads");
     }
     // A different seed gives a different surface.

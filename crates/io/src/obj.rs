@@ -26,6 +26,7 @@ use std::io::Write;
 use asperity_core::{PolyMesh, TriMesh};
 
 use crate::error::{FResult, FormatError};
+use crate::up::{Y_UP_LINE, written_y_up};
 
 /// Polygon soup read from an OBJ file, with the per-vertex data tobj found.
 struct ObjContents {
@@ -99,17 +100,6 @@ fn check_corner(corner: &[u8], counts: &[usize; 3], line: usize) -> FResult<()> 
         }
     }
     Ok(())
-}
-
-/// The header line of an OBJ written y-up by asperity.
-const Y_UP_LINE: &str = "# up: y (asperity's z-up coordinates written as x, z, -y)";
-
-/// Whether the file is one asperity wrote y-up (the header's first lines say).
-pub(crate) fn written_y_up(bytes: &[u8]) -> bool {
-    bytes
-        .split(|&b| b == b'\n')
-        .take(4)
-        .any(|l| l.trim_ascii() == Y_UP_LINE.as_bytes())
 }
 
 fn parse(bytes: &[u8]) -> FResult<ObjContents> {

@@ -38,6 +38,17 @@ impl std::str::FromStr for UpAxis {
     }
 }
 
+/// The header line of an OBJ written y-up by asperity.
+pub(crate) const Y_UP_LINE: &str = "# up: y (asperity's z-up coordinates written as x, z, -y)";
+
+/// Whether an OBJ is one asperity wrote y-up (the header's first lines say).
+pub(crate) fn written_y_up(bytes: &[u8]) -> bool {
+    bytes
+        .split(|&b| b == b'\n')
+        .take(4)
+        .any(|l| l.trim_ascii() == Y_UP_LINE.as_bytes())
+}
+
 /// asperity's z-up `(x, y, z)` in a y-up frame.
 pub(crate) fn to_y_up(p: [f64; 3]) -> [f64; 3] {
     [p[0], p[2], -p[1]]
@@ -89,7 +100,7 @@ pub fn read_up(path: &Path) -> Result<UpAxis, IoError> {
     std::fs::File::open(path)
         .and_then(|f| f.take(512).read_to_end(&mut head))
         .map_err(|e| IoError::os(path, e))?;
-    Ok(if crate::obj::written_y_up(&head) {
+    Ok(if written_y_up(&head) {
         UpAxis::Y
     } else {
         UpAxis::Z
