@@ -1,5 +1,5 @@
-//! The Python package's test suite (`python/tests`, pytest) run against this
-//! build: the extension module `cargo test` just built
+//! The Python package's test suite (`python/tests`, pytest), and the Blender
+//! add-on's headless test, run against this build: the extension module `cargo test` just built
 //! (`target/<profile>/deps/lib_asperity.so`) is assembled with the package's
 //! Python files into `target/<profile>/python-pkg`, and the CLI built beside
 //! it (`target/<profile>/asperity`) is what the byte-for-byte checks compare
@@ -85,4 +85,68 @@ fn python_package_suite() {
         status.success(),
         "the Python package's tests failed (output above)"
     );
+}
+
+/// The Blender add-on (issue #25): `blender/build.py` packs it with this
+/// build's engine into a zip, and Debian's Blender (headless, `.ci/run`
+/// installs it) installs the zip and runs every operator:
+/// `tests/blender/check_addon.py` (counts and vertices against the CLI, the
+/// materials and images, a stopped run leaving nothing, Cycles renders kept in
+/// `target/<profile>/blender/`). Set `ASPERITY_SKIP_BLENDER=1` on a machine
+/// without Blender; CI never sets it.
+#[test]
+fn blender_addon() {
+    if python_env::skipped() || std::env::var_os("ASPERITY_SKIP_BLENDER").is_some() {
+        eprintln!("skipped");
+        return;
+    }
+    assert!(
+        Command::new("blender").arg("--version").output().is_ok(),
+        "blender is not installed (apt-get install blender python3-numpy), or set ASPERITY_SKIP_BLENDER=1"
+    );
+    let dir = profile_dir();
+    let root = python_env::workspace();
+    let out = dir.join("blender");
+    let zip = out.join("asperity_addon.zip");
+    let built = Command::new(python_env::python())
+        .arg(root.join("blender/build.py"))
+        .arg("--library")
+        .arg(dir.join("deps/lib_asperity.so"))
+        .arg("--out")
+        .arg(&zip)
+        .status()
+        .unwrap();
+    assert!(built.success(), "blender/build.py failed");
+    // Blender installs add-ons under BLENDER_USER_SCRIPTS: here, not in $HOME
+    let scripts = out.join("user-scripts");
+    let _ = std::fs::remove_dir_all(&scripts);
+    std::fs::create_dir_all(&scripts).unwrap();
+    let run = Command::new("blender")
+        .args([
+            "-b",
+            "--factory-startup",
+            "--python-exit-code",
+            "1",
+            "--python",
+        ])
+        .arg(root.join("tests/blender/check_addon.py"))
+        .arg("--")
+        .arg(&zip)
+        .arg(dir.join("asperity"))
+        .arg(&out)
+        .env("BLENDER_USER_SCRIPTS", &scripts)
+        .env_remove("ASPERITY_PYTHONPATH")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    let oks = stdout.lines().filter(|l| l.starts_with("ok   ")).count();
+    if !run.status.success() || oks != 58 {
+        eprintln!("{stdout}{}", String::from_utf8_lossy(&run.stderr));
+    }
+    assert!(
+        run.status.success(),
+        "the add-on's checks failed (see above)"
+    );
+    assert_eq!(oks, 58, "every check ran");
+    assert!(out.join("addon_screenshot.png").exists());
 }
