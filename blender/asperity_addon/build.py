@@ -29,7 +29,8 @@ def mesh_data(name: str, mesh) -> bpy.types.Mesh:
     me.loops.foreach_set("vertex_index", f.ravel())
     me.polygons.add(len(f))
     me.polygons.foreach_set("loop_start", np.arange(0, f.size, 3, dtype=np.int32))
-    me.polygons.foreach_set("loop_total", np.full(len(f), 3, dtype=np.int32))
+    if bpy.app.version < (4, 0, 0):  # read-only from 4.0 (derived from loop_start)
+        me.polygons.foreach_set("loop_total", np.full(len(f), 3, dtype=np.int32))
     me.update(calc_edges=True)
     me.polygons.foreach_set("use_smooth", np.ones(len(f), dtype=bool))
     if mesh.colors is not None:

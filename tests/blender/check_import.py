@@ -1,15 +1,17 @@
 """Blender imports the demo's meshes as asperity means them (issue #24).
 
 Run by crates/cli/tests/real_programs.rs:
-    blender -b --factory-startup --python-exit-code 1 --python check_import.py -- DEMO_DIR BOUNDS_JSON
+    blender -b --factory-startup --python-exit-code 1 --python check_import.py -- DEMO_DIR BOUNDS_JSON PLANET_OBJ
 
-BOUNDS_JSON holds `asperity info` of sample_mesh.ply ({"min": [...], "max": [...]}).
+BOUNDS_JSON holds `asperity info` of sample_mesh.ply ({"min": [...], "max": [...]});
+PLANET_OBJ is the demo's subdiv_planet.ply converted to OBJ by asperity.
 With Blender's own importers and their default settings:
 - sample_mesh .glb, .obj, .ply and .stl stand upright: the world bounding box
   equals asperity's (so z is up in Blender as in asperity, whatever the file's
   convention);
-- the planet's vertex colours from .glb (linear COLOR_0) equal those from .ply
-  (sRGB bytes) within 1/255 once both are in sRGB, vertex by vertex;
+- the planet's vertex colours from .glb (linear COLOR_0) and from .obj (sRGB
+  floats after `v x y z`) equal those from .ply (sRGB bytes) within 1/255 once
+  all are in sRGB, vertex by vertex (matched by position);
 - the textured Voronoi cup (.glb) has a material with an image texture.
 
 Blender 3.4's glTF importer uses `numpy.bool`, which numpy 1.24 removed
@@ -23,11 +25,12 @@ from pathlib import Path
 
 import bpy
 import numpy as np
+from mathutils.kdtree import KDTree
 
 if not hasattr(np, "bool"):
     np.bool = bool  # Blender 3.4 glTF importer on numpy >= 1.24 (see above)
 
-DEMO, BOUNDS = Path(sys.argv[-2]), json.loads(Path(sys.argv[-1]).read_text())
+DEMO, BOUNDS, PLANET_OBJ = Path(sys.argv[-3]), json.loads(Path(sys.argv[-2]).read_text()), Path(sys.argv[-1])
 failures = []
 
 
@@ -105,21 +108,25 @@ for ext in ["glb", "obj", "ply", "stl"]:
           np.all(np.abs(lo - want_min) <= tol) and np.all(np.abs(hi - want_max) <= tol),
           f"min {lo.round(5)} max {hi.round(5)} (asperity: {want_min.round(5)} {want_max.round(5)})")
 
-# 2. The planet's colours: .glb (linear COLOR_0) against .ply (sRGB bytes).
+# 2. The planet's colours: .glb (linear COLOR_0) and .obj against .ply (sRGB bytes).
 fresh()
-(glb,) = imported(DEMO / "subdiv_planet.glb")
 (ply,) = imported(DEMO / "subdiv_planet.ply")
-by_position = {}
-for obj in (ply, glb):
-    keys = [tuple(k) for k in np.round(world_vertices(obj), 5)]
-    by_position[obj.name] = dict(zip(keys, linear_to_srgb(vertex_colours(obj))))
-ply_c, glb_c = by_position[ply.name], by_position[glb.name]
-shared = sorted(set(ply_c) & set(glb_c))
-check("planet: every .ply vertex found in the .glb", len(shared) == len(ply_c), f"{len(shared)} of {len(ply_c)}")
-diff = max(float(np.max(np.abs(ply_c[k] - glb_c[k]))) for k in shared)
-check("planet: .glb colours = .ply colours within 1/255 (sRGB)", diff <= 1 / 255, f"max difference {diff * 255:.3f}/255")
-spread = np.ptp(np.array([ply_c[k] for k in shared]), axis=0)
+ply_v, ply_c = world_vertices(ply), linear_to_srgb(vertex_colours(ply))
+spread = np.ptp(ply_c, axis=0)
 check("planet: the colours vary (not one flat colour)", np.all(spread > 0.2), str(spread.round(3)))
+for path in (DEMO / "subdiv_planet.glb", PLANET_OBJ):
+    (other,) = imported(path)
+    v, c = world_vertices(other), linear_to_srgb(vertex_colours(other))
+    tree = KDTree(len(v))
+    for i, p in enumerate(v):
+        tree.insert(p, i)
+    tree.balance()
+    nearest = [tree.find(p) for p in ply_v]
+    far = max(d for _, _, d in nearest)
+    check(f"planet {path.suffix}: every .ply vertex is there", far <= 1e-5, f"farthest {far:.2e}")
+    diff = max(float(np.max(np.abs(ply_c[k] - c[i]))) for k, (_, i, _) in enumerate(nearest))
+    check(f"planet {path.suffix}: colours = .ply colours within 1/255 (sRGB)", diff <= 1 / 255,
+          f"max difference {diff * 255:.3f}/255")
 
 # 3. The cup's image texture.
 fresh()

@@ -13,8 +13,8 @@
 //! - `.x3p` both ways with SurfaceTopography and x3pio
 //!   (`tests/python/check_x3p.py`);
 //! - Blender (Debian's `blender`, headless) imports the demo's `.glb`, `.obj`,
-//!   `.ply` and `.stl` upright, with the planet's colours equal in `.glb` and
-//!   `.ply` and the cup's image texture (`tests/blender/check_import.py`). Set
+//!   `.ply` and `.stl` upright, with the planet's colours equal in `.glb`, `.obj`
+//!   and `.ply` and the cup's image texture (`tests/blender/check_import.py`). Set
 //!   `ASPERITY_SKIP_BLENDER=1` on a machine without it;
 //! - the gallery in headless Chromium (Debian's `chromium`, driven by npm
 //!   `playwright-core` in `tests/browser`) from `file://`: no console errors,
@@ -185,6 +185,14 @@ fn blender_imports_the_demo_meshes_upright_with_their_colours() {
     let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
     let bounds = work.path().join("bounds.json");
     std::fs::write(&bounds, info["measurements"]["bounds"].to_string()).unwrap();
+    let planet_obj = work.path().join("subdiv_planet.obj");
+    let converted = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["--quiet", "convert"])
+        .arg(demo().join("subdiv_planet.ply"))
+        .arg(&planet_obj)
+        .status()
+        .unwrap();
+    assert!(converted.success());
     let checks = run_checks(
         Path::new("blender"),
         &[
@@ -197,9 +205,10 @@ fn blender_imports_the_demo_meshes_upright_with_their_colours() {
             "--".as_ref(),
             demo().as_os_str(),
             bounds.as_os_str(),
+            planet_obj.as_os_str(),
         ],
     );
-    assert_eq!(checks, 13, "every check ran");
+    assert_eq!(checks, 15, "every check ran");
 }
 
 #[test]
