@@ -31,6 +31,12 @@ fn time(
 }
 
 pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
+    if let Some(method) = &a.scaling {
+        return match a.scaling_point {
+            Some(n) => scaling_point(ctx, method, n, a.quick),
+            None => crate::scaling_cmd::run(ctx, method, a.quick),
+        };
+    }
     let mut run = Run::new(ctx, "bench");
     let scratch = Scratch::new();
     let mut results: Vec<Value> = Vec::new();
@@ -86,4 +92,40 @@ pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
         json!({"threads": ctx.threads, "os": std::env::consts::OS, "arch": std::env::consts::ARCH}),
     );
     run.finish()
+}
+
+/// One point of a scaling series, in this (fresh) process: builds the input,
+/// times the work (the best of three; of one when a run takes over 10 s) and prints
+/// `{"elements", "seconds", "peak_bytes"}` as one JSON line.
+fn scaling_point(ctx: &Context, method: &str, n: u64, quick: bool) -> anyhow::Result<()> {
+    let series = asperity_engine::scaling::series(method)?;
+    let setup = asperity_engine::workloads::Setup {
+        quick,
+        budget: ctx.budget,
+        scratch: Scratch::new(),
+    };
+    let mut w = series.workload(&setup, n)?;
+    let mut best = f64::INFINITY;
+    for _ in 0..3 {
+        let t = Instant::now();
+        (w.job)()?;
+        best = best.min(t.elapsed().as_secs_f64());
+        if best >= 10.0 {
+            break;
+        }
+    }
+    setup.scratch.remove();
+    outln!(
+        "{}",
+        json!({"size": n, "elements": w.elements, "unit": w.unit, "what": w.what, "seconds": best, "peak_bytes": peak_memory()})
+    );
+    Ok(())
+}
+
+/// This process's peak resident memory (Linux: VmHWM), if the system says.
+fn peak_memory() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
 }

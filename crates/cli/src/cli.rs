@@ -1237,6 +1237,14 @@ pub struct BenchArgs {
     /// Timed repetitions per workload (the minimum and median are reported).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub repeat: u32,
+    /// How a method's time and peak memory grow with its input: a doubling series of sizes,
+    /// each run in a fresh process, with the fitted log-log slope beside the expected one
+    /// (growth, dla, levelset, ca, subdivision, ifs, surfca, analysis, render, or all).
+    #[arg(long, value_name = "METHOD")]
+    pub scaling: Option<String>,
+    /// One point of a --scaling series (the size), run by the series' parent process.
+    #[arg(long, hide = true, requires = "scaling")]
+    pub scaling_point: Option<u64>,
 }
 
 /// `asperity info`

@@ -40,6 +40,7 @@ mod ifs_cmd;
 mod progress;
 mod reconstruct_cmd;
 mod render_cmd;
+mod scaling_cmd;
 mod stdout;
 mod subdiv_cmd;
 mod surfca_cmd;

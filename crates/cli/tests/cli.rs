@@ -444,6 +444,33 @@ fn bench_runs_every_workload() {
         &["bench", "--quick", "nothing-matches"],
         "no workload matches",
     );
+    // --scaling: every method's doubling series, each point in its own process
+    let o = asperity(
+        &["--json", "bench", "--scaling", "all", "--quick"],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let table = v["measurements"]["scaling"].as_array().unwrap();
+    assert_eq!(table.len(), 9, "every method");
+    for m in table {
+        let points = m["points"].as_array().unwrap();
+        assert!(points.len() >= 5, "{m}");
+        let elements: Vec<f64> = points
+            .iter()
+            .map(|p| p["elements"].as_f64().unwrap())
+            .collect();
+        assert!(elements.windows(2).all(|w| w[1] > w[0]), "{m}");
+        assert!(
+            points
+                .iter()
+                .all(|p| p["seconds"].as_f64().unwrap() > 0.0
+                    && p["peak_bytes"].as_f64().unwrap() > 1e6),
+            "{m}"
+        );
+        assert!(m["time_slope"].as_f64().is_some(), "{m}");
+    }
+    fails(d.path(), &["bench", "--scaling", "nope"], "no such method");
 }
 
 #[test]

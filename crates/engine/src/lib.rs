@@ -35,6 +35,7 @@ pub mod plots;
 pub mod reconstruct;
 pub mod render;
 pub mod report;
+pub mod scaling;
 pub mod subdiv;
 pub mod surfca;
 pub mod workloads;
