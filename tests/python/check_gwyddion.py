@@ -132,6 +132,10 @@ def check_demo(demo):
         check(f"demo .{ext}: size", data.shape == ours.shape == (info["ny"], info["nx"]), str(data.shape))
         check(f"demo .{ext}: extent", np.allclose([d.xreal, d.yreal], [info["nx"] * info["spacing"][0],
               info["ny"] * info["spacing"][1]], rtol=1e-9, atol=0), f"{d.xreal} × {d.yreal}")
+        # pixel edges half a spacing before the first sample (Gwyddion 2.62 drops x3p offsets)
+        want = [0.0, 0.0] if ext == "x3p" else [o - sp / 2 for o, sp in zip(info["origin"], info["spacing"])]
+        check(f"demo .{ext}: offsets", np.allclose([d.get("xoff", 0.0), d.get("yoff", 0.0)], want,
+              rtol=1e-9, atol=1e-12 * max(info["spacing"])), f"{d.get('xoff')}, {d.get('yoff')} vs {want}")
         units = {k: v.get("unitstr", "") for k, v in d.items() if k.startswith("si_unit")}
         check(f"demo .{ext}: units {unit or 'none'}", all(units.get(k, "") == unit
               for k in ("si_unit_xy", "si_unit_z")), str(units))
