@@ -10,6 +10,12 @@ mod python_env;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::Mutex;
+
+/// The two tests here run one after the other: the Python suite times two
+/// threads against one (the GIL released), which Blender's Cycles renders on
+/// both cores would disturb.
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
 
 /// `target/<profile>`, where cargo put the module and the CLI.
 fn profile_dir() -> PathBuf {
@@ -56,6 +62,7 @@ fn python_package_suite() {
     if python_env::skipped() {
         return;
     }
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = profile_dir();
     let cli = dir.join("asperity");
     assert!(
@@ -104,6 +111,7 @@ fn blender_addon() {
         Command::new("blender").arg("--version").output().is_ok(),
         "blender is not installed (apt-get install blender python3-numpy), or set ASPERITY_SKIP_BLENDER=1"
     );
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let dir = profile_dir();
     let root = python_env::workspace();
     let out = dir.join("blender");
