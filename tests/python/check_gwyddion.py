@@ -21,37 +21,20 @@ and heights as asperity reads the same file.
 
 Usage: python check_gwyddion.py ASPERITY_BINARY WORKDIR [DEMO_DIR]
 """
-import json
-import subprocess
 import sys
 from pathlib import Path
 
 import gwyfile
 import numpy as np
 
+from checks import check, finish, info, run, write_csv_field
+
 BIN, WORK = sys.argv[1], Path(sys.argv[2])
 WORK.mkdir(parents=True, exist_ok=True)
 nx, ny, dx, dy, x0, y0 = 40, 30, 0.25, 0.5, 10.0, -3.0
 rng = np.random.default_rng(5)
 z = np.cumsum(rng.normal(size=(ny, nx)), axis=1) * 1e-3 + 2.0
-with open(WORK / "field.csv", "w") as f:
-    f.write(f"# asperity height field: nx={nx} ny={ny} dx={dx} dy={dy} x0={x0} y0={y0}\n")
-    for row in z:
-        f.write(",".join(repr(float(v)) for v in row) + "\n")
-
-failures = []
-
-
-def check(what, ok, detail=""):
-    print(f"{'ok  ' if ok else 'FAIL'} {what} {detail}")
-    if not ok:
-        failures.append(what)
-
-
-def run(*args):
-    p = subprocess.run([str(a) for a in args], capture_output=True, text=True)
-    if p.returncode != 0:
-        sys.exit(f"{' '.join(map(str, args))} failed: {p.stderr}")
+write_csv_field(WORK / "field.csv", z, dx, dy, x0, y0)
 
 
 def read_back_gwyddions_file(tag, gwy, d):
@@ -60,16 +43,15 @@ def read_back_gwyddions_file(tag, gwy, d):
     run(BIN, "--quiet", "convert", gwy, npy)
     ours = np.load(npy)
     check(f"{tag}: asperity reads Gwyddion's .gwy heights exactly", np.array_equal(ours, np.asarray(d.data)))
-    info = json.loads(subprocess.run([BIN, "--quiet", "info", "--json", gwy], capture_output=True,
-                                     text=True, check=True).stdout)["measurements"]
+    facts = info(BIN, gwy)
     px, py = d.xreal / d["xres"], d.yreal / d["yres"]
     expect = [px, py, d.get("xoff", 0.0) + px / 2, d.get("yoff", 0.0) + py / 2]
-    got = info["spacing"] + info["origin"]
+    got = facts["spacing"] + facts["origin"]
     units = {k: v.get("unitstr", "") for k, v in d.items() if k.startswith("si_unit")}
     check(f"{tag}: asperity reads Gwyddion's .gwy geometry and units",
           np.allclose(got, expect, rtol=1e-12, atol=0)
-          and info["units"]["xy"] == (units.get("si_unit_xy") or "none")
-          and info["units"]["z"] == (units.get("si_unit_z") or "none"), f"{got} vs {expect}, {info['units']}")
+          and facts["units"]["xy"] == (units.get("si_unit_xy") or "none")
+          and facts["units"]["z"] == (units.get("si_unit_z") or "none"), f"{got} vs {expect}, {facts['units']}")
 
 
 # (units flags, metres per xy unit, metres per z unit, Gwyddion's unit strings)
@@ -125,17 +107,16 @@ def check_demo(demo):
         gwy, npy = WORK / f"demo_{ext}.gwy", WORK / f"demo_{ext}.npy"
         run("gwyddion", f"--convert-to-gwy={gwy}", src)
         run(BIN, "--quiet", "convert", src, npy)
-        info = json.loads(subprocess.run([BIN, "--quiet", "info", "--json", src], capture_output=True,
-                                         text=True, check=True).stdout)["measurements"]
+        facts = info(BIN, src)
         (_, d), = gwyfile.util.get_datafields(gwyfile.load(str(gwy))).items()
         data, ours = np.asarray(d.data), np.load(npy)
-        check(f"demo .{ext}: size", data.shape == ours.shape == (info["ny"], info["nx"]), str(data.shape))
-        check(f"demo .{ext}: extent", np.allclose([d.xreal, d.yreal], [info["nx"] * info["spacing"][0],
-              info["ny"] * info["spacing"][1]], rtol=1e-9, atol=0), f"{d.xreal} × {d.yreal}")
+        check(f"demo .{ext}: size", data.shape == ours.shape == (facts["ny"], facts["nx"]), str(data.shape))
+        check(f"demo .{ext}: extent", np.allclose([d.xreal, d.yreal], [facts["nx"] * facts["spacing"][0],
+              facts["ny"] * facts["spacing"][1]], rtol=1e-9, atol=0), f"{d.xreal} × {d.yreal}")
         # pixel edges half a spacing before the first sample (Gwyddion 2.62 drops x3p offsets)
-        want = [0.0, 0.0] if ext == "x3p" else [o - sp / 2 for o, sp in zip(info["origin"], info["spacing"])]
+        want = [0.0, 0.0] if ext == "x3p" else [o - sp / 2 for o, sp in zip(facts["origin"], facts["spacing"])]
         check(f"demo .{ext}: offsets", np.allclose([d.get("xoff", 0.0), d.get("yoff", 0.0)], want,
-              rtol=1e-9, atol=1e-12 * max(info["spacing"])), f"{d.get('xoff')}, {d.get('yoff')} vs {want}")
+              rtol=1e-9, atol=1e-12 * max(facts["spacing"])), f"{d.get('xoff')}, {d.get('yoff')} vs {want}")
         units = {k: v.get("unitstr", "") for k, v in d.items() if k.startswith("si_unit")}
         check(f"demo .{ext}: units {unit or 'none'}", all(units.get(k, "") == unit
               for k in ("si_unit_xy", "si_unit_z")), str(units))
@@ -146,4 +127,4 @@ def check_demo(demo):
 
 if len(sys.argv) > 3:
     check_demo(Path(sys.argv[3]))
-sys.exit(1 if failures else 0)
+finish()

@@ -12,8 +12,6 @@ checksums and the document's structure).
 
 Usage: python check_x3p.py ASPERITY_BINARY WORKDIR
 """
-import json
-import subprocess
 import sys
 from pathlib import Path
 
@@ -21,37 +19,20 @@ import numpy as np
 import x3pio
 from SurfaceTopography import Topography, read_topography
 
+from checks import check, finish, info, run, write_csv_field
+
 BIN, WORK = sys.argv[1], Path(sys.argv[2])
 WORK.mkdir(parents=True, exist_ok=True)
 nx, ny, dx, dy, x0, y0 = 48, 36, 0.25, 0.5, 10.0, -3.0  # µm
 rng = np.random.default_rng(11)
 z = np.cumsum(rng.normal(size=(ny, nx)), axis=0) * 3.0 + 100.0  # nm
-failures = []
-
-
-def check(what, ok, detail=""):
-    print(f"{'ok  ' if ok else 'FAIL'} {what} {detail}")
-    if not ok:
-        failures.append(what)
-
-
-def run(*args):
-    p = subprocess.run([str(a) for a in args], capture_output=True, text=True)
-    if p.returncode != 0:
-        sys.exit(f"{' '.join(map(str, args))} failed: {p.stderr}")
-    return p.stdout
-
-
 def close(a, b, rel):
     a, b = np.asarray(a, float), np.asarray(b, float)
     return a.shape == b.shape and np.max(np.abs(a - b)) <= rel * np.max(np.abs(b))
 
 
 # 1. asperity writes, SurfaceTopography and x3pio read.
-with open(WORK / "field.csv", "w") as f:
-    f.write(f"# asperity height field: nx={nx} ny={ny} dx={dx} dy={dy} x0={x0} y0={y0}\n")
-    for row in z:
-        f.write(",".join(repr(float(v)) for v in row) + "\n")
+write_csv_field(WORK / "field.csv", z, dx, dy, x0, y0)
 ours = WORK / "asperity.x3p"
 run(BIN, "--quiet", "--xy-unit", "µm", "--z-unit", "nm", "convert", WORK / "field.csv", ours)
 metres = z * 1e-9
@@ -89,9 +70,9 @@ for name, path, truth, spacing, origin in written:
     npy = path.with_suffix(".npy")
     run(BIN, "--quiet", "convert", path, npy)
     check(f"asperity reads {name}: heights", close(np.load(npy), truth, 1e-12))
-    info = json.loads(run(BIN, "--quiet", "info", "--json", path))["measurements"]
+    facts = info(BIN, path)
     check(f"asperity reads {name}: increments, offsets, metres",
-          close(info["spacing"], spacing, 1e-12) and np.allclose(info["origin"], origin, rtol=0, atol=1e-18)
-          and info["units"] == {"xy": "m", "z": "m"}, f"{info['spacing']} {info['origin']} {info['units']}")
+          close(facts["spacing"], spacing, 1e-12) and np.allclose(facts["origin"], origin, rtol=0, atol=1e-18)
+          and facts["units"] == {"xy": "m", "z": "m"}, f"{facts['spacing']} {facts['origin']} {facts['units']}")
 
-sys.exit(1 if failures else 0)
+finish()

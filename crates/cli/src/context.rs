@@ -128,32 +128,31 @@ impl Context {
     /// A triangle mesh (`builtin:NAME` or a file), turned as `--up` says.
     pub fn load_mesh(&self, spec: &str) -> anyhow::Result<TriMesh> {
         let m = asperity_engine::files::load_mesh(spec, &self.budget)?;
-        if spec.starts_with("builtin:") {
-            return Ok(m);
-        }
-        match self.oriented(Path::new(spec), Surface::Mesh(m))? {
-            Surface::Mesh(m) => Ok(m),
-            _ => unreachable!("reorient keeps the kind"),
-        }
+        Ok(match self.up {
+            Some(up) if !spec.starts_with("builtin:") => {
+                asperity_io::up::reorient_mesh(m, Path::new(spec), up)?
+            }
+            _ => m,
+        })
     }
 
     /// A triangle mesh from a mesh file, turned as `--up` says.
     pub fn load_triangles(&self, path: &Path) -> anyhow::Result<TriMesh> {
         let m = asperity_engine::files::load_triangles(path, &self.budget)?;
-        match self.oriented(path, Surface::Mesh(m))? {
-            Surface::Mesh(m) => Ok(m),
-            _ => unreachable!("reorient keeps the kind"),
-        }
+        Ok(match self.up {
+            Some(up) => asperity_io::up::reorient_mesh(m, path, up)?,
+            None => m,
+        })
     }
 
     /// A point set (the points of a point file, the vertices of a mesh, the
     /// samples of a height field), turned as `--up` says.
     pub fn load_points(&self, path: &Path) -> anyhow::Result<PointSet> {
         let p = asperity_engine::files::load_points(path, &self.budget)?;
-        match self.oriented(path, Surface::Points(p))? {
-            Surface::Points(p) => Ok(p),
-            _ => unreachable!("reorient keeps the kind"),
-        }
+        Ok(match self.up {
+            Some(up) => asperity_io::up::reorient_points(p, path, up)?,
+            None => p,
+        })
     }
 
     /// Writer options with `--up`.

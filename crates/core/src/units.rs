@@ -107,6 +107,15 @@ impl Units {
     pub fn is_none(&self) -> bool {
         self.xy == LengthUnit::None && self.z == LengthUnit::None
     }
+
+    /// Metres per unit of (xy, z), 1 for a unitless side: what formats that
+    /// store base units (GSF, .gwy, x3p) multiply by.
+    pub fn metre_factors(&self) -> (f64, f64) {
+        (
+            self.xy.metres().unwrap_or(1.0),
+            self.z.metres().unwrap_or(1.0),
+        )
+    }
 }
 
 #[cfg(test)]

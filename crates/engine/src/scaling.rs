@@ -255,15 +255,9 @@ fn dla_point(s: &Setup, n: u64) -> Result<Workload> {
 }
 
 fn levelset(s: &Setup, res: u64) -> Result<Workload> {
-    use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
     use asperity_levelset::{ReconstructParams, Sizing, reconstruct};
-    let growth = CurvedParams {
-        model: Model::Rdsr { radius: 1 },
-        substrate: CurvedSubstrate::Sphere(if s.quick { 8.0 } else { 30.0 }),
-        layers: if s.quick { 3.0 } else { 11.0 },
-        samples_per_decade: 2,
-    };
-    let points = deposit_curved(&growth, 7, 0, &s.budget, &NoProgress)?.points();
+    let (radius, layers) = if s.quick { (8.0, 3.0) } else { (30.0, 11.0) };
+    let points = crate::workloads::rdsr_sphere_cloud(radius, layers, &s.budget)?;
     let params = ReconstructParams {
         sizing: Sizing::Resolution(res as usize),
         ..ReconstructParams::default()
@@ -282,13 +276,8 @@ fn levelset(s: &Setup, res: u64) -> Result<Workload> {
 }
 
 fn ca(s: &Setup, n: u64) -> Result<Workload> {
-    let rule = asperity_ca::Rule::new(asperity_ca::Family::Totalistic9, 2, 450)?;
-    let init = asperity_ca::Init::Random {
-        density: 0.3,
-        seed: 7,
-    };
     let n = n as usize;
-    let grid = asperity_ca::initial_grid(&init, Some([n, n]), 2, &s.budget)?;
+    let (rule, grid) = crate::workloads::ca_input(n, &s.budget)?;
     let steps = 16;
     let p = asperity_ca::CaParams::new(rule, steps);
     let budget = s.budget;

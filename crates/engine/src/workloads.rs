@@ -168,7 +168,7 @@ fn render(s: &Setup) -> Result<Workload> {
 }
 
 /// Rule 450 and a random n × n grid of density 0.3.
-fn ca_input(n: usize, budget: &MemoryBudget) -> Result<(asperity_ca::Rule, Grid2<u8>)> {
+pub(crate) fn ca_input(n: usize, budget: &MemoryBudget) -> Result<(asperity_ca::Rule, Grid2<u8>)> {
     let rule = asperity_ca::Rule::new(asperity_ca::Family::Totalistic9, 2, 450)?;
     let init = asperity_ca::Init::Random {
         density: 0.3,
@@ -617,20 +617,13 @@ fn levelset(
     full: bool,
     target: Option<f64>,
 ) -> Result<Workload> {
-    use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
     use asperity_levelset::{Band, ReconstructParams, Sizing, reconstruct};
     let (radius, layers, res) = match (s.quick, res) {
         (true, _) => (8.0, 3.0, 32),
         (false, 128) => (30.0, 11.0, 128),
         _ => (60.0, 26.0, 256),
     };
-    let growth = CurvedParams {
-        model: Model::Rdsr { radius: 1 },
-        substrate: CurvedSubstrate::Sphere(radius),
-        layers,
-        samples_per_decade: 2,
-    };
-    let points = deposit_curved(&growth, 7, 0, &s.budget, &NoProgress)?.points();
+    let points = rdsr_sphere_cloud(radius, layers, &s.budget)?;
     let params = ReconstructParams {
         sizing: Sizing::Resolution(res),
         band: if full { Band::Full } else { Band::Narrow },
@@ -659,6 +652,22 @@ fn levelset(
             Ok(())
         }),
     })
+}
+
+/// The point cloud of RDSR layers grown on a sphere (the level-set workloads' input).
+pub(crate) fn rdsr_sphere_cloud(
+    radius: f64,
+    layers: f64,
+    budget: &MemoryBudget,
+) -> Result<Vec<[f64; 3]>> {
+    use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
+    let growth = CurvedParams {
+        model: Model::Rdsr { radius: 1 },
+        substrate: CurvedSubstrate::Sphere(radius),
+        layers,
+        samples_per_decade: 2,
+    };
+    Ok(deposit_curved(&growth, 7, 0, budget, &NoProgress)?.points())
 }
 
 fn levelset_128(s: &Setup) -> Result<Workload> {

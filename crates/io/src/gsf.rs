@@ -26,8 +26,7 @@ const MAGIC: &[u8] = b"Gwyddion Simple Field 1.0\n";
 /// Writes a GSF file.
 pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> std::io::Result<()> {
     let units = h.units();
-    let fx = units.xy.metres().unwrap_or(1.0);
-    let fz = units.z.metres().unwrap_or(1.0);
+    let (fx, fz) = units.metre_factors();
     let [dx, dy] = h.spacing().map(|v| v * fx);
     let [x0, y0] = h.origin().map(|v| v * fx);
     let mut head = String::from_utf8_lossy(MAGIC).into_owned();

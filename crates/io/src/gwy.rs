@@ -94,8 +94,7 @@ fn si_unit(unit: LengthUnit) -> std::io::Result<Vec<u8>> {
 /// Writes a `.gwy` file with one channel.
 pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> std::io::Result<()> {
     let units = h.units();
-    let fx = units.xy.metres().unwrap_or(1.0);
-    let fz = units.z.metres().unwrap_or(1.0);
+    let (fx, fz) = units.metre_factors();
     let [dx, dy] = h.spacing().map(|v| v * fx);
     let [x0, y0] = h.origin().map(|v| v * fx);
     let (nx, ny) = (h.nx(), h.ny());

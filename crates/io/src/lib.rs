@@ -678,8 +678,8 @@ pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<()
     }
     let os = |e| IoError::os(path, e);
     let up = up::written_up(f, opts.up);
-    // glTF's writer turns the mesh to y-up itself (with f32 positions)
-    let in_file = || up::mesh_in_file_frame(mesh, if f == Format::Glb { UpAxis::Z } else { up });
+    // (glTF's writer turns the mesh to y-up itself, with f32 positions)
+    let in_file = || up::mesh_in_file_frame(mesh, up);
     match f {
         Format::Ply => write_atomic(path, |w| {
             ply::write_mesh(w, &in_file(), opts.ply_encoding).map_err(os)

@@ -114,20 +114,46 @@ pub fn read_up(path: &Path) -> Result<UpAxis, IoError> {
 /// # Errors
 /// As [`read_up`].
 pub fn reorient(surface: Surface, path: &Path, up: UpAxis) -> Result<Surface, IoError> {
-    let assumed = read_up(path)?;
-    if assumed == up || matches!(surface, Surface::Height(_)) {
-        return Ok(surface);
-    }
-    // The reader turned a y-up file to z-up (assumed Y) or kept it (assumed Z).
-    let turn = match assumed {
-        UpAxis::Y => to_y_up,
-        UpAxis::Z => from_y_up,
-    };
     Ok(match surface {
-        Surface::Mesh(m) => Surface::Mesh(m.map_vectors(turn)),
-        Surface::Points(p) => Surface::Points(p.map_vectors(turn)),
+        Surface::Mesh(m) => Surface::Mesh(reorient_mesh(m, path, up)?),
+        Surface::Points(p) => Surface::Points(reorient_points(p, path, up)?),
         h @ Surface::Height(_) => h,
     })
+}
+
+/// [`reorient`] for a mesh.
+///
+/// # Errors
+/// As [`read_up`].
+pub fn reorient_mesh(m: TriMesh, path: &Path, up: UpAxis) -> Result<TriMesh, IoError> {
+    Ok(match turn(path, up)? {
+        Some(f) => m.map_vectors(f),
+        None => m,
+    })
+}
+
+/// [`reorient`] for a point set.
+///
+/// # Errors
+/// As [`read_up`].
+pub fn reorient_points(p: PointSet, path: &Path, up: UpAxis) -> Result<PointSet, IoError> {
+    Ok(match turn(path, up)? {
+        Some(f) => p.map_vectors(f),
+        None => p,
+    })
+}
+
+/// A change of frame, point by point.
+type Turn = fn([f64; 3]) -> [f64; 3];
+
+/// What turns the reader's result of `path` into the frame `up` asks for:
+/// the reader turned a y-up file to z-up (assumed Y) or kept it (assumed Z).
+fn turn(path: &Path, up: UpAxis) -> Result<Option<Turn>, IoError> {
+    let assumed = read_up(path)?;
+    Ok((assumed != up).then_some(match assumed {
+        UpAxis::Y => to_y_up as Turn,
+        UpAxis::Z => from_y_up,
+    }))
 }
 
 #[cfg(test)]

@@ -59,8 +59,7 @@ fn md5_hex(bytes: &[u8]) -> String {
 /// Writes an x3p file.
 pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField) -> std::io::Result<()> {
     let units = h.units();
-    let fx = units.xy.metres().unwrap_or(1.0);
-    let fz = units.z.metres().unwrap_or(1.0);
+    let (fx, fz) = units.metre_factors();
     let data: Vec<u8> = h
         .data()
         .iter()
