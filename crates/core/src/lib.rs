@@ -12,6 +12,7 @@
 //! | [`image`] | [`RgbaImage`]: 8-bit RGBA raster (mesh textures, renders) | render, io |
 //! | [`rng`] | [`SimRng`], [`seeded`], [`substream`]: reproducible randomness | every stochastic method |
 //! | [`memory`] | [`MemoryBudget`]: estimate-then-refuse for large allocations | every grid allocation |
+//! | [`memory_hints`] | software prefetch (no change to values) | level set, DLA |
 //! | [`progress`] | [`Progress`]: progress reporting without a UI dependency | long-running methods |
 //! | [`error`] | [`CoreError`]: typed errors with numbers in their messages | everything |
 //! | [`shapes`] | built-in meshes (icosphere) | demo, tests |
@@ -56,6 +57,7 @@ pub mod grid2;
 pub mod grid3;
 pub mod image;
 pub mod memory;
+pub mod memory_hints;
 pub mod mesh_check;
 pub mod point_set;
 pub mod poly_mesh;

@@ -230,7 +230,7 @@ impl DlaParams {
                 self.size[0], self.size[1]
             )));
         }
-        let bytes = Occupancy::estimate_bytes(self.size)
+        let bytes = 2 * Occupancy::estimate_bytes(self.size)
             + DistanceMap::estimate_bytes(self.size, 2)
             + DistanceMap::estimate_bytes(self.size, 3)
             + DistanceMap::estimate_bytes(self.size, coarse_shift(self.size, periodic))
@@ -328,6 +328,9 @@ struct Walk<'a> {
     /// Plane mode between reflecting side walls.
     walls: bool,
     occ: Occupancy,
+    /// The contact set: cells with an occupied face neighbour (see
+    /// [`Occupancy::set_neighbours`]), so a single step reads one word.
+    contact: Occupancy,
     fine: DistanceMap,
     medium: DistanceMap,
     coarse: DistanceMap,
@@ -342,6 +345,7 @@ impl Walk<'_> {
     fn occupy(&mut self, p: [i32; 3]) {
         let q = self.occ.canonical(p).expect("inside the lattice");
         self.occ.set(q);
+        self.contact.set_neighbours(q, self.three_d);
         self.fine.occupy(q);
         self.medium.occupy(q);
         self.coarse.occupy(q);
@@ -489,6 +493,12 @@ impl Walk<'_> {
         };
         match self.occ.canonical(w) {
             Some(q) => {
+                // The walk is one chain of dependent reads, each likely a
+                // cache miss in a large lattice: ask for the finer maps at
+                // once, so their misses overlap with the coarse one's.
+                self.medium.prefetch(q);
+                self.fine.prefetch(q);
+                self.contact.prefetch(q);
                 // Coarse to fine: a far walker touches only the small maps.
                 if !self.coarse.near(q) {
                     let c = self.coarse.lower_bound(q);
@@ -535,18 +545,21 @@ impl Walk<'_> {
                 continue;
             }
             // Near the cluster: single steps while the walker stays in this
-            // 4-cell block (the maps cannot tell more inside it).
+            // 4-cell block (the maps cannot tell more inside it). The block's
+            // word of the contact set says where the walker touches the
+            // cluster; with p = 1 a walker that does not touch has no occupied
+            // neighbour, so its moves need no occupancy look-up.
             let block = w.map(|v| v >> 2);
+            let contact = self.contact.block_word(w);
             loop {
-                if self.occ.touches(w, self.three_d)
-                    && (stick >= 1.0 || unit(&mut self.rng) < stick)
-                {
+                let touching = contact >> Occupancy::bit_in_block(w) & 1 == 1;
+                if touching && (stick >= 1.0 || unit(&mut self.rng) < stick) {
                     return w;
                 }
                 self.stats.steps += 1;
                 let e = dirs[below(&mut self.rng, ndirs) as usize];
                 let n = [w[0] + e[0], w[1] + e[1], w[2] + e[2]];
-                if !(self.occ.get(n) || self.plane && n[2] < 0) {
+                if !(touching && self.occ.get(n) || self.plane && n[2] < 0) {
                     w = self.settle(n);
                 }
                 if w.map(|v| v >> 2) != block {
@@ -691,6 +704,7 @@ pub fn dla(
         three_d: params.dim == 3,
         plane,
         walls: plane && !periodic,
+        contact: Occupancy::new(params.size, periodic, budget)?,
         fine: DistanceMap::new(&occ, 2, MAP_CAP),
         medium: DistanceMap::new(&occ, 3, MAP_CAP),
         coarse: DistanceMap::new(&occ, coarse_shift(size, periodic), MAP_CAP),

@@ -5,8 +5,15 @@
 //! **Bits.** The lattice is cut into 4×4×4 blocks and each block is one `u64`
 //! (bit `x | y<<2 | z<<4` of the block). A block is empty iff its word is zero, so
 //! the block occupancy costs nothing extra, and a walker's six neighbours
-//! mostly lie in the word it already has in cache. 10⁶ particles in a 700³
-//! lattice take 43 MB (one bit per cell).
+//! mostly lie in the word it already has in cache.
+//!
+//! **Tiles.** Blocks are stored in tiles of 8×8×8 blocks (32³ cells, 4 KiB: one
+//! memory page), tile after tile, rather than row by row. The cells near a
+//! walker then share a page and mostly a cache line, and a sparse cluster
+//! writes only the pages it occupies: the vectors start zeroed (untouched
+//! pages cost no memory), so a 10⁷-particle cluster in a 2232³ lattice
+//! (1.4 GB of bits if written) keeps about its own tiles resident. Axes one
+//! block thick (the y of 2-D runs) are not tiled.
 //!
 //! **Distance maps.** One byte per block of 2^s cells holds the Chebyshev
 //! distance, in blocks, to the nearest occupied block, capped. A walker in a
@@ -15,7 +22,9 @@
 //! may jump in one move. Walkers use a fine map (4-cell blocks) and a coarse one
 //! (32-cell blocks), each capped at 8 blocks: a hierarchy whose update is cheap
 //! (a particle added to an occupied block costs nothing; a new block costs a few
-//! shells of blocks around it) and whose bound reaches 224 cells.
+//! shells of blocks around it) and whose bound reaches 224 cells. The maps are
+//! tiled in 32-cell tiles too, and store `cap − distance`, so the far field is
+//! zero and its pages are never written.
 //!
 //! Both structures are periodic in x and y when asked (plane mode), open
 //! otherwise (cells outside the lattice are empty).
@@ -34,11 +43,59 @@ pub const FACE_NEIGHBOURS: [[i32; 3]; 6] = [
     [0, 0, 1],
 ];
 
+/// Blocks stored tile by tile: tiles of 2^shift blocks along each axis that
+/// has more than one block, tiles in x-fastest order, blocks x-fastest inside a
+/// tile.
+#[derive(Clone, Copy, Debug)]
+struct Tiling {
+    /// Blocks per axis.
+    blocks: [usize; 3],
+    /// log2 of the tile's extent in blocks, per axis (0 on a one-block axis).
+    shift: [u32; 3],
+    /// Tiles per axis.
+    tiles: [usize; 3],
+}
+
+impl Tiling {
+    fn new(blocks: [usize; 3], shift: u32) -> Self {
+        let shift = blocks.map(|b| if b > 1 { shift } else { 0 });
+        let tiles = [0, 1, 2].map(|a| blocks[a].div_ceil(1 << shift[a]));
+        Self {
+            blocks,
+            shift,
+            tiles,
+        }
+    }
+
+    /// Entries, tiles padded to whole tiles.
+    fn len(&self) -> usize {
+        self.tiles.iter().product::<usize>() << self.shift.iter().sum::<u32>()
+    }
+
+    /// Entries of a tiled array over `blocks` (the padded count).
+    fn estimate(blocks: [usize; 3], shift: u32) -> u128 {
+        Self::new(blocks, shift).len() as u128
+    }
+
+    #[inline(always)]
+    fn index(&self, b: [usize; 3]) -> usize {
+        let [sx, sy, sz] = self.shift;
+        let tile = (b[0] >> sx) + self.tiles[0] * ((b[1] >> sy) + self.tiles[1] * (b[2] >> sz));
+        let local = (b[0] & ((1 << sx) - 1))
+            | (b[1] & ((1 << sy) - 1)) << sx
+            | (b[2] & ((1 << sz) - 1)) << (sx + sy);
+        (tile << (sx + sy + sz)) | local
+    }
+}
+
+/// log2 of a tile's extent in cells (32).
+const TILE_CELLS_SHIFT: u32 = 5;
+
 /// Occupancy of a lattice of cells, one bit per cell, in 4×4×4 blocks.
 #[derive(Clone, Debug)]
 pub struct Occupancy {
     dims: [i32; 3],
-    blocks: [usize; 3],
+    tiling: Tiling,
     periodic: bool,
     words: Vec<u64>,
     count: u64,
@@ -47,8 +104,7 @@ pub struct Occupancy {
 impl Occupancy {
     /// Bytes of the bits of a lattice of `dims` cells.
     pub fn estimate_bytes(dims: [usize; 3]) -> u128 {
-        let b = dims.map(|d| d.div_ceil(4) as u128);
-        b[0] * b[1] * b[2] * 8
+        Tiling::estimate(dims.map(|d| d.div_ceil(4)), TILE_CELLS_SHIFT - 2) * 8
     }
 
     /// An empty lattice of `dims` cells, periodic in x and y if `periodic`.
@@ -73,12 +129,14 @@ impl Occupancy {
             )));
         }
         budget.check_elements(Self::estimate_bytes(dims), 1, "lattice occupancy")?;
-        let blocks = dims.map(|d| d.div_ceil(4));
+        let tiling = Tiling::new(dims.map(|d| d.div_ceil(4)), TILE_CELLS_SHIFT - 2);
         Ok(Self {
             dims: dims.map(|d| d as i32),
-            blocks,
+            tiling,
             periodic,
-            words: vec![0; blocks[0] * blocks[1] * blocks[2]],
+            // Zeroed memory comes untouched from the system: pages the cluster
+            // never writes cost nothing.
+            words: vec![0; tiling.len()],
             count: 0,
         })
     }
@@ -90,7 +148,7 @@ impl Occupancy {
 
     /// Blocks per axis.
     pub fn blocks(&self) -> [usize; 3] {
-        self.blocks
+        self.tiling.blocks
     }
 
     /// Whether x and y wrap around.
@@ -122,7 +180,7 @@ impl Occupancy {
     #[inline(always)]
     fn word_bit(&self, p: [i32; 3]) -> (usize, u32) {
         let [x, y, z] = p.map(|v| v as usize);
-        let w = (x >> 2) + self.blocks[0] * ((y >> 2) + self.blocks[1] * (z >> 2));
+        let w = self.tiling.index([x >> 2, y >> 2, z >> 2]);
         let b = (x & 3) | ((y & 3) << 2) | ((z & 3) << 4);
         (w, b as u32)
     }
@@ -183,10 +241,42 @@ impl Occupancy {
             || (three_d && (self.get([x, y - 1, z]) || self.get([x, y + 1, z])))
     }
 
-    /// Block coordinates of block index `w`.
-    pub fn block_coords(&self, w: usize) -> [usize; 3] {
-        let [bx, by, _] = self.blocks;
-        [w % bx, (w / bx) % by, w / (bx * by)]
+    /// Sets the face neighbours of `p` that lie inside the lattice (the 4 of
+    /// the x–z plane unless `three_d`). A lattice that gets this for every
+    /// occupied cell of another is its *contact set*: its bit at `w` equals
+    /// the other's [`Occupancy::touches`] at `w` (the neighbour relation is
+    /// symmetric), read from one word.
+    pub fn set_neighbours(&mut self, p: [i32; 3], three_d: bool) {
+        for e in FACE_NEIGHBOURS {
+            if three_d || e[1] == 0 {
+                let n = [p[0] + e[0], p[1] + e[1], p[2] + e[2]];
+                if let Some(q) = self.canonical(n) {
+                    self.set(q);
+                }
+            }
+        }
+    }
+
+    /// The word of cell `p`'s block (0 outside the lattice), for loops that
+    /// stay inside one block; [`Occupancy::bit_in_block`] picks `p`'s bit.
+    #[inline(always)]
+    pub fn block_word(&self, p: [i32; 3]) -> u64 {
+        match self.canonical(p) {
+            Some(q) => self.words[self.word_bit(q).0],
+            None => 0,
+        }
+    }
+
+    /// Asks the CPU for the word of cell `p` (canonical) ahead of a look-up.
+    #[inline(always)]
+    pub fn prefetch(&self, p: [i32; 3]) {
+        asperity_core::memory_hints::prefetch(&self.words, self.word_bit(p).0);
+    }
+
+    /// Cell `p`'s bit in its block's word.
+    #[inline(always)]
+    pub fn bit_in_block(p: [i32; 3]) -> u32 {
+        ((p[0] & 3) | ((p[1] & 3) << 2) | ((p[2] & 3) << 4)) as u32
     }
 }
 
@@ -196,9 +286,11 @@ impl Occupancy {
 pub struct DistanceMap {
     shift: u32,
     cap: u8,
-    blocks: [usize; 3],
+    tiling: Tiling,
     periodic: bool,
-    dist: Vec<u8>,
+    /// `cap − distance` per block, tiled: 0 far from the cluster, `cap` in an
+    /// occupied block.
+    closeness: Vec<u8>,
 }
 
 impl DistanceMap {
@@ -217,21 +309,25 @@ impl DistanceMap {
                 "periodic sizes must be multiples of the block size"
             );
         }
-        let blocks = dims.map(|d| d.div_ceil(s));
+        let tiling = Tiling::new(
+            dims.map(|d| d.div_ceil(s)),
+            TILE_CELLS_SHIFT.saturating_sub(shift),
+        );
         Self {
             shift,
             cap,
-            blocks,
+            tiling,
             periodic: occ.periodic(),
-            dist: vec![cap; blocks[0] * blocks[1] * blocks[2]],
+            closeness: vec![0; tiling.len()],
         }
     }
 
     /// Bytes of a map with blocks of 2^`shift` cells over `dims` cells.
     pub fn estimate_bytes(dims: [usize; 3], shift: u32) -> u128 {
-        dims.iter()
-            .map(|&d| d.div_ceil(1 << shift) as u128)
-            .product()
+        Tiling::estimate(
+            dims.map(|d| d.div_ceil(1 << shift)),
+            TILE_CELLS_SHIFT.saturating_sub(shift),
+        )
     }
 
     /// The largest bound the map can give, in cells.
@@ -239,9 +335,21 @@ impl DistanceMap {
         (((self.cap as i64 - 1) << self.shift) + 1) as f64
     }
 
+    /// The distance of `p`'s block, in blocks (capped).
     #[inline(always)]
-    fn block_index(&self, b: [usize; 3]) -> usize {
-        b[0] + self.blocks[0] * (b[1] + self.blocks[1] * b[2])
+    fn block_distance(&self, p: [i32; 3]) -> u8 {
+        self.cap - self.closeness[self.entry(p)]
+    }
+
+    #[inline(always)]
+    fn entry(&self, p: [i32; 3]) -> usize {
+        self.tiling.index(p.map(|v| (v as usize) >> self.shift))
+    }
+
+    /// Asks the CPU for `p`'s entry ahead of a look-up (canonical `p`).
+    #[inline(always)]
+    pub fn prefetch(&self, p: [i32; 3]) {
+        asperity_core::memory_hints::prefetch(&self.closeness, self.entry(p));
     }
 
     /// Records that cell `p` (canonical) became occupied. Shells of blocks around
@@ -249,14 +357,13 @@ impl DistanceMap {
     /// needs no change: the capped distance is 1-Lipschitz, so no farther shell
     /// can need one either.
     pub fn occupy(&mut self, p: [i32; 3]) {
-        let b = p.map(|v| (v as usize) >> self.shift);
-        let w = self.block_index(b);
-        if self.dist[w] == 0 {
+        let w = self.entry(p);
+        if self.closeness[w] == self.cap {
             return;
         }
-        self.dist[w] = 0;
-        let nb = self.blocks.map(|v| v as i64);
-        let c = b.map(|v| v as i64);
+        self.closeness[w] = self.cap;
+        let nb = self.tiling.blocks.map(|v| v as i64);
+        let c = p.map(|v| ((v as usize) >> self.shift) as i64);
         let periodic = self.periodic;
         // Coordinate c + d along axis a, wrapped or None outside.
         let at = |a: usize, d: i64| -> Option<usize> {
@@ -269,29 +376,30 @@ impl DistanceMap {
                 Some(v as usize)
             }
         };
+        let tiling = self.tiling;
         for k in 1..self.cap as i64 {
-            let kd = k as u8;
+            let close = self.cap - k as u8;
             let mut changed = false;
             for dz in -k..=k {
                 let Some(z) = at(2, dz) else { continue };
                 for dy in -k..=k {
                     let Some(y) = at(1, dy) else { continue };
-                    let row = self.blocks[0] * (y + self.blocks[1] * z);
                     let inner = dz.abs() < k && dy.abs() < k;
-                    let mut visit = |dx: i64, dist: &mut Vec<u8>| {
-                        if let Some(x) = at(0, dx)
-                            && dist[row + x] > kd
-                        {
-                            dist[row + x] = kd;
-                            changed = true;
+                    let mut visit = |dx: i64, closeness: &mut Vec<u8>| {
+                        if let Some(x) = at(0, dx) {
+                            let e = tiling.index([x, y, z]);
+                            if closeness[e] < close {
+                                closeness[e] = close;
+                                changed = true;
+                            }
                         }
                     };
                     if inner {
-                        visit(-k, &mut self.dist);
-                        visit(k, &mut self.dist);
+                        visit(-k, &mut self.closeness);
+                        visit(k, &mut self.closeness);
                     } else {
                         for dx in -k..=k {
-                            visit(dx, &mut self.dist);
+                            visit(dx, &mut self.closeness);
                         }
                     }
                 }
@@ -310,15 +418,14 @@ impl DistanceMap {
     #[inline(always)]
     pub fn lower_bound(&self, p: [i32; 3]) -> f64 {
         let sh = self.shift;
-        let b = p.map(|v| (v as usize) >> sh);
-        let k = self.dist[self.block_index(b)] as i32;
+        let k = self.block_distance(p) as i32;
         if k == 0 {
             return 0.0;
         }
         let mut d = i32::MAX;
         #[allow(clippy::needless_range_loop)] // three parallel arrays
         for a in 0..3 {
-            if self.blocks[a] > 1 {
+            if self.tiling.blocks[a] > 1 {
                 let b = p[a] >> sh;
                 let hi = ((b + k) << sh) - p[a];
                 let lo = p[a] - ((b - k + 1) << sh) + 1;
@@ -332,15 +439,13 @@ impl DistanceMap {
     /// then small and a finer map should be asked).
     #[inline(always)]
     pub fn near(&self, p: [i32; 3]) -> bool {
-        let b = p.map(|v| (v as usize) >> self.shift);
-        self.dist[self.block_index(b)] <= 1
+        self.block_distance(p) <= 1
     }
 
     /// Whether the bound at `p` is the cap (the cluster may be much farther).
     #[inline(always)]
     pub fn capped(&self, p: [i32; 3]) -> bool {
-        let b = p.map(|v| (v as usize) >> self.shift);
-        self.dist[self.block_index(b)] == self.cap
+        self.closeness[self.entry(p)] == 0
     }
 }
 
@@ -356,7 +461,7 @@ mod tests {
         assert!(empty);
         assert!(o.get([3, 4, 5]));
         assert!(!o.get([4, 4, 5]));
-        assert_eq!(o.block_coords(w), [0, 1, 1]);
+        assert_eq!(w, o.tiling.index([0, 1, 1]));
         assert!(!o.set([3, 5, 5]).0);
         assert_eq!(o.count(), 2);
         assert!(o.touches([3, 4, 6], false));
@@ -424,6 +529,64 @@ mod tests {
             }
             // The bound is useful, not just valid: within a factor 2 for most cells.
             assert!(tight > 40 * 32 * 28 / 2, "{tight}");
+        }
+    }
+
+    #[test]
+    fn tiles_give_every_block_its_own_entry() {
+        for (blocks, shift) in [
+            ([13, 9, 20], 3),
+            ([30, 1, 17], 3),
+            ([5, 6, 7], 2),
+            ([4, 4, 4], 0),
+        ] {
+            let t = Tiling::new(blocks, shift);
+            let mut seen = vec![false; t.len()];
+            for z in 0..blocks[2] {
+                for y in 0..blocks[1] {
+                    for x in 0..blocks[0] {
+                        let e = t.index([x, y, z]);
+                        assert!(!seen[e], "{blocks:?}: block {x},{y},{z} shares entry {e}");
+                        seen[e] = true;
+                    }
+                }
+            }
+            // Padding only rounds up to whole tiles (none on a one-block axis).
+            let padded: usize = (0..3)
+                .map(|a| blocks[a].div_ceil(1 << t.shift[a]) << t.shift[a])
+                .product();
+            assert_eq!(t.len(), padded);
+        }
+    }
+
+    #[test]
+    fn contact_set_equals_touches() {
+        // The DLA walker reads contact bits instead of six neighbours: the two
+        // must agree on every cell, at the lattice edges and across the wrap.
+        for (dims, periodic, three_d) in [
+            ([24usize, 20, 36], false, true),
+            ([32, 16, 12], true, true),
+            ([40, 1, 28], false, false),
+        ] {
+            let budget = MemoryBudget::unlimited();
+            let mut occ = Occupancy::new(dims, periodic, &budget).unwrap();
+            let mut contact = Occupancy::new(dims, periodic, &budget).unwrap();
+            let mut rng = crate::rng::fast_rng(11, 0);
+            for _ in 0..60 {
+                let p = [0, 1, 2].map(|a| crate::rng::below(&mut rng, dims[a] as u64) as i32);
+                occ.set(p);
+                contact.set_neighbours(p, three_d);
+            }
+            for z in -1..=dims[2] as i32 {
+                for y in -1..=dims[1] as i32 {
+                    for x in -1..=dims[0] as i32 {
+                        let w = [x, y, z];
+                        let bit = contact.block_word(w) >> Occupancy::bit_in_block(w) & 1 == 1;
+                        let inside = occ.canonical(w).is_some();
+                        assert_eq!(bit, inside && occ.touches(w, three_d), "{dims:?} {w:?}");
+                    }
+                }
+            }
         }
     }
 }

@@ -240,7 +240,7 @@ fn seed(points: &[[f64; 3]], grid: &GridSpec, ring: usize, cells: &[AtomicU64]) 
                 // The points are read in grid order, i.e. at random places of
                 // the input: ask for them a few iterations ahead.
                 if let Some(&(_, ahead)) = mine.get(i + POINT_PREFETCH) {
-                    crate::prefetch::prefetch(points, ahead as usize);
+                    asperity_core::memory_hints::prefetch(points, ahead as usize);
                 }
                 let p = &points[idx as usize];
                 let base = base_of(p);
@@ -424,7 +424,7 @@ fn closest_point_wavefront(
                 let mut out = Vec::new();
                 for (i, (&u, &v)) in us.iter().zip(vs).enumerate() {
                     if let Some(&ahead) = vs.get(i + POINT_PREFETCH) {
-                        crate::prefetch::prefetch(points, ahead as u32 as usize);
+                        asperity_core::memory_hints::prefetch(points, ahead as u32 as usize);
                     }
                     offer((points, grid, cells, claims), (u, v), cap2, &mut out);
                 }

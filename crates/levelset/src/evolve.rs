@@ -88,9 +88,9 @@ use rayon::prelude::*;
 use crate::distance::DistanceField;
 use crate::grid::GridSpec;
 use crate::lanes::{Kernel, Lanes, dispatch};
-use crate::prefetch::prefetch;
 use crate::tagging::Tags;
 use crate::tube::{Run, RunTube, push_lanes};
+use asperity_core::memory_hints::prefetch;
 
 /// A level-set function on the grid: φ < 0 inside, |φ| ≤ γ.
 #[derive(Clone, Debug)]

@@ -40,7 +40,6 @@ pub mod grid;
 mod lanes;
 pub mod marching_cubes;
 pub mod pipeline;
-mod prefetch;
 pub mod tagging;
 mod tube;
 

@@ -241,12 +241,12 @@ impl Descent<'_> {
         let Some(&ahead) = ahead else { return };
         let (w, s) = (node(ahead), self.strides);
         for at in [w, w.wrapping_sub(s[1]), w + s[1]] {
-            crate::prefetch::prefetch(self.state, at);
-            crate::prefetch::prefetch(self.d, at);
+            asperity_core::memory_hints::prefetch(self.state, at);
+            asperity_core::memory_hints::prefetch(self.d, at);
         }
         for at in [w.wrapping_sub(s[2]), w + s[2]] {
-            crate::prefetch::prefetch(self.state, at);
-            crate::prefetch::prefetch(self.d, at);
+            asperity_core::memory_hints::prefetch(self.state, at);
+            asperity_core::memory_hints::prefetch(self.d, at);
         }
     }
 
