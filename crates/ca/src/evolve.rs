@@ -18,12 +18,15 @@
 //! # Two implementations
 //! - [`step_bytes`]: one byte per cell, any family and any number of states,
 //!   rows in parallel. Also the reference for the fast path.
-//! - [`BitGrid`]: two-state rules on cyclic grids whose width is a multiple of
-//!   64, one bit per cell; the neighbourhood sum of 64 cells at a time comes from
-//!   bit-sliced adders (horizontal 3-sums per row, reused by the three output rows
-//!   that need them) and the table becomes a sum of products over the sum's bit
-//!   planes. Rows are split over threads in fixed blocks, so the output does not
-//!   depend on the thread count.
+//! - [`BitGrid`]: two-state rules on cyclic grids of any width, one bit per
+//!   cell; the neighbourhood sum of 64 cells at a time comes from bit-sliced
+//!   adders (horizontal 3-sums per row, reused by the three output rows that need
+//!   them) and the table becomes a sum of products over the sum's bit planes. A
+//!   width that is not a multiple of 64 leaves the row's last word partly
+//!   filled: its spare bits are kept zero, and the wrap-around neighbours of the
+//!   row's ends are taken from the cells themselves (until #26 such widths fell
+//!   back to the byte path, 5–7 times slower). Rows are split over threads in
+//!   fixed blocks, so the output does not depend on the thread count.
 //!
 //! [peridier]: https://www.mathematica-journal.com/2011/07/facetsurface-representation/ "Peridier: Rough-Surface Simulation and the Visualization of Nonsmooth Arrays of Data. The Mathematica Journal, 2011"
 
@@ -102,11 +105,13 @@ pub fn step_infinite(
     (out, mx, my, rule.next(b, b * n_others))
 }
 
-/// A two-state grid with one bit per cell, `nx` a multiple of 64: bit b of word
-/// k of row j is cell (64k + b, j).
+/// A two-state grid with one bit per cell: bit b of word k of row j is cell
+/// (64k + b, j). Bits past `nx` in a row's last word are zero.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct BitGrid {
-    /// Words per row.
+    /// Cells per row.
+    pub nx: usize,
+    /// Words per row (`nx / 64` rounded up).
     pub words: usize,
     /// Rows.
     pub ny: usize,
@@ -124,33 +129,42 @@ const BLOCK: usize = 32;
 pub(crate) const SEQUENTIAL_WORDS: usize = 4096;
 
 impl BitGrid {
-    /// Packs a 0/1 byte grid (`nx` must be a multiple of 64).
+    /// Packs a 0/1 byte grid of `nx × ny` cells.
     ///
     /// # Panics
-    /// If `nx % 64 != 0` or the size does not match.
+    /// If `nx` is 0 or the size does not match.
     pub fn from_bytes(cells: &[u8], nx: usize, ny: usize) -> Self {
-        assert!(
-            nx.is_multiple_of(64) && cells.len() == nx * ny,
-            "BitGrid needs nx % 64 == 0"
-        );
-        let words = nx / 64;
+        assert!(nx > 0 && cells.len() == nx * ny, "BitGrid size mismatch");
+        let words = nx.div_ceil(64);
         let bits = cells
-            .chunks_exact(64)
-            .map(|c| {
-                c.iter()
-                    .enumerate()
-                    .fold(0u64, |w, (b, &v)| w | ((v != 0) as u64) << b)
+            .chunks_exact(nx)
+            .flat_map(|row| {
+                row.chunks(64).map(|c| {
+                    c.iter()
+                        .enumerate()
+                        .fold(0u64, |w, (b, &v)| w | ((v != 0) as u64) << b)
+                })
             })
             .collect();
-        Self { words, ny, bits }
+        Self {
+            nx,
+            words,
+            ny,
+            bits,
+        }
     }
 
     /// Unpacks to one byte per cell.
     pub fn to_bytes(&self) -> Vec<u8> {
         self.bits
-            .iter()
-            .flat_map(|&w| (0..64).map(move |b| (w >> b & 1) as u8))
+            .chunks_exact(self.words)
+            .flat_map(|row| (0..self.nx).map(move |i| (row[i / 64] >> (i % 64) & 1) as u8))
             .collect()
+    }
+
+    /// Valid cells of a row's last word (1–64).
+    pub(crate) fn tail_bits(&self) -> u32 {
+        (self.nx - 64 * (self.words - 1)) as u32
     }
 
     /// One step of the two-state `rule` (cyclic), into `dst`.
@@ -243,15 +257,17 @@ fn block_avx512(luts: &Luts, grid: &BitGrid, b: usize, out: &mut [u64]) {
 #[inline(always)]
 fn block(luts: &Luts, grid: &BitGrid, b: usize, out: &mut [u64]) {
     let (src, w, ny) = (&grid.bits[..], grid.words, grid.ny);
+    let tail = grid.tail_bits();
+    let tail_mask = if tail == 64 { !0 } else { (1u64 << tail) - 1 };
     let j0 = b * BLOCK;
     let rows = out.len() / w;
     let row = |j: usize| &src[(j % ny) * w..][..w];
     let mut h: [(Vec<u64>, Vec<u64>); 3] = std::array::from_fn(|_| (vec![0; w], vec![0; w]));
-    horizontal(row(j0 + ny - 1), &mut h[0], luts.moore);
-    horizontal(row(j0), &mut h[1], luts.moore);
+    horizontal(row(j0 + ny - 1), &mut h[0], luts.moore, tail);
+    horizontal(row(j0), &mut h[1], luts.moore, tail);
     for r in 0..rows {
         let j = j0 + r;
-        horizontal(row(j + 1), &mut h[(r + 2) % 3], luts.moore);
+        horizontal(row(j + 1), &mut h[(r + 2) % 3], luts.moore, tail);
         let (above, centre, below) = (row(j + ny - 1), row(j), row(j + 1));
         let (up, mid, down) = (&h[r % 3], &h[(r + 1) % 3], &h[(r + 2) % 3]);
         // Equal-length slices let the compiler drop bounds checks and vectorise.
@@ -276,6 +292,8 @@ fn block(luts: &Luts, grid: &BitGrid, b: usize, out: &mut [u64]) {
                 dst[k] = luts.eval(p, centre[k]);
             }
         }
+        // The spare bits past the row's end stay zero.
+        dst[w - 1] &= tail_mask;
     }
 }
 
@@ -301,14 +319,15 @@ fn sum_von_neumann((a0, a1): (u64, u64), c: u64, u: u64, d: u64) -> [u64; 4] {
 }
 
 /// Horizontal neighbourhood of each word into two planes: for Moore the 3-sum
-/// west + centre + east, for von Neumann west + east.
+/// west + centre + east, for von Neumann west + east. The row wraps around:
+/// with `tail` valid bits in its last word (1–64, the rest zero), the west
+/// neighbour of cell 0 is that word's bit `tail − 1` and the east neighbour of
+/// that bit is cell 0.
 #[inline(always)]
-fn horizontal(row: &[u64], out: &mut (Vec<u64>, Vec<u64>), moore: bool) {
+fn horizontal(row: &[u64], out: &mut (Vec<u64>, Vec<u64>), moore: bool, tail: u32) {
     let w = row.len();
     let (o0, o1) = (&mut out.0[..w], &mut out.1[..w]);
-    let mut put = |k: usize, prev: u64, c: u64, next: u64| {
-        let west = c << 1 | prev >> 63;
-        let east = c >> 1 | next << 63;
+    let mut put = |k: usize, west: u64, c: u64, east: u64| {
         if moore {
             o0[k] = west ^ c ^ east;
             o1[k] = (west & c) | (east & (west ^ c));
@@ -317,15 +336,37 @@ fn horizontal(row: &[u64], out: &mut (Vec<u64>, Vec<u64>), moore: bool) {
             o1[k] = west & east;
         }
     };
+    let west_of = |prev: u64, c: u64| c << 1 | prev >> 63;
+    let east_of = |c: u64, next: u64| c >> 1 | next << 63;
+    // A word whose bit 63 is the row's last cell, and the east side of the last
+    // word (its spare bits are zero, so shifting them in adds nothing).
+    let last_cell_at_63 = row[w - 1] << (64 - tail);
+    let tail_east = |c: u64| c >> 1 | (row[0] & 1) << (tail - 1);
     if w == 1 {
-        put(0, row[0], row[0], row[0]);
+        let c = row[0];
+        put(0, west_of(last_cell_at_63, c), c, tail_east(c));
         return;
     }
-    put(0, row[w - 1], row[0], row[1]);
+    put(
+        0,
+        west_of(last_cell_at_63, row[0]),
+        row[0],
+        east_of(row[0], row[1]),
+    );
     for k in 1..w - 1 {
-        put(k, row[k - 1], row[k], row[k + 1]);
+        put(
+            k,
+            west_of(row[k - 1], row[k]),
+            row[k],
+            east_of(row[k], row[k + 1]),
+        );
     }
-    put(w - 1, row[w - 2], row[w - 1], row[0]);
+    put(
+        w - 1,
+        west_of(row[w - 2], row[w - 1]),
+        row[w - 1],
+        tail_east(row[w - 1]),
+    );
 }
 
 /// The rule as a boolean function of the neighbourhood sum's bit planes
@@ -428,6 +469,7 @@ mod tests {
             step_bytes(&rule, &cells, &mut bytes, nx, ny);
             assert_eq!(
                 BitGrid {
+                    nx,
                     words: w,
                     ny,
                     bits: base
@@ -435,6 +477,46 @@ mod tests {
                 .to_bytes(),
                 bytes
             );
+        }
+    }
+
+    #[test]
+    fn any_width_equals_the_byte_step() {
+        // Widths around the word size, and a one-word row that wraps on itself:
+        // the bit grid must wrap exactly like the byte step, for several steps.
+        let mut rng = seeded(9);
+        for (family, code) in [
+            (Family::Totalistic9, 450u128),
+            (Family::Outer9, 224),
+            (Family::Totalistic5, 37),
+            (Family::Outer5, 777),
+        ] {
+            let rule = Rule::new(family, 2, code).unwrap();
+            for (nx, ny) in [(1, 3), (5, 7), (63, 9), (65, 4), (100, 40), (191, 5)] {
+                let mut cells: Vec<u8> = (0..nx * ny).map(|_| rng.random_range(0..2)).collect();
+                let mut g = BitGrid::from_bytes(&cells, nx, ny);
+                assert_eq!(g.to_bytes(), cells);
+                let mut next = g.clone();
+                let mut bytes = vec![0u8; nx * ny];
+                for step in 0..4 {
+                    g.step_into(&rule, &mut next);
+                    std::mem::swap(&mut g, &mut next);
+                    step_bytes(&rule, &cells, &mut bytes, nx, ny);
+                    std::mem::swap(&mut cells, &mut bytes);
+                    assert_eq!(
+                        g.to_bytes(),
+                        cells,
+                        "{family:?} {code} {nx}x{ny} step {step}"
+                    );
+                    let tail = g.tail_bits();
+                    if tail < 64 {
+                        assert!(
+                            g.bits.chunks(g.words).all(|r| r[g.words - 1] >> tail == 0),
+                            "spare bits stay zero"
+                        );
+                    }
+                }
+            }
         }
     }
 }
