@@ -101,8 +101,9 @@ fn surface(
     for path in &saved {
         run.report.output(path);
     }
-    run.measure(reconstruct::measurements(&rec, points.len()));
-    run.note(reconstruct::summary(&rec));
+    let topology = rec.mesh.topology();
+    run.measure(reconstruct::measurements(&rec, points.len(), &topology));
+    run.note(reconstruct::summary(&rec, &topology));
     Ok(())
 }
 

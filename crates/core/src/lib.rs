@@ -84,7 +84,7 @@ pub use poly_mesh::PolyMesh;
 pub use progress::{NoProgress, Progress};
 pub use rng::{SimRng, seeded, substream};
 pub use time_budget::{TimeBudget, Work};
-pub use tri_mesh::{Attribute, TriMesh};
+pub use tri_mesh::{Attribute, Topology, TriMesh};
 pub use units::{LengthUnit, Units};
 
 /// Result alias for the core crate.

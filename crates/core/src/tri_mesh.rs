@@ -23,6 +23,43 @@ pub struct EdgeUse {
     pub faces: u32,
 }
 
+/// A mesh's topology from one pass over its edges ([`TriMesh::topology`]):
+/// the answers of [`TriMesh::euler_characteristic`], [`TriMesh::genus`],
+/// [`TriMesh::is_manifold`] and [`TriMesh::is_watertight`] without sorting the
+/// edges once per question (a reconstruction of a few million triangles spent
+/// seconds re-sorting them for its report).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Topology {
+    /// Undirected edges.
+    pub edges: usize,
+    /// Boundary loops ([`TriMesh::boundary_loops`]).
+    pub boundary_loops: usize,
+    /// χ = V − E + F (every vertex counted, used or not).
+    pub euler_characteristic: i64,
+    /// Genus of an orientable manifold; `None` if not manifold.
+    pub genus: Option<i64>,
+    /// No edge shared by more than two triangles.
+    pub edge_manifold: bool,
+    /// One fan around every used vertex.
+    pub vertex_manifold: bool,
+    /// Every interior edge traversed once in each direction.
+    pub oriented: bool,
+    /// Every edge shared by exactly two triangles (and there are triangles).
+    pub closed: bool,
+}
+
+impl Topology {
+    /// Edge- and vertex-manifold.
+    pub fn is_manifold(&self) -> bool {
+        self.edge_manifold && self.vertex_manifold
+    }
+
+    /// Closed, manifold and consistently oriented: it encloses a volume.
+    pub fn is_watertight(&self) -> bool {
+        self.closed && self.vertex_manifold && self.oriented
+    }
+}
+
 /// Indexed triangle mesh. Faces are counter-clockwise seen from outside.
 ///
 /// Constructors check indices and finiteness, so a `TriMesh` is always valid;
@@ -389,7 +426,7 @@ impl TriMesh {
 
     /// Euler characteristic χ = V − E + F (all stored vertices count, used or not).
     pub fn euler_characteristic(&self) -> i64 {
-        self.positions.len() as i64 - self.edges().len() as i64 + self.triangles.len() as i64
+        self.euler_from(&self.edges())
     }
 
     /// Edges used by exactly one triangle.
@@ -441,10 +478,15 @@ impl TriMesh {
 
     /// Boundary loops as vertex sequences (each loop listed once, open end implied).
     pub fn boundary_loops(&self) -> Vec<Vec<u32>> {
-        let boundary: std::collections::HashSet<(u32, u32)> = self
-            .boundary_edges()
-            .into_iter()
-            .map(|[a, b]| (a, b))
+        self.loops_of(&self.edges())
+    }
+
+    /// Boundary loops of `edges` (this mesh's [`TriMesh::edges`]).
+    fn loops_of(&self, edges: &[EdgeUse]) -> Vec<Vec<u32>> {
+        let boundary: std::collections::HashSet<(u32, u32)> = edges
+            .iter()
+            .filter(|e| e.faces == 1)
+            .map(|e| (e.lo, e.hi))
             .collect();
         // Directed boundary half-edges as the faces traverse them.
         let mut next: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
@@ -486,6 +528,18 @@ impl TriMesh {
         if !self.is_manifold() {
             return None;
         }
+        let edges = self.edges();
+        let loops = self.loops_of(&edges).len();
+        Some(self.genus_of(self.euler_from(&edges), loops))
+    }
+
+    fn euler_from(&self, edges: &[EdgeUse]) -> i64 {
+        self.positions.len() as i64 - edges.len() as i64 + self.triangles.len() as i64
+    }
+
+    /// The genus of a manifold with this Euler characteristic and number of
+    /// boundary loops.
+    fn genus_of(&self, euler: i64, boundary_loops: usize) -> i64 {
         let mut used = vec![false; self.positions.len()];
         for t in &self.triangles {
             for &v in t {
@@ -493,10 +547,31 @@ impl TriMesh {
             }
         }
         let unused = used.iter().filter(|u| !**u).count() as i64;
-        let chi = self.euler_characteristic() - unused;
+        let chi = euler - unused;
         let c = self.n_components() as i64;
-        let b = self.boundary_loops().len() as i64;
-        Some((2 * c - chi - b) / 2)
+        (2 * c - chi - boundary_loops as i64) / 2
+    }
+
+    /// Euler characteristic, genus, manifoldness, orientation and closure, with
+    /// the edges sorted once (see [`Topology`]).
+    pub fn topology(&self) -> Topology {
+        let edges = self.edges();
+        let euler_characteristic = self.euler_from(&edges);
+        let edge_manifold = edges.iter().all(|e| e.faces <= 2);
+        let vertex_manifold = self.is_vertex_manifold();
+        let boundary_loops = self.loops_of(&edges).len();
+        let genus = (edge_manifold && vertex_manifold)
+            .then(|| self.genus_of(euler_characteristic, boundary_loops));
+        Topology {
+            edges: edges.len(),
+            boundary_loops,
+            euler_characteristic,
+            genus,
+            edge_manifold,
+            vertex_manifold,
+            oriented: self.is_consistently_oriented(),
+            closed: !self.triangles.is_empty() && edges.iter().all(|e| e.faces == 2),
+        }
     }
 }
 
@@ -645,5 +720,39 @@ mod tests {
         assert!(torus.is_watertight());
         assert_eq!(torus.genus(), Some(1));
         assert!(torus.signed_volume() > 0.0, "outward orientation");
+    }
+
+    #[test]
+    fn topology_agrees_with_each_question() {
+        let cube = cube();
+        let mut t = cube.triangles().to_vec();
+        t.pop();
+        let open = TriMesh::new(cube.positions().to_vec(), t).unwrap();
+        let mut flipped = cube.triangles().to_vec();
+        flipped[0].swap(1, 2);
+        let flipped = TriMesh::new(cube.positions().to_vec(), flipped).unwrap();
+        let fin = TriMesh::new(
+            vec![
+                [0.0; 3],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, -1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ],
+            vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
+        )
+        .unwrap();
+        let torus = crate::shapes::torus(2.0, 1.0, 6, 5);
+        let empty = TriMesh::new(vec![[0.0; 3]], vec![]).unwrap();
+        for m in [cube, open, flipped, fin, torus, empty] {
+            let t = m.topology();
+            assert_eq!(t.euler_characteristic, m.euler_characteristic());
+            assert_eq!(t.genus, m.genus());
+            assert_eq!(t.is_manifold(), m.is_manifold());
+            assert_eq!(t.is_watertight(), m.is_watertight());
+            assert_eq!(t.oriented, m.is_consistently_oriented());
+            assert_eq!(t.edges, m.edges().len());
+            assert_eq!(t.boundary_loops, m.boundary_loops().len());
+        }
     }
 }

@@ -544,24 +544,24 @@ fn mesh_report(m: &TriMesh, plots: bool) -> Result<Analysis> {
             Value::Null
         }
     };
-    let chi = m.euler_characteristic();
-    let watertight = m.is_watertight();
+    let topology = m.topology();
+    let watertight = topology.is_watertight();
     let facts = Measurements::from_value(json!({
         "kind": "mesh",
         "vertices": m.n_vertices(),
         "triangles": m.n_faces(),
         "area": m.area(),
         "volume": if watertight { Some(m.signed_volume()) } else { None },
-        "euler_characteristic": chi,
-        "genus": m.genus(),
-        "boundary_loops": m.boundary_loops().len(),
-        "manifold": m.is_manifold(),
+        "euler_characteristic": topology.euler_characteristic,
+        "genus": topology.genus,
+        "boundary_loops": topology.boundary_loops,
+        "manifold": topology.is_manifold(),
         "watertight": watertight,
         "curvature": {
             "mean": mesh::stats(&c.mean, &c.area),
             "gaussian": mesh::stats(&c.gaussian, &c.area),
             "total_gaussian": c.total_gaussian,
-            "gauss_bonnet_2pi_chi": 2.0 * std::f64::consts::PI * chi as f64,
+            "gauss_bonnet_2pi_chi": 2.0 * std::f64::consts::PI * topology.euler_characteristic as f64,
         },
         "roughness_vs_smoothed": mesh::smoothed_roughness(m, 10),
         "fractal_dimension": {"box_counting": box_counting},

@@ -17,18 +17,19 @@ pub fn describe(s: &Surface) -> Measurements {
 }
 
 fn mesh_facts(m: &TriMesh) -> serde_json::Value {
-    let watertight = m.is_watertight();
+    let topology = m.topology();
+    let watertight = topology.is_watertight();
     json!({
         "kind": "mesh",
         "vertices": m.n_vertices(),
         "triangles": m.n_faces(),
-        "edges": m.edges().len(),
-        "euler_characteristic": m.euler_characteristic(),
+        "edges": topology.edges,
+        "euler_characteristic": topology.euler_characteristic,
         "components": m.n_components(),
-        "boundary_loops": m.boundary_loops().len(),
-        "manifold": m.is_manifold(),
+        "boundary_loops": topology.boundary_loops,
+        "manifold": topology.is_manifold(),
         "watertight": watertight,
-        "genus": m.genus(),
+        "genus": topology.genus,
         "area": m.area(),
         "volume": if watertight { Some(m.signed_volume()) } else { None },
         "bounds": m.bounds(),

@@ -2,7 +2,7 @@
 //! two-pass pipelines (Fig. 2: growth, then reconstruction): a DLA terrain
 //! (Figs. 9–11) and an RDSR-grown sphere (Fig. 8).
 
-use asperity_core::{MemoryBudget, Progress, TimeBudget, TriMesh};
+use asperity_core::{MemoryBudget, Progress, TimeBudget, Topology, TriMesh};
 use asperity_growth::Model;
 use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla};
@@ -317,25 +317,27 @@ pub fn surface(
 }
 
 /// The mesh's counts and topology.
-fn mesh_facts(r: &mut Measurements, rec: &Reconstruction) {
+fn mesh_facts(r: &mut Measurements, rec: &Reconstruction, topology: &Topology) {
     let m = &rec.mesh;
     r.set("vertices", m.n_vertices());
     r.set("triangles", m.n_faces());
-    r.set("euler_characteristic", m.euler_characteristic());
-    r.set("genus", m.genus());
-    r.set("watertight", m.is_watertight());
-    r.set("manifold", m.is_manifold());
+    r.set("euler_characteristic", topology.euler_characteristic);
+    r.set("genus", topology.genus);
+    r.set("watertight", topology.is_watertight());
+    r.set("manifold", topology.is_manifold());
     r.set("components", rec.extraction.components);
     r.set("shells_removed", rec.extraction.shells_removed);
     r.set("pieces", pieces(rec));
     r.set("area", m.area());
-    if m.is_watertight() {
+    if topology.is_watertight() {
         r.set("volume", m.signed_volume());
     }
 }
 
-/// The measurements `asperity reconstruct --json` reports for `rec` of `points` points.
-pub fn measurements(rec: &Reconstruction, points: usize) -> Measurements {
+/// The measurements `asperity reconstruct --json` reports for `rec` of `points`
+/// points; `topology` is `rec.mesh.topology()`, computed once for these and
+/// for [`summary`].
+pub fn measurements(rec: &Reconstruction, points: usize, topology: &Topology) -> Measurements {
     let t = &rec.timings;
     let mut r = Measurements::new();
     r.set("grid", rec.grid.dims);
@@ -356,7 +358,7 @@ pub fn measurements(rec: &Reconstruction, points: usize) -> Measurements {
         }),
     );
     r.set("points", points);
-    mesh_facts(&mut r, rec);
+    mesh_facts(&mut r, rec, topology);
     let steps = &rec.evolution.steps;
     r.set("iterations", steps.len());
     r.set("converged", rec.evolution.converged);
@@ -373,8 +375,8 @@ pub fn pieces(rec: &Reconstruction) -> usize {
     rec.extraction.components - rec.extraction.shells_removed
 }
 
-/// One line: grid, ε, δ, counts, topology and stage times.
-pub fn summary(rec: &Reconstruction) -> String {
+/// One line: grid, ε, δ, counts, topology (`rec.mesh.topology()`) and stage times.
+pub fn summary(rec: &Reconstruction, topology: &Topology) -> String {
     let (m, t, g) = (&rec.mesh, &rec.timings, &rec.grid);
     format!(
         "grid {}×{}×{} (h = {:.4}), ε = {:.3}, δ = {:.3}: {} vertices, {} triangles, χ = {}, {} piece(s), {}watertight; {:.2} s (distance {:.2}, tagging {:.2}, flow {:.2} for {} steps, marching cubes {:.2})",
@@ -386,9 +388,9 @@ pub fn summary(rec: &Reconstruction) -> String {
         rec.point_radius,
         m.n_vertices(),
         m.n_faces(),
-        m.euler_characteristic(),
+        topology.euler_characteristic,
         pieces(rec),
-        if m.is_watertight() { "" } else { "not " },
+        if topology.is_watertight() { "" } else { "not " },
         t.total,
         t.distance,
         t.tagging,

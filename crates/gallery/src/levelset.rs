@@ -163,6 +163,7 @@ fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement, TriMesh)> {
         initial.ok_or_else(|| invalid("the pipeline reports its initial surface"))?;
     let start = initial_item(env, case, &initial, &rec.grid)?;
     let m = &rec.mesh;
+    let topology = m.topology();
     let (file, pic) = env.shaded_mesh(&format!("levelset_{}", case.name), m)?;
     let steps = &rec.evolution.steps;
     let end = Item::new(
@@ -176,8 +177,11 @@ fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement, TriMesh)> {
         vec![
             fact("points", case.points.len()),
             fact("triangles", m.n_faces()),
-            fact("watertight", m.is_watertight()),
-            fact("genus", m.genus().map_or("—".into(), |g| g.to_string())),
+            fact("watertight", topology.is_watertight()),
+            fact(
+                "genus",
+                topology.genus.map_or("—".into(), |g| g.to_string()),
+            ),
             fact("pieces", pieces(&rec)),
             fact("CLI", &case.cli),
         ],

@@ -105,7 +105,11 @@ fn surface<'py>(
     })?;
     let (rec, n) = rec;
     out.set_item("mesh", mesh_out(py, &rec.mesh)?)?;
-    out.set_item("measurements", json(&engine::measurements(&rec, n))?)?;
+    let topology = rec.mesh.topology();
+    out.set_item(
+        "measurements",
+        json(&engine::measurements(&rec, n, &topology))?,
+    )?;
     Ok(())
 }
 
