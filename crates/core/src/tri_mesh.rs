@@ -555,22 +555,30 @@ impl TriMesh {
     /// Euler characteristic, genus, manifoldness, orientation and closure, with
     /// the edges sorted once (see [`Topology`]).
     pub fn topology(&self) -> Topology {
-        let edges = self.edges();
-        let euler_characteristic = self.euler_from(&edges);
-        let edge_manifold = edges.iter().all(|e| e.faces <= 2);
+        // The edges go before the vertex fans and the directed sort are built,
+        // so no two of the three big arrays are alive at once.
+        let (edges, euler_characteristic, edge_manifold, closed, boundary_loops) = {
+            let edges = self.edges();
+            (
+                edges.len(),
+                self.euler_from(&edges),
+                edges.iter().all(|e| e.faces <= 2),
+                !self.triangles.is_empty() && edges.iter().all(|e| e.faces == 2),
+                self.loops_of(&edges).len(),
+            )
+        };
         let vertex_manifold = self.is_vertex_manifold();
-        let boundary_loops = self.loops_of(&edges).len();
         let genus = (edge_manifold && vertex_manifold)
             .then(|| self.genus_of(euler_characteristic, boundary_loops));
         Topology {
-            edges: edges.len(),
+            edges,
             boundary_loops,
             euler_characteristic,
             genus,
             edge_manifold,
             vertex_manifold,
             oriented: self.is_consistently_oriented(),
-            closed: !self.triangles.is_empty() && edges.iter().all(|e| e.faces == 2),
+            closed,
         }
     }
 }
