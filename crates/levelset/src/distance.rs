@@ -44,16 +44,16 @@ use std::sync::atomic::{AtomicU32, AtomicU64, Ordering::Relaxed};
 /// One bit per node: whether the node is already on the next frontier. A bitmap
 /// (2.6 MB at 256³) rather than a stamp per node keeps it in cache and spares
 /// allocating and zeroing a grid-sized array.
-struct Claims(Vec<AtomicU64>);
+pub(crate) struct Claims(Vec<AtomicU64>);
 
 impl Claims {
-    fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         Self((0..n.div_ceil(64)).map(|_| AtomicU64::new(0)).collect())
     }
 
     /// Sets the bit of `node`; true if it was clear.
     #[inline]
-    fn claim(&self, node: usize) -> bool {
+    pub(crate) fn claim(&self, node: usize) -> bool {
         let bit = 1u64 << (node % 64);
         self.0[node / 64].fetch_or(bit, Relaxed) & bit == 0
     }
@@ -164,13 +164,13 @@ impl DistanceField {
 }
 
 /// How many nodes ahead the loops over points prefetch the point they will read.
-const POINT_PREFETCH: usize = 8;
+pub(crate) const POINT_PREFETCH: usize = 8;
 
 /// A node no point has reached.
 pub(crate) const EMPTY: u64 = u64::MAX;
 
 #[inline]
-fn pack(d2: f32, idx: u32) -> u64 {
+pub(crate) fn pack(d2: f32, idx: u32) -> u64 {
     (u64::from(d2.to_bits()) << 32) | u64::from(idx)
 }
 
@@ -181,7 +181,7 @@ pub(crate) fn unpack_d2(v: u64) -> f32 {
 
 /// Lowers `cell` to `value` if that is smaller; true if it did.
 #[inline]
-fn lower(cell: &AtomicU64, value: u64) -> bool {
+pub(crate) fn lower(cell: &AtomicU64, value: u64) -> bool {
     let mut cur = cell.load(Relaxed);
     while value < cur {
         match cell.compare_exchange_weak(cur, value, Relaxed, Relaxed) {
@@ -193,7 +193,7 @@ fn lower(cell: &AtomicU64, value: u64) -> bool {
 }
 
 #[inline]
-fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(crate) fn dist2(a: [f64; 3], b: [f64; 3]) -> f64 {
     let d = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
     d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
 }
@@ -342,7 +342,7 @@ pub(crate) fn closest_points(
 /// the node at grid coordinates `c` along it (∞ off the grid), as `dist2`
 /// computes them: the sum of one per axis is dist2(position(q), p) to the bit.
 #[inline(always)]
-fn axis_squares(grid: &GridSpec, c: [usize; 3], p: [f64; 3], a: usize) -> [f64; 3] {
+pub(crate) fn axis_squares(grid: &GridSpec, c: [usize; 3], p: [f64; 3], a: usize) -> [f64; 3] {
     [0usize, 1, 2].map(|o| {
         let x = c[a] + o;
         if x == 0 || x > grid.dims[a] {
@@ -400,12 +400,29 @@ fn closest_point_wavefront(
     points: &[[f64; 3]],
     grid: &GridSpec,
     (cells, claims): (&[AtomicU64], &Claims),
-    mut frontier: Vec<u32>,
+    frontier: Vec<u32>,
     cap: f64,
     progress: &dyn Progress,
 ) -> usize {
     let cap2 = (cap * cap) as f32;
-    let expected_rounds = (cap / grid.spacing).ceil() as u64 + 2;
+    let offer = |u: u32, v: u64, out: &mut Vec<u32>| {
+        offer((points, grid, cells, claims), (u, v), cap2, out);
+    };
+    wavefront_rounds((points, cells, claims), frontier, cap / grid.spacing, progress, offer)
+}
+
+/// The rounds of a closest-point wavefront from `frontier` until no node
+/// improves: each round reads the frontier's cells, then `offer`s each node's
+/// point (node, packed cell, where to push the improved nodes). `cells_cap` is
+/// the cap in cells, for the progress bar. Returns the number of rounds.
+pub(crate) fn wavefront_rounds(
+    (points, cells, claims): (&[[f64; 3]], &[AtomicU64], &Claims),
+    mut frontier: Vec<u32>,
+    cells_cap: f64,
+    progress: &dyn Progress,
+    offer: impl Fn(u32, u64, &mut Vec<u32>) + Sync,
+) -> usize {
+    let expected_rounds = cells_cap.ceil() as u64 + 2;
     progress.start(expected_rounds, "distance (closest point)");
     let mut rounds = 0;
     while !frontier.is_empty() {
@@ -426,7 +443,7 @@ fn closest_point_wavefront(
                     if let Some(&ahead) = vs.get(i + POINT_PREFETCH) {
                         asperity_core::memory_hints::prefetch(points, ahead as u32 as usize);
                     }
-                    offer((points, grid, cells, claims), (u, v), cap2, &mut out);
+                    offer(u, v, &mut out);
                 }
                 out
             })

@@ -40,6 +40,7 @@ pub mod grid;
 mod lanes;
 pub mod marching_cubes;
 pub mod pipeline;
+pub mod sparse;
 pub mod tagging;
 mod tube;
 

@@ -1,0 +1,566 @@
+//! Tagging (§5.2, Algorithm 1) on the bricks of a sparse distance.
+//!
+//! The same result as [`crate::tagging`], node for node, for both rules: the
+//! ε rule's exterior is the flood fill of {d ≥ ε} from the grid's faces; the
+//! paper's rule accepts the flood fill of the far field {d ≥ cap} and decides
+//! the rest of the ε flood fill in decreasing distance (the dense module's
+//! docs give the argument).
+//!
+//! The flood fills work on bricks: a brick's nodes are a 512-bit mask (a
+//! word per plane), a fill spreads inside a brick by shifting words, and the
+//! nodes it reaches on a brick's faces seed the neighbouring bricks in the
+//! next round (bricks of a round run in parallel; the filled set is the
+//! connected set whatever the order). An inactive brick reads as the cap
+//! everywhere, so a fill that reaches it takes all of it at once: its tag is
+//! one bit. The descent of the paper's rule visits the nodes of the ε shell
+//! only, in the dense order (the tie-break is the dense index); a node of an
+//! inactive brick next to them is *virtual*: exterior if its brick is far
+//! field, interior if enclosed. A far-field pocket behind a neck narrower
+//! than the cap (reached by the ε fill but not the far fill) is made active
+//! first, as the descent decides its nodes one by one.
+
+use asperity_core::Progress;
+use rayon::prelude::*;
+
+use super::distance::SparseDistance;
+use super::layout::{
+    BRICK_NODES, Bricks, EMPTY_MASK, Mask, NO_SLOT, SIDE, X_HIGH, X_LOW, Y_HIGH, Y_LOW, count,
+    is_empty,
+};
+use crate::tagging::{
+    EXTERIOR, INTERIOR, NONE, NodeSpace, TagRule, VIRTUAL_EXTERIOR, VIRTUAL_INTERIOR, descend_in,
+};
+
+/// The result of tagging on bricks.
+#[derive(Clone, Debug)]
+pub struct SparseTags {
+    /// Per node id, whether it is exterior (bit `id % 64` of word `id / 64`).
+    exterior: Vec<u64>,
+    /// Per brick, for the inactive ones: whether all its nodes are exterior.
+    tiles: Vec<u64>,
+    /// Nodes made exterior.
+    pub exterior_count: usize,
+    /// Nodes refused by the paper's neighbour rule.
+    pub refused: usize,
+}
+
+#[inline(always)]
+fn bit(bits: &[u64], i: usize) -> bool {
+    bits[i / 64] >> (i % 64) & 1 == 1
+}
+
+#[inline(always)]
+fn set_bit(bits: &mut [u64], i: usize) {
+    bits[i / 64] |= 1 << (i % 64);
+}
+
+impl SparseTags {
+    /// Whether node id `id` is exterior.
+    #[inline(always)]
+    pub(crate) fn node(&self, id: u32) -> bool {
+        bit(&self.exterior, id as usize)
+    }
+
+    /// Whether inactive brick `bi` is exterior.
+    #[inline(always)]
+    pub(crate) fn tile(&self, bi: usize) -> bool {
+        bit(&self.tiles, bi)
+    }
+
+    /// Whether node `c` is exterior.
+    pub fn at(&self, bricks: &Bricks, c: [usize; 3]) -> bool {
+        match bricks.id(c) {
+            Some(id) => self.node(id),
+            None => self.tile(bricks.brick_index(c.map(|x| x / SIDE))),
+        }
+    }
+
+    /// Gives the slots from `first` on (bricks just activated) their tiles'
+    /// tags.
+    pub(crate) fn extend(&mut self, bricks: &Bricks, first: usize) {
+        self.exterior.resize(bricks.nodes() / 64, 0);
+        for s in first..bricks.slots() {
+            if self.tile(bricks.brick_of(s)) {
+                let words = s * BRICK_NODES / 64..(s + 1) * BRICK_NODES / 64;
+                self.exterior[words].fill(u64::MAX);
+            }
+        }
+    }
+}
+
+/// A flood fill on bricks: the filled nodes of the active bricks, the filled
+/// inactive bricks, and the count of filled nodes in the grid.
+struct Fill {
+    nodes: Vec<Mask>,
+    tiles: Vec<u64>,
+    count: usize,
+}
+
+/// Spreads `seed` through `open` inside a brick (6-connected).
+fn spread(open: &Mask, seed: Mask) -> Mask {
+    let mut f: Mask = std::array::from_fn(|z| seed[z] & open[z]);
+    // Within a plane: grow by one node along x and y until nothing changes.
+    let plane = |mut w: u64, open: u64| loop {
+        let g = (w | ((w << 1) & !X_LOW) | ((w >> 1) & !X_HIGH) | (w << SIDE) | (w >> SIDE)) & open;
+        if g == w {
+            return w;
+        }
+        w = g;
+    };
+    loop {
+        let before = f;
+        for z in (0..SIDE).chain((0..SIDE).rev()) {
+            let mut w = f[z];
+            if z > 0 {
+                w |= f[z - 1] & open[z];
+            }
+            if z + 1 < SIDE {
+                w |= f[z + 1] & open[z];
+            }
+            f[z] = plane(w, open[z]);
+        }
+        if f == before {
+            return f;
+        }
+    }
+}
+
+/// The nodes of brick `b` on the grid's faces.
+fn grid_faces(bricks: &Bricks, b: [usize; 3]) -> Mask {
+    let dims = bricks.grid.dims;
+    let inside = bricks.in_grid(b);
+    let mut m = EMPTY_MASK;
+    for (z, word) in m.iter_mut().enumerate() {
+        for y in 0..SIDE {
+            for x in 0..SIDE {
+                let c = [b[0] * SIDE + x, b[1] * SIDE + y, b[2] * SIDE + z];
+                if (0..3).any(|a| c[a] == 0 || c[a] + 1 == dims[a]) {
+                    *word |= 1 << (x + SIDE * y);
+                }
+            }
+        }
+    }
+    std::array::from_fn(|z| m[z] & inside[z])
+}
+
+/// The seeds that the nodes `new` of brick `bi` hand to its face neighbours.
+fn face_seeds(bricks: &Bricks, bi: usize, new: &Mask, out: &mut Vec<(u32, Mask)>) {
+    let b = bricks.brick_coords(bi);
+    let mut send = |axis: usize, up: bool, m: Mask| {
+        if is_empty(&m) {
+            return;
+        }
+        let mut n = b;
+        if up {
+            n[axis] += 1;
+            if n[axis] >= bricks.bdims[axis] {
+                return;
+            }
+        } else {
+            if n[axis] == 0 {
+                return;
+            }
+            n[axis] -= 1;
+        }
+        out.push((bricks.brick_index(n) as u32, m));
+    };
+    send(0, false, new.map(|w| (w & X_LOW) << (SIDE - 1)));
+    send(0, true, new.map(|w| (w & X_HIGH) >> (SIDE - 1)));
+    send(1, false, new.map(|w| (w & Y_LOW) << (SIDE * (SIDE - 1))));
+    send(1, true, new.map(|w| (w & Y_HIGH) >> (SIDE * (SIDE - 1))));
+    let mut down = EMPTY_MASK;
+    down[SIDE - 1] = new[0];
+    send(2, false, down);
+    let mut up = EMPTY_MASK;
+    up[0] = new[SIDE - 1];
+    send(2, true, up);
+}
+
+/// The nodes of {d ≥ `threshold`} connected to the grid's faces within it
+/// (6-connected); inactive bricks read as `far`.
+fn flood(bricks: &Bricks, d: &[f32], far: f32, threshold: f32) -> Fill {
+    let open: Vec<Mask> = (0..bricks.slots())
+        .into_par_iter()
+        .map(|s| {
+            let inside = bricks.in_grid(bricks.slot_coords(s));
+            let values = &d[s * BRICK_NODES..(s + 1) * BRICK_NODES];
+            std::array::from_fn(|z| {
+                let mut w = 0u64;
+                for (l, &v) in values[z * 64..(z + 1) * 64].iter().enumerate() {
+                    w |= u64::from(v >= threshold) << l;
+                }
+                w & inside[z]
+            })
+        })
+        .collect();
+    let tiles_open = far >= threshold;
+    let mut fill = Fill {
+        nodes: vec![EMPTY_MASK; bricks.slots()],
+        tiles: vec![0; bricks.brick_count().div_ceil(64)],
+        count: 0,
+    };
+    let [bx, by, bz] = bricks.bdims;
+    let mut seeds: Vec<(u32, Mask)> = (0..bricks.brick_count())
+        .into_par_iter()
+        .filter_map(|bi| {
+            let b = bricks.brick_coords(bi);
+            let edge = (0..3).any(|a| b[a] == 0 || b[a] + 1 == [bx, by, bz][a]);
+            edge.then(|| (bi as u32, grid_faces(bricks, b)))
+        })
+        .collect();
+    while !seeds.is_empty() {
+        seeds.par_sort_unstable_by_key(|s| s.0);
+        seeds.dedup_by(|later, first| {
+            if later.0 == first.0 {
+                for z in 0..SIDE {
+                    first.1[z] |= later.1[z];
+                }
+                true
+            } else {
+                false
+            }
+        });
+        let fresh: Vec<(u32, Mask)> = seeds
+            .par_iter()
+            .filter_map(|&(bi, seed)| {
+                let s = bricks.slot_of(bi as usize);
+                if s == NO_SLOT {
+                    let reached = bit(&fill.tiles, bi as usize);
+                    return (tiles_open && !reached)
+                        .then(|| (bi, bricks.in_grid(bricks.brick_coords(bi as usize))));
+                }
+                let (open, done) = (&open[s as usize], &fill.nodes[s as usize]);
+                let start: Mask = std::array::from_fn(|z| seed[z] & !done[z]);
+                if is_empty(&std::array::from_fn(|z| start[z] & open[z])) {
+                    return None;
+                }
+                let grown = spread(open, start);
+                Some((bi, std::array::from_fn(|z| grown[z] & !done[z])))
+            })
+            .collect();
+        for (bi, new) in &fresh {
+            let s = bricks.slot_of(*bi as usize);
+            if s == NO_SLOT {
+                set_bit(&mut fill.tiles, *bi as usize);
+            } else {
+                for z in 0..SIDE {
+                    fill.nodes[s as usize][z] |= new[z];
+                }
+            }
+            fill.count += count(new);
+        }
+        seeds = fresh
+            .par_iter()
+            .flat_map_iter(|(bi, new)| {
+                let mut out = Vec::new();
+                face_seeds(bricks, *bi as usize, new, &mut out);
+                out
+            })
+            .collect();
+    }
+    fill
+}
+
+/// The bricks as the descent's [`NodeSpace`]: node ids, and virtual nodes for
+/// inactive bricks (exterior where the far fill took them).
+struct BrickSpace<'a> {
+    bricks: &'a Bricks,
+    far_tiles: &'a [u64],
+}
+
+/// The steps of one node along x, y and z within a brick.
+const STEP: [usize; 3] = [1, SIDE, SIDE * SIDE];
+
+impl NodeSpace for BrickSpace<'_> {
+    #[inline(always)]
+    fn around(&self, u: usize) -> ([usize; 6], bool) {
+        let c = self.bricks.coords(u as u32);
+        let dims = self.bricks.grid.dims;
+        let mut nb = [NONE; 6];
+        let mut face = false;
+        for a in 0..3 {
+            let l = c[a] % SIDE;
+            for (k, up) in [(2 * a, false), (2 * a + 1, true)] {
+                if (!up && c[a] == 0) || (up && c[a] + 1 == dims[a]) {
+                    face = true;
+                    continue;
+                }
+                nb[k] = if up && l + 1 < SIDE {
+                    u + STEP[a]
+                } else if !up && l > 0 {
+                    u - STEP[a]
+                } else {
+                    let mut n = c;
+                    n[a] = if up { c[a] + 1 } else { c[a] - 1 };
+                    match self.bricks.id(n) {
+                        Some(id) => id as usize,
+                        None => {
+                            let bi = self.bricks.brick_index(n.map(|x| x / SIDE));
+                            if bit(self.far_tiles, bi) {
+                                VIRTUAL_EXTERIOR
+                            } else {
+                                VIRTUAL_INTERIOR
+                            }
+                        }
+                    }
+                };
+            }
+        }
+        (nb, face)
+    }
+
+    #[inline(always)]
+    fn node_of(&self, key: u64) -> usize {
+        let dense = (u32::MAX - key as u32) as usize;
+        let c = self.bricks.grid.coords(dense);
+        self.bricks.id(c).expect("the descent's nodes are active") as usize
+    }
+
+    #[inline(always)]
+    fn nearby(&self, w: usize) -> [usize; 5] {
+        [
+            w,
+            w.wrapping_sub(SIDE),
+            w + SIDE,
+            w.wrapping_sub(SIDE * SIDE),
+            w + SIDE * SIDE,
+        ]
+    }
+}
+
+/// Runs Algorithm 1 on the sparse distance `dist` with offset `eps` (world
+/// units). Far-field pockets behind narrow necks are activated in `dist` (at
+/// the cap) for the paper's rule.
+pub fn sparse_tag(
+    dist: &mut SparseDistance,
+    eps: f64,
+    rule: TagRule,
+    progress: &dyn Progress,
+) -> SparseTags {
+    let eps = eps as f32;
+    let far = dist.cap;
+    progress.start(dist.bricks.grid.len() as u64, "tagging");
+    let mut reach = flood(&dist.bricks, &dist.values, far, eps);
+    if rule == TagRule::Threshold {
+        progress.finish();
+        return SparseTags {
+            exterior: masks_to_bits(&reach.nodes, dist.bricks.nodes() / 64),
+            tiles: reach.tiles,
+            exterior_count: reach.count,
+            refused: 0,
+        };
+    }
+    // The paper's rule: the far field is all accepted.
+    let mut far_fill = if far.is_finite() && far >= eps {
+        flood(&dist.bricks, &dist.values, far, far)
+    } else {
+        Fill {
+            nodes: vec![EMPTY_MASK; dist.bricks.slots()],
+            tiles: vec![0; reach.tiles.len()],
+            count: 0,
+        }
+    };
+    // Pockets: inactive bricks reached by the ε fill only.
+    let pockets: Vec<u32> = (0..dist.bricks.brick_count())
+        .filter(|&bi| bit(&reach.tiles, bi) && !bit(&far_fill.tiles, bi))
+        .map(|bi| bi as u32)
+        .collect();
+    if !pockets.is_empty() {
+        let first = dist.bricks.slots();
+        dist.activate(&pockets);
+        for s in first..dist.bricks.slots() {
+            reach.nodes.push(dist.bricks.in_grid(dist.bricks.slot_coords(s)));
+            far_fill.nodes.push(EMPTY_MASK);
+        }
+    }
+    let bricks = &dist.bricks;
+    let d = &dist.values;
+    let mut state: Vec<u8> = far_fill
+        .nodes
+        .par_iter()
+        .flat_map_iter(|m| {
+            (0..BRICK_NODES).map(move |l| if m[l / 64] >> (l % 64) & 1 == 1 { EXTERIOR } else { INTERIOR })
+        })
+        .collect();
+    progress.advance(far_fill.count as u64);
+    // The rest of the ε fill, by decreasing distance (ties: smaller dense
+    // index first, as the heap's keys).
+    let mut keys: Vec<u64> = (0..bricks.slots())
+        .into_par_iter()
+        .flat_map_iter(|s| {
+            let (r, f) = (reach.nodes[s], far_fill.nodes[s]);
+            let b = bricks.slot_coords(s);
+            (0..BRICK_NODES)
+                .filter(move |&l| (r[l / 64] & !f[l / 64]) >> (l % 64) & 1 == 1)
+                .map(move |l| {
+                    let c = [b[0] * SIDE + l % SIDE, b[1] * SIDE + (l / SIDE) % SIDE, b[2] * SIDE + l / 64];
+                    let dense = bricks.grid.index(c[0], c[1], c[2]);
+                    (u64::from(d[s * BRICK_NODES + l].to_bits()) << 32) | u64::from(u32::MAX - dense as u32)
+                })
+        })
+        .collect();
+    drop(reach);
+    keys.par_sort_unstable_by(|a, b| b.cmp(a));
+    let space = BrickSpace {
+        bricks,
+        far_tiles: &far_fill.tiles,
+    };
+    let (accepted, refused) = descend_in(&space, (d, far), &keys, &mut state, progress);
+    drop(keys);
+    progress.finish();
+    let mut exterior = vec![0u64; bricks.nodes() / 64];
+    exterior.par_chunks_mut(BRICK_NODES / 64).zip(state.par_chunks(BRICK_NODES)).for_each(|(w, st)| {
+        for (l, &x) in st.iter().enumerate() {
+            if x == EXTERIOR {
+                w[l / 64] |= 1 << (l % 64);
+            }
+        }
+    });
+    SparseTags {
+        exterior,
+        tiles: far_fill.tiles,
+        exterior_count: far_fill.count + accepted,
+        refused,
+    }
+}
+
+/// Per-brick masks as one bit per node id.
+fn masks_to_bits(masks: &[Mask], words: usize) -> Vec<u64> {
+    let mut bits: Vec<u64> = masks.iter().flatten().copied().collect();
+    bits.resize(words, 0);
+    bits
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sparse::layout::local;
+    use crate::distance::{DistanceField, DistanceMethod, unsigned_distance};
+    use crate::grid::{GridSpec, Sizing};
+    use crate::sparse::distance::{bricks_for, closest_points};
+    use crate::tagging::tag;
+    use asperity_core::{MemoryBudget, NoProgress};
+
+    /// A cup (a sphere of radius 3 with its top cut off), a closed hollow ball
+    /// with a cavity wider than the cap, and a loose point.
+    fn shape() -> Vec<[f64; 3]> {
+        let mut pts = Vec::new();
+        let n = 60;
+        for a in 0..n {
+            for b in 0..n {
+                let th = std::f64::consts::PI * (a as f64 + 0.5) / n as f64;
+                let ph = 2.0 * std::f64::consts::PI * b as f64 / n as f64;
+                let dir = [th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()];
+                if dir[2] < 0.73 {
+                    pts.push(dir.map(|x| 3.0 * x));
+                }
+                pts.push([9.0 + 2.5 * dir[0], 2.5 * dir[1], 2.5 * dir[2]]);
+            }
+        }
+        pts.push([4.5, 4.0, -2.0]);
+        pts
+    }
+
+    fn fields(pts: &[[f64; 3]], res: usize, cap: f64) -> (DistanceField, SparseDistance) {
+        let grid = GridSpec::around(pts, Sizing::Resolution(res), |h| (1.0 / h) as usize + 3, &MemoryBudget::unlimited())
+            .unwrap();
+        let dense = unsigned_distance(pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
+        let bricks = bricks_for(&grid, pts, cap);
+        let (cells, rounds) = closest_points(pts, &bricks, cap, &NoProgress);
+        (dense, SparseDistance::from_cells(bricks, &cells, cap, rounds))
+    }
+
+    /// Both rules give the dense exterior node for node, with the same counts,
+    /// for caps below and above the cavity's and the cup's radii, and with
+    /// distances rounded to 1/8 cell (many ties).
+    #[test]
+    fn sparse_tagging_equals_the_dense_tagging() {
+        let pts = shape();
+        let (mut refusals, mut sparse_cases) = (0, 0);
+        for (res, cap_cells, round) in [(48, 4.0, false), (48, 8.0, true), (70, 6.0, false), (40, 14.0, false)] {
+            let probe = GridSpec::around(&pts, Sizing::Resolution(res), |h| (1.0 / h) as usize + 3, &MemoryBudget::unlimited()).unwrap();
+            let cap = cap_cells * probe.spacing;
+            let (mut dense, sparse) = fields(&pts, res, cap);
+            let eighth = (probe.spacing / 8.0) as f32;
+            let mut sparse = sparse;
+            if round {
+                for x in dense.values.iter_mut().chain(sparse.values.iter_mut()) {
+                    *x = (*x / eighth).round() * eighth;
+                }
+            }
+            sparse_cases += usize::from(sparse.bricks.slots() < sparse.bricks.brick_count());
+            for rule in [TagRule::Paper, TagRule::Threshold] {
+                for eps_cells in [1.5, 3.0] {
+                    let eps = eps_cells * probe.spacing;
+                    let want = tag(&dense, eps, rule, &NoProgress);
+                    let mut field = sparse.clone();
+                    let got = sparse_tag(&mut field, eps, rule, &NoProgress);
+                    let g = &dense.grid;
+                    for u in 0..g.len() {
+                        let c = g.coords(u);
+                        assert_eq!(got.at(&field.bricks, c), want.exterior[u], "res {res}, cap {cap_cells}, {rule:?}, ε {eps_cells}: node {c:?}");
+                    }
+                    assert_eq!(got.exterior_count, want.exterior_count);
+                    assert_eq!(got.refused, want.refused);
+                    refusals += got.refused;
+                }
+            }
+        }
+        assert!(refusals > 0, "the comparison covers refusals");
+        assert!(sparse_cases >= 2, "the comparison covers inactive bricks");
+    }
+
+    /// A hollow ball with a small hole: the far field inside is reached by
+    /// the ε fill through the hole but not by the far fill (the hole is
+    /// narrower than the cap), so its inactive bricks become active pockets.
+    #[test]
+    fn pockets_behind_narrow_necks_equal_the_dense_tagging() {
+        let mut pts = Vec::new();
+        let n = 160;
+        for a in 0..n {
+            for b in 0..2 * n {
+                let th = std::f64::consts::PI * (a as f64 + 0.5) / n as f64;
+                let ph = std::f64::consts::PI * b as f64 / n as f64;
+                if th > 0.15 {
+                    pts.push([8.0 * th.sin() * ph.cos(), 8.0 * th.sin() * ph.sin(), 8.0 * th.cos()]);
+                }
+            }
+        }
+        let (dense, sparse) = fields(&pts, 64, 2.2);
+        let eps = 0.5;
+        for rule in [TagRule::Paper, TagRule::Threshold] {
+            let want = tag(&dense, eps, rule, &NoProgress);
+            let mut field = sparse.clone();
+            let got = sparse_tag(&mut field, eps, rule, &NoProgress);
+            if rule == TagRule::Paper {
+                assert!(field.bricks.slots() > sparse.bricks.slots(), "pockets were activated");
+            }
+            let g = &dense.grid;
+            for u in 0..g.len() {
+                let c = g.coords(u);
+                assert_eq!(got.at(&field.bricks, c), want.exterior[u], "{rule:?}: node {c:?}");
+            }
+            assert_eq!((got.exterior_count, got.refused), (want.exterior_count, want.refused));
+        }
+    }
+
+    #[test]
+    fn spreading_inside_a_brick_is_the_connected_set() {
+        // Open: two slabs joined by one column; the seed in one slab fills both,
+        // not the separate node.
+        let mut open = EMPTY_MASK;
+        for z in [1, 5] {
+            open[z] = u64::MAX;
+        }
+        for z in 2..5 {
+            open[z] |= 1 << local(3, 4, 0);
+        }
+        open[7] = 1;
+        let mut seed = EMPTY_MASK;
+        seed[1] = 1 << local(7, 7, 0);
+        let f = spread(&open, seed);
+        let mut want = open;
+        want[7] = 0;
+        assert_eq!(f, want);
+    }
+}
