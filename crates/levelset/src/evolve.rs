@@ -297,17 +297,32 @@ fn node_crossings(
             if ext[v] {
                 continue;
             }
-            let (du, dv) = (f64::from(d[u]), f64::from(d[v]));
-            let theta = if du >= eps && dv < eps {
-                (du - eps) / (du - dv)
-            } else {
-                0.5
-            };
-            let mut p = grid.position(i, j, k);
-            p[a] += if side { theta } else { -theta } * grid.spacing;
-            out.push(p);
+            out.push(crossing_point(grid, [i, j, k], (a, side), (d[u], d[v]), eps));
         }
     }
+}
+
+/// Where {d = ε} crosses the grid edge from exterior node `c` along `axis`
+/// (upward when `up`) to a non-exterior node: d (`du` at `c`, `dv` at the
+/// other end) interpolated linearly to ε, or the midpoint where it does not
+/// cross ε.
+#[inline]
+pub(crate) fn crossing_point(
+    grid: &GridSpec,
+    c: [usize; 3],
+    (axis, up): (usize, bool),
+    (du, dv): (f32, f32),
+    eps: f64,
+) -> [f64; 3] {
+    let (du, dv) = (f64::from(du), f64::from(dv));
+    let theta = if du >= eps && dv < eps {
+        (du - eps) / (du - dv)
+    } else {
+        0.5
+    };
+    let mut p = grid.position(c[0], c[1], c[2]);
+    p[axis] += if up { theta } else { -theta } * grid.spacing;
+    p
 }
 
 /// Every crossing of the offset surface, plane by plane.

@@ -19,11 +19,14 @@
 //! | [`layout`] | Bricks, slots, node ids |
 //! | [`distance`] | Closest-point distance on the bricks near the points |
 //! | [`tagging`] | Algorithm 1: brick flood fills and the paper rule's descent |
+//! | [`surface`] | The initial level set: signed distance to the tagged front |
 
 pub mod distance;
 pub mod layout;
+pub mod surface;
 pub mod tagging;
 
 pub use distance::{SparseDistance, sparse_distance};
 pub use layout::Bricks;
+pub use surface::{SparseLevelSet, sparse_initial};
 pub use tagging::{SparseTags, sparse_tag};

@@ -67,6 +67,11 @@ impl SparseTags {
         bit(&self.tiles, bi)
     }
 
+    /// The inactive bricks' tags, one bit per brick.
+    pub(crate) fn tiles_bits(&self) -> &[u64] {
+        &self.tiles
+    }
+
     /// Whether node `c` is exterior.
     pub fn at(&self, bricks: &Bricks, c: [usize; 3]) -> bool {
         match bricks.id(c) {

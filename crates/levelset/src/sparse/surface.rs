@@ -1,0 +1,238 @@
+//! The initial level set on bricks: the signed distance to the tagged front,
+//! clamped to ±γ (§5.2: "we recompute the distance function for the tagged
+//! boundary … negating the distance function at all interior cells").
+//!
+//! As in [`crate::evolve::from_tags`]: the front crosses every grid edge from
+//! an exterior node to a non-exterior one, where d − ε changes sign along it
+//! (or at its midpoint where the paper's rule stopped the front farther out),
+//! and |φ| is the closest-point distance to these crossings, up to γ. The
+//! crossings are listed in the dense order (the wavefront breaks ties between
+//! equally near crossings by their index), and their wavefront runs on its own
+//! bricks, those within γ of a crossing; bricks it needs that the distance did
+//! not have are added to the layout. Everywhere else φ is ±γ: per node in the
+//! active bricks, per brick (its tile) in the others.
+
+use asperity_core::Progress;
+use rayon::prelude::*;
+
+use super::distance::{SparseDistance, bricks_for, cell_distance, closest_points};
+use super::layout::{BRICK_NODES, Bricks, NO_SLOT, SIDE};
+use super::tagging::SparseTags;
+use crate::evolve::crossing_point;
+
+/// A level-set function on bricks: φ < 0 inside, |φ| ≤ γ; inactive bricks
+/// read as +γ (exterior) or −γ.
+#[derive(Clone, Debug)]
+pub struct SparseLevelSet {
+    /// The bricks (the same slots as the distance's).
+    pub bricks: Bricks,
+    /// φ per node id.
+    pub phi: Vec<f32>,
+    /// Per brick, whether an inactive brick is exterior.
+    tiles: Vec<u64>,
+    /// The tube half-width γ.
+    pub gamma: f32,
+}
+
+impl SparseLevelSet {
+    /// φ of the inactive brick `bi`.
+    #[inline(always)]
+    pub(crate) fn background(&self, bi: usize) -> f32 {
+        if self.tiles[bi / 64] >> (bi % 64) & 1 == 1 {
+            self.gamma
+        } else {
+            -self.gamma
+        }
+    }
+
+    /// φ at node `c`.
+    pub fn at(&self, c: [usize; 3]) -> f32 {
+        match self.bricks.id(c) {
+            Some(id) => self.phi[id as usize],
+            None => self.background(self.bricks.brick_index(c.map(|x| x / SIDE))),
+        }
+    }
+
+    /// φ on the whole grid, x fastest (for tests and small grids).
+    pub fn to_dense(&self) -> Vec<f32> {
+        let g = &self.bricks.grid;
+        (0..g.len())
+            .into_par_iter()
+            .map(|u| self.at(g.coords(u)))
+            .collect()
+    }
+
+    /// Activates the bricks `new` (sorted), φ = their tiles' ±γ; returns the
+    /// first new slot.
+    pub(crate) fn activate(&mut self, new: &[u32]) -> usize {
+        let first = self.bricks.activate(new);
+        for s in first..self.bricks.slots() {
+            let v = self.background(self.bricks.brick_of(s));
+            self.phi.extend(std::iter::repeat_n(v, BRICK_NODES));
+        }
+        first
+    }
+}
+
+/// The crossings of the tagged front in the dense order: per exterior node,
+/// per axis, the edge down then the edge up.
+fn crossings(dist: &SparseDistance, tags: &SparseTags, eps: f64) -> Vec<[f64; 3]> {
+    let bricks = &dist.bricks;
+    let grid = &bricks.grid;
+    let dims = grid.dims;
+    // From each non-exterior node of an active brick (every non-exterior node
+    // next to an exterior one is active), to its exterior neighbours.
+    let mut keyed: Vec<(u64, [f64; 3])> = (0..bricks.slots())
+        .into_par_iter()
+        .flat_map_iter(|s| {
+            let b = bricks.slot_coords(s);
+            let inside = bricks.in_grid(b);
+            let mut out = Vec::new();
+            for l in 0..BRICK_NODES {
+                let id = (s * BRICK_NODES + l) as u32;
+                if inside[l / 64] >> (l % 64) & 1 == 0 || tags.node(id) {
+                    continue;
+                }
+                let c = [b[0] * SIDE + l % SIDE, b[1] * SIDE + (l / SIDE) % SIDE, b[2] * SIDE + l / 64];
+                for a in 0..3 {
+                    // u below v: the crossing is u's edge up; u above: its edge down.
+                    for up in [true, false] {
+                        let mut cu = c;
+                        if up {
+                            if c[a] == 0 {
+                                continue;
+                            }
+                            cu[a] -= 1;
+                        } else {
+                            if c[a] + 1 >= dims[a] {
+                                continue;
+                            }
+                            cu[a] += 1;
+                        }
+                        let (exterior, du) = match bricks.id(cu) {
+                            Some(u) => (tags.node(u), dist.values[u as usize]),
+                            None => (tags.tile(bricks.brick_index(cu.map(|x| x / SIDE))), dist.cap),
+                        };
+                        if !exterior {
+                            continue;
+                        }
+                        let p = crossing_point(grid, cu, (a, up), (du, dist.values[id as usize]), eps);
+                        let dense = grid.index(cu[0], cu[1], cu[2]) as u64;
+                        out.push((dense * 6 + (2 * a + usize::from(up)) as u64, p));
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    keyed.par_sort_unstable_by_key(|k| k.0);
+    keyed.into_iter().map(|(_, p)| p).collect()
+}
+
+/// The initial level set from the tags on `dist`'s bricks, with offset `eps`
+/// and tube half-width `gamma` (world units). Bricks the front's neighbourhood
+/// needs are activated in `dist` and `tags` too, so the three share slots.
+pub fn sparse_initial(
+    dist: &mut SparseDistance,
+    tags: &mut SparseTags,
+    eps: f64,
+    gamma: f64,
+    progress: &dyn Progress,
+) -> SparseLevelSet {
+    let crossings = crossings(dist, tags, eps);
+    let gamma32 = gamma as f32;
+    let grid = dist.bricks.grid;
+    // Straight from the packed closest points to φ. |φ| is clamped at γ, so
+    // the wavefront stops half a cell beyond it.
+    let cap = gamma + 0.5 * grid.spacing;
+    let near = bricks_for(&grid, &crossings, cap);
+    let missing: Vec<u32> = (0..near.slots())
+        .map(|s| near.brick_of(s) as u32)
+        .filter(|&bi| dist.bricks.slot_of(bi as usize) == NO_SLOT)
+        .collect::<Vec<_>>();
+    let mut sorted = missing;
+    sorted.sort_unstable();
+    let first = dist.bricks.slots();
+    dist.activate(&sorted);
+    tags.extend(&dist.bricks, first);
+    let (cells, _) = if crossings.is_empty() {
+        (Vec::new(), 0)
+    } else {
+        closest_points(&crossings, &near, cap, progress)
+    };
+    let bricks = &dist.bricks;
+    let mut phi = vec![0f32; bricks.nodes()];
+    phi.par_chunks_mut(BRICK_NODES).enumerate().for_each(|(s, out)| {
+        let at = near.slot_of(bricks.brick_of(s));
+        for (l, x) in out.iter_mut().enumerate() {
+            let r = if at == NO_SLOT {
+                gamma32
+            } else {
+                let c = cells[at as usize * BRICK_NODES + l].load(std::sync::atomic::Ordering::Relaxed);
+                cell_distance(c, gamma32)
+            };
+            *x = if tags.node((s * BRICK_NODES + l) as u32) { r } else { -r };
+        }
+    });
+    SparseLevelSet {
+        bricks: bricks.clone(),
+        phi,
+        tiles: tags.tiles_bits().to_vec(),
+        gamma: gamma32,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::distance::{DistanceMethod, unsigned_distance};
+    use crate::evolve::from_tags;
+    use crate::grid::{GridSpec, Sizing};
+    use crate::sparse::{sparse_distance, sparse_tag};
+    use crate::tagging::{TagRule, tag};
+    use asperity_core::{MemoryBudget, NoProgress};
+
+    /// Two lumpy blobs and a thin ring of points.
+    fn shape() -> Vec<[f64; 3]> {
+        let mut pts = Vec::new();
+        for a in 0..70 {
+            for b in 0..140 {
+                let th = std::f64::consts::PI * (a as f64 + 0.5) / 70.0;
+                let ph = std::f64::consts::PI * b as f64 / 70.0;
+                let r = 2.0 + 0.3 * (3.0 * ph).sin() * (2.0 * th).cos();
+                let dir = [th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()];
+                pts.push(dir.map(|x| r * x));
+                pts.push([7.0 + 1.5 * dir[0], 1.0 + 1.5 * dir[1], 1.5 * dir[2]]);
+            }
+        }
+        for t in 0..300 {
+            let ph = 2.0 * std::f64::consts::PI * t as f64 / 300.0;
+            pts.push([3.5 + 5.0 * ph.cos(), 6.0 + 5.0 * ph.sin(), -2.0]);
+        }
+        pts
+    }
+
+    /// φ equals the dense initial level set at every node, for both rules.
+    #[test]
+    fn sparse_initial_surface_equals_the_dense_one() {
+        let pts = shape();
+        for (res, rule) in [(64, TagRule::Paper), (90, TagRule::Threshold), (40, TagRule::Paper)] {
+            let grid = GridSpec::around(&pts, Sizing::Resolution(res), |h| (6.0 * h / h) as usize + 3, &MemoryBudget::unlimited()).unwrap();
+            let h = grid.spacing;
+            let (eps, gamma) = (3.0 * h, 3.0 * h);
+            let cap = eps + gamma + 2.0 * h;
+            let dense_d = unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
+            let dense_tags = tag(&dense_d, eps, rule, &NoProgress);
+            let want = from_tags(&dense_d, &dense_tags, eps, gamma, &NoProgress);
+            let (mut d, _) = sparse_distance(&pts, &grid, cap, &NoProgress);
+            let mut tags = sparse_tag(&mut d, eps, rule, &NoProgress);
+            let got = sparse_initial(&mut d, &mut tags, eps, gamma, &NoProgress);
+            assert!(got.bricks.slots() < got.bricks.brick_count());
+            assert_eq!(got.bricks.slots(), d.bricks.slots());
+            let dense = got.to_dense();
+            for (u, (a, b)) in dense.iter().zip(&want.phi).enumerate() {
+                assert_eq!(a.to_bits(), b.to_bits(), "res {res}: node {:?}: {a} vs {b}", grid.coords(u));
+            }
+        }
+    }
+}
