@@ -35,16 +35,32 @@ pub(crate) fn curvature_and_gradient<P: Phi + ?Sized>(
     strides: [usize; 3],
     h: f64,
 ) -> (f64, f64) {
-    let p = |x: usize| phi.at(x);
+    let at = |o: [isize; 3]| {
+        let offset: isize = (0..3).map(|a| o[a] * strides[a] as isize).sum();
+        phi.at(u.wrapping_add_signed(offset))
+    };
+    curvature_from(at, h)
+}
+
+/// [`curvature_and_gradient`] with φ read by `p(offset)`, the offset in nodes
+/// from the node itself (the sparse layout's reader).
+pub(crate) fn curvature_from(p: impl Fn([isize; 3]) -> f64, h: f64) -> (f64, f64) {
+    let unit = |a: usize, s: isize| {
+        let mut o = [0isize; 3];
+        o[a] = s;
+        o
+    };
+    let sum = |x: [isize; 3], y: [isize; 3]| [x[0] + y[0], x[1] + y[1], x[2] + y[2]];
     let mut g = [0.0; 3];
     let mut hess = [[0.0; 3]; 3];
     for a in 0..3 {
-        let s = strides[a];
-        g[a] = (p(u + s) - p(u - s)) / (2.0 * h);
-        hess[a][a] = (p(u + s) - 2.0 * p(u) + p(u - s)) / (h * h);
+        let (up, down) = (unit(a, 1), unit(a, -1));
+        g[a] = (p(up) - p(down)) / (2.0 * h);
+        hess[a][a] = (p(up) - 2.0 * p([0; 3]) + p(down)) / (h * h);
         for b in (a + 1)..3 {
-            let t = strides[b];
-            let v = (p(u + s + t) - p(u + s - t) - p(u - s + t) + p(u - s - t)) / (4.0 * h * h);
+            let (bu, bd) = (unit(b, 1), unit(b, -1));
+            let v = (p(sum(up, bu)) - p(sum(up, bd)) - p(sum(down, bu)) + p(sum(down, bd)))
+                / (4.0 * h * h);
             hess[a][b] = v;
             hess[b][a] = v;
         }

@@ -400,13 +400,13 @@ pub(crate) fn from_tags_reusing(
 
 /// Nodes evaluated together: eight `f32` lanes (`wide`'s portable vectors: one
 /// AVX register, or two SSE registers on a baseline build).
-const LANES: usize = 8;
+pub(crate) const LANES: usize = 8;
 
 /// `s[at .. at + 8]`. In range for every node the flow loads from: a stencil
 /// reaches two nodes along one axis, so the eight loaded from the last node of T
 /// (two nodes from each face) end well before the grid's last row.
 #[inline(always)]
-fn load<V: Lanes>(s: &[f32], at: usize) -> V {
+pub(crate) fn load<V: Lanes>(s: &[f32], at: usize) -> V {
     let x: [f32; LANES] = s[at..at + LANES].try_into().expect("eight values");
     V::new(x)
 }
@@ -435,7 +435,7 @@ fn first<V: Lanes>(n: usize) -> V {
 
 /// The larger of two values (`a > b ? a : b`, the `maxps` rule).
 #[inline(always)]
-fn hi(a: f32, b: f32) -> f32 {
+pub(crate) fn hi(a: f32, b: f32) -> f32 {
     if a > b { a } else { b }
 }
 
@@ -447,33 +447,77 @@ fn eno_pick<V: Lanes>(a: V, b: V) -> V {
 
 /// Constants of one time step, in the `f32` of the kernels.
 #[derive(Clone, Copy, Debug)]
-struct Step<'a> {
+pub(crate) struct Step<'a> {
     /// The speed field d.
-    d: &'a [f32],
-    dims: [usize; 3],
-    strides: [usize; 3],
-    h: f32,
-    inv_h: f32,
-    beta: f32,
-    gamma: f32,
+    pub(crate) d: &'a [f32],
+    pub(crate) dims: [usize; 3],
+    pub(crate) strides: [usize; 3],
+    pub(crate) h: f32,
+    pub(crate) inv_h: f32,
+    pub(crate) beta: f32,
+    pub(crate) gamma: f32,
     /// 1/(γ − β)³ for the cut-off's cubic.
-    inv_cube: f32,
-    arrest: f32,
-    dt: f32,
-    eno: bool,
+    pub(crate) inv_cube: f32,
+    pub(crate) arrest: f32,
+    pub(crate) dt: f32,
+    pub(crate) eno: bool,
     /// The full grid: the new T keeps every candidate node.
-    keep_all: bool,
+    pub(crate) keep_all: bool,
     /// The curvature weight λ of the regularised flow (world units, f64 as the
     /// scalar curvature stencil).
-    curvature: Option<f64>,
+    pub(crate) curvature: Option<f64>,
     /// Zhao's flow ∇d·∇φ instead of d|∇φ|.
-    zhao: bool,
+    pub(crate) zhao: bool,
+}
+
+impl<'a> Step<'a> {
+    /// The constants of `params` on `grid` with tube half-width `gamma` and
+    /// speed field `d` (Δt still 0).
+    pub(crate) fn new(grid: &GridSpec, gamma: f32, params: &EvolveParams, d: &'a [f32]) -> Self {
+        let h = grid.spacing;
+        let gamma64 = f64::from(gamma);
+        let beta = params.beta.clamp(0.0, gamma64 * 0.999);
+        Step {
+            d,
+            dims: grid.dims,
+            strides: grid.strides(),
+            h: h as f32,
+            inv_h: (1.0 / h) as f32,
+            beta: beta as f32,
+            gamma,
+            inv_cube: (1.0 / (gamma64 - beta).powi(3)) as f32,
+            arrest: params.arrest as f32,
+            dt: 0.0,
+            eno: params.scheme == Scheme::Eno2,
+            keep_all: params.band == Band::Full,
+            curvature: match params.flow {
+                Flow::Convection | Flow::Zhao => None,
+                Flow::Regularized { weight } => Some(weight),
+            },
+            zhao: params.flow == Flow::Zhao,
+        }
+    }
+}
+
+/// The time step for the largest speed `vmax` on a grid of spacing `h`: CFL,
+/// and the curvature term's diffusion limit for the regularised flow.
+pub(crate) fn time_step(params: &EvolveParams, h: f64, vmax: f32) -> f64 {
+    let mut dt = params.cfl * h / f64::from(vmax);
+    match params.flow {
+        Flow::Regularized { weight } => {
+            dt = dt.min(0.9 * h * h / (6.0 * weight.max(1e-300) * f64::from(vmax)));
+        }
+        // |v|₁ = Σ|∂d| ≤ √3 (each difference of the 1-Lipschitz d is at most 1).
+        Flow::Zhao => dt = params.cfl * h / 3f64.sqrt(),
+        Flow::Convection => {}
+    }
+    dt
 }
 
 impl Step<'_> {
     /// The cut-off c(φ) of Eq. 10 at eight nodes.
     #[inline(always)]
-    fn cutoff<V: Lanes>(&self, phi: V) -> V {
+    pub(crate) fn cutoff<V: Lanes>(&self, phi: V) -> V {
         let splat = V::splat;
         let a = phi.abs();
         let t = a - splat(self.gamma);
@@ -490,40 +534,87 @@ impl Step<'_> {
     /// The cut-off c(φ) of Eq. 10 times d at eight nodes, 0 closer than the
     /// arrest distance.
     #[inline(always)]
-    fn speeds<V: Lanes>(&self, phi: V, d: V) -> V {
+    pub(crate) fn speeds<V: Lanes>(&self, phi: V, d: V) -> V {
         let c = self.cutoff(phi);
         d.simd_lt(V::splat(self.arrest))
             .select(V::splat(0.0), c * d)
     }
 }
 
-/// Zhao's rate c(φ) ∇d·∇φ at eight nodes from node `u` (`src[at]`): ∇d by
-/// central differences of the distance (1-Lipschitz, so each component is at
-/// most 1), ∇φ upwinded for the velocity v = −∇d: D⁻ where v points along +x,
-/// D⁺ where it points back.
+/// Eight nodes' values and their neighbours along the axes. The flow's
+/// kernels read φ and d only through this, so that the dense grid's runs and
+/// the sparse bricks ([`crate::sparse::flow`]) share them to the bit.
+pub(crate) trait Stencil<V: Lanes> {
+    /// The eight values.
+    fn centre(&self) -> V;
+    /// The values `k` nodes on along `axis` (|k| ≤ 2).
+    fn along(&self, axis: usize, k: isize) -> V;
+    /// κ and |∇φ| at lane `l` by central differences (Eq. 2).
+    fn curvature(&self, l: usize, h: f64) -> (f64, f64);
+}
+
+/// Eight consecutive nodes from `at` of a dense buffer.
+pub(crate) struct Strided<'a> {
+    /// The buffer.
+    pub src: &'a [f32],
+    /// The first node, as an index into `src`.
+    pub at: usize,
+    /// The grid's strides.
+    pub strides: [usize; 3],
+}
+
+impl<V: Lanes> Stencil<V> for Strided<'_> {
+    #[inline(always)]
+    fn centre(&self) -> V {
+        load(self.src, self.at)
+    }
+
+    #[inline(always)]
+    fn along(&self, axis: usize, k: isize) -> V {
+        load(
+            self.src,
+            self.at.wrapping_add_signed(k * self.strides[axis] as isize),
+        )
+    }
+
+    #[inline(always)]
+    fn curvature(&self, l: usize, h: f64) -> (f64, f64) {
+        crate::curvature::curvature_and_gradient(self.src, self.at + l, self.strides, h)
+    }
+}
+
+/// The bits of the first `n` lanes.
 #[inline(always)]
-fn zhao_rate<V: Lanes>(c: &Step, src: &[f32], at: usize, u: usize, p0: V) -> V {
+pub(crate) fn lane_bits(n: usize) -> u32 {
+    (1 << n) - 1
+}
+
+/// Zhao's rate c(φ) ∇d·∇φ at eight nodes: ∇d by central differences of the
+/// distance (1-Lipschitz, so each component is at most 1), ∇φ upwinded for
+/// the velocity v = −∇d: D⁻ where v points along +x, D⁺ where it points back.
+#[inline(always)]
+fn zhao_rate<V: Lanes>(c: &Step, phi: &impl Stencil<V>, d: &impl Stencil<V>, p0: V) -> V {
     let zero = V::splat(0.0);
     let half_inv_h = V::splat(0.5 * c.inv_h);
     let mut sum = zero;
-    for &s in &c.strides {
-        let (dm, dp) = one_sided(c, src, at, s, p0);
-        let g = (load::<V>(c.d, u + s) - load::<V>(c.d, u - s)) * half_inv_h;
+    for axis in 0..3 {
+        let (dm, dp) = one_sided(c, phi, axis, p0);
+        let g = (d.along(axis, 1) - d.along(axis, -1)) * half_inv_h;
         sum += g * g.simd_lt(zero).select(dm, dp);
     }
     c.cutoff(p0) * sum
 }
 
-/// One-sided differences (D⁻, D⁺) along stride `s` for eight nodes from `at`
-/// (an index into `src`): first order, or second-order ENO (Osher & Shu).
+/// One-sided differences (D⁻, D⁺) along `axis` for eight nodes: first order,
+/// or second-order ENO (Osher & Shu).
 #[inline(always)]
-fn one_sided<V: Lanes>(c: &Step, src: &[f32], at: usize, s: usize, p0: V) -> (V, V) {
-    let (pm, pp) = (load::<V>(src, at - s), load::<V>(src, at + s));
+fn one_sided<V: Lanes>(c: &Step, st: &impl Stencil<V>, axis: usize, p0: V) -> (V, V) {
+    let (pm, pp) = (st.along(axis, -1), st.along(axis, 1));
     let inv_h = V::splat(c.inv_h);
     let mut dm = (p0 - pm) * inv_h;
     let mut dp = (pp - p0) * inv_h;
     if c.eno {
-        let (pmm, ppp) = (load::<V>(src, at - 2 * s), load::<V>(src, at + 2 * s));
+        let (pmm, ppp) = (st.along(axis, -2), st.along(axis, 2));
         let (two, half) = (V::splat(2.0), V::splat(0.5 * c.inv_h));
         let c0 = pp - two * p0 + pm;
         let cm = p0 - two * pm + pmm;
@@ -534,55 +625,53 @@ fn one_sided<V: Lanes>(c: &Step, src: &[f32], at: usize, s: usize, p0: V) -> (V,
     (dm, dp)
 }
 
-/// The flow's rate d·c(φ)|∇φ| (plus the curvature term) at eight nodes from
-/// node `u`, whose φ is `src[u - base]`; |∇φ| upwinded for the inward-moving
-/// front (F < 0): √Σ max(min(D⁻,0)², max(D⁺,0)²). `valid` lanes are real nodes.
+/// The flow's rate d·c(φ)|∇φ| (plus the curvature term) at eight nodes; |∇φ|
+/// upwinded for the inward-moving front (F < 0): √Σ max(min(D⁻,0)²,
+/// max(D⁺,0)²). The curvature term is evaluated on the lanes of `valid`.
 #[inline(always)]
-fn rate<V: Lanes, const ZHAO: bool>(
+pub(crate) fn rate<V: Lanes, const ZHAO: bool>(
     c: &Step,
-    src: &[f32],
-    base: usize,
-    u: usize,
-    valid: usize,
+    phi: &impl Stencil<V>,
+    d: &impl Stencil<V>,
+    valid: u32,
 ) -> V {
-    let at = u - base;
-    let p0 = load::<V>(src, at);
+    let p0 = phi.centre();
     if ZHAO {
-        return zhao_rate(c, src, at, u, p0);
+        return zhao_rate(c, phi, d, p0);
     }
     let zero = V::splat(0.0);
     let mut g2 = zero;
-    for &s in &c.strides {
-        let (dm, dp) = one_sided(c, src, at, s, p0);
+    for axis in 0..3 {
+        let (dm, dp) = one_sided(c, phi, axis, p0);
         let (a, b) = (dm.fast_min(zero), dp.fast_max(zero));
         g2 += (a * a).fast_max(b * b);
     }
-    let speed = c.speeds(p0, load::<V>(c.d, u));
+    let speed = c.speeds(p0, d.centre());
     let out = speed * g2.sqrt();
     let Some(weight) = c.curvature else {
         return out;
     };
     let (speed, mut out) = (speed.to_array(), out.to_array());
     let h = f64::from(c.h);
-    for (l, o) in out.iter_mut().enumerate().take(valid) {
-        if speed[l] != 0.0 {
-            let (kappa, grad) = crate::curvature::curvature_and_gradient(src, at + l, c.strides, h);
+    for (l, o) in out.iter_mut().enumerate() {
+        if valid >> l & 1 == 1 && speed[l] != 0.0 {
+            let (kappa, grad) = phi.curvature(l, h);
             *o += (f64::from(speed[l]) * weight * kappa * grad) as f32;
         }
     }
     V::new(out)
 }
 
-/// One first-order Godunov iteration of Eq. 11 at eight nodes from `at` (an
-/// index into `src`): φ − Δτ S(φ)(|∇φ| − 1), S = φ/√(φ² + |∇φ|²h²), Δτ = 0.3h.
+/// One first-order Godunov iteration of Eq. 11 at eight nodes: φ − Δτ
+/// S(φ)(|∇φ| − 1), S = φ/√(φ² + |∇φ|²h²), Δτ = 0.3h.
 #[inline(always)]
-fn redistanced<V: Lanes>(c: &Step, src: &[f32], at: usize) -> V {
-    let p0 = load::<V>(src, at);
+pub(crate) fn redistanced<V: Lanes>(c: &Step, st: &impl Stencil<V>) -> V {
+    let p0 = st.centre();
     let (zero, inv_h) = (V::splat(0.0), V::splat(c.inv_h));
     let outside = p0.simd_gt(zero);
     let mut g2 = zero;
-    for &s in &c.strides {
-        let (pm, pp) = (load::<V>(src, at - s), load::<V>(src, at + s));
+    for axis in 0..3 {
+        let (pm, pp) = (st.along(axis, -1), st.along(axis, 1));
         let a = (p0 - pm) * inv_h;
         let b = (pp - p0) * inv_h;
         let (a_out, b_out) = (a.fast_max(zero), b.fast_min(zero));
@@ -599,7 +688,7 @@ fn redistanced<V: Lanes>(c: &Step, src: &[f32], at: usize) -> V {
 
 /// One of the two buffers φ lives in during a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Buf {
+pub(crate) enum Buf {
     /// `LevelSet::phi`: φⁿ at the start of a step, φⁿ⁺¹ at its end.
     Phi,
     /// The scratch buffer.
@@ -609,7 +698,7 @@ enum Buf {
 /// One pass of a time step. Each reads one buffer with a stencil and writes a
 /// buffer on its own nodes, plane by plane.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Op {
+pub(crate) enum Op {
     /// Stage 1 of RK2 on T: scratch = φ¹ = φⁿ + Δt L(φⁿ).
     Advance,
     /// Stage 2 on T, in place: φⁿ⁺¹ = ½φⁿ + ½(φ¹ + Δt L(φ¹)); measures the
@@ -629,7 +718,7 @@ enum Op {
 impl Op {
     /// The buffer read with a stencil, the stencil's reach in planes, and the
     /// buffer written.
-    fn access(self) -> (Buf, usize, Buf) {
+    pub(crate) fn access(self) -> (Buf, usize, Buf) {
         match self {
             Op::Advance => (Buf::Phi, 2, Buf::Scratch),
             Op::Finish => (Buf::Scratch, 2, Buf::Phi),
@@ -656,15 +745,15 @@ impl Op {
 /// step (advance, finish, two redistancing iterations, rebuild) gets depths
 /// 2, 4, 6, 7, 8.
 #[derive(Clone, Debug)]
-struct Plan {
-    ops: Vec<Op>,
-    depth: Vec<usize>,
+pub(crate) struct Plan {
+    pub(crate) ops: Vec<Op>,
+    pub(crate) depth: Vec<usize>,
     /// max(depthᵢ + reachᵢ): the planes a seam's passes touch on each side.
-    halo: usize,
+    pub(crate) halo: usize,
 }
 
 impl Plan {
-    fn new(redistance_iterations: usize) -> Self {
+    pub(crate) fn new(redistance_iterations: usize) -> Self {
         let mut ops = vec![Op::Advance, Op::Finish];
         for pass in 0..redistance_iterations {
             ops.push(Op::Redistance {
@@ -720,7 +809,7 @@ struct Swept {
 }
 
 /// Fixed-point front movement: (Σ|Δφ|/h · 2¹⁶, node count).
-type Movement = (u64, u64);
+pub(crate) type Movement = (u64, u64);
 
 /// The planes `first ..` of both buffers.
 struct Region<'a> {
@@ -909,7 +998,17 @@ fn advance<V: Lanes, const ZHAO: bool>(
 ) {
     let dt = V::splat(c.dt);
     for (u, n) in Chunks::new(c, runs, phi, base, 2 * c.strides[2]) {
-        let v = load::<V>(phi, u - base) + dt * rate::<V, ZHAO>(c, phi, base, u, n);
+        let st = Strided {
+            src: phi,
+            at: u - base,
+            strides: c.strides,
+        };
+        let speed = Strided {
+            src: c.d,
+            at: u,
+            strides: c.strides,
+        };
+        let v = load::<V>(phi, u - base) + dt * rate::<V, ZHAO>(c, &st, &speed, lane_bits(n));
         store(stage, u - base, v, n);
     }
 }
@@ -927,7 +1026,17 @@ fn finish<V: Lanes, const ZHAO: bool>(
     let mut moved = (0u64, 0u64);
     for (u, n) in Chunks::new(c, runs, stage, base, 2 * c.strides[2]) {
         let at = u - base;
-        let v = load::<V>(stage, at) + dt * rate::<V, ZHAO>(c, stage, base, u, n);
+        let st = Strided {
+            src: stage,
+            at,
+            strides: c.strides,
+        };
+        let speed = Strided {
+            src: c.d,
+            at: u,
+            strides: c.strides,
+        };
+        let v = load::<V>(stage, at) + dt * rate::<V, ZHAO>(c, &st, &speed, lane_bits(n));
         let old = load::<V>(phi, at);
         let new = V::splat(0.5) * (old + v);
         // Movement within a cell of the front, in fixed point (2⁻¹⁶ cells) so
@@ -953,7 +1062,12 @@ fn redistance<V: Lanes>(
     clamp: bool,
 ) {
     for (u, n) in Chunks::new(c, runs, src, base, c.strides[2]) {
-        let mut v = redistanced::<V>(c, src, u - base);
+        let st = Strided {
+            src,
+            at: u - base,
+            strides: c.strides,
+        };
+        let mut v = redistanced::<V>(c, &st);
         if clamp {
             v = v.fast_max(V::splat(-c.gamma)).fast_min(V::splat(c.gamma));
         }
@@ -1206,7 +1320,7 @@ fn first_tube(c: &Step, phi: &[f32]) -> (RunTube, f32) {
 }
 
 /// The fewest nodes per axis the flow works on.
-const MIN_NODES: usize = 6;
+pub(crate) const MIN_NODES: usize = 6;
 
 /// Evolves `ls` by the flow for `params.iterations` steps with the speed `dist`;
 /// `on_step` sees the level set every `params.snapshot_every` steps. Grids with
@@ -1248,29 +1362,8 @@ fn evolve_in_order(
         };
     }
     let h = grid.spacing;
-    let gamma = f64::from(ls.gamma);
-    let beta = params.beta.clamp(0.0, gamma * 0.999);
     let full = params.band == Band::Full;
-    let d = &dist.values[..];
-    let mut c = Step {
-        d,
-        dims: grid.dims,
-        strides: grid.strides(),
-        h: h as f32,
-        inv_h: (1.0 / h) as f32,
-        beta: beta as f32,
-        gamma: ls.gamma,
-        inv_cube: (1.0 / (gamma - beta).powi(3)) as f32,
-        arrest: params.arrest as f32,
-        dt: 0.0,
-        eno: params.scheme == Scheme::Eno2,
-        keep_all: full,
-        curvature: match params.flow {
-            Flow::Convection | Flow::Zhao => None,
-            Flow::Regularized { weight } => Some(weight),
-        },
-        zhao: params.flow == Flow::Zhao,
-    };
+    let mut c = Step::new(&grid, ls.gamma, params, &dist.values);
     let plan = Plan::new(params.redistance_iterations);
     // φ lives in two buffers during the flow, `ls.phi` (current) and `scratch`,
     // equal outside the tube N between steps. Every pass reads one buffer and
@@ -1296,15 +1389,7 @@ fn evolve_in_order(
             stats.converged = true;
             break;
         }
-        let mut dt = params.cfl * h / f64::from(vmax);
-        match params.flow {
-            Flow::Regularized { weight } => {
-                dt = dt.min(0.9 * h * h / (6.0 * weight.max(1e-300) * f64::from(vmax)));
-            }
-            // |v|₁ = Σ|∂d| ≤ √3 (each difference of the 1-Lipschitz d is at most 1).
-            Flow::Zhao => dt = params.cfl * h / 3f64.sqrt(),
-            Flow::Convection => {}
-        }
+        let dt = time_step(params, h, vmax);
         c.dt = dt as f32;
         let tubes = Tubes { t: &t, n: &n };
         let ((moved, count), new_t, new_vmax) =
@@ -1419,7 +1504,12 @@ mod tests {
             zhao: false,
         };
         let p0 = load::<wide::f32x8>(&phi, 5);
-        let (dm, dp) = one_sided(&c, &phi, 5, 1, p0);
+        let st = Strided {
+            src: &phi,
+            at: 5,
+            strides: c.strides,
+        };
+        let (dm, dp) = one_sided(&c, &st, 0, p0);
         let (dm, dp) = (dm.to_array(), dp.to_array());
         // d/dx x² at x = (5 + l)/2 is 5 + l, in every lane.
         for l in 0..LANES {
@@ -1432,7 +1522,12 @@ mod tests {
             );
         }
         c.eno = false;
-        let (dm, dp) = one_sided(&c, &phi, 5, 1, p0);
+        let st = Strided {
+            src: &phi,
+            at: 5,
+            strides: c.strides,
+        };
+        let (dm, dp) = one_sided(&c, &st, 0, p0);
         let (dm, dp) = (dm.to_array(), dp.to_array());
         assert!((dm[0] - 4.5).abs() < 1e-5 && (dp[0] - 5.5).abs() < 1e-5);
     }

@@ -202,6 +202,24 @@ impl Bricks {
         std::array::from_fn(|z| if z < nz { plane } else { 0 })
     }
 
+    /// The nodes of the brick at `b` at least `margin` nodes from every face
+    /// of the grid.
+    pub(crate) fn within(&self, b: [usize; 3], margin: usize) -> Mask {
+        let span = |a: usize| {
+            let first = b[a] * SIDE;
+            let lo = margin.saturating_sub(first).min(SIDE);
+            let hi = (self.grid.dims[a].saturating_sub(margin)).saturating_sub(first).min(SIDE);
+            (lo, hi.max(lo))
+        };
+        let ((x0, x1), (y0, y1), (z0, z1)) = (span(0), span(1), span(2));
+        let row = ((1u64 << x1) - 1) & !((1u64 << x0) - 1);
+        let mut plane = 0u64;
+        for y in y0..y1 {
+            plane |= row << (SIDE * y);
+        }
+        std::array::from_fn(|z| if (z0..z1).contains(&z) { plane } else { 0 })
+    }
+
     /// The slots of the six face neighbours of slot `s` (−x, +x, −y, +y, −z,
     /// +z), [`NO_SLOT`] where the neighbour is inactive or beyond the grid.
     pub(crate) fn face_slots(&self, s: usize) -> [u32; 6] {
@@ -325,6 +343,17 @@ mod tests {
             .map(|s| count(&b.in_grid(b.slot_coords(s))))
             .sum();
         assert_eq!(inside, g.len());
+    }
+
+    #[test]
+    fn nodes_within_a_margin_of_the_faces() {
+        let g = grid();
+        let b = Bricks::all(&g);
+        for margin in [0, 1, 2, 9] {
+            let got: usize = (0..b.slots()).map(|s| count(&b.within(b.slot_coords(s), margin))).sum();
+            let want = (0..3).map(|a| g.dims[a].saturating_sub(2 * margin)).product::<usize>();
+            assert_eq!(got, want, "margin {margin}");
+        }
     }
 
     /// The activated bricks are exactly those with a node within the radius,

@@ -20,13 +20,16 @@
 //! | [`distance`] | Closest-point distance on the bricks near the points |
 //! | [`tagging`] | Algorithm 1: brick flood fills and the paper rule's descent |
 //! | [`surface`] | The initial level set: signed distance to the tagged front |
+//! | [`flow`] | The narrow-band convection flow, redistancing and clamping |
 
 pub mod distance;
+pub mod flow;
 pub mod layout;
 pub mod surface;
 pub mod tagging;
 
 pub use distance::{SparseDistance, sparse_distance};
+pub use flow::sparse_evolve;
 pub use layout::Bricks;
 pub use surface::{SparseLevelSet, sparse_initial};
 pub use tagging::{SparseTags, sparse_tag};

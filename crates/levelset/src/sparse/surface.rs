@@ -29,7 +29,7 @@ pub struct SparseLevelSet {
     /// φ per node id.
     pub phi: Vec<f32>,
     /// Per brick, whether an inactive brick is exterior.
-    tiles: Vec<u64>,
+    pub(crate) tiles: Vec<u64>,
     /// The tube half-width γ.
     pub gamma: f32,
 }

@@ -1,0 +1,923 @@
+//! The narrow-band convection flow (§5.1–5.2, Eqs. 6, 10–12) on bricks.
+//!
+//! The same step as [`crate::evolve`] — TVD-RK2 advance of φ_t = d|∇φ| on the
+//! tube T, redistancing by Eq. 11 on N, clamping by Eq. 12, the new T from N
+//! — computed by the same lane kernels, so every node gets the same bits as on
+//! the dense grid (tested). What differs is the storage:
+//!
+//! * The tubes are node masks per brick (512 bits, a word per plane), so a
+//!   brick's row of eight nodes is one vector of lanes and the row's bits say
+//!   which lanes are in the tube; N is T grown by one node through the masks
+//!   of the brick and its neighbours.
+//! * A stencil reads its rows along y and z from the brick or its face
+//!   neighbours, and its shifted rows along x from the row and the ends of the
+//!   neighbours' rows. A neighbour without storage reads as its background
+//!   (±γ for φ by its tag, the cap for d).
+//! * When N reaches a brick without storage (the front moves outward, or the
+//!   tube grows into a brick the distance did not need) the brick is added to
+//!   the layout first, at its background.
+//! * Each pass runs over the bricks in parallel, from one buffer into the
+//!   other (Jacobi), one pass after the other: the order of the dense module's
+//!   reference schedule, which its fused sweep reproduces bit for bit.
+
+use asperity_core::Progress;
+use rayon::prelude::*;
+
+use super::distance::SparseDistance;
+use super::layout::{
+    BRICK_NODES, Bricks, EMPTY_MASK, Mask, NO_SLOT, SIDE, X_HIGH, X_LOW, Y_HIGH, Y_LOW, count,
+    is_empty,
+};
+use super::surface::SparseLevelSet;
+use crate::evolve::{
+    Band, Buf, EvolveParams, EvolveStats, LANES, MIN_NODES, Movement, Neighbourhood, Op, Plan,
+    Stencil, Step, StepStats, hi, load, rate, redistanced, time_step,
+};
+use crate::lanes::{Kernel, Lanes, dispatch};
+
+/// A brick's neighbours for the stencils: the slots of its six face
+/// neighbours (−x, +x, −y, +y, −z, +z; [`NO_SLOT`] without storage) and φ
+/// there when they have none.
+#[derive(Clone, Copy, Debug)]
+struct Around {
+    slots: [u32; 6],
+    phi: [f32; 6],
+}
+
+fn arounds(ls: &SparseLevelSet) -> Vec<Around> {
+    let b = &ls.bricks;
+    (0..b.slots())
+        .into_par_iter()
+        .map(|s| {
+            let slots = b.face_slots(s);
+            let c = b.slot_coords(s);
+            let phi = std::array::from_fn(|f| {
+                let (axis, up) = (f / 2, f % 2 == 1);
+                let mut n = c;
+                if up {
+                    n[axis] += 1;
+                } else if n[axis] > 0 {
+                    n[axis] -= 1;
+                }
+                if n[axis] < b.bdims[axis] {
+                    ls.background(b.brick_index(n))
+                } else {
+                    ls.gamma
+                }
+            });
+            Around { slots, phi }
+        })
+        .collect()
+}
+
+/// One row of eight nodes of a brick, as a [`Stencil`] on one buffer.
+struct Row<'a> {
+    field: &'a [f32],
+    s: usize,
+    around: &'a Around,
+    /// The buffer's value where a neighbour has no storage: per face.
+    background: [f32; 6],
+    y: usize,
+    z: usize,
+    /// For the curvature term: reads any node.
+    reader: &'a Reader<'a>,
+}
+
+impl Row<'_> {
+    /// The row (y, z) of this brick, or of a face neighbour when y or z lies
+    /// outside 0..8 (by at most 8, along one axis).
+    #[inline(always)]
+    fn row<V: Lanes>(&self, y: isize, z: isize) -> V {
+        let side = SIDE as isize;
+        let (face, y, z) = if y < 0 {
+            (2, y + side, z)
+        } else if y >= side {
+            (3, y - side, z)
+        } else if z < 0 {
+            (4, y, z + side)
+        } else if z >= side {
+            (5, y, z - side)
+        } else {
+            return load(self.field, self.s * BRICK_NODES + SIDE * (y as usize + SIDE * z as usize));
+        };
+        let slot = self.around.slots[face];
+        if slot == NO_SLOT {
+            V::splat(self.background[face])
+        } else {
+            load(self.field, slot as usize * BRICK_NODES + SIDE * (y as usize + SIDE * z as usize))
+        }
+    }
+
+    /// The row's eight values shifted by `k` nodes along x (|k| ≤ 2), the
+    /// ends from the x neighbours.
+    #[inline(always)]
+    fn shifted_x<V: Lanes>(&self, k: isize) -> V {
+        let start = SIDE * (self.y + SIDE * self.z);
+        let own = &self.field[self.s * BRICK_NODES + start..][..SIDE];
+        let mut v = [0f32; LANES];
+        let n = k.unsigned_abs();
+        let face = if k < 0 { 0 } else { 1 };
+        let slot = self.around.slots[face];
+        let other: [f32; SIDE] = if slot == NO_SLOT {
+            [self.background[face]; SIDE]
+        } else {
+            self.field[slot as usize * BRICK_NODES + start..][..SIDE]
+                .try_into()
+                .expect("a row")
+        };
+        if k > 0 {
+            v[..SIDE - n].copy_from_slice(&own[n..]);
+            v[SIDE - n..].copy_from_slice(&other[..n]);
+        } else {
+            v[n..].copy_from_slice(&own[..SIDE - n]);
+            v[..n].copy_from_slice(&other[SIDE - n..]);
+        }
+        V::new(v)
+    }
+}
+
+impl<V: Lanes> Stencil<V> for Row<'_> {
+    #[inline(always)]
+    fn centre(&self) -> V {
+        self.row(self.y as isize, self.z as isize)
+    }
+
+    #[inline(always)]
+    fn along(&self, axis: usize, k: isize) -> V {
+        match axis {
+            0 => self.shifted_x(k),
+            1 => self.row(self.y as isize + k, self.z as isize),
+            _ => self.row(self.y as isize, self.z as isize + k),
+        }
+    }
+
+    fn curvature(&self, l: usize, h: f64) -> (f64, f64) {
+        let b = self.reader.bricks.slot_coords(self.s);
+        let c = [b[0] * SIDE + l, b[1] * SIDE + self.y, b[2] * SIDE + self.z];
+        crate::curvature::curvature_from(
+            |o| {
+                let at = std::array::from_fn(|a| c[a].wrapping_add_signed(o[a]));
+                f64::from(self.reader.at(self.field, at))
+            },
+            h,
+        )
+    }
+}
+
+/// Reads any node of a φ buffer (the curvature term's diagonal stencil).
+struct Reader<'a> {
+    bricks: &'a Bricks,
+    ls: &'a SparseLevelSet,
+}
+
+impl Reader<'_> {
+    fn at(&self, field: &[f32], c: [usize; 3]) -> f32 {
+        match self.bricks.id(c) {
+            Some(id) => field[id as usize],
+            None => self.ls.background(self.bricks.brick_index(c.map(|x| x / SIDE))),
+        }
+    }
+}
+
+/// The lanes of `bits` as a mask.
+#[inline(always)]
+fn lane_mask<V: Lanes>(bits: u32) -> V {
+    V::new(std::array::from_fn(|l| (bits >> l & 1) as f32)).simd_gt(V::splat(0.5))
+}
+
+/// Writes the lanes of `mask` of `v` at `dst[at..at + 8]`.
+#[inline(always)]
+fn store_masked<V: Lanes>(dst: &mut [f32], at: usize, mask: V, v: V) {
+    let out: &mut [f32; LANES] = (&mut dst[at..at + LANES]).try_into().expect("eight");
+    *out = mask.select(v, V::new(*out)).to_array();
+}
+
+/// The rows of a mask with nodes: (row y + 8z, its eight bits).
+#[inline(always)]
+fn rows(m: &Mask) -> impl Iterator<Item = (usize, u32)> + '_ {
+    (0..SIDE).flat_map(move |z| {
+        let w = m[z];
+        (0..SIDE).filter_map(move |y| {
+            let bits = (w >> (SIDE * y)) as u32 & 0xFF;
+            (bits != 0).then_some((y + SIDE * z, bits))
+        })
+    })
+}
+
+/// What a pass needs besides its buffers.
+struct Ctx<'a> {
+    c: Step<'a>,
+    arounds: Vec<Around>,
+    t: &'a [Mask],
+    n: &'a [Mask],
+    /// Nodes that fit the ENO stencil (two nodes from every face), per slot.
+    fits: &'a [Mask],
+    cap: f32,
+    reader: Reader<'a>,
+}
+
+impl<'a> Ctx<'a> {
+    /// Row `r` of slot `s` of a φ buffer.
+    #[inline(always)]
+    fn phi_row(&'a self, field: &'a [f32], s: usize, r: usize) -> Row<'a> {
+        let around = &self.arounds[s];
+        Row {
+            field,
+            s,
+            around,
+            background: around.phi,
+            y: r % SIDE,
+            z: r / SIDE,
+            reader: &self.reader,
+        }
+    }
+
+    /// Row `r` of slot `s` of the distance.
+    #[inline(always)]
+    fn d_row(&'a self, s: usize, r: usize) -> Row<'a> {
+        Row {
+            field: self.c.d,
+            s,
+            around: &self.arounds[s],
+            background: [self.cap; 6],
+            y: r % SIDE,
+            z: r / SIDE,
+            reader: &self.reader,
+        }
+    }
+}
+
+/// What one brick's pass gives back.
+enum Out {
+    Nothing,
+    Moved(Movement),
+    Rebuilt(Mask, f32),
+}
+
+/// One pass on one brick, as a [`Kernel`]: `dst` is the brick's slice of the
+/// buffer written, `src` the whole buffer read.
+struct Brick<'a> {
+    ctx: &'a Ctx<'a>,
+    op: Op,
+    s: usize,
+    src: &'a [f32],
+    dst: &'a mut [f32],
+}
+
+impl Kernel for Brick<'_> {
+    type Output = Out;
+
+    #[inline(always)]
+    fn run<V: Lanes>(self) -> Out {
+        let Brick {
+            ctx,
+            op,
+            s,
+            src,
+            dst,
+        } = self;
+        let c = &ctx.c;
+        match op {
+            Op::Advance => {
+                for (r, bits) in rows(&ctx.t[s]) {
+                    let st = ctx.phi_row(src, s, r);
+                    let d = ctx.d_row(s, r);
+                    let v = if c.zhao {
+                        rate::<V, true>(c, &st, &d, bits)
+                    } else {
+                        rate::<V, false>(c, &st, &d, bits)
+                    };
+                    let v = Stencil::<V>::centre(&st) + V::splat(c.dt) * v;
+                    store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                }
+                Out::Nothing
+            }
+            Op::Finish => {
+                let mut moved = (0u64, 0u64);
+                for (r, bits) in rows(&ctx.t[s]) {
+                    let st = ctx.phi_row(src, s, r);
+                    let d = ctx.d_row(s, r);
+                    let l = if c.zhao {
+                        rate::<V, true>(c, &st, &d, bits)
+                    } else {
+                        rate::<V, false>(c, &st, &d, bits)
+                    };
+                    let v = Stencil::<V>::centre(&st) + V::splat(c.dt) * l;
+                    let old = load::<V>(dst, r * SIDE);
+                    let new = V::splat(0.5) * (old + v);
+                    let valid = lane_mask::<V>(bits);
+                    let near = old.abs().simd_lt(V::splat(c.h)) & valid;
+                    let m = ((new - old).abs() * V::splat(c.inv_h)).fast_min(V::splat(1e3));
+                    let fixed = near.select(m * V::splat(65536.0), V::splat(0.0));
+                    moved.0 += fixed.trunc_sum();
+                    moved.1 += u64::from(near.to_bitmask().count_ones());
+                    store_masked(dst, r * SIDE, valid, new);
+                }
+                Out::Moved(moved)
+            }
+            Op::Redistance { clamp, .. } => {
+                for (r, bits) in rows(&ctx.n[s]) {
+                    let st = ctx.phi_row(src, s, r);
+                    let mut v = redistanced::<V>(c, &st);
+                    if clamp {
+                        v = v.fast_max(V::splat(-c.gamma)).fast_min(V::splat(c.gamma));
+                    }
+                    store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                }
+                Out::Nothing
+            }
+            Op::CopyBack => {
+                for (r, bits) in rows(&ctx.n[s]) {
+                    let v = load::<V>(src, s * BRICK_NODES + r * SIDE);
+                    store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                }
+                Out::Nothing
+            }
+            Op::Clamp => {
+                for (r, bits) in rows(&ctx.n[s]) {
+                    let v = load::<V>(dst, r * SIDE);
+                    let v = v.fast_max(V::splat(-c.gamma)).fast_min(V::splat(c.gamma));
+                    store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                }
+                Out::Nothing
+            }
+            Op::Rebuild => {
+                let (t, vmax) = rebuild::<V>(ctx, s, src, Some(dst), &ctx.n[s]);
+                Out::Rebuilt(t, vmax)
+            }
+        }
+    }
+}
+
+/// The new T of slot `s`: the nodes of `candidates` that fit the ENO stencil
+/// with |φ| < γ (all of them on the full grid), and the largest speed there;
+/// `scratch` (the brick's slice) = φ on the candidates when given.
+#[inline(always)]
+fn rebuild<V: Lanes>(
+    ctx: &Ctx,
+    s: usize,
+    phi: &[f32],
+    mut scratch: Option<&mut [f32]>,
+    candidates: &Mask,
+) -> (Mask, f32) {
+    let c = &ctx.c;
+    let fits = &ctx.fits[s];
+    let mut t = EMPTY_MASK;
+    let mut vmax = V::splat(0.0);
+    for (r, bits) in rows(candidates) {
+        let p = load::<V>(phi, s * BRICK_NODES + r * SIDE);
+        if let Some(dst) = scratch.as_deref_mut() {
+            store_masked(dst, r * SIDE, lane_mask::<V>(bits), p);
+        }
+        let (y, z) = (r % SIDE, r / SIDE);
+        let fit = (fits[z] >> (SIDE * y)) as u32 & bits;
+        if fit == 0 {
+            continue;
+        }
+        let mut keep = lane_mask::<V>(fit);
+        if !c.keep_all {
+            keep = p.abs().simd_lt(V::splat(c.gamma)) & keep;
+        }
+        let kept = keep.to_bitmask();
+        if kept != 0 {
+            let d = load::<V>(c.d, s * BRICK_NODES + r * SIDE);
+            vmax = vmax.fast_max(keep.select(c.speeds(p, d), V::splat(0.0)));
+            t[z] |= u64::from(kept) << (SIDE * y);
+        }
+    }
+    (t, vmax.to_array().into_iter().fold(0.0, hi))
+}
+
+/// The first T from every node that fits the ENO stencil.
+fn first_tube(ctx: &Ctx, phi: &[f32]) -> (Vec<Mask>, f32) {
+    struct First<'a> {
+        ctx: &'a Ctx<'a>,
+        s: usize,
+        phi: &'a [f32],
+    }
+    impl Kernel for First<'_> {
+        type Output = (Mask, f32);
+        #[inline(always)]
+        fn run<V: Lanes>(self) -> (Mask, f32) {
+            let all = self.ctx.fits[self.s];
+            rebuild::<V>(self.ctx, self.s, self.phi, None, &all)
+        }
+    }
+    let (t, v): (Vec<Mask>, Vec<f32>) = (0..ctx.fits.len())
+        .into_par_iter()
+        .map(|s| dispatch(First { ctx, s, phi }))
+        .unzip();
+    (t, v.into_iter().fold(0.0, hi))
+}
+
+/// The 27 regions of a brick by which side of it a neighbour lies on: for
+/// offset (dx, dy, dz) ∈ {−1, 0, 1}³ (index dx+1 + 3(dy+1) + 9(dz+1)), the
+/// nodes whose growth by one node reaches that neighbour.
+fn regions() -> [Mask; 27] {
+    std::array::from_fn(|i| {
+        let o = [i % 3, (i / 3) % 3, i / 9];
+        let side = |o: usize, x: usize| match o {
+            0 => x == 0,
+            2 => x == SIDE - 1,
+            _ => true,
+        };
+        let mut m = EMPTY_MASK;
+        for (z, w) in m.iter_mut().enumerate() {
+            for y in 0..SIDE {
+                for x in 0..SIDE {
+                    if side(o[0], x) && side(o[1], y) && side(o[2], z) {
+                        *w |= 1 << (x + SIDE * y);
+                    }
+                }
+            }
+        }
+        m
+    })
+}
+
+/// The bricks without storage that T grown by `shape` reaches, sorted.
+fn reached(bricks: &Bricks, t: &[Mask], shape: Neighbourhood) -> Vec<u32> {
+    let regions = regions();
+    let mut out: Vec<u32> = (0..bricks.slots())
+        .into_par_iter()
+        .flat_map_iter(|s| {
+            let m = &t[s];
+            let mut found = Vec::new();
+            if is_empty(m) {
+                return found;
+            }
+            let b = bricks.slot_coords(s);
+            for (i, region) in regions.iter().enumerate() {
+                let o = [i % 3, (i / 3) % 3, i / 9];
+                let off_axes = o.iter().filter(|&&x| x != 1).count();
+                if off_axes == 0 || (shape == Neighbourhood::Axes && off_axes > 1) {
+                    continue;
+                }
+                if (0..SIDE).all(|z| m[z] & region[z] == 0) {
+                    continue;
+                }
+                let n: Option<[usize; 3]> = (0..3)
+                    .map(|a| (b[a] + o[a]).checked_sub(1).filter(|&x| x < bricks.bdims[a]))
+                    .collect::<Option<Vec<_>>>()
+                    .map(|v| [v[0], v[1], v[2]]);
+                if let Some(n) = n {
+                    let bi = bricks.brick_index(n);
+                    if bricks.slot_of(bi) == NO_SLOT {
+                        found.push(bi as u32);
+                    }
+                }
+            }
+            found
+        })
+        .collect();
+    out.par_sort_unstable();
+    out.dedup();
+    out
+}
+
+/// `m` grown by one node along `axis` within the brick, plus what the
+/// neighbours below (`lo`) and above (`hi`) grow into it.
+fn grow_along(axis: usize, m: &Mask, lo: Option<&Mask>, hi: Option<&Mask>) -> Mask {
+    let mut out = *m;
+    match axis {
+        0 => {
+            for z in 0..SIDE {
+                let w = m[z];
+                out[z] |= ((w << 1) & !X_LOW) | ((w >> 1) & !X_HIGH);
+                if let Some(lo) = lo {
+                    out[z] |= (lo[z] & X_HIGH) >> (SIDE - 1);
+                }
+                if let Some(hi) = hi {
+                    out[z] |= (hi[z] & X_LOW) << (SIDE - 1);
+                }
+            }
+        }
+        1 => {
+            for z in 0..SIDE {
+                let w = m[z];
+                out[z] |= (w << SIDE) | (w >> SIDE);
+                if let Some(lo) = lo {
+                    out[z] |= (lo[z] & Y_HIGH) >> (SIDE * (SIDE - 1));
+                }
+                if let Some(hi) = hi {
+                    out[z] |= (hi[z] & Y_LOW) << (SIDE * (SIDE - 1));
+                }
+            }
+        }
+        _ => {
+            for z in 0..SIDE {
+                if z > 0 {
+                    out[z] |= m[z - 1];
+                }
+                if z + 1 < SIDE {
+                    out[z] |= m[z + 1];
+                }
+            }
+            if let Some(lo) = lo {
+                out[0] |= lo[SIDE - 1];
+            }
+            if let Some(hi) = hi {
+                out[SIDE - 1] |= hi[0];
+            }
+        }
+    }
+    out
+}
+
+/// `t` grown by one node along `axis` through the bricks.
+fn grow_axis(bricks: &Bricks, t: &[Mask], axis: usize) -> Vec<Mask> {
+    (0..bricks.slots())
+        .into_par_iter()
+        .map(|s| {
+            let f = bricks.face_slots(s);
+            let get = |slot: u32| (slot != NO_SLOT).then(|| &t[slot as usize]);
+            grow_along(axis, &t[s], get(f[2 * axis]), get(f[2 * axis + 1]))
+        })
+        .collect()
+}
+
+/// N: T grown by one node along each axis, or by the 3 × 3 × 3 block.
+fn grow(bricks: &Bricks, t: &[Mask], shape: Neighbourhood) -> Vec<Mask> {
+    match shape {
+        Neighbourhood::Axes => {
+            let [x, y, z] = [0, 1, 2].map(|a| grow_axis(bricks, t, a));
+            (0..t.len())
+                .map(|s| std::array::from_fn(|w| x[s][w] | y[s][w] | z[s][w]))
+                .collect()
+        }
+        Neighbourhood::Cube => {
+            let x = grow_axis(bricks, t, 0);
+            let xy = grow_axis(bricks, &x, 1);
+            grow_axis(bricks, &xy, 2)
+        }
+    }
+}
+
+/// Adds `new` bricks (sorted) to the level set, the distance and the
+/// scratch buffer, at their backgrounds.
+fn activate(ls: &mut SparseLevelSet, dist: &mut SparseDistance, scratch: &mut Vec<f32>, new: &[u32]) {
+    if new.is_empty() {
+        return;
+    }
+    let first = ls.activate(new);
+    dist.activate(new);
+    scratch.extend_from_slice(&ls.phi[first * BRICK_NODES..]);
+}
+
+/// One pass over every brick; the movement (Finish) or the new T (Rebuild).
+fn pass(ctx: &Ctx, op: Op, phi: &mut [f32], scratch: &mut [f32]) -> (Movement, Option<(Vec<Mask>, f32)>) {
+    let (src_buf, _, dst_buf) = op.access();
+    let (src, dst): (&[f32], &mut [f32]) = match (src_buf, dst_buf) {
+        (Buf::Phi, Buf::Scratch) => (phi, scratch),
+        (Buf::Scratch, Buf::Phi) => (scratch, phi),
+        // Clamp: in place.
+        _ => (&[], phi),
+    };
+    let outs: Vec<Out> = dst
+        .par_chunks_mut(BRICK_NODES)
+        .enumerate()
+        .map(|(s, dst)| {
+            let mask = if matches!(op, Op::Advance | Op::Finish) {
+                &ctx.t[s]
+            } else {
+                &ctx.n[s]
+            };
+            if is_empty(mask) {
+                return if op == Op::Rebuild {
+                    Out::Rebuilt(EMPTY_MASK, 0.0)
+                } else {
+                    Out::Nothing
+                };
+            }
+            dispatch(Brick {
+                ctx,
+                op,
+                s,
+                src,
+                dst,
+            })
+        })
+        .collect();
+    let mut moved = (0, 0);
+    let mut rebuilt = None;
+    if op == Op::Rebuild {
+        let mut vmax = 0.0;
+        let t = outs
+            .into_iter()
+            .map(|o| match o {
+                Out::Rebuilt(t, v) => {
+                    vmax = hi(vmax, v);
+                    t
+                }
+                _ => EMPTY_MASK,
+            })
+            .collect();
+        rebuilt = Some((t, vmax));
+    } else {
+        for o in outs {
+            if let Out::Moved(m) = o {
+                moved = (moved.0 + m.0, moved.1 + m.1);
+            }
+        }
+    }
+    (moved, rebuilt)
+}
+
+/// Evolves `ls` by the flow for `params.iterations` steps with the speed
+/// `dist` (which shares its bricks, and gains the bricks the tube reaches);
+/// `on_step` sees the level set every `params.snapshot_every` steps. The same
+/// result as [`crate::evolve`] on the dense grid.
+pub fn sparse_evolve(
+    ls: &mut SparseLevelSet,
+    dist: &mut SparseDistance,
+    params: &EvolveParams,
+    progress: &dyn Progress,
+    on_step: &mut dyn FnMut(&StepStats, &SparseLevelSet),
+) -> EvolveStats {
+    let grid = ls.bricks.grid;
+    if grid.dims.iter().any(|&n| n < MIN_NODES) {
+        return EvolveStats {
+            steps: Vec::new(),
+            converged: true,
+        };
+    }
+    assert_eq!(ls.bricks.slots(), dist.bricks.slots(), "φ and d share their bricks");
+    let full = params.band == Band::Full;
+    let mut scratch = ls.phi.clone();
+    if full {
+        let all: Vec<u32> = (0..ls.bricks.brick_count() as u32).collect();
+        activate(ls, dist, &mut scratch, &all);
+    }
+    let plan = Plan::new(params.redistance_iterations);
+    let h = grid.spacing;
+    let fits_of = |b: &Bricks| -> Vec<Mask> {
+        (0..b.slots())
+            .into_par_iter()
+            .map(|s| b.within(b.slot_coords(s), 2))
+            .collect()
+    };
+    let mut fits = fits_of(&ls.bricks);
+    let (mut t, mut vmax) = {
+        let ctx = context(ls, dist, (&[], &[], &fits), params, 0.0);
+        first_tube(&ctx, &ls.phi)
+    };
+    let shape = if full { None } else { Some(params.neighbourhood) };
+    let mut n = tube_n(ls, dist, &mut scratch, &mut t, &mut fits, shape);
+    progress.start(params.iterations as u64, "convection flow");
+    let mut stats = EvolveStats {
+        steps: Vec::new(),
+        converged: false,
+    };
+    for step in 1..=params.iterations {
+        if vmax <= 0.0 || t.iter().all(|m| is_empty(m)) {
+            stats.converged = true;
+            break;
+        }
+        let dt = time_step(params, h, vmax);
+        let tube = t.iter().map(count).sum();
+        let mut moved = (0, 0);
+        let mut next = None;
+        {
+            let mut phi = std::mem::take(&mut ls.phi);
+            let ctx = context(ls, dist, (&t, &n, &fits), params, dt);
+            for &op in &plan.ops {
+                let (m, r) = pass(&ctx, op, &mut phi, &mut scratch);
+                moved = (moved.0 + m.0, moved.1 + m.1);
+                if r.is_some() {
+                    next = r;
+                }
+            }
+            drop(ctx);
+            ls.phi = phi;
+        }
+        let (new_t, new_vmax) = next.expect("every step rebuilds T");
+        let front_movement = if moved.1 > 0 {
+            moved.0 as f64 / 65536.0 / moved.1 as f64
+        } else {
+            0.0
+        };
+        let s = StepStats {
+            step,
+            dt,
+            front_movement,
+            tube,
+        };
+        stats.steps.push(s);
+        (t, vmax) = (new_t, new_vmax);
+        n = tube_n(ls, dist, &mut scratch, &mut t, &mut fits, shape);
+        if params
+            .snapshot_every
+            .is_some_and(|k| k > 0 && step.is_multiple_of(k))
+        {
+            on_step(&s, ls);
+        }
+        progress.advance(1);
+        if params.tolerance.is_some_and(|tol| front_movement < tol) {
+            stats.converged = true;
+            break;
+        }
+    }
+    progress.finish();
+    stats
+}
+
+/// N for T, after adding the bricks it reaches (T and the stencil masks grow
+/// with the slots; `shape` `None` is the full grid, N = T).
+fn tube_n(
+    ls: &mut SparseLevelSet,
+    dist: &mut SparseDistance,
+    scratch: &mut Vec<f32>,
+    t: &mut Vec<Mask>,
+    fits: &mut Vec<Mask>,
+    shape: Option<Neighbourhood>,
+) -> Vec<Mask> {
+    let Some(shape) = shape else {
+        return t.clone();
+    };
+    let new = reached(&ls.bricks, t, shape);
+    if !new.is_empty() {
+        activate(ls, dist, scratch, &new);
+        t.resize(ls.bricks.slots(), EMPTY_MASK);
+        let b = &ls.bricks;
+        fits.extend((fits.len()..b.slots()).map(|s| b.within(b.slot_coords(s), 2)));
+    }
+    grow(&ls.bricks, t, shape)
+}
+
+/// The constants and masks of a step with time step `dt`.
+fn context<'a>(
+    ls: &'a SparseLevelSet,
+    dist: &'a SparseDistance,
+    (t, n, fits): (&'a [Mask], &'a [Mask], &'a [Mask]),
+    params: &EvolveParams,
+    dt: f64,
+) -> Ctx<'a> {
+    let mut c = Step::new(&ls.bricks.grid, ls.gamma, params, &dist.values);
+    c.dt = dt as f32;
+    Ctx {
+        c,
+        // Rebuilt per step: bricks may have been added.
+        arounds: arounds(ls),
+        t,
+        n,
+        fits,
+        cap: dist.cap,
+        reader: Reader {
+            bricks: &ls.bricks,
+            ls,
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::distance::{DistanceMethod, unsigned_distance};
+    use crate::evolve::{Flow, Scheme, evolve, from_tags};
+    use crate::grid::{GridSpec, Sizing};
+    use crate::sparse::{sparse_distance, sparse_initial, sparse_tag};
+    use crate::tagging::{TagRule, tag};
+    use asperity_core::{MemoryBudget, NoProgress};
+
+    /// A rough blob with a dent and a loose cluster of points.
+    fn shape() -> Vec<[f64; 3]> {
+        let mut pts = Vec::new();
+        for a in 0..60 {
+            for b in 0..120 {
+                let th = std::f64::consts::PI * (a as f64 + 0.5) / 60.0;
+                let ph = std::f64::consts::PI * b as f64 / 60.0;
+                let r = 2.5 + 0.4 * (5.0 * ph).sin() * (3.0 * th).sin() - if th < 0.6 { 0.8 } else { 0.0 };
+                pts.push([r * th.sin() * ph.cos(), r * th.sin() * ph.sin(), r * th.cos()]);
+            }
+        }
+        for i in 0..40 {
+            let t = i as f64 * 0.37;
+            pts.push([5.0 + 0.6 * t.sin(), 3.0 + 0.5 * (2.0 * t).cos(), -1.0 + 0.02 * i as f64]);
+        }
+        pts
+    }
+
+    /// The flow's φ and its per-step statistics equal the dense flow's, bit
+    /// for bit, for each flow, scheme, redistancing count, neighbourhood and
+    /// band.
+    #[test]
+    fn sparse_flow_equals_the_dense_flow() {
+        let pts = shape();
+        let grid = GridSpec::around(&pts, Sizing::Resolution(56), |_| 12, &MemoryBudget::unlimited()).unwrap();
+        let h = grid.spacing;
+        let (eps, gamma) = (3.0 * h, 3.0 * h);
+        let cap = eps + gamma + 2.0 * h;
+        let dense_d = unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
+        let dense_tags = tag(&dense_d, eps, TagRule::Paper, &NoProgress);
+        let start = from_tags(&dense_d, &dense_tags, eps, gamma, &NoProgress);
+        let (mut d0, _) = sparse_distance(&pts, &grid, cap, &NoProgress);
+        let mut tags = sparse_tag(&mut d0, eps, TagRule::Paper, &NoProgress);
+        let ls0 = sparse_initial(&mut d0, &mut tags, eps, gamma, &NoProgress);
+        let base = EvolveParams {
+            iterations: 12,
+            arrest: 0.6 * h,
+            ..EvolveParams::paper(h)
+        };
+        let cases = [
+            EvolveParams { neighbourhood: Neighbourhood::Axes, ..base },
+            base,
+            EvolveParams { scheme: Scheme::Upwind, redistance_iterations: 1, neighbourhood: Neighbourhood::Axes, ..base },
+            EvolveParams { redistance_iterations: 0, ..base },
+            EvolveParams { redistance_iterations: 3, flow: Flow::Zhao, ..base },
+            EvolveParams { flow: Flow::Regularized { weight: 0.5 * h }, iterations: 4, ..base },
+            EvolveParams { band: Band::Full, iterations: 3, ..base },
+            EvolveParams { iterations: 40, arrest: 0.0, neighbourhood: Neighbourhood::Axes, ..base },
+        ];
+        let mut grown = 0;
+        for (i, params) in cases.iter().enumerate() {
+            let mut want = start.clone();
+            let mut shots_dense = Vec::new();
+            let p = EvolveParams { snapshot_every: Some(5), ..*params };
+            let want_stats = evolve(&mut want, &dense_d, &p, &NoProgress, &mut |s, l| shots_dense.push((s.step, l.phi.clone())));
+            let (mut ls, mut d) = (ls0.clone(), d0.clone());
+            let mut shots = Vec::new();
+            let got_stats = sparse_evolve(&mut ls, &mut d, &p, &NoProgress, &mut |s, l| shots.push((s.step, l.to_dense())));
+            assert_eq!(got_stats, want_stats, "case {i}");
+            let got = ls.to_dense();
+            for (u, (a, b)) in got.iter().zip(&want.phi).enumerate() {
+                assert_eq!(a.to_bits(), b.to_bits(), "case {i}: node {:?}: {a} vs {b}", grid.coords(u));
+            }
+            assert_eq!(shots, shots_dense, "case {i}: snapshots");
+            assert_eq!(ls.bricks.slots(), d.bricks.slots());
+            let changed = want.phi.iter().zip(&start.phi).filter(|(a, b)| a != b).count();
+            assert!(changed > 1000, "case {i}: the flow moved φ at {changed} nodes");
+            grown += usize::from(ls.bricks.slots() > ls0.bricks.slots());
+            eprintln!("case {i}: {changed} nodes changed, bricks {} -> {}, steps {}", ls0.bricks.slots(), ls.bricks.slots(), got_stats.steps.len());
+        }
+        assert!(grown >= 1, "the tube reached bricks the distance did not have");
+    }
+
+    /// A front far from the data (where d is the cap) moving inward through
+    /// bricks the distance never had: each step adds the bricks the tube
+    /// reaches, and φ still equals the dense flow's.
+    #[test]
+    fn the_tube_adds_the_bricks_it_reaches() {
+        let pts: Vec<[f64; 3]> = (0..300)
+            .map(|i| {
+                let t = i as f64 * 0.61;
+                let r = 0.5 * ((i % 7) as f64 / 7.0);
+                [r * t.cos(), r * t.sin(), 0.4 * (t * 0.3).sin()]
+            })
+            .collect();
+        let grid = GridSpec::around(&pts, Sizing::Spacing(0.1), |_| 30, &MemoryBudget::unlimited()).unwrap();
+        let (h, cap, gamma, radius) = (grid.spacing, 0.6, 0.3f32, 2.5);
+        let sphere = |c: [usize; 3]| {
+            let x = grid.position(c[0], c[1], c[2]);
+            let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+            ((r - radius) as f32).clamp(-gamma, gamma)
+        };
+        let dense_d = unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
+        let mut want = crate::evolve::LevelSet {
+            grid,
+            phi: (0..grid.len()).map(|u| sphere(grid.coords(u))).collect(),
+            gamma,
+        };
+        let (mut d, _) = sparse_distance(&pts, &grid, cap, &NoProgress);
+        // The bricks with a node within γ + h of the sphere.
+        let front: Vec<u32> = (0..d.bricks.brick_count())
+            .filter(|&bi| {
+                let b = d.bricks.brick_coords(bi);
+                let m = d.bricks.in_grid(b);
+                (0..BRICK_NODES).any(|l| {
+                    m[l / 64] >> (l % 64) & 1 == 1 && {
+                        let c = [b[0] * SIDE + l % SIDE, b[1] * SIDE + (l / SIDE) % SIDE, b[2] * SIDE + l / 64];
+                        sphere(c).abs() < gamma
+                    }
+                })
+            })
+            .map(|bi| bi as u32)
+            .collect();
+        d.activate(&front);
+        let bricks = d.bricks.clone();
+        let mut tiles = vec![0u64; bricks.brick_count().div_ceil(64)];
+        for bi in 0..bricks.brick_count() {
+            let b = bricks.brick_coords(bi);
+            if sphere(b.map(|x| x * SIDE)) > 0.0 {
+                tiles[bi / 64] |= 1 << (bi % 64);
+            }
+        }
+        let phi = (0..bricks.nodes()).map(|id| sphere(bricks.coords(id as u32))).collect();
+        let mut ls = SparseLevelSet { bricks, phi, tiles, gamma };
+        assert_eq!(ls.to_dense(), want.phi);
+        let before = ls.bricks.slots();
+        let params = EvolveParams {
+            iterations: 14,
+            arrest: 0.0,
+            neighbourhood: Neighbourhood::Axes,
+            ..EvolveParams::paper(h)
+        };
+        let want_stats = evolve(&mut want, &dense_d, &params, &NoProgress, &mut |_, _| {});
+        let got_stats = sparse_evolve(&mut ls, &mut d, &params, &NoProgress, &mut |_, _| {});
+        assert_eq!(got_stats, want_stats);
+        assert!(ls.bricks.slots() > before, "the tube added bricks");
+        let got = ls.to_dense();
+        for (u, (a, b)) in got.iter().zip(&want.phi).enumerate() {
+            assert_eq!(a.to_bits(), b.to_bits(), "node {:?}: {a} vs {b}", grid.coords(u));
+        }
+    }
+}
