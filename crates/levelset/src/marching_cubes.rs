@@ -36,7 +36,7 @@ use std::sync::OnceLock;
 use asperity_core::TriMesh;
 use rayon::prelude::*;
 
-use crate::curvature::curvature_and_gradient;
+use crate::curvature::curvature_from;
 use crate::grid::GridSpec;
 
 /// Corner `c` of a cube is at offset (c & 1, c >> 1 & 1, c >> 2).
@@ -70,7 +70,7 @@ fn edge_corners(e: usize) -> (usize, usize) {
 }
 
 /// The 6 faces' corners, counter-clockwise seen from outside the cube.
-fn face_cycles() -> [[usize; 4]; 6] {
+pub(crate) fn face_cycles() -> [[usize; 4]; 6] {
     let mut out = [[0; 4]; 6];
     for axis in 0..3 {
         let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
@@ -89,9 +89,9 @@ fn face_cycles() -> [[usize; 4]; 6] {
 }
 
 /// Triangles (cube edge ids) for a sign case and the face decisions.
-struct Table {
+pub(crate) struct Table {
     /// Triangles per key: cube edge ids 0..12, or 12 + L for the centre of loop L.
-    triangles: Vec<Vec<[u8; 3]>>,
+    pub(crate) triangles: Vec<Vec<[u8; 3]>>,
     /// Per key, the loops that are fanned around a centre vertex (their edges).
     centres: Vec<Vec<Vec<u8>>>,
     /// Faces that are ambiguous in each case (bit f).
@@ -237,13 +237,13 @@ fn build_table() -> Table {
     }
 }
 
-fn table() -> &'static Table {
+pub(crate) fn table() -> &'static Table {
     static TABLE: OnceLock<Table> = OnceLock::new();
     TABLE.get_or_init(build_table)
 }
 
 /// Vertex keys with this bit are loop centres: (cube base node << 2) | loop.
-const CENTRE: u64 = 1 << 63;
+pub(crate) const CENTRE: u64 = 1 << 63;
 
 /// Options for [`extract`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -264,21 +264,77 @@ pub struct ExtractStats {
 }
 
 /// A vertex's position, normal (not yet unit) and mean curvature.
-type Vertex = ([f64; 3], [f64; 3], f64);
+pub(crate) type Vertex = ([f64; 3], [f64; 3], f64);
 
-/// The cubes of a grid with its φ: table keys, triangles and vertices.
-struct Cubes<'a> {
+/// φ on a grid, read node by node: the dense array or the sparse bricks.
+pub(crate) trait Volume: Sync {
+    /// The grid.
+    fn grid(&self) -> &GridSpec;
+    /// φ at node `c`.
+    fn at(&self, c: [usize; 3]) -> f32;
+}
+
+/// A dense φ array as a [`Volume`].
+struct Dense<'a> {
     phi: &'a [f32],
     grid: &'a GridSpec,
-    tab: &'static Table,
-    faces: [[usize; 4]; 6],
-    strides: [usize; 3],
+}
+
+impl Volume for Dense<'_> {
+    fn grid(&self) -> &GridSpec {
+        self.grid
+    }
+
+    #[inline]
+    fn at(&self, c: [usize; 3]) -> f32 {
+        self.phi[self.grid.index(c[0], c[1], c[2])]
+    }
+}
+
+/// The table key (case | face decisions << 8) of a cube with corner values
+/// `v` (corner c at offset (c & 1, c >> 1 & 1, c >> 2)).
+#[inline]
+pub(crate) fn cube_key_of(tab: &Table, faces: &[[usize; 4]; 6], v: [f32; 8]) -> usize {
+    let mut case = 0usize;
+    for (c, x) in v.iter().enumerate() {
+        if *x < 0.0 {
+            case |= 1 << c;
+        }
+    }
+    let mut decisions = 0usize;
+    let amb = tab.ambiguous[case];
+    if amb != 0 {
+        for (f, cyc) in faces.iter().enumerate() {
+            if amb >> f & 1 == 1 {
+                let w = cyc.map(|c| f64::from(v[c]));
+                // Negative pair product vs positive pair product.
+                let (neg, pos) = if w[0] < 0.0 {
+                    (w[0] * w[2], w[1] * w[3])
+                } else {
+                    (w[1] * w[3], w[0] * w[2])
+                };
+                if neg > pos {
+                    decisions |= 1 << f;
+                }
+            }
+        }
+    }
+    case | decisions << 8
+}
+
+/// The cubes of a grid with its φ: table keys, triangles and vertices.
+pub(crate) struct Cubes<'a, P: Volume> {
+    volume: &'a P,
+    grid: GridSpec,
+    pub(crate) tab: &'static Table,
+    pub(crate) faces: [[usize; 4]; 6],
     corner_offset: [usize; 8],
     curvature: bool,
 }
 
-impl<'a> Cubes<'a> {
-    fn new(phi: &'a [f32], grid: &'a GridSpec, curvature: bool) -> Self {
+impl<'a, P: Volume> Cubes<'a, P> {
+    pub(crate) fn new(volume: &'a P, curvature: bool) -> Self {
+        let grid = *volume.grid();
         let strides = grid.strides();
         let corner_offset: [usize; 8] = std::array::from_fn(|c| {
             corner_bit(c, 0) * strides[0]
@@ -286,139 +342,99 @@ impl<'a> Cubes<'a> {
                 + corner_bit(c, 2) * strides[2]
         });
         Self {
-            phi,
+            volume,
             grid,
             tab: table(),
             faces: face_cycles(),
-            strides,
             corner_offset,
             curvature,
         }
     }
 
-    /// The key of cube edge `e` of the cube at `base`: its lower node × 3 + axis.
+    /// The key of cube edge `e` of the cube at dense index `base`: its lower
+    /// node × 3 + axis.
     #[inline]
-    fn edge_key(&self, base: usize, e: usize) -> u64 {
+    pub(crate) fn edge_key(&self, base: usize, e: usize) -> u64 {
         let (a, _) = edge_corners(e);
         ((base + self.corner_offset[a]) as u64) * 3 + (e / 4) as u64
     }
 
-    /// The table key of the cube at `base` (case | face decisions << 8).
+    /// The vertex keys of the triangles of the cube at dense index `base`
+    /// with table key `key`, appended to `out`.
     #[inline]
-    fn cube_key(&self, base: usize) -> usize {
-        let v: [f32; 8] = std::array::from_fn(|c| self.phi[base + self.corner_offset[c]]);
-        let mut case = 0usize;
-        for (c, x) in v.iter().enumerate() {
-            if *x < 0.0 {
-                case |= 1 << c;
-            }
-        }
-        let mut decisions = 0usize;
-        let amb = self.tab.ambiguous[case];
-        if amb != 0 {
-            for (f, cyc) in self.faces.iter().enumerate() {
-                if amb >> f & 1 == 1 {
-                    let w = cyc.map(|c| f64::from(v[c]));
-                    // Negative pair product vs positive pair product.
-                    let (neg, pos) = if w[0] < 0.0 {
-                        (w[0] * w[2], w[1] * w[3])
-                    } else {
-                        (w[1] * w[3], w[0] * w[2])
-                    };
-                    if neg > pos {
-                        decisions |= 1 << f;
-                    }
+    pub(crate) fn triangles(&self, base: usize, key: usize, out: &mut Vec<[u64; 3]>) {
+        for t in &self.tab.triangles[key] {
+            out.push(t.map(|e| {
+                if e < 12 {
+                    self.edge_key(base, e as usize)
+                } else {
+                    CENTRE | ((base as u64) << 2) | u64::from(e - 12)
                 }
-            }
+            }));
         }
-        case | decisions << 8
     }
 
-    /// Whether the row of cubes (·, j, k) can hold the surface. Most rows lie
-    /// wholly inside or outside (φ is clamped to ±γ away from the front): one
-    /// branch-free pass over their four rows of nodes skips them.
-    fn row_is_cut(&self, j: usize, k: usize) -> bool {
-        let nx = self.grid.dims[0];
-        let row = |dj: usize, dk: usize| {
-            let start = self.grid.index(0, j + dj, k + dk);
-            &self.phi[start..start + nx]
-        };
-        let (any, all) = [row(0, 0), row(1, 0), row(0, 1), row(1, 1)]
-            .iter()
-            .flat_map(|r| r.iter())
-            .fold((false, true), |(any, all), &x| {
-                let inside = x < 0.0;
-                (any | inside, all & inside)
-            });
-        any && !all
+    /// The table key of the cube whose lowest corner is node `c`.
+    fn cube_key_at(&self, c: [usize; 3]) -> usize {
+        let v: [f32; 8] = std::array::from_fn(|k| {
+            self.volume.at([
+                c[0] + corner_bit(k, 0),
+                c[1] + corner_bit(k, 1),
+                c[2] + corner_bit(k, 2),
+            ])
+        });
+        cube_key_of(self.tab, &self.faces, v)
     }
 
-    /// Triangles of the slab of cubes between node planes k and k + 1, as
-    /// vertex keys (grid edges, or loop centres with the top bit set).
-    fn slab(&self, k: usize) -> Vec<[u64; 3]> {
-        let [nx, ny, _] = self.grid.dims;
-        let mut out = Vec::new();
-        for j in 0..ny - 1 {
-            if !self.row_is_cut(j, k) {
-                continue;
-            }
-            for i in 0..nx - 1 {
-                let base = self.grid.index(i, j, k);
-                let key = self.cube_key(base);
-                let case = key & 255;
-                if case == 0 || case == 255 {
-                    continue;
-                }
-                for t in &self.tab.triangles[key] {
-                    out.push(t.map(|e| {
-                        if e < 12 {
-                            self.edge_key(base, e as usize)
-                        } else {
-                            CENTRE | ((base as u64) << 2) | u64::from(e - 12)
-                        }
-                    }));
-                }
-            }
-        }
-        out
-    }
-
-    /// ∇φ at node `u` by central differences (one-sided at the grid's faces).
-    fn gradient(&self, u: usize) -> [f64; 3] {
-        let (grid, phi) = (self.grid, self.phi);
-        let c = grid.coords(u);
+    /// ∇φ at node `c` by central differences (one-sided at the grid's faces).
+    fn gradient(&self, c: [usize; 3]) -> [f64; 3] {
+        let grid = &self.grid;
         std::array::from_fn(|a| {
-            let s = self.strides[a];
-            let lo = if c[a] > 0 { u - s } else { u };
-            let hi = if c[a] + 1 < grid.dims[a] { u + s } else { u };
-            let span = (hi - lo) / s;
-            (f64::from(phi[hi]) - f64::from(phi[lo])) / (span.max(1) as f64 * grid.spacing)
+            let (mut lo, mut hi) = (c, c);
+            if c[a] > 0 {
+                lo[a] -= 1;
+            }
+            if c[a] + 1 < grid.dims[a] {
+                hi[a] += 1;
+            }
+            let span = hi[a] - lo[a];
+            (f64::from(self.volume.at(hi)) - f64::from(self.volume.at(lo)))
+                / (span.max(1) as f64 * grid.spacing)
         })
     }
 
-    /// H = ½κ (Eq. 2) at node `u`; 0 on the grid's faces.
-    fn mean_curvature(&self, u: usize) -> f64 {
-        let c = self.grid.coords(u);
+    /// H = ½κ (Eq. 2) at node `c`; 0 on the grid's faces.
+    fn mean_curvature(&self, c: [usize; 3]) -> f64 {
         if (0..3).any(|a| c[a] == 0 || c[a] + 1 >= self.grid.dims[a]) {
             return 0.0;
         }
-        0.5 * curvature_and_gradient(self.phi, u, self.strides, self.grid.spacing).0
+        let at = |o: [isize; 3]| {
+            f64::from(
+                self.volume
+                    .at(std::array::from_fn(|a| c[a].wrapping_add_signed(o[a]))),
+            )
+        };
+        0.5 * curvature_from(at, self.grid.spacing).0
     }
 
     /// Position, normal and mean curvature of the vertex on grid edge `key`.
     fn edge_vertex(&self, key: u64) -> Vertex {
         let u = (key / 3) as usize;
         let axis = (key % 3) as usize;
-        let v = u + self.strides[axis];
-        let (a, b) = (f64::from(self.phi[u]), f64::from(self.phi[v]));
-        let t = (a / (a - b)).clamp(1e-3, 1.0 - 1e-3);
         let c = self.grid.coords(u);
+        let mut cv = c;
+        cv[axis] += 1;
+        let (a, b) = (
+            f64::from(self.volume.at(c)),
+            f64::from(self.volume.at(cv)),
+        );
+        let t = (a / (a - b)).clamp(1e-3, 1.0 - 1e-3);
         let mut p = self.grid.position(c[0], c[1], c[2]);
         p[axis] += t * self.grid.spacing;
-        let (ga, gb) = (self.gradient(u), self.gradient(v));
+        let (ga, gb) = (self.gradient(c), self.gradient(cv));
         let n: [f64; 3] = std::array::from_fn(|x| ga[x] + t * (gb[x] - ga[x]));
         let h = if self.curvature {
-            let (ka, kb) = (self.mean_curvature(u), self.mean_curvature(v));
+            let (ka, kb) = (self.mean_curvature(c), self.mean_curvature(cv));
             ka + t * (kb - ka)
         } else {
             0.0
@@ -434,7 +450,7 @@ impl<'a> Cubes<'a> {
             return (p, unit(n), h);
         }
         let base = ((key & !CENTRE) >> 2) as usize;
-        let lp = &self.tab.centres[self.cube_key(base)][(key & 3) as usize];
+        let lp = &self.tab.centres[self.cube_key_at(self.grid.coords(base))][(key & 3) as usize];
         let mut sum = ([0.0; 3], [0.0; 3], 0.0);
         for &e in lp {
             let (p, n, h) = self.edge_vertex(self.edge_key(base, e as usize));
@@ -447,6 +463,52 @@ impl<'a> Cubes<'a> {
         }
         let m = lp.len() as f64;
         (sum.0.map(|x| x / m), unit(sum.1), sum.2 / m)
+    }
+}
+
+impl Cubes<'_, Dense<'_>> {
+    /// Whether the row of cubes (·, j, k) can hold the surface. Most rows lie
+    /// wholly inside or outside (φ is clamped to ±γ away from the front): one
+    /// branch-free pass over their four rows of nodes skips them.
+    fn row_is_cut(&self, j: usize, k: usize) -> bool {
+        let nx = self.grid.dims[0];
+        let phi = self.volume.phi;
+        let row = |dj: usize, dk: usize| {
+            let start = self.grid.index(0, j + dj, k + dk);
+            &phi[start..start + nx]
+        };
+        let (any, all) = [row(0, 0), row(1, 0), row(0, 1), row(1, 1)]
+            .iter()
+            .flat_map(|r| r.iter())
+            .fold((false, true), |(any, all), &x| {
+                let inside = x < 0.0;
+                (any | inside, all & inside)
+            });
+        any && !all
+    }
+
+    /// Triangles of the slab of cubes between node planes k and k + 1, as
+    /// vertex keys (grid edges, or loop centres with the top bit set).
+    fn slab(&self, k: usize) -> Vec<[u64; 3]> {
+        let [nx, ny, _] = self.grid.dims;
+        let phi = self.volume.phi;
+        let mut out = Vec::new();
+        for j in 0..ny - 1 {
+            if !self.row_is_cut(j, k) {
+                continue;
+            }
+            for i in 0..nx - 1 {
+                let base = self.grid.index(i, j, k);
+                let v: [f32; 8] = std::array::from_fn(|c| phi[base + self.corner_offset[c]]);
+                let key = cube_key_of(self.tab, &self.faces, v);
+                let case = key & 255;
+                if case == 0 || case == 255 {
+                    continue;
+                }
+                self.triangles(base, key, &mut out);
+            }
+        }
+        out
     }
 }
 
@@ -523,14 +585,26 @@ fn drop_shells(verts: &mut Vec<Vertex>, triangles: &mut Vec<[u32; 3]>, min: usiz
 /// If `phi` does not have one value per node.
 pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMesh, ExtractStats) {
     assert_eq!(phi.len(), grid.len(), "one φ value per node");
-    let cubes = Cubes::new(phi, grid, options.curvature);
+    let volume = Dense { phi, grid };
+    let cubes = Cubes::new(&volume, options.curvature);
     // Slab by slab, so the order does not depend on the thread count.
     let slabs: Vec<Vec<[u64; 3]>> = (0..grid.dims[2].saturating_sub(1))
         .into_par_iter()
         .map(|k| cubes.slab(k))
         .collect();
-    let (keys, mut triangles) = index_triangles(&slabs.concat());
+    assemble(&cubes, &slabs.concat(), options)
+}
+
+/// The mesh of the triangles `keyed` (vertex keys, in the dense cube order)
+/// with vertices from `cubes`, small shells dropped.
+pub(crate) fn assemble<P: Volume>(
+    cubes: &Cubes<P>,
+    keyed: &[[u64; 3]],
+    options: &ExtractOptions,
+) -> (TriMesh, ExtractStats) {
+    let (keys, mut triangles) = index_triangles(keyed);
     let mut verts: Vec<Vertex> = keys.par_iter().map(|&key| cubes.vertex(key)).collect();
+    drop(keys);
     let stats = drop_shells(&mut verts, &mut triangles, options.min_shell_triangles);
     let mut mesh = TriMesh::new(verts.iter().map(|v| v.0).collect(), triangles)
         .expect("marching cubes builds valid indices")

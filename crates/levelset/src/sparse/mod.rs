@@ -21,8 +21,10 @@
 //! | [`tagging`] | Algorithm 1: brick flood fills and the paper rule's descent |
 //! | [`surface`] | The initial level set: signed distance to the tagged front |
 //! | [`flow`] | The narrow-band convection flow, redistancing and clamping |
+//! | [`extract`] | Marching cubes on the bricks that hold the front |
 
 pub mod distance;
+pub mod extract;
 pub mod flow;
 pub mod layout;
 pub mod surface;
@@ -30,6 +32,7 @@ pub mod tagging;
 
 pub use distance::{SparseDistance, sparse_distance};
 pub use flow::sparse_evolve;
+pub use extract::sparse_extract;
 pub use layout::Bricks;
 pub use surface::{SparseLevelSet, sparse_initial};
 pub use tagging::{SparseTags, sparse_tag};
