@@ -8,7 +8,7 @@ use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla};
 use asperity_levelset::{
     Band, DistanceMethod, ExtractOptions, FlowChoice, Length, Neighbourhood, ReconstructParams,
-    Reconstruction, Scheme, Sizing, TagRule, extract, reconstruct,
+    Reconstruction, Scheme, Sizing, TagRule, reconstruct,
 };
 use serde_json::json;
 
@@ -303,7 +303,7 @@ pub fn surface(
         if !step.step.is_multiple_of(k) {
             return;
         }
-        let (mesh, _) = extract(&ls.phi, &ls.grid, &params.extract);
+        let (mesh, _) = ls.extract(&params.extract);
         if mesh.n_faces() > 0 {
             on_snapshot(step.step, mesh);
         }

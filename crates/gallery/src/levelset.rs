@@ -13,7 +13,7 @@ use asperity_engine::error::invalid;
 use asperity_engine::growth::dla::Sides;
 use asperity_engine::reconstruct::{Job, PAPER_TERRAIN_PARTICLES, dla_terrain, pieces};
 use asperity_io::Surface;
-use asperity_levelset::{FlowChoice, GridSpec, ReconstructParams, Sizing, extract, reconstruct};
+use asperity_levelset::{FlowChoice, GridSpec, ReconstructParams, Sizing, reconstruct};
 use asperity_render::plot::{Plot, Series, Style, plot_svg};
 use asperity_render::render_points;
 
@@ -155,7 +155,7 @@ fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement, TriMesh)> {
         &NoProgress,
         &mut |s, ls| {
             if s.step == 0 {
-                initial = Some(extract(&ls.phi, &ls.grid, &params.extract).0);
+                initial = Some(ls.extract(&params.extract).0);
             }
         },
     )?;
@@ -304,7 +304,7 @@ fn figure_7(env: &Env) -> Result<Vec<Item>> {
     };
     let mut shots: Vec<(usize, TriMesh)> = Vec::new();
     let rec = reconstruct(&points, &params, &env.budget, &NoProgress, &mut |s, ls| {
-        shots.push((s.step, extract(&ls.phi, &ls.grid, &params.extract).0));
+        shots.push((s.step, ls.extract(&params.extract).0));
     })?;
     let dims = rec.grid.dims;
     let grid = format!("{}×{}×{}", dims[0], dims[1], dims[2]);

@@ -108,7 +108,8 @@ fn dims(extent: [f64; 3], spacing: f64, pad: usize) -> asperity_core::Result<[us
 impl GridSpec {
     /// The grid around `points` with the spacing from `sizing` and `pad` nodes of
     /// padding on every side (see [`padding_nodes`]), after checking the points and
-    /// that [`BYTES_PER_NODE`] per node fits in `budget`.
+    /// that [`BYTES_PER_NODE`] per node fits in `budget`: the dense pipeline's
+    /// grid.
     ///
     /// # Errors
     /// An empty set, a non-finite coordinate, identical points, a bad sizing, or
@@ -118,6 +119,40 @@ impl GridSpec {
         sizing: Sizing,
         pad: impl Fn(f64) -> usize,
         budget: &MemoryBudget,
+    ) -> asperity_core::Result<Self> {
+        let grid = Self::fitting(points, sizing, pad)?;
+        budget.check_elements(
+            grid.len() as u128,
+            BYTES_PER_NODE,
+            &format!(
+                "level-set reconstruction on a {}×{}×{} grid",
+                grid.dims[0], grid.dims[1], grid.dims[2]
+            ),
+        )?;
+        if grid.len() as u128 > u32::MAX as u128 / 4 {
+            return Err(CoreError::InvalidParameter {
+                name: "resolution",
+                reason: format!(
+                    "{} grid nodes is more than the dense grid indexes (2³⁰)",
+                    grid.len()
+                ),
+            });
+        }
+        Ok(grid)
+    }
+
+    /// The grid around `points` with the spacing from `sizing` and `pad` nodes
+    /// of padding on every side, with no memory check: the sparse pipeline
+    /// checks the bricks it will hold instead. At most 2³² − 1 nodes (the
+    /// largest grid whose 8³-node bricks all have 32-bit node ids).
+    ///
+    /// # Errors
+    /// An empty set, a non-finite coordinate, identical points, a bad sizing, or
+    /// more nodes than that.
+    pub fn fitting(
+        points: &[[f64; 3]],
+        sizing: Sizing,
+        pad: impl Fn(f64) -> usize,
     ) -> asperity_core::Result<Self> {
         let (lo, hi) = bounds(points)?;
         let extent = [0, 1, 2].map(|a| hi[a] - lo[a]);
@@ -134,19 +169,14 @@ impl GridSpec {
         }
         let spacing = spacing(sizing, longest)?;
         let dims = dims(extent, spacing, pad(spacing))?;
-        let count = dims.iter().fold(1u128, |acc, &d| acc * d as u128);
-        budget.check_elements(
-            count,
-            BYTES_PER_NODE,
-            &format!(
-                "level-set reconstruction on a {}×{}×{} grid",
-                dims[0], dims[1], dims[2]
-            ),
-        )?;
-        if count > u32::MAX as u128 / 4 {
+        let bricked = dims.iter().fold(512u128, |acc, &d| acc * d.div_ceil(8) as u128);
+        if bricked > u32::MAX as u128 {
             return Err(CoreError::InvalidParameter {
                 name: "resolution",
-                reason: format!("{count} grid nodes is more than this build indexes (2³⁰)"),
+                reason: format!(
+                    "a {}×{}×{} grid is more than this build indexes (2³² nodes); choose a coarser grid",
+                    dims[0], dims[1], dims[2]
+                ),
             });
         }
         let origin = [0, 1, 2].map(|a| {

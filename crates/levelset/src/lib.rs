@@ -51,4 +51,5 @@ pub use evolve::{
 pub use grid::{GridSpec, Sizing};
 pub use marching_cubes::{ExtractOptions, ExtractStats, extract};
 pub use pipeline::{FlowChoice, Length, ReconstructParams, Reconstruction, Timings, reconstruct};
+pub use sparse::SparseLevelSet;
 pub use tagging::{TagRule, Tags, tag};

@@ -1,19 +1,46 @@
 //! The reconstruction pipeline of §5.2 (Fig. 5): distance → tagging → convection
 //! flow → marching cubes, with each stage timed.
+//!
+//! Every stage runs on the sparse brick layout of [`crate::sparse`]: storage
+//! and work follow the points' neighbourhood and the front, not the box. The
+//! closest-point distance (the default) allocates only the bricks within its
+//! cap of a point; the paper's Godunov sweeping needs the whole grid, so its
+//! field is computed densely and then laid out in bricks, all of them active.
+//! The result is the dense pipeline's, node for node and triangle for
+//! triangle (each stage is tested against its dense counterpart).
 
-use std::sync::atomic::AtomicU64;
 use std::time::Instant;
 
 use asperity_core::{CoreError, MemoryBudget, NoProgress, Progress, TriMesh};
+use rayon::prelude::*;
 
-use crate::distance::{DistanceField, DistanceMethod, closest_points, unsigned_distance};
-use crate::evolve::{
-    Band, EvolveParams, EvolveStats, Flow, LevelSet, Neighbourhood, Scheme, StepStats, evolve,
-    from_tags_reusing,
-};
+use crate::distance::{DistanceMethod, closest_points, unsigned_distance};
+use crate::evolve::{Band, EvolveParams, EvolveStats, Flow, Neighbourhood, Scheme, StepStats};
 use crate::grid::{GridSpec, Sizing, padding_nodes};
-use crate::marching_cubes::{ExtractOptions, ExtractStats, extract};
-use crate::tagging::{TagRule, tag};
+use crate::marching_cubes::{ExtractOptions, ExtractStats};
+use crate::sparse::distance::{bricks_for, sample_spacing as sparse_sample_spacing};
+use crate::sparse::layout::BRICK_NODES;
+use crate::sparse::{
+    Bricks, SparseDistance, SparseLevelSet, sparse_evolve, sparse_extract, sparse_initial,
+    sparse_tag,
+};
+use crate::tagging::TagRule;
+
+/// Bytes per active node (a node of a brick with storage) the pipeline holds
+/// at its peak: the distance stage's packed closest point (8) and distance
+/// (4) while the one becomes the other, or the flow's d, φ and scratch (12),
+/// plus the tubes' and tags' bits and the tagging's sorted shell; the mesh
+/// comes on top (see [`MESH_BYTES_PER_ACTIVE_NODE`]).
+pub const BYTES_PER_ACTIVE_NODE: u64 = 14;
+
+/// Bytes of mesh per active node, from the meshes of rough surfaces (a DLA
+/// deposit's front cuts about one cube in four of the active bricks): the
+/// marching-cubes keys and the vertex data while the mesh is assembled.
+pub const MESH_BYTES_PER_ACTIVE_NODE: u64 = 10;
+
+/// Bytes per brick of the brick table (a 32-bit slot, and a bit while the
+/// bricks near the points are marked).
+const BYTES_PER_BRICK: u64 = 5;
 
 /// Everything the pipeline needs to know; lengths in cells are multiples of h.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -139,7 +166,7 @@ pub struct Reconstruction {
     /// Components and removed shells.
     pub extraction: ExtractStats,
     /// The final level set.
-    pub level_set: LevelSet,
+    pub level_set: SparseLevelSet,
 }
 
 /// A length in world units or in grid cells (multiples of the spacing h).
@@ -282,29 +309,26 @@ impl ReconstructParams {
     }
 }
 
-/// The unsigned distance to the points, the measured sample spacing and (for
-/// the closest-point method) the closest points' cells, kept for the initial
-/// surface's own wavefront, which refills them instead of faulting in a fresh
-/// buffer.
+/// The unsigned distance to the points on bricks, the measured sample
+/// spacing, and the rounds or sweeps the distance took; the active nodes are
+/// checked against `budget` before they are allocated.
 fn distance_stage(
     points: &[[f64; 3]],
     grid: &GridSpec,
     method: DistanceMethod,
     cap: f64,
-    progress: &dyn Progress,
-) -> (DistanceField, Option<f64>, Option<Vec<AtomicU64>>) {
+    (budget, progress): (&MemoryBudget, &dyn Progress),
+) -> asperity_core::Result<(SparseDistance, Option<f64>)> {
     let h = grid.spacing;
     match method {
         DistanceMethod::ClosestPoint => {
+            let bricks = bricks_for(grid, points, cap);
+            check_active(&bricks, budget)?;
+            let (cells, rounds) = crate::sparse::distance::closest_points(points, &bricks, cap, progress);
             // The sample spacing is read off the closest points before they are
             // unpacked, so no nearest-point array is built.
-            let (cells, rounds) = closest_points(points, grid, cap, progress, None);
-            let spacing = sample_spacing(points, grid, &cells, 2.0 * h);
-            (
-                DistanceField::from_cells(grid, &cells, cap, rounds, false),
-                spacing,
-                Some(cells),
-            )
+            let spacing = sparse_sample_spacing(points, &bricks, &cells, 2.0 * h);
+            Ok((SparseDistance::from_cells(bricks, &cells, cap, rounds), spacing))
         }
         DistanceMethod::Godunov { .. } => {
             // The same spacing measure as the closest-point method, so that δ
@@ -312,15 +336,50 @@ fn distance_stage(
             // wavefront of 2h gives the nodes' nearest points.
             let near = 2.0 * h;
             let (cells, _) = closest_points(points, grid, near, &NoProgress, None);
-            let spacing = sample_spacing(points, grid, &cells, near);
+            let spacing = dense_sample_spacing(points, grid, &cells, near);
             drop(cells);
-            (
-                unsigned_distance(points, grid, method, cap, progress),
-                spacing,
-                None,
-            )
+            let dense = unsigned_distance(points, grid, method, cap, progress);
+            Ok((bricked(&dense.values, grid, dense.cap, dense.sweeps), spacing))
         }
     }
+}
+
+/// A dense field laid out in bricks, every brick active.
+fn bricked(values: &[f32], grid: &GridSpec, cap: f32, sweeps: usize) -> SparseDistance {
+    let bricks = Bricks::all(grid);
+    let mut out = vec![cap; bricks.nodes()];
+    out.par_chunks_mut(BRICK_NODES).enumerate().for_each(|(s, brick)| {
+        let b = bricks.slot_coords(s);
+        for (l, x) in brick.iter_mut().enumerate() {
+            let c = [b[0] * 8 + l % 8, b[1] * 8 + (l / 8) % 8, b[2] * 8 + l / 64];
+            if c[0] < grid.dims[0] && c[1] < grid.dims[1] && c[2] < grid.dims[2] {
+                *x = values[grid.index(c[0], c[1], c[2])];
+            }
+        }
+    });
+    SparseDistance {
+        bricks,
+        values: out,
+        cap,
+        rounds: sweeps,
+    }
+}
+
+/// Refuses `bricks` whose nodes, with the mesh to come, would not fit in `budget`.
+fn check_active(bricks: &Bricks, budget: &MemoryBudget) -> asperity_core::Result<()> {
+    let d = bricks.grid.dims;
+    budget.check_elements(
+        bricks.nodes() as u128,
+        BYTES_PER_ACTIVE_NODE + MESH_BYTES_PER_ACTIVE_NODE,
+        &format!(
+            "level-set reconstruction on {} of the {} bricks of 8³ nodes of a {}×{}×{} grid (the bricks near the points)",
+            bricks.slots(),
+            bricks.brick_count(),
+            d[0],
+            d[1],
+            d[2]
+        ),
+    )
 }
 
 /// The flow's settings in world units (h the grid spacing, δ the point radius).
@@ -352,22 +411,34 @@ fn lap(slot: &mut f64, t: Instant) {
 }
 
 /// The grid [`reconstruct`] uses for `points`: the sizing's spacing, padded for
-/// the offset ε and the tube (see [`padding_nodes`]), checked against `budget`.
+/// the offset ε and the tube (see [`padding_nodes`]), checked against `budget`:
+/// its brick table, and for the Godunov distance (which sweeps the whole grid)
+/// its dense fields. The closest-point distance's bricks are checked once the
+/// points have marked them.
 ///
 /// # Errors
-/// As [`GridSpec::around`].
+/// As [`GridSpec::fitting`], or the estimate above the budget.
 pub fn grid_for(
     points: &[[f64; 3]],
     params: &ReconstructParams,
     budget: &MemoryBudget,
 ) -> asperity_core::Result<GridSpec> {
     let offset_of = |h: f64| params.offset.unwrap_or(Length::Cells(3.0)).world(h);
-    GridSpec::around(
-        points,
-        params.sizing,
-        |h| padding_nodes(offset_of(h), params.tube_cells * h, h),
-        budget,
-    )
+    let pad = |h| padding_nodes(offset_of(h), params.tube_cells * h, h);
+    if matches!(params.distance, DistanceMethod::Godunov { .. }) {
+        return GridSpec::around(points, params.sizing, pad, budget);
+    }
+    let grid = GridSpec::fitting(points, params.sizing, pad)?;
+    let bricks = grid.dims.iter().map(|&n| n.div_ceil(8) as u128).product::<u128>();
+    budget.check_elements(
+        bricks,
+        BYTES_PER_BRICK,
+        &format!(
+            "the brick table of a {}×{}×{} grid",
+            grid.dims[0], grid.dims[1], grid.dims[2]
+        ),
+    )?;
+    Ok(grid)
 }
 
 /// Reconstructs a watertight surface from `points`; `on_step` sees the initial level
@@ -381,7 +452,7 @@ pub fn reconstruct(
     params: &ReconstructParams,
     budget: &MemoryBudget,
     progress: &dyn Progress,
-    on_step: &mut dyn FnMut(&StepStats, &LevelSet),
+    on_step: &mut dyn FnMut(&StepStats, &SparseLevelSet),
 ) -> asperity_core::Result<Reconstruction> {
     params.validate()?;
     if points.len() >= u32::MAX as usize {
@@ -398,14 +469,14 @@ pub fn reconstruct(
     let mut timings = Timings::default();
     let t = Instant::now();
     let cap = eps + gamma + 2.0 * h;
-    let (dist, sample_spacing, cells) =
-        distance_stage(points, &grid, params.distance, cap, progress);
+    let (mut dist, sample_spacing) =
+        distance_stage(points, &grid, params.distance, cap, (budget, progress))?;
     lap(&mut timings.distance, t);
     let t = Instant::now();
-    let tags = tag(&dist, eps, params.tag_rule, progress);
+    let mut tags = sparse_tag(&mut dist, eps, params.tag_rule, progress);
     lap(&mut timings.tagging, t);
     let t = Instant::now();
-    let mut ls = from_tags_reusing(&dist, &tags, eps, gamma, progress, cells);
+    let mut ls = sparse_initial(&mut dist, &mut tags, eps, gamma, progress);
     lap(&mut timings.initial, t);
     let tagged = (tags.exterior_count, tags.refused);
     drop(tags);
@@ -420,18 +491,18 @@ pub fn reconstruct(
         .point_radius
         .unwrap_or_else(|| (0.75 * sample_spacing.unwrap_or(0.0)).max(0.6 * h));
     let t = Instant::now();
-    let evolution = evolve(
+    let evolution = sparse_evolve(
         &mut ls,
-        &dist,
+        &mut dist,
         &evolve_params(params, h, point_radius),
         progress,
         on_step,
     );
     lap(&mut timings.evolution, t);
-    let distance_sweeps = dist.sweeps;
+    let distance_sweeps = dist.rounds;
     drop(dist);
     let t = Instant::now();
-    let (mesh, extraction) = extract(&ls.phi, &grid, &params.extract);
+    let (mesh, extraction) = sparse_extract(&ls, &params.extract);
     lap(&mut timings.extraction, t);
     lap(&mut timings.total, start);
     Ok(Reconstruction {
@@ -451,15 +522,15 @@ pub fn reconstruct(
 
 /// The median distance between the nearest points of neighbouring nodes that differ
 /// (Voronoi neighbours), over nodes within `near` of the data on every
-/// ⌊n_z/16⌋-th plane: the typical sample spacing.
-fn sample_spacing(
+/// ⌊n_z/16⌋-th plane: the typical sample spacing (on the dense grid, for the
+/// Godunov distance).
+fn dense_sample_spacing(
     points: &[[f64; 3]],
     grid: &GridSpec,
     cells: &[std::sync::atomic::AtomicU64],
     near: f64,
 ) -> Option<f64> {
     use crate::distance::{EMPTY, unpack_d2};
-    use rayon::prelude::*;
     use std::sync::atomic::Ordering::Relaxed;
     let strides = grid.strides();
     let nearest = |u: usize| {

@@ -188,7 +188,7 @@ fn two_nearby_spheres_are_two_components_after_the_flow() {
             &mut |s, ls| {
                 if s.step == 0 {
                     let (_, stats) =
-                        asperity_levelset::extract(&ls.phi, &ls.grid, &Default::default());
+                        ls.extract(&Default::default());
                     initial = stats.components;
                 }
             },

@@ -17,7 +17,7 @@ use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 use asperity_core::Progress;
 use rayon::prelude::*;
 
-use super::layout::{BRICK_NODES, Bricks, SIDE, local, wavefront_radius};
+use super::layout::{Bricks, SIDE, local, wavefront_radius};
 use crate::distance::{
     Claims, EMPTY, axis_squares, dist2, lower, pack, unpack_d2, wavefront_rounds,
 };
@@ -288,12 +288,6 @@ pub(crate) fn sample_spacing(
     let mid = gaps.len() / 2;
     let (_, m, _) = gaps.select_nth_unstable_by(mid, f32::total_cmp);
     Some(f64::from(*m))
-}
-
-/// Node ids of a brick slot: `512 s ..`.
-#[inline(always)]
-pub(crate) fn slot_ids(s: usize) -> std::ops::Range<usize> {
-    s * BRICK_NODES..(s + 1) * BRICK_NODES
 }
 
 #[cfg(test)]

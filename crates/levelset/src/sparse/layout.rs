@@ -183,13 +183,6 @@ impl Bricks {
         ]
     }
 
-    /// The dense index of node `id` (x fastest over the whole grid).
-    #[inline(always)]
-    pub(crate) fn dense(&self, id: u32) -> usize {
-        let c = self.coords(id);
-        self.grid.index(c[0], c[1], c[2])
-    }
-
     /// The nodes of the brick at `b` that lie in the grid.
     pub(crate) fn in_grid(&self, b: [usize; 3]) -> Mask {
         let span = |a: usize| (self.grid.dims[a] - b[a] * SIDE).min(SIDE);
@@ -337,7 +330,6 @@ mod tests {
         for c in [[0, 0, 0], [7, 8, 9], [g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1]] {
             let id = b.id(c).unwrap();
             assert_eq!(b.coords(id), c);
-            assert_eq!(b.dense(id), g.index(c[0], c[1], c[2]));
         }
         let inside: usize = (0..b.slots())
             .map(|s| count(&b.in_grid(b.slot_coords(s))))

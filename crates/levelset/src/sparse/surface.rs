@@ -45,6 +45,19 @@ impl SparseLevelSet {
         }
     }
 
+    /// The grid.
+    pub fn grid(&self) -> &crate::GridSpec {
+        &self.bricks.grid
+    }
+
+    /// The triangle mesh of {φ = 0} (marching cubes, see [`crate::sparse::extract`]).
+    pub fn extract(
+        &self,
+        options: &crate::ExtractOptions,
+    ) -> (asperity_core::TriMesh, crate::ExtractStats) {
+        super::sparse_extract(self, options)
+    }
+
     /// φ at node `c`.
     pub fn at(&self, c: [usize; 3]) -> f32 {
         match self.bricks.id(c) {
