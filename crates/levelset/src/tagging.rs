@@ -54,8 +54,8 @@ pub enum TagRule {
 }
 
 /// Node states.
-pub(crate) const INTERIOR: u8 = 0;
-pub(crate) const EXTERIOR: u8 = 2;
+const INTERIOR: u8 = 0;
+const EXTERIOR: u8 = 2;
 const REFUSED: u8 = 3;
 
 /// The result of tagging.
@@ -129,66 +129,6 @@ const QUEUED: u8 = 5;
 /// How many nodes ahead [`descend`] prefetches.
 const PREFETCH_AHEAD: usize = 16;
 
-/// The nodes the paper rule's descent walks: their face neighbours and where
-/// each heap key's node is. The dense grid is one; the sparse bricks
-/// ([`crate::sparse::tagging`]) are the other, with *virtual* neighbours that
-/// stand for whole inactive bricks.
-pub(crate) trait NodeSpace {
-    /// The six face neighbours of `u` ([`NONE`] beyond the grid; ids at or
-    /// above the state array's length are virtual: [`VIRTUAL_EXTERIOR`] or
-    /// [`VIRTUAL_INTERIOR`]), and whether `u` lies on a face of the grid.
-    fn around(&self, u: usize) -> ([usize; 6], bool);
-    /// The node of a heap key (the key's low half is `u32::MAX` − the dense index).
-    fn node_of(&self, key: u64) -> usize;
-    /// Nodes worth prefetching before `u` is decided (out of range is ignored).
-    fn nearby(&self, u: usize) -> [usize; 5];
-}
-
-/// A virtual node that is exterior (a node of an inactive far-field brick).
-pub(crate) const VIRTUAL_EXTERIOR: usize = usize::MAX - 1;
-/// A virtual node that stays interior (a node of an inactive enclosed brick).
-pub(crate) const VIRTUAL_INTERIOR: usize = usize::MAX - 2;
-
-/// The dense grid as a [`NodeSpace`].
-struct DenseSpace<'a> {
-    grid: &'a GridSpec,
-    strides: [usize; 3],
-}
-
-impl NodeSpace for DenseSpace<'_> {
-    #[inline(always)]
-    fn around(&self, u: usize) -> ([usize; 6], bool) {
-        let c = self.grid.coords(u);
-        let mut nb = [NONE; 6];
-        for a in 0..3 {
-            if c[a] > 0 {
-                nb[2 * a] = u - self.strides[a];
-            }
-            if c[a] + 1 < self.grid.dims[a] {
-                nb[2 * a + 1] = u + self.strides[a];
-            }
-        }
-        (nb, self.grid.on_boundary(c))
-    }
-
-    #[inline(always)]
-    fn node_of(&self, key: u64) -> usize {
-        node(key)
-    }
-
-    #[inline(always)]
-    fn nearby(&self, w: usize) -> [usize; 5] {
-        let s = self.strides;
-        [
-            w,
-            w.wrapping_sub(s[1]),
-            w + s[1],
-            w.wrapping_sub(s[2]),
-            w + s[2],
-        ]
-    }
-}
-
 /// Decides the nodes of `keys` (heap keys in decreasing order) under the
 /// paper's rule; returns (accepted, refused).
 ///
@@ -208,25 +148,10 @@ fn descend(
     state: &mut [u8],
     progress: &dyn Progress,
 ) -> (usize, usize) {
-    let space = DenseSpace {
+    let mut run = Descent {
         grid,
         strides: grid.strides(),
-    };
-    descend_in(&space, (d, f32::INFINITY), keys, state, progress)
-}
-
-/// [`descend`] on any [`NodeSpace`]; virtual nodes read as `far`.
-pub(crate) fn descend_in<S: NodeSpace>(
-    space: &S,
-    (d, far): (&[f32], f32),
-    keys: &[u64],
-    state: &mut [u8],
-    progress: &dyn Progress,
-) -> (usize, usize) {
-    let mut run = Descent {
-        space,
         d,
-        far,
         state,
         accepted: 0,
         refused: 0,
@@ -241,7 +166,7 @@ pub(crate) fn descend_in<S: NodeSpace>(
             j += 1;
         }
         if j == i + 1 {
-            run.decide_one(space.node_of(keys[i]));
+            run.decide_one(node(keys[i]));
         } else {
             run.decide_group(&keys[i..j]);
         }
@@ -260,35 +185,35 @@ fn node(key: u64) -> usize {
 }
 
 /// No neighbour (beyond the grid).
-pub(crate) const NONE: usize = usize::MAX;
+const NONE: usize = usize::MAX;
 
 /// The pass of [`descend`]: the state it updates and its counts.
-struct Descent<'a, S> {
-    space: &'a S,
+struct Descent<'a> {
+    grid: &'a GridSpec,
+    strides: [usize; 3],
     d: &'a [f32],
-    /// The distance of virtual nodes.
-    far: f32,
     state: &'a mut [u8],
     accepted: usize,
     refused: usize,
     work: Vec<usize>,
 }
 
-impl<S: NodeSpace> Descent<'_, S> {
-    /// The state of node `v` (virtual ones included).
+impl Descent<'_> {
+    /// The six face neighbours of `u` ([`NONE`] beyond the grid), and whether
+    /// `u` lies on a face of the grid.
     #[inline(always)]
-    fn state_of(&self, v: usize) -> u8 {
-        match self.state.get(v) {
-            Some(&s) => s,
-            None if v == VIRTUAL_EXTERIOR => EXTERIOR,
-            None => INTERIOR,
+    fn neighbours(&self, u: usize) -> ([usize; 6], bool) {
+        let c = self.grid.coords(u);
+        let mut nb = [NONE; 6];
+        for a in 0..3 {
+            if c[a] > 0 {
+                nb[2 * a] = u - self.strides[a];
+            }
+            if c[a] + 1 < self.grid.dims[a] {
+                nb[2 * a + 1] = u + self.strides[a];
+            }
         }
-    }
-
-    /// d at node `v` (virtual ones included).
-    #[inline(always)]
-    fn d_of(&self, v: usize) -> f32 {
-        self.d.get(v).copied().unwrap_or(self.far)
+        (nb, self.grid.on_boundary(c))
     }
 
     /// On ∂Ω: on a face or next to an exterior node.
@@ -297,7 +222,7 @@ impl<S: NodeSpace> Descent<'_, S> {
         face || nb
             .into_iter()
             .filter(|v| *v != NONE)
-            .any(|v| self.state_of(v) == EXTERIOR)
+            .any(|v| self.state[v] == EXTERIOR)
     }
 
     /// Line 4 of Algorithm 1: a farther neighbour is not exterior.
@@ -305,7 +230,7 @@ impl<S: NodeSpace> Descent<'_, S> {
     fn refused_at(&self, u: usize, nb: [usize; 6]) -> bool {
         nb.into_iter()
             .filter(|v| *v != NONE)
-            .any(|v| self.state_of(v) != EXTERIOR && self.d_of(v) > self.d[u])
+            .any(|v| self.state[v] != EXTERIOR && self.d[v] > self.d[u])
     }
 
     /// The neighbourhood of the node a few places on: neighbourhoods are
@@ -314,7 +239,12 @@ impl<S: NodeSpace> Descent<'_, S> {
     #[inline(always)]
     fn prefetch(&self, ahead: Option<&u64>) {
         let Some(&ahead) = ahead else { return };
-        for at in self.space.nearby(self.space.node_of(ahead)) {
+        let (w, s) = (node(ahead), self.strides);
+        for at in [w, w.wrapping_sub(s[1]), w + s[1]] {
+            asperity_core::memory_hints::prefetch(self.state, at);
+            asperity_core::memory_hints::prefetch(self.d, at);
+        }
+        for at in [w.wrapping_sub(s[2]), w + s[2]] {
             asperity_core::memory_hints::prefetch(self.state, at);
             asperity_core::memory_hints::prefetch(self.d, at);
         }
@@ -323,7 +253,7 @@ impl<S: NodeSpace> Descent<'_, S> {
     /// Decides node `u`, alone at its distance.
     #[inline(always)]
     fn decide_one(&mut self, u: usize) {
-        let around = self.space.around(u);
+        let around = self.neighbours(u);
         if self.reached(around) {
             if self.refused_at(u, around.0) {
                 self.state[u] = REFUSED;
@@ -339,20 +269,20 @@ impl<S: NodeSpace> Descent<'_, S> {
     /// next to them that are accepted (a small flood).
     fn decide_group(&mut self, group: &[u64]) {
         for &key in group {
-            self.state[self.space.node_of(key)] = PENDING;
+            self.state[node(key)] = PENDING;
         }
         let mut work = std::mem::take(&mut self.work);
         work.extend(
             group
                 .iter()
-                .map(|&k| self.space.node_of(k))
-                .filter(|&u| self.reached(self.space.around(u))),
+                .map(|&k| node(k))
+                .filter(|&u| self.reached(self.neighbours(u))),
         );
         for &u in &work {
             self.state[u] = QUEUED;
         }
         while let Some(u) = work.pop() {
-            let (nb, _) = self.space.around(u);
+            let (nb, _) = self.neighbours(u);
             if self.refused_at(u, nb) {
                 self.state[u] = REFUSED;
                 self.refused += 1;
@@ -361,7 +291,7 @@ impl<S: NodeSpace> Descent<'_, S> {
             self.state[u] = EXTERIOR;
             self.accepted += 1;
             for v in nb.into_iter().filter(|v| *v != NONE) {
-                if self.state_of(v) == PENDING {
+                if self.state[v] == PENDING {
                     self.state[v] = QUEUED;
                     work.push(v);
                 }
@@ -369,9 +299,8 @@ impl<S: NodeSpace> Descent<'_, S> {
         }
         self.work = work;
         for &key in group {
-            let u = self.space.node_of(key);
-            if self.state[u] == PENDING {
-                self.state[u] = INTERIOR;
+            if self.state[node(key)] == PENDING {
+                self.state[node(key)] = INTERIOR;
             }
         }
     }

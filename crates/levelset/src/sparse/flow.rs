@@ -44,7 +44,7 @@ struct Around {
     phi: [f32; 6],
 }
 
-fn arounds(ls: &SparseLevelSet) -> Vec<Around> {
+fn compute_arounds(ls: &SparseLevelSet) -> Vec<Around> {
     let b = &ls.bricks;
     (0..b.slots())
         .into_par_iter()
@@ -79,11 +79,51 @@ struct Row<'a> {
     background: [f32; 6],
     y: usize,
     z: usize,
+    /// The row with two nodes of each x neighbour on either side, when the
+    /// stencil reads along x (φ; the distance only for Zhao's flow).
+    ext: [f32; LANES + 4],
     /// For the curvature term: reads any node.
     reader: &'a Reader<'a>,
 }
 
-impl Row<'_> {
+impl<'a> Row<'a> {
+    /// Row `r` of slot `s` of `field`, with its x neighbours' ends when `wide`.
+    #[inline(always)]
+    fn new(
+        (field, background): (&'a [f32], [f32; 6]),
+        (s, r): (usize, usize),
+        around: &'a Around,
+        reader: &'a Reader<'a>,
+        wide: bool,
+    ) -> Self {
+        let mut ext = [0f32; LANES + 4];
+        if wide {
+            let start = SIDE * r;
+            ext[2..2 + SIDE].copy_from_slice(&field[s * BRICK_NODES + start..][..SIDE]);
+            let ends = |face: usize, from: usize| -> [f32; 2] {
+                let slot = around.slots[face];
+                if slot == NO_SLOT {
+                    [background[face]; 2]
+                } else {
+                    let at = slot as usize * BRICK_NODES + start + from;
+                    [field[at], field[at + 1]]
+                }
+            };
+            ext[..2].copy_from_slice(&ends(0, SIDE - 2));
+            ext[2 + SIDE..].copy_from_slice(&ends(1, 0));
+        }
+        Row {
+            field,
+            s,
+            around,
+            background,
+            y: r % SIDE,
+            z: r / SIDE,
+            ext,
+            reader,
+        }
+    }
+
     /// The row (y, z) of this brick, or of a face neighbour when y or z lies
     /// outside 0..8 (by at most 8, along one axis).
     #[inline(always)]
@@ -107,33 +147,6 @@ impl Row<'_> {
             load(self.field, slot as usize * BRICK_NODES + SIDE * (y as usize + SIDE * z as usize))
         }
     }
-
-    /// The row's eight values shifted by `k` nodes along x (|k| ≤ 2), the
-    /// ends from the x neighbours.
-    #[inline(always)]
-    fn shifted_x<V: Lanes>(&self, k: isize) -> V {
-        let start = SIDE * (self.y + SIDE * self.z);
-        let own = &self.field[self.s * BRICK_NODES + start..][..SIDE];
-        let mut v = [0f32; LANES];
-        let n = k.unsigned_abs();
-        let face = if k < 0 { 0 } else { 1 };
-        let slot = self.around.slots[face];
-        let other: [f32; SIDE] = if slot == NO_SLOT {
-            [self.background[face]; SIDE]
-        } else {
-            self.field[slot as usize * BRICK_NODES + start..][..SIDE]
-                .try_into()
-                .expect("a row")
-        };
-        if k > 0 {
-            v[..SIDE - n].copy_from_slice(&own[n..]);
-            v[SIDE - n..].copy_from_slice(&other[..n]);
-        } else {
-            v[n..].copy_from_slice(&own[..SIDE - n]);
-            v[..n].copy_from_slice(&other[SIDE - n..]);
-        }
-        V::new(v)
-    }
 }
 
 impl<V: Lanes> Stencil<V> for Row<'_> {
@@ -145,7 +158,7 @@ impl<V: Lanes> Stencil<V> for Row<'_> {
     #[inline(always)]
     fn along(&self, axis: usize, k: isize) -> V {
         match axis {
-            0 => self.shifted_x(k),
+            0 => load(&self.ext, (2 + k) as usize),
             1 => self.row(self.y as isize + k, self.z as isize),
             _ => self.row(self.y as isize, self.z as isize + k),
         }
@@ -179,17 +192,37 @@ impl Reader<'_> {
     }
 }
 
+/// Lane masks by their bits: every bit of lane l set where bit l is.
+static LANE_MASKS: [[f32; LANES]; 256] = {
+    let mut t = [[0f32; LANES]; 256];
+    let mut bits = 0;
+    while bits < 256 {
+        let mut l = 0;
+        while l < LANES {
+            if bits >> l & 1 == 1 {
+                t[bits][l] = f32::from_bits(u32::MAX);
+            }
+            l += 1;
+        }
+        bits += 1;
+    }
+    t
+};
+
 /// The lanes of `bits` as a mask.
 #[inline(always)]
 fn lane_mask<V: Lanes>(bits: u32) -> V {
-    V::new(std::array::from_fn(|l| (bits >> l & 1) as f32)).simd_gt(V::splat(0.5))
+    V::new(LANE_MASKS[bits as usize & 0xFF])
 }
 
-/// Writes the lanes of `mask` of `v` at `dst[at..at + 8]`.
+/// Writes the lanes of `mask` of `v` at `dst[at..at + 8]`; returns the row
+/// as written.
 #[inline(always)]
-fn store_masked<V: Lanes>(dst: &mut [f32], at: usize, mask: V, v: V) {
+fn store_masked<V: Lanes>(dst: &mut [f32], at: usize, mask: V, v: V) -> V {
     let out: &mut [f32; LANES] = (&mut dst[at..at + LANES]).try_into().expect("eight");
-    *out = mask.select(v, V::new(*out)).to_array();
+    let row = mask.select(v, V::new(*out));
+    *out = row.to_array();
+    row
 }
 
 /// The rows of a mask with nodes: (row y + 8z, its eight bits).
@@ -207,9 +240,11 @@ fn rows(m: &Mask) -> impl Iterator<Item = (usize, u32)> + '_ {
 /// What a pass needs besides its buffers.
 struct Ctx<'a> {
     c: Step<'a>,
-    arounds: Vec<Around>,
+    arounds: &'a [Around],
     t: &'a [Mask],
     n: &'a [Mask],
+    /// The previous step's N (where the scratch buffer differs from φ).
+    prev_n: &'a [Mask],
     /// Nodes that fit the ENO stencil (two nodes from every face), per slot.
     fits: &'a [Mask],
     cap: f32,
@@ -217,33 +252,20 @@ struct Ctx<'a> {
 }
 
 impl<'a> Ctx<'a> {
-    /// Row `r` of slot `s` of a φ buffer.
+    /// Row `r` of slot `s` of a φ buffer; with its x neighbours' ends when
+    /// `wide` (the stencil reads along x).
     #[inline(always)]
-    fn phi_row(&'a self, field: &'a [f32], s: usize, r: usize) -> Row<'a> {
+    fn phi_row(&'a self, field: &'a [f32], s: usize, r: usize, wide: bool) -> Row<'a> {
         let around = &self.arounds[s];
-        Row {
-            field,
-            s,
-            around,
-            background: around.phi,
-            y: r % SIDE,
-            z: r / SIDE,
-            reader: &self.reader,
-        }
+        Row::new((field, around.phi), (s, r), around, &self.reader, wide)
     }
 
-    /// Row `r` of slot `s` of the distance.
+    /// Row `r` of slot `s` of the distance (read along the axes by Zhao's
+    /// flow only).
     #[inline(always)]
     fn d_row(&'a self, s: usize, r: usize) -> Row<'a> {
-        Row {
-            field: self.c.d,
-            s,
-            around: &self.arounds[s],
-            background: [self.cap; 6],
-            y: r % SIDE,
-            z: r / SIDE,
-            reader: &self.reader,
-        }
+        let around = &self.arounds[s];
+        Row::new((self.c.d, [self.cap; 6]), (s, r), around, &self.reader, self.c.zhao)
     }
 }
 
@@ -255,13 +277,27 @@ enum Out {
 }
 
 /// One pass on one brick, as a [`Kernel`]: `dst` is the brick's slice of the
-/// buffer written, `src` the whole buffer read.
+/// buffer written, `src` the whole buffer read. With `rebuild` (the pass that
+/// writes the step's final φ on N) it also gives the brick's new T.
 struct Brick<'a> {
     ctx: &'a Ctx<'a>,
     op: Op,
+    rebuild: bool,
     s: usize,
     src: &'a [f32],
     dst: &'a mut [f32],
+}
+
+/// The bits of row `r` in mask `m`.
+#[inline(always)]
+fn row_bits(m: &Mask, r: usize) -> u32 {
+    (m[r / SIDE] >> (SIDE * (r % SIDE))) as u32 & 0xFF
+}
+
+/// The union of two masks.
+#[inline(always)]
+fn union(a: &Mask, b: &Mask) -> Mask {
+    std::array::from_fn(|z| a[z] | b[z])
 }
 
 impl Kernel for Brick<'_> {
@@ -272,30 +308,44 @@ impl Kernel for Brick<'_> {
         let Brick {
             ctx,
             op,
+            rebuild,
             s,
             src,
             dst,
         } = self;
         let c = &ctx.c;
+        let mut new_t = Rebuilt::<V>::new();
         match op {
             Op::Advance => {
-                for (r, bits) in rows(&ctx.t[s]) {
-                    let st = ctx.phi_row(src, s, r);
+                // The scratch equals φ outside T when the step reads it, as in
+                // the dense flow: the last step's N, where the scratch still
+                // holds a redistancing iterate, gets φ back here.
+                let (t, prev) = (&ctx.t[s], &ctx.prev_n[s]);
+                for (r, _) in rows(&union(t, prev)) {
+                    let (tb, copy) = (row_bits(t, r), row_bits(prev, r) & !row_bits(t, r));
+                    if copy != 0 {
+                        let v = load::<V>(src, s * BRICK_NODES + r * SIDE);
+                        store_masked(dst, r * SIDE, lane_mask::<V>(copy), v);
+                    }
+                    if tb == 0 {
+                        continue;
+                    }
+                    let st = ctx.phi_row(src, s, r, true);
                     let d = ctx.d_row(s, r);
                     let v = if c.zhao {
-                        rate::<V, true>(c, &st, &d, bits)
+                        rate::<V, true>(c, &st, &d, tb)
                     } else {
-                        rate::<V, false>(c, &st, &d, bits)
+                        rate::<V, false>(c, &st, &d, tb)
                     };
                     let v = Stencil::<V>::centre(&st) + V::splat(c.dt) * v;
-                    store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                    store_masked(dst, r * SIDE, lane_mask::<V>(tb), v);
                 }
-                Out::Nothing
+                return Out::Nothing;
             }
             Op::Finish => {
                 let mut moved = (0u64, 0u64);
                 for (r, bits) in rows(&ctx.t[s]) {
-                    let st = ctx.phi_row(src, s, r);
+                    let st = ctx.phi_row(src, s, r, true);
                     let d = ctx.d_row(s, r);
                     let l = if c.zhao {
                         rate::<V, true>(c, &st, &d, bits)
@@ -313,66 +363,75 @@ impl Kernel for Brick<'_> {
                     moved.1 += u64::from(near.to_bitmask().count_ones());
                     store_masked(dst, r * SIDE, valid, new);
                 }
-                Out::Moved(moved)
+                return Out::Moved(moved);
             }
             Op::Redistance { clamp, .. } => {
                 for (r, bits) in rows(&ctx.n[s]) {
-                    let st = ctx.phi_row(src, s, r);
+                    let st = ctx.phi_row(src, s, r, true);
                     let mut v = redistanced::<V>(c, &st);
                     if clamp {
                         v = v.fast_max(V::splat(-c.gamma)).fast_min(V::splat(c.gamma));
                     }
-                    store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                    let v = store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                    if rebuild {
+                        new_t.row(ctx, s, r, bits, v);
+                    }
                 }
-                Out::Nothing
             }
             Op::CopyBack => {
                 for (r, bits) in rows(&ctx.n[s]) {
                     let v = load::<V>(src, s * BRICK_NODES + r * SIDE);
-                    store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                    let v = store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                    if rebuild {
+                        new_t.row(ctx, s, r, bits, v);
+                    }
                 }
-                Out::Nothing
             }
             Op::Clamp => {
                 for (r, bits) in rows(&ctx.n[s]) {
                     let v = load::<V>(dst, r * SIDE);
                     let v = v.fast_max(V::splat(-c.gamma)).fast_min(V::splat(c.gamma));
-                    store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                    let v = store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                    if rebuild {
+                        new_t.row(ctx, s, r, bits, v);
+                    }
                 }
-                Out::Nothing
             }
-            Op::Rebuild => {
-                let (t, vmax) = rebuild::<V>(ctx, s, src, Some(dst), &ctx.n[s]);
-                Out::Rebuilt(t, vmax)
-            }
+            Op::Rebuild => unreachable!("the rebuild runs within the last pass"),
+        }
+        if rebuild {
+            let (t, vmax) = new_t.finish();
+            Out::Rebuilt(t, vmax)
+        } else {
+            Out::Nothing
         }
     }
 }
 
-/// The new T of slot `s`: the nodes of `candidates` that fit the ENO stencil
-/// with |φ| < γ (all of them on the full grid), and the largest speed there;
-/// `scratch` (the brick's slice) = φ on the candidates when given.
-#[inline(always)]
-fn rebuild<V: Lanes>(
-    ctx: &Ctx,
-    s: usize,
-    phi: &[f32],
-    mut scratch: Option<&mut [f32]>,
-    candidates: &Mask,
-) -> (Mask, f32) {
-    let c = &ctx.c;
-    let fits = &ctx.fits[s];
-    let mut t = EMPTY_MASK;
-    let mut vmax = V::splat(0.0);
-    for (r, bits) in rows(candidates) {
-        let p = load::<V>(phi, s * BRICK_NODES + r * SIDE);
-        if let Some(dst) = scratch.as_deref_mut() {
-            store_masked(dst, r * SIDE, lane_mask::<V>(bits), p);
+/// A brick's new T being built row by row: the nodes of N that fit the ENO
+/// stencil with |φ| < γ (all of them on the full grid), and the largest
+/// speed there.
+struct Rebuilt<V> {
+    t: Mask,
+    vmax: V,
+}
+
+impl<V: Lanes> Rebuilt<V> {
+    #[inline(always)]
+    fn new() -> Self {
+        Self {
+            t: EMPTY_MASK,
+            vmax: V::splat(0.0),
         }
-        let (y, z) = (r % SIDE, r / SIDE);
-        let fit = (fits[z] >> (SIDE * y)) as u32 & bits;
+    }
+
+    /// Row `r` of slot `s`, its candidates `bits`, φ there `p`.
+    #[inline(always)]
+    fn row(&mut self, ctx: &Ctx, s: usize, r: usize, bits: u32, p: V) {
+        let c = &ctx.c;
+        let fit = row_bits(&ctx.fits[s], r) & bits;
         if fit == 0 {
-            continue;
+            return;
         }
         let mut keep = lane_mask::<V>(fit);
         if !c.keep_all {
@@ -381,14 +440,20 @@ fn rebuild<V: Lanes>(
         let kept = keep.to_bitmask();
         if kept != 0 {
             let d = load::<V>(c.d, s * BRICK_NODES + r * SIDE);
-            vmax = vmax.fast_max(keep.select(c.speeds(p, d), V::splat(0.0)));
-            t[z] |= u64::from(kept) << (SIDE * y);
+            self.vmax = self
+                .vmax
+                .fast_max(keep.select(c.speeds(p, d), V::splat(0.0)));
+            self.t[r / SIDE] |= u64::from(kept) << (SIDE * (r % SIDE));
         }
     }
-    (t, vmax.to_array().into_iter().fold(0.0, hi))
+
+    #[inline(always)]
+    fn finish(self) -> (Mask, f32) {
+        (self.t, self.vmax.to_array().into_iter().fold(0.0, hi))
+    }
 }
 
-/// The first T from every node that fits the ENO stencil.
+/// The first T: the rows of every brick rebuilt from φ as it is.
 fn first_tube(ctx: &Ctx, phi: &[f32]) -> (Vec<Mask>, f32) {
     struct First<'a> {
         ctx: &'a Ctx<'a>,
@@ -399,8 +464,13 @@ fn first_tube(ctx: &Ctx, phi: &[f32]) -> (Vec<Mask>, f32) {
         type Output = (Mask, f32);
         #[inline(always)]
         fn run<V: Lanes>(self) -> (Mask, f32) {
-            let all = self.ctx.fits[self.s];
-            rebuild::<V>(self.ctx, self.s, self.phi, None, &all)
+            let (ctx, s) = (self.ctx, self.s);
+            let mut t = Rebuilt::<V>::new();
+            for (r, bits) in rows(&ctx.fits[s]) {
+                let p = load::<V>(self.phi, s * BRICK_NODES + r * SIDE);
+                t.row(ctx, s, r, bits, p);
+            }
+            t.finish()
         }
     }
     let (t, v): (Vec<Mask>, Vec<f32>) = (0..ctx.fits.len())
@@ -564,8 +634,14 @@ fn activate(ls: &mut SparseLevelSet, dist: &mut SparseDistance, scratch: &mut Ve
     scratch.extend_from_slice(&ls.phi[first * BRICK_NODES..]);
 }
 
-/// One pass over every brick; the movement (Finish) or the new T (Rebuild).
-fn pass(ctx: &Ctx, op: Op, phi: &mut [f32], scratch: &mut [f32]) -> (Movement, Option<(Vec<Mask>, f32)>) {
+/// One pass over every brick: the movement (Finish), or with `rebuild` the
+/// new T (into `new_t`) and its largest speed.
+fn pass(
+    ctx: &Ctx,
+    (op, rebuild): (Op, bool),
+    (phi, scratch): (&mut [f32], &mut [f32]),
+    new_t: &mut [Mask],
+) -> (Movement, f32) {
     let (src_buf, _, dst_buf) = op.access();
     let (src, dst): (&[f32], &mut [f32]) = match (src_buf, dst_buf) {
         (Buf::Phi, Buf::Scratch) => (phi, scratch),
@@ -573,54 +649,42 @@ fn pass(ctx: &Ctx, op: Op, phi: &mut [f32], scratch: &mut [f32]) -> (Movement, O
         // Clamp: in place.
         _ => (&[], phi),
     };
-    let outs: Vec<Out> = dst
-        .par_chunks_mut(BRICK_NODES)
+    dst.par_chunks_mut(BRICK_NODES)
+        .zip(new_t.par_iter_mut())
         .enumerate()
-        .map(|(s, dst)| {
-            let mask = if matches!(op, Op::Advance | Op::Finish) {
-                &ctx.t[s]
-            } else {
-                &ctx.n[s]
+        .map(|(s, (dst, t))| {
+            let busy = match op {
+                Op::Advance => !(is_empty(&ctx.t[s]) && is_empty(&ctx.prev_n[s])),
+                Op::Finish => !is_empty(&ctx.t[s]),
+                _ => !is_empty(&ctx.n[s]),
             };
-            if is_empty(mask) {
-                return if op == Op::Rebuild {
-                    Out::Rebuilt(EMPTY_MASK, 0.0)
-                } else {
-                    Out::Nothing
-                };
+            if !busy {
+                if rebuild {
+                    *t = EMPTY_MASK;
+                }
+                return ((0, 0), 0.0);
             }
-            dispatch(Brick {
+            let out = dispatch(Brick {
                 ctx,
                 op,
+                rebuild,
                 s,
                 src,
                 dst,
-            })
-        })
-        .collect();
-    let mut moved = (0, 0);
-    let mut rebuilt = None;
-    if op == Op::Rebuild {
-        let mut vmax = 0.0;
-        let t = outs
-            .into_iter()
-            .map(|o| match o {
-                Out::Rebuilt(t, v) => {
-                    vmax = hi(vmax, v);
-                    t
+            });
+            match out {
+                Out::Moved(m) => (m, 0.0),
+                Out::Rebuilt(mask, vmax) => {
+                    *t = mask;
+                    ((0, 0), vmax)
                 }
-                _ => EMPTY_MASK,
-            })
-            .collect();
-        rebuilt = Some((t, vmax));
-    } else {
-        for o in outs {
-            if let Out::Moved(m) = o {
-                moved = (moved.0 + m.0, moved.1 + m.1);
+                Out::Nothing => ((0, 0), 0.0),
             }
-        }
-    }
-    (moved, rebuilt)
+        })
+        .reduce(
+            || ((0, 0), 0.0),
+            |a, b| ((a.0.0 + b.0.0, a.0.1 + b.0.1), hi(a.1, b.1)),
+        )
 }
 
 /// Evolves `ls` by the flow for `params.iterations` steps with the speed
@@ -658,11 +722,16 @@ pub fn sparse_evolve(
     };
     let mut fits = fits_of(&ls.bricks);
     let (mut t, mut vmax) = {
-        let ctx = context(ls, dist, (&[], &[], &fits), params, 0.0);
+        let arounds = compute_arounds(ls);
+        let ctx = context(ls, dist, (&[], &[], &[], &fits), &arounds, params, 0.0);
         first_tube(&ctx, &ls.phi)
     };
     let shape = if full { None } else { Some(params.neighbourhood) };
     let mut n = tube_n(ls, dist, &mut scratch, &mut t, &mut fits, shape);
+    // The scratch equals φ everywhere at the start.
+    let mut prev_n = vec![EMPTY_MASK; n.len()];
+    let mut new_t: Vec<Mask> = Vec::new();
+    let mut arounds: Vec<Around> = Vec::new();
     progress.start(params.iterations as u64, "convection flow");
     let mut stats = EvolveStats {
         steps: Vec::new(),
@@ -676,21 +745,30 @@ pub fn sparse_evolve(
         let dt = time_step(params, h, vmax);
         let tube = t.iter().map(count).sum();
         let mut moved = (0, 0);
-        let mut next = None;
+        let mut new_vmax = 0.0;
+        new_t.resize(t.len(), EMPTY_MASK);
         {
             let mut phi = std::mem::take(&mut ls.phi);
-            let ctx = context(ls, dist, (&t, &n, &fits), params, dt);
-            for &op in &plan.ops {
-                let (m, r) = pass(&ctx, op, &mut phi, &mut scratch);
-                moved = (moved.0 + m.0, moved.1 + m.1);
-                if r.is_some() {
-                    next = r;
+            if arounds.len() != ls.bricks.slots() {
+                arounds = compute_arounds(ls);
+            }
+            let ctx = context(ls, dist, (&t, &n, &prev_n, &fits), &arounds, params, dt);
+            // The dense plan's passes; its rebuild runs within the last of
+            // them, and its copy of φ into the scratch within the next
+            // step's advance.
+            let ops: Vec<Op> = plan.ops.iter().copied().filter(|&op| op != Op::Rebuild).collect();
+            for (i, &op) in ops.iter().enumerate() {
+                let t0 = std::time::Instant::now();
+                let (m, v) = pass(&ctx, (op, i + 1 == ops.len()), (&mut phi, &mut scratch), &mut new_t);
+                if std::env::var_os("ASPERITY_PROFILE").is_some() {
+                    eprintln!("{op:?}: {:.1} ms", t0.elapsed().as_secs_f64() * 1e3);
                 }
+                moved = (moved.0 + m.0, moved.1 + m.1);
+                new_vmax = hi(new_vmax, v);
             }
             drop(ctx);
             ls.phi = phi;
         }
-        let (new_t, new_vmax) = next.expect("every step rebuilds T");
         let front_movement = if moved.1 > 0 {
             moved.0 as f64 / 65536.0 / moved.1 as f64
         } else {
@@ -703,8 +781,20 @@ pub fn sparse_evolve(
             tube,
         };
         stats.steps.push(s);
-        (t, vmax) = (new_t, new_vmax);
+        std::mem::swap(&mut t, &mut new_t);
+        vmax = new_vmax;
+        let t0 = std::time::Instant::now();
+        prev_n = std::mem::take(&mut n);
         n = tube_n(ls, dist, &mut scratch, &mut t, &mut fits, shape);
+        prev_n.resize(n.len(), EMPTY_MASK);
+        if std::env::var_os("ASPERITY_PROFILE").is_some() {
+            let nn: usize = n.iter().map(count).sum();
+            let trows: usize = t.iter().map(|m| rows(m).count()).sum();
+            let nrows: usize = n.iter().map(|m| rows(m).count()).sum();
+            eprintln!("rows: T {trows}, N {nrows}");
+            let busy = n.iter().filter(|m| !is_empty(m)).count();
+            eprintln!("tube_n: {:.1} ms; T {tube}, N {nn} nodes in {busy} of {} bricks", t0.elapsed().as_secs_f64() * 1e3, n.len());
+        }
         if params
             .snapshot_every
             .is_some_and(|k| k > 0 && step.is_multiple_of(k))
@@ -748,7 +838,8 @@ fn tube_n(
 fn context<'a>(
     ls: &'a SparseLevelSet,
     dist: &'a SparseDistance,
-    (t, n, fits): (&'a [Mask], &'a [Mask], &'a [Mask]),
+    (t, n, prev_n, fits): (&'a [Mask], &'a [Mask], &'a [Mask], &'a [Mask]),
+    arounds: &'a [Around],
     params: &EvolveParams,
     dt: f64,
 ) -> Ctx<'a> {
@@ -756,10 +847,10 @@ fn context<'a>(
     c.dt = dt as f32;
     Ctx {
         c,
-        // Rebuilt per step: bricks may have been added.
-        arounds: arounds(ls),
+        arounds,
         t,
         n,
+        prev_n,
         fits,
         cap: dist.cap,
         reader: Reader {

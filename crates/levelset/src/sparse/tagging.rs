@@ -3,8 +3,8 @@
 //! The same result as [`crate::tagging`], node for node, for both rules: the
 //! ε rule's exterior is the flood fill of {d ≥ ε} from the grid's faces; the
 //! paper's rule accepts the flood fill of the far field {d ≥ cap} and decides
-//! the rest of the ε flood fill in decreasing distance (the dense module's
-//! docs give the argument).
+//! the rest of the ε flood fill, the *shell*, as Algorithm 1's queue would
+//! (the dense module's docs give the argument).
 //!
 //! The flood fills work on bricks: a brick's nodes are a 512-bit mask (a
 //! word per plane), a fill spreads inside a brick by shifting words, and the
@@ -12,12 +12,18 @@
 //! next round (bricks of a round run in parallel; the filled set is the
 //! connected set whatever the order). An inactive brick reads as the cap
 //! everywhere, so a fill that reaches it takes all of it at once: its tag is
-//! one bit. The descent of the paper's rule visits the nodes of the ε shell
-//! only, in the dense order (the tie-break is the dense index); a node of an
-//! inactive brick next to them is *virtual*: exterior if its brick is far
-//! field, interior if enclosed. A far-field pocket behind a neck narrower
-//! than the cap (reached by the ε fill but not the far fill) is made active
-//! first, as the descent decides its nodes one by one.
+//! one bit.
+//!
+//! The dense module decides the shell in one sorted pass of decreasing
+//! distance, which is sequential. Here the shell is decided by relaxation
+//! (see `Shell`): Algorithm 1's acceptance rule is monotone in the
+//! neighbours' tags and its outcome is the rule's least fixed point, so
+//! bricks can raise their tags in parallel rounds until nothing changes, with
+//! the same result. A node of an inactive brick next to the shell reads as
+//! the cap, exterior if its brick is far field and interior if enclosed. A
+//! far-field pocket behind a neck narrower than the cap (reached by the ε fill
+//! but not the far fill) is made active first, as its nodes are decided one
+//! by one.
 
 use asperity_core::Progress;
 use rayon::prelude::*;
@@ -27,9 +33,7 @@ use super::layout::{
     BRICK_NODES, Bricks, EMPTY_MASK, Mask, NO_SLOT, SIDE, X_HIGH, X_LOW, Y_HIGH, Y_LOW, count,
     is_empty,
 };
-use crate::tagging::{
-    EXTERIOR, INTERIOR, NONE, NodeSpace, TagRule, VIRTUAL_EXTERIOR, VIRTUAL_INTERIOR, descend_in,
-};
+use crate::tagging::TagRule;
 
 /// The result of tagging on bricks.
 #[derive(Clone, Debug)]
@@ -266,72 +270,8 @@ fn flood(bricks: &Bricks, d: &[f32], far: f32, threshold: f32) -> Fill {
     fill
 }
 
-/// The bricks as the descent's [`NodeSpace`]: node ids, and virtual nodes for
-/// inactive bricks (exterior where the far fill took them).
-struct BrickSpace<'a> {
-    bricks: &'a Bricks,
-    far_tiles: &'a [u64],
-}
-
 /// The steps of one node along x, y and z within a brick.
 const STEP: [usize; 3] = [1, SIDE, SIDE * SIDE];
-
-impl NodeSpace for BrickSpace<'_> {
-    #[inline(always)]
-    fn around(&self, u: usize) -> ([usize; 6], bool) {
-        let c = self.bricks.coords(u as u32);
-        let dims = self.bricks.grid.dims;
-        let mut nb = [NONE; 6];
-        let mut face = false;
-        for a in 0..3 {
-            let l = c[a] % SIDE;
-            for (k, up) in [(2 * a, false), (2 * a + 1, true)] {
-                if (!up && c[a] == 0) || (up && c[a] + 1 == dims[a]) {
-                    face = true;
-                    continue;
-                }
-                nb[k] = if up && l + 1 < SIDE {
-                    u + STEP[a]
-                } else if !up && l > 0 {
-                    u - STEP[a]
-                } else {
-                    let mut n = c;
-                    n[a] = if up { c[a] + 1 } else { c[a] - 1 };
-                    match self.bricks.id(n) {
-                        Some(id) => id as usize,
-                        None => {
-                            let bi = self.bricks.brick_index(n.map(|x| x / SIDE));
-                            if bit(self.far_tiles, bi) {
-                                VIRTUAL_EXTERIOR
-                            } else {
-                                VIRTUAL_INTERIOR
-                            }
-                        }
-                    }
-                };
-            }
-        }
-        (nb, face)
-    }
-
-    #[inline(always)]
-    fn node_of(&self, key: u64) -> usize {
-        let dense = (u32::MAX - key as u32) as usize;
-        let c = self.bricks.grid.coords(dense);
-        self.bricks.id(c).expect("the descent's nodes are active") as usize
-    }
-
-    #[inline(always)]
-    fn nearby(&self, w: usize) -> [usize; 5] {
-        [
-            w,
-            w.wrapping_sub(SIDE),
-            w + SIDE,
-            w.wrapping_sub(SIDE * SIDE),
-            w + SIDE * SIDE,
-        ]
-    }
-}
 
 /// Runs Algorithm 1 on the sparse distance `dist` with offset `eps` (world
 /// units). Far-field pockets behind narrow necks are activated in `dist` (at
@@ -345,7 +285,10 @@ pub fn sparse_tag(
     let eps = eps as f32;
     let far = dist.cap;
     progress.start(dist.bricks.grid.len() as u64, "tagging");
+    let prof = std::env::var_os("ASPERITY_PROFILE").is_some();
+    let t0 = std::time::Instant::now();
     let mut reach = flood(&dist.bricks, &dist.values, far, eps);
+    if prof { eprintln!("  reach flood {:.2} s", t0.elapsed().as_secs_f64()); }
     if rule == TagRule::Threshold {
         progress.finish();
         return SparseTags {
@@ -365,6 +308,7 @@ pub fn sparse_tag(
             count: 0,
         }
     };
+    if prof { eprintln!("  far flood {:.2} s", t0.elapsed().as_secs_f64()); }
     // Pockets: inactive bricks reached by the ε fill only.
     let pockets: Vec<u32> = (0..dist.bricks.brick_count())
         .filter(|&bi| bit(&reach.tiles, bi) && !bit(&far_fill.tiles, bi))
@@ -380,52 +324,293 @@ pub fn sparse_tag(
     }
     let bricks = &dist.bricks;
     let d = &dist.values;
-    let mut state: Vec<u8> = far_fill
-        .nodes
-        .par_iter()
-        .flat_map_iter(|m| {
-            (0..BRICK_NODES).map(move |l| if m[l / 64] >> (l % 64) & 1 == 1 { EXTERIOR } else { INTERIOR })
-        })
-        .collect();
     progress.advance(far_fill.count as u64);
-    // The rest of the ε fill, by decreasing distance (ties: smaller dense
-    // index first, as the heap's keys).
-    let mut keys: Vec<u64> = (0..bricks.slots())
-        .into_par_iter()
-        .flat_map_iter(|s| {
-            let (r, f) = (reach.nodes[s], far_fill.nodes[s]);
-            let b = bricks.slot_coords(s);
-            (0..BRICK_NODES)
-                .filter(move |&l| (r[l / 64] & !f[l / 64]) >> (l % 64) & 1 == 1)
-                .map(move |l| {
-                    let c = [b[0] * SIDE + l % SIDE, b[1] * SIDE + (l / SIDE) % SIDE, b[2] * SIDE + l / 64];
-                    let dense = bricks.grid.index(c[0], c[1], c[2]);
-                    (u64::from(d[s * BRICK_NODES + l].to_bits()) << 32) | u64::from(u32::MAX - dense as u32)
-                })
-        })
+    // The rest of the ε fill: the shell, decided by relaxation.
+    let shell: Vec<Mask> = (0..bricks.slots())
+        .map(|s| std::array::from_fn(|z| reach.nodes[s][z] & !far_fill.nodes[s][z]))
         .collect();
     drop(reach);
-    keys.par_sort_unstable_by(|a, b| b.cmp(a));
-    let space = BrickSpace {
+    let mut ext = far_fill.nodes;
+    let shells = Shell {
         bricks,
+        d,
+        far,
         far_tiles: &far_fill.tiles,
+        shell: &shell,
     };
-    let (accepted, refused) = descend_in(&space, (d, far), &keys, &mut state, progress);
-    drop(keys);
-    progress.finish();
-    let mut exterior = vec![0u64; bricks.nodes() / 64];
-    exterior.par_chunks_mut(BRICK_NODES / 64).zip(state.par_chunks(BRICK_NODES)).for_each(|(w, st)| {
-        for (l, &x) in st.iter().enumerate() {
-            if x == EXTERIOR {
-                w[l / 64] |= 1 << (l % 64);
-            }
+    let mut pending: Vec<u32> = (0..bricks.slots() as u32)
+        .filter(|&s| !is_empty(&shell[s as usize]))
+        .collect();
+    // Each shell brick's comparisons with its neighbours, once (`at[s]` is
+    // its place in `slopes`).
+    let slopes: Vec<Slopes> = pending.par_iter().map(|&s| shells.slopes(s as usize)).collect();
+    let mut at = vec![u32::MAX; bricks.slots()];
+    for (i, &s) in pending.iter().enumerate() {
+        at[s as usize] = i as u32;
+    }
+    let mut rounds = 0;
+    while !pending.is_empty() {
+        rounds += 1;
+        if prof { eprintln!("   round {rounds}: {} bricks", pending.len()); }
+        let fresh: Vec<(u32, Mask)> = pending
+            .par_iter()
+            .filter_map(|&s| {
+                let grown = shells.relax_brick(s as usize, &slopes[at[s as usize] as usize], &ext);
+                (grown != ext[s as usize]).then_some((s, grown))
+            })
+            .collect();
+        let mut next = Vec::new();
+        for (s, grown) in fresh {
+            let new: Mask = std::array::from_fn(|z| grown[z] & !ext[s as usize][z]);
+            ext[s as usize] = grown;
+            shells.touched(s as usize, &new, &mut next);
         }
-    });
+        next.sort_unstable();
+        next.dedup();
+        pending = next;
+    }
+    if prof { eprintln!("  relaxation {:.2} s", t0.elapsed().as_secs_f64()); }
+    let (accepted, refused) = (0..bricks.slots())
+        .into_par_iter()
+        .filter(|&s| at[s] != u32::MAX)
+        .map(|s| shells.counts(s, &slopes[at[s] as usize], &ext))
+        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    progress.finish();
     SparseTags {
-        exterior,
+        exterior: masks_to_bits(&ext, bricks.nodes() / 64),
         tiles: far_fill.tiles,
         exterior_count: far_fill.count + accepted,
         refused,
+    }
+}
+
+/// The ε shell (the ε fill less the far field) and what deciding it reads.
+///
+/// Under the paper's rule a node's fate depends only on its farther
+/// neighbours (and on equal ones, through the group flood): it is exterior
+/// iff every strictly farther neighbour is exterior and it is reached — it
+/// has a farther neighbour (then exterior), lies on a face, or has an
+/// exterior neighbour at the same distance. That rule is monotone in the
+/// neighbours' tags, and the sequential descent's result is its least fixed
+/// point (by induction in decreasing distance, each node's value is forced by
+/// the ones before it). So the shell can be decided in any order by raising
+/// tags from the far field until nothing changes: bricks in parallel rounds,
+/// each brick relaxed to its own fixed point (on 512-bit masks, all its
+/// nodes at once) against the previous round's tags of its neighbours. The
+/// fixed point is unique, so the result does not depend on the order or the
+/// thread count, and equals the descent's (tested).
+struct Shell<'a> {
+    bricks: &'a Bricks,
+    d: &'a [f32],
+    far: f32,
+    far_tiles: &'a [u64],
+    shell: &'a [Mask],
+}
+
+/// A brick's comparisons with its neighbours, per direction (−x, +x, −y,
+/// +y, −z, +z): the nodes whose neighbour that way is strictly farther from
+/// the data, and those whose neighbour is at least as far; and the nodes on
+/// the grid's faces.
+struct Slopes {
+    farther: [Mask; 6],
+    not_nearer: [Mask; 6],
+    face: Mask,
+}
+
+/// `w`'s nodes moved one node along direction `dir` within a brick plane
+/// word (x: one bit, y: eight); z moves between words and is done apart.
+#[inline(always)]
+fn shift_in_plane(w: u64, dir: usize) -> u64 {
+    match dir {
+        // Node u gets what its −x neighbour u − 1 has.
+        0 => (w << 1) & !X_LOW,
+        1 => (w >> 1) & !X_HIGH,
+        2 => w << SIDE,
+        _ => w >> SIDE,
+    }
+}
+
+impl Shell<'_> {
+    /// For every node of slot `s`, the value `of` gives its neighbour in
+    /// direction `dir` (inside the brick: `own`; else the neighbour brick's
+    /// node, a whole inactive brick, or nothing beyond the grid), as masks:
+    /// the nodes whose neighbour passes `test`.
+    fn slopes(&self, s: usize) -> Slopes {
+        let bricks = self.bricks;
+        let b = bricks.slot_coords(s);
+        let faces = bricks.face_slots(s);
+        let inside = bricks.in_grid(b);
+        let d = &self.d[s * BRICK_NODES..(s + 1) * BRICK_NODES];
+        let mut out = Slopes {
+            farther: [EMPTY_MASK; 6],
+            not_nearer: [EMPTY_MASK; 6],
+            face: grid_faces(bricks, b),
+        };
+        let dims = bricks.grid.dims;
+        for dir in 0..6 {
+            let (a, up) = (dir / 2, dir % 2 == 1);
+            let other = faces[dir];
+            // The neighbour brick's values (an inactive one reads as the cap).
+            let theirs = (other != NO_SLOT)
+                .then(|| &self.d[other as usize * BRICK_NODES..(other as usize + 1) * BRICK_NODES]);
+            let step = STEP[a];
+            for z in 0..SIDE {
+                for y in 0..SIDE {
+                    let mut far_bits = 0u64;
+                    let mut ge_bits = 0u64;
+                    for x in 0..SIDE {
+                        let local = [x, y, z];
+                        let l = x + SIDE * (y + SIDE * z);
+                        // The neighbour must lie in the grid.
+                        let g = b[a] * SIDE + local[a];
+                        if (up && g + 1 >= dims[a]) || (!up && g == 0) {
+                            continue;
+                        }
+                        let at_edge = if up { local[a] == SIDE - 1 } else { local[a] == 0 };
+                        let dv = if !at_edge {
+                            d[if up { l + step } else { l - step }]
+                        } else {
+                            let wrapped = if up { l - (SIDE - 1) * step } else { l + (SIDE - 1) * step };
+                            theirs.map_or(self.far, |t| t[wrapped])
+                        };
+                        let du = d[l];
+                        far_bits |= u64::from(dv > du) << x;
+                        ge_bits |= u64::from(dv >= du) << x;
+                    }
+                    out.farther[dir][z] |= far_bits << (SIDE * y);
+                    out.not_nearer[dir][z] |= ge_bits << (SIDE * y);
+                }
+            }
+            // Only nodes in the grid are decided.
+            for w in 0..SIDE {
+                out.farther[dir][w] &= inside[w];
+                out.not_nearer[dir][w] &= inside[w];
+            }
+        }
+        out
+    }
+
+    /// Per direction, the nodes of slot `s` on that face of the brick whose
+    /// neighbour in the next brick is exterior (by `ext`, or the tile of an
+    /// inactive brick).
+    fn outside(&self, s: usize, ext: &[Mask]) -> [Mask; 6] {
+        let bricks = self.bricks;
+        let b = bricks.slot_coords(s);
+        let faces = bricks.face_slots(s);
+        std::array::from_fn(|dir| {
+            let (a, up) = (dir / 2, dir % 2 == 1);
+            let beyond = if up { b[a] + 1 >= bricks.bdims[a] } else { b[a] == 0 };
+            if beyond {
+                return EMPTY_MASK;
+            }
+            let other = faces[dir];
+            let theirs: Mask = if other == NO_SLOT {
+                let mut n = b;
+                if up {
+                    n[a] += 1;
+                } else {
+                    n[a] -= 1;
+                }
+                if bit(self.far_tiles, bricks.brick_index(n)) {
+                    [u64::MAX; SIDE]
+                } else {
+                    EMPTY_MASK
+                }
+            } else {
+                ext[other as usize]
+            };
+            // Their face next to ours, moved onto our face.
+            match dir {
+                0 => theirs.map(|w| (w & X_HIGH) >> (SIDE - 1)),
+                1 => theirs.map(|w| (w & X_LOW) << (SIDE - 1)),
+                2 => theirs.map(|w| (w & Y_HIGH) >> (SIDE * (SIDE - 1))),
+                3 => theirs.map(|w| (w & Y_LOW) << (SIDE * (SIDE - 1))),
+                4 => {
+                    let mut m = EMPTY_MASK;
+                    m[0] = theirs[SIDE - 1];
+                    m
+                }
+                _ => {
+                    let mut m = EMPTY_MASK;
+                    m[SIDE - 1] = theirs[0];
+                    m
+                }
+            }
+        })
+    }
+
+    /// One evaluation of the rule on every node of a brick whose tags are
+    /// `own`: (the nodes it accepts, the nodes reached but with a farther
+    /// neighbour not exterior).
+    #[inline(always)]
+    fn rule(slopes: &Slopes, own: &Mask, outside: &[Mask; 6]) -> (Mask, Mask) {
+        let mut accept = EMPTY_MASK;
+        let mut refuse = EMPTY_MASK;
+        for z in 0..SIDE {
+            let mut all_farther = u64::MAX;
+            let mut any_farther = 0u64;
+            let mut reached = slopes.face[z];
+            for dir in 0..6 {
+                let nb = match dir {
+                    0..=3 => shift_in_plane(own[z], dir),
+                    4 => if z > 0 { own[z - 1] } else { 0 },
+                    _ => if z + 1 < SIDE { own[z + 1] } else { 0 },
+                } | outside[dir][z];
+                let f = slopes.farther[dir][z];
+                all_farther &= !f | nb;
+                any_farther |= f;
+                reached |= slopes.not_nearer[dir][z] & nb;
+            }
+            accept[z] = all_farther & (any_farther | reached);
+            refuse[z] = !all_farther & reached;
+        }
+        (accept, refuse)
+    }
+
+    /// Slot `s`'s tags raised to the fixed point of its own shell nodes, its
+    /// neighbours' tags as `ext` says.
+    fn relax_brick(&self, s: usize, slopes: &Slopes, ext: &[Mask]) -> Mask {
+        let shell = &self.shell[s];
+        let mut own = ext[s];
+        let outside = self.outside(s, ext);
+        loop {
+            let (accept, _) = Self::rule(&slopes, &own, &outside);
+            let next: Mask = std::array::from_fn(|z| own[z] | (accept[z] & shell[z]));
+            if next == own {
+                return own;
+            }
+            own = next;
+        }
+    }
+
+    /// The slots whose shell may change now that the nodes `new` of slot `s`
+    /// are exterior: the face neighbours that `new` touches.
+    fn touched(&self, s: usize, new: &Mask, out: &mut Vec<u32>) {
+        let faces = self.bricks.face_slots(s);
+        let on_face = [
+            new.iter().any(|w| w & X_LOW != 0),
+            new.iter().any(|w| w & X_HIGH != 0),
+            new.iter().any(|w| w & Y_LOW != 0),
+            new.iter().any(|w| w & Y_HIGH != 0),
+            new[0] != 0,
+            new[SIDE - 1] != 0,
+        ];
+        for (f, &hit) in on_face.iter().enumerate() {
+            let t = faces[f];
+            if hit && t != NO_SLOT && !is_empty(&self.shell[t as usize]) {
+                out.push(t);
+            }
+        }
+    }
+
+    /// The shell nodes of slot `s` accepted, and refused (reached, but a
+    /// farther neighbour is not exterior), at the fixed point `ext`.
+    fn counts(&self, s: usize, slopes: &Slopes, ext: &[Mask]) -> (usize, usize) {
+        let (shell, own) = (&self.shell[s], &ext[s]);
+        let (_, refuse) = Self::rule(slopes, own, &self.outside(s, ext));
+        let accepted: Mask = std::array::from_fn(|z| shell[z] & own[z]);
+        let refused: Mask = std::array::from_fn(|z| shell[z] & !own[z] & refuse[z]);
+        (count(&accepted), count(&refused))
     }
 }
 
