@@ -55,7 +55,33 @@ impl Claims {
     #[inline]
     pub(crate) fn claim(&self, node: usize) -> bool {
         let bit = 1u64 << (node % 64);
-        self.0[node / 64].fetch_or(bit, Relaxed) & bit == 0
+        let word = &self.0[node / 64];
+        // Most claims find the bit set already: read before writing.
+        word.load(Relaxed) & bit == 0 && word.fetch_or(bit, Relaxed) & bit == 0
+    }
+
+    /// The claimed nodes in increasing order, their bits cleared.
+    pub(crate) fn drain(&self) -> Vec<u32> {
+        self.0
+            .par_chunks(1024)
+            .enumerate()
+            .flat_map_iter(|(c, words)| {
+                let mut out = Vec::new();
+                for (k, w) in words.iter().enumerate() {
+                    let mut bits = w.load(Relaxed);
+                    if bits == 0 {
+                        continue;
+                    }
+                    w.store(0, Relaxed);
+                    let base = ((c * 1024 + k) * 64) as u32;
+                    while bits != 0 {
+                        out.push(base + bits.trailing_zeros());
+                        bits &= bits - 1;
+                    }
+                }
+                out
+            })
+            .collect()
     }
 
     /// Clears the bits of `nodes`.

@@ -17,9 +17,9 @@ use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 use asperity_core::Progress;
 use rayon::prelude::*;
 
-use super::layout::{Bricks, SIDE, local, wavefront_radius};
+use super::layout::{BRICK_NODES, Bricks, SIDE, local, wavefront_radius};
 use crate::distance::{
-    Claims, EMPTY, axis_squares, dist2, lower, pack, unpack_d2, wavefront_rounds,
+    Claims, EMPTY, POINT_PREFETCH, axis_squares, dist2, lower, pack, unpack_d2,
 };
 
 /// Points handed to one seeding task.
@@ -46,25 +46,45 @@ pub(crate) fn closest_points(
         .map(|_| AtomicU64::new(EMPTY))
         .collect();
     let claims = Claims::new(n);
-    let frontier = seed(points, space, &cells, &claims);
+    seed(points, space, &cells, &claims);
     let cap2 = (cap * cap) as f32;
-    let offer = |u: u32, v: u64, out: &mut Vec<u32>| {
-        offer((points, space, &cells, &claims), (u, v), cap2, out);
-    };
-    let rounds = wavefront_rounds(
-        (points, &cells, &claims),
-        frontier,
-        cap / space.grid.spacing,
-        progress,
-        offer,
-    );
+    let around = space.neighbourhoods();
+    let expected_rounds = (cap / space.grid.spacing).ceil() as u64 + 2;
+    progress.start(expected_rounds, "distance (closest point)");
+    let mut rounds = 0;
+    // The frontier is the claimed nodes, taken in id order: brick by brick,
+    // so that the offers of one brick's nodes land in the same few bricks.
+    let mut frontier = claims.drain();
+    while !frontier.is_empty() {
+        rounds += 1;
+        // Read the frontier before anyone writes: the round is a pure function
+        // of the previous one, whatever the thread count.
+        let snapshot: Vec<u64> = frontier
+            .par_iter()
+            .map(|&u| cells[u as usize].load(Relaxed))
+            .collect();
+        frontier
+            .par_chunks(1024)
+            .zip(snapshot.par_chunks(1024))
+            .for_each(|(us, vs)| {
+                for (i, (&u, &v)) in us.iter().zip(vs).enumerate() {
+                    if let Some(&ahead) = vs.get(i + POINT_PREFETCH) {
+                        asperity_core::memory_hints::prefetch(points, ahead as u32 as usize);
+                    }
+                    offer((points, space, &around, &cells, &claims), (u, v), cap2);
+                }
+            });
+        frontier = claims.drain();
+        progress.advance(1);
+    }
+    progress.finish();
     (cells, rounds)
 }
 
 /// Gives the 2³ nodes of each point's cell their exact squared distance and
-/// the point's index (the dense method's seeds, ring 0); returns the nodes
-/// that received a value, each once.
-fn seed(points: &[[f64; 3]], space: &Bricks, cells: &[AtomicU64], claims: &Claims) -> Vec<u32> {
+/// the point's index (the dense method's seeds, ring 0), claiming the nodes
+/// that received a value.
+fn seed(points: &[[f64; 3]], space: &Bricks, cells: &[AtomicU64], claims: &Claims) {
     let grid = &space.grid;
     let h = grid.spacing;
     let base_of = |p: &[f64; 3]| {
@@ -76,8 +96,7 @@ fn seed(points: &[[f64; 3]], space: &Bricks, cells: &[AtomicU64], claims: &Claim
     points
         .par_chunks(SEED_CHUNK)
         .enumerate()
-        .flat_map_iter(|(chunk, ps)| {
-            let mut out = Vec::new();
+        .for_each(|(chunk, ps)| {
             for (k, p) in ps.iter().enumerate() {
                 let idx = (chunk * SEED_CHUNK + k) as u32;
                 let base = base_of(p);
@@ -89,42 +108,55 @@ fn seed(points: &[[f64; 3]], space: &Bricks, cells: &[AtomicU64], claims: &Claim
                                 continue;
                             };
                             let d2 = dist2(grid.position(x, y, z), *p) as f32;
-                            if lower(&cells[id as usize], pack(d2, idx)) && claims.claim(id as usize) {
-                                out.push(id);
+                            if lower(&cells[id as usize], pack(d2, idx)) {
+                                claims.claim(id as usize);
                             }
                         }
                     }
                 }
             }
-            out
-        })
-        .collect()
+        });
+}
+
+/// A local coordinate moved by `o` − 1 (o ∈ 0..3): the brick step (0, 1 or
+/// 2 for −1, 0, +1) and the new local coordinate.
+#[inline(always)]
+fn wrap(l: usize, o: usize) -> (usize, usize) {
+    match (l + o).checked_sub(1) {
+        None => (0, SIDE - 1),
+        Some(SIDE) => (2, 0),
+        Some(x) => (1, x),
+    }
 }
 
 /// Offers the point of frontier node `u` (packed cell `v`) to its 26
 /// neighbours, outward only; the neighbours it improves and claims go to `out`.
-/// The dense method's `offer`, with neighbours found through the bricks.
+/// The dense method's `offer`, with neighbours found through the bricks
+/// around `u`'s (`around`, see [`Bricks::neighbourhoods`]).
 #[inline(always)]
 fn offer(
-    (points, space, cells, claims): (&[[f64; 3]], &Bricks, &[AtomicU64], &Claims),
+    (points, space, around, cells, claims): (&[[f64; 3]], &Bricks, &[[u32; 27]], &[AtomicU64], &Claims),
     (u, v): (u32, u64),
     cap2: f32,
-    out: &mut Vec<u32>,
 ) {
     let grid = &space.grid;
     let idx = v as u32;
     let d2_u = unpack_d2(v);
     let p = points[idx as usize];
-    let c = space.coords(u);
+    let (s, l) = (u as usize / BRICK_NODES, u as usize % BRICK_NODES);
+    let at = [l % SIDE, (l / SIDE) % SIDE, l / (SIDE * SIDE)];
+    let b = space.slot_coords(s);
+    let c = [0, 1, 2].map(|a| b[a] * SIDE + at[a]);
     let (sx, sy, sz) = (
         axis_squares(grid, c, p, 0),
         axis_squares(grid, c, p, 1),
         axis_squares(grid, c, p, 2),
     );
-    // Inside the brick on every side: every neighbour is in the same brick.
-    let inner = c.iter().all(|&x| (1..SIDE - 1).contains(&(x % SIDE)));
+    let around = &around[s];
     for (oz, &z2) in sz.iter().enumerate() {
+        let (bz, lz) = wrap(at[2], oz);
         for (oy, &y2) in sy.iter().enumerate() {
+            let (by, ly) = wrap(at[1], oy);
             for (ox, &x2) in sx.iter().enumerate() {
                 if (ox, oy, oz) == (1, 1, 1) {
                     continue;
@@ -135,21 +167,17 @@ fn offer(
                 if d2 >= cap2 || d2 < d2_u {
                     continue;
                 }
-                let node = if inner {
-                    (u as usize + local(ox, oy, oz)) - local(1, 1, 1)
-                } else {
-                    // In the grid (off-grid squares are infinite) and within the
-                    // cap, so active.
-                    match space.id([c[0] + ox - 1, c[1] + oy - 1, c[2] + oz - 1]) {
-                        Some(id) => id as usize,
-                        None => {
-                            debug_assert!(false, "a node within the cap is not active");
-                            continue;
-                        }
-                    }
-                };
-                if lower(&cells[node], pack(d2, idx)) && claims.claim(node) {
-                    out.push(node as u32);
+                let (bx, lx) = wrap(at[0], ox);
+                // In the grid (off-grid squares are infinite) and within the
+                // cap, so active.
+                let slot = around[bx + 3 * (by + 3 * bz)];
+                if slot == super::layout::NO_SLOT {
+                    debug_assert!(false, "a node within the cap is not active");
+                    continue;
+                }
+                let node = slot as usize * BRICK_NODES + local(lx, ly, lz);
+                if lower(&cells[node], pack(d2, idx)) {
+                    claims.claim(node);
                 }
             }
         }

@@ -35,23 +35,29 @@ use crate::evolve::{
 };
 use crate::lanes::{Kernel, Lanes, dispatch};
 
-/// A brick's neighbours for the stencils: the slots of its six face
-/// neighbours (−x, +x, −y, +y, −z, +z; [`NO_SLOT`] without storage) and φ
-/// there when they have none.
+/// A brick's neighbours for the stencils: per face (−x, +x, −y, +y, −z, +z)
+/// the slot a stencil reads there — the neighbour's, or past the real slots
+/// a *virtual* slot of background values when the neighbour has no storage:
+/// in φ's buffers slot `S` holds +γ and `S + 1` holds −γ, in d's slot `S`
+/// holds the cap (`S` the number of real slots).
 #[derive(Clone, Copy, Debug)]
 struct Around {
-    slots: [u32; 6],
-    phi: [f32; 6],
+    phi: [u32; 6],
+    d: [u32; 6],
 }
 
 fn compute_arounds(ls: &SparseLevelSet) -> Vec<Around> {
     let b = &ls.bricks;
+    let virtual_slot = b.slots() as u32;
     (0..b.slots())
         .into_par_iter()
         .map(|s| {
             let slots = b.face_slots(s);
             let c = b.slot_coords(s);
             let phi = std::array::from_fn(|f| {
+                if slots[f] != NO_SLOT {
+                    return slots[f];
+                }
                 let (axis, up) = (f / 2, f % 2 == 1);
                 let mut n = c;
                 if up {
@@ -59,118 +65,146 @@ fn compute_arounds(ls: &SparseLevelSet) -> Vec<Around> {
                 } else if n[axis] > 0 {
                     n[axis] -= 1;
                 }
-                if n[axis] < b.bdims[axis] {
-                    ls.background(b.brick_index(n))
-                } else {
-                    ls.gamma
-                }
+                let exterior = n[axis] >= b.bdims[axis] || ls.background(b.brick_index(n)) > 0.0;
+                virtual_slot + u32::from(!exterior)
             });
-            Around { slots, phi }
+            let d = slots.map(|x| if x == NO_SLOT { virtual_slot } else { x });
+            Around { phi, d }
         })
         .collect()
 }
 
-/// One row of eight nodes of a brick, as a [`Stencil`] on one buffer.
-struct Row<'a> {
+/// Pads φ's buffers with their two virtual slots (+γ, −γ), or d's with its
+/// one (the cap).
+fn pad(field: &mut Vec<f32>, values: &[f32]) {
+    for &v in values {
+        field.extend(std::iter::repeat_n(v, BRICK_NODES));
+    }
+}
+
+/// Where one brick's stencils read one buffer: the base of the brick's own
+/// values and, for y′ and z′ from −2 to 9, the base of the brick holding row
+/// y′ (z′) — its own or a neighbour's (possibly virtual).
+struct Frame<'a> {
     field: &'a [f32],
     s: usize,
-    around: &'a Around,
-    /// The buffer's value where a neighbour has no storage: per face.
-    background: [f32; 6],
-    y: usize,
-    z: usize,
-    /// The row with two nodes of each x neighbour on either side, when the
-    /// stencil reads along x (φ; the distance only for Zhao's flow).
-    ext: [f32; LANES + 4],
+    ys: [usize; 12],
+    zs: [usize; 12],
+    left: usize,
+    right: usize,
     /// For the curvature term: reads any node.
     reader: &'a Reader<'a>,
 }
 
-impl<'a> Row<'a> {
-    /// Row `r` of slot `s` of `field`, with its x neighbours' ends when `wide`.
+impl<'a> Frame<'a> {
     #[inline(always)]
-    fn new(
-        (field, background): (&'a [f32], [f32; 6]),
-        (s, r): (usize, usize),
-        around: &'a Around,
-        reader: &'a Reader<'a>,
-        wide: bool,
-    ) -> Self {
-        let mut ext = [0f32; LANES + 4];
-        if wide {
-            let start = SIDE * r;
-            ext[2..2 + SIDE].copy_from_slice(&field[s * BRICK_NODES + start..][..SIDE]);
-            let ends = |face: usize, from: usize| -> [f32; 2] {
-                let slot = around.slots[face];
-                if slot == NO_SLOT {
-                    [background[face]; 2]
-                } else {
-                    let at = slot as usize * BRICK_NODES + start + from;
-                    [field[at], field[at + 1]]
-                }
-            };
-            ext[..2].copy_from_slice(&ends(0, SIDE - 2));
-            ext[2 + SIDE..].copy_from_slice(&ends(1, 0));
-        }
-        Row {
+    fn new(field: &'a [f32], s: usize, faces: &[u32; 6], reader: &'a Reader<'a>) -> Self {
+        let base = |slot: u32| slot as usize * BRICK_NODES;
+        let own = s * BRICK_NODES;
+        let spread = |lo: u32, hi: u32| {
+            std::array::from_fn(|i| match i {
+                0 | 1 => base(lo),
+                10 | 11 => base(hi),
+                _ => own,
+            })
+        };
+        Frame {
             field,
             s,
-            around,
-            background,
-            y: r % SIDE,
-            z: r / SIDE,
-            ext,
+            ys: spread(faces[2], faces[3]),
+            zs: spread(faces[4], faces[5]),
+            left: base(faces[0]),
+            right: base(faces[1]),
             reader,
         }
     }
 
-    /// The row (y, z) of this brick, or of a face neighbour when y or z lies
-    /// outside 0..8 (by at most 8, along one axis).
+    /// Row `r` of the brick.
     #[inline(always)]
-    fn row<V: Lanes>(&self, y: isize, z: isize) -> V {
-        let side = SIDE as isize;
-        let (face, y, z) = if y < 0 {
-            (2, y + side, z)
-        } else if y >= side {
-            (3, y - side, z)
-        } else if z < 0 {
-            (4, y, z + side)
-        } else if z >= side {
-            (5, y, z - side)
-        } else {
-            return load(self.field, self.s * BRICK_NODES + SIDE * (y as usize + SIDE * z as usize));
-        };
-        let slot = self.around.slots[face];
-        if slot == NO_SLOT {
-            V::splat(self.background[face])
-        } else {
-            load(self.field, slot as usize * BRICK_NODES + SIDE * (y as usize + SIDE * z as usize))
+    fn row(&'a self, r: usize) -> Row<'a> {
+        Row {
+            frame: self,
+            y: r % SIDE,
+            z: r / SIDE,
         }
+    }
+}
+
+/// One row of eight nodes of a brick, as a [`Stencil`] on one buffer.
+struct Row<'a> {
+    frame: &'a Frame<'a>,
+    y: usize,
+    z: usize,
+}
+
+impl Row<'_> {
+    /// The row shifted by `k` nodes along x (|k| ≤ 2): an unaligned load of
+    /// the brick's values (its first or last lanes then hold another row's),
+    /// those lanes replaced by the x neighbour's ends.
+    #[inline(always)]
+    fn shifted_x<V: Lanes>(&self, k: isize) -> V {
+        let f = self.frame;
+        let at = f.s * BRICK_NODES + SIDE * (self.y + SIDE * self.z);
+        let row = SIDE * (self.y + SIDE * self.z);
+        let Some(from) = at.checked_add_signed(k) else {
+            // Slot 0's first row: nothing before it to load past.
+            let v: [f32; LANES] = std::array::from_fn(|l| {
+                let x = l as isize + k;
+                if x < 0 {
+                    f.field[f.left + row + (x + SIDE as isize) as usize]
+                } else {
+                    f.field[at + x as usize]
+                }
+            });
+            return V::new(v);
+        };
+        let mut v = load::<V>(f.field, from);
+        let n = k.unsigned_abs();
+        for i in 0..n {
+            let (lane, value) = if k > 0 {
+                (SIDE - n + i, f.field[f.right + row + i])
+            } else {
+                (i, f.field[f.left + row + SIDE - n + i])
+            };
+            v = lane_mask::<V>(1 << lane).select(V::splat(value), v);
+        }
+        v
     }
 }
 
 impl<V: Lanes> Stencil<V> for Row<'_> {
     #[inline(always)]
     fn centre(&self) -> V {
-        self.row(self.y as isize, self.z as isize)
+        let f = self.frame;
+        load(f.field, f.s * BRICK_NODES + SIDE * (self.y + SIDE * self.z))
     }
 
     #[inline(always)]
     fn along(&self, axis: usize, k: isize) -> V {
+        let f = self.frame;
         match axis {
-            0 => load(&self.ext, (2 + k) as usize),
-            1 => self.row(self.y as isize + k, self.z as isize),
-            _ => self.row(self.y as isize, self.z as isize + k),
+            0 => self.shifted_x(k),
+            1 => {
+                let y = self.y.wrapping_add_signed(k);
+                let from = f.ys[y.wrapping_add(2)];
+                load(f.field, from + SIDE * ((y & (SIDE - 1)) + SIDE * self.z))
+            }
+            _ => {
+                let z = self.z.wrapping_add_signed(k);
+                let from = f.zs[z.wrapping_add(2)];
+                load(f.field, from + SIDE * (self.y + SIDE * (z & (SIDE - 1))))
+            }
         }
     }
 
     fn curvature(&self, l: usize, h: f64) -> (f64, f64) {
-        let b = self.reader.bricks.slot_coords(self.s);
+        let f = self.frame;
+        let b = f.reader.bricks.slot_coords(f.s);
         let c = [b[0] * SIDE + l, b[1] * SIDE + self.y, b[2] * SIDE + self.z];
         crate::curvature::curvature_from(
             |o| {
                 let at = std::array::from_fn(|a| c[a].wrapping_add_signed(o[a]));
-                f64::from(self.reader.at(self.field, at))
+                f64::from(f.reader.at(f.field, at))
             },
             h,
         )
@@ -247,25 +281,20 @@ struct Ctx<'a> {
     prev_n: &'a [Mask],
     /// Nodes that fit the ENO stencil (two nodes from every face), per slot.
     fits: &'a [Mask],
-    cap: f32,
     reader: Reader<'a>,
 }
 
 impl<'a> Ctx<'a> {
-    /// Row `r` of slot `s` of a φ buffer; with its x neighbours' ends when
-    /// `wide` (the stencil reads along x).
+    /// Slot `s`'s frame on a φ buffer.
     #[inline(always)]
-    fn phi_row(&'a self, field: &'a [f32], s: usize, r: usize, wide: bool) -> Row<'a> {
-        let around = &self.arounds[s];
-        Row::new((field, around.phi), (s, r), around, &self.reader, wide)
+    fn phi_frame(&'a self, field: &'a [f32], s: usize) -> Frame<'a> {
+        Frame::new(field, s, &self.arounds[s].phi, &self.reader)
     }
 
-    /// Row `r` of slot `s` of the distance (read along the axes by Zhao's
-    /// flow only).
+    /// Slot `s`'s frame on the distance.
     #[inline(always)]
-    fn d_row(&'a self, s: usize, r: usize) -> Row<'a> {
-        let around = &self.arounds[s];
-        Row::new((self.c.d, [self.cap; 6]), (s, r), around, &self.reader, self.c.zhao)
+    fn d_frame(&'a self, s: usize) -> Frame<'a> {
+        Frame::new(self.c.d, s, &self.arounds[s].d, &self.reader)
     }
 }
 
@@ -315,6 +344,8 @@ impl Kernel for Brick<'_> {
         } = self;
         let c = &ctx.c;
         let mut new_t = Rebuilt::<V>::new();
+        let frame = ctx.phi_frame(src, s);
+        let d_frame = ctx.d_frame(s);
         match op {
             Op::Advance => {
                 // The scratch equals φ outside T when the step reads it, as in
@@ -330,8 +361,8 @@ impl Kernel for Brick<'_> {
                     if tb == 0 {
                         continue;
                     }
-                    let st = ctx.phi_row(src, s, r, true);
-                    let d = ctx.d_row(s, r);
+                    let st = frame.row(r);
+                    let d = d_frame.row(r);
                     let v = if c.zhao {
                         rate::<V, true>(c, &st, &d, tb)
                     } else {
@@ -345,8 +376,8 @@ impl Kernel for Brick<'_> {
             Op::Finish => {
                 let mut moved = (0u64, 0u64);
                 for (r, bits) in rows(&ctx.t[s]) {
-                    let st = ctx.phi_row(src, s, r, true);
-                    let d = ctx.d_row(s, r);
+                    let st = frame.row(r);
+                    let d = d_frame.row(r);
                     let l = if c.zhao {
                         rate::<V, true>(c, &st, &d, bits)
                     } else {
@@ -367,7 +398,7 @@ impl Kernel for Brick<'_> {
             }
             Op::Redistance { clamp, .. } => {
                 for (r, bits) in rows(&ctx.n[s]) {
-                    let st = ctx.phi_row(src, s, r, true);
+                    let st = frame.row(r);
                     let mut v = redistanced::<V>(c, &st);
                     if clamp {
                         v = v.fast_max(V::splat(-c.gamma)).fast_min(V::splat(c.gamma));
@@ -752,6 +783,12 @@ pub fn sparse_evolve(
             if arounds.len() != ls.bricks.slots() {
                 arounds = compute_arounds(ls);
             }
+            // The virtual slots the stencils read for bricks without storage.
+            let real = phi.len();
+            let gamma = ls.gamma;
+            pad(&mut phi, &[gamma, -gamma]);
+            pad(&mut scratch, &[gamma, -gamma]);
+            pad(&mut dist.values, &[dist.cap]);
             let ctx = context(ls, dist, (&t, &n, &prev_n, &fits), &arounds, params, dt);
             // The dense plan's passes; its rebuild runs within the last of
             // them, and its copy of φ into the scratch within the next
@@ -767,6 +804,9 @@ pub fn sparse_evolve(
                 new_vmax = hi(new_vmax, v);
             }
             drop(ctx);
+            phi.truncate(real);
+            scratch.truncate(real);
+            dist.values.truncate(real);
             ls.phi = phi;
         }
         let front_movement = if moved.1 > 0 {
@@ -852,7 +892,6 @@ fn context<'a>(
         n,
         prev_n,
         fits,
-        cap: dist.cap,
         reader: Reader {
             bricks: &ls.bricks,
             ls,

@@ -72,6 +72,8 @@ pub struct Bricks {
     slot_of: Vec<u32>,
     /// Per slot, its brick.
     brick_of: Vec<u32>,
+    /// Per slot, its brick's coordinates.
+    coords_of: Vec<[u32; 3]>,
 }
 
 impl Bricks {
@@ -83,6 +85,7 @@ impl Bricks {
             bdims,
             slot_of: vec![NO_SLOT; bdims[0] * bdims[1] * bdims[2]],
             brick_of: Vec::new(),
+            coords_of: Vec::new(),
         }
     }
 
@@ -145,7 +148,7 @@ impl Bricks {
     /// The coordinates of the brick in slot `s`.
     #[inline(always)]
     pub(crate) fn slot_coords(&self, s: usize) -> [usize; 3] {
-        self.brick_coords(self.brick_of[s] as usize)
+        self.coords_of[s].map(|x| x as usize)
     }
 
     /// Activates the bricks `new` (sorted, no repeats; active ones are
@@ -157,6 +160,7 @@ impl Bricks {
             if self.slot_of[bi as usize] == NO_SLOT {
                 self.slot_of[bi as usize] = self.brick_of.len() as u32;
                 self.brick_of.push(bi);
+                self.coords_of.push(self.brick_coords(bi as usize).map(|x| x as u32));
             }
         }
         first
@@ -233,6 +237,29 @@ impl Bricks {
             }
             self.slot_of[self.brick_index(n)]
         })
+    }
+
+    /// Per slot, the slots of the 27 bricks around it (offset (dx, dy, dz) ∈
+    /// {−1, 0, 1}³ at index dx+1 + 3(dy+1) + 9(dz+1); [`NO_SLOT`] where
+    /// inactive or beyond the grid).
+    pub(crate) fn neighbourhoods(&self) -> Vec<[u32; 27]> {
+        (0..self.slots())
+            .into_par_iter()
+            .map(|s| {
+                let b = self.slot_coords(s);
+                std::array::from_fn(|i| {
+                    let o = [i % 3, (i / 3) % 3, i / 9];
+                    let mut n = [0usize; 3];
+                    for a in 0..3 {
+                        match (b[a] + o[a]).checked_sub(1) {
+                            Some(x) if x < self.bdims[a] => n[a] = x,
+                            _ => return NO_SLOT,
+                        }
+                    }
+                    self.slot_of[self.brick_index(n)]
+                })
+            })
+            .collect()
     }
 
     /// The bricks, in increasing order, with a node within `radius` of one

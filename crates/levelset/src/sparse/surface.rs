@@ -152,7 +152,10 @@ pub fn sparse_initial(
     gamma: f64,
     progress: &dyn Progress,
 ) -> SparseLevelSet {
+    let prof = std::env::var_os("ASPERITY_PROFILE").is_some();
+    let t0 = std::time::Instant::now();
     let crossings = crossings(dist, tags, eps);
+    if prof { eprintln!("  crossings {:.2} s: {}", t0.elapsed().as_secs_f64(), crossings.len()); }
     let gamma32 = gamma as f32;
     let grid = dist.bricks.grid;
     // Straight from the packed closest points to φ. |φ| is clamped at γ, so
@@ -168,11 +171,13 @@ pub fn sparse_initial(
     let first = dist.bricks.slots();
     dist.activate(&sorted);
     tags.extend(&dist.bricks, first);
+    if prof { eprintln!("  near bricks {:.2} s: {} bricks", t0.elapsed().as_secs_f64(), near.slots()); }
     let (cells, _) = if crossings.is_empty() {
         (Vec::new(), 0)
     } else {
         closest_points(&crossings, &near, cap, progress)
     };
+    if prof { eprintln!("  wavefront {:.2} s", t0.elapsed().as_secs_f64()); }
     let bricks = &dist.bricks;
     let mut phi = vec![0f32; bricks.nodes()];
     phi.par_chunks_mut(BRICK_NODES).enumerate().for_each(|(s, out)| {
