@@ -93,7 +93,7 @@ pub(crate) struct Table {
     /// Triangles per key: cube edge ids 0..12, or 12 + L for the centre of loop L.
     pub(crate) triangles: Vec<Vec<[u8; 3]>>,
     /// Per key, the loops that are fanned around a centre vertex (their edges).
-    centres: Vec<Vec<Vec<u8>>>,
+    pub(crate) centres: Vec<Vec<Vec<u8>>>,
     /// Faces that are ambiguous in each case (bit f).
     ambiguous: [u8; 256],
 }
@@ -329,11 +329,10 @@ pub(crate) struct Cubes<'a, P: Volume> {
     pub(crate) tab: &'static Table,
     pub(crate) faces: [[usize; 4]; 6],
     corner_offset: [usize; 8],
-    curvature: bool,
 }
 
 impl<'a, P: Volume> Cubes<'a, P> {
-    pub(crate) fn new(volume: &'a P, curvature: bool) -> Self {
+    pub(crate) fn new(volume: &'a P) -> Self {
         let grid = *volume.grid();
         let strides = grid.strides();
         let corner_offset: [usize; 8] = std::array::from_fn(|c| {
@@ -347,7 +346,6 @@ impl<'a, P: Volume> Cubes<'a, P> {
             tab: table(),
             faces: face_cycles(),
             corner_offset,
-            curvature,
         }
     }
 
@@ -417,8 +415,9 @@ impl<'a, P: Volume> Cubes<'a, P> {
         0.5 * curvature_from(at, self.grid.spacing).0
     }
 
-    /// Position, normal and mean curvature of the vertex on grid edge `key`.
-    fn edge_vertex(&self, key: u64) -> Vertex {
+    /// Position, normal and (with `curvature`) mean curvature of the vertex
+    /// on grid edge `key`.
+    fn edge_vertex(&self, key: u64, curvature: bool) -> Vertex {
         let u = (key / 3) as usize;
         let axis = (key % 3) as usize;
         let c = self.grid.coords(u);
@@ -433,7 +432,7 @@ impl<'a, P: Volume> Cubes<'a, P> {
         p[axis] += t * self.grid.spacing;
         let (ga, gb) = (self.gradient(c), self.gradient(cv));
         let n: [f64; 3] = std::array::from_fn(|x| ga[x] + t * (gb[x] - ga[x]));
-        let h = if self.curvature {
+        let h = if curvature {
             let (ka, kb) = (self.mean_curvature(c), self.mean_curvature(cv));
             ka + t * (kb - ka)
         } else {
@@ -443,17 +442,18 @@ impl<'a, P: Volume> Cubes<'a, P> {
     }
 
     /// The vertex of `key`: on a grid edge, or the centre of a loop (the mean of
-    /// its loop's vertices); the normal unit.
-    fn vertex(&self, key: u64) -> Vertex {
+    /// its loop's vertices); the normal unit; the mean curvature with
+    /// `curvature` (else 0).
+    pub(crate) fn vertex(&self, key: u64, curvature: bool) -> Vertex {
         if key & CENTRE == 0 {
-            let (p, n, h) = self.edge_vertex(key);
+            let (p, n, h) = self.edge_vertex(key, curvature);
             return (p, unit(n), h);
         }
         let base = ((key & !CENTRE) >> 2) as usize;
         let lp = &self.tab.centres[self.cube_key_at(self.grid.coords(base))][(key & 3) as usize];
         let mut sum = ([0.0; 3], [0.0; 3], 0.0);
         for &e in lp {
-            let (p, n, h) = self.edge_vertex(self.edge_key(base, e as usize));
+            let (p, n, h) = self.edge_vertex(self.edge_key(base, e as usize), curvature);
             let n = unit(n);
             for x in 0..3 {
                 sum.0[x] += p[x];
@@ -523,16 +523,96 @@ fn unit(g: [f64; 3]) -> [f64; 3] {
     }
 }
 
-/// Vertex keys in order, and the triangles as indices into them.
-fn index_triangles(keyed: &[[u64; 3]]) -> (Vec<u64>, Vec<[u32; 3]>) {
-    let mut keys: Vec<u64> = keyed.iter().flatten().copied().collect();
-    keys.par_sort_unstable();
-    keys.dedup();
-    let triangles = keyed
-        .par_iter()
-        .map(|t| t.map(|k| keys.binary_search(&k).expect("vertex key") as u32))
+/// The triangle mesh of {φ = 0} on `grid` (φ < 0 inside; x fastest).
+///
+/// # Panics
+/// If `phi` does not have one value per node.
+pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMesh, ExtractStats) {
+    assert_eq!(phi.len(), grid.len(), "one φ value per node");
+    let volume = Dense { phi, grid };
+    let cubes = Cubes::new(&volume);
+    // Slab by slab, so the order does not depend on the thread count.
+    let slabs: Vec<Vec<[u64; 3]>> = (0..grid.dims[2].saturating_sub(1))
+        .into_par_iter()
+        .map(|k| cubes.slab(k))
         .collect();
-    (keys, triangles)
+    assemble(&cubes, slabs.concat(), None, options)
+}
+
+/// The mesh of the triangles `keyed` (vertex keys, in the dense cube order)
+/// with vertices from `cubes`, small shells dropped. `keys` are the vertex
+/// keys in increasing order when the caller has them (else they are read off
+/// the triangles).
+pub(crate) fn assemble<P: Volume>(
+    cubes: &Cubes<P>,
+    keyed: Vec<[u64; 3]>,
+    keys: Option<Vec<u64>>,
+    options: &ExtractOptions,
+) -> (TriMesh, ExtractStats) {
+    let keys = keys.unwrap_or_else(|| {
+        let mut keys: Vec<u64> = keyed.iter().flatten().copied().collect();
+        keys.par_sort_unstable();
+        keys.dedup();
+        keys.shrink_to_fit();
+        keys
+    });
+    let mut triangles = index_triangles(&cubes.grid, &keyed, &keys);
+    drop(keyed);
+    let (mut positions, mut normals): (Vec<[f64; 3]>, Vec<[f64; 3]>) = keys
+        .par_iter()
+        .map(|&key| {
+            let (p, n, _) = cubes.vertex(key, false);
+            (p, n)
+        })
+        .unzip();
+    let mut curvature: Option<Vec<f64>> = options
+        .curvature
+        .then(|| keys.par_iter().map(|&key| cubes.vertex(key, true).2).collect());
+    drop(keys);
+    let stats = drop_shells(
+        (&mut positions, &mut normals, &mut curvature),
+        &mut triangles,
+        options.min_shell_triangles,
+    );
+    let mut mesh = TriMesh::new(positions, triangles)
+        .expect("marching cubes builds valid indices")
+        .with_normals(normals)
+        .expect("one normal per vertex");
+    if let Some(h) = curvature {
+        mesh = mesh
+            .with_scalar("mean_curvature", h)
+            .expect("one value per vertex");
+    }
+    (mesh, stats)
+}
+
+/// The triangles as indices into `keys` (sorted: grid-edge keys by their
+/// node's dense index, then loop centres). Each edge key is looked up among
+/// the keys of its own row of nodes, found from a table of row starts.
+fn index_triangles(grid: &GridSpec, keyed: &[[u64; 3]], keys: &[u64]) -> Vec<[u32; 3]> {
+    let [nx, ny, nz] = grid.dims;
+    let row_key = |row: usize| (row * nx) as u64 * 3;
+    let edges = keys.partition_point(|&k| k & CENTRE == 0);
+    let (edge_keys, centres) = keys.split_at(edges);
+    let starts: Vec<u32> = (0..=ny * nz)
+        .into_par_iter()
+        .map(|row| edge_keys.partition_point(|&k| k < row_key(row)) as u32)
+        .collect();
+    keyed
+        .par_iter()
+        .map(|t| {
+            t.map(|k| {
+                if k & CENTRE != 0 {
+                    let at = centres.binary_search(&k).expect("a loop centre's key");
+                    return (edges + at) as u32;
+                }
+                let row = (k / 3) as usize / nx;
+                let (lo, hi) = (starts[row] as usize, starts[row + 1] as usize);
+                let at = edge_keys[lo..hi].binary_search(&k).expect("a vertex key");
+                (lo + at) as u32
+            })
+        })
+        .collect()
 }
 
 /// `v` without the entries `keep` refuses.
@@ -544,10 +624,22 @@ fn kept<T: Copy>(v: &[T], keep: impl Fn(usize) -> bool) -> Vec<T> {
         .collect()
 }
 
+/// A mesh's vertex data: positions, normals and (optionally) curvature.
+type VertexData<'a> = (
+    &'a mut Vec<[f64; 3]>,
+    &'a mut Vec<[f64; 3]>,
+    &'a mut Option<Vec<f64>>,
+);
+
 /// Drops connected components of fewer than `min` triangles (with their
 /// vertices); returns the component count and how many were dropped.
-fn drop_shells(verts: &mut Vec<Vertex>, triangles: &mut Vec<[u32; 3]>, min: usize) -> ExtractStats {
-    let (components, labels) = asperity_core::tri_mesh::component_labels(verts.len(), triangles);
+fn drop_shells(
+    (positions, normals, curvature): VertexData,
+    triangles: &mut Vec<[u32; 3]>,
+    min: usize,
+) -> ExtractStats {
+    let n = positions.len();
+    let (components, labels) = asperity_core::tri_mesh::component_labels(n, triangles);
     let mut stats = ExtractStats {
         components,
         shells_removed: 0,
@@ -563,7 +655,7 @@ fn drop_shells(verts: &mut Vec<Vertex>, triangles: &mut Vec<[u32; 3]>, min: usiz
     stats.shells_removed = keep_comp.iter().filter(|k| !**k).count();
     if stats.shells_removed > 0 {
         triangles.retain(|t| keep_comp[labels[t[0] as usize] as usize]);
-        let mut remap = vec![u32::MAX; verts.len()];
+        let mut remap = vec![u32::MAX; n];
         let mut next = 0u32;
         for (i, r) in remap.iter_mut().enumerate() {
             if keep_comp[labels[i] as usize] {
@@ -571,51 +663,17 @@ fn drop_shells(verts: &mut Vec<Vertex>, triangles: &mut Vec<[u32; 3]>, min: usiz
                 next += 1;
             }
         }
-        *verts = kept(verts, |i| remap[i] != u32::MAX);
+        let keep = |i: usize| remap[i] != u32::MAX;
+        *positions = kept(positions, keep);
+        *normals = kept(normals, keep);
+        if let Some(h) = curvature.as_mut() {
+            *h = kept(h, keep);
+        }
         for t in triangles.iter_mut() {
             *t = t.map(|v| remap[v as usize]);
         }
     }
     stats
-}
-
-/// The triangle mesh of {φ = 0} on `grid` (φ < 0 inside; x fastest).
-///
-/// # Panics
-/// If `phi` does not have one value per node.
-pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMesh, ExtractStats) {
-    assert_eq!(phi.len(), grid.len(), "one φ value per node");
-    let volume = Dense { phi, grid };
-    let cubes = Cubes::new(&volume, options.curvature);
-    // Slab by slab, so the order does not depend on the thread count.
-    let slabs: Vec<Vec<[u64; 3]>> = (0..grid.dims[2].saturating_sub(1))
-        .into_par_iter()
-        .map(|k| cubes.slab(k))
-        .collect();
-    assemble(&cubes, &slabs.concat(), options)
-}
-
-/// The mesh of the triangles `keyed` (vertex keys, in the dense cube order)
-/// with vertices from `cubes`, small shells dropped.
-pub(crate) fn assemble<P: Volume>(
-    cubes: &Cubes<P>,
-    keyed: &[[u64; 3]],
-    options: &ExtractOptions,
-) -> (TriMesh, ExtractStats) {
-    let (keys, mut triangles) = index_triangles(keyed);
-    let mut verts: Vec<Vertex> = keys.par_iter().map(|&key| cubes.vertex(key)).collect();
-    drop(keys);
-    let stats = drop_shells(&mut verts, &mut triangles, options.min_shell_triangles);
-    let mut mesh = TriMesh::new(verts.iter().map(|v| v.0).collect(), triangles)
-        .expect("marching cubes builds valid indices")
-        .with_normals(verts.iter().map(|v| v.1).collect())
-        .expect("one normal per vertex");
-    if options.curvature {
-        mesh = mesh
-            .with_scalar("mean_curvature", verts.iter().map(|v| v.2).collect())
-            .expect("one value per vertex");
-    }
-    (mesh, stats)
 }
 
 #[cfg(test)]

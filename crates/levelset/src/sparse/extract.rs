@@ -3,12 +3,16 @@
 //! The cubes, their table, the vertex positions, normals and curvatures are
 //! those of [`crate::marching_cubes`]; only the cubes that can hold the
 //! surface are visited. A brick's cubes (those whose lowest corner lies in
-//! it) read its 8³ nodes and one layer of its upper neighbours: a 9³ block,
-//! gathered once. Blocks of one sign are skipped — every brick far from the
-//! front, with or without storage. The triangles come out in the dense
-//! order (by cube, then as the table lists them), layer of bricks after layer
-//! of bricks, and the vertices are numbered by their grid edge as in the
-//! dense extraction, so the mesh is the dense mesh, to the bit.
+//! it) read its 8³ nodes and one layer of its upper neighbours: a 9³ block.
+//! Each brick's sign is summarised first (all outside, all inside, or
+//! mixed; bricks without storage by their tag), and a brick whose block
+//! lies within bricks of one uniform sign is skipped without reading it —
+//! every brick far from the front. A visited brick gives its cubes'
+//! triangles and the vertices it owns: the cut grid edges that start at its
+//! nodes, and the centres of its cubes' fanned loops. Layer after layer of
+//! bricks, the triangles come out in the dense order (by cube, then as the
+//! table lists them) and the vertices in the order of their keys, so the
+//! mesh is the dense extraction's, to the bit.
 
 use asperity_core::TriMesh;
 use rayon::prelude::*;
@@ -16,7 +20,9 @@ use rayon::prelude::*;
 use super::layout::{BRICK_NODES, NO_SLOT, SIDE};
 use super::surface::SparseLevelSet;
 use crate::grid::GridSpec;
-use crate::marching_cubes::{Cubes, ExtractOptions, ExtractStats, Volume, assemble, cube_key_of};
+use crate::marching_cubes::{
+    CENTRE, Cubes, ExtractOptions, ExtractStats, Volume, assemble, cube_key_of,
+};
 
 /// Nodes along each axis of a brick's block of cubes.
 const BLOCK: usize = SIDE + 1;
@@ -32,29 +38,86 @@ impl Volume for SparseLevelSet {
     }
 }
 
-/// φ on the 9³ nodes from the brick at `b`'s first node (those beyond the
-/// grid are left at 0 and never read), x fastest.
+/// A brick's sign: every node outside (φ ≥ 0), every node inside, or both.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Sign {
+    Outside,
+    Inside,
+    Mixed,
+}
+
+/// The sign of each slot's nodes in the grid.
+fn signs(ls: &SparseLevelSet) -> Vec<Sign> {
+    let bricks = &ls.bricks;
+    ls.phi
+        .par_chunks(BRICK_NODES)
+        .enumerate()
+        .map(|(s, phi)| {
+            let inside = bricks.in_grid(bricks.slot_coords(s));
+            let (mut any, mut all) = (false, true);
+            for (l, &v) in phi.iter().enumerate() {
+                if inside[l / 64] >> (l % 64) & 1 == 1 {
+                    any |= v < 0.0;
+                    all &= v < 0.0;
+                }
+            }
+            match (any, all) {
+                (false, _) => Sign::Outside,
+                (true, true) => Sign::Inside,
+                (true, false) => Sign::Mixed,
+            }
+        })
+        .collect()
+}
+
+/// The sign of brick `n`: its slot's, or its tag's without storage.
+fn sign_of(ls: &SparseLevelSet, signs: &[Sign], n: [usize; 3]) -> Sign {
+    let bi = ls.bricks.brick_index(n);
+    match ls.bricks.slot_of(bi) {
+        NO_SLOT if ls.background(bi) < 0.0 => Sign::Inside,
+        NO_SLOT => Sign::Outside,
+        s => signs[s as usize],
+    }
+}
+
+/// Whether the block of the brick at `b` (it and its upper neighbours) can
+/// hold the surface.
+fn may_cut(ls: &SparseLevelSet, signs: &[Sign], b: [usize; 3]) -> bool {
+    let bdims = ls.bricks.bdims;
+    let first = sign_of(ls, signs, b);
+    first == Sign::Mixed
+        || (1..8).any(|o| {
+            let n = [b[0] + (o & 1), b[1] + (o >> 1 & 1), b[2] + (o >> 2)];
+            (0..3).all(|a| n[a] < bdims[a]) && sign_of(ls, signs, n) != first
+        })
+}
+
+/// φ on the 9³ nodes from the brick at `b`'s first node, x fastest (nodes
+/// beyond the grid are left at 0 and never read).
 fn block(ls: &SparseLevelSet, b: [usize; 3]) -> [f32; BLOCK * BLOCK * BLOCK] {
     let bricks = &ls.bricks;
     let dims = bricks.grid.dims;
+    // The eight bricks the block reads: their slots, or their backgrounds.
+    let sources: [(u32, f32); 8] = std::array::from_fn(|o| {
+        let n = [b[0] + (o & 1), b[1] + (o >> 1 & 1), b[2] + (o >> 2)];
+        if (0..3).any(|a| n[a] >= bricks.bdims[a]) {
+            return (NO_SLOT, 0.0);
+        }
+        let bi = bricks.brick_index(n);
+        (bricks.slot_of(bi), ls.background(bi))
+    });
     let mut out = [0f32; BLOCK * BLOCK * BLOCK];
-    let own = bricks.slot_of(bricks.brick_index(b));
-    let background = ls.background(bricks.brick_index(b));
-    for z in 0..BLOCK {
-        for y in 0..BLOCK {
-            for x in 0..BLOCK {
-                let c = [b[0] * SIDE + x, b[1] * SIDE + y, b[2] * SIDE + z];
-                if c[0] >= dims[0] || c[1] >= dims[1] || c[2] >= dims[2] {
-                    continue;
-                }
-                out[x + BLOCK * (y + BLOCK * z)] = if x < SIDE && y < SIDE && z < SIDE {
-                    if own == NO_SLOT {
-                        background
-                    } else {
-                        ls.phi[own as usize * BRICK_NODES + x + SIDE * (y + SIDE * z)]
-                    }
+    let span = |a: usize| (dims[a] - b[a] * SIDE).min(BLOCK);
+    let (sx, sy, sz) = (span(0), span(1), span(2));
+    for z in 0..sz {
+        for y in 0..sy {
+            for x in 0..sx {
+                let o = usize::from(x == SIDE) | usize::from(y == SIDE) << 1 | usize::from(z == SIDE) << 2;
+                let (slot, background) = sources[o];
+                out[x + BLOCK * (y + BLOCK * z)] = if slot == NO_SLOT {
+                    background
                 } else {
-                    ls.at(c)
+                    ls.phi[slot as usize * BRICK_NODES + x % SIDE + SIDE * (y % SIDE + SIDE * (z % SIDE))]
                 };
             }
         }
@@ -62,67 +125,54 @@ fn block(ls: &SparseLevelSet, b: [usize; 3]) -> [f32; BLOCK * BLOCK * BLOCK] {
     out
 }
 
-/// Whether the brick at `b` and its upper neighbours all lack storage and
-/// share one background: then its cubes are all of one sign.
-fn plainly_uniform(ls: &SparseLevelSet, b: [usize; 3]) -> bool {
-    let bricks = &ls.bricks;
-    let first = ls.background(bricks.brick_index(b));
-    (0..8).all(|o| {
-        let n = [b[0] + (o & 1), b[1] + (o >> 1 & 1), b[2] + (o >> 2)];
-        if (0..3).any(|a| n[a] >= bricks.bdims[a]) {
-            return true;
-        }
-        let bi = bricks.brick_index(n);
-        bricks.slot_of(bi) == NO_SLOT && ls.background(bi) == first
-    })
+/// What a layer of bricks gives: triangles keyed by (cube's dense index · 16
+/// + its triangle number), and the vertex keys its bricks own.
+#[derive(Default)]
+struct Layer {
+    triangles: Vec<(u64, [u64; 3])>,
+    vertices: Vec<u64>,
 }
 
-/// The triangles of the cubes whose lowest corner lies in the brick at `b`,
-/// as (cube's dense index · 16 + its triangle number, vertex keys).
-fn brick_triangles(
-    cubes: &Cubes<SparseLevelSet>,
-    ls: &SparseLevelSet,
-    b: [usize; 3],
-    out: &mut Vec<(u64, [u64; 3])>,
-) {
-    if plainly_uniform(ls, b) {
-        return;
-    }
+/// The triangles and vertices of the cubes whose lowest corner lies in the
+/// brick at `b`.
+fn brick(cubes: &Cubes<SparseLevelSet>, ls: &SparseLevelSet, b: [usize; 3], out: &mut Layer) {
     let grid = &ls.bricks.grid;
     let v = block(ls, b);
-    let span = |a: usize| (grid.dims[a] - 1).saturating_sub(b[a] * SIDE).min(SIDE);
-    let (sx, sy, sz) = (span(0), span(1), span(2));
-    // One sign on every node the cubes use: nothing here.
-    let (mut any, mut all) = (false, true);
-    for z in 0..=sz {
-        for y in 0..=sy {
-            for x in 0..=sx {
-                let inside = v[x + BLOCK * (y + BLOCK * z)] < 0.0;
-                any |= inside;
-                all &= inside;
-            }
-        }
-    }
-    if !any || all {
-        return;
-    }
+    let at = |x: usize, y: usize, z: usize| v[x + BLOCK * (y + BLOCK * z)];
+    // Nodes in the grid, and cubes (their lowest corners), per axis.
+    let nodes = |a: usize| (grid.dims[a] - b[a] * SIDE).min(SIDE);
+    let cells = |a: usize| (grid.dims[a] - 1).saturating_sub(b[a] * SIDE).min(SIDE);
     let mut tris = Vec::new();
-    for z in 0..sz {
-        for y in 0..sy {
-            for x in 0..sx {
-                let corners: [f32; 8] = std::array::from_fn(|c| {
-                    v[(x + (c & 1)) + BLOCK * ((y + (c >> 1 & 1)) + BLOCK * (z + (c >> 2)))]
-                });
+    for z in 0..nodes(2) {
+        for y in 0..nodes(1) {
+            for x in 0..nodes(0) {
+                let c = [b[0] * SIDE + x, b[1] * SIDE + y, b[2] * SIDE + z];
+                let base = grid.index(c[0], c[1], c[2]);
+                // The cut grid edges starting here.
+                let inside = at(x, y, z) < 0.0;
+                let ends = [at(x + 1, y, z), at(x, y + 1, z), at(x, y, z + 1)];
+                for (axis, &end) in ends.iter().enumerate() {
+                    if c[axis] + 1 < grid.dims[axis] && (end < 0.0) != inside {
+                        out.vertices.push(base as u64 * 3 + axis as u64);
+                    }
+                }
+                if x >= cells(0) || y >= cells(1) || z >= cells(2) {
+                    continue;
+                }
+                let corners: [f32; 8] =
+                    std::array::from_fn(|k| at(x + (k & 1), y + (k >> 1 & 1), z + (k >> 2)));
                 let key = cube_key_of(cubes.tab, &cubes.faces, corners);
                 let case = key & 255;
                 if case == 0 || case == 255 {
                     continue;
                 }
-                let base = grid.index(b[0] * SIDE + x, b[1] * SIDE + y, b[2] * SIDE + z);
                 tris.clear();
                 cubes.triangles(base, key, &mut tris);
                 for (n, t) in tris.iter().enumerate() {
-                    out.push(((base as u64) << 4 | n as u64, *t));
+                    out.triangles.push(((base as u64) << 4 | n as u64, *t));
+                }
+                for l in 0..cubes.tab.centres[key].len() {
+                    out.vertices.push(CENTRE | (base as u64) << 2 | l as u64);
                 }
             }
         }
@@ -132,27 +182,46 @@ fn brick_triangles(
 /// The triangle mesh of {φ = 0} (φ < 0 inside), as [`crate::extract`] makes
 /// it from the dense φ.
 pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh, ExtractStats) {
-    let cubes = Cubes::new(ls, options.curvature);
-    let bricks = &ls.bricks;
-    let [bx, by, bz] = bricks.bdims;
-    // Layer by layer of bricks (the cubes of eight node planes), each layer's
-    // triangles sorted into the dense order: the concatenation is that order.
-    let layers: Vec<Vec<[u64; 3]>> = (0..bz)
+    let cubes = Cubes::new(ls);
+    let signs = signs(ls);
+    let [bx, by, bz] = ls.bricks.bdims;
+    // Layer by layer of bricks (the cubes of eight node planes): each layer's
+    // triangles sorted into the dense order, and its vertex keys (those of
+    // the layer's nodes, contiguous in key order) sorted.
+    let mut layers: Vec<Layer> = (0..bz)
         .into_par_iter()
         .map(|z| {
-            let mut keyed = Vec::new();
+            let mut layer = Layer::default();
             for y in 0..by {
                 for x in 0..bx {
-                    brick_triangles(&cubes, ls, [x, y, z], &mut keyed);
+                    if may_cut(ls, &signs, [x, y, z]) {
+                        brick(&cubes, ls, [x, y, z], &mut layer);
+                    }
                 }
             }
-            keyed.sort_unstable_by_key(|k| k.0);
-            keyed.into_iter().map(|k| k.1).collect()
+            layer.triangles.sort_unstable_by_key(|k| k.0);
+            layer.vertices.sort_unstable();
+            layer
         })
         .collect();
-    let keyed = layers.concat();
+    drop(signs);
+    // The layers' parts moved into one list each, freed as they go.
+    let total = |f: fn(&Layer) -> usize| layers.iter().map(f).sum::<usize>();
+    let mut keyed = Vec::with_capacity(total(|l| l.triangles.len()));
+    let mut edge_keys = Vec::with_capacity(total(|l| l.vertices.len()));
+    let mut centres = Vec::new();
+    for layer in &mut layers {
+        keyed.extend(std::mem::take(&mut layer.triangles).into_iter().map(|k| k.1));
+        let vertices = std::mem::take(&mut layer.vertices);
+        let split = vertices.partition_point(|&k| k & CENTRE == 0);
+        edge_keys.extend_from_slice(&vertices[..split]);
+        centres.extend_from_slice(&vertices[split..]);
+    }
     drop(layers);
-    assemble(&cubes, &keyed, options)
+    // Edge keys, then loop centres (the order of their keys).
+    centres.sort_unstable();
+    edge_keys.append(&mut centres);
+    assemble(&cubes, keyed, Some(edge_keys), options)
 }
 
 #[cfg(test)]

@@ -174,8 +174,8 @@ impl Bricks {
         (s != NO_SLOT).then(|| s * BRICK_NODES as u32 + local(c[0] % SIDE, c[1] % SIDE, c[2] % SIDE) as u32)
     }
 
-    /// The grid coordinates of node `id`.
-    #[inline(always)]
+    /// The grid coordinates of node `id` (for tests).
+    #[cfg(test)]
     pub(crate) fn coords(&self, id: u32) -> [usize; 3] {
         let id = id as usize;
         let b = self.slot_coords(id / BRICK_NODES);
@@ -355,8 +355,7 @@ mod tests {
         let g = grid();
         let b = Bricks::all(&g);
         for c in [[0, 0, 0], [7, 8, 9], [g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1]] {
-            let id = b.id(c).unwrap();
-            assert_eq!(b.coords(id), c);
+            assert_eq!(b.coords(b.id(c).unwrap()), c);
         }
         let inside: usize = (0..b.slots())
             .map(|s| count(&b.in_grid(b.slot_coords(s))))
