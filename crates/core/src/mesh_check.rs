@@ -234,6 +234,142 @@ fn links<'a>(n: usize, faces: impl Iterator<Item = &'a [u32]>) -> Vec<Vec<[u32; 
     link
 }
 
+/// Every vertex's link as one flat list: for vertex v, the (previous, next)
+/// corners of each triangle around it, in `entries[start[v]..start[v + 1]]`.
+pub(crate) struct Links {
+    start: Vec<u32>,
+    entries: Vec<[u32; 2]>,
+}
+
+/// What the links say, summed over vertices.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct LinkFacts {
+    /// Undirected edges.
+    pub edges: usize,
+    /// Edges with one triangle.
+    pub boundary_edges: usize,
+    /// The most triangles on one edge.
+    pub max_faces: usize,
+    /// A used vertex whose triangles form more than one fan.
+    pub split_vertex: bool,
+    /// A directed edge that two triangles traverse the same way.
+    pub repeated_directed_edge: bool,
+}
+
+impl LinkFacts {
+    pub(crate) fn merge(a: Self, b: Self) -> Self {
+        Self {
+            edges: a.edges + b.edges,
+            boundary_edges: a.boundary_edges + b.boundary_edges,
+            max_faces: a.max_faces.max(b.max_faces),
+            split_vertex: a.split_vertex || b.split_vertex,
+            repeated_directed_edge: a.repeated_directed_edge || b.repeated_directed_edge,
+        }
+    }
+}
+
+/// Link entries a vertex's facts are worked out for on the stack.
+const SMALL_LINK: usize = 24;
+
+impl Links {
+    /// The links of `triangles` (no vertex repeated in a triangle) over `n`
+    /// vertices.
+    pub(crate) fn new(n: usize, triangles: &[[u32; 3]]) -> Self {
+        let mut start = vec![0u32; n + 1];
+        for t in triangles {
+            for &v in t {
+                start[v as usize + 1] += 1;
+            }
+        }
+        for v in 0..n {
+            start[v + 1] += start[v];
+        }
+        let mut at = start.clone();
+        let mut entries = vec![[0u32; 2]; triangles.len() * 3];
+        for &[a, b, c] in triangles {
+            for (v, prev, next) in [(a, c, b), (b, a, c), (c, b, a)] {
+                entries[at[v as usize] as usize] = [prev, next];
+                at[v as usize] += 1;
+            }
+        }
+        Self { start, entries }
+    }
+
+    /// The facts of vertex `v`: the edges to higher vertices and their
+    /// triangle counts, its fans, its outgoing directed edges.
+    pub(crate) fn examine(&self, v: u32) -> LinkFacts {
+        let link = &self.entries[self.start[v as usize] as usize..self.start[v as usize + 1] as usize];
+        let mut facts = LinkFacts::default();
+        if link.is_empty() {
+            return facts;
+        }
+        if link.len() > SMALL_LINK {
+            let (fans, _) = fan_labels(link);
+            facts.split_vertex = fans > 1;
+            let mut next: Vec<u32> = link.iter().map(|e| e[1]).collect();
+            next.sort_unstable();
+            facts.repeated_directed_edge = next.windows(2).any(|w| w[0] == w[1]);
+            let mut around: Vec<u32> = link.iter().flatten().copied().collect();
+            around.sort_unstable();
+            count_edges(v, &around, &mut facts);
+            return facts;
+        }
+        let k = link.len();
+        let mut next = [0u32; SMALL_LINK];
+        let mut around = [0u32; 2 * SMALL_LINK];
+        for (i, e) in link.iter().enumerate() {
+            next[i] = e[1];
+            around[2 * i] = e[0];
+            around[2 * i + 1] = e[1];
+        }
+        next[..k].sort_unstable();
+        facts.repeated_directed_edge = next[..k].windows(2).any(|w| w[0] == w[1]);
+        around[..2 * k].sort_unstable();
+        count_edges(v, &around[..2 * k], &mut facts);
+        facts.split_vertex = small_fans(link) > 1;
+        facts
+    }
+}
+
+/// The edges from `v` to the higher vertices of `around` (its link's corners,
+/// sorted: each neighbour once per triangle on the edge).
+fn count_edges(v: u32, around: &[u32], facts: &mut LinkFacts) {
+    for run in around.chunk_by(|a, b| a == b) {
+        if run[0] > v {
+            facts.edges += 1;
+            facts.boundary_edges += usize::from(run.len() == 1);
+        }
+        facts.max_faces = facts.max_faces.max(run.len());
+    }
+}
+
+/// The number of fans of a short link (entries joined through a shared
+/// corner), without allocating.
+fn small_fans(link: &[[u32; 2]]) -> usize {
+    let k = link.len();
+    let mut parent = [0u8; SMALL_LINK];
+    for (i, p) in parent.iter_mut().enumerate().take(k) {
+        *p = i as u8;
+    }
+    fn find(p: &mut [u8], mut x: u8) -> u8 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
+        }
+        x
+    }
+    for i in 0..k {
+        for j in i + 1..k {
+            let (a, b) = (link[i], link[j]);
+            if a[0] == b[0] || a[0] == b[1] || a[1] == b[0] || a[1] == b[1] {
+                let (ri, rj) = (find(&mut parent, i as u8), find(&mut parent, j as u8));
+                parent[ri as usize] = rj;
+            }
+        }
+    }
+    (0..k).filter(|&i| find(&mut parent, i as u8) == i as u8).count()
+}
+
 /// The first vertex whose faces form more than one fan, with the fan count.
 fn first_split_vertex<'a>(
     n: usize,

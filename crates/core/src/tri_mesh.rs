@@ -1,5 +1,6 @@
 //! Indexed triangle meshes with optional per-vertex data, and topology queries.
 
+use rayon::prelude::*;
 use crate::vec3::{cross, norm, sub};
 use crate::{Aabb, CoreError, RgbaImage};
 
@@ -552,9 +553,49 @@ impl TriMesh {
         (2 * c - chi - boundary_loops as i64) / 2
     }
 
-    /// Euler characteristic, genus, manifoldness, orientation and closure, with
-    /// the edges sorted once (see [`Topology`]).
+    /// Euler characteristic, genus, manifoldness, orientation and closure (see
+    /// [`Topology`]), from each vertex's link: the (previous, next) corners of
+    /// the triangles around it, gathered once, then read vertex by vertex in
+    /// parallel. A mesh with degenerate triangles (a vertex repeated) takes the
+    /// sorted-edges path instead.
     pub fn topology(&self) -> Topology {
+        if self.triangles.iter().any(|&[a, b, c]| a == b || b == c || c == a) {
+            return self.topology_by_edges();
+        }
+        let n = self.positions.len();
+        let links = crate::mesh_check::Links::new(n, &self.triangles);
+        let facts = (0..n)
+            .into_par_iter()
+            .with_min_len(4096)
+            .map(|v| links.examine(v as u32))
+            .reduce(crate::mesh_check::LinkFacts::default, crate::mesh_check::LinkFacts::merge);
+        drop(links);
+        let edge_manifold = facts.max_faces <= 2;
+        let closed = !self.triangles.is_empty() && facts.boundary_edges == 0 && edge_manifold;
+        let boundary_loops = if facts.boundary_edges > 0 {
+            self.loops_of(&self.edges()).len()
+        } else {
+            0
+        };
+        let euler_characteristic =
+            n as i64 - facts.edges as i64 + self.triangles.len() as i64;
+        let vertex_manifold = !facts.split_vertex;
+        let genus = (edge_manifold && vertex_manifold)
+            .then(|| self.genus_of(euler_characteristic, boundary_loops));
+        Topology {
+            edges: facts.edges,
+            boundary_loops,
+            euler_characteristic,
+            genus,
+            edge_manifold,
+            vertex_manifold,
+            oriented: !facts.repeated_directed_edge,
+            closed: closed && facts.max_faces == 2,
+        }
+    }
+
+    /// [`TriMesh::topology`] by sorting the edges (any triangles).
+    fn topology_by_edges(&self) -> Topology {
         // The edges go before the vertex fans and the directed sort are built,
         // so no two of the three big arrays are alive at once.
         let (edges, euler_characteristic, edge_manifold, closed, boundary_loops) = {
@@ -752,8 +793,24 @@ mod tests {
         .unwrap();
         let torus = crate::shapes::torus(2.0, 1.0, 6, 5);
         let empty = TriMesh::new(vec![[0.0; 3]], vec![]).unwrap();
-        for m in [cube, open, flipped, fin, torus, empty] {
+        // Two cubes sharing one vertex (a vertex with two fans), a triangle
+        // repeated with the same winding, and a degenerate triangle.
+        let (cp, ct) = (cube.positions().to_vec(), cube.triangles().to_vec());
+        let mut pos = cp.clone();
+        pos.extend(cp.iter().skip(1).map(|p| [-p[0], -p[1], -p[2]]));
+        let mut tri = ct.clone();
+        let shift = |v: u32| if v == 0 { 0 } else { v + cp.len() as u32 - 1 };
+        tri.extend(ct.iter().map(|t| { let mut u = t.map(shift); u.swap(1, 2); u }));
+        let bowtie = TriMesh::new(pos, tri).unwrap();
+        let mut twice = ct.clone();
+        twice.push(ct[0]);
+        let twice = TriMesh::new(cp.clone(), twice).unwrap();
+        let mut degenerate = ct.clone();
+        degenerate.push([0, 0, 1]);
+        let degenerate = TriMesh::new(cp, degenerate).unwrap();
+        for m in [cube, open, flipped, fin, torus, empty, bowtie, twice, degenerate] {
             let t = m.topology();
+            assert_eq!(t, m.topology_by_edges());
             assert_eq!(t.euler_characteristic, m.euler_characteristic());
             assert_eq!(t.genus, m.genus());
             assert_eq!(t.is_manifold(), m.is_manifold());

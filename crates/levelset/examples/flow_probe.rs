@@ -21,6 +21,9 @@ fn main() {
     let t = Instant::now();
     let (mut d, spacing) = sparse_distance(&pts, &grid, eps + gamma + 2.0 * h, &NoProgress);
     eprintln!("distance {:.2} s ({} of {} bricks)", t.elapsed().as_secs_f64(), d.bricks.slots(), d.bricks.brick_count());
+    if std::env::var_os("STOP_AFTER_DISTANCE").is_some() {
+        return;
+    }
     let t = Instant::now();
     let mut tags = sparse_tag(&mut d, eps, TagRule::Paper, &NoProgress);
     eprintln!("tagging {:.2} s", t.elapsed().as_secs_f64());
