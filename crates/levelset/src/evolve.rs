@@ -627,7 +627,8 @@ fn one_sided<V: Lanes>(c: &Step, st: &impl Stencil<V>, axis: usize, p0: V) -> (V
 
 /// The flow's rate d·c(φ)|∇φ| (plus the curvature term) at eight nodes; |∇φ|
 /// upwinded for the inward-moving front (F < 0): √Σ max(min(D⁻,0)²,
-/// max(D⁺,0)²). The curvature term is evaluated on the lanes of `valid`.
+/// max(D⁺,0)²). The curvature term is evaluated on the lanes of `valid`;
+/// the other lanes may come out as anything (their nodes are not stored).
 #[inline(always)]
 pub(crate) fn rate<V: Lanes, const ZHAO: bool>(
     c: &Step,
@@ -640,13 +641,18 @@ pub(crate) fn rate<V: Lanes, const ZHAO: bool>(
         return zhao_rate(c, phi, d, p0);
     }
     let zero = V::splat(0.0);
+    let speed = c.speeds(p0, d.centre());
+    // Arrested or cut off on every node that counts: the rate is +0 there
+    // (0 · |∇φ| with |∇φ| finite), without the differences.
+    if speed.simd_gt(zero).to_bitmask() & valid == 0 {
+        return zero;
+    }
     let mut g2 = zero;
     for axis in 0..3 {
         let (dm, dp) = one_sided(c, phi, axis, p0);
         let (a, b) = (dm.fast_min(zero), dp.fast_max(zero));
         g2 += (a * a).fast_max(b * b);
     }
-    let speed = c.speeds(p0, d.centre());
     let out = speed * g2.sqrt();
     let Some(weight) = c.curvature else {
         return out;
