@@ -31,7 +31,7 @@ use super::layout::{
 use super::surface::SparseLevelSet;
 use crate::evolve::{
     Band, Buf, EvolveParams, EvolveStats, LANES, MIN_NODES, Movement, Neighbourhood, Op, Plan,
-    Stencil, Step, StepStats, hi, load, rate, redistanced, time_step,
+    Stencil, Step, StepStats, hi, rate, redistanced, time_step,
 };
 use crate::lanes::{Kernel, Lanes, dispatch};
 
@@ -82,16 +82,33 @@ fn pad(field: &mut Vec<f32>, values: &[f32]) {
     }
 }
 
-/// Where one brick's stencils read one buffer: the base of the brick's own
-/// values and, for y′ and z′ from −2 to 9, the base of the brick holding row
-/// y′ (z′) — its own or a neighbour's (possibly virtual).
+/// One brick's values of a buffer.
+type BrickValues = [f32; BRICK_NODES];
+
+/// A buffer as bricks (its length is a whole number of bricks).
+#[inline(always)]
+fn as_bricks(field: &[f32]) -> &[BrickValues] {
+    field.as_chunks::<BRICK_NODES>().0
+}
+
+/// Row `r` (y + 8z) of a brick: eight values, with no bounds to check.
+#[inline(always)]
+fn row_of<V: Lanes>(b: &BrickValues, r: usize) -> V {
+    let at = (r % (SIDE * SIDE)) * SIDE;
+    V::new(b[at..at + SIDE].try_into().expect("a row"))
+}
+
+/// Where one brick's stencils read one buffer: the brick's own values and,
+/// for y′ and z′ from −2 to 9, the brick holding row y′ (z′) — its own or a
+/// neighbour's (possibly virtual); and its x neighbours.
 struct Frame<'a> {
     field: &'a [f32],
     s: usize,
-    ys: [usize; 12],
-    zs: [usize; 12],
-    left: usize,
-    right: usize,
+    own: &'a BrickValues,
+    ys: [&'a BrickValues; 12],
+    zs: [&'a BrickValues; 12],
+    left: &'a BrickValues,
+    right: &'a BrickValues,
     /// For the curvature term: reads any node.
     reader: &'a Reader<'a>,
 }
@@ -99,22 +116,24 @@ struct Frame<'a> {
 impl<'a> Frame<'a> {
     #[inline(always)]
     fn new(field: &'a [f32], s: usize, faces: &[u32; 6], reader: &'a Reader<'a>) -> Self {
-        let base = |slot: u32| slot as usize * BRICK_NODES;
-        let own = s * BRICK_NODES;
+        let bricks = as_bricks(field);
+        let own = &bricks[s];
         let spread = |lo: u32, hi: u32| {
+            let (lo, hi) = (&bricks[lo as usize], &bricks[hi as usize]);
             std::array::from_fn(|i| match i {
-                0 | 1 => base(lo),
-                10 | 11 => base(hi),
+                0 | 1 => lo,
+                10 | 11 => hi,
                 _ => own,
             })
         };
         Frame {
             field,
             s,
+            own,
             ys: spread(faces[2], faces[3]),
             zs: spread(faces[4], faces[5]),
-            left: base(faces[0]),
-            right: base(faces[1]),
+            left: &bricks[faces[0] as usize],
+            right: &bricks[faces[1] as usize],
             reader,
         }
     }
@@ -138,45 +157,29 @@ struct Row<'a> {
 }
 
 impl Row<'_> {
-    /// The row shifted by `k` nodes along x (|k| ≤ 2): an unaligned load of
-    /// the brick's values (its first or last lanes then hold another row's),
-    /// those lanes replaced by the x neighbour's ends.
+    /// The row shifted by `k` nodes along x (|k| ≤ 2), the ends from the x
+    /// neighbours.
     #[inline(always)]
     fn shifted_x<V: Lanes>(&self, k: isize) -> V {
         let f = self.frame;
-        let at = f.s * BRICK_NODES + SIDE * (self.y + SIDE * self.z);
-        let row = SIDE * (self.y + SIDE * self.z);
-        let Some(from) = at.checked_add_signed(k) else {
-            // Slot 0's first row: nothing before it to load past.
-            let v: [f32; LANES] = std::array::from_fn(|l| {
-                let x = l as isize + k;
-                if x < 0 {
-                    f.field[f.left + row + (x + SIDE as isize) as usize]
-                } else {
-                    f.field[at + x as usize]
-                }
-            });
-            return V::new(v);
-        };
-        let mut v = load::<V>(f.field, from);
+        let at = SIDE * ((self.y + SIDE * self.z) % (SIDE * SIDE));
         let n = k.unsigned_abs();
-        for i in 0..n {
-            let (lane, value) = if k > 0 {
-                (SIDE - n + i, f.field[f.right + row + i])
-            } else {
-                (i, f.field[f.left + row + SIDE - n + i])
-            };
-            v = lane_mask::<V>(1 << lane).select(V::splat(value), v);
+        let mut v = [0f32; LANES];
+        if k > 0 {
+            v[..SIDE - n].copy_from_slice(&f.own[at + n..at + SIDE]);
+            v[SIDE - n..].copy_from_slice(&f.right[at..at + n]);
+        } else {
+            v[n..].copy_from_slice(&f.own[at..at + SIDE - n]);
+            v[..n].copy_from_slice(&f.left[at + SIDE - n..at + SIDE]);
         }
-        v
+        V::new(v)
     }
 }
 
 impl<V: Lanes> Stencil<V> for Row<'_> {
     #[inline(always)]
     fn centre(&self) -> V {
-        let f = self.frame;
-        load(f.field, f.s * BRICK_NODES + SIDE * (self.y + SIDE * self.z))
+        row_of(self.frame.own, self.y + SIDE * self.z)
     }
 
     #[inline(always)]
@@ -186,13 +189,11 @@ impl<V: Lanes> Stencil<V> for Row<'_> {
             0 => self.shifted_x(k),
             1 => {
                 let y = self.y.wrapping_add_signed(k);
-                let from = f.ys[y.wrapping_add(2)];
-                load(f.field, from + SIDE * ((y & (SIDE - 1)) + SIDE * self.z))
+                row_of(f.ys[y.wrapping_add(2) % 12], (y % SIDE) + SIDE * self.z)
             }
             _ => {
                 let z = self.z.wrapping_add_signed(k);
-                let from = f.zs[z.wrapping_add(2)];
-                load(f.field, from + SIDE * (self.y + SIDE * (z & (SIDE - 1))))
+                row_of(f.zs[z.wrapping_add(2) % 12], self.y + SIDE * (z % SIDE))
             }
         }
     }
@@ -249,10 +250,11 @@ fn lane_mask<V: Lanes>(bits: u32) -> V {
     V::new(LANE_MASKS[bits as usize & 0xFF])
 }
 
-/// Writes the lanes of `mask` of `v` at `dst[at..at + 8]`; returns the row
+/// Writes the lanes of `mask` of `v` into row `r` of `dst`; returns the row
 /// as written.
 #[inline(always)]
-fn store_masked<V: Lanes>(dst: &mut [f32], at: usize, mask: V, v: V) -> V {
+fn store_masked<V: Lanes>(dst: &mut BrickValues, r: usize, mask: V, v: V) -> V {
+    let at = (r % (SIDE * SIDE)) * SIDE;
     let out: &mut [f32; LANES] = (&mut dst[at..at + LANES]).try_into().expect("eight");
     let row = mask.select(v, V::new(*out));
     *out = row.to_array();
@@ -314,7 +316,7 @@ struct Brick<'a> {
     rebuild: bool,
     s: usize,
     src: &'a [f32],
-    dst: &'a mut [f32],
+    dst: &'a mut BrickValues,
 }
 
 /// The bits of row `r` in mask `m`.
@@ -344,7 +346,9 @@ impl Kernel for Brick<'_> {
         } = self;
         let c = &ctx.c;
         let mut new_t = Rebuilt::<V>::new();
-        let frame = ctx.phi_frame(src, s);
+        // Every pass but the clamp reads the other buffer.
+        let frame = (op != Op::Clamp).then(|| ctx.phi_frame(src, s));
+        let frame = frame.as_ref();
         let d_frame = ctx.d_frame(s);
         match op {
             Op::Advance => {
@@ -355,13 +359,13 @@ impl Kernel for Brick<'_> {
                 for (r, _) in rows(&union(t, prev)) {
                     let (tb, copy) = (row_bits(t, r), row_bits(prev, r) & !row_bits(t, r));
                     if copy != 0 {
-                        let v = load::<V>(src, s * BRICK_NODES + r * SIDE);
-                        store_masked(dst, r * SIDE, lane_mask::<V>(copy), v);
+                        let v = row_of::<V>(frame.expect("a source").own, r);
+                        store_masked(dst, r, lane_mask::<V>(copy), v);
                     }
                     if tb == 0 {
                         continue;
                     }
-                    let st = frame.row(r);
+                    let st = frame.expect("a source").row(r);
                     let d = d_frame.row(r);
                     let v = if c.zhao {
                         rate::<V, true>(c, &st, &d, tb)
@@ -369,14 +373,14 @@ impl Kernel for Brick<'_> {
                         rate::<V, false>(c, &st, &d, tb)
                     };
                     let v = Stencil::<V>::centre(&st) + V::splat(c.dt) * v;
-                    store_masked(dst, r * SIDE, lane_mask::<V>(tb), v);
+                    store_masked(dst, r, lane_mask::<V>(tb), v);
                 }
                 return Out::Nothing;
             }
             Op::Finish => {
                 let mut moved = (0u64, 0u64);
                 for (r, bits) in rows(&ctx.t[s]) {
-                    let st = frame.row(r);
+                    let st = frame.expect("a source").row(r);
                     let d = d_frame.row(r);
                     let l = if c.zhao {
                         rate::<V, true>(c, &st, &d, bits)
@@ -384,7 +388,7 @@ impl Kernel for Brick<'_> {
                         rate::<V, false>(c, &st, &d, bits)
                     };
                     let v = Stencil::<V>::centre(&st) + V::splat(c.dt) * l;
-                    let old = load::<V>(dst, r * SIDE);
+                    let old = row_of::<V>(dst, r);
                     let new = V::splat(0.5) * (old + v);
                     let valid = lane_mask::<V>(bits);
                     let near = old.abs().simd_lt(V::splat(c.h)) & valid;
@@ -392,18 +396,18 @@ impl Kernel for Brick<'_> {
                     let fixed = near.select(m * V::splat(65536.0), V::splat(0.0));
                     moved.0 += fixed.trunc_sum();
                     moved.1 += u64::from(near.to_bitmask().count_ones());
-                    store_masked(dst, r * SIDE, valid, new);
+                    store_masked(dst, r, valid, new);
                 }
                 return Out::Moved(moved);
             }
             Op::Redistance { clamp, .. } => {
                 for (r, bits) in rows(&ctx.n[s]) {
-                    let st = frame.row(r);
+                    let st = frame.expect("a source").row(r);
                     let mut v = redistanced::<V>(c, &st);
                     if clamp {
                         v = v.fast_max(V::splat(-c.gamma)).fast_min(V::splat(c.gamma));
                     }
-                    let v = store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                    let v = store_masked(dst, r, lane_mask::<V>(bits), v);
                     if rebuild {
                         new_t.row(ctx, s, r, bits, v);
                     }
@@ -411,8 +415,8 @@ impl Kernel for Brick<'_> {
             }
             Op::CopyBack => {
                 for (r, bits) in rows(&ctx.n[s]) {
-                    let v = load::<V>(src, s * BRICK_NODES + r * SIDE);
-                    let v = store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                    let v = row_of::<V>(frame.expect("a source").own, r);
+                    let v = store_masked(dst, r, lane_mask::<V>(bits), v);
                     if rebuild {
                         new_t.row(ctx, s, r, bits, v);
                     }
@@ -420,9 +424,9 @@ impl Kernel for Brick<'_> {
             }
             Op::Clamp => {
                 for (r, bits) in rows(&ctx.n[s]) {
-                    let v = load::<V>(dst, r * SIDE);
+                    let v = row_of::<V>(dst, r);
                     let v = v.fast_max(V::splat(-c.gamma)).fast_min(V::splat(c.gamma));
-                    let v = store_masked(dst, r * SIDE, lane_mask::<V>(bits), v);
+                    let v = store_masked(dst, r, lane_mask::<V>(bits), v);
                     if rebuild {
                         new_t.row(ctx, s, r, bits, v);
                     }
@@ -470,7 +474,7 @@ impl<V: Lanes> Rebuilt<V> {
         }
         let kept = keep.to_bitmask();
         if kept != 0 {
-            let d = load::<V>(c.d, s * BRICK_NODES + r * SIDE);
+            let d = row_of::<V>(&as_bricks(c.d)[s], r);
             self.vmax = self
                 .vmax
                 .fast_max(keep.select(c.speeds(p, d), V::splat(0.0)));
@@ -498,7 +502,7 @@ fn first_tube(ctx: &Ctx, phi: &[f32]) -> (Vec<Mask>, f32) {
             let (ctx, s) = (self.ctx, self.s);
             let mut t = Rebuilt::<V>::new();
             for (r, bits) in rows(&ctx.fits[s]) {
-                let p = load::<V>(self.phi, s * BRICK_NODES + r * SIDE);
+                let p = row_of::<V>(&as_bricks(self.phi)[s], r);
                 t.row(ctx, s, r, bits, p);
             }
             t.finish()
@@ -680,7 +684,9 @@ fn pass(
         // Clamp: in place.
         _ => (&[], phi),
     };
-    dst.par_chunks_mut(BRICK_NODES)
+    dst.as_chunks_mut::<BRICK_NODES>()
+        .0
+        .par_iter_mut()
         .zip(new_t.par_iter_mut())
         .enumerate()
         .map(|(s, (dst, t))| {
