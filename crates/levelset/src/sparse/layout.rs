@@ -156,7 +156,11 @@ impl Bricks {
     /// slot.
     pub(crate) fn activate(&mut self, new: &[u32]) -> usize {
         let first = self.brick_of.len();
-        for &bi in new {
+        // Slots in Morton order of the bricks, so that neighbours along every
+        // axis lie near each other in memory.
+        let mut new = new.to_vec();
+        new.sort_unstable_by_key(|&bi| morton(self.brick_coords(bi as usize)));
+        for &bi in &new {
             if self.slot_of[bi as usize] == NO_SLOT {
                 self.slot_of[bi as usize] = self.brick_of.len() as u32;
                 self.brick_of.push(bi);
@@ -325,6 +329,19 @@ impl Bricks {
             })
             .collect()
     }
+}
+
+/// The Morton (Z-order) key of brick coordinates: their bits interleaved.
+fn morton(b: [usize; 3]) -> u64 {
+    let spread = |x: usize| {
+        let mut x = x as u64 & 0x1F_FFFF;
+        x = (x | x << 32) & 0x1F_0000_0000_FFFF;
+        x = (x | x << 16) & 0x1F_0000_FF00_00FF;
+        x = (x | x << 8) & 0x100F_00F0_0F00_F00F;
+        x = (x | x << 4) & 0x10C3_0C30_C30C_30C3;
+        (x | x << 2) & 0x1249_2492_4924_9249
+    };
+    spread(b[0]) | spread(b[1]) << 1 | spread(b[2]) << 2
 }
 
 /// The radius [`Bricks::around`] needs so that every node a closest-point
