@@ -298,7 +298,8 @@ impl Links {
     /// The facts of vertex `v`: the edges to higher vertices and their
     /// triangle counts, its fans, its outgoing directed edges.
     pub(crate) fn examine(&self, v: u32) -> LinkFacts {
-        let link = &self.entries[self.start[v as usize] as usize..self.start[v as usize + 1] as usize];
+        let link =
+            &self.entries[self.start[v as usize] as usize..self.start[v as usize + 1] as usize];
         let mut facts = LinkFacts::default();
         if link.is_empty() {
             return facts;
@@ -367,7 +368,9 @@ fn small_fans(link: &[[u32; 2]]) -> usize {
             }
         }
     }
-    (0..k).filter(|&i| find(&mut parent, i as u8) == i as u8).count()
+    (0..k)
+        .filter(|&i| find(&mut parent, i as u8) == i as u8)
+        .count()
 }
 
 /// The first vertex whose faces form more than one fan, with the fan count.

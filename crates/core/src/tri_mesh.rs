@@ -1,8 +1,8 @@
 //! Indexed triangle meshes with optional per-vertex data, and topology queries.
 
-use rayon::prelude::*;
 use crate::vec3::{cross, norm, sub};
 use crate::{Aabb, CoreError, RgbaImage};
+use rayon::prelude::*;
 
 /// A named per-vertex (or per-point) scalar, e.g. `"curvature"` or `"height"`.
 #[derive(Clone, Debug, PartialEq)]
@@ -559,7 +559,11 @@ impl TriMesh {
     /// parallel. A mesh with degenerate triangles (a vertex repeated) takes the
     /// sorted-edges path instead.
     pub fn topology(&self) -> Topology {
-        if self.triangles.iter().any(|&[a, b, c]| a == b || b == c || c == a) {
+        if self
+            .triangles
+            .iter()
+            .any(|&[a, b, c]| a == b || b == c || c == a)
+        {
             return self.topology_by_edges();
         }
         let n = self.positions.len();
@@ -568,7 +572,10 @@ impl TriMesh {
             .into_par_iter()
             .with_min_len(4096)
             .map(|v| links.examine(v as u32))
-            .reduce(crate::mesh_check::LinkFacts::default, crate::mesh_check::LinkFacts::merge);
+            .reduce(
+                crate::mesh_check::LinkFacts::default,
+                crate::mesh_check::LinkFacts::merge,
+            );
         drop(links);
         let edge_manifold = facts.max_faces <= 2;
         let closed = !self.triangles.is_empty() && facts.boundary_edges == 0 && edge_manifold;
@@ -577,8 +584,7 @@ impl TriMesh {
         } else {
             0
         };
-        let euler_characteristic =
-            n as i64 - facts.edges as i64 + self.triangles.len() as i64;
+        let euler_characteristic = n as i64 - facts.edges as i64 + self.triangles.len() as i64;
         let vertex_manifold = !facts.split_vertex;
         let genus = (edge_manifold && vertex_manifold)
             .then(|| self.genus_of(euler_characteristic, boundary_loops));
@@ -800,7 +806,11 @@ mod tests {
         pos.extend(cp.iter().skip(1).map(|p| [-p[0], -p[1], -p[2]]));
         let mut tri = ct.clone();
         let shift = |v: u32| if v == 0 { 0 } else { v + cp.len() as u32 - 1 };
-        tri.extend(ct.iter().map(|t| { let mut u = t.map(shift); u.swap(1, 2); u }));
+        tri.extend(ct.iter().map(|t| {
+            let mut u = t.map(shift);
+            u.swap(1, 2);
+            u
+        }));
         let bowtie = TriMesh::new(pos, tri).unwrap();
         let mut twice = ct.clone();
         twice.push(ct[0]);
@@ -808,7 +818,9 @@ mod tests {
         let mut degenerate = ct.clone();
         degenerate.push([0, 0, 1]);
         let degenerate = TriMesh::new(cp, degenerate).unwrap();
-        for m in [cube, open, flipped, fin, torus, empty, bowtie, twice, degenerate] {
+        for m in [
+            cube, open, flipped, fin, torus, empty, bowtie, twice, degenerate,
+        ] {
             let t = m.topology();
             assert_eq!(t, m.topology_by_edges());
             assert_eq!(t.euler_characteristic, m.euler_characteristic());

@@ -117,6 +117,9 @@ const WORKLOADS: &[(&str, Builder)] = &[
     ("levelset/pipeline-128", levelset_128),
     ("levelset/full-grid-128", levelset_full_128),
     ("levelset/pipeline-256-1e6", levelset_256),
+    ("levelset/plane-dla-256", levelset_plane_256),
+    ("levelset/plane-dla-512", levelset_plane_512),
+    ("levelset/plane-dla-1e6-1024", levelset_plane_1024),
 ];
 
 /// Every workload by name, at full size or (`quick`) at a size for tests.
@@ -652,6 +655,101 @@ fn levelset(
             Ok(())
         }),
     })
+}
+
+/// Level-set reconstruction of a plane DLA deposit (#26's workloads): the
+/// deposit `asperity growth dla --seed-shape plane --size X×Y×Z --particles
+/// N` writes (seed plane included), reconstructed at `res` cells across with
+/// the default settings. Most of the box lies near the deposit's branches, so
+/// this is the sparse layout's hardest case.
+fn levelset_plane(
+    s: &Setup,
+    name: &'static str,
+    (lattice, particles, res): ([usize; 3], usize, usize),
+    target: f64,
+) -> Result<Workload> {
+    use asperity_levelset::{ReconstructParams, Sizing, reconstruct};
+    let (lattice, particles, res) = if s.quick {
+        ([32, 32, 20], 2_000, 32)
+    } else {
+        (lattice, particles, res)
+    };
+    let job = crate::growth::dla::DlaJob {
+        size: Some(lattice),
+        particles,
+        seed: asperity_growth::seeds::SeedSpec::Plane,
+        ..Default::default()
+    };
+    let grown = crate::growth::dla::grow(
+        job,
+        7,
+        &s.budget,
+        &asperity_core::TimeBudget::unlimited(),
+        &NoProgress,
+    )?;
+    let points = grown.world_points();
+    let params = ReconstructParams {
+        sizing: Sizing::Resolution(res),
+        ..ReconstructParams::default()
+    };
+    let (n, budget) = (points.len() as u64, s.budget);
+    let [x, y, z] = lattice;
+    Ok(Workload {
+        name,
+        what: format!(
+            "plane DLA deposit ({x}×{y}×{z} lattice, {particles} particles released, {n} points), {res} cells across, 30 steps, sparse bricks"
+        ),
+        elements: n,
+        unit: "points",
+        target_s: s.target(target),
+        once: true,
+        job: Box::new(move || {
+            let r = reconstruct(&points, &params, &budget, &NoProgress, &mut |_, _| {})?;
+            let t = r.timings;
+            eprintln!(
+                "  {name}: grid {:?}, {} of {} bricks, distance {:.3} s, tagging {:.3} s, initial {:.3} s, flow {:.3} s, marching cubes {:.3} s, total {:.3} s, {} triangles",
+                r.grid.dims,
+                r.level_set.bricks.slots(),
+                r.level_set.bricks.brick_count(),
+                t.distance,
+                t.tagging,
+                t.initial,
+                t.evolution,
+                t.extraction,
+                t.total,
+                r.mesh.n_faces()
+            );
+            Ok(())
+        }),
+    })
+}
+
+fn levelset_plane_256(s: &Setup) -> Result<Workload> {
+    // The 8.3 s, measured before the sparse layout.
+    levelset_plane(
+        s,
+        "levelset/plane-dla-256",
+        ([256, 256, 160], 300_000, 256),
+        8.3,
+    )
+}
+
+fn levelset_plane_512(s: &Setup) -> Result<Workload> {
+    levelset_plane(
+        s,
+        "levelset/plane-dla-512",
+        ([256, 256, 160], 300_000, 512),
+        15.0,
+    )
+}
+
+fn levelset_plane_1024(s: &Setup) -> Result<Workload> {
+    levelset_plane(
+        s,
+        "levelset/plane-dla-1e6-1024",
+        ([512, 512, 320], 1_000_000, 1024),
+        90.0,
+    )
 }
 
 /// The point cloud of RDSR layers grown on a sphere (the level-set workloads' input).

@@ -44,6 +44,7 @@ pub(crate) fn curvature_and_gradient<P: Phi + ?Sized>(
 
 /// [`curvature_and_gradient`] with φ read by `p(offset)`, the offset in nodes
 /// from the node itself (the sparse layout's reader).
+#[allow(clippy::needless_range_loop)] // the Hessian's symmetric entries read best by index
 pub(crate) fn curvature_from(p: impl Fn([isize; 3]) -> f64, h: f64) -> (f64, f64) {
     let unit = |a: usize, s: isize| {
         let mut o = [0isize; 3];

@@ -434,7 +434,13 @@ fn closest_point_wavefront(
     let offer = |u: u32, v: u64, out: &mut Vec<u32>| {
         offer((points, grid, cells, claims), (u, v), cap2, out);
     };
-    wavefront_rounds((points, cells, claims), frontier, cap / grid.spacing, progress, offer)
+    wavefront_rounds(
+        (points, cells, claims),
+        frontier,
+        cap / grid.spacing,
+        progress,
+        offer,
+    )
 }
 
 /// The rounds of a closest-point wavefront from `frontier` until no node

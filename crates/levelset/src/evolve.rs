@@ -297,7 +297,13 @@ fn node_crossings(
             if ext[v] {
                 continue;
             }
-            out.push(crossing_point(grid, [i, j, k], (a, side), (d[u], d[v]), eps));
+            out.push(crossing_point(
+                grid,
+                [i, j, k],
+                (a, side),
+                (d[u], d[v]),
+                eps,
+            ));
         }
     }
 }

@@ -169,7 +169,9 @@ impl GridSpec {
         }
         let spacing = spacing(sizing, longest)?;
         let dims = dims(extent, spacing, pad(spacing))?;
-        let bricked = dims.iter().fold(512u128, |acc, &d| acc * d.div_ceil(8) as u128);
+        let bricked = dims
+            .iter()
+            .fold(512u128, |acc, &d| acc * d.div_ceil(8) as u128);
         if bricked > u32::MAX as u128 {
             return Err(CoreError::InvalidParameter {
                 name: "resolution",

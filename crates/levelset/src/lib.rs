@@ -12,6 +12,7 @@
 //! | [`evolve`](mod@evolve) | Narrow-band convection flow φ_t = d\|∇φ\|, ENO2 + TVD-RK2, cut-off, redistancing, clamping | §5.1–5.2, Eqs. 6, 10–12 |
 //! | [`marching_cubes`] | Watertight, manifold marching cubes with normals (Eq. 1) and mean curvature (Eq. 2) | §6, ref. \[13\] |
 //! | [`pipeline`] | The whole reconstruction, timed per stage | Fig. 5 |
+//! | [`sparse`] | Every stage on 8³-node bricks near the data and the front: what `reconstruct` runs | §5.2, §6 |
 //!
 //! ```
 //! use asperity_core::{MemoryBudget, NoProgress};

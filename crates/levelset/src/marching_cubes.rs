@@ -423,10 +423,7 @@ impl<'a, P: Volume> Cubes<'a, P> {
         let c = self.grid.coords(u);
         let mut cv = c;
         cv[axis] += 1;
-        let (a, b) = (
-            f64::from(self.volume.at(c)),
-            f64::from(self.volume.at(cv)),
-        );
+        let (a, b) = (f64::from(self.volume.at(c)), f64::from(self.volume.at(cv)));
         let t = (a / (a - b)).clamp(1e-3, 1.0 - 1e-3);
         let mut p = self.grid.position(c[0], c[1], c[2]);
         p[axis] += t * self.grid.spacing;
@@ -565,9 +562,11 @@ pub(crate) fn assemble<P: Volume>(
             (p, n)
         })
         .unzip();
-    let mut curvature: Option<Vec<f64>> = options
-        .curvature
-        .then(|| keys.par_iter().map(|&key| cubes.vertex(key, true).2).collect());
+    let mut curvature: Option<Vec<f64>> = options.curvature.then(|| {
+        keys.par_iter()
+            .map(|&key| cubes.vertex(key, true).2)
+            .collect()
+    });
     drop(keys);
     let stats = drop_shells(
         (&mut positions, &mut normals, &mut curvature),

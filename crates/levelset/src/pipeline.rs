@@ -29,14 +29,17 @@ use crate::tagging::TagRule;
 /// Bytes per active node (a node of a brick with storage) the pipeline holds
 /// at its peak: the distance stage's packed closest point (8) and distance
 /// (4) while the one becomes the other, or the flow's d, φ and scratch (12),
-/// plus the tubes' and tags' bits and the tagging's sorted shell; the mesh
-/// comes on top (see [`MESH_BYTES_PER_ACTIVE_NODE`]).
-pub const BYTES_PER_ACTIVE_NODE: u64 = 14;
+/// plus the tubes' and tags' bits and the masks of the tagging; the mesh comes
+/// on top (see [`MESH_BYTES_PER_ACTIVE_NODE`]).
+pub const BYTES_PER_ACTIVE_NODE: u64 = 16;
 
-/// Bytes of mesh per active node, from the meshes of rough surfaces (a DLA
-/// deposit's front cuts about one cube in four of the active bricks): the
-/// marching-cubes keys and the vertex data while the mesh is assembled.
-pub const MESH_BYTES_PER_ACTIVE_NODE: u64 = 10;
+/// Bytes of mesh per active node while the mesh is assembled and measured: a
+/// rough surface's front cuts about a quarter of a triangle per active node
+/// (measured on plane DLA deposits at 512³ and 1024³: 0.24), and a triangle
+/// costs about 60 bytes then (its keys, indices, half a vertex, the link
+/// lists of the topology). The process peaked at 30 and 24 bytes per active
+/// node on those runs, the fixed start-up memory included.
+pub const MESH_BYTES_PER_ACTIVE_NODE: u64 = 14;
 
 /// Bytes per brick of the brick table (a 32-bit slot, and a bit while the
 /// bricks near the points are marked).
@@ -324,11 +327,15 @@ fn distance_stage(
         DistanceMethod::ClosestPoint => {
             let bricks = bricks_for(grid, points, cap);
             check_active(&bricks, budget)?;
-            let (cells, rounds) = crate::sparse::distance::closest_points(points, &bricks, cap, progress);
+            let (cells, rounds) =
+                crate::sparse::distance::closest_points(points, &bricks, cap, progress);
             // The sample spacing is read off the closest points before they are
             // unpacked, so no nearest-point array is built.
             let spacing = sparse_sample_spacing(points, &bricks, &cells, 2.0 * h);
-            Ok((SparseDistance::from_cells(bricks, &cells, cap, rounds), spacing))
+            Ok((
+                SparseDistance::from_cells(bricks, &cells, cap, rounds),
+                spacing,
+            ))
         }
         DistanceMethod::Godunov { .. } => {
             // The same spacing measure as the closest-point method, so that δ
@@ -339,7 +346,10 @@ fn distance_stage(
             let spacing = dense_sample_spacing(points, grid, &cells, near);
             drop(cells);
             let dense = unsigned_distance(points, grid, method, cap, progress);
-            Ok((bricked(&dense.values, grid, dense.cap, dense.sweeps), spacing))
+            Ok((
+                bricked(&dense.values, grid, dense.cap, dense.sweeps),
+                spacing,
+            ))
         }
     }
 }
@@ -348,15 +358,17 @@ fn distance_stage(
 fn bricked(values: &[f32], grid: &GridSpec, cap: f32, sweeps: usize) -> SparseDistance {
     let bricks = Bricks::all(grid);
     let mut out = vec![cap; bricks.nodes()];
-    out.par_chunks_mut(BRICK_NODES).enumerate().for_each(|(s, brick)| {
-        let b = bricks.slot_coords(s);
-        for (l, x) in brick.iter_mut().enumerate() {
-            let c = [b[0] * 8 + l % 8, b[1] * 8 + (l / 8) % 8, b[2] * 8 + l / 64];
-            if c[0] < grid.dims[0] && c[1] < grid.dims[1] && c[2] < grid.dims[2] {
-                *x = values[grid.index(c[0], c[1], c[2])];
+    out.par_chunks_mut(BRICK_NODES)
+        .enumerate()
+        .for_each(|(s, brick)| {
+            let b = bricks.slot_coords(s);
+            for (l, x) in brick.iter_mut().enumerate() {
+                let c = [b[0] * 8 + l % 8, b[1] * 8 + (l / 8) % 8, b[2] * 8 + l / 64];
+                if c[0] < grid.dims[0] && c[1] < grid.dims[1] && c[2] < grid.dims[2] {
+                    *x = values[grid.index(c[0], c[1], c[2])];
+                }
             }
-        }
-    });
+        });
     SparseDistance {
         bricks,
         values: out,
@@ -429,7 +441,11 @@ pub fn grid_for(
         return GridSpec::around(points, params.sizing, pad, budget);
     }
     let grid = GridSpec::fitting(points, params.sizing, pad)?;
-    let bricks = grid.dims.iter().map(|&n| n.div_ceil(8) as u128).product::<u128>();
+    let bricks = grid
+        .dims
+        .iter()
+        .map(|&n| n.div_ceil(8) as u128)
+        .product::<u128>();
     budget.check_elements(
         bricks,
         BYTES_PER_BRICK,

@@ -187,8 +187,7 @@ fn two_nearby_spheres_are_two_components_after_the_flow() {
             &NoProgress,
             &mut |s, ls| {
                 if s.step == 0 {
-                    let (_, stats) =
-                        ls.extract(&Default::default());
+                    let (_, stats) = ls.extract(&Default::default());
                     initial = stats.components;
                 }
             },

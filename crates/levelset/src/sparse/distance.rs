@@ -18,9 +18,7 @@ use asperity_core::Progress;
 use rayon::prelude::*;
 
 use super::layout::{BRICK_NODES, Bricks, SIDE, local, wavefront_radius};
-use crate::distance::{
-    Claims, EMPTY, POINT_PREFETCH, axis_squares, dist2, lower, pack, unpack_d2,
-};
+use crate::distance::{Claims, EMPTY, POINT_PREFETCH, axis_squares, dist2, lower, pack, unpack_d2};
 
 /// Points handed to one seeding task.
 const SEED_CHUNK: usize = 4096;
@@ -49,6 +47,13 @@ pub(crate) fn closest_points(
     seed(points, space, &cells, &claims);
     let cap2 = (cap * cap) as f32;
     let around = space.neighbourhoods();
+    let wave = Wave {
+        points,
+        space,
+        around: &around,
+        cells: &cells,
+        claims: &claims,
+    };
     let expected_rounds = (cap / space.grid.spacing).ceil() as u64 + 2;
     progress.start(expected_rounds, "distance (closest point)");
     let mut rounds = 0;
@@ -71,7 +76,7 @@ pub(crate) fn closest_points(
                     if let Some(&ahead) = vs.get(i + POINT_PREFETCH) {
                         asperity_core::memory_hints::prefetch(points, ahead as u32 as usize);
                     }
-                    offer((points, space, &around, &cells, &claims), (u, v), cap2);
+                    offer(&wave, (u, v), cap2);
                 }
             });
         frontier = claims.drain();
@@ -129,16 +134,31 @@ fn wrap(l: usize, o: usize) -> (usize, usize) {
     }
 }
 
+/// What a wavefront's offers read and write: the points, the bricks and
+/// the bricks around each slot, the packed cells and the claims of the next
+/// frontier.
+#[derive(Clone, Copy)]
+struct Wave<'a> {
+    points: &'a [[f64; 3]],
+    space: &'a Bricks,
+    around: &'a [[u32; 27]],
+    cells: &'a [AtomicU64],
+    claims: &'a Claims,
+}
+
 /// Offers the point of frontier node `u` (packed cell `v`) to its 26
 /// neighbours, outward only; the neighbours it improves and claims go to `out`.
 /// The dense method's `offer`, with neighbours found through the bricks
 /// around `u`'s (`around`, see [`Bricks::neighbourhoods`]).
 #[inline(always)]
-fn offer(
-    (points, space, around, cells, claims): (&[[f64; 3]], &Bricks, &[[u32; 27]], &[AtomicU64], &Claims),
-    (u, v): (u32, u64),
-    cap2: f32,
-) {
+fn offer(wave: &Wave, (u, v): (u32, u64), cap2: f32) {
+    let Wave {
+        points,
+        space,
+        around,
+        cells,
+        claims,
+    } = *wave;
     let grid = &space.grid;
     let idx = v as u32;
     let d2_u = unpack_d2(v);
@@ -332,7 +352,11 @@ mod tests {
             .map(|_| {
                 // Clustered: most of the box stays far from the points.
                 let centre = [(n % 3) as f64 * 4.0, 1.0, 2.0];
-                let c = if rng.random::<f64>() < 0.5 { centre } else { [9.0, 7.0, 5.0] };
+                let c = if rng.random::<f64>() < 0.5 {
+                    centre
+                } else {
+                    [9.0, 7.0, 5.0]
+                };
                 [0, 1, 2].map(|a| c[a] + rng.random::<f64>() * 1.5)
             })
             .collect()
@@ -343,27 +367,38 @@ mod tests {
     fn sparse_wavefront_equals_the_dense_one() {
         for (n, res, seed) in [(400, 48, 1), (2000, 70, 2), (50, 33, 3)] {
             let pts = cloud(n, seed);
-            let grid =
-                GridSpec::around(&pts, Sizing::Resolution(res), |_| 5, &MemoryBudget::unlimited())
-                    .unwrap();
+            let grid = GridSpec::around(
+                &pts,
+                Sizing::Resolution(res),
+                |_| 5,
+                &MemoryBudget::unlimited(),
+            )
+            .unwrap();
             let cap = 4.0 * grid.spacing;
-            let dense = unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
+            let dense =
+                unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
             let bricks = bricks_for(&grid, &pts, cap);
-            assert!(bricks.slots() < bricks.brick_count(), "the test needs inactive bricks");
+            assert!(
+                bricks.slots() < bricks.brick_count(),
+                "the test needs inactive bricks"
+            );
             let (cells, rounds) = closest_points(&pts, &bricks, cap, &NoProgress);
             assert_eq!(rounds, dense.sweeps);
             let near = dense.nearest.as_ref().unwrap();
-            for u in 0..grid.len() {
+            for (u, &nearest) in near.iter().enumerate() {
                 let c = grid.coords(u);
                 let (d, p) = match bricks.id(c) {
                     Some(id) => {
                         let v = cells[id as usize].load(Relaxed);
-                        (cell_distance(v, cap as f32), if v == EMPTY { u32::MAX } else { v as u32 })
+                        (
+                            cell_distance(v, cap as f32),
+                            if v == EMPTY { u32::MAX } else { v as u32 },
+                        )
                     }
                     None => (cap as f32, u32::MAX),
                 };
                 assert_eq!(d.to_bits(), dense.values[u].to_bits(), "node {c:?}");
-                assert_eq!(p, near[u], "node {c:?}");
+                assert_eq!(p, nearest, "node {c:?}");
             }
         }
     }

@@ -112,12 +112,16 @@ fn block(ls: &SparseLevelSet, b: [usize; 3]) -> [f32; BLOCK * BLOCK * BLOCK] {
     for z in 0..sz {
         for y in 0..sy {
             for x in 0..sx {
-                let o = usize::from(x == SIDE) | usize::from(y == SIDE) << 1 | usize::from(z == SIDE) << 2;
+                let o = usize::from(x == SIDE)
+                    | usize::from(y == SIDE) << 1
+                    | usize::from(z == SIDE) << 2;
                 let (slot, background) = sources[o];
                 out[x + BLOCK * (y + BLOCK * z)] = if slot == NO_SLOT {
                     background
                 } else {
-                    ls.phi[slot as usize * BRICK_NODES + x % SIDE + SIDE * (y % SIDE + SIDE * (z % SIDE))]
+                    ls.phi[slot as usize * BRICK_NODES
+                        + x % SIDE
+                        + SIDE * (y % SIDE + SIDE * (z % SIDE))]
                 };
             }
         }
@@ -211,7 +215,11 @@ pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh
     let mut edge_keys = Vec::with_capacity(total(|l| l.vertices.len()));
     let mut centres = Vec::new();
     for layer in &mut layers {
-        keyed.extend(std::mem::take(&mut layer.triangles).into_iter().map(|k| k.1));
+        keyed.extend(
+            std::mem::take(&mut layer.triangles)
+                .into_iter()
+                .map(|k| k.1),
+        );
         let vertices = std::mem::take(&mut layer.vertices);
         let split = vertices.partition_point(|&k| k & CENTRE == 0);
         edge_keys.extend_from_slice(&vertices[..split]);
@@ -250,11 +258,25 @@ mod tests {
                 let th = std::f64::consts::PI * (a as f64 + 0.5) / 50.0;
                 let ph = std::f64::consts::PI * b as f64 / 50.0;
                 let r = 2.0 + 0.5 * (4.0 * ph).cos() * (3.0 * th).sin();
-                pts.push([r * th.sin() * ph.cos(), r * th.sin() * ph.sin(), r * th.cos()]);
-                pts.push([6.0 + 0.7 * th.sin() * ph.cos(), 0.7 * th.sin() * ph.sin(), 0.7 * th.cos()]);
+                pts.push([
+                    r * th.sin() * ph.cos(),
+                    r * th.sin() * ph.sin(),
+                    r * th.cos(),
+                ]);
+                pts.push([
+                    6.0 + 0.7 * th.sin() * ph.cos(),
+                    0.7 * th.sin() * ph.sin(),
+                    0.7 * th.cos(),
+                ]);
             }
         }
-        let grid = GridSpec::around(&pts, Sizing::Resolution(60), |_| 10, &MemoryBudget::unlimited()).unwrap();
+        let grid = GridSpec::around(
+            &pts,
+            Sizing::Resolution(60),
+            |_| 10,
+            &MemoryBudget::unlimited(),
+        )
+        .unwrap();
         let h = grid.spacing;
         let (eps, gamma) = (3.0 * h, 3.0 * h);
         let cap = eps + gamma + 2.0 * h;

@@ -222,7 +222,9 @@ impl Reader<'_> {
     fn at(&self, field: &[f32], c: [usize; 3]) -> f32 {
         match self.bricks.id(c) {
             Some(id) => field[id as usize],
-            None => self.ls.background(self.bricks.brick_index(c.map(|x| x / SIDE))),
+            None => self
+                .ls
+                .background(self.bricks.brick_index(c.map(|x| x / SIDE))),
         }
     }
 }
@@ -562,7 +564,11 @@ fn reached(bricks: &Bricks, t: &[Mask], shape: Neighbourhood) -> Vec<u32> {
                     continue;
                 }
                 let n: Option<[usize; 3]> = (0..3)
-                    .map(|a| (b[a] + o[a]).checked_sub(1).filter(|&x| x < bricks.bdims[a]))
+                    .map(|a| {
+                        (b[a] + o[a])
+                            .checked_sub(1)
+                            .filter(|&x| x < bricks.bdims[a])
+                    })
                     .collect::<Option<Vec<_>>>()
                     .map(|v| [v[0], v[1], v[2]]);
                 if let Some(n) = n {
@@ -660,7 +666,12 @@ fn grow(bricks: &Bricks, t: &[Mask], shape: Neighbourhood) -> Vec<Mask> {
 
 /// Adds `new` bricks (sorted) to the level set, the distance and the
 /// scratch buffer, at their backgrounds.
-fn activate(ls: &mut SparseLevelSet, dist: &mut SparseDistance, scratch: &mut Vec<f32>, new: &[u32]) {
+fn activate(
+    ls: &mut SparseLevelSet,
+    dist: &mut SparseDistance,
+    scratch: &mut Vec<f32>,
+    new: &[u32],
+) {
     if new.is_empty() {
         return;
     }
@@ -742,7 +753,11 @@ pub fn sparse_evolve(
             converged: true,
         };
     }
-    assert_eq!(ls.bricks.slots(), dist.bricks.slots(), "φ and d share their bricks");
+    assert_eq!(
+        ls.bricks.slots(),
+        dist.bricks.slots(),
+        "φ and d share their bricks"
+    );
     let full = params.band == Band::Full;
     let mut scratch = ls.phi.clone();
     if full {
@@ -763,7 +778,11 @@ pub fn sparse_evolve(
         let ctx = context(ls, dist, (&[], &[], &[], &fits), &arounds, params, 0.0);
         first_tube(&ctx, &ls.phi)
     };
-    let shape = if full { None } else { Some(params.neighbourhood) };
+    let shape = if full {
+        None
+    } else {
+        Some(params.neighbourhood)
+    };
     let mut n = tube_n(ls, dist, &mut scratch, &mut t, &mut fits, shape);
     // The scratch equals φ everywhere at the start.
     let mut prev_n = vec![EMPTY_MASK; n.len()];
@@ -775,7 +794,7 @@ pub fn sparse_evolve(
         converged: false,
     };
     for step in 1..=params.iterations {
-        if vmax <= 0.0 || t.iter().all(|m| is_empty(m)) {
+        if vmax <= 0.0 || t.iter().all(is_empty) {
             stats.converged = true;
             break;
         }
@@ -799,17 +818,22 @@ pub fn sparse_evolve(
             // The dense plan's passes; its rebuild runs within the last of
             // them, and its copy of φ into the scratch within the next
             // step's advance.
-            let ops: Vec<Op> = plan.ops.iter().copied().filter(|&op| op != Op::Rebuild).collect();
+            let ops: Vec<Op> = plan
+                .ops
+                .iter()
+                .copied()
+                .filter(|&op| op != Op::Rebuild)
+                .collect();
             for (i, &op) in ops.iter().enumerate() {
-                let t0 = std::time::Instant::now();
-                let (m, v) = pass(&ctx, (op, i + 1 == ops.len()), (&mut phi, &mut scratch), &mut new_t);
-                if std::env::var_os("ASPERITY_PROFILE").is_some() {
-                    eprintln!("{op:?}: {:.1} ms", t0.elapsed().as_secs_f64() * 1e3);
-                }
+                let (m, v) = pass(
+                    &ctx,
+                    (op, i + 1 == ops.len()),
+                    (&mut phi, &mut scratch),
+                    &mut new_t,
+                );
                 moved = (moved.0 + m.0, moved.1 + m.1);
                 new_vmax = hi(new_vmax, v);
             }
-            drop(ctx);
             phi.truncate(real);
             scratch.truncate(real);
             dist.values.truncate(real);
@@ -829,18 +853,9 @@ pub fn sparse_evolve(
         stats.steps.push(s);
         std::mem::swap(&mut t, &mut new_t);
         vmax = new_vmax;
-        let t0 = std::time::Instant::now();
         prev_n = std::mem::take(&mut n);
         n = tube_n(ls, dist, &mut scratch, &mut t, &mut fits, shape);
         prev_n.resize(n.len(), EMPTY_MASK);
-        if std::env::var_os("ASPERITY_PROFILE").is_some() {
-            let nn: usize = n.iter().map(count).sum();
-            let trows: usize = t.iter().map(|m| rows(m).count()).sum();
-            let nrows: usize = n.iter().map(|m| rows(m).count()).sum();
-            eprintln!("rows: T {trows}, N {nrows}");
-            let busy = n.iter().filter(|m| !is_empty(m)).count();
-            eprintln!("tube_n: {:.1} ms; T {tube}, N {nn} nodes in {busy} of {} bricks", t0.elapsed().as_secs_f64() * 1e3, n.len());
-        }
         if params
             .snapshot_every
             .is_some_and(|k| k > 0 && step.is_multiple_of(k))
@@ -922,13 +937,22 @@ mod tests {
             for b in 0..120 {
                 let th = std::f64::consts::PI * (a as f64 + 0.5) / 60.0;
                 let ph = std::f64::consts::PI * b as f64 / 60.0;
-                let r = 2.5 + 0.4 * (5.0 * ph).sin() * (3.0 * th).sin() - if th < 0.6 { 0.8 } else { 0.0 };
-                pts.push([r * th.sin() * ph.cos(), r * th.sin() * ph.sin(), r * th.cos()]);
+                let r = 2.5 + 0.4 * (5.0 * ph).sin() * (3.0 * th).sin()
+                    - if th < 0.6 { 0.8 } else { 0.0 };
+                pts.push([
+                    r * th.sin() * ph.cos(),
+                    r * th.sin() * ph.sin(),
+                    r * th.cos(),
+                ]);
             }
         }
         for i in 0..40 {
             let t = i as f64 * 0.37;
-            pts.push([5.0 + 0.6 * t.sin(), 3.0 + 0.5 * (2.0 * t).cos(), -1.0 + 0.02 * i as f64]);
+            pts.push([
+                5.0 + 0.6 * t.sin(),
+                3.0 + 0.5 * (2.0 * t).cos(),
+                -1.0 + 0.02 * i as f64,
+            ]);
         }
         pts
     }
@@ -939,11 +963,18 @@ mod tests {
     #[test]
     fn sparse_flow_equals_the_dense_flow() {
         let pts = shape();
-        let grid = GridSpec::around(&pts, Sizing::Resolution(56), |_| 12, &MemoryBudget::unlimited()).unwrap();
+        let grid = GridSpec::around(
+            &pts,
+            Sizing::Resolution(56),
+            |_| 12,
+            &MemoryBudget::unlimited(),
+        )
+        .unwrap();
         let h = grid.spacing;
         let (eps, gamma) = (3.0 * h, 3.0 * h);
         let cap = eps + gamma + 2.0 * h;
-        let dense_d = unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
+        let dense_d =
+            unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
         let dense_tags = tag(&dense_d, eps, TagRule::Paper, &NoProgress);
         let start = from_tags(&dense_d, &dense_tags, eps, gamma, &NoProgress);
         let (mut d0, _) = sparse_distance(&pts, &grid, cap, &NoProgress);
@@ -955,37 +986,93 @@ mod tests {
             ..EvolveParams::paper(h)
         };
         let cases = [
-            EvolveParams { neighbourhood: Neighbourhood::Axes, ..base },
+            EvolveParams {
+                neighbourhood: Neighbourhood::Axes,
+                ..base
+            },
             base,
-            EvolveParams { scheme: Scheme::Upwind, redistance_iterations: 1, neighbourhood: Neighbourhood::Axes, ..base },
-            EvolveParams { redistance_iterations: 0, ..base },
-            EvolveParams { redistance_iterations: 3, flow: Flow::Zhao, ..base },
-            EvolveParams { flow: Flow::Regularized { weight: 0.5 * h }, iterations: 4, ..base },
-            EvolveParams { band: Band::Full, iterations: 3, ..base },
-            EvolveParams { iterations: 40, arrest: 0.0, neighbourhood: Neighbourhood::Axes, ..base },
+            EvolveParams {
+                scheme: Scheme::Upwind,
+                redistance_iterations: 1,
+                neighbourhood: Neighbourhood::Axes,
+                ..base
+            },
+            EvolveParams {
+                redistance_iterations: 0,
+                ..base
+            },
+            EvolveParams {
+                redistance_iterations: 3,
+                flow: Flow::Zhao,
+                ..base
+            },
+            EvolveParams {
+                flow: Flow::Regularized { weight: 0.5 * h },
+                iterations: 4,
+                ..base
+            },
+            EvolveParams {
+                band: Band::Full,
+                iterations: 3,
+                ..base
+            },
+            EvolveParams {
+                iterations: 40,
+                arrest: 0.0,
+                neighbourhood: Neighbourhood::Axes,
+                ..base
+            },
         ];
         let mut grown = 0;
         for (i, params) in cases.iter().enumerate() {
             let mut want = start.clone();
             let mut shots_dense = Vec::new();
-            let p = EvolveParams { snapshot_every: Some(5), ..*params };
-            let want_stats = evolve(&mut want, &dense_d, &p, &NoProgress, &mut |s, l| shots_dense.push((s.step, l.phi.clone())));
+            let p = EvolveParams {
+                snapshot_every: Some(5),
+                ..*params
+            };
+            let want_stats = evolve(&mut want, &dense_d, &p, &NoProgress, &mut |s, l| {
+                shots_dense.push((s.step, l.phi.clone()))
+            });
             let (mut ls, mut d) = (ls0.clone(), d0.clone());
             let mut shots = Vec::new();
-            let got_stats = sparse_evolve(&mut ls, &mut d, &p, &NoProgress, &mut |s, l| shots.push((s.step, l.to_dense())));
+            let got_stats = sparse_evolve(&mut ls, &mut d, &p, &NoProgress, &mut |s, l| {
+                shots.push((s.step, l.to_dense()))
+            });
             assert_eq!(got_stats, want_stats, "case {i}");
             let got = ls.to_dense();
             for (u, (a, b)) in got.iter().zip(&want.phi).enumerate() {
-                assert_eq!(a.to_bits(), b.to_bits(), "case {i}: node {:?}: {a} vs {b}", grid.coords(u));
+                assert_eq!(
+                    a.to_bits(),
+                    b.to_bits(),
+                    "case {i}: node {:?}: {a} vs {b}",
+                    grid.coords(u)
+                );
             }
             assert_eq!(shots, shots_dense, "case {i}: snapshots");
             assert_eq!(ls.bricks.slots(), d.bricks.slots());
-            let changed = want.phi.iter().zip(&start.phi).filter(|(a, b)| a != b).count();
-            assert!(changed > 1000, "case {i}: the flow moved φ at {changed} nodes");
+            let changed = want
+                .phi
+                .iter()
+                .zip(&start.phi)
+                .filter(|(a, b)| a != b)
+                .count();
+            assert!(
+                changed > 1000,
+                "case {i}: the flow moved φ at {changed} nodes"
+            );
             grown += usize::from(ls.bricks.slots() > ls0.bricks.slots());
-            eprintln!("case {i}: {changed} nodes changed, bricks {} -> {}, steps {}", ls0.bricks.slots(), ls.bricks.slots(), got_stats.steps.len());
+            eprintln!(
+                "case {i}: {changed} nodes changed, bricks {} -> {}, steps {}",
+                ls0.bricks.slots(),
+                ls.bricks.slots(),
+                got_stats.steps.len()
+            );
         }
-        assert!(grown >= 1, "the tube reached bricks the distance did not have");
+        assert!(
+            grown >= 1,
+            "the tube reached bricks the distance did not have"
+        );
     }
 
     /// A front far from the data (where d is the cap) moving inward through
@@ -1000,14 +1087,21 @@ mod tests {
                 [r * t.cos(), r * t.sin(), 0.4 * (t * 0.3).sin()]
             })
             .collect();
-        let grid = GridSpec::around(&pts, Sizing::Spacing(0.1), |_| 30, &MemoryBudget::unlimited()).unwrap();
+        let grid = GridSpec::around(
+            &pts,
+            Sizing::Spacing(0.1),
+            |_| 30,
+            &MemoryBudget::unlimited(),
+        )
+        .unwrap();
         let (h, cap, gamma, radius) = (grid.spacing, 0.6, 0.3f32, 2.5);
         let sphere = |c: [usize; 3]| {
             let x = grid.position(c[0], c[1], c[2]);
             let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
             ((r - radius) as f32).clamp(-gamma, gamma)
         };
-        let dense_d = unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
+        let dense_d =
+            unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
         let mut want = crate::evolve::LevelSet {
             grid,
             phi: (0..grid.len()).map(|u| sphere(grid.coords(u))).collect(),
@@ -1021,7 +1115,11 @@ mod tests {
                 let m = d.bricks.in_grid(b);
                 (0..BRICK_NODES).any(|l| {
                     m[l / 64] >> (l % 64) & 1 == 1 && {
-                        let c = [b[0] * SIDE + l % SIDE, b[1] * SIDE + (l / SIDE) % SIDE, b[2] * SIDE + l / 64];
+                        let c = [
+                            b[0] * SIDE + l % SIDE,
+                            b[1] * SIDE + (l / SIDE) % SIDE,
+                            b[2] * SIDE + l / 64,
+                        ];
                         sphere(c).abs() < gamma
                     }
                 })
@@ -1037,8 +1135,15 @@ mod tests {
                 tiles[bi / 64] |= 1 << (bi % 64);
             }
         }
-        let phi = (0..bricks.nodes()).map(|id| sphere(bricks.coords(id as u32))).collect();
-        let mut ls = SparseLevelSet { bricks, phi, tiles, gamma };
+        let phi = (0..bricks.nodes())
+            .map(|id| sphere(bricks.coords(id as u32)))
+            .collect();
+        let mut ls = SparseLevelSet {
+            bricks,
+            phi,
+            tiles,
+            gamma,
+        };
         assert_eq!(ls.to_dense(), want.phi);
         let before = ls.bricks.slots();
         let params = EvolveParams {
@@ -1053,7 +1158,12 @@ mod tests {
         assert!(ls.bricks.slots() > before, "the tube added bricks");
         let got = ls.to_dense();
         for (u, (a, b)) in got.iter().zip(&want.phi).enumerate() {
-            assert_eq!(a.to_bits(), b.to_bits(), "node {:?}: {a} vs {b}", grid.coords(u));
+            assert_eq!(
+                a.to_bits(),
+                b.to_bits(),
+                "node {:?}: {a} vs {b}",
+                grid.coords(u)
+            );
         }
     }
 }

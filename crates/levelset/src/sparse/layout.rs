@@ -164,7 +164,8 @@ impl Bricks {
             if self.slot_of[bi as usize] == NO_SLOT {
                 self.slot_of[bi as usize] = self.brick_of.len() as u32;
                 self.brick_of.push(bi);
-                self.coords_of.push(self.brick_coords(bi as usize).map(|x| x as u32));
+                self.coords_of
+                    .push(self.brick_coords(bi as usize).map(|x| x as u32));
             }
         }
         first
@@ -175,7 +176,8 @@ impl Bricks {
     pub(crate) fn id(&self, c: [usize; 3]) -> Option<u32> {
         let b = [c[0] / SIDE, c[1] / SIDE, c[2] / SIDE];
         let s = self.slot_of[self.brick_index(b)];
-        (s != NO_SLOT).then(|| s * BRICK_NODES as u32 + local(c[0] % SIDE, c[1] % SIDE, c[2] % SIDE) as u32)
+        (s != NO_SLOT)
+            .then(|| s * BRICK_NODES as u32 + local(c[0] % SIDE, c[1] % SIDE, c[2] % SIDE) as u32)
     }
 
     /// The grid coordinates of node `id` (for tests).
@@ -209,7 +211,9 @@ impl Bricks {
         let span = |a: usize| {
             let first = b[a] * SIDE;
             let lo = margin.saturating_sub(first).min(SIDE);
-            let hi = (self.grid.dims[a].saturating_sub(margin)).saturating_sub(first).min(SIDE);
+            let hi = (self.grid.dims[a].saturating_sub(margin))
+                .saturating_sub(first)
+                .min(SIDE);
             (lo, hi.max(lo))
         };
         let ((x0, x1), (y0, y1), (z0, z1)) = (span(0), span(1), span(2));
@@ -293,7 +297,8 @@ impl Bricks {
                 // along axis a.
                 let gap2 = |a: usize, b: usize| {
                     let lo = grid.origin[a] + (b * SIDE) as f64 * h;
-                    let hi = grid.origin[a] + ((b * SIDE + SIDE - 1).min(grid.dims[a] - 1)) as f64 * h;
+                    let hi =
+                        grid.origin[a] + ((b * SIDE + SIDE - 1).min(grid.dims[a] - 1)) as f64 * h;
                     let g = (lo - p[a]).max(p[a] - hi).max(0.0);
                     g * g
                 };
@@ -371,7 +376,11 @@ mod tests {
     fn ids_and_coordinates_round_trip() {
         let g = grid();
         let b = Bricks::all(&g);
-        for c in [[0, 0, 0], [7, 8, 9], [g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1]] {
+        for c in [
+            [0, 0, 0],
+            [7, 8, 9],
+            [g.dims[0] - 1, g.dims[1] - 1, g.dims[2] - 1],
+        ] {
             assert_eq!(b.coords(b.id(c).unwrap()), c);
         }
         let inside: usize = (0..b.slots())
@@ -385,8 +394,12 @@ mod tests {
         let g = grid();
         let b = Bricks::all(&g);
         for margin in [0, 1, 2, 9] {
-            let got: usize = (0..b.slots()).map(|s| count(&b.within(b.slot_coords(s), margin))).sum();
-            let want = (0..3).map(|a| g.dims[a].saturating_sub(2 * margin)).product::<usize>();
+            let got: usize = (0..b.slots())
+                .map(|s| count(&b.within(b.slot_coords(s), margin)))
+                .sum();
+            let want = (0..3)
+                .map(|a| g.dims[a].saturating_sub(2 * margin))
+                .product::<usize>();
             assert_eq!(got, want, "margin {margin}");
         }
     }

@@ -31,8 +31,8 @@ pub mod surface;
 pub mod tagging;
 
 pub use distance::{SparseDistance, sparse_distance};
-pub use flow::sparse_evolve;
 pub use extract::sparse_extract;
+pub use flow::sparse_evolve;
 pub use layout::Bricks;
 pub use surface::{SparseLevelSet, sparse_initial};
 pub use tagging::{SparseTags, sparse_tag};

@@ -106,7 +106,11 @@ fn crossings(dist: &SparseDistance, tags: &SparseTags, eps: f64) -> Vec<[f64; 3]
                 if inside[l / 64] >> (l % 64) & 1 == 0 || tags.node(id) {
                     continue;
                 }
-                let c = [b[0] * SIDE + l % SIDE, b[1] * SIDE + (l / SIDE) % SIDE, b[2] * SIDE + l / 64];
+                let c = [
+                    b[0] * SIDE + l % SIDE,
+                    b[1] * SIDE + (l / SIDE) % SIDE,
+                    b[2] * SIDE + l / 64,
+                ];
                 for a in 0..3 {
                     // u below v: the crossing is u's edge up; u above: its edge down.
                     for up in [true, false] {
@@ -124,12 +128,16 @@ fn crossings(dist: &SparseDistance, tags: &SparseTags, eps: f64) -> Vec<[f64; 3]
                         }
                         let (exterior, du) = match bricks.id(cu) {
                             Some(u) => (tags.node(u), dist.values[u as usize]),
-                            None => (tags.tile(bricks.brick_index(cu.map(|x| x / SIDE))), dist.cap),
+                            None => (
+                                tags.tile(bricks.brick_index(cu.map(|x| x / SIDE))),
+                                dist.cap,
+                            ),
                         };
                         if !exterior {
                             continue;
                         }
-                        let p = crossing_point(grid, cu, (a, up), (du, dist.values[id as usize]), eps);
+                        let p =
+                            crossing_point(grid, cu, (a, up), (du, dist.values[id as usize]), eps);
                         let dense = grid.index(cu[0], cu[1], cu[2]) as u64;
                         out.push((dense * 6 + (2 * a + usize::from(up)) as u64, p));
                     }
@@ -152,10 +160,7 @@ pub fn sparse_initial(
     gamma: f64,
     progress: &dyn Progress,
 ) -> SparseLevelSet {
-    let prof = std::env::var_os("ASPERITY_PROFILE").is_some();
-    let t0 = std::time::Instant::now();
     let crossings = crossings(dist, tags, eps);
-    if prof { eprintln!("  crossings {:.2} s: {}", t0.elapsed().as_secs_f64(), crossings.len()); }
     let gamma32 = gamma as f32;
     let grid = dist.bricks.grid;
     // Straight from the packed closest points to φ. |φ| is clamped at γ, so
@@ -171,27 +176,32 @@ pub fn sparse_initial(
     let first = dist.bricks.slots();
     dist.activate(&sorted);
     tags.extend(&dist.bricks, first);
-    if prof { eprintln!("  near bricks {:.2} s: {} bricks", t0.elapsed().as_secs_f64(), near.slots()); }
     let (cells, _) = if crossings.is_empty() {
         (Vec::new(), 0)
     } else {
         closest_points(&crossings, &near, cap, progress)
     };
-    if prof { eprintln!("  wavefront {:.2} s", t0.elapsed().as_secs_f64()); }
     let bricks = &dist.bricks;
     let mut phi = vec![0f32; bricks.nodes()];
-    phi.par_chunks_mut(BRICK_NODES).enumerate().for_each(|(s, out)| {
-        let at = near.slot_of(bricks.brick_of(s));
-        for (l, x) in out.iter_mut().enumerate() {
-            let r = if at == NO_SLOT {
-                gamma32
-            } else {
-                let c = cells[at as usize * BRICK_NODES + l].load(std::sync::atomic::Ordering::Relaxed);
-                cell_distance(c, gamma32)
-            };
-            *x = if tags.node((s * BRICK_NODES + l) as u32) { r } else { -r };
-        }
-    });
+    phi.par_chunks_mut(BRICK_NODES)
+        .enumerate()
+        .for_each(|(s, out)| {
+            let at = near.slot_of(bricks.brick_of(s));
+            for (l, x) in out.iter_mut().enumerate() {
+                let r = if at == NO_SLOT {
+                    gamma32
+                } else {
+                    let c = cells[at as usize * BRICK_NODES + l]
+                        .load(std::sync::atomic::Ordering::Relaxed);
+                    cell_distance(c, gamma32)
+                };
+                *x = if tags.node((s * BRICK_NODES + l) as u32) {
+                    r
+                } else {
+                    -r
+                };
+            }
+        });
     SparseLevelSet {
         bricks: bricks.clone(),
         phi,
@@ -234,12 +244,23 @@ mod tests {
     #[test]
     fn sparse_initial_surface_equals_the_dense_one() {
         let pts = shape();
-        for (res, rule) in [(64, TagRule::Paper), (90, TagRule::Threshold), (40, TagRule::Paper)] {
-            let grid = GridSpec::around(&pts, Sizing::Resolution(res), |h| (6.0 * h / h) as usize + 3, &MemoryBudget::unlimited()).unwrap();
+        for (res, rule) in [
+            (64, TagRule::Paper),
+            (90, TagRule::Threshold),
+            (40, TagRule::Paper),
+        ] {
+            let grid = GridSpec::around(
+                &pts,
+                Sizing::Resolution(res),
+                |h| (6.0 * h / h) as usize + 3,
+                &MemoryBudget::unlimited(),
+            )
+            .unwrap();
             let h = grid.spacing;
             let (eps, gamma) = (3.0 * h, 3.0 * h);
             let cap = eps + gamma + 2.0 * h;
-            let dense_d = unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
+            let dense_d =
+                unsigned_distance(&pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
             let dense_tags = tag(&dense_d, eps, rule, &NoProgress);
             let want = from_tags(&dense_d, &dense_tags, eps, gamma, &NoProgress);
             let (mut d, _) = sparse_distance(&pts, &grid, cap, &NoProgress);
@@ -249,7 +270,12 @@ mod tests {
             assert_eq!(got.bricks.slots(), d.bricks.slots());
             let dense = got.to_dense();
             for (u, (a, b)) in dense.iter().zip(&want.phi).enumerate() {
-                assert_eq!(a.to_bits(), b.to_bits(), "res {res}: node {:?}: {a} vs {b}", grid.coords(u));
+                assert_eq!(
+                    a.to_bits(),
+                    b.to_bits(),
+                    "res {res}: node {:?}: {a} vs {b}",
+                    grid.coords(u)
+                );
             }
         }
     }

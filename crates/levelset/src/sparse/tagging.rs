@@ -252,8 +252,8 @@ fn flood(bricks: &Bricks, d: &[f32], far: f32, threshold: f32) -> Fill {
             if s == NO_SLOT {
                 set_bit(&mut fill.tiles, *bi as usize);
             } else {
-                for z in 0..SIDE {
-                    fill.nodes[s as usize][z] |= new[z];
+                for (w, n) in fill.nodes[s as usize].iter_mut().zip(new) {
+                    *w |= n;
                 }
             }
             fill.count += count(new);
@@ -285,10 +285,7 @@ pub fn sparse_tag(
     let eps = eps as f32;
     let far = dist.cap;
     progress.start(dist.bricks.grid.len() as u64, "tagging");
-    let prof = std::env::var_os("ASPERITY_PROFILE").is_some();
-    let t0 = std::time::Instant::now();
     let mut reach = flood(&dist.bricks, &dist.values, far, eps);
-    if prof { eprintln!("  reach flood {:.2} s", t0.elapsed().as_secs_f64()); }
     if rule == TagRule::Threshold {
         progress.finish();
         return SparseTags {
@@ -308,7 +305,6 @@ pub fn sparse_tag(
             count: 0,
         }
     };
-    if prof { eprintln!("  far flood {:.2} s", t0.elapsed().as_secs_f64()); }
     // Pockets: inactive bricks reached by the ε fill only.
     let pockets: Vec<u32> = (0..dist.bricks.brick_count())
         .filter(|&bi| bit(&reach.tiles, bi) && !bit(&far_fill.tiles, bi))
@@ -318,7 +314,9 @@ pub fn sparse_tag(
         let first = dist.bricks.slots();
         dist.activate(&pockets);
         for s in first..dist.bricks.slots() {
-            reach.nodes.push(dist.bricks.in_grid(dist.bricks.slot_coords(s)));
+            reach
+                .nodes
+                .push(dist.bricks.in_grid(dist.bricks.slot_coords(s)));
             far_fill.nodes.push(EMPTY_MASK);
         }
     }
@@ -343,15 +341,15 @@ pub fn sparse_tag(
         .collect();
     // Each shell brick's comparisons with its neighbours, once (`at[s]` is
     // its place in `slopes`).
-    let slopes: Vec<Slopes> = pending.par_iter().map(|&s| shells.slopes(s as usize)).collect();
+    let slopes: Vec<Slopes> = pending
+        .par_iter()
+        .map(|&s| shells.slopes(s as usize))
+        .collect();
     let mut at = vec![u32::MAX; bricks.slots()];
     for (i, &s) in pending.iter().enumerate() {
         at[s as usize] = i as u32;
     }
-    let mut rounds = 0;
     while !pending.is_empty() {
-        rounds += 1;
-        if prof { eprintln!("   round {rounds}: {} bricks", pending.len()); }
         let fresh: Vec<(u32, Mask)> = pending
             .par_iter()
             .filter_map(|&s| {
@@ -369,7 +367,6 @@ pub fn sparse_tag(
         next.dedup();
         pending = next;
     }
-    if prof { eprintln!("  relaxation {:.2} s", t0.elapsed().as_secs_f64()); }
     let (accepted, refused) = (0..bricks.slots())
         .into_par_iter()
         .filter(|&s| at[s] != u32::MAX)
@@ -447,9 +444,8 @@ impl Shell<'_> {
             face: grid_faces(bricks, b),
         };
         let dims = bricks.grid.dims;
-        for dir in 0..6 {
+        for (dir, &other) in faces.iter().enumerate() {
             let (a, up) = (dir / 2, dir % 2 == 1);
-            let other = faces[dir];
             // The neighbour brick's values (an inactive one reads as the cap).
             let theirs = (other != NO_SLOT)
                 .then(|| &self.d[other as usize * BRICK_NODES..(other as usize + 1) * BRICK_NODES]);
@@ -466,11 +462,19 @@ impl Shell<'_> {
                         if (up && g + 1 >= dims[a]) || (!up && g == 0) {
                             continue;
                         }
-                        let at_edge = if up { local[a] == SIDE - 1 } else { local[a] == 0 };
+                        let at_edge = if up {
+                            local[a] == SIDE - 1
+                        } else {
+                            local[a] == 0
+                        };
                         let dv = if !at_edge {
                             d[if up { l + step } else { l - step }]
                         } else {
-                            let wrapped = if up { l - (SIDE - 1) * step } else { l + (SIDE - 1) * step };
+                            let wrapped = if up {
+                                l - (SIDE - 1) * step
+                            } else {
+                                l + (SIDE - 1) * step
+                            };
                             theirs.map_or(self.far, |t| t[wrapped])
                         };
                         let du = d[l];
@@ -482,9 +486,9 @@ impl Shell<'_> {
                 }
             }
             // Only nodes in the grid are decided.
-            for w in 0..SIDE {
-                out.farther[dir][w] &= inside[w];
-                out.not_nearer[dir][w] &= inside[w];
+            for (w, &i) in inside.iter().enumerate() {
+                out.farther[dir][w] &= i;
+                out.not_nearer[dir][w] &= i;
             }
         }
         out
@@ -499,7 +503,11 @@ impl Shell<'_> {
         let faces = bricks.face_slots(s);
         std::array::from_fn(|dir| {
             let (a, up) = (dir / 2, dir % 2 == 1);
-            let beyond = if up { b[a] + 1 >= bricks.bdims[a] } else { b[a] == 0 };
+            let beyond = if up {
+                b[a] + 1 >= bricks.bdims[a]
+            } else {
+                b[a] == 0
+            };
             if beyond {
                 return EMPTY_MASK;
             }
@@ -550,12 +558,24 @@ impl Shell<'_> {
             let mut all_farther = u64::MAX;
             let mut any_farther = 0u64;
             let mut reached = slopes.face[z];
-            for dir in 0..6 {
+            for (dir, out) in outside.iter().enumerate() {
                 let nb = match dir {
                     0..=3 => shift_in_plane(own[z], dir),
-                    4 => if z > 0 { own[z - 1] } else { 0 },
-                    _ => if z + 1 < SIDE { own[z + 1] } else { 0 },
-                } | outside[dir][z];
+                    4 => {
+                        if z > 0 {
+                            own[z - 1]
+                        } else {
+                            0
+                        }
+                    }
+                    _ => {
+                        if z + 1 < SIDE {
+                            own[z + 1]
+                        } else {
+                            0
+                        }
+                    }
+                } | out[z];
                 let f = slopes.farther[dir][z];
                 all_farther &= !f | nb;
                 any_farther |= f;
@@ -574,7 +594,7 @@ impl Shell<'_> {
         let mut own = ext[s];
         let outside = self.outside(s, ext);
         loop {
-            let (accept, _) = Self::rule(&slopes, &own, &outside);
+            let (accept, _) = Self::rule(slopes, &own, &outside);
             let next: Mask = std::array::from_fn(|z| own[z] | (accept[z] & shell[z]));
             if next == own {
                 return own;
@@ -624,10 +644,10 @@ fn masks_to_bits(masks: &[Mask], words: usize) -> Vec<u64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sparse::layout::local;
     use crate::distance::{DistanceField, DistanceMethod, unsigned_distance};
     use crate::grid::{GridSpec, Sizing};
     use crate::sparse::distance::{bricks_for, closest_points};
+    use crate::sparse::layout::local;
     use crate::tagging::tag;
     use asperity_core::{MemoryBudget, NoProgress};
 
@@ -652,12 +672,20 @@ mod tests {
     }
 
     fn fields(pts: &[[f64; 3]], res: usize, cap: f64) -> (DistanceField, SparseDistance) {
-        let grid = GridSpec::around(pts, Sizing::Resolution(res), |h| (1.0 / h) as usize + 3, &MemoryBudget::unlimited())
-            .unwrap();
+        let grid = GridSpec::around(
+            pts,
+            Sizing::Resolution(res),
+            |h| (1.0 / h) as usize + 3,
+            &MemoryBudget::unlimited(),
+        )
+        .unwrap();
         let dense = unsigned_distance(pts, &grid, DistanceMethod::ClosestPoint, cap, &NoProgress);
         let bricks = bricks_for(&grid, pts, cap);
         let (cells, rounds) = closest_points(pts, &bricks, cap, &NoProgress);
-        (dense, SparseDistance::from_cells(bricks, &cells, cap, rounds))
+        (
+            dense,
+            SparseDistance::from_cells(bricks, &cells, cap, rounds),
+        )
     }
 
     /// Both rules give the dense exterior node for node, with the same counts,
@@ -667,8 +695,19 @@ mod tests {
     fn sparse_tagging_equals_the_dense_tagging() {
         let pts = shape();
         let (mut refusals, mut sparse_cases) = (0, 0);
-        for (res, cap_cells, round) in [(48, 4.0, false), (48, 8.0, true), (70, 6.0, false), (40, 14.0, false)] {
-            let probe = GridSpec::around(&pts, Sizing::Resolution(res), |h| (1.0 / h) as usize + 3, &MemoryBudget::unlimited()).unwrap();
+        for (res, cap_cells, round) in [
+            (48, 4.0, false),
+            (48, 8.0, true),
+            (70, 6.0, false),
+            (40, 14.0, false),
+        ] {
+            let probe = GridSpec::around(
+                &pts,
+                Sizing::Resolution(res),
+                |h| (1.0 / h) as usize + 3,
+                &MemoryBudget::unlimited(),
+            )
+            .unwrap();
             let cap = cap_cells * probe.spacing;
             let (mut dense, sparse) = fields(&pts, res, cap);
             let eighth = (probe.spacing / 8.0) as f32;
@@ -688,7 +727,11 @@ mod tests {
                     let g = &dense.grid;
                     for u in 0..g.len() {
                         let c = g.coords(u);
-                        assert_eq!(got.at(&field.bricks, c), want.exterior[u], "res {res}, cap {cap_cells}, {rule:?}, ε {eps_cells}: node {c:?}");
+                        assert_eq!(
+                            got.at(&field.bricks, c),
+                            want.exterior[u],
+                            "res {res}, cap {cap_cells}, {rule:?}, ε {eps_cells}: node {c:?}"
+                        );
                     }
                     assert_eq!(got.exterior_count, want.exterior_count);
                     assert_eq!(got.refused, want.refused);
@@ -712,7 +755,11 @@ mod tests {
                 let th = std::f64::consts::PI * (a as f64 + 0.5) / n as f64;
                 let ph = std::f64::consts::PI * b as f64 / n as f64;
                 if th > 0.15 {
-                    pts.push([8.0 * th.sin() * ph.cos(), 8.0 * th.sin() * ph.sin(), 8.0 * th.cos()]);
+                    pts.push([
+                        8.0 * th.sin() * ph.cos(),
+                        8.0 * th.sin() * ph.sin(),
+                        8.0 * th.cos(),
+                    ]);
                 }
             }
         }
@@ -723,14 +770,24 @@ mod tests {
             let mut field = sparse.clone();
             let got = sparse_tag(&mut field, eps, rule, &NoProgress);
             if rule == TagRule::Paper {
-                assert!(field.bricks.slots() > sparse.bricks.slots(), "pockets were activated");
+                assert!(
+                    field.bricks.slots() > sparse.bricks.slots(),
+                    "pockets were activated"
+                );
             }
             let g = &dense.grid;
             for u in 0..g.len() {
                 let c = g.coords(u);
-                assert_eq!(got.at(&field.bricks, c), want.exterior[u], "{rule:?}: node {c:?}");
+                assert_eq!(
+                    got.at(&field.bricks, c),
+                    want.exterior[u],
+                    "{rule:?}: node {c:?}"
+                );
             }
-            assert_eq!((got.exterior_count, got.refused), (want.exterior_count, want.refused));
+            assert_eq!(
+                (got.exterior_count, got.refused),
+                (want.exterior_count, want.refused)
+            );
         }
     }
 
@@ -742,8 +799,8 @@ mod tests {
         for z in [1, 5] {
             open[z] = u64::MAX;
         }
-        for z in 2..5 {
-            open[z] |= 1 << local(3, 4, 0);
+        for plane in &mut open[2..5] {
+            *plane |= 1 << local(3, 4, 0);
         }
         open[7] = 1;
         let mut seed = EMPTY_MASK;
