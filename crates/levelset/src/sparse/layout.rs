@@ -55,6 +55,20 @@ pub(crate) fn count(m: &Mask) -> usize {
     m.iter().map(|w| w.count_ones() as usize).sum()
 }
 
+/// `m`'s nodes moved one node along direction `dir` (−x, +x, −y, +y, −z,
+/// +z: each node gets its neighbour's bit that way) within the brick.
+#[inline(always)]
+pub(crate) fn shifted(m: &Mask, dir: usize) -> Mask {
+    std::array::from_fn(|z| match dir {
+        0 => (m[z] << 1) & !X_LOW,
+        1 => (m[z] >> 1) & !X_HIGH,
+        2 => m[z] << SIDE,
+        3 => m[z] >> SIDE,
+        4 => z.checked_sub(1).map_or(0, |below| m[below]),
+        _ => m.get(z + 1).copied().unwrap_or(0),
+    })
+}
+
 /// The local index of brick node (x, y, z).
 #[inline(always)]
 pub(crate) const fn local(x: usize, y: usize, z: usize) -> usize {
@@ -268,6 +282,63 @@ impl Bricks {
                 })
             })
             .collect()
+    }
+
+    /// Per direction (−x, +x, −y, +y, −z, +z), the nodes of slot `s` on that
+    /// face whose neighbour across it is in the set: `mask(slot)` gives an
+    /// active neighbour's set, `tile(brick)` whether an inactive one is all in
+    /// it; nothing lies beyond the grid.
+    pub(crate) fn across_faces(
+        &self,
+        s: usize,
+        mask: impl Fn(usize) -> Mask,
+        tile: impl Fn(usize) -> bool,
+    ) -> [Mask; 6] {
+        let b = self.slot_coords(s);
+        let faces = self.face_slots(s);
+        std::array::from_fn(|dir| {
+            let (a, up) = (dir / 2, dir % 2 == 1);
+            let beyond = if up {
+                b[a] + 1 >= self.bdims[a]
+            } else {
+                b[a] == 0
+            };
+            if beyond {
+                return EMPTY_MASK;
+            }
+            let theirs: Mask = if faces[dir] == NO_SLOT {
+                let mut n = b;
+                if up {
+                    n[a] += 1;
+                } else {
+                    n[a] -= 1;
+                }
+                if tile(self.brick_index(n)) {
+                    [u64::MAX; SIDE]
+                } else {
+                    EMPTY_MASK
+                }
+            } else {
+                mask(faces[dir] as usize)
+            };
+            // Their face next to ours, moved onto our face.
+            match dir {
+                0 => theirs.map(|w| (w & X_HIGH) >> (SIDE - 1)),
+                1 => theirs.map(|w| (w & X_LOW) << (SIDE - 1)),
+                2 => theirs.map(|w| (w & Y_HIGH) >> (SIDE * (SIDE - 1))),
+                3 => theirs.map(|w| (w & Y_LOW) << (SIDE * (SIDE - 1))),
+                4 => {
+                    let mut m = EMPTY_MASK;
+                    m[0] = theirs[SIDE - 1];
+                    m
+                }
+                _ => {
+                    let mut m = EMPTY_MASK;
+                    m[SIDE - 1] = theirs[0];
+                    m
+                }
+            }
+        })
     }
 
     /// The bricks, in increasing order, with a node within `radius` of one

@@ -16,7 +16,7 @@ use asperity_core::Progress;
 use rayon::prelude::*;
 
 use super::distance::{SparseDistance, bricks_for, cell_distance, closest_points};
-use super::layout::{BRICK_NODES, Bricks, NO_SLOT, SIDE};
+use super::layout::{BRICK_NODES, Bricks, EMPTY_MASK, NO_SLOT, SIDE, shifted};
 use super::tagging::SparseTags;
 use crate::evolve::crossing_point;
 
@@ -100,46 +100,64 @@ fn crossings(dist: &SparseDistance, tags: &SparseTags, eps: f64) -> Vec<[f64; 3]
         .flat_map_iter(|s| {
             let b = bricks.slot_coords(s);
             let inside = bricks.in_grid(b);
-            let mut out = Vec::new();
-            for l in 0..BRICK_NODES {
-                let id = (s * BRICK_NODES + l) as u32;
-                if inside[l / 64] >> (l % 64) & 1 == 0 || tags.node(id) {
-                    continue;
+            // The non-exterior nodes with an exterior neighbour (a superset,
+            // exact but for the grid's faces, which the loop checks).
+            let ext = tags.mask(s);
+            let across = bricks.across_faces(s, |t| tags.mask(t), |bi| tags.tile(bi));
+            let mut near = EMPTY_MASK;
+            for (dir, face) in across.iter().enumerate() {
+                let moved = shifted(&ext, dir);
+                for z in 0..SIDE {
+                    near[z] |= moved[z] | face[z];
                 }
-                let c = [
-                    b[0] * SIDE + l % SIDE,
-                    b[1] * SIDE + (l / SIDE) % SIDE,
-                    b[2] * SIDE + l / 64,
-                ];
-                for a in 0..3 {
-                    // u below v: the crossing is u's edge up; u above: its edge down.
-                    for up in [true, false] {
-                        let mut cu = c;
-                        if up {
-                            if c[a] == 0 {
+            }
+            let mut out = Vec::new();
+            for z in 0..SIDE {
+                let mut bits = near[z] & inside[z] & !ext[z];
+                while bits != 0 {
+                    let l = z * 64 + bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    let id = (s * BRICK_NODES + l) as u32;
+                    let c = [
+                        b[0] * SIDE + l % SIDE,
+                        b[1] * SIDE + (l / SIDE) % SIDE,
+                        b[2] * SIDE + l / 64,
+                    ];
+                    for a in 0..3 {
+                        // u below v: the crossing is u's edge up; u above: its edge down.
+                        for up in [true, false] {
+                            let mut cu = c;
+                            if up {
+                                if c[a] == 0 {
+                                    continue;
+                                }
+                                cu[a] -= 1;
+                            } else {
+                                if c[a] + 1 >= dims[a] {
+                                    continue;
+                                }
+                                cu[a] += 1;
+                            }
+                            let (exterior, du) = match bricks.id(cu) {
+                                Some(u) => (tags.node(u), dist.values[u as usize]),
+                                None => (
+                                    tags.tile(bricks.brick_index(cu.map(|x| x / SIDE))),
+                                    dist.cap,
+                                ),
+                            };
+                            if !exterior {
                                 continue;
                             }
-                            cu[a] -= 1;
-                        } else {
-                            if c[a] + 1 >= dims[a] {
-                                continue;
-                            }
-                            cu[a] += 1;
+                            let p = crossing_point(
+                                grid,
+                                cu,
+                                (a, up),
+                                (du, dist.values[id as usize]),
+                                eps,
+                            );
+                            let dense = grid.index(cu[0], cu[1], cu[2]) as u64;
+                            out.push((dense * 6 + (2 * a + usize::from(up)) as u64, p));
                         }
-                        let (exterior, du) = match bricks.id(cu) {
-                            Some(u) => (tags.node(u), dist.values[u as usize]),
-                            None => (
-                                tags.tile(bricks.brick_index(cu.map(|x| x / SIDE))),
-                                dist.cap,
-                            ),
-                        };
-                        if !exterior {
-                            continue;
-                        }
-                        let p =
-                            crossing_point(grid, cu, (a, up), (du, dist.values[id as usize]), eps);
-                        let dense = grid.index(cu[0], cu[1], cu[2]) as u64;
-                        out.push((dense * 6 + (2 * a + usize::from(up)) as u64, p));
                     }
                 }
             }

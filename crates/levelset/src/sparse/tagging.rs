@@ -71,6 +71,13 @@ impl SparseTags {
         bit(&self.tiles, bi)
     }
 
+    /// The exterior nodes of slot `s`.
+    #[inline]
+    pub(crate) fn mask(&self, s: usize) -> Mask {
+        let words = &self.exterior[s * SIDE..(s + 1) * SIDE];
+        std::array::from_fn(|z| words[z])
+    }
+
     /// The inactive bricks' tags, one bit per brick.
     pub(crate) fn tiles_bits(&self) -> &[u64] {
         &self.tiles
@@ -498,53 +505,8 @@ impl Shell<'_> {
     /// neighbour in the next brick is exterior (by `ext`, or the tile of an
     /// inactive brick).
     fn outside(&self, s: usize, ext: &[Mask]) -> [Mask; 6] {
-        let bricks = self.bricks;
-        let b = bricks.slot_coords(s);
-        let faces = bricks.face_slots(s);
-        std::array::from_fn(|dir| {
-            let (a, up) = (dir / 2, dir % 2 == 1);
-            let beyond = if up {
-                b[a] + 1 >= bricks.bdims[a]
-            } else {
-                b[a] == 0
-            };
-            if beyond {
-                return EMPTY_MASK;
-            }
-            let other = faces[dir];
-            let theirs: Mask = if other == NO_SLOT {
-                let mut n = b;
-                if up {
-                    n[a] += 1;
-                } else {
-                    n[a] -= 1;
-                }
-                if bit(self.far_tiles, bricks.brick_index(n)) {
-                    [u64::MAX; SIDE]
-                } else {
-                    EMPTY_MASK
-                }
-            } else {
-                ext[other as usize]
-            };
-            // Their face next to ours, moved onto our face.
-            match dir {
-                0 => theirs.map(|w| (w & X_HIGH) >> (SIDE - 1)),
-                1 => theirs.map(|w| (w & X_LOW) << (SIDE - 1)),
-                2 => theirs.map(|w| (w & Y_HIGH) >> (SIDE * (SIDE - 1))),
-                3 => theirs.map(|w| (w & Y_LOW) << (SIDE * (SIDE - 1))),
-                4 => {
-                    let mut m = EMPTY_MASK;
-                    m[0] = theirs[SIDE - 1];
-                    m
-                }
-                _ => {
-                    let mut m = EMPTY_MASK;
-                    m[SIDE - 1] = theirs[0];
-                    m
-                }
-            }
-        })
+        self.bricks
+            .across_faces(s, |t| ext[t], |bi| bit(self.far_tiles, bi))
     }
 
     /// One evaluation of the rule on every node of a brick whose tags are
