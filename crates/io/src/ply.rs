@@ -722,24 +722,54 @@ fn header(
     h
 }
 
+/// Rows formatted by `row` (each appended to the buffer it is given),
+/// written in order. Blocks of rows are formatted in parallel and written one
+/// after the other, a bounded number at a time: a 12 M-triangle mesh is tens
+/// of millions of rows.
+fn write_rows(
+    w: &mut dyn Write,
+    n: usize,
+    row: impl Fn(usize, &mut Vec<u8>) + Sync,
+) -> std::io::Result<()> {
+    use rayon::prelude::*;
+    const BLOCK: usize = 1 << 14;
+    const BLOCKS_AT_ONCE: usize = 32;
+    let mut start = 0;
+    while start < n {
+        let end = (start + BLOCK * BLOCKS_AT_ONCE).min(n);
+        let blocks: Vec<Vec<u8>> = (start..end)
+            .into_par_iter()
+            .step_by(BLOCK)
+            .map(|first| {
+                let mut buf = Vec::new();
+                for i in first..(first + BLOCK).min(end) {
+                    row(i, &mut buf);
+                }
+                buf
+            })
+            .collect();
+        for b in &blocks {
+            w.write_all(b)?;
+        }
+        start = end;
+    }
+    Ok(())
+}
+
 /// The face element: a count byte, then the indices.
 fn write_faces(w: &mut dyn Write, faces: Faces<'_>, ascii: bool) -> std::io::Result<()> {
-    let mut row = Vec::with_capacity(256);
-    for f in 0..faces.len() {
+    write_rows(w, faces.len(), |f, out| {
         let t = faces.get(f);
         if ascii {
             let idx: Vec<String> = t.iter().map(u32::to_string).collect();
-            writeln!(w, "{} {}", t.len(), idx.join(" "))?;
+            let _ = writeln!(out, "{} {}", t.len(), idx.join(" "));
         } else {
-            row.clear();
-            row.push(t.len() as u8);
+            out.push(t.len() as u8);
             for k in t {
-                row.extend_from_slice(&k.to_le_bytes());
+                out.extend_from_slice(&k.to_le_bytes());
             }
-            w.write_all(&row)?;
         }
-    }
-    Ok(())
+    })
 }
 
 fn write_ply(
@@ -759,18 +789,15 @@ fn write_ply(
         edges.len(),
     );
     w.write_all(h.as_bytes())?;
-    let mut row = Vec::with_capacity(256);
-    for i in 0..v.positions.len() {
-        row.clear();
+    write_rows(w, v.positions.len(), |i, out| {
         for c in &cols {
-            c.write(i, ascii, &mut row);
+            c.write(i, ascii, out);
         }
         if ascii {
-            row.pop();
-            row.push(b'\n');
+            out.pop();
+            out.push(b'\n');
         }
-        w.write_all(&row)?;
-    }
+    })?;
     if let Some(faces) = faces {
         write_faces(w, faces, ascii)?;
     }
