@@ -37,6 +37,7 @@ mod convert;
 mod demo;
 mod growth_cmd;
 mod ifs_cmd;
+mod memory;
 mod progress;
 mod reconstruct_cmd;
 mod render_cmd;

@@ -75,6 +75,7 @@ fn surface(
     out: &Path,
 ) -> anyhow::Result<()> {
     let p = params(a, job);
+    let _purge = crate::memory::PromptPurge::new();
     // Saved steps are written as they come (a long run holds none in memory).
     let mut saved = Vec::new();
     let mut failed = None;

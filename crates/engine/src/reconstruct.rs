@@ -367,6 +367,8 @@ pub fn measurements(rec: &Reconstruction, points: usize, topology: &Topology) ->
     r.set("tagged_exterior", rec.tagged.0);
     r.set("tagging_refused", rec.tagged.1);
     r.set("distance_sweeps", rec.distance_sweeps);
+    r.set("active_bricks", rec.bricks.0);
+    r.set("grid_bricks", rec.bricks.1);
     r
 }
 

@@ -709,8 +709,8 @@ fn levelset_plane(
             eprintln!(
                 "  {name}: grid {:?}, {} of {} bricks, distance {:.3} s, tagging {:.3} s, initial {:.3} s, flow {:.3} s, marching cubes {:.3} s, total {:.3} s, {} triangles",
                 r.grid.dims,
-                r.level_set.bricks.slots(),
-                r.level_set.bricks.brick_count(),
+                r.bricks.0,
+                r.bricks.1,
                 t.distance,
                 t.tagging,
                 t.initial,

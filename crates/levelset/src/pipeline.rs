@@ -168,8 +168,10 @@ pub struct Reconstruction {
     pub evolution: EvolveStats,
     /// Components and removed shells.
     pub extraction: ExtractStats,
-    /// The final level set.
-    pub level_set: SparseLevelSet,
+    /// Bricks of 8³ nodes that held values at the end, of all the grid's
+    /// bricks (the final level set itself is dropped before this returns;
+    /// `on_step` sees it during the flow).
+    pub bricks: (usize, usize),
 }
 
 /// A length in world units or in grid cells (multiples of the spacing h).
@@ -519,6 +521,8 @@ pub fn reconstruct(
     drop(dist);
     let t = Instant::now();
     let (mesh, extraction) = sparse_extract(&ls, &params.extract);
+    let bricks = (ls.bricks.slots(), ls.bricks.brick_count());
+    drop(ls);
     lap(&mut timings.extraction, t);
     lap(&mut timings.total, start);
     Ok(Reconstruction {
@@ -532,7 +536,7 @@ pub fn reconstruct(
         tagged,
         evolution,
         extraction,
-        level_set: ls,
+        bricks,
     })
 }
 

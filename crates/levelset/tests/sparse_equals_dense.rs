@@ -74,9 +74,7 @@ fn same(points: &[[f64; 3]], params: &ReconstructParams) {
     assert_eq!(rec.mesh.triangles(), want.triangles());
     assert_eq!(rec.mesh.positions(), want.positions());
     assert_eq!(rec.mesh.normals(), want.normals());
-    // The sparse layout held less than the grid.
-    let b = &rec.level_set.bricks;
-    assert!(b.nodes() > 0);
+    assert!(rec.bricks.0 > 0 && rec.bricks.0 <= rec.bricks.1);
 }
 
 #[test]
@@ -144,13 +142,8 @@ fn shells_with_an_empty_middle() {
         &mut |_, _| {},
     )
     .unwrap();
-    let b = &rec.level_set.bricks;
-    assert!(
-        b.slots() * 4 < b.brick_count(),
-        "{} of {} bricks",
-        b.slots(),
-        b.brick_count()
-    );
+    let (active, all) = rec.bricks;
+    assert!(active * 4 < all, "{active} of {all} bricks");
 }
 
 /// The memory check counts the bricks near the points, not the box, and
@@ -165,7 +158,7 @@ fn the_memory_check_counts_bricks() {
     // A 1000³ grid would not fit in 64 MiB densely, but two points' bricks do.
     let small = MemoryBudget::new(64 << 20);
     let rec = reconstruct(&pts, &params, &small, &NoProgress, &mut |_, _| {}).unwrap();
-    assert!(rec.level_set.bricks.slots() < 100);
+    assert!(rec.bricks.0 < 100);
     // A dense cloud needs many bricks: refused, saying so.
     let cloud: Vec<[f64; 3]> = (0..20_000)
         .map(|i| {

@@ -1,0 +1,73 @@
+//! When the allocator hands freed memory back to the kernel.
+//!
+//! mimalloc keeps freed pages for a while (its purge delay, 1 s in v3) so that
+//! the next buffer reuses them instead of faulting fresh ones in: the
+//! subdivision and rendering commands run faster for it. The level set's
+//! stages free large buffers one after the other (the distance's packed
+//! closest points, the crossings' wavefront, the flow's masks, the marching
+//! cubes' keys) while the next stage allocates its own, and pages held for
+//! a second count in the process's peak memory: with the delay the 512³
+//! plane-deposit reconstruction peaks at 1.42 GiB, without it at 0.91 GiB
+//! (BENCHMARKS.md, 2026-11-27). Commands that reconstruct surfaces purge at
+//! once while they run.
+
+use libmimalloc_sys::{mi_option_get, mi_option_set, mi_option_t};
+
+/// mimalloc's `mi_option_purge_delay` (milliseconds; 0 purges at once). The
+/// crate names no constant for it: it comes just before `use_numa_nodes` in
+/// `mimalloc.h`'s `mi_option_e` (the test checks its default).
+const PURGE_DELAY: mi_option_t = 15;
+const _: () = assert!(libmimalloc_sys::mi_option_use_numa_nodes - 1 == PURGE_DELAY);
+
+/// While alive, freed memory goes back to the kernel at once; the previous
+/// delay returns when it is dropped.
+pub struct PromptPurge {
+    before: std::ffi::c_long,
+}
+
+impl PromptPurge {
+    /// Sets the purge delay to 0.
+    pub fn new() -> Self {
+        // SAFETY: mimalloc's option calls read and write its option table
+        // (atomics); any value is valid for the delay.
+        #[allow(unsafe_code)]
+        let before = unsafe {
+            let before = mi_option_get(PURGE_DELAY);
+            mi_option_set(PURGE_DELAY, 0);
+            before
+        };
+        Self { before }
+    }
+}
+
+impl Drop for PromptPurge {
+    fn drop(&mut self) {
+        // SAFETY: as in `new`.
+        #[allow(unsafe_code)]
+        unsafe {
+            mi_option_set(PURGE_DELAY, self.before);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_delay_is_set_and_restored() {
+        #[allow(unsafe_code)]
+        // SAFETY: as in `PromptPurge::new`.
+        let get = || unsafe { mi_option_get(PURGE_DELAY) };
+        let before = get();
+        // v3's default delay, unless the environment sets one.
+        if std::env::var_os("MIMALLOC_PURGE_DELAY").is_none() {
+            assert_eq!(before, 1000);
+        }
+        {
+            let _p = PromptPurge::new();
+            assert_eq!(get(), 0);
+        }
+        assert_eq!(get(), before);
+    }
+}
