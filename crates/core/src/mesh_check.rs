@@ -234,11 +234,46 @@ fn links<'a>(n: usize, faces: impl Iterator<Item = &'a [u32]>) -> Vec<Vec<[u32; 
     link
 }
 
-/// Every vertex's link as one flat list: for vertex v, the (previous, next)
-/// corners of each triangle around it, in `entries[start[v]..start[v + 1]]`.
-pub(crate) struct Links {
-    start: Vec<u32>,
+/// The links of a range of vertices as one flat list: for vertex v, the
+/// (previous, next) corners of each triangle around it, in
+/// `entries[start[v] - start[first]..start[v + 1] - start[first]]`.
+pub(crate) struct Links<'a> {
+    start: &'a [u32],
+    first: usize,
     entries: Vec<[u32; 2]>,
+}
+
+/// Per vertex, where its corners start in a list of all corners by vertex
+/// (prefix sums of the triangles around each vertex; `n + 1` entries).
+pub(crate) fn corner_starts(n: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
+    let mut start = vec![0u32; n + 1];
+    for t in triangles {
+        for &v in t {
+            start[v as usize + 1] += 1;
+        }
+    }
+    for v in 0..n {
+        start[v + 1] += start[v];
+    }
+    start
+}
+
+/// Vertex ranges whose links hold at most about `corners` corners each (a
+/// vertex with more takes a range alone).
+pub(crate) fn link_batches(start: &[u32], corners: u32) -> Vec<std::ops::Range<usize>> {
+    let n = start.len() - 1;
+    let mut out = Vec::new();
+    let mut first = 0;
+    while first < n {
+        let limit = start[first].saturating_add(corners);
+        let end = start
+            .partition_point(|&s| s <= limit)
+            .saturating_sub(1)
+            .clamp(first + 1, n);
+        out.push(first..end);
+        first = end;
+    }
+    out
 }
 
 /// What the links say, summed over vertices.
@@ -271,35 +306,40 @@ impl LinkFacts {
 /// Link entries a vertex's facts are worked out for on the stack.
 const SMALL_LINK: usize = 24;
 
-impl Links {
-    /// The links of `triangles` (no vertex repeated in a triangle) over `n`
-    /// vertices.
-    pub(crate) fn new(n: usize, triangles: &[[u32; 3]]) -> Self {
-        let mut start = vec![0u32; n + 1];
-        for t in triangles {
-            for &v in t {
-                start[v as usize + 1] += 1;
-            }
-        }
-        for v in 0..n {
-            start[v + 1] += start[v];
-        }
-        let mut at = start.clone();
-        let mut entries = vec![[0u32; 2]; triangles.len() * 3];
+impl<'a> Links<'a> {
+    /// The links of the vertices `range` of `triangles` (no vertex repeated
+    /// in a triangle), `start` their [`corner_starts`].
+    pub(crate) fn new(
+        start: &'a [u32],
+        range: std::ops::Range<usize>,
+        triangles: &[[u32; 3]],
+    ) -> Self {
+        let (lo, hi) = (start[range.start], start[range.end]);
+        let mut at: Vec<u32> = start[range.clone()].iter().map(|&s| s - lo).collect();
+        let mut entries = vec![[0u32; 2]; (hi - lo) as usize];
+        let (v0, v1) = (range.start as u32, range.end as u32);
         for &[a, b, c] in triangles {
             for (v, prev, next) in [(a, c, b), (b, a, c), (c, b, a)] {
-                entries[at[v as usize] as usize] = [prev, next];
-                at[v as usize] += 1;
+                if (v0..v1).contains(&v) {
+                    let slot = &mut at[(v - v0) as usize];
+                    entries[*slot as usize] = [prev, next];
+                    *slot += 1;
+                }
             }
         }
-        Self { start, entries }
+        Self {
+            start,
+            first: range.start,
+            entries,
+        }
     }
 
     /// The facts of vertex `v`: the edges to higher vertices and their
     /// triangle counts, its fans, its outgoing directed edges.
     pub(crate) fn examine(&self, v: u32) -> LinkFacts {
-        let link =
-            &self.entries[self.start[v as usize] as usize..self.start[v as usize + 1] as usize];
+        let base = self.start[self.first];
+        let link = &self.entries[(self.start[v as usize] - base) as usize
+            ..(self.start[v as usize + 1] - base) as usize];
         let mut facts = LinkFacts::default();
         if link.is_empty() {
             return facts;

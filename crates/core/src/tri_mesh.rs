@@ -559,6 +559,13 @@ impl TriMesh {
     /// parallel. A mesh with degenerate triangles (a vertex repeated) takes the
     /// sorted-edges path instead.
     pub fn topology(&self) -> Topology {
+        let corners = 3 * self.triangles.len() as u64;
+        self.topology_in_batches((corners / LINK_BATCHES).clamp(1 << 20, u32::MAX as u64) as u32)
+    }
+
+    /// [`TriMesh::topology`] holding the links of about `corners` corners at
+    /// a time.
+    fn topology_in_batches(&self, corners: u32) -> Topology {
         if self
             .triangles
             .iter()
@@ -566,17 +573,22 @@ impl TriMesh {
         {
             return self.topology_by_edges();
         }
+        use crate::mesh_check::{LinkFacts, Links, corner_starts, link_batches};
         let n = self.positions.len();
-        let links = crate::mesh_check::Links::new(n, &self.triangles);
-        let facts = (0..n)
-            .into_par_iter()
-            .with_min_len(4096)
-            .map(|v| links.examine(v as u32))
-            .reduce(
-                crate::mesh_check::LinkFacts::default,
-                crate::mesh_check::LinkFacts::merge,
-            );
-        drop(links);
+        // The links a batch of vertices at a time, to bound the memory: each
+        // batch reads all the triangles (a fast scan) for its corners.
+        let start = corner_starts(n, &self.triangles);
+        let mut facts = LinkFacts::default();
+        for range in link_batches(&start, corners) {
+            let links = Links::new(&start, range.clone(), &self.triangles);
+            let batch = range
+                .into_par_iter()
+                .with_min_len(4096)
+                .map(|v| links.examine(v as u32))
+                .reduce(LinkFacts::default, LinkFacts::merge);
+            facts = LinkFacts::merge(facts, batch);
+        }
+        drop(start);
         let edge_manifold = facts.max_faces <= 2;
         let closed = !self.triangles.is_empty() && facts.boundary_edges == 0 && edge_manifold;
         let boundary_loops = if facts.boundary_edges > 0 {
@@ -629,6 +641,11 @@ impl TriMesh {
         }
     }
 }
+
+/// The batches [`TriMesh::topology`] reads the vertex links in (each holds
+/// about this fraction of the corners, at 8 bytes a corner, and scans the
+/// triangles once).
+const LINK_BATCHES: u64 = 4;
 
 /// Connected components of `triangles` over `n` vertices (by shared vertices): the
 /// count and a label per vertex, numbered in order of first appearance by vertex
@@ -823,6 +840,13 @@ mod tests {
         ] {
             let t = m.topology();
             assert_eq!(t, m.topology_by_edges());
+            for corners in [1, 7, 40] {
+                assert_eq!(
+                    m.topology_in_batches(corners),
+                    t,
+                    "{corners} corners a batch"
+                );
+            }
             assert_eq!(t.euler_characteristic, m.euler_characteristic());
             assert_eq!(t.genus, m.genus());
             assert_eq!(t.is_manifold(), m.is_manifold());

@@ -60,28 +60,21 @@ impl Claims {
         word.load(Relaxed) & bit == 0 && word.fetch_or(bit, Relaxed) & bit == 0
     }
 
-    /// The claimed nodes in increasing order, their bits cleared.
-    pub(crate) fn drain(&self) -> Vec<u32> {
-        self.0
-            .par_chunks(1024)
-            .enumerate()
-            .flat_map_iter(|(c, words)| {
-                let mut out = Vec::new();
-                for (k, w) in words.iter().enumerate() {
-                    let mut bits = w.load(Relaxed);
-                    if bits == 0 {
-                        continue;
-                    }
-                    w.store(0, Relaxed);
-                    let base = ((c * 1024 + k) * 64) as u32;
-                    while bits != 0 {
-                        out.push(base + bits.trailing_zeros());
-                        bits &= bits - 1;
-                    }
-                }
-                out
+    /// Moves the claim bits into `into` (as many words), clearing them here;
+    /// whether any was set.
+    pub(crate) fn take_into(&self, into: &mut [u64]) -> bool {
+        into.par_iter_mut()
+            .zip(self.0.par_iter())
+            .map(|(to, w)| {
+                *to = w.swap(0, Relaxed);
+                *to != 0
             })
-            .collect()
+            .reduce(|| false, |a, b| a | b)
+    }
+
+    /// The number of claim words.
+    pub(crate) fn words(&self) -> usize {
+        self.0.len()
     }
 
     /// Clears the bits of `nodes`.

@@ -533,28 +533,33 @@ pub fn extract(phi: &[f32], grid: &GridSpec, options: &ExtractOptions) -> (TriMe
         .into_par_iter()
         .map(|k| cubes.slab(k))
         .collect();
-    assemble(&cubes, slabs.concat(), None, options)
+    assemble(&cubes, slabs.concat(), options)
 }
 
 /// The mesh of the triangles `keyed` (vertex keys, in the dense cube order)
-/// with vertices from `cubes`, small shells dropped. `keys` are the vertex
-/// keys in increasing order when the caller has them (else they are read off
-/// the triangles).
+/// with vertices from `cubes`, small shells dropped.
 pub(crate) fn assemble<P: Volume>(
     cubes: &Cubes<P>,
     keyed: Vec<[u64; 3]>,
-    keys: Option<Vec<u64>>,
     options: &ExtractOptions,
 ) -> (TriMesh, ExtractStats) {
-    let keys = keys.unwrap_or_else(|| {
-        let mut keys: Vec<u64> = keyed.iter().flatten().copied().collect();
-        keys.par_sort_unstable();
-        keys.dedup();
-        keys.shrink_to_fit();
-        keys
-    });
-    let mut triangles = index_triangles(&cubes.grid, &keyed, &keys);
+    let mut keys: Vec<u64> = keyed.iter().flatten().copied().collect();
+    keys.par_sort_unstable();
+    keys.dedup();
+    keys.shrink_to_fit();
+    let triangles = index_triangles(&cubes.grid, &keyed, &keys);
     drop(keyed);
+    assemble_indexed(cubes, triangles, keys, options)
+}
+
+/// The mesh of `triangles` (indices into `keys`, the vertex keys in
+/// increasing order) with vertices from `cubes`, small shells dropped.
+pub(crate) fn assemble_indexed<P: Volume>(
+    cubes: &Cubes<P>,
+    mut triangles: Vec<[u32; 3]>,
+    keys: Vec<u64>,
+    options: &ExtractOptions,
+) -> (TriMesh, ExtractStats) {
     let (mut positions, mut normals): (Vec<[f64; 3]>, Vec<[f64; 3]>) = keys
         .par_iter()
         .map(|&key| {

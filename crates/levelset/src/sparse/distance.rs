@@ -57,33 +57,57 @@ pub(crate) fn closest_points(
     let expected_rounds = (cap / space.grid.spacing).ceil() as u64 + 2;
     progress.start(expected_rounds, "distance (closest point)");
     let mut rounds = 0;
-    // The frontier is the claimed nodes, taken in id order: brick by brick,
-    // so that the offers of one brick's nodes land in the same few bricks.
-    let mut frontier = claims.drain();
-    while !frontier.is_empty() {
+    // The frontier is the claimed nodes, as bits, taken in id order: brick by
+    // brick, so that the offers of one brick's nodes land in the same few
+    // bricks.
+    let mut frontier = vec![0u64; claims.words()];
+    while claims.take_into(&mut frontier) {
         rounds += 1;
         // Read the frontier before anyone writes: the round is a pure function
         // of the previous one, whatever the thread count.
-        let snapshot: Vec<u64> = frontier
-            .par_iter()
-            .map(|&u| cells[u as usize].load(Relaxed))
+        let snapshot: Vec<Vec<u64>> = frontier
+            .par_chunks(FRONTIER_WORDS)
+            .enumerate()
+            .map(|(c, words)| {
+                let mut out = Vec::new();
+                for_each_bit(c, words, |u| out.push(cells[u].load(Relaxed)));
+                out
+            })
             .collect();
         frontier
-            .par_chunks(1024)
-            .zip(snapshot.par_chunks(1024))
-            .for_each(|(us, vs)| {
-                for (i, (&u, &v)) in us.iter().zip(vs).enumerate() {
+            .par_chunks(FRONTIER_WORDS)
+            .zip(snapshot.par_iter())
+            .enumerate()
+            .for_each(|(c, (words, vs))| {
+                let mut i = 0;
+                for_each_bit(c, words, |u| {
                     if let Some(&ahead) = vs.get(i + POINT_PREFETCH) {
                         asperity_core::memory_hints::prefetch(points, ahead as u32 as usize);
                     }
-                    offer(&wave, (u, v), cap2);
-                }
+                    offer(&wave, (u as u32, vs[i]), cap2);
+                    i += 1;
+                });
             });
-        frontier = claims.drain();
         progress.advance(1);
     }
     progress.finish();
     (cells, rounds)
+}
+
+/// Frontier bitmap words handed to one task.
+const FRONTIER_WORDS: usize = 1024;
+
+/// Calls `f` with each node of chunk `c`'s frontier `words`, in order.
+#[inline(always)]
+fn for_each_bit(c: usize, words: &[u64], mut f: impl FnMut(usize)) {
+    for (k, &w) in words.iter().enumerate() {
+        let base = (c * FRONTIER_WORDS + k) * 64;
+        let mut bits = w;
+        while bits != 0 {
+            f(base + bits.trailing_zeros() as usize);
+            bits &= bits - 1;
+        }
+    }
 }
 
 /// Gives the 2³ nodes of each point's cell their exact squared distance and
@@ -204,6 +228,12 @@ fn offer(wave: &Wave, (u, v): (u32, u64), cap2: f32) {
     }
 }
 
+/// The capacity to give a field of `n` values that later stages extend: an
+/// eighth more, and the flow's two virtual slots.
+pub(crate) fn headroom(n: usize) -> usize {
+    n + n / 8 + 2 * BRICK_NODES
+}
+
 /// The distance of a packed cell: √d² up to `cap`, the cap where no point came.
 #[inline]
 pub(crate) fn cell_distance(c: u64, cap: f32) -> f32 {
@@ -231,10 +261,15 @@ impl SparseDistance {
     /// The distances of the wavefront's `cells` on `bricks`.
     pub(crate) fn from_cells(bricks: Bricks, cells: &[AtomicU64], cap: f64, rounds: usize) -> Self {
         let cap32 = cap as f32;
-        let values = cells
-            .par_iter()
-            .map(|c| cell_distance(c.load(Relaxed), cap32))
-            .collect();
+        // With room for the bricks later stages add and the flow's virtual
+        // slot, so that they need not move the field (room never written
+        // costs no memory).
+        let mut values = Vec::with_capacity(headroom(cells.len()));
+        values.par_extend(
+            cells
+                .par_iter()
+                .map(|c| cell_distance(c.load(Relaxed), cap32)),
+        );
         Self {
             bricks,
             values,

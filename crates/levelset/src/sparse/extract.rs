@@ -17,11 +17,11 @@
 use asperity_core::TriMesh;
 use rayon::prelude::*;
 
-use super::layout::{BRICK_NODES, NO_SLOT, SIDE};
+use super::layout::{BRICK_NODES, EMPTY_MASK, Mask, NO_SLOT, SIDE, X_LOW, Y_LOW, shifted};
 use super::surface::SparseLevelSet;
 use crate::grid::GridSpec;
 use crate::marching_cubes::{
-    CENTRE, Cubes, ExtractOptions, ExtractStats, Volume, assemble, cube_key_of,
+    CENTRE, Cubes, ExtractOptions, ExtractStats, Volume, assemble_indexed, cube_key_of,
 };
 
 /// Nodes along each axis of a brick's block of cubes.
@@ -46,28 +46,30 @@ enum Sign {
     Mixed,
 }
 
-/// The sign of each slot's nodes in the grid.
-fn signs(ls: &SparseLevelSet) -> Vec<Sign> {
+/// Each slot's nodes inside (φ < 0), and its sign over the nodes in the grid.
+fn insides(ls: &SparseLevelSet) -> (Vec<Mask>, Vec<Sign>) {
     let bricks = &ls.bricks;
     ls.phi
         .par_chunks(BRICK_NODES)
         .enumerate()
         .map(|(s, phi)| {
-            let inside = bricks.in_grid(bricks.slot_coords(s));
-            let (mut any, mut all) = (false, true);
+            let grid_nodes = bricks.in_grid(bricks.slot_coords(s));
+            let mut m = EMPTY_MASK;
             for (l, &v) in phi.iter().enumerate() {
-                if inside[l / 64] >> (l % 64) & 1 == 1 {
-                    any |= v < 0.0;
-                    all &= v < 0.0;
-                }
+                m[l / 64] |= u64::from(v < 0.0) << (l % 64);
             }
-            match (any, all) {
+            let (any, all) = (0..SIDE).fold((false, true), |(any, all), z| {
+                let inside = m[z] & grid_nodes[z];
+                (any || inside != 0, all && inside == grid_nodes[z])
+            });
+            let sign = match (any, all) {
                 (false, _) => Sign::Outside,
                 (true, true) => Sign::Inside,
                 (true, false) => Sign::Mixed,
-            }
+            };
+            (m, sign)
         })
-        .collect()
+        .unzip()
 }
 
 /// The sign of brick `n`: its slot's, or its tag's without storage.
@@ -129,40 +131,82 @@ fn block(ls: &SparseLevelSet, b: [usize; 3]) -> [f32; BLOCK * BLOCK * BLOCK] {
     out
 }
 
-/// What a layer of bricks gives: triangles keyed by (cube's dense index · 16
-/// + its triangle number), and the vertex keys its bricks own.
-#[derive(Default)]
-struct Layer {
-    triangles: Vec<(u64, [u64; 3])>,
-    vertices: Vec<u64>,
+/// The grid edges cut by {φ = 0} that start at the nodes of the slot's or
+/// inactive brick at `b` (a vertex each: key = the node's dense index · 3 +
+/// axis), appended to `out` in increasing order; `inside` gives a slot's
+/// nodes with φ < 0.
+fn cut_edges(ls: &SparseLevelSet, inside: &[Mask], b: [usize; 3], out: &mut Vec<u64>) {
+    let bricks = &ls.bricks;
+    let grid = &bricks.grid;
+    let of_brick = |n: [usize; 3]| -> Mask {
+        let bi = bricks.brick_index(n);
+        match bricks.slot_of(bi) {
+            NO_SLOT if ls.background(bi) < 0.0 => [u64::MAX; SIDE],
+            NO_SLOT => EMPTY_MASK,
+            s => inside[s as usize],
+        }
+    };
+    let own = of_brick(b);
+    // Per axis, the nodes whose upper neighbour along it differs in sign:
+    // within the brick by a shift, across its upper face from the neighbour.
+    let cut: [Mask; 3] = std::array::from_fn(|a| {
+        let moved = shifted(&own, 2 * a + 1);
+        let mut n = b;
+        n[a] += 1;
+        let across = if n[a] < bricks.bdims[a] {
+            let theirs = of_brick(n);
+            match a {
+                0 => theirs.map(|w| (w & X_LOW) << (SIDE - 1)),
+                1 => theirs.map(|w| (w & Y_LOW) << (SIDE * (SIDE - 1))),
+                _ => {
+                    let mut m = EMPTY_MASK;
+                    m[SIDE - 1] = theirs[0];
+                    m
+                }
+            }
+        } else {
+            EMPTY_MASK
+        };
+        // Nodes whose upper neighbour lies in the grid.
+        let reach = bricks.within_upper(b, a);
+        std::array::from_fn(|z| (own[z] ^ (moved[z] | across[z])) & reach[z])
+    });
+    for z in 0..SIDE {
+        let mut any = cut[0][z] | cut[1][z] | cut[2][z];
+        while any != 0 {
+            let l = any.trailing_zeros() as usize;
+            any &= any - 1;
+            let c = [
+                b[0] * SIDE + l % SIDE,
+                b[1] * SIDE + l / SIDE,
+                b[2] * SIDE + z,
+            ];
+            let base = grid.index(c[0], c[1], c[2]) as u64;
+            for (axis, m) in cut.iter().enumerate() {
+                if m[z] >> l & 1 == 1 {
+                    out.push(base * 3 + axis as u64);
+                }
+            }
+        }
+    }
 }
 
-/// The triangles and vertices of the cubes whose lowest corner lies in the
-/// brick at `b`.
-fn brick(cubes: &Cubes<SparseLevelSet>, ls: &SparseLevelSet, b: [usize; 3], out: &mut Layer) {
+/// The triangles of the cubes whose lowest corner lies in the brick at `b`,
+/// as (cube's dense index · 16 + its triangle number, vertex keys).
+fn cube_triangles(
+    cubes: &Cubes<SparseLevelSet>,
+    ls: &SparseLevelSet,
+    b: [usize; 3],
+    out: &mut Vec<(u64, [u64; 3])>,
+) {
     let grid = &ls.bricks.grid;
     let v = block(ls, b);
     let at = |x: usize, y: usize, z: usize| v[x + BLOCK * (y + BLOCK * z)];
-    // Nodes in the grid, and cubes (their lowest corners), per axis.
-    let nodes = |a: usize| (grid.dims[a] - b[a] * SIDE).min(SIDE);
     let cells = |a: usize| (grid.dims[a] - 1).saturating_sub(b[a] * SIDE).min(SIDE);
     let mut tris = Vec::new();
-    for z in 0..nodes(2) {
-        for y in 0..nodes(1) {
-            for x in 0..nodes(0) {
-                let c = [b[0] * SIDE + x, b[1] * SIDE + y, b[2] * SIDE + z];
-                let base = grid.index(c[0], c[1], c[2]);
-                // The cut grid edges starting here.
-                let inside = at(x, y, z) < 0.0;
-                let ends = [at(x + 1, y, z), at(x, y + 1, z), at(x, y, z + 1)];
-                for (axis, &end) in ends.iter().enumerate() {
-                    if c[axis] + 1 < grid.dims[axis] && (end < 0.0) != inside {
-                        out.vertices.push(base as u64 * 3 + axis as u64);
-                    }
-                }
-                if x >= cells(0) || y >= cells(1) || z >= cells(2) {
-                    continue;
-                }
+    for z in 0..cells(2) {
+        for y in 0..cells(1) {
+            for x in 0..cells(0) {
                 let corners: [f32; 8] =
                     std::array::from_fn(|k| at(x + (k & 1), y + (k >> 1 & 1), z + (k >> 2)));
                 let key = cube_key_of(cubes.tab, &cubes.faces, corners);
@@ -170,66 +214,159 @@ fn brick(cubes: &Cubes<SparseLevelSet>, ls: &SparseLevelSet, b: [usize; 3], out:
                 if case == 0 || case == 255 {
                     continue;
                 }
+                let base = grid.index(b[0] * SIDE + x, b[1] * SIDE + y, b[2] * SIDE + z);
                 tris.clear();
                 cubes.triangles(base, key, &mut tris);
                 for (n, t) in tris.iter().enumerate() {
-                    out.triangles.push(((base as u64) << 4 | n as u64, *t));
-                }
-                for l in 0..cubes.tab.centres[key].len() {
-                    out.vertices.push(CENTRE | (base as u64) << 2 | l as u64);
+                    out.push(((base as u64) << 4 | n as u64, *t));
                 }
             }
         }
     }
 }
 
+/// The sorted edge keys of one layer of bricks, with the start of each row
+/// of nodes among them, to find a key in a few steps.
+struct LayerKeys {
+    keys: Vec<u64>,
+    first_row: usize,
+    starts: Vec<u32>,
+}
+
+impl LayerKeys {
+    fn new(keys: Vec<u64>, grid: &GridSpec, z: usize) -> Self {
+        let [nx, ny, nz] = grid.dims;
+        let (k0, k1) = (z * SIDE, ((z + 1) * SIDE).min(nz));
+        let first_row = k0 * ny;
+        let starts = (first_row..=k1 * ny)
+            .map(|row| keys.partition_point(|&k| k < (row * nx) as u64 * 3) as u32)
+            .collect();
+        Self {
+            keys,
+            first_row,
+            starts,
+        }
+    }
+
+    /// The place of `key` (an edge key of this layer's nodes).
+    fn find(&self, key: u64, nx: usize) -> Option<usize> {
+        let row = (key / 3) as usize / nx;
+        let r = row.checked_sub(self.first_row)?;
+        let (lo, hi) = (
+            *self.starts.get(r)? as usize,
+            *self.starts.get(r + 1)? as usize,
+        );
+        self.keys[lo..hi].binary_search(&key).ok().map(|at| lo + at)
+    }
+}
+
+/// A triangle corner before the layers' offsets are known: its layer's own
+/// edge keys, the next layer's (edges starting on the plane above the
+/// layer's cubes), or the layer's loop centres; and the place among them.
+const OWN: u32 = 0;
+const NEXT: u32 = 1 << 30;
+const CENTRES: u32 = 2 << 30;
+const PLACE: u32 = (1 << 30) - 1;
+
 /// The triangle mesh of {φ = 0} (φ < 0 inside), as [`crate::extract`] makes
 /// it from the dense φ.
 pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh, ExtractStats) {
     let cubes = Cubes::new(ls);
-    let signs = signs(ls);
+    let (inside, signs) = insides(ls);
+    let grid = ls.bricks.grid;
     let [bx, by, bz] = ls.bricks.bdims;
-    // Layer by layer of bricks (the cubes of eight node planes): each layer's
-    // triangles sorted into the dense order, and its vertex keys (those of
-    // the layer's nodes, contiguous in key order) sorted.
-    let mut layers: Vec<Layer> = (0..bz)
+    let cut = |b: [usize; 3]| may_cut(ls, &signs, b);
+    // Pass 1, layer by layer of bricks (eight node planes): the vertices on
+    // grid edges, which are the cut edges starting at the layer's nodes.
+    let edges: Vec<LayerKeys> = (0..bz)
         .into_par_iter()
         .map(|z| {
-            let mut layer = Layer::default();
+            let mut keys = Vec::new();
             for y in 0..by {
                 for x in 0..bx {
-                    if may_cut(ls, &signs, [x, y, z]) {
-                        brick(&cubes, ls, [x, y, z], &mut layer);
+                    if cut([x, y, z]) {
+                        cut_edges(ls, &inside, [x, y, z], &mut keys);
                     }
                 }
             }
-            layer.triangles.sort_unstable_by_key(|k| k.0);
-            layer.vertices.sort_unstable();
-            layer
+            keys.sort_unstable();
+            LayerKeys::new(keys, &grid, z)
         })
         .collect();
-    drop(signs);
-    // The layers' parts moved into one list each, freed as they go.
-    let total = |f: fn(&Layer) -> usize| layers.iter().map(f).sum::<usize>();
-    let mut keyed = Vec::with_capacity(total(|l| l.triangles.len()));
-    let mut edge_keys = Vec::with_capacity(total(|l| l.vertices.len()));
-    let mut centres = Vec::new();
-    for layer in &mut layers {
-        keyed.extend(
-            std::mem::take(&mut layer.triangles)
-                .into_iter()
-                .map(|k| k.1),
-        );
-        let vertices = std::mem::take(&mut layer.vertices);
-        let split = vertices.partition_point(|&k| k & CENTRE == 0);
-        edge_keys.extend_from_slice(&vertices[..split]);
-        centres.extend_from_slice(&vertices[split..]);
+    // Pass 2: each layer's triangles in the dense order (by cube, then as
+    // the table lists them), their corners placed among the layers' keys; the
+    // loop centres, whose keys follow the cubes' order.
+    let layers: Vec<(Vec<[u32; 3]>, Vec<u64>)> = (0..bz)
+        .into_par_iter()
+        .map(|z| {
+            let mut keyed = Vec::new();
+            for y in 0..by {
+                for x in 0..bx {
+                    if cut([x, y, z]) {
+                        cube_triangles(&cubes, ls, [x, y, z], &mut keyed);
+                    }
+                }
+            }
+            keyed.sort_unstable_by_key(|k| k.0);
+            let mut centres: Vec<u64> = keyed
+                .iter()
+                .flat_map(|k| k.1)
+                .filter(|&k| k & CENTRE != 0)
+                .collect();
+            centres.sort_unstable();
+            centres.dedup();
+            let nx = grid.dims[0];
+            let place = |k: u64| -> u32 {
+                if k & CENTRE != 0 {
+                    let at = centres.binary_search(&k).expect("a loop centre");
+                    return CENTRES | at as u32;
+                }
+                match edges[z].find(k, nx) {
+                    Some(at) => OWN | at as u32,
+                    None => {
+                        let at = edges[z + 1].find(k, nx).expect("a vertex key");
+                        NEXT | at as u32
+                    }
+                }
+            };
+            let triangles = keyed.iter().map(|k| k.1.map(place)).collect();
+            (triangles, centres)
+        })
+        .collect();
+    drop((signs, inside));
+    // The vertices: edge keys layer after layer, then the loop centres.
+    let edge_count: usize = edges.iter().map(|l| l.keys.len()).sum();
+    let mut edge_start = Vec::with_capacity(bz + 1);
+    let mut centre_start = Vec::with_capacity(bz);
+    let (mut e, mut c) = (0, edge_count);
+    for (layer, (_, centres)) in edges.iter().zip(&layers) {
+        edge_start.push(e);
+        centre_start.push(c);
+        e += layer.keys.len();
+        c += centres.len();
     }
-    drop(layers);
-    // Edge keys, then loop centres (the order of their keys).
-    centres.sort_unstable();
-    edge_keys.append(&mut centres);
-    assemble(&cubes, keyed, Some(edge_keys), options)
+    edge_start.push(e);
+    let mut keys = Vec::with_capacity(c);
+    for layer in &edges {
+        keys.extend_from_slice(&layer.keys);
+    }
+    drop(edges);
+    let count: usize = layers.iter().map(|l| l.0.len()).sum();
+    let mut triangles = Vec::with_capacity(count);
+    for (z, (tris, centres)) in layers.into_iter().enumerate() {
+        keys.extend_from_slice(&centres);
+        triangles.extend(tris.into_iter().map(|t| {
+            t.map(|p| {
+                let base = match p & !PLACE {
+                    OWN => edge_start[z],
+                    NEXT => edge_start[z + 1],
+                    _ => centre_start[z],
+                };
+                (base + (p & PLACE) as usize) as u32
+            })
+        }));
+    }
+    assemble_indexed(&cubes, triangles, keys, options)
 }
 
 #[cfg(test)]

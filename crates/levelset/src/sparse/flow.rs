@@ -759,7 +759,11 @@ pub fn sparse_evolve(
         "φ and d share their bricks"
     );
     let full = params.band == Band::Full;
-    let mut scratch = ls.phi.clone();
+    // Room for the virtual slots the steps append (see `pad`) and for bricks
+    // the tube may add, so that no step moves a buffer (a move holds the
+    // old and the new copy at once; room never written costs no memory).
+    let mut scratch = Vec::with_capacity(super::distance::headroom(ls.phi.len()));
+    scratch.extend_from_slice(&ls.phi);
     if full {
         let all: Vec<u32> = (0..ls.bricks.brick_count() as u32).collect();
         activate(ls, dist, &mut scratch, &all);

@@ -239,6 +239,21 @@ impl Bricks {
         std::array::from_fn(|z| if (z0..z1).contains(&z) { plane } else { 0 })
     }
 
+    /// The nodes of the brick at `b` in the grid whose upper neighbour along
+    /// `axis` is in the grid too.
+    pub(crate) fn within_upper(&self, b: [usize; 3], axis: usize) -> Mask {
+        let mut dims = self.grid.dims;
+        dims[axis] -= 1;
+        let span = |a: usize| dims[a].saturating_sub(b[a] * SIDE).min(SIDE);
+        let (nx, ny, nz) = (span(0), span(1), span(2));
+        let row = (1u64 << nx) - 1;
+        let mut plane = 0u64;
+        for y in 0..ny {
+            plane |= row << (SIDE * y);
+        }
+        std::array::from_fn(|z| if z < nz { plane } else { 0 })
+    }
+
     /// The slots of the six face neighbours of slot `s` (−x, +x, −y, +y, −z,
     /// +z), [`NO_SLOT`] where the neighbour is inactive or beyond the grid.
     pub(crate) fn face_slots(&self, s: usize) -> [u32; 6] {

@@ -165,7 +165,9 @@ fn crossings(dist: &SparseDistance, tags: &SparseTags, eps: f64) -> Vec<[f64; 3]
         })
         .collect();
     keyed.par_sort_unstable_by_key(|k| k.0);
-    keyed.into_iter().map(|(_, p)| p).collect()
+    let mut points: Vec<[f64; 3]> = keyed.into_iter().map(|(_, p)| p).collect();
+    points.shrink_to_fit();
+    points
 }
 
 /// The initial level set from the tags on `dist`'s bricks, with offset `eps`
@@ -199,8 +201,11 @@ pub fn sparse_initial(
     } else {
         closest_points(&crossings, &near, cap, progress)
     };
+    drop(crossings);
     let bricks = &dist.bricks;
-    let mut phi = vec![0f32; bricks.nodes()];
+    // With room for the bricks the flow may add and its two virtual slots.
+    let mut phi = Vec::with_capacity(super::distance::headroom(bricks.nodes()));
+    phi.resize(bricks.nodes(), 0f32);
     phi.par_chunks_mut(BRICK_NODES)
         .enumerate()
         .for_each(|(s, out)| {
