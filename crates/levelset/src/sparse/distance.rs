@@ -4,7 +4,7 @@
 //! node keeps the nearest point offered to it, offers travel outward to the 26
 //! neighbours, the front stops at the cap — with nodes addressed by brick ids.
 //! The bricks are those within the cap of a point ([`Bricks::around`] with
-//! [`wavefront_radius`]), so every node the wavefront can reach has storage,
+//! `wavefront_radius`), so every node the wavefront can reach has storage,
 //! and the memory and the work follow the points' neighbourhood, not the box.
 //! A node far from the data reads as the cap, as in the dense field.
 //!
@@ -294,7 +294,7 @@ impl SparseDistance {
 
 /// The closest-point distance to `points` on `grid`, capped at `cap`, on the
 /// bricks within the cap of a point; and the median sample spacing (see
-/// [`sample_spacing`]) measured on the way.
+/// `sample_spacing`) measured on the way.
 pub fn sparse_distance(
     points: &[[f64; 3]],
     grid: &crate::GridSpec,

@@ -1,6 +1,6 @@
 //! The narrow-band convection flow (§5.1–5.2, Eqs. 6, 10–12) on bricks.
 //!
-//! The same step as [`crate::evolve`] — TVD-RK2 advance of φ_t = d|∇φ| on the
+//! The same step as [`crate::evolve()`] — TVD-RK2 advance of φ_t = d|∇φ| on the
 //! tube T, redistancing by Eq. 11 on N, clamping by Eq. 12, the new T from N
 //! — computed by the same lane kernels, so every node gets the same bits as on
 //! the dense grid (tested). What differs is the storage:
@@ -11,14 +11,23 @@
 //!   of the brick and its neighbours.
 //! * A stencil reads its rows along y and z from the brick or its face
 //!   neighbours, and its shifted rows along x from the row and the ends of the
-//!   neighbours' rows. A neighbour without storage reads as its background
-//!   (±γ for φ by its tag, the cap for d).
+//!   neighbours' rows, through a per-brick frame of fixed-size brick arrays.
+//!   A neighbour without storage reads as its background (±γ for φ by its
+//!   tag, the cap for d): *virtual* slots past the real ones hold those
+//!   values during a step, so a read never branches on storage.
 //! * When N reaches a brick without storage (the front moves outward, or the
 //!   tube grows into a brick the distance did not need) the brick is added to
 //!   the layout first, at its background.
 //! * Each pass runs over the bricks in parallel, from one buffer into the
 //!   other (Jacobi), one pass after the other: the order of the dense module's
-//!   reference schedule, which its fused sweep reproduces bit for bit.
+//!   reference schedule, which its fused sweep reproduces bit for bit. The
+//!   dense plan's last pass, the rebuild of T (φ at the node itself only),
+//!   runs inside the pass before it, and its copy of φ into the scratch
+//!   buffer (so that the two agree outside T when the next step reads the
+//!   scratch) inside the next step's advance, on the previous N: four passes
+//!   a step instead of five, with the same values wherever they are read.
+//!   (A brick layer is eight planes: the dense code's fusion of all passes
+//!   into one sweep over slabs of planes would not stay in cache here.)
 
 use asperity_core::Progress;
 use rayon::prelude::*;
@@ -738,7 +747,7 @@ fn pass(
 /// Evolves `ls` by the flow for `params.iterations` steps with the speed
 /// `dist` (which shares its bricks, and gains the bricks the tube reaches);
 /// `on_step` sees the level set every `params.snapshot_every` steps. The same
-/// result as [`crate::evolve`] on the dense grid.
+/// result as [`crate::evolve()`] on the dense grid.
 pub fn sparse_evolve(
     ls: &mut SparseLevelSet,
     dist: &mut SparseDistance,
