@@ -531,7 +531,7 @@ pub fn deposit_curved(
         CurvedSubstrate::Mesh { mesh, size, cells } => mesh_lattice(mesh, *size, cells, m, budget)?,
     };
     let size = lattice.size;
-    let mut occ = Occupancy::new(size, false, budget)?;
+    let occ = Occupancy::new(size, false, budget)?;
     for &c in &lattice.solid {
         occ.set(c);
     }

@@ -28,6 +28,16 @@
 //!
 //! Both structures are periodic in x and y when asked (plane mode), open
 //! otherwise (cells outside the lattice are empty).
+//!
+//! **Sharing.** Words and map entries are atomics read and written with
+//! relaxed ordering (plain loads and stores on x86-64), so walkers on other
+//! threads may read a lattice while one thread adds particles to it (the
+//! speculative walkers of [`crate::dla`]). [`Occupancy::set`] is an atomic
+//! `or`, safe from any number of threads; [`DistanceMap::occupy`] lowers
+//! entries with plain stores and wants one writer at a time. The vectors are
+//! allocated zeroed by `bytemuck` (no page is written until a cell is).
+
+use std::sync::atomic::{AtomicU8, AtomicU64, Ordering::Relaxed};
 
 use asperity_core::MemoryBudget;
 
@@ -92,13 +102,13 @@ impl Tiling {
 const TILE_CELLS_SHIFT: u32 = 5;
 
 /// Occupancy of a lattice of cells, one bit per cell, in 4×4×4 blocks.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Occupancy {
     dims: [i32; 3],
     tiling: Tiling,
     periodic: bool,
-    words: Vec<u64>,
-    count: u64,
+    words: Vec<AtomicU64>,
+    count: AtomicU64,
 }
 
 impl Occupancy {
@@ -136,8 +146,8 @@ impl Occupancy {
             periodic,
             // Zeroed memory comes untouched from the system: pages the cluster
             // never writes cost nothing.
-            words: vec![0; tiling.len()],
-            count: 0,
+            words: bytemuck::allocation::zeroed_vec(tiling.len()),
+            count: AtomicU64::new(0),
         })
     }
 
@@ -158,7 +168,7 @@ impl Occupancy {
 
     /// Occupied cells.
     pub fn count(&self) -> u64 {
-        self.count
+        self.count.load(Relaxed)
     }
 
     /// The cell `p` mapped into the lattice (x, y wrapped when periodic), or
@@ -191,27 +201,27 @@ impl Occupancy {
         match self.canonical(p) {
             Some(q) => {
                 let (w, b) = self.word_bit(q);
-                self.words[w] >> b & 1 == 1
+                self.words[w].load(Relaxed) >> b & 1 == 1
             }
             None => false,
         }
     }
 
     /// Occupies cell `p` (inside the lattice); returns whether its block was
-    /// empty before, and the block's index.
+    /// empty before, and the block's index. An atomic `or`: threads may set
+    /// cells of one lattice at once.
     ///
     /// # Panics
     /// If `p` lies outside the lattice.
     #[inline]
-    pub fn set(&mut self, p: [i32; 3]) -> (bool, usize) {
+    pub fn set(&self, p: [i32; 3]) -> (bool, usize) {
         let q = self.canonical(p).expect("cell inside the lattice");
         let (w, b) = self.word_bit(q);
-        let was_empty = self.words[w] == 0;
-        if self.words[w] >> b & 1 == 0 {
-            self.count += 1;
+        let old = self.words[w].fetch_or(1 << b, Relaxed);
+        if old >> b & 1 == 0 {
+            self.count.fetch_add(1, Relaxed);
         }
-        self.words[w] |= 1 << b;
-        (was_empty, w)
+        (old == 0, w)
     }
 
     /// Whether any face neighbour of `p` is occupied: the 6 of the cubic lattice
@@ -225,7 +235,7 @@ impl Occupancy {
             // Interior: every neighbour is inside; no wrapping or range checks.
             let bit = |q: [i32; 3]| {
                 let (w, b) = self.word_bit(q);
-                self.words[w] >> b & 1
+                self.words[w].load(Relaxed) >> b & 1
             };
             let mut any = bit([x - 1, y, z]) | bit([x + 1, y, z]);
             any |= bit([x, y, z - 1]) | bit([x, y, z + 1]);
@@ -246,7 +256,7 @@ impl Occupancy {
     /// occupied cell of another is its *contact set*: its bit at `w` equals
     /// the other's [`Occupancy::touches`] at `w` (the neighbour relation is
     /// symmetric), read from one word.
-    pub fn set_neighbours(&mut self, p: [i32; 3], three_d: bool) {
+    pub fn set_neighbours(&self, p: [i32; 3], three_d: bool) {
         for e in FACE_NEIGHBOURS {
             if three_d || e[1] == 0 {
                 let n = [p[0] + e[0], p[1] + e[1], p[2] + e[2]];
@@ -262,7 +272,7 @@ impl Occupancy {
     #[inline(always)]
     pub fn block_word(&self, p: [i32; 3]) -> u64 {
         match self.canonical(p) {
-            Some(q) => self.words[self.word_bit(q).0],
+            Some(q) => self.words[self.word_bit(q).0].load(Relaxed),
             None => 0,
         }
     }
@@ -282,7 +292,7 @@ impl Occupancy {
 
 /// Capped Chebyshev distance, in blocks of 2^shift cells, from every block to
 /// the nearest occupied one.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct DistanceMap {
     shift: u32,
     cap: u8,
@@ -290,7 +300,7 @@ pub struct DistanceMap {
     periodic: bool,
     /// `cap − distance` per block, tiled: 0 far from the cluster, `cap` in an
     /// occupied block.
-    closeness: Vec<u8>,
+    closeness: Vec<AtomicU8>,
 }
 
 impl DistanceMap {
@@ -318,7 +328,7 @@ impl DistanceMap {
             cap,
             tiling,
             periodic: occ.periodic(),
-            closeness: vec![0; tiling.len()],
+            closeness: bytemuck::allocation::zeroed_vec(tiling.len()),
         }
     }
 
@@ -335,10 +345,25 @@ impl DistanceMap {
         (((self.cap as i64 - 1) << self.shift) + 1) as f64
     }
 
-    /// The distance of `p`'s block, in blocks (capped).
+    /// The distance of `p`'s block (canonical `p`) to the nearest occupied
+    /// block, in blocks, capped: the value [`DistanceMap::bound`],
+    /// [`DistanceMap::is_near`] and [`DistanceMap::is_cap`] read.
     #[inline(always)]
-    fn block_distance(&self, p: [i32; 3]) -> u8 {
-        self.cap - self.closeness[self.entry(p)]
+    pub fn block_distance(&self, p: [i32; 3]) -> u8 {
+        self.cap - self.closeness[self.entry(p)].load(Relaxed)
+    }
+
+    /// The cells whose occupation would lower `p`'s block distance `k` (a
+    /// cube of blocks within k − 1 of p's block, as an inclusive box of cells
+    /// that may reach past the lattice), or `None` when k is 0.
+    #[inline(always)]
+    pub fn influence(&self, p: [i32; 3], k: u8) -> Option<([i32; 3], [i32; 3])> {
+        if k == 0 {
+            return None;
+        }
+        let (sh, k) = (self.shift, k as i32);
+        let b = p.map(|v| v >> sh);
+        Some((b.map(|v| (v - k + 1) << sh), b.map(|v| ((v + k) << sh) - 1)))
     }
 
     #[inline(always)]
@@ -356,12 +381,15 @@ impl DistanceMap {
     /// its block are lowered to their Chebyshev distance k until a whole shell
     /// needs no change: the capped distance is 1-Lipschitz, so no farther shell
     /// can need one either.
-    pub fn occupy(&mut self, p: [i32; 3]) {
+    ///
+    /// Entries are lowered with plain (relaxed) stores while readers may look:
+    /// one writer at a time.
+    pub fn occupy(&self, p: [i32; 3]) {
         let w = self.entry(p);
-        if self.closeness[w] == self.cap {
+        if self.closeness[w].load(Relaxed) == self.cap {
             return;
         }
-        self.closeness[w] = self.cap;
+        self.closeness[w].store(self.cap, Relaxed);
         let nb = self.tiling.blocks.map(|v| v as i64);
         let c = p.map(|v| ((v as usize) >> self.shift) as i64);
         let periodic = self.periodic;
@@ -385,21 +413,21 @@ impl DistanceMap {
                 for dy in -k..=k {
                     let Some(y) = at(1, dy) else { continue };
                     let inner = dz.abs() < k && dy.abs() < k;
-                    let mut visit = |dx: i64, closeness: &mut Vec<u8>| {
+                    let mut visit = |dx: i64| {
                         if let Some(x) = at(0, dx) {
-                            let e = tiling.index([x, y, z]);
-                            if closeness[e] < close {
-                                closeness[e] = close;
+                            let e = &self.closeness[tiling.index([x, y, z])];
+                            if e.load(Relaxed) < close {
+                                e.store(close, Relaxed);
                                 changed = true;
                             }
                         }
                     };
                     if inner {
-                        visit(-k, &mut self.closeness);
-                        visit(k, &mut self.closeness);
+                        visit(-k);
+                        visit(k);
                     } else {
                         for dx in -k..=k {
-                            visit(dx, &mut self.closeness);
+                            visit(dx);
                         }
                     }
                 }
@@ -417,8 +445,14 @@ impl DistanceMap {
     /// to that cube's faces (along the axes that have more than one block).
     #[inline(always)]
     pub fn lower_bound(&self, p: [i32; 3]) -> f64 {
+        self.bound(p, self.block_distance(p))
+    }
+
+    /// [`DistanceMap::lower_bound`] at `p` given its block distance `k`.
+    #[inline(always)]
+    pub fn bound(&self, p: [i32; 3], k: u8) -> f64 {
         let sh = self.shift;
-        let k = self.block_distance(p) as i32;
+        let k = k as i32;
         if k == 0 {
             return 0.0;
         }
@@ -439,13 +473,25 @@ impl DistanceMap {
     /// then small and a finer map should be asked).
     #[inline(always)]
     pub fn near(&self, p: [i32; 3]) -> bool {
-        self.block_distance(p) <= 1
+        Self::is_near(self.block_distance(p))
+    }
+
+    /// Whether block distance `k` is within one block (see [`DistanceMap::near`]).
+    #[inline(always)]
+    pub fn is_near(k: u8) -> bool {
+        k <= 1
     }
 
     /// Whether the bound at `p` is the cap (the cluster may be much farther).
     #[inline(always)]
     pub fn capped(&self, p: [i32; 3]) -> bool {
-        self.closeness[self.entry(p)] == 0
+        self.is_cap(self.block_distance(p))
+    }
+
+    /// Whether block distance `k` is the cap (see [`DistanceMap::capped`]).
+    #[inline(always)]
+    pub fn is_cap(&self, k: u8) -> bool {
+        k == self.cap
     }
 }
 
@@ -455,7 +501,7 @@ mod tests {
 
     #[test]
     fn bits_and_blocks() {
-        let mut o = Occupancy::new([10, 9, 7], false, &MemoryBudget::unlimited()).unwrap();
+        let o = Occupancy::new([10, 9, 7], false, &MemoryBudget::unlimited()).unwrap();
         assert!(!o.get([3, 4, 5]));
         let (empty, w) = o.set([3, 4, 5]);
         assert!(empty);
@@ -469,7 +515,7 @@ mod tests {
         assert!(!o.touches([3, 3, 5], false));
         assert!(o.touches([2, 4, 5], false));
         assert!(!o.get([-1, 4, 5]));
-        let mut p = Occupancy::new([8, 8, 4], true, &MemoryBudget::unlimited()).unwrap();
+        let p = Occupancy::new([8, 8, 4], true, &MemoryBudget::unlimited()).unwrap();
         p.set([0, 0, 1]);
         assert!(p.get([8, -8, 1]));
         assert!(p.touches([-1, 0, 1], true));
@@ -483,9 +529,9 @@ mod tests {
         // Random occupied cells; compare the bound to the brute-force distance.
         let dims = [40usize, 32, 28];
         for periodic in [false, true] {
-            let mut o = Occupancy::new(dims, periodic, &MemoryBudget::unlimited()).unwrap();
-            let mut m = DistanceMap::new(&o, 2, 32);
-            let mut m3 = DistanceMap::new(&o, 3, 3);
+            let o = Occupancy::new(dims, periodic, &MemoryBudget::unlimited()).unwrap();
+            let m = DistanceMap::new(&o, 2, 32);
+            let m3 = DistanceMap::new(&o, 3, 3);
             let mut rng = crate::rng::fast_rng(3, 0);
             let mut cells = Vec::new();
             for _ in 0..6 {
@@ -569,8 +615,8 @@ mod tests {
             ([40, 1, 28], false, false),
         ] {
             let budget = MemoryBudget::unlimited();
-            let mut occ = Occupancy::new(dims, periodic, &budget).unwrap();
-            let mut contact = Occupancy::new(dims, periodic, &budget).unwrap();
+            let occ = Occupancy::new(dims, periodic, &budget).unwrap();
+            let contact = Occupancy::new(dims, periodic, &budget).unwrap();
             let mut rng = crate::rng::fast_rng(11, 0);
             for _ in 0..60 {
                 let p = [0, 1, 2].map(|a| crate::rng::below(&mut rng, dims[a] as u64) as i32);

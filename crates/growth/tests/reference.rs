@@ -12,7 +12,7 @@ use asperity_analysis::scaling::{
 use asperity_core::{MemoryBudget, NoProgress};
 use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::deposition::deposit_on_schedule;
-use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla};
+use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla, dla_with_walkers};
 use asperity_growth::interface_width::uniform_schedule;
 use asperity_growth::occupancy::FACE_NEIGHBOURS;
 use asperity_growth::{DepositionParams, Lattice, Model, deposit, deposit_ensemble};
@@ -475,6 +475,70 @@ fn same_seed_same_output_at_any_thread_count() {
     // A different seed gives a different cluster.
     let c = dla(&DlaParams::point(3, 3000), 4, 0, &unlimited(), &NoProgress).unwrap();
     assert_ne!(c.cells, a.2);
+}
+
+/// Walks started ahead of their turn (speculative walkers) give the cluster of
+/// the plain sequential loop, cell for cell, in every mode; small lattices and
+/// up to six walkers make many of them read cells a predecessor changes, so
+/// the rewalk path is taken (counted) and checked too.
+#[test]
+fn speculative_walkers_give_the_sequential_cluster() {
+    let base = |dim, size, particles, seed_shape, sides| DlaParams {
+        dim,
+        size,
+        particles,
+        stick: 1.0,
+        seed_shape,
+        launch_gap: 2.0,
+        sides,
+    };
+    let density: Vec<f64> = (0..32 * 32).map(|k| (k % 7) as f64 / 30.0).collect();
+    let mut moss = DlaParams::point(3, 3000);
+    moss.stick = 0.1;
+    let cases = [
+        DlaParams::point(3, 4000),
+        DlaParams::point(2, 3000),
+        moss,
+        base(3, [32, 32, 48], 6000, SeedShape::Plane, Sides::Periodic),
+        base(3, [30, 26, 40], 5000, SeedShape::Plane, Sides::Walls),
+        base(2, [64, 1, 64], 1500, SeedShape::Plane, Sides::Periodic),
+        base(
+            3,
+            [48, 48, 48],
+            3000,
+            SeedShape::Sphere(6.0),
+            Sides::Periodic,
+        ),
+        base(
+            3,
+            [32, 32, 24],
+            3000,
+            SeedShape::Density(density),
+            Sides::Periodic,
+        ),
+        // Capped at the lattice top: launches from the top layer.
+        base(3, [16, 16, 12], 1200, SeedShape::Plane, Sides::Periodic),
+    ];
+    let mut rewalks = 0;
+    for (i, p) in cases.iter().enumerate() {
+        let one = dla_with_walkers(p, 9, i as u64, &unlimited(), &NoProgress, 1).unwrap();
+        assert_eq!(one.rewalks, 0);
+        for walkers in [2, 3, 6] {
+            let many =
+                dla_with_walkers(p, 9, i as u64, &unlimited(), &NoProgress, walkers).unwrap();
+            assert_eq!(many.cells, one.cells, "case {i} with {walkers} walkers");
+            assert_eq!(many.stats, one.stats, "case {i} with {walkers} walkers");
+            assert_eq!(
+                (many.stopped.clone(), many.capped_at),
+                (one.stopped.clone(), one.capped_at)
+            );
+            rewalks += many.rewalks;
+        }
+    }
+    assert!(
+        rewalks > 100,
+        "only {rewalks} rewalks: the check went untested"
+    );
 }
 
 #[test]
