@@ -524,8 +524,14 @@ fn speculative_walkers_give_the_sequential_cluster() {
         let one = dla_with_walkers(p, 9, i as u64, &unlimited(), &NoProgress, 1).unwrap();
         assert_eq!(one.rewalks, 0);
         for walkers in [2, 3, 6] {
-            let many =
-                dla_with_walkers(p, 9, i as u64, &unlimited(), &NoProgress, walkers).unwrap();
+            // A pool of their own, so that the walkers do run at once.
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(walkers)
+                .build()
+                .unwrap();
+            let many = pool
+                .install(|| dla_with_walkers(p, 9, i as u64, &unlimited(), &NoProgress, walkers))
+                .unwrap();
             assert_eq!(many.cells, one.cells, "case {i} with {walkers} walkers");
             assert_eq!(many.stats, one.stats, "case {i} with {walkers} walkers");
             assert_eq!(
