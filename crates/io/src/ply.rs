@@ -734,21 +734,29 @@ fn write_rows(
     use rayon::prelude::*;
     const BLOCK: usize = 1 << 14;
     const BLOCKS_AT_ONCE: usize = 32;
+    // The buffers are kept from batch to batch and sized after their first
+    // row (binary rows have one size): fresh or growing buffers fault pages
+    // in again and again once freed memory goes back to the system.
+    let mut blocks: Vec<Vec<u8>> = vec![Vec::new(); BLOCKS_AT_ONCE];
     let mut start = 0;
     while start < n {
         let end = (start + BLOCK * BLOCKS_AT_ONCE).min(n);
-        let blocks: Vec<Vec<u8>> = (start..end)
-            .into_par_iter()
-            .step_by(BLOCK)
-            .map(|first| {
-                let mut buf = Vec::new();
-                for i in first..(first + BLOCK).min(end) {
-                    row(i, &mut buf);
+        let used = (end - start).div_ceil(BLOCK);
+        blocks[..used]
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(k, buf)| {
+                buf.clear();
+                let first = start + k * BLOCK;
+                let last = (first + BLOCK).min(end);
+                for i in first..last {
+                    row(i, buf);
+                    if i == first {
+                        buf.reserve(buf.len() * (last - first - 1));
+                    }
                 }
-                buf
-            })
-            .collect();
-        for b in &blocks {
+            });
+        for b in &blocks[..used] {
             w.write_all(b)?;
         }
         start = end;

@@ -65,12 +65,15 @@ pub(crate) fn closest_points(
         rounds += 1;
         // Read the frontier before anyone writes: the round is a pure function
         // of the previous one, whatever the thread count.
-        let snapshot: Vec<Vec<u64>> = frontier
+        // Only the points are kept (4 bytes a frontier node, the round's
+        // largest buffer): a node's own squared distance is recomputed from
+        // its point in `offer`, by the formula that stored it.
+        let snapshot: Vec<Vec<u32>> = frontier
             .par_chunks(FRONTIER_WORDS)
             .enumerate()
             .map(|(c, words)| {
                 let mut out = Vec::new();
-                for_each_bit(c, words, |u| out.push(cells[u].load(Relaxed)));
+                for_each_bit(c, words, |u| out.push(cells[u].load(Relaxed) as u32));
                 out
             })
             .collect();
@@ -82,7 +85,7 @@ pub(crate) fn closest_points(
                 let mut i = 0;
                 for_each_bit(c, words, |u| {
                     if let Some(&ahead) = vs.get(i + POINT_PREFETCH) {
-                        asperity_core::memory_hints::prefetch(points, ahead as u32 as usize);
+                        asperity_core::memory_hints::prefetch(points, ahead as usize);
                     }
                     offer(&wave, (u as u32, vs[i]), cap2);
                     i += 1;
@@ -175,7 +178,7 @@ struct Wave<'a> {
 /// The dense method's `offer`, with neighbours found through the bricks
 /// around `u`'s (`around`, see [`Bricks::neighbourhoods`]).
 #[inline(always)]
-fn offer(wave: &Wave, (u, v): (u32, u64), cap2: f32) {
+fn offer(wave: &Wave, (u, idx): (u32, u32), cap2: f32) {
     let Wave {
         points,
         space,
@@ -184,8 +187,6 @@ fn offer(wave: &Wave, (u, v): (u32, u64), cap2: f32) {
         claims,
     } = *wave;
     let grid = &space.grid;
-    let idx = v as u32;
-    let d2_u = unpack_d2(v);
     let p = points[idx as usize];
     let (s, l) = (u as usize / BRICK_NODES, u as usize % BRICK_NODES);
     let at = [l % SIDE, (l / SIDE) % SIDE, l / (SIDE * SIDE)];
@@ -196,6 +197,9 @@ fn offer(wave: &Wave, (u, v): (u32, u64), cap2: f32) {
         axis_squares(grid, c, p, 1),
         axis_squares(grid, c, p, 2),
     );
+    // u's own squared distance to p, bit for bit the one stored with p (the
+    // seeds' `dist2` and the offers sum the same squares in the same order).
+    let d2_u = ((sx[1] + sy[1]) + sz[1]) as f32;
     let around = &around[s];
     for (oz, &z2) in sz.iter().enumerate() {
         let (bz, lz) = wrap(at[2], oz);

@@ -299,7 +299,9 @@ pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh
     let layers: Vec<(Vec<[u32; 3]>, Vec<u64>)> = (0..bz)
         .into_par_iter()
         .map(|z| {
-            let mut keyed = Vec::new();
+            // A closed surface has about two triangles per vertex: sized at
+            // once, the list rarely moves (a move faults fresh pages in).
+            let mut keyed = Vec::with_capacity(edges[z].keys.len() * 9 / 4 + 64);
             for y in 0..by {
                 for x in 0..bx {
                     if cut([x, y, z]) {

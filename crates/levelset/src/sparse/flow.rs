@@ -644,31 +644,41 @@ fn grow_along(axis: usize, m: &Mask, lo: Option<&Mask>, hi: Option<&Mask>) -> Ma
     out
 }
 
-/// `t` grown by one node along `axis` through the bricks.
-fn grow_axis(bricks: &Bricks, t: &[Mask], axis: usize) -> Vec<Mask> {
-    (0..bricks.slots())
-        .into_par_iter()
-        .map(|s| {
-            let f = bricks.face_slots(s);
-            let get = |slot: u32| (slot != NO_SLOT).then(|| &t[slot as usize]);
-            grow_along(axis, &t[s], get(f[2 * axis]), get(f[2 * axis + 1]))
-        })
-        .collect()
+/// `t` grown by one node along `axis` through the bricks, into `out`.
+fn grow_axis(bricks: &Bricks, t: &[Mask], axis: usize, out: &mut Vec<Mask>) {
+    out.clear();
+    out.par_extend((0..bricks.slots()).into_par_iter().map(|s| {
+        let f = bricks.face_slots(s);
+        let get = |slot: u32| (slot != NO_SLOT).then(|| &t[slot as usize]);
+        grow_along(axis, &t[s], get(f[2 * axis]), get(f[2 * axis + 1]))
+    }));
 }
 
-/// N: T grown by one node along each axis, or by the 3 × 3 × 3 block.
-fn grow(bricks: &Bricks, t: &[Mask], shape: Neighbourhood) -> Vec<Mask> {
+/// N: T grown by one node along each axis, or by the 3 × 3 × 3 block, into
+/// `out` (`spare` holds the block's middle step). The buffers are kept from
+/// step to step: fresh ones every step cost page faults, not just copies.
+fn grow(
+    bricks: &Bricks,
+    t: &[Mask],
+    shape: Neighbourhood,
+    out: &mut Vec<Mask>,
+    spare: &mut Vec<Mask>,
+) {
     match shape {
         Neighbourhood::Axes => {
-            let [x, y, z] = [0, 1, 2].map(|a| grow_axis(bricks, t, a));
-            (0..t.len())
-                .map(|s| std::array::from_fn(|w| x[s][w] | y[s][w] | z[s][w]))
-                .collect()
+            out.clear();
+            out.par_extend((0..bricks.slots()).into_par_iter().map(|s| {
+                let f = bricks.face_slots(s);
+                let get = |slot: u32| (slot != NO_SLOT).then(|| &t[slot as usize]);
+                let [x, y, z] =
+                    [0, 1, 2].map(|a| grow_along(a, &t[s], get(f[2 * a]), get(f[2 * a + 1])));
+                std::array::from_fn(|w| x[w] | y[w] | z[w])
+            }));
         }
         Neighbourhood::Cube => {
-            let x = grow_axis(bricks, t, 0);
-            let xy = grow_axis(bricks, &x, 1);
-            grow_axis(bricks, &xy, 2)
+            grow_axis(bricks, t, 0, out);
+            grow_axis(bricks, out, 1, spare);
+            grow_axis(bricks, spare, 2, out);
         }
     }
 }
@@ -796,7 +806,15 @@ pub fn sparse_evolve(
     } else {
         Some(params.neighbourhood)
     };
-    let mut n = tube_n(ls, dist, &mut scratch, &mut t, &mut fits, shape);
+    let (mut n, mut spare) = (Vec::new(), Vec::new());
+    tube_n(
+        ls,
+        dist,
+        &mut scratch,
+        (&mut t, &mut fits),
+        shape,
+        (&mut n, &mut spare),
+    );
     // The scratch equals φ everywhere at the start.
     let mut prev_n = vec![EMPTY_MASK; n.len()];
     let mut new_t: Vec<Mask> = Vec::new();
@@ -866,8 +884,15 @@ pub fn sparse_evolve(
         stats.steps.push(s);
         std::mem::swap(&mut t, &mut new_t);
         vmax = new_vmax;
-        prev_n = std::mem::take(&mut n);
-        n = tube_n(ls, dist, &mut scratch, &mut t, &mut fits, shape);
+        std::mem::swap(&mut prev_n, &mut n);
+        tube_n(
+            ls,
+            dist,
+            &mut scratch,
+            (&mut t, &mut fits),
+            shape,
+            (&mut n, &mut spare),
+        );
         prev_n.resize(n.len(), EMPTY_MASK);
         if params
             .snapshot_every
@@ -891,12 +916,13 @@ fn tube_n(
     ls: &mut SparseLevelSet,
     dist: &mut SparseDistance,
     scratch: &mut Vec<f32>,
-    t: &mut Vec<Mask>,
-    fits: &mut Vec<Mask>,
+    (t, fits): (&mut Vec<Mask>, &mut Vec<Mask>),
     shape: Option<Neighbourhood>,
-) -> Vec<Mask> {
+    (n, spare): (&mut Vec<Mask>, &mut Vec<Mask>),
+) {
     let Some(shape) = shape else {
-        return t.clone();
+        n.clone_from(t);
+        return;
     };
     let new = reached(&ls.bricks, t, shape);
     if !new.is_empty() {
@@ -905,7 +931,7 @@ fn tube_n(
         let b = &ls.bricks;
         fits.extend((fits.len()..b.slots()).map(|s| b.within(b.slot_coords(s), 2)));
     }
-    grow(&ls.bricks, t, shape)
+    grow(&ls.bricks, t, shape, n, spare);
 }
 
 /// The constants and masks of a step with time step `dt`.
