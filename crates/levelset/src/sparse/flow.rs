@@ -787,7 +787,13 @@ pub fn sparse_evolve(
         let all: Vec<u32> = (0..ls.bricks.brick_count() as u32).collect();
         activate(ls, dist, &mut scratch, &all);
     }
-    let plan = Plan::new(params.redistance_iterations);
+    // The dense plan's passes; its rebuild runs within the last of them, and
+    // its copy of φ into the scratch within the next step's advance.
+    let ops: Vec<Op> = Plan::new(params.redistance_iterations)
+        .ops
+        .into_iter()
+        .filter(|&op| op != Op::Rebuild)
+        .collect();
     let h = grid.spacing;
     let fits_of = |b: &Bricks| -> Vec<Mask> {
         (0..b.slots())
@@ -831,45 +837,17 @@ pub fn sparse_evolve(
         }
         let dt = time_step(params, h, vmax);
         let tube = t.iter().map(count).sum();
-        let mut moved = (0, 0);
-        let mut new_vmax = 0.0;
         new_t.resize(t.len(), EMPTY_MASK);
-        {
-            let mut phi = std::mem::take(&mut ls.phi);
-            if arounds.len() != ls.bricks.slots() {
-                arounds = compute_arounds(ls);
-            }
-            // The virtual slots the stencils read for bricks without storage.
-            let real = phi.len();
-            let gamma = ls.gamma;
-            pad(&mut phi, &[gamma, -gamma]);
-            pad(&mut scratch, &[gamma, -gamma]);
-            pad(&mut dist.values, &[dist.cap]);
-            let ctx = context(ls, dist, (&t, &n, &prev_n, &fits), &arounds, params, dt);
-            // The dense plan's passes; its rebuild runs within the last of
-            // them, and its copy of φ into the scratch within the next
-            // step's advance.
-            let ops: Vec<Op> = plan
-                .ops
-                .iter()
-                .copied()
-                .filter(|&op| op != Op::Rebuild)
-                .collect();
-            for (i, &op) in ops.iter().enumerate() {
-                let (m, v) = pass(
-                    &ctx,
-                    (op, i + 1 == ops.len()),
-                    (&mut phi, &mut scratch),
-                    &mut new_t,
-                );
-                moved = (moved.0 + m.0, moved.1 + m.1);
-                new_vmax = hi(new_vmax, v);
-            }
-            phi.truncate(real);
-            scratch.truncate(real);
-            dist.values.truncate(real);
-            ls.phi = phi;
+        if arounds.len() != ls.bricks.slots() {
+            arounds = compute_arounds(ls);
         }
+        let (moved, new_vmax) = step_passes(
+            (ls, dist, &mut scratch),
+            (&t, &n, &prev_n, &fits),
+            &arounds,
+            (params, &ops, dt),
+            &mut new_t,
+        );
         let front_movement = if moved.1 > 0 {
             moved.0 as f64 / 65536.0 / moved.1 as f64
         } else {
@@ -908,6 +886,36 @@ pub fn sparse_evolve(
     }
     progress.finish();
     stats
+}
+
+/// One step's passes `ops` over every brick, on φ padded with the virtual
+/// slots the stencils read for bricks without storage: φ advanced, the new T
+/// in `new_t`; returns the front's movement and the new T's largest speed.
+fn step_passes(
+    (ls, dist, scratch): (&mut SparseLevelSet, &mut SparseDistance, &mut Vec<f32>),
+    masks: (&[Mask], &[Mask], &[Mask], &[Mask]),
+    arounds: &[Around],
+    (params, ops, dt): (&EvolveParams, &[Op], f64),
+    new_t: &mut [Mask],
+) -> (Movement, f32) {
+    let mut phi = std::mem::take(&mut ls.phi);
+    let real = phi.len();
+    let gamma = ls.gamma;
+    pad(&mut phi, &[gamma, -gamma]);
+    pad(scratch, &[gamma, -gamma]);
+    pad(&mut dist.values, &[dist.cap]);
+    let ctx = context(ls, dist, masks, arounds, params, dt);
+    let (mut moved, mut vmax) = ((0, 0), 0.0);
+    for (i, &op) in ops.iter().enumerate() {
+        let (m, v) = pass(&ctx, (op, i + 1 == ops.len()), (&mut phi, scratch), new_t);
+        moved = (moved.0 + m.0, moved.1 + m.1);
+        vmax = hi(vmax, v);
+    }
+    phi.truncate(real);
+    scratch.truncate(real);
+    dist.values.truncate(real);
+    ls.phi = phi;
+    (moved, vmax)
 }
 
 /// N for T, after adding the bricks it reaches (T and the stencil masks grow
