@@ -65,8 +65,8 @@
 //! if nothing it read has changed meanwhile and walking it again otherwise.
 //! The cluster is the sequential one, byte for byte, at any thread count.
 
-mod speculative;
-mod walk;
+pub mod speculative;
+pub mod walk;
 
 use asperity_core::{MemoryBudget, Progress};
 use rand::RngCore;

@@ -7,7 +7,7 @@
 //! it (optimistic concurrency, as in transactional memory).
 //!
 //! Each thread claims the next particle j, notes what its walk reads (the
-//! boxes of [`CellBox`], see [`super::walk`]) and leaves the cell it reached.
+//! boxes of `CellBox`, see [`super::walk`]) and leaves the cell it reached.
 //! Particles are *committed* in order by whichever thread holds the ledger: a
 //! walk is kept when no particle committed since it began landed in one of its
 //! boxes and the reach it read is still the reach; otherwise it is walked
@@ -15,7 +15,7 @@
 //! particle is therefore the one the plain sequential loop would give with
 //! the same per-particle generators: the cluster is byte-identical at any
 //! thread count, and only the time changes (tested against the sequential
-//! loop, with walks started up to [`WINDOW_PER_THREAD`] × threads particles
+//! loop, with walks started up to `WINDOW_PER_THREAD` × threads particles
 //! ahead).
 //!
 //! Walks are not interrupted: at most a window of particles is claimed but

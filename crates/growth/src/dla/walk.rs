@@ -2,11 +2,11 @@
 //! from its launch to the cell where it sticks (see [`super`] for the model,
 //! the exact returns and the big jumps).
 //!
-//! A walk reads the lattice and writes nothing; [`Lattice::occupy`] adds the
+//! A walk reads the lattice and writes nothing; `Lattice::occupy` adds the
 //! particle afterwards. So that a walk may run while earlier particles are
 //! still being added ([`super::speculative`]), a walker can *note* what it
 //! reads: for every look-up whose answer a later particle could change, the
-//! box of cells where such a particle would have to land (see [`CellBox`]).
+//! box of cells where such a particle would have to land (see `CellBox`).
 //! A walk none of whose boxes holds a particle added meanwhile, and which saw
 //! the same reach, read exactly what it would have read after them.
 
