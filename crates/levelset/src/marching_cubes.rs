@@ -619,13 +619,17 @@ fn index_triangles(grid: &GridSpec, keyed: &[[u64; 3]], keys: &[u64]) -> Vec<[u3
         .collect()
 }
 
-/// `v` without the entries `keep` refuses.
-fn kept<T: Copy>(v: &[T], keep: impl Fn(usize) -> bool) -> Vec<T> {
-    v.iter()
-        .enumerate()
-        .filter(|(i, _)| keep(*i))
-        .map(|(_, x)| *x)
-        .collect()
+/// Drops the entries of `v` that `keep` refuses, in place (a copy of the
+/// vertex arrays would be the extraction's largest allocation).
+fn retain_indexed<T: Copy>(v: &mut Vec<T>, keep: impl Fn(usize) -> bool) {
+    let mut w = 0;
+    for i in 0..v.len() {
+        if keep(i) {
+            v[w] = v[i];
+            w += 1;
+        }
+    }
+    v.truncate(w);
 }
 
 /// A mesh's vertex data: positions, normals and (optionally) curvature.
@@ -668,10 +672,10 @@ fn drop_shells(
             }
         }
         let keep = |i: usize| remap[i] != u32::MAX;
-        *positions = kept(positions, keep);
-        *normals = kept(normals, keep);
+        retain_indexed(positions, keep);
+        retain_indexed(normals, keep);
         if let Some(h) = curvature.as_mut() {
-            *h = kept(h, keep);
+            retain_indexed(h, keep);
         }
         for t in triangles.iter_mut() {
             *t = t.map(|v| remap[v as usize]);
