@@ -432,7 +432,7 @@ fn bench_runs_every_workload() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let w = v["measurements"]["workloads"].as_array().unwrap();
-    assert_eq!(w.len(), 26);
+    assert_eq!(w.len(), 28);
     assert!(v["measurements"]["ca_bits_over_bytes"].as_f64().unwrap() > 1.0);
     assert!(
         w.iter()

@@ -108,6 +108,8 @@ const WORKLOADS: &[(&str, Builder)] = &[
     ("growth/dla-plane-1e5", dla_plane_1e5),
     ("growth/dla-point-1e6", dla_point_1e6),
     ("growth/dla-plane-1e6", dla_plane_1e6),
+    ("growth/dla-point-1e7", dla_point_1e7),
+    ("growth/dla-plane-1e7", dla_plane_1e7),
     ("surfca/voronoi-1m-1000", surfca_voronoi),
     ("surfca/corrosion-1m-1000", surfca_corrosion),
     ("subdiv/plain-10086-quads-4-levels", subdiv_plain),
@@ -378,9 +380,14 @@ fn dla_cluster(s: &Setup, name: &'static str, plane: bool, n_full: usize) -> Res
     let mut p = DlaParams::point(3, n);
     if plane {
         p.seed_shape = SeedShape::Plane;
-        let side = if n_full >= 1_000_000 { 512 } else { 256 };
+        // 10⁷ particles fill about 1000 layers of a 1024² plane.
+        let side = match n_full {
+            10_000_000.. => 1024,
+            1_000_000.. => 512,
+            _ => 256,
+        };
         let side = s.size(side, side / 4);
-        p.size = [side, side, side];
+        p.size = [side, side, if n_full >= 10_000_000 { 2 * side } else { side }];
     }
     let budget = s.budget;
     Ok(Workload {
@@ -394,7 +401,12 @@ fn dla_cluster(s: &Setup, name: &'static str, plane: bool, n_full: usize) -> Res
         ),
         elements: n as u64,
         unit: "particles",
-        target_s: s.target(if n_full >= 1_000_000 { 20.0 } else { 2.0 }),
+        // #26: 10⁷ particles in 120 s.
+        target_s: s.target(match n_full {
+            10_000_000.. => 120.0,
+            1_000_000.. => 20.0,
+            _ => 2.0,
+        }),
         once: n_full >= 1_000_000,
         job: Box::new(move || {
             let c = dla(&p, 7, 0, &budget, &NoProgress)?;
@@ -420,6 +432,14 @@ fn dla_point_1e6(s: &Setup) -> Result<Workload> {
 
 fn dla_plane_1e6(s: &Setup) -> Result<Workload> {
     dla_cluster(s, "growth/dla-plane-1e6", true, 1_000_000)
+}
+
+fn dla_point_1e7(s: &Setup) -> Result<Workload> {
+    dla_cluster(s, "growth/dla-point-1e7", false, 10_000_000)
+}
+
+fn dla_plane_1e7(s: &Setup) -> Result<Workload> {
+    dla_cluster(s, "growth/dla-plane-1e7", true, 10_000_000)
 }
 
 /// Surface CA (gobron-chiba): 1000 Voronoi steps on a million-cell sphere.
