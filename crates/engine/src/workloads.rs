@@ -387,7 +387,11 @@ fn dla_cluster(s: &Setup, name: &'static str, plane: bool, n_full: usize) -> Res
             _ => 256,
         };
         let side = s.size(side, side / 4);
-        p.size = [side, side, if n_full >= 10_000_000 { 2 * side } else { side }];
+        p.size = [
+            side,
+            side,
+            if n_full >= 10_000_000 { 2 * side } else { side },
+        ];
     }
     let budget = s.budget;
     Ok(Workload {
