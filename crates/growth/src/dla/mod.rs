@@ -345,8 +345,8 @@ const DIRS3: [[i32; 3]; 6] = crate::occupancy::FACE_NEIGHBOURS;
 const DIRS2: [[i32; 3]; 4] = [[-1, 0, 0], [1, 0, 0], [0, 0, -1], [0, 0, 1]];
 
 /// Grows a DLA cluster with the generator of run `run` under `seed`, with
-/// walkers on every thread of the current pool (the cluster does not depend
-/// on their number, see [`dla_with_walkers`]).
+/// walkers on every thread of the current pool, at most one a core (the
+/// cluster does not depend on their number, see [`dla_with_walkers`]).
 ///
 /// # Errors
 /// Invalid parameters, capacity or memory (see [`DlaParams::validate`]).
@@ -357,14 +357,11 @@ pub fn dla(
     budget: &MemoryBudget,
     progress: &dyn Progress,
 ) -> Result<DlaCluster, GrowthError> {
-    dla_with_walkers(
-        params,
-        seed,
-        run,
-        budget,
-        progress,
-        rayon::current_num_threads(),
-    )
+    // More walkers than cores only wait for each other (a walk preempted
+    // midway holds back the commits); the cluster is the same either way.
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let walkers = rayon::current_num_threads().min(cores);
+    dla_with_walkers(params, seed, run, budget, progress, walkers)
 }
 
 /// [`dla`] with `walkers` concurrent walks (1: the plain sequential loop). The
