@@ -346,8 +346,8 @@ impl DistanceMap {
     }
 
     /// The distance of `p`'s block (canonical `p`) to the nearest occupied
-    /// block, in blocks, capped: the value [`DistanceMap::bound`],
-    /// [`DistanceMap::is_near`] and [`DistanceMap::is_cap`] read.
+    /// block, in blocks, capped: what [`DistanceMap::bound`],
+    /// [`DistanceMap::is_near`] and [`DistanceMap::is_cap`] take.
     #[inline(always)]
     pub fn block_distance(&self, p: [i32; 3]) -> u8 {
         self.cap - self.closeness[self.entry(p)].load(Relaxed)
@@ -469,26 +469,14 @@ impl DistanceMap {
         d as f64
     }
 
-    /// Whether `p`'s block is within one block of an occupied one (its bound is
-    /// then small and a finer map should be asked).
-    #[inline(always)]
-    pub fn near(&self, p: [i32; 3]) -> bool {
-        Self::is_near(self.block_distance(p))
-    }
-
-    /// Whether block distance `k` is within one block (see [`DistanceMap::near`]).
+    /// Whether block distance `k` is within one block of an occupied block
+    /// (the bound is then small and a finer map should be asked).
     #[inline(always)]
     pub fn is_near(k: u8) -> bool {
         k <= 1
     }
 
-    /// Whether the bound at `p` is the cap (the cluster may be much farther).
-    #[inline(always)]
-    pub fn capped(&self, p: [i32; 3]) -> bool {
-        self.is_cap(self.block_distance(p))
-    }
-
-    /// Whether block distance `k` is the cap (see [`DistanceMap::capped`]).
+    /// Whether block distance `k` is the cap (the cluster may be much farther).
     #[inline(always)]
     pub fn is_cap(&self, k: u8) -> bool {
         k == self.cap

@@ -241,11 +241,11 @@ impl<'a> Growth<'a> {
         } else {
             [0, 0]
         };
+        // Committed cells are canonical (walks end inside the lattice, wrapped).
         let since = &ledger.cells[ledger.seeds + done.start..];
-        since.iter().all(|&p| {
-            let q = self.lat.occ.canonical(p).unwrap_or(p);
-            !done.reads.iter().any(|b| b.holds(q, period))
-        })
+        since
+            .iter()
+            .all(|&p| !done.reads.iter().any(|b| b.holds(p, period)))
     }
 
     /// Adds the next particle at `cell` and records it.
@@ -258,7 +258,11 @@ impl<'a> Growth<'a> {
         if k % 1024 == 1023 {
             self.progress.advance(1024);
         }
-        if self.setup.check_bounds(k, cell, &mut ledger.end) || k + 1 == self.particles {
+        if self
+            .setup
+            .check_bounds((k, cell), self.lat, &mut ledger.end)
+            || k + 1 == self.particles
+        {
             ledger.stop = true;
             self.stop.store(true, Ordering::Relaxed);
         }

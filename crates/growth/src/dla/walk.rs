@@ -45,7 +45,8 @@ pub(super) struct Lattice {
     /// Farthest occupied distance from the centre (radial) or highest z
     /// (plane), as `f64` bits.
     reach: AtomicU64,
-    /// Plane modes: occupied cells in the lattice's top layer.
+    /// Plane modes: occupied cells in the lattice's top layer (a full one
+    /// ends the run).
     top_used: AtomicUsize,
 }
 
@@ -69,6 +70,11 @@ impl Lattice {
     /// The reach walks start from.
     pub fn reach(&self) -> f64 {
         f64::from_bits(self.reach.load(Relaxed))
+    }
+
+    /// Plane modes: occupied cells in the top layer.
+    pub fn top_used(&self) -> usize {
+        self.top_used.load(Relaxed)
     }
 
     /// Adds cell `p` (inside the lattice). One writer at a time (see
@@ -99,8 +105,6 @@ impl Lattice {
 pub(super) struct Ending {
     pub stopped: Option<String>,
     pub capped_at: Option<usize>,
-    /// Particles in the top layer (a capped plane deposit launches from it).
-    pub top_used: usize,
 }
 
 impl Setup<'_> {
@@ -173,19 +177,22 @@ impl Setup<'_> {
             .collect()
     }
 
-    /// After particle `k` stuck at `p`: whether the run must stop (a full top
-    /// layer, a radial cluster at the boundary); records the cap.
-    pub(super) fn check_bounds(&self, k: usize, p: [i32; 3], end: &mut Ending) -> bool {
+    /// After particle `k` stuck at `p` (added to `lat`): whether the run must
+    /// stop (a full top layer, a radial cluster at the boundary); records the
+    /// cap.
+    pub(super) fn check_bounds(
+        &self,
+        (k, p): (usize, [i32; 3]),
+        lat: &Lattice,
+        end: &mut Ending,
+    ) -> bool {
         let (size, particles) = (self.params.size, self.params.particles);
         if self.plane {
             let top = size[2] as i32 - 1;
             if p[2] >= top - self.params.launch_gap.round() as i32 && end.capped_at.is_none() {
                 end.capped_at = Some(k + 1);
             }
-            if p[2] == top {
-                end.top_used += 1;
-            }
-            if end.top_used == size[0] * size[1] && k + 1 < particles {
+            if lat.top_used() == size[0] * size[1] && k + 1 < particles {
                 end.stopped = Some(format!(
                     "the lattice's top layer is full after {} particles; use a larger --size",
                     k + 1
@@ -313,7 +320,7 @@ impl<'a> Walker<'a> {
                 if !self.lat.occ.get(p) {
                     return p;
                 }
-                if self.lat.top_used.load(Relaxed) == nx * ny {
+                if self.lat.top_used() == nx * ny {
                     // Only a walk started ahead of its turn sees a full top
                     // layer: the run stops before its turn comes. End it.
                     return p;

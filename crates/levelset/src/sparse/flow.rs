@@ -795,35 +795,24 @@ pub fn sparse_evolve(
         .filter(|&op| op != Op::Rebuild)
         .collect();
     let h = grid.spacing;
-    let fits_of = |b: &Bricks| -> Vec<Mask> {
-        (0..b.slots())
-            .into_par_iter()
-            .map(|s| b.within(b.slot_coords(s), 2))
-            .collect()
-    };
-    let mut fits = fits_of(&ls.bricks);
-    let (mut t, mut vmax) = {
+    let b = &ls.bricks;
+    let fits: Vec<Mask> = (0..b.slots())
+        .into_par_iter()
+        .map(|s| b.within(b.slot_coords(s), 2))
+        .collect();
+    let (t, mut vmax) = {
         let arounds = compute_arounds(ls);
         let ctx = context(ls, dist, (&[], &[], &[], &fits), &arounds, params, 0.0);
         first_tube(&ctx, &ls.phi)
     };
-    let shape = if full {
-        None
-    } else {
-        Some(params.neighbourhood)
+    let mut tubes = Tubes {
+        t,
+        fits,
+        shape: (!full).then_some(params.neighbourhood),
+        ..Tubes::default()
     };
-    let (mut n, mut spare) = (Vec::new(), Vec::new());
-    tube_n(
-        ls,
-        dist,
-        &mut scratch,
-        (&mut t, &mut fits),
-        shape,
-        (&mut n, &mut spare),
-    );
-    // The scratch equals φ everywhere at the start.
-    let mut prev_n = vec![EMPTY_MASK; n.len()];
-    let mut new_t: Vec<Mask> = Vec::new();
+    // The scratch equals φ everywhere at the start: no previous N.
+    tubes.regrow(ls, dist, &mut scratch);
     let mut arounds: Vec<Around> = Vec::new();
     progress.start(params.iterations as u64, "convection flow");
     let mut stats = EvolveStats {
@@ -831,22 +820,22 @@ pub fn sparse_evolve(
         converged: false,
     };
     for step in 1..=params.iterations {
-        if vmax <= 0.0 || t.iter().all(is_empty) {
+        if vmax <= 0.0 || tubes.t.iter().all(is_empty) {
             stats.converged = true;
             break;
         }
         let dt = time_step(params, h, vmax);
-        let tube = t.iter().map(count).sum();
-        new_t.resize(t.len(), EMPTY_MASK);
+        let tube = tubes.t.iter().map(count).sum();
+        tubes.new_t.resize(tubes.t.len(), EMPTY_MASK);
         if arounds.len() != ls.bricks.slots() {
             arounds = compute_arounds(ls);
         }
         let (moved, new_vmax) = step_passes(
             (ls, dist, &mut scratch),
-            (&t, &n, &prev_n, &fits),
+            (&tubes.t, &tubes.n, &tubes.prev_n, &tubes.fits),
             &arounds,
             (params, &ops, dt),
-            &mut new_t,
+            &mut tubes.new_t,
         );
         let front_movement = if moved.1 > 0 {
             moved.0 as f64 / 65536.0 / moved.1 as f64
@@ -860,18 +849,9 @@ pub fn sparse_evolve(
             tube,
         };
         stats.steps.push(s);
-        std::mem::swap(&mut t, &mut new_t);
+        std::mem::swap(&mut tubes.t, &mut tubes.new_t);
         vmax = new_vmax;
-        std::mem::swap(&mut prev_n, &mut n);
-        tube_n(
-            ls,
-            dist,
-            &mut scratch,
-            (&mut t, &mut fits),
-            shape,
-            (&mut n, &mut spare),
-        );
-        prev_n.resize(n.len(), EMPTY_MASK);
+        tubes.regrow(ls, dist, &mut scratch);
         if params
             .snapshot_every
             .is_some_and(|k| k > 0 && step.is_multiple_of(k))
@@ -918,28 +898,49 @@ fn step_passes(
     (moved, vmax)
 }
 
-/// N for T, after adding the bricks it reaches (T and the stencil masks grow
-/// with the slots; `shape` `None` is the full grid, N = T).
-fn tube_n(
-    ls: &mut SparseLevelSet,
-    dist: &mut SparseDistance,
-    scratch: &mut Vec<f32>,
-    (t, fits): (&mut Vec<Mask>, &mut Vec<Mask>),
+/// The flow's masks, one per slot: T, N, the previous step's N, the new T
+/// being rebuilt, the nodes that fit the ENO stencil; `spare` holds the cube
+/// neighbourhood's middle step. Kept from step to step (fresh buffers every
+/// step cost page faults, not just copies).
+#[derive(Default)]
+struct Tubes {
+    t: Vec<Mask>,
+    n: Vec<Mask>,
+    prev_n: Vec<Mask>,
+    new_t: Vec<Mask>,
+    fits: Vec<Mask>,
+    spare: Vec<Mask>,
+    /// N's shape; `None` is the full grid (N = T).
     shape: Option<Neighbourhood>,
-    (n, spare): (&mut Vec<Mask>, &mut Vec<Mask>),
-) {
-    let Some(shape) = shape else {
-        n.clone_from(t);
-        return;
-    };
-    let new = reached(&ls.bricks, t, shape);
-    if !new.is_empty() {
-        activate(ls, dist, scratch, &new);
-        t.resize(ls.bricks.slots(), EMPTY_MASK);
-        let b = &ls.bricks;
-        fits.extend((fits.len()..b.slots()).map(|s| b.within(b.slot_coords(s), 2)));
+}
+
+impl Tubes {
+    /// N for the current T, after adding the bricks it reaches (T and the
+    /// fits grow with the slots); the old N becomes the previous one.
+    fn regrow(
+        &mut self,
+        ls: &mut SparseLevelSet,
+        dist: &mut SparseDistance,
+        scratch: &mut Vec<f32>,
+    ) {
+        std::mem::swap(&mut self.prev_n, &mut self.n);
+        match self.shape {
+            None => self.n.clone_from(&self.t),
+            Some(shape) => {
+                let new = reached(&ls.bricks, &self.t, shape);
+                if !new.is_empty() {
+                    activate(ls, dist, scratch, &new);
+                    let b = &ls.bricks;
+                    self.t.resize(b.slots(), EMPTY_MASK);
+                    let from = self.fits.len();
+                    self.fits
+                        .extend((from..b.slots()).map(|s| b.within(b.slot_coords(s), 2)));
+                }
+                grow(&ls.bricks, &self.t, shape, &mut self.n, &mut self.spare);
+            }
+        }
+        self.prev_n.resize(self.n.len(), EMPTY_MASK);
     }
-    grow(&ls.bricks, t, shape, n, spare);
 }
 
 /// The constants and masks of a step with time step `dt`.

@@ -209,26 +209,31 @@ impl Bricks {
 
     /// The nodes of the brick at `b` that lie in the grid.
     pub(crate) fn in_grid(&self, b: [usize; 3]) -> Mask {
-        let span = |a: usize| (self.grid.dims[a] - b[a] * SIDE).min(SIDE);
-        let (nx, ny, nz) = (span(0), span(1), span(2));
-        let row = (1u64 << nx) - 1;
-        let mut plane = 0u64;
-        for y in 0..ny {
-            plane |= row << (SIDE * y);
-        }
-        std::array::from_fn(|z| if z < nz { plane } else { 0 })
+        self.between(b, [0; 3], self.grid.dims)
     }
 
     /// The nodes of the brick at `b` at least `margin` nodes from every face
     /// of the grid.
     pub(crate) fn within(&self, b: [usize; 3], margin: usize) -> Mask {
+        let hi = self.grid.dims.map(|n| n.saturating_sub(margin));
+        self.between(b, [margin; 3], hi)
+    }
+
+    /// The nodes of the brick at `b` in the grid whose upper neighbour along
+    /// `axis` is in the grid too.
+    pub(crate) fn within_upper(&self, b: [usize; 3], axis: usize) -> Mask {
+        let mut hi = self.grid.dims;
+        hi[axis] -= 1;
+        self.between(b, [0; 3], hi)
+    }
+
+    /// The nodes of the brick at `b` whose grid coordinates lie in `lo..hi`
+    /// along every axis.
+    fn between(&self, b: [usize; 3], lo: [usize; 3], hi: [usize; 3]) -> Mask {
         let span = |a: usize| {
             let first = b[a] * SIDE;
-            let lo = margin.saturating_sub(first).min(SIDE);
-            let hi = (self.grid.dims[a].saturating_sub(margin))
-                .saturating_sub(first)
-                .min(SIDE);
-            (lo, hi.max(lo))
+            let l = lo[a].saturating_sub(first).min(SIDE);
+            (l, hi[a].saturating_sub(first).min(SIDE).max(l))
         };
         let ((x0, x1), (y0, y1), (z0, z1)) = (span(0), span(1), span(2));
         let row = ((1u64 << x1) - 1) & !((1u64 << x0) - 1);
@@ -237,21 +242,6 @@ impl Bricks {
             plane |= row << (SIDE * y);
         }
         std::array::from_fn(|z| if (z0..z1).contains(&z) { plane } else { 0 })
-    }
-
-    /// The nodes of the brick at `b` in the grid whose upper neighbour along
-    /// `axis` is in the grid too.
-    pub(crate) fn within_upper(&self, b: [usize; 3], axis: usize) -> Mask {
-        let mut dims = self.grid.dims;
-        dims[axis] -= 1;
-        let span = |a: usize| dims[a].saturating_sub(b[a] * SIDE).min(SIDE);
-        let (nx, ny, nz) = (span(0), span(1), span(2));
-        let row = (1u64 << nx) - 1;
-        let mut plane = 0u64;
-        for y in 0..ny {
-            plane |= row << (SIDE * y);
-        }
-        std::array::from_fn(|z| if z < nz { plane } else { 0 })
     }
 
     /// The slots of the six face neighbours of slot `s` (−x, +x, −y, +y, −z,
