@@ -111,6 +111,9 @@ fn surface(
 /// `asperity reconstruct POINTS -o MESH`
 pub fn run(ctx: &Context, a: &ReconstructArgs) -> anyhow::Result<()> {
     let out = mesh_output(ctx)?;
+    // From the reading on: the reader's buffers go back before the stages
+    // allocate theirs.
+    let _purge = crate::memory::PromptPurge::new();
     let points = ctx.load_points(&a.input)?;
     let mut run = Run::new(ctx, "reconstruct");
     surface(

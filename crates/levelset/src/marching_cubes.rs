@@ -556,38 +556,79 @@ pub(crate) fn assemble<P: Volume>(
 /// increasing order) with vertices from `cubes`, small shells dropped.
 pub(crate) fn assemble_indexed<P: Volume>(
     cubes: &Cubes<P>,
-    mut triangles: Vec<[u32; 3]>,
+    triangles: Vec<[u32; 3]>,
     keys: Vec<u64>,
     options: &ExtractOptions,
 ) -> (TriMesh, ExtractStats) {
-    let (mut positions, mut normals): (Vec<[f64; 3]>, Vec<[f64; 3]>) = keys
-        .par_iter()
-        .map(|&key| {
-            let (p, n, _) = cubes.vertex(key, false);
-            (p, n)
-        })
-        .unzip();
-    let mut curvature: Option<Vec<f64>> = options.curvature.then(|| {
-        keys.par_iter()
-            .map(|&key| cubes.vertex(key, true).2)
-            .collect()
-    });
+    let mut vertices = Vertices::with_capacity(keys.len(), options.curvature);
+    vertices.extend(cubes, &keys);
     drop(keys);
-    let stats = drop_shells(
-        (&mut positions, &mut normals, &mut curvature),
-        &mut triangles,
-        options.min_shell_triangles,
-    );
-    let mut mesh = TriMesh::new(positions, triangles)
-        .expect("marching cubes builds valid indices")
-        .with_normals(normals)
-        .expect("one normal per vertex");
-    if let Some(h) = curvature {
-        mesh = mesh
-            .with_scalar("mean_curvature", h)
-            .expect("one value per vertex");
+    vertices.into_mesh(triangles, options)
+}
+
+/// A mesh's vertex data as it is made: positions, normals and, if asked, the
+/// mean curvature.
+pub(crate) struct Vertices {
+    positions: Vec<[f64; 3]>,
+    normals: Vec<[f64; 3]>,
+    curvature: Option<Vec<f64>>,
+}
+
+impl Vertices {
+    /// Room for `n` vertices; with the curvature when `curvature`.
+    pub(crate) fn with_capacity(n: usize, curvature: bool) -> Self {
+        Self {
+            positions: Vec::with_capacity(n),
+            normals: Vec::with_capacity(n),
+            curvature: curvature.then(|| Vec::with_capacity(n)),
+        }
     }
-    (mesh, stats)
+
+    /// Appends the vertices of `keys`, in their order. A caller holding its
+    /// keys in parts frees each part once it is read.
+    pub(crate) fn extend<P: Volume>(&mut self, cubes: &Cubes<P>, keys: &[u64]) {
+        let made: Vec<([f64; 3], [f64; 3])> = keys
+            .par_iter()
+            .map(|&key| {
+                let (p, n, _) = cubes.vertex(key, false);
+                (p, n)
+            })
+            .collect();
+        self.positions.extend(made.iter().map(|v| v.0));
+        self.normals.extend(made.iter().map(|v| v.1));
+        if let Some(h) = &mut self.curvature {
+            h.par_extend(keys.par_iter().map(|&key| cubes.vertex(key, true).2));
+        }
+    }
+
+    /// The mesh of `triangles` (indices into these vertices), small shells
+    /// dropped.
+    pub(crate) fn into_mesh(
+        self,
+        mut triangles: Vec<[u32; 3]>,
+        options: &ExtractOptions,
+    ) -> (TriMesh, ExtractStats) {
+        let Self {
+            mut positions,
+            mut normals,
+            mut curvature,
+        } = self;
+        let stats = drop_shells(
+            (&mut positions, &mut normals, &mut curvature),
+            &mut triangles,
+            options.min_shell_triangles,
+        );
+        let mut mesh = TriMesh::new(positions, triangles)
+            .expect("marching cubes builds valid indices")
+            .with_normals(normals)
+            .expect("one normal per vertex");
+        if let Some(h) = curvature {
+            mesh = mesh
+                .with_scalar("mean_curvature", h)
+                .expect("one value per vertex");
+        }
+        (mesh, stats)
+    }
 }
 
 /// The triangles as indices into `keys` (sorted: grid-edge keys by their

@@ -335,7 +335,7 @@ fn distance_stage(
             // unpacked, so no nearest-point array is built.
             let spacing = sparse_sample_spacing(points, &bricks, &cells, 2.0 * h);
             Ok((
-                SparseDistance::from_cells(bricks, &cells, cap, rounds),
+                SparseDistance::from_cells(bricks, cells, cap, rounds),
                 spacing,
             ))
         }

@@ -28,6 +28,61 @@ pub(crate) fn bricks_for(grid: &crate::GridSpec, points: &[[f64; 3]], cap: f64) 
     Bricks::around(grid, points, wavefront_radius(cap, grid.spacing))
 }
 
+/// Nodes per chunk of [`Cells`]: 256 bricks, 1 MiB of cells (three bricks in
+/// the unit tests, so that their small grids cross chunk boundaries).
+#[cfg(not(test))]
+const CHUNK_NODES: usize = 256 * BRICK_NODES;
+#[cfg(test)]
+const CHUNK_NODES: usize = 3 * BRICK_NODES;
+
+/// A wavefront's packed (d², point index) per node id, in chunks of
+/// [`CHUNK_NODES`], so that a stage turning them into its own field frees each
+/// chunk once it has read it: the cells (8 bytes a node) and the field they
+/// become (4) are never both whole.
+pub(crate) struct Cells {
+    chunks: Vec<Vec<AtomicU64>>,
+    len: usize,
+}
+
+impl Cells {
+    /// `n` cells, all [`EMPTY`].
+    fn new(n: usize) -> Self {
+        let chunks = (0..n.div_ceil(CHUNK_NODES))
+            .into_par_iter()
+            .map(|c| {
+                let len = CHUNK_NODES.min(n - c * CHUNK_NODES);
+                (0..len).map(|_| AtomicU64::new(EMPTY)).collect()
+            })
+            .collect();
+        Self { chunks, len: n }
+    }
+
+    /// The cell of node id `u`.
+    #[inline(always)]
+    fn cell(&self, u: usize) -> &AtomicU64 {
+        &self.chunks[u / CHUNK_NODES][u % CHUNK_NODES]
+    }
+
+    /// The packed value of node id `u`.
+    #[inline(always)]
+    pub(crate) fn load(&self, u: usize) -> u64 {
+        self.cell(u).load(Relaxed)
+    }
+
+    /// Node ids.
+    pub(crate) fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Hands each chunk, with the slot of its first brick, to `f` in order,
+    /// freeing it once `f` returns.
+    pub(crate) fn consume(self, mut f: impl FnMut(usize, &[AtomicU64])) {
+        for (c, chunk) in self.chunks.into_iter().enumerate() {
+            f(c * CHUNK_NODES / BRICK_NODES, &chunk);
+        }
+    }
+}
+
 /// The closest-point wavefront from `points` up to `cap` on the active bricks
 /// of `space` (which must hold every node within the cap, see [`bricks_for`]):
 /// per node id the packed (d², point index) of the nearest point found,
@@ -37,12 +92,9 @@ pub(crate) fn closest_points(
     space: &Bricks,
     cap: f64,
     progress: &dyn Progress,
-) -> (Vec<AtomicU64>, usize) {
+) -> (Cells, usize) {
     let n = space.nodes();
-    let cells: Vec<AtomicU64> = (0..n)
-        .into_par_iter()
-        .map(|_| AtomicU64::new(EMPTY))
-        .collect();
+    let cells = Cells::new(n);
     let claims = Claims::new(n);
     seed(points, space, &cells, &claims);
     let cap2 = (cap * cap) as f32;
@@ -73,7 +125,7 @@ pub(crate) fn closest_points(
             .enumerate()
             .map(|(c, words)| {
                 let mut out = Vec::new();
-                for_each_bit(c, words, |u| out.push(cells[u].load(Relaxed) as u32));
+                for_each_bit(c, words, |u| out.push(cells.load(u) as u32));
                 out
             })
             .collect();
@@ -116,7 +168,7 @@ fn for_each_bit(c: usize, words: &[u64], mut f: impl FnMut(usize)) {
 /// Gives the 2³ nodes of each point's cell their exact squared distance and
 /// the point's index (the dense method's seeds, ring 0), claiming the nodes
 /// that received a value.
-fn seed(points: &[[f64; 3]], space: &Bricks, cells: &[AtomicU64], claims: &Claims) {
+fn seed(points: &[[f64; 3]], space: &Bricks, cells: &Cells, claims: &Claims) {
     let grid = &space.grid;
     let h = grid.spacing;
     let base_of = |p: &[f64; 3]| {
@@ -140,7 +192,7 @@ fn seed(points: &[[f64; 3]], space: &Bricks, cells: &[AtomicU64], claims: &Claim
                                 continue;
                             };
                             let d2 = dist2(grid.position(x, y, z), *p) as f32;
-                            if lower(&cells[id as usize], pack(d2, idx)) {
+                            if lower(cells.cell(id as usize), pack(d2, idx)) {
                                 claims.claim(id as usize);
                             }
                         }
@@ -169,7 +221,7 @@ struct Wave<'a> {
     points: &'a [[f64; 3]],
     space: &'a Bricks,
     around: &'a [[u32; 27]],
-    cells: &'a [AtomicU64],
+    cells: &'a Cells,
     claims: &'a Claims,
 }
 
@@ -224,7 +276,7 @@ fn offer(wave: &Wave, (u, idx): (u32, u32), cap2: f32) {
                     continue;
                 }
                 let node = slot as usize * BRICK_NODES + local(lx, ly, lz);
-                if lower(&cells[node], pack(d2, idx)) {
+                if lower(cells.cell(node), pack(d2, idx)) {
                     claims.claim(node);
                 }
             }
@@ -263,17 +315,19 @@ pub struct SparseDistance {
 
 impl SparseDistance {
     /// The distances of the wavefront's `cells` on `bricks`.
-    pub(crate) fn from_cells(bricks: Bricks, cells: &[AtomicU64], cap: f64, rounds: usize) -> Self {
+    pub(crate) fn from_cells(bricks: Bricks, cells: Cells, cap: f64, rounds: usize) -> Self {
         let cap32 = cap as f32;
         // With room for the bricks later stages add and the flow's virtual
         // slot, so that they need not move the field (room never written
         // costs no memory).
         let mut values = Vec::with_capacity(headroom(cells.len()));
-        values.par_extend(
-            cells
-                .par_iter()
-                .map(|c| cell_distance(c.load(Relaxed), cap32)),
-        );
+        cells.consume(|_, chunk| {
+            values.par_extend(
+                chunk
+                    .par_iter()
+                    .map(|c| cell_distance(c.load(Relaxed), cap32)),
+            );
+        });
         Self {
             bricks,
             values,
@@ -308,7 +362,7 @@ pub fn sparse_distance(
     let bricks = bricks_for(grid, points, cap);
     let (cells, rounds) = closest_points(points, &bricks, cap, progress);
     let spacing = sample_spacing(points, &bricks, &cells, 2.0 * grid.spacing);
-    let field = SparseDistance::from_cells(bricks, &cells, cap, rounds);
+    let field = SparseDistance::from_cells(bricks, cells, cap, rounds);
     (field, spacing)
 }
 
@@ -319,13 +373,13 @@ pub fn sparse_distance(
 pub(crate) fn sample_spacing(
     points: &[[f64; 3]],
     space: &Bricks,
-    cells: &[AtomicU64],
+    cells: &Cells,
     near: f64,
 ) -> Option<f64> {
     let grid = &space.grid;
     let nearest = |id: Option<u32>| {
         id.map_or(u32::MAX, |id| {
-            let c = cells[id as usize].load(Relaxed);
+            let c = cells.load(id as usize);
             if c == EMPTY { u32::MAX } else { c as u32 }
         })
     };
@@ -347,7 +401,7 @@ pub(crate) fn sample_spacing(
         })
         .filter_map(|c| {
             let id = space.id(c)?;
-            let v = cells[id as usize].load(Relaxed);
+            let v = cells.load(id as usize);
             (v != EMPTY && unpack_d2(v) < near2).then_some((c, v as u32))
         })
         .flat_map_iter(|(c, p)| {
@@ -428,7 +482,7 @@ mod tests {
                 let c = grid.coords(u);
                 let (d, p) = match bricks.id(c) {
                     Some(id) => {
-                        let v = cells[id as usize].load(Relaxed);
+                        let v = cells.load(id as usize);
                         (
                             cell_distance(v, cap as f32),
                             if v == EMPTY { u32::MAX } else { v as u32 },

@@ -21,7 +21,7 @@ use super::layout::{BRICK_NODES, EMPTY_MASK, Mask, NO_SLOT, SIDE, X_LOW, Y_LOW, 
 use super::surface::SparseLevelSet;
 use crate::grid::GridSpec;
 use crate::marching_cubes::{
-    CENTRE, Cubes, ExtractOptions, ExtractStats, Volume, assemble_indexed, cube_key_of,
+    CENTRE, Cubes, ExtractOptions, ExtractStats, Vertices, Volume, cube_key_of,
 };
 
 /// Nodes along each axis of a brick's block of cubes.
@@ -348,15 +348,11 @@ pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh
         c += centres.len();
     }
     edge_start.push(e);
-    let mut keys = Vec::with_capacity(c);
-    for layer in &edges {
-        keys.extend_from_slice(&layer.keys);
-    }
-    drop(edges);
     let count: usize = layers.iter().map(|l| l.0.len()).sum();
     let mut triangles = Vec::with_capacity(count);
-    for (z, (tris, centres)) in layers.into_iter().enumerate() {
-        keys.extend_from_slice(&centres);
+    let mut centres = Vec::with_capacity(bz);
+    for (z, (tris, layer_centres)) in layers.into_iter().enumerate() {
+        centres.push(layer_centres);
         triangles.extend(tris.into_iter().map(|t| {
             t.map(|p| {
                 let base = match p & !PLACE {
@@ -368,7 +364,16 @@ pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh
             })
         }));
     }
-    assemble_indexed(&cubes, triangles, keys, options)
+    // The vertices from the layers' keys, each layer's freed once read (the
+    // keys of the whole mesh are never held beside its vertices).
+    let mut vertices = Vertices::with_capacity(c, options.curvature);
+    for layer in edges {
+        vertices.extend(&cubes, &layer.keys);
+    }
+    for layer in centres {
+        vertices.extend(&cubes, &layer);
+    }
+    vertices.into_mesh(triangles, options)
 }
 
 #[cfg(test)]

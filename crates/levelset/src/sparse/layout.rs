@@ -118,6 +118,23 @@ impl Bricks {
         b
     }
 
+    /// These bricks with their slots in the order of `other`'s (which holds
+    /// every one of them): a layout whose slots follow another's, so that a
+    /// field on it can be read slot after slot while the other is written.
+    pub(crate) fn in_slot_order_of(&self, other: &Bricks) -> Self {
+        let mut b = Self::new(&self.grid);
+        for s in 0..other.slots() {
+            let bi = other.brick_of(s);
+            if self.slot_of(bi) != NO_SLOT {
+                b.slot_of[bi] = b.brick_of.len() as u32;
+                b.brick_of.push(bi as u32);
+                b.coords_of.push(self.brick_coords(bi).map(|x| x as u32));
+            }
+        }
+        debug_assert_eq!(b.slots(), self.slots(), "every brick is in `other`");
+        b
+    }
+
     /// Bricks in the grid.
     pub fn brick_count(&self) -> usize {
         self.slot_of.len()

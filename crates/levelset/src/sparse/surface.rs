@@ -93,9 +93,17 @@ fn crossings(dist: &SparseDistance, tags: &SparseTags, eps: f64) -> Vec<[f64; 3]
     let bricks = &dist.bricks;
     let grid = &bricks.grid;
     let dims = grid.dims;
-    // From each non-exterior node of an active brick (every non-exterior node
-    // next to an exterior one is active), to its exterior neighbours.
-    let mut keyed: Vec<(u64, [f64; 3])> = (0..bricks.slots())
+    // Exterior or not, and d, at node `c` (its tile and the cap without storage).
+    let node = |c: [usize; 3]| match bricks.id(c) {
+        Some(u) => (tags.node(u), dist.values[u as usize]),
+        None => (tags.tile(bricks.brick_index(c.map(|x| x / SIDE))), dist.cap),
+    };
+    // Each crossing's key: its exterior node's dense index · 6 + the edge's
+    // direction (2 · axis + up), from each non-exterior node of an active
+    // brick (every non-exterior node next to an exterior one is active) to
+    // its exterior neighbours. Eight bytes a crossing are sorted, not the
+    // points (the stage's largest list); the points follow from the keys.
+    let mut keys: Vec<u64> = (0..bricks.slots())
         .into_par_iter()
         .flat_map_iter(|s| {
             let b = bricks.slot_coords(s);
@@ -117,7 +125,6 @@ fn crossings(dist: &SparseDistance, tags: &SparseTags, eps: f64) -> Vec<[f64; 3]
                 while bits != 0 {
                     let l = z * 64 + bits.trailing_zeros() as usize;
                     bits &= bits - 1;
-                    let id = (s * BRICK_NODES + l) as u32;
                     let c = [
                         b[0] * SIDE + l % SIDE,
                         b[1] * SIDE + (l / SIDE) % SIDE,
@@ -138,25 +145,10 @@ fn crossings(dist: &SparseDistance, tags: &SparseTags, eps: f64) -> Vec<[f64; 3]
                                 }
                                 cu[a] += 1;
                             }
-                            let (exterior, du) = match bricks.id(cu) {
-                                Some(u) => (tags.node(u), dist.values[u as usize]),
-                                None => (
-                                    tags.tile(bricks.brick_index(cu.map(|x| x / SIDE))),
-                                    dist.cap,
-                                ),
-                            };
-                            if !exterior {
-                                continue;
+                            if node(cu).0 {
+                                let dense = grid.index(cu[0], cu[1], cu[2]) as u64;
+                                out.push(dense * 6 + (2 * a + usize::from(up)) as u64);
                             }
-                            let p = crossing_point(
-                                grid,
-                                cu,
-                                (a, up),
-                                (du, dist.values[id as usize]),
-                                eps,
-                            );
-                            let dense = grid.index(cu[0], cu[1], cu[2]) as u64;
-                            out.push((dense * 6 + (2 * a + usize::from(up)) as u64, p));
                         }
                     }
                 }
@@ -164,10 +156,20 @@ fn crossings(dist: &SparseDistance, tags: &SparseTags, eps: f64) -> Vec<[f64; 3]
             out
         })
         .collect();
-    keyed.par_sort_unstable_by_key(|k| k.0);
-    let mut points: Vec<[f64; 3]> = keyed.into_iter().map(|(_, p)| p).collect();
-    points.shrink_to_fit();
-    points
+    keys.par_sort_unstable();
+    keys.par_iter()
+        .map(|&k| {
+            let (cu, dir) = (grid.coords((k / 6) as usize), (k % 6) as usize);
+            let (a, up) = (dir / 2, dir % 2 == 1);
+            let mut c = cu;
+            if up {
+                c[a] += 1;
+            } else {
+                c[a] -= 1;
+            }
+            crossing_point(grid, cu, (a, up), (node(cu).1, node(c).1), eps)
+        })
+        .collect()
 }
 
 /// The initial level set from the tags on `dist`'s bricks, with offset `eps`
@@ -196,35 +198,42 @@ pub fn sparse_initial(
     let first = dist.bricks.slots();
     dist.activate(&sorted);
     tags.extend(&dist.bricks, first);
-    let (cells, _) = if crossings.is_empty() {
-        (Vec::new(), 0)
-    } else {
-        closest_points(&crossings, &near, cap, progress)
-    };
+    // The wavefront's slots in the order of the level set's, so that φ is
+    // written slot after slot as the cells are read, chunk by chunk, each
+    // chunk freed once read: the cells (8 bytes a node) and φ (4) are never
+    // both whole.
+    let near = near.in_slot_order_of(&dist.bricks);
+    let (cells, _) = closest_points(&crossings, &near, cap, progress);
     drop(crossings);
     let bricks = &dist.bricks;
+    let n = bricks.nodes();
+    let at: Vec<u32> = (0..bricks.slots())
+        .map(|s| near.slot_of(bricks.brick_of(s)))
+        .collect();
+    let signed = |id: usize, r: f32| if tags.node(id as u32) { r } else { -r };
     // With room for the bricks the flow may add and its two virtual slots.
-    let mut phi = Vec::with_capacity(super::distance::headroom(bricks.nodes()));
-    phi.resize(bricks.nodes(), 0f32);
-    phi.par_chunks_mut(BRICK_NODES)
-        .enumerate()
-        .for_each(|(s, out)| {
-            let at = near.slot_of(bricks.brick_of(s));
-            for (l, x) in out.iter_mut().enumerate() {
-                let r = if at == NO_SLOT {
-                    gamma32
-                } else {
-                    let c = cells[at as usize * BRICK_NODES + l]
-                        .load(std::sync::atomic::Ordering::Relaxed);
-                    cell_distance(c, gamma32)
-                };
-                *x = if tags.node((s * BRICK_NODES + l) as u32) {
-                    r
-                } else {
-                    -r
-                };
-            }
-        });
+    let mut phi = Vec::with_capacity(super::distance::headroom(n));
+    cells.consume(|first, chunk| {
+        let last = first + chunk.len() / BRICK_NODES;
+        // Through the level set's slot of the chunk's last brick.
+        let upto = bricks.slot_of(near.brick_of(last - 1)) as usize + 1;
+        let from = phi.len();
+        phi.par_extend((from..upto * BRICK_NODES).into_par_iter().map(|id| {
+            let s = id / BRICK_NODES;
+            let r = match at[s] as usize {
+                t if t == NO_SLOT as usize => gamma32,
+                t => {
+                    debug_assert!((first..last).contains(&t));
+                    let c = &chunk[(t - first) * BRICK_NODES + id % BRICK_NODES];
+                    cell_distance(c.load(std::sync::atomic::Ordering::Relaxed), gamma32)
+                }
+            };
+            signed(id, r)
+        }));
+    });
+    // The bricks after the wavefront's last: ±γ.
+    let from = phi.len();
+    phi.par_extend((from..n).into_par_iter().map(|id| signed(id, gamma32)));
     SparseLevelSet {
         bricks: bricks.clone(),
         phi,

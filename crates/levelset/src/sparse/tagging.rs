@@ -646,7 +646,7 @@ mod tests {
         let (cells, rounds) = closest_points(pts, &bricks, cap, &NoProgress);
         (
             dense,
-            SparseDistance::from_cells(bricks, &cells, cap, rounds),
+            SparseDistance::from_cells(bricks, cells, cap, rounds),
         )
     }
 
