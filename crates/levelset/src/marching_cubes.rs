@@ -587,18 +587,24 @@ impl Vertices {
     /// Appends the vertices of `keys`, in their order. A caller holding its
     /// keys in parts frees each part once it is read.
     pub(crate) fn extend<P: Volume>(&mut self, cubes: &Cubes<P>, keys: &[u64]) {
-        let made: Vec<([f64; 3], [f64; 3])> = keys
+        let with_curvature = self.curvature.is_some();
+        let made = keys
             .par_iter()
-            .map(|&key| {
-                let (p, n, _) = cubes.vertex(key, false);
-                (p, n)
-            })
-            .collect();
-        self.positions.extend(made.iter().map(|v| v.0));
-        self.normals.extend(made.iter().map(|v| v.1));
-        if let Some(h) = &mut self.curvature {
-            h.par_extend(keys.par_iter().map(|&key| cubes.vertex(key, true).2));
+            .map(|&key| cubes.vertex(key, with_curvature));
+        // Straight into the arrays (rayon unzips an indexed iterator in place).
+        let mut arrays = (
+            std::mem::take(&mut self.positions),
+            std::mem::take(&mut self.normals),
+        );
+        match &mut self.curvature {
+            None => arrays.par_extend(made.map(|(p, n, _)| (p, n))),
+            Some(h) => {
+                let mut all = (arrays, std::mem::take(h));
+                all.par_extend(made.map(|(p, n, k)| ((p, n), k)));
+                (arrays, *h) = all;
+            }
         }
+        (self.positions, self.normals) = arrays;
     }
 
     /// The mesh of `triangles` (indices into these vertices), small shells

@@ -296,7 +296,7 @@ pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh
     // Pass 2: each layer's triangles in the dense order (by cube, then as
     // the table lists them), their corners placed among the layers' keys; the
     // loop centres, whose keys follow the cubes' order.
-    let layers: Vec<(Vec<[u32; 3]>, Vec<u64>)> = (0..bz)
+    let layers: Vec<Layer> = (0..bz)
         .into_par_iter()
         .map(|z| {
             // A closed surface has about two triangles per vertex: sized at
@@ -336,7 +336,22 @@ pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh
         })
         .collect();
     drop((signs, inside));
-    // The vertices: edge keys layer after layer, then the loop centres.
+    assemble_layers(&cubes, edges, layers, options)
+}
+
+/// A layer's triangles (corners placed as [`OWN`], [`NEXT`] or [`CENTRES`])
+/// and its loop centres' keys.
+type Layer = (Vec<[u32; 3]>, Vec<u64>);
+
+/// The mesh of the layers: the vertices are the edge keys layer after layer,
+/// then the loop centres; the triangles' corners become indices into them.
+fn assemble_layers(
+    cubes: &Cubes<SparseLevelSet>,
+    edges: Vec<LayerKeys>,
+    layers: Vec<Layer>,
+    options: &ExtractOptions,
+) -> (TriMesh, ExtractStats) {
+    let bz = edges.len();
     let edge_count: usize = edges.iter().map(|l| l.keys.len()).sum();
     let mut edge_start = Vec::with_capacity(bz + 1);
     let mut centre_start = Vec::with_capacity(bz);
@@ -368,10 +383,10 @@ pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh
     // keys of the whole mesh are never held beside its vertices).
     let mut vertices = Vertices::with_capacity(c, options.curvature);
     for layer in edges {
-        vertices.extend(&cubes, &layer.keys);
+        vertices.extend(cubes, &layer.keys);
     }
     for layer in centres {
-        vertices.extend(&cubes, &layer);
+        vertices.extend(cubes, &layer);
     }
     vertices.into_mesh(triangles, options)
 }

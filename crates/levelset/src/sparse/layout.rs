@@ -126,9 +126,7 @@ impl Bricks {
         for s in 0..other.slots() {
             let bi = other.brick_of(s);
             if self.slot_of(bi) != NO_SLOT {
-                b.slot_of[bi] = b.brick_of.len() as u32;
-                b.brick_of.push(bi as u32);
-                b.coords_of.push(self.brick_coords(bi).map(|x| x as u32));
+                b.push_slot(bi);
             }
         }
         debug_assert_eq!(b.slots(), self.slots(), "every brick is in `other`");
@@ -193,13 +191,17 @@ impl Bricks {
         new.sort_unstable_by_key(|&bi| morton(self.brick_coords(bi as usize)));
         for &bi in &new {
             if self.slot_of[bi as usize] == NO_SLOT {
-                self.slot_of[bi as usize] = self.brick_of.len() as u32;
-                self.brick_of.push(bi);
-                self.coords_of
-                    .push(self.brick_coords(bi as usize).map(|x| x as u32));
+                self.push_slot(bi as usize);
             }
         }
         first
+    }
+
+    /// Gives brick `bi` the next slot.
+    fn push_slot(&mut self, bi: usize) {
+        self.slot_of[bi] = self.brick_of.len() as u32;
+        self.brick_of.push(bi as u32);
+        self.coords_of.push(self.brick_coords(bi).map(|x| x as u32));
     }
 
     /// The id of node `c`, if its brick is active.

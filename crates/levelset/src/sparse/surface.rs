@@ -219,14 +219,14 @@ pub fn sparse_initial(
         let upto = bricks.slot_of(near.brick_of(last - 1)) as usize + 1;
         let from = phi.len();
         phi.par_extend((from..upto * BRICK_NODES).into_par_iter().map(|id| {
-            let s = id / BRICK_NODES;
-            let r = match at[s] as usize {
-                t if t == NO_SLOT as usize => gamma32,
-                t => {
-                    debug_assert!((first..last).contains(&t));
-                    let c = &chunk[(t - first) * BRICK_NODES + id % BRICK_NODES];
-                    cell_distance(c.load(std::sync::atomic::Ordering::Relaxed), gamma32)
-                }
+            let t = at[id / BRICK_NODES];
+            let r = if t == NO_SLOT {
+                gamma32
+            } else {
+                let t = t as usize;
+                debug_assert!((first..last).contains(&t));
+                let c = &chunk[(t - first) * BRICK_NODES + id % BRICK_NODES];
+                cell_distance(c.load(std::sync::atomic::Ordering::Relaxed), gamma32)
             };
             signed(id, r)
         }));
