@@ -682,3 +682,55 @@ fn bad_input_is_refused_clearly() {
     q.keep_particles = true;
     assert!(deposit(&q, 1, 0, &MemoryBudget::new(1 << 30), &NoProgress).is_err());
 }
+
+/// A progress reporter that unwinds out of `advance` once `cancel` is set, as
+/// the Python binding's does on Ctrl-C.
+struct Cancelling(std::sync::atomic::AtomicBool);
+
+impl asperity_core::Progress for Cancelling {
+    fn start(&self, _total: u64, _message: &str) {}
+    fn advance(&self, _n: u64) {
+        if self.0.load(std::sync::atomic::Ordering::Relaxed) {
+            std::panic::resume_unwind(Box::new("cancelled"));
+        }
+    }
+    fn finish(&self) {}
+}
+
+/// Cancelled at any moment, the walkers all stop: the run unwinds within a
+/// second, whatever the number of walkers (one reporting thread unwinds, the
+/// others see the stop flag).
+#[test]
+fn cancelled_walkers_stop() {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::time::Duration;
+    for (round, walkers) in (0..24).zip([2usize, 3, 4].into_iter().cycle()) {
+        let progress = Arc::new(Cancelling(AtomicBool::new(false)));
+        let (tx, rx) = std::sync::mpsc::channel();
+        let reporter = progress.clone();
+        std::thread::spawn(move || {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(walkers)
+                .build()
+                .unwrap();
+            let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                pool.install(|| {
+                    let p = DlaParams::point(3, 2_000_000);
+                    dla_with_walkers(&p, 5, round, &unlimited(), &*reporter, walkers)
+                })
+            }));
+            let _ = tx.send(outcome.is_err());
+        });
+        // From the first commits to well into the growth.
+        std::thread::sleep(Duration::from_millis(2 + 7 * round));
+        progress.0.store(true, Ordering::Relaxed);
+        let unwound = rx
+            .recv_timeout(Duration::from_secs(10))
+            .unwrap_or_else(|_| panic!("round {round}: {walkers} walkers did not stop"));
+        assert!(
+            unwound,
+            "round {round}: the run ended without being cancelled"
+        );
+    }
+}
