@@ -309,11 +309,13 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let Some(Value::Doubles(raw)) = field.get("data") else {
         return malformed("GwyDataField has no data array");
     };
-    if raw.len() / 8 != nx * ny {
+    // xres and yres may be 64-bit in the file: their product can overflow.
+    let needed = nx.checked_mul(ny);
+    if needed != Some(raw.len() / 8) {
+        let needed = needed.map_or("more than fit in memory".into(), |n| n.to_string());
         return malformed(format!(
-            "GwyDataField data holds {} values, xres × yres = {nx} × {ny} needs {}",
+            "GwyDataField data holds {} values, xres × yres = {nx} × {ny} needs {needed}",
             raw.len() / 8,
-            nx * ny
         ));
     }
     let data = raw

@@ -181,13 +181,17 @@ pub(crate) fn header_pixels(bytes: &[u8]) -> FResult<u128> {
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let mut zip = archive(bytes)?;
     let l = layout(&main_xml(&mut zip)?)?;
-    let n = l.nx * l.ny;
-    let size = match l.z_type {
+    let size: usize = match l.z_type {
         'I' => 2,
         'L' | 'F' => 4,
         _ => 8,
     };
-    let need = n as u64 * size as u64;
+    // SizeX and SizeY are free text: their product can overflow where the
+    // memory budget was set high enough to let the header through.
+    let too_big =
+        || FormatError::Malformed(format!("{}×{} values do not fit in memory", l.nx, l.ny));
+    let n = l.nx.checked_mul(l.ny).ok_or_else(too_big)?;
+    let need = n.checked_mul(size).ok_or_else(too_big)? as u64;
     let raw = member(&mut zip, &l.data_link, need)?;
     if raw.len() as u64 != need {
         return malformed(format!(
