@@ -383,27 +383,36 @@ impl TriMesh {
 
     /// Total surface area.
     pub fn area(&self) -> f64 {
-        self.triangles
-            .iter()
-            .map(|&t| {
-                let [a, b, c] = self.corners(t);
-                0.5 * norm(cross(sub(b, a), sub(c, a)))
-            })
-            .sum()
+        self.sum_over_triangles(|[a, b, c]| 0.5 * norm(cross(sub(b, a), sub(c, a))))
     }
 
     /// Signed enclosed volume (divergence theorem); meaningful for closed,
     /// consistently oriented meshes, positive when faces point outward.
     pub fn signed_volume(&self) -> f64 {
-        self.triangles
-            .iter()
-            .map(|&t| {
-                let [a, b, c] = self.corners(t);
-                let n = cross(b, c);
-                a[0] * n[0] + a[1] * n[1] + a[2] * n[2]
+        self.sum_over_triangles(|[a, b, c]| {
+            let n = cross(b, c);
+            a[0] * n[0] + a[1] * n[1] + a[2] * n[2]
+        }) / 6.0
+    }
+
+    /// Σ `f`(corners) over the triangles: blocks of a fixed size summed in
+    /// parallel, then the blocks' sums in order, so the rounding is the same
+    /// at any thread count.
+    fn sum_over_triangles(&self, f: impl Fn([[f64; 3]; 3]) -> f64 + Sync) -> f64 {
+        const BLOCK: usize = 1 << 14;
+        let p = &self.positions;
+        let blocks: Vec<f64> = self
+            .triangles
+            .par_chunks(BLOCK)
+            .map(|block| {
+                let mut sum = 0.0;
+                for &[a, b, c] in block {
+                    sum += f([p[a as usize], p[b as usize], p[c as usize]]);
+                }
+                sum
             })
-            .sum::<f64>()
-            / 6.0
+            .collect();
+        blocks.into_iter().sum()
     }
 
     /// Every undirected edge with its face count, sorted by `(lo, hi)`.
@@ -650,48 +659,162 @@ const LINK_BATCHES: u64 = 4;
 /// Connected components of `triangles` over `n` vertices (by shared vertices): the
 /// count and a label per vertex, numbered in order of first appearance by vertex
 /// index; vertices no triangle uses get `u32::MAX` and are not counted.
+///
+/// The triangles are united in parallel by a lock-free union–find: a root is
+/// linked under the smaller of the two roots, by a compare-exchange that
+/// succeeds only while it is still a root, so every parent has a smaller
+/// index than its child, no cycle can form, and each component's root ends as
+/// its smallest vertex whatever order the unions ran in. Numbering the roots
+/// in vertex order then gives the labels of a sequential pass, at any thread
+/// count.
 pub fn component_labels(n: usize, triangles: &[[u32; 3]]) -> (usize, Vec<u32>) {
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
+    use std::sync::atomic::{AtomicBool, AtomicU32, Ordering::Relaxed};
+    // Every value ever stored in `parent[x]` is an ancestor of x (a smaller
+    // index in x's component), so a stale read is still a valid step up.
+    fn root(parent: &[AtomicU32], mut x: u32) -> u32 {
+        loop {
+            let p = parent[x as usize].load(Relaxed);
+            if p == x {
+                return x;
+            }
+            let g = parent[p as usize].load(Relaxed);
+            if g != p {
+                // Path halving.
+                let _ = parent[x as usize].compare_exchange(p, g, Relaxed, Relaxed);
+            }
+            x = g;
         }
-        x
     }
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    let mut used = vec![false; n];
-    for &[a, b, c] in triangles {
-        for (u, v) in [(a, b), (b, c)] {
-            let (ru, rv) = (find(&mut parent, u), find(&mut parent, v));
-            if ru != rv {
-                parent[ru.max(rv) as usize] = ru.min(rv);
+    fn unite(parent: &[AtomicU32], a: u32, b: u32) {
+        let (mut a, mut b) = (a, b);
+        loop {
+            (a, b) = (root(parent, a), root(parent, b));
+            if a == b {
+                return;
+            }
+            let (lo, hi) = (a.min(b), a.max(b));
+            if parent[hi as usize]
+                .compare_exchange(hi, lo, Relaxed, Relaxed)
+                .is_ok()
+            {
+                return;
             }
         }
-        for v in [a, b, c] {
-            used[v as usize] = true;
-        }
     }
-    let mut label_of_root = vec![u32::MAX; n];
-    let mut count = 0u32;
-    let labels = (0..n as u32)
+    let parent: Vec<AtomicU32> = (0..n as u32).into_par_iter().map(AtomicU32::new).collect();
+    let used: Vec<AtomicBool> = (0..n)
+        .into_par_iter()
+        .map(|_| AtomicBool::new(false))
+        .collect();
+    triangles
+        .par_iter()
+        .with_min_len(1 << 12)
+        .for_each(|&[a, b, c]| {
+            unite(&parent, a, b);
+            unite(&parent, b, c);
+            for v in [a, b, c] {
+                used[v as usize].store(true, Relaxed);
+            }
+        });
+    let mut labels: Vec<u32> = (0..n as u32)
+        .into_par_iter()
         .map(|v| {
-            if !used[v as usize] {
-                return u32::MAX;
+            if used[v as usize].load(Relaxed) {
+                root(&parent, v)
+            } else {
+                u32::MAX
             }
-            let r = find(&mut parent, v) as usize;
-            if label_of_root[r] == u32::MAX {
-                label_of_root[r] = count;
-                count += 1;
-            }
-            label_of_root[r]
         })
         .collect();
+    drop((parent, used));
+    // A root comes before the rest of its component, so its label is set by
+    // the time they read it.
+    let mut count = 0u32;
+    for v in 0..n {
+        let r = labels[v];
+        if r == u32::MAX {
+            continue;
+        }
+        labels[v] = if r as usize == v {
+            count += 1;
+            count - 1
+        } else {
+            labels[r as usize]
+        };
+    }
     (count as usize, labels)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The components by breadth-first search over vertex adjacency, numbered
+    /// by their smallest vertex: a reference for [`component_labels`].
+    fn components_by_search(n: usize, triangles: &[[u32; 3]]) -> (usize, Vec<u32>) {
+        let mut adjacent = vec![Vec::new(); n];
+        for &[a, b, c] in triangles {
+            for (u, v) in [(a, b), (b, c), (c, a)] {
+                adjacent[u as usize].push(v);
+                adjacent[v as usize].push(u);
+            }
+        }
+        let mut labels = vec![u32::MAX; n];
+        let mut count = 0;
+        for start in 0..n {
+            if labels[start] != u32::MAX || adjacent[start].is_empty() {
+                continue;
+            }
+            labels[start] = count;
+            let mut queue = vec![start as u32];
+            while let Some(u) = queue.pop() {
+                for &v in &adjacent[u as usize] {
+                    if labels[v as usize] == u32::MAX {
+                        labels[v as usize] = count;
+                        queue.push(v);
+                    }
+                }
+            }
+            count += 1;
+        }
+        (count as usize, labels)
+    }
+
+    #[test]
+    fn components_match_a_search_at_any_thread_count() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+        for (n, faces, spread) in [
+            (10, 3, 10),
+            (2000, 900, 40),
+            (50_000, 30_000, 8),
+            (50_000, 60_000, 50_000),
+        ] {
+            // Triangles among nearby vertices make many components, chains
+            // of them long trees; some vertices stay unused.
+            let triangles: Vec<[u32; 3]> = (0..faces)
+                .map(|_| {
+                    let a = rng.random_range(0..n as u32);
+                    let near = |rng: &mut rand_chacha::ChaCha8Rng| {
+                        (a + rng.random_range(0..spread)).min(n as u32 - 1)
+                    };
+                    [a, near(&mut rng), near(&mut rng)]
+                })
+                .collect();
+            let expected = components_by_search(n, &triangles);
+            for threads in [1, 2, 7] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let got = pool.install(|| component_labels(n, &triangles));
+                assert_eq!(
+                    got, expected,
+                    "{n} vertices, {faces} faces, {threads} threads"
+                );
+            }
+        }
+    }
 
     /// The cube [−1, 1]³, 12 outward-facing triangles.
     fn cube() -> TriMesh {
