@@ -27,6 +27,7 @@
 
 use asperity_core::Progress;
 use rayon::prelude::*;
+use wide::f32x8;
 
 use super::distance::SparseDistance;
 use super::layout::{
@@ -277,9 +278,6 @@ fn flood(bricks: &Bricks, d: &[f32], far: f32, threshold: f32) -> Fill {
     fill
 }
 
-/// The steps of one node along x, y and z within a brick.
-const STEP: [usize; 3] = [1, SIDE, SIDE * SIDE];
-
 /// Runs Algorithm 1 on the sparse distance `dist` with offset `eps` (world
 /// units). Far-field pockets behind narrow necks are activated in `dist` (at
 /// the cap) for the paper's rule.
@@ -388,6 +386,13 @@ pub fn sparse_tag(
     }
 }
 
+/// Row `y` of plane `z` of a brick's values.
+#[inline(always)]
+fn row(values: &[f32], y: usize, z: usize) -> &[f32; SIDE] {
+    let at = SIDE * (y + SIDE * z);
+    values[at..at + SIDE].try_into().expect("a row of eight")
+}
+
 /// The ε shell (the ε fill less the far field) and what deciding it reads.
 ///
 /// Under the paper's rule a node's fate depends only on its farther
@@ -451,45 +456,54 @@ impl Shell<'_> {
             face: grid_faces(bricks, b),
         };
         let dims = bricks.grid.dims;
+        let far = [self.far; SIDE];
         for (dir, &other) in faces.iter().enumerate() {
             let (a, up) = (dir / 2, dir % 2 == 1);
             // The neighbour brick's values (an inactive one reads as the cap).
             let theirs = (other != NO_SLOT)
                 .then(|| &self.d[other as usize * BRICK_NODES..(other as usize + 1) * BRICK_NODES]);
-            let step = STEP[a];
+            // Whether the node at brick coordinate `local` along `a` has its
+            // neighbour that way in the grid.
+            let has_neighbour = |local: usize| {
+                let g = b[a] * SIDE + local;
+                if up { g + 1 < dims[a] } else { g > 0 }
+            };
+            let x_valid =
+                (0..SIDE).fold(0u64, |m, x| m | u64::from(a != 0 || has_neighbour(x)) << x);
             for z in 0..SIDE {
                 for y in 0..SIDE {
-                    let mut far_bits = 0u64;
-                    let mut ge_bits = 0u64;
-                    for x in 0..SIDE {
-                        let local = [x, y, z];
-                        let l = x + SIDE * (y + SIDE * z);
-                        // The neighbour must lie in the grid.
-                        let g = b[a] * SIDE + local[a];
-                        if (up && g + 1 >= dims[a]) || (!up && g == 0) {
-                            continue;
+                    let valid = match a {
+                        1 if !has_neighbour(y) => continue,
+                        2 if !has_neighbour(z) => continue,
+                        _ => x_valid,
+                    };
+                    let own = row(d, y, z);
+                    // The neighbours' row: along x the row shifted by one with
+                    // the end from the next brick, along y or z another row.
+                    let shifted: [f32; SIDE];
+                    let next = match (a, up) {
+                        (0, _) => {
+                            let edge = theirs
+                                .map_or(self.far, |t| row(t, y, z)[if up { 0 } else { SIDE - 1 }]);
+                            shifted = std::array::from_fn(|x| match (up, x) {
+                                (true, x) if x + 1 < SIDE => own[x + 1],
+                                (false, x) if x > 0 => own[x - 1],
+                                _ => edge,
+                            });
+                            &shifted
                         }
-                        let at_edge = if up {
-                            local[a] == SIDE - 1
-                        } else {
-                            local[a] == 0
-                        };
-                        let dv = if !at_edge {
-                            d[if up { l + step } else { l - step }]
-                        } else {
-                            let wrapped = if up {
-                                l - (SIDE - 1) * step
-                            } else {
-                                l + (SIDE - 1) * step
-                            };
-                            theirs.map_or(self.far, |t| t[wrapped])
-                        };
-                        let du = d[l];
-                        far_bits |= u64::from(dv > du) << x;
-                        ge_bits |= u64::from(dv >= du) << x;
-                    }
-                    out.farther[dir][z] |= far_bits << (SIDE * y);
-                    out.not_nearer[dir][z] |= ge_bits << (SIDE * y);
+                        (1, true) if y + 1 < SIDE => row(d, y + 1, z),
+                        (1, false) if y > 0 => row(d, y - 1, z),
+                        (2, true) if z + 1 < SIDE => row(d, y, z + 1),
+                        (2, false) if z > 0 => row(d, y, z - 1),
+                        (1, _) => theirs.map_or(&far, |t| row(t, SIDE - 1 - y, z)),
+                        _ => theirs.map_or(&far, |t| row(t, y, SIDE - 1 - z)),
+                    };
+                    let (next, own) = (f32x8::new(*next), f32x8::new(*own));
+                    let far_bits = u64::from(next.simd_gt(own).to_bitmask());
+                    let ge_bits = u64::from(next.simd_ge(own).to_bitmask());
+                    out.farther[dir][z] |= (far_bits & valid) << (SIDE * y);
+                    out.not_nearer[dir][z] |= (ge_bits & valid) << (SIDE * y);
                 }
             }
             // Only nodes in the grid are decided.
