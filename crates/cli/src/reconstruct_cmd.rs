@@ -98,11 +98,21 @@ fn surface(
     if let Some(e) = failed {
         return Err(e.into());
     }
-    run.mesh(out, &rec.mesh)?;
+    // The topology (for the report) is read while the file is written: the
+    // writer waits on the kernel much of the time, the topology keeps the
+    // cores busy meanwhile.
+    let (written, topology) = std::thread::scope(|s| {
+        let topology = s.spawn(|| rec.mesh.topology());
+        let written = run.mesh(out, &rec.mesh);
+        let topology = topology
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (written, topology)
+    });
+    written?;
     for path in &saved {
         run.report.output(path);
     }
-    let topology = rec.mesh.topology();
     run.measure(reconstruct::measurements(&rec, points.len(), &topology));
     run.note(reconstruct::summary(&rec, &topology));
     Ok(())
