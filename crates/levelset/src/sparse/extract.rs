@@ -278,8 +278,12 @@ pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh
     let cut = |b: [usize; 3]| may_cut(ls, &signs, b);
     // Pass 1, layer by layer of bricks (eight node planes): the vertices on
     // grid edges, which are the cut edges starting at the layer's nodes.
+    // One task a layer: the layers' work differs tenfold (a deposit's bottom
+    // layers hold most of its surface), and a chunk of layers left last
+    // would run on one core.
     let edges: Vec<LayerKeys> = (0..bz)
         .into_par_iter()
+        .with_max_len(1)
         .map(|z| {
             let mut keys = Vec::new();
             for y in 0..by {
@@ -298,6 +302,7 @@ pub fn sparse_extract(ls: &SparseLevelSet, options: &ExtractOptions) -> (TriMesh
     // loop centres, whose keys follow the cubes' order.
     let layers: Vec<Layer> = (0..bz)
         .into_par_iter()
+        .with_max_len(1)
         .map(|z| {
             // A closed surface has about two triangles per vertex: sized at
             // once, the list rarely moves (a move faults fresh pages in).
