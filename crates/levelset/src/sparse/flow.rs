@@ -777,16 +777,6 @@ pub fn sparse_evolve(
         dist.bricks.slots(),
         "φ and d share their bricks"
     );
-    let full = params.band == Band::Full;
-    // Room for the virtual slots the steps append (see `pad`) and for bricks
-    // the tube may add, so that no step moves a buffer (a move holds the
-    // old and the new copy at once; room never written costs no memory).
-    let mut scratch = Vec::with_capacity(super::distance::headroom(ls.phi.len()));
-    scratch.extend_from_slice(&ls.phi);
-    if full {
-        let all: Vec<u32> = (0..ls.bricks.brick_count() as u32).collect();
-        activate(ls, dist, &mut scratch, &all);
-    }
     // The dense plan's passes; its rebuild runs within the last of them, and
     // its copy of φ into the scratch within the next step's advance.
     let ops: Vec<Op> = Plan::new(params.redistance_iterations)
@@ -795,24 +785,7 @@ pub fn sparse_evolve(
         .filter(|&op| op != Op::Rebuild)
         .collect();
     let h = grid.spacing;
-    let b = &ls.bricks;
-    let fits: Vec<Mask> = (0..b.slots())
-        .into_par_iter()
-        .map(|s| b.within(b.slot_coords(s), 2))
-        .collect();
-    let (t, mut vmax) = {
-        let arounds = compute_arounds(ls);
-        let ctx = context(ls, dist, (&[], &[], &[], &fits), &arounds, params, 0.0);
-        first_tube(&ctx, &ls.phi)
-    };
-    let mut tubes = Tubes {
-        t,
-        fits,
-        shape: (!full).then_some(params.neighbourhood),
-        ..Tubes::default()
-    };
-    // The scratch equals φ everywhere at the start: no previous N.
-    tubes.regrow(ls, dist, &mut scratch);
+    let (mut scratch, mut tubes, mut vmax) = first_tubes(ls, dist, params);
     let mut arounds: Vec<Around> = Vec::new();
     progress.start(params.iterations as u64, "convection flow");
     let mut stats = EvolveStats {
@@ -866,6 +839,44 @@ pub fn sparse_evolve(
     }
     progress.finish();
     stats
+}
+
+/// The flow's start: the scratch buffer (a copy of φ; with a full band,
+/// every brick activated first), the first T and N, and T's largest speed.
+fn first_tubes(
+    ls: &mut SparseLevelSet,
+    dist: &mut SparseDistance,
+    params: &EvolveParams,
+) -> (Vec<f32>, Tubes, f32) {
+    let full = params.band == Band::Full;
+    // Room for the virtual slots the steps append (see `pad`) and for bricks
+    // the tube may add, so that no step moves a buffer (a move holds the
+    // old and the new copy at once; room never written costs no memory).
+    let mut scratch = Vec::with_capacity(super::distance::headroom(ls.phi.len()));
+    scratch.extend_from_slice(&ls.phi);
+    if full {
+        let all: Vec<u32> = (0..ls.bricks.brick_count() as u32).collect();
+        activate(ls, dist, &mut scratch, &all);
+    }
+    let b = &ls.bricks;
+    let fits: Vec<Mask> = (0..b.slots())
+        .into_par_iter()
+        .map(|s| b.within(b.slot_coords(s), 2))
+        .collect();
+    let (t, vmax) = {
+        let arounds = compute_arounds(ls);
+        let ctx = context(ls, dist, (&[], &[], &[], &fits), &arounds, params, 0.0);
+        first_tube(&ctx, &ls.phi)
+    };
+    let mut tubes = Tubes {
+        t,
+        fits,
+        shape: (!full).then_some(params.neighbourhood),
+        ..Tubes::default()
+    };
+    // The scratch equals φ everywhere at the start: no previous N.
+    tubes.regrow(ls, dist, &mut scratch);
+    (scratch, tubes, vmax)
 }
 
 /// One step's passes `ops` over every brick, on φ padded with the virtual

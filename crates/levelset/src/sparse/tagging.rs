@@ -341,42 +341,7 @@ pub fn sparse_tag(
         far_tiles: &far_fill.tiles,
         shell: &shell,
     };
-    let mut pending: Vec<u32> = (0..bricks.slots() as u32)
-        .filter(|&s| !is_empty(&shell[s as usize]))
-        .collect();
-    // Each shell brick's comparisons with its neighbours, once (`at[s]` is
-    // its place in `slopes`).
-    let slopes: Vec<Slopes> = pending
-        .par_iter()
-        .map(|&s| shells.slopes(s as usize))
-        .collect();
-    let mut at = vec![u32::MAX; bricks.slots()];
-    for (i, &s) in pending.iter().enumerate() {
-        at[s as usize] = i as u32;
-    }
-    while !pending.is_empty() {
-        let fresh: Vec<(u32, Mask)> = pending
-            .par_iter()
-            .filter_map(|&s| {
-                let grown = shells.relax_brick(s as usize, &slopes[at[s as usize] as usize], &ext);
-                (grown != ext[s as usize]).then_some((s, grown))
-            })
-            .collect();
-        let mut next = Vec::new();
-        for (s, grown) in fresh {
-            let new: Mask = std::array::from_fn(|z| grown[z] & !ext[s as usize][z]);
-            ext[s as usize] = grown;
-            shells.touched(s as usize, &new, &mut next);
-        }
-        next.sort_unstable();
-        next.dedup();
-        pending = next;
-    }
-    let (accepted, refused) = (0..bricks.slots())
-        .into_par_iter()
-        .filter(|&s| at[s] != u32::MAX)
-        .map(|s| shells.counts(s, &slopes[at[s] as usize], &ext))
-        .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    let (accepted, refused) = shells.decide(&mut ext);
     progress.finish();
     SparseTags {
         exterior: masks_to_bits(&ext, bricks.nodes() / 64),
@@ -440,6 +405,48 @@ fn shift_in_plane(w: u64, dir: usize) -> u64 {
 }
 
 impl Shell<'_> {
+    /// Raises the tags `ext` (the far field's, per slot) over the shell to
+    /// the rule's fixed point, brick by brick in parallel rounds; returns
+    /// the shell's accepted and refused nodes.
+    fn decide(&self, ext: &mut [Mask]) -> (usize, usize) {
+        let mut pending: Vec<u32> = (0..self.bricks.slots() as u32)
+            .filter(|&s| !is_empty(&self.shell[s as usize]))
+            .collect();
+        // Each shell brick's comparisons with its neighbours, once (`at[s]` is
+        // its place in `slopes`).
+        let slopes: Vec<Slopes> = pending
+            .par_iter()
+            .map(|&s| self.slopes(s as usize))
+            .collect();
+        let mut at = vec![u32::MAX; self.bricks.slots()];
+        for (i, &s) in pending.iter().enumerate() {
+            at[s as usize] = i as u32;
+        }
+        while !pending.is_empty() {
+            let fresh: Vec<(u32, Mask)> = pending
+                .par_iter()
+                .filter_map(|&s| {
+                    let grown = self.relax_brick(s as usize, &slopes[at[s as usize] as usize], ext);
+                    (grown != ext[s as usize]).then_some((s, grown))
+                })
+                .collect();
+            let mut next = Vec::new();
+            for (s, grown) in fresh {
+                let new: Mask = std::array::from_fn(|z| grown[z] & !ext[s as usize][z]);
+                ext[s as usize] = grown;
+                self.touched(s as usize, &new, &mut next);
+            }
+            next.sort_unstable();
+            next.dedup();
+            pending = next;
+        }
+        (0..self.bricks.slots())
+            .into_par_iter()
+            .filter(|&s| at[s] != u32::MAX)
+            .map(|s| self.counts(s, &slopes[at[s] as usize], ext))
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    }
+
     /// For every node of slot `s`, the value `of` gives its neighbour in
     /// direction `dir` (inside the brick: `own`; else the neighbour brick's
     /// node, a whole inactive brick, or nothing beyond the grid), as masks:
