@@ -479,6 +479,20 @@ mod tests {
             assert!(m.contains(expect), "{to}: {m}");
         }
         assert!(error(b"PK\x03\x04 not really").contains("not a zip archive"));
+        // Sizes whose product overflows (the memory check lets them through
+        // only under a budget set that high): an error, not a panic.
+        let huge = with_main(
+            |s| {
+                s.replacen("<SizeX>3", "<SizeX>4611686018427387904", 1)
+                    .replacen("<SizeY>2", "<SizeY>8", 1)
+            },
+            &[],
+        );
+        assert!(
+            error(&huge).contains("do not fit in memory"),
+            "{}",
+            error(&huge)
+        );
     }
 
     #[test]
