@@ -325,8 +325,10 @@ impl TriMesh {
         Aabb::from_points(&self.positions)
     }
 
-    fn corners(&self, t: [u32; 3]) -> [[f64; 3]; 3] {
-        t.map(|v| self.positions[v as usize])
+    #[inline]
+    fn corners(&self, [a, b, c]: [u32; 3]) -> [[f64; 3]; 3] {
+        let p = &self.positions;
+        [p[a as usize], p[b as usize], p[c as usize]]
     }
 
     /// Unit normal of each triangle (zero for degenerate triangles).
@@ -400,14 +402,13 @@ impl TriMesh {
     /// at any thread count.
     fn sum_over_triangles(&self, f: impl Fn([[f64; 3]; 3]) -> f64 + Sync) -> f64 {
         const BLOCK: usize = 1 << 14;
-        let p = &self.positions;
         let blocks: Vec<f64> = self
             .triangles
             .par_chunks(BLOCK)
             .map(|block| {
                 let mut sum = 0.0;
-                for &[a, b, c] in block {
-                    sum += f([p[a as usize], p[b as usize], p[c as usize]]);
+                for &t in block {
+                    sum += f(self.corners(t));
                 }
                 sum
             })
@@ -685,8 +686,7 @@ pub fn component_labels(n: usize, triangles: &[[u32; 3]]) -> (usize, Vec<u32>) {
             x = g;
         }
     }
-    fn unite(parent: &[AtomicU32], a: u32, b: u32) {
-        let (mut a, mut b) = (a, b);
+    fn unite(parent: &[AtomicU32], mut a: u32, mut b: u32) {
         loop {
             (a, b) = (root(parent, a), root(parent, b));
             if a == b {

@@ -34,8 +34,8 @@ use rayon::prelude::*;
 
 use super::distance::SparseDistance;
 use super::layout::{
-    BRICK_NODES, Bricks, EMPTY_MASK, Mask, NO_SLOT, SIDE, X_HIGH, X_LOW, Y_HIGH, Y_LOW, count,
-    is_empty,
+    BRICK_NODES, BrickValues, Bricks, EMPTY_MASK, Mask, NO_SLOT, SIDE, X_HIGH, X_LOW, Y_HIGH,
+    Y_LOW, brick_row, count, is_empty,
 };
 use super::surface::SparseLevelSet;
 use crate::evolve::{
@@ -91,9 +91,6 @@ fn pad(field: &mut Vec<f32>, values: &[f32]) {
     }
 }
 
-/// One brick's values of a buffer.
-type BrickValues = [f32; BRICK_NODES];
-
 /// A buffer as bricks (its length is a whole number of bricks).
 #[inline(always)]
 fn as_bricks(field: &[f32]) -> &[BrickValues] {
@@ -103,8 +100,7 @@ fn as_bricks(field: &[f32]) -> &[BrickValues] {
 /// Row `r` (y + 8z) of a brick: eight values, with no bounds to check.
 #[inline(always)]
 fn row_of<V: Lanes>(b: &BrickValues, r: usize) -> V {
-    let at = (r % (SIDE * SIDE)) * SIDE;
-    V::new(b[at..at + SIDE].try_into().expect("a row"))
+    V::new(*brick_row(b, r))
 }
 
 /// Where one brick's stencils read one buffer: the brick's own values and,

@@ -31,6 +31,16 @@ pub(crate) const NO_SLOT: u32 = u32::MAX;
 /// A set of a brick's nodes: word z holds plane z, bit x + 8y.
 pub(crate) type Mask = [u64; SIDE];
 
+/// One brick's values of a field.
+pub(crate) type BrickValues = [f32; BRICK_NODES];
+
+/// Row `r` (y + 8z) of a brick's values, with no bounds to check.
+#[inline(always)]
+pub(crate) fn brick_row(b: &BrickValues, r: usize) -> &[f32; SIDE] {
+    let at = (r % (SIDE * SIDE)) * SIDE;
+    b[at..at + SIDE].try_into().expect("a row of eight")
+}
+
 /// The empty mask.
 pub(crate) const EMPTY_MASK: Mask = [0; SIDE];
 
@@ -244,6 +254,14 @@ impl Bricks {
         let mut hi = self.grid.dims;
         hi[axis] -= 1;
         self.between(b, [0; 3], hi)
+    }
+
+    /// The nodes of the brick at `b` in the grid whose lower neighbour along
+    /// `axis` is in the grid too.
+    pub(crate) fn within_lower(&self, b: [usize; 3], axis: usize) -> Mask {
+        let mut lo = [0; 3];
+        lo[axis] = 1;
+        self.between(b, lo, self.grid.dims)
     }
 
     /// The nodes of the brick at `b` whose grid coordinates lie in `lo..hi`

@@ -31,8 +31,8 @@ use wide::f32x8;
 
 use super::distance::SparseDistance;
 use super::layout::{
-    BRICK_NODES, Bricks, EMPTY_MASK, Mask, NO_SLOT, SIDE, X_HIGH, X_LOW, Y_HIGH, Y_LOW, count,
-    is_empty,
+    BRICK_NODES, BrickValues, Bricks, EMPTY_MASK, Mask, NO_SLOT, SIDE, X_HIGH, X_LOW, Y_HIGH,
+    Y_LOW, brick_row, count, is_empty,
 };
 use crate::tagging::TagRule;
 
@@ -351,13 +351,6 @@ pub fn sparse_tag(
     }
 }
 
-/// Row `y` of plane `z` of a brick's values.
-#[inline(always)]
-fn row(values: &[f32], y: usize, z: usize) -> &[f32; SIDE] {
-    let at = SIDE * (y + SIDE * z);
-    values[at..at + SIDE].try_into().expect("a row of eight")
-}
-
 /// The ε shell (the ε fill less the far field) and what deciding it reads.
 ///
 /// Under the paper's rule a node's fate depends only on its farther
@@ -455,66 +448,60 @@ impl Shell<'_> {
         let bricks = self.bricks;
         let b = bricks.slot_coords(s);
         let faces = bricks.face_slots(s);
-        let inside = bricks.in_grid(b);
-        let d = &self.d[s * BRICK_NODES..(s + 1) * BRICK_NODES];
+        let brick = |s: usize| -> &BrickValues {
+            self.d[s * BRICK_NODES..(s + 1) * BRICK_NODES]
+                .try_into()
+                .expect("a brick")
+        };
+        let d = brick(s);
         let mut out = Slopes {
             farther: [EMPTY_MASK; 6],
             not_nearer: [EMPTY_MASK; 6],
             face: grid_faces(bricks, b),
         };
-        let dims = bricks.grid.dims;
         let far = [self.far; SIDE];
         for (dir, &other) in faces.iter().enumerate() {
             let (a, up) = (dir / 2, dir % 2 == 1);
             // The neighbour brick's values (an inactive one reads as the cap).
-            let theirs = (other != NO_SLOT)
-                .then(|| &self.d[other as usize * BRICK_NODES..(other as usize + 1) * BRICK_NODES]);
-            // Whether the node at brick coordinate `local` along `a` has its
-            // neighbour that way in the grid.
-            let has_neighbour = |local: usize| {
-                let g = b[a] * SIDE + local;
-                if up { g + 1 < dims[a] } else { g > 0 }
-            };
-            let x_valid =
-                (0..SIDE).fold(0u64, |m, x| m | u64::from(a != 0 || has_neighbour(x)) << x);
-            for z in 0..SIDE {
-                for y in 0..SIDE {
-                    let valid = match a {
-                        1 if !has_neighbour(y) => continue,
-                        2 if !has_neighbour(z) => continue,
-                        _ => x_valid,
-                    };
-                    let own = row(d, y, z);
-                    // The neighbours' row: along x the row shifted by one with
-                    // the end from the next brick, along y or z another row.
-                    let shifted: [f32; SIDE];
-                    let next = match (a, up) {
-                        (0, _) => {
-                            let edge = theirs
-                                .map_or(self.far, |t| row(t, y, z)[if up { 0 } else { SIDE - 1 }]);
-                            shifted = std::array::from_fn(|x| match (up, x) {
-                                (true, x) if x + 1 < SIDE => own[x + 1],
-                                (false, x) if x > 0 => own[x - 1],
-                                _ => edge,
-                            });
-                            &shifted
-                        }
-                        (1, true) if y + 1 < SIDE => row(d, y + 1, z),
-                        (1, false) if y > 0 => row(d, y - 1, z),
-                        (2, true) if z + 1 < SIDE => row(d, y, z + 1),
-                        (2, false) if z > 0 => row(d, y, z - 1),
-                        (1, _) => theirs.map_or(&far, |t| row(t, SIDE - 1 - y, z)),
-                        _ => theirs.map_or(&far, |t| row(t, y, SIDE - 1 - z)),
-                    };
-                    let (next, own) = (f32x8::new(*next), f32x8::new(*own));
-                    let far_bits = u64::from(next.simd_gt(own).to_bitmask());
-                    let ge_bits = u64::from(next.simd_ge(own).to_bitmask());
-                    out.farther[dir][z] |= (far_bits & valid) << (SIDE * y);
-                    out.not_nearer[dir][z] |= (ge_bits & valid) << (SIDE * y);
-                }
+            let theirs = (other != NO_SLOT).then(|| brick(other as usize));
+            // Row by row: the neighbours' row along x is the row shifted by
+            // one with the end from the next brick, along y or z another row.
+            for r in 0..SIDE * SIDE {
+                let (y, z) = (r % SIDE, r / SIDE);
+                let own = brick_row(d, r);
+                let shifted: [f32; SIDE];
+                let next = match (a, up) {
+                    (0, _) => {
+                        let end = if up { 0 } else { SIDE - 1 };
+                        let edge = theirs.map_or(self.far, |t| brick_row(t, r)[end]);
+                        shifted = std::array::from_fn(|x| match (up, x) {
+                            (true, x) if x + 1 < SIDE => own[x + 1],
+                            (false, x) if x > 0 => own[x - 1],
+                            _ => edge,
+                        });
+                        &shifted
+                    }
+                    (1, true) if y + 1 < SIDE => brick_row(d, r + 1),
+                    (1, false) if y > 0 => brick_row(d, r - 1),
+                    (2, true) if z + 1 < SIDE => brick_row(d, r + SIDE),
+                    (2, false) if z > 0 => brick_row(d, r - SIDE),
+                    // The row across the face, in the next brick.
+                    (1, _) => theirs.map_or(&far, |t| brick_row(t, r + SIDE - 1 - 2 * y)),
+                    _ => theirs.map_or(&far, |t| brick_row(t, y + SIDE * (SIDE - 1 - z))),
+                };
+                let (next, own) = (f32x8::new(*next), f32x8::new(*own));
+                let at = SIDE * y;
+                out.farther[dir][z] |= u64::from(next.simd_gt(own).to_bitmask()) << at;
+                out.not_nearer[dir][z] |= u64::from(next.simd_ge(own).to_bitmask()) << at;
             }
-            // Only nodes in the grid are decided.
-            for (w, &i) in inside.iter().enumerate() {
+            // Only nodes in the grid whose neighbour that way is in the grid
+            // too are decided.
+            let decided = if up {
+                bricks.within_upper(b, a)
+            } else {
+                bricks.within_lower(b, a)
+            };
+            for (w, &i) in decided.iter().enumerate() {
                 out.farther[dir][w] &= i;
                 out.not_nearer[dir][w] &= i;
             }
