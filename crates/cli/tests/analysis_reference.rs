@@ -2,21 +2,18 @@
 //! `tests/python/check_analysis.py` — surfaces of known Hurst exponent made by
 //! SurfaceTopography's `fourier_synthesis`, periodic and cropped, tilted, 256² to
 //! 2048², and line scans — run through the real binary. The checks and their
-//! tolerances are in the script's docstring.
+//! tolerances are in the script's docstring. Slow tier: `cargo test -- --ignored`.
 
 use std::process::Command;
 
-#[path = "../../../tests/python/python_env.rs"]
-mod python_env;
+use asperity_fixtures::{python::python, workspace};
 
 #[test]
+#[ignore = "slow tier: the SurfaceTopography battery, ~2 min (cargo test -- --ignored)"]
 fn analyze_agrees_with_surface_topography_and_recovers_known_exponents() {
-    if python_env::skipped() {
-        return;
-    }
     let dir = tempfile::tempdir().unwrap();
-    let script = python_env::workspace().join("tests/python/check_analysis.py");
-    let out = Command::new(python_env::python())
+    let script = workspace().join("tests/python/check_analysis.py");
+    let out = Command::new(python())
         .arg(&script)
         .arg(env!("CARGO_BIN_EXE_asperity"))
         .arg(dir.path())

@@ -2,35 +2,33 @@
 //! real (issue #24); `.ci/run` installs every one of them:
 //! - the Khronos glTF validator (npm `gltf-validator`, `tests/gltf`) on every
 //!   `.glb` that `asperity demo --quick` writes: no errors, warnings, infos or
-//!   hints. `npm ci` installs it into `tests/gltf` on first use. Set
-//!   `ASPERITY_SKIP_NODE=1` on a machine without Node.js;
+//!   hints. `npm ci` installs it into `tests/gltf` on first use;
 //! - Gwyddion (Debian's `gwyddion`; `--convert-to-gwy` needs no display) reads
 //!   asperity's `.gsf`, 16-bit `.png`, `.x3p` and `.gwy` height fields and the
 //!   demo's with the right sizes, extents, offsets, units and heights, and
 //!   asperity reads the `.gwy` files Gwyddion writes
-//!   (`tests/python/check_gwyddion.py`, read back with `gwyfile`). Set
-//!   `ASPERITY_SKIP_GWYDDION=1` on a machine without it;
+//!   (`tests/python/check_gwyddion.py`, read back with `gwyfile`);
 //! - `.x3p` both ways with SurfaceTopography and x3pio
 //!   (`tests/python/check_x3p.py`);
 //! - Blender (Debian's `blender`, headless) imports the demo's `.glb`, `.obj`,
 //!   `.ply` and `.stl` upright, with the planet's colours equal in `.glb`, `.obj`
-//!   and `.ply` and the cup's image texture (`tests/blender/check_import.py`). Set
-//!   `ASPERITY_SKIP_BLENDER=1` on a machine without it;
+//!   and `.ply` and the cup's image texture (`tests/blender/check_import.py`);
 //! - the gallery in headless Chromium (Debian's `chromium`, driven by npm
 //!   `playwright-core` in `tests/browser`) from `file://`: no console errors,
 //!   every image loaded, no horizontal overflow at 1280 and 390 px, every 3-D
 //!   view paints its mesh (`tests/browser/check_gallery.mjs`); screenshots in
-//!   `target/gallery-screenshots/`. Set `ASPERITY_SKIP_BROWSER=1` on a machine
-//!   without Chromium.
+//!   `target/gallery-screenshots/`. Slow tier (`cargo test -- --ignored`).
 //!
-//! CI never sets the skip variables.
+//! A check whose program is not on `PATH` is ignored with a line that names it
+//! (the build script's probe, `asperity_fixtures::programs`), unless `CI` or
+//! `ASPERITY_REQUIRE_ALL=1` is set: then it runs, and a missing program fails it.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-#[path = "../../../tests/python/python_env.rs"]
-mod python_env;
+use asperity_fixtures::programs::{BLENDER, CHROMIUM, GWYDDION, NODE, require};
+use asperity_fixtures::{python::python, workspace};
 
 /// `asperity demo --quick`, written once for every test here.
 fn demo() -> PathBuf {
@@ -48,14 +46,6 @@ fn demo() -> PathBuf {
     dir.path().join("g")
 }
 
-fn skipped(variable: &str) -> bool {
-    let skip = std::env::var_os(variable).is_some();
-    if skip {
-        eprintln!("skipped: {variable} is set");
-    }
-    skip
-}
-
 /// Runs `program args…`; asserts it passed and returns the number of `ok`
 /// lines it printed (the check scripts print `ok   what` or `FAIL what`).
 fn run_checks(program: &Path, args: &[&std::ffi::OsStr]) -> usize {
@@ -71,13 +61,14 @@ fn run_checks(program: &Path, args: &[&std::ffi::OsStr]) -> usize {
 }
 
 fn script(path: &str) -> PathBuf {
-    python_env::workspace().join(path)
+    workspace().join(path)
 }
 
 /// `tests/NAME`, with its npm packages installed (`npm ci`, the registry once).
 fn npm_package(name: &str, module: &str) -> PathBuf {
     let dir = script(&format!("tests/{name}"));
     if !dir.join("node_modules").join(module).exists() {
+        require(&NODE);
         let ok = Command::new("npm")
             .args(["ci", "--silent", "--no-audit", "--no-fund"])
             .current_dir(&dir)
@@ -92,10 +83,9 @@ fn npm_package(name: &str, module: &str) -> PathBuf {
 }
 
 #[test]
+#[cfg_attr(not(has_node), ignore = "needs node: apt-get install nodejs npm")]
 fn every_demo_glb_is_validator_clean() {
-    if skipped("ASPERITY_SKIP_NODE") {
-        return;
-    }
+    let node = require(&NODE);
     let dir = npm_package("gltf", "gltf-validator");
     let mut glbs: Vec<PathBuf> = std::fs::read_dir(demo())
         .unwrap()
@@ -108,7 +98,7 @@ fn every_demo_glb_is_validator_clean() {
     for want in ["surfca_voronoi_cup.glb", "subdiv_planet.glb", "torus.glb"] {
         assert!(names.iter().any(|n| *n == want), "{want} in {names:?}");
     }
-    let v = Command::new("node")
+    let v = Command::new(&node)
         .arg(dir.join("validate.mjs"))
         .args(&glbs)
         .output()
@@ -128,18 +118,12 @@ fn every_demo_glb_is_validator_clean() {
 }
 
 #[test]
+#[cfg_attr(not(has_gwyddion), ignore = "needs gwyddion: apt-get install gwyddion")]
 fn gwyddion_reads_our_height_fields_and_we_read_its_gwy() {
-    if python_env::skipped() || skipped("ASPERITY_SKIP_GWYDDION") {
-        return;
-    }
-    let found = Command::new("gwyddion").arg("--version").output().is_ok();
-    assert!(
-        found,
-        "gwyddion is not installed (apt-get install gwyddion), or set ASPERITY_SKIP_GWYDDION=1"
-    );
+    require(&GWYDDION);
     let work = tempfile::tempdir().unwrap();
     let checks = run_checks(
-        &python_env::python(),
+        &python(),
         &[
             script("tests/python/check_gwyddion.py").as_os_str(),
             env!("CARGO_BIN_EXE_asperity").as_ref(),
@@ -152,12 +136,9 @@ fn gwyddion_reads_our_height_fields_and_we_read_its_gwy() {
 
 #[test]
 fn x3p_round_trips_through_surface_topography_and_x3pio() {
-    if python_env::skipped() {
-        return;
-    }
     let work = tempfile::tempdir().unwrap();
     let checks = run_checks(
-        &python_env::python(),
+        &python(),
         &[
             script("tests/python/check_x3p.py").as_os_str(),
             env!("CARGO_BIN_EXE_asperity").as_ref(),
@@ -168,14 +149,12 @@ fn x3p_round_trips_through_surface_topography_and_x3pio() {
 }
 
 #[test]
+#[cfg_attr(
+    not(has_blender),
+    ignore = "needs blender: apt-get install blender python3-numpy"
+)]
 fn blender_imports_the_demo_meshes_upright_with_their_colours() {
-    if skipped("ASPERITY_SKIP_BLENDER") {
-        return;
-    }
-    assert!(
-        Command::new("blender").arg("--version").output().is_ok(),
-        "blender is not installed (apt-get install blender python3-numpy), or set ASPERITY_SKIP_BLENDER=1"
-    );
+    let blender = require(&BLENDER);
     let work = tempfile::tempdir().unwrap();
     let info = Command::new(env!("CARGO_BIN_EXE_asperity"))
         .args(["--quiet", "info", "--json"])
@@ -194,7 +173,7 @@ fn blender_imports_the_demo_meshes_upright_with_their_colours() {
         .unwrap();
     assert!(converted.success());
     let checks = run_checks(
-        Path::new("blender"),
+        &blender,
         &[
             "-b".as_ref(),
             "--factory-startup".as_ref(),
@@ -212,22 +191,24 @@ fn blender_imports_the_demo_meshes_upright_with_their_colours() {
 }
 
 #[test]
+#[cfg_attr(
+    all(has_node, has_chromium),
+    ignore = "slow tier: the gallery in headless Chromium, ~1 min (cargo test -- --ignored)"
+)]
+#[cfg_attr(
+    not(all(has_node, has_chromium)),
+    ignore = "needs chromium and node: apt-get install chromium nodejs npm"
+)]
 fn gallery_works_in_headless_chromium() {
-    if skipped("ASPERITY_SKIP_NODE") || skipped("ASPERITY_SKIP_BROWSER") {
-        return;
-    }
-    let chromium = Path::new("/usr/bin/chromium");
-    assert!(
-        chromium.exists(),
-        "chromium is not installed (apt-get install chromium), or set ASPERITY_SKIP_BROWSER=1"
-    );
+    let node = require(&NODE);
+    let chromium = require(&CHROMIUM);
     let dir = npm_package("browser", "playwright-core");
-    let shots = python_env::workspace().join("target/gallery-screenshots");
-    let out = Command::new("node")
+    let shots = workspace().join("target/gallery-screenshots");
+    let out = Command::new(&node)
         .arg(dir.join("check_gallery.mjs"))
         .arg(demo())
         .arg(&shots)
-        .arg(chromium)
+        .arg(&chromium)
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);

@@ -1,13 +1,11 @@
 //! Every writer read back by Python's reference readers: numpy, plyfile, trimesh,
 //! Pillow and OpenEXR (`tests/python/check_formats.py`).
 //!
-//! The interpreter: `tests/python/python_env.rs`.
+//! The interpreter: `asperity_fixtures::python`.
 
 use std::process::Command;
 
-#[path = "../../../../tests/python/python_env.rs"]
-mod python_env;
-use python_env::{python, workspace};
+use asperity_fixtures::{python::python, workspace};
 
 use asperity_io::{NpyDtype, PlyEncoding, WriteOptions};
 use serde_json::json;
@@ -16,9 +14,6 @@ use crate::fixtures::{flat3, height, octahedron, points, rich_mesh};
 
 #[test]
 fn python_reference_readers_accept_every_writer() {
-    if python_env::skipped() {
-        return;
-    }
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let h = height();

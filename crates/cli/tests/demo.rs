@@ -1,0 +1,196 @@
+//! `asperity demo`, the main job: the quick gallery is byte-identical at any
+//! thread count and its pictures are real; the full gallery (slow tier,
+//! `cargo test -- --ignored`) has every card of the quick one, every output
+//! it reports, and no warning.
+
+use std::collections::BTreeSet;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn asperity(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run asperity")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn demo_is_byte_identical_across_thread_counts() {
+    let d = tempfile::tempdir().unwrap();
+    for (threads, out) in [("1", "g1"), ("2", "g2")] {
+        let o = asperity(
+            &[
+                "--threads",
+                threads,
+                "--seed",
+                "11",
+                "demo",
+                "--quick",
+                "--out",
+                out,
+            ],
+            d.path(),
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let g1 = d.path().join("g1");
+    let mut names: Vec<_> = std::fs::read_dir(&g1)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert!(names.iter().any(|n| n == "index.html"));
+    assert!(names.len() >= 15, "{names:?}");
+    let viewer: Vec<_> = std::fs::read_dir(g1.join("viewer"))
+        .unwrap()
+        .map(|e| std::path::Path::new("viewer").join(e.unwrap().file_name()))
+        .collect();
+    assert!(viewer.len() > 10, "the 3-D views: {viewer:?}");
+    let files = names
+        .iter()
+        .map(std::path::PathBuf::from)
+        .filter(|n| n.as_os_str() != "viewer")
+        .chain(viewer);
+    for n in files {
+        if n.as_os_str() == "report.json" {
+            continue; // holds timings and the thread count
+        }
+        let a = std::fs::read(g1.join(&n)).unwrap();
+        let b = std::fs::read(d.path().join("g2").join(&n)).unwrap();
+        assert!(a == b, "{n:?} differs between 1 and 2 threads");
+    }
+    // A different seed gives a different surface.
+    let o = asperity(
+        &["--seed", "12", "demo", "--quick", "--out", "g3"],
+        d.path(),
+    );
+    assert!(o.status.success());
+    assert_ne!(
+        std::fs::read(g1.join("sample_height.npy")).unwrap(),
+        std::fs::read(d.path().join("g3/sample_height.npy")).unwrap()
+    );
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(g1.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["seed"], 11);
+    assert_eq!(report["threads"], 1);
+}
+
+#[test]
+fn demo_images_are_non_empty_and_non_uniform() {
+    let d = tempfile::tempdir().unwrap();
+    let o = asperity(&["demo", "--quick", "--out", "g"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let g = d.path().join("g");
+    let html = std::fs::read_to_string(g.join("index.html")).unwrap();
+    let mut pngs = 0;
+    for e in std::fs::read_dir(&g).unwrap() {
+        let p = e.unwrap().path();
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        if p.extension().is_some_and(|x| x == "png")
+            && !name.ends_with("_texture.png")
+            && name != "sample_height.png"
+        {
+            // Every picture is shown on the page…
+            assert!(
+                html.contains(&format!("src=\"{name}\"")),
+                "{name} is not on the page"
+            );
+            // …and is a real picture: PNGs read as heights are luminance in [0, 1].
+            let h = asperity_io::read_height(&p).unwrap();
+            let (lo, hi) = h.min_max();
+            assert!(
+                h.nx() >= 64 && h.ny() >= 64,
+                "{name}: {}×{}",
+                h.nx(),
+                h.ny()
+            );
+            assert!(hi - lo > 0.2, "{name} is nearly uniform ({lo}..{hi})");
+            let mean = h.mean();
+            let sd =
+                (h.data().iter().map(|v| (v - mean).powi(2)).sum::<f64>() / h.len() as f64).sqrt();
+            assert!(sd > 0.02, "{name}: contrast {sd}");
+            pngs += 1;
+        }
+    }
+    assert!(pngs >= 10, "{pngs} pictures");
+    for section in ["Foundation", "Renderer"] {
+        assert!(html.contains(section), "section {section}");
+    }
+    let svg = std::fs::read_to_string(g.join("plot_rock_curvature.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("<path") || svg.contains("<polyline"));
+}
+
+/// The files of a gallery with the level-set flow's step numbers taken out
+/// (the full demo saves later steps of the same flow).
+fn cards(gallery: &Path) -> BTreeSet<String> {
+    std::fs::read_dir(gallery)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .map(|name| match name.find("_step") {
+            Some(i) => {
+                let rest = name[i + 5..].trim_start_matches(|c: char| c.is_ascii_digit());
+                format!("{}_step{rest}", &name[..i])
+            }
+            None => name,
+        })
+        .collect()
+}
+
+#[test]
+#[ignore = "slow tier: the full demo, ~1 min (cargo test -- --ignored)"]
+fn full_demo_has_every_card_and_every_output_it_reports() {
+    let d = tempfile::tempdir().unwrap();
+    let o = asperity(&["--quiet", "demo", "--out", "full"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let full = d.path().join("full");
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(full.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["warnings"], serde_json::json!([]), "warnings");
+    let outputs = report["outputs"].as_array().unwrap();
+    assert!(outputs.len() >= 140, "{} outputs", outputs.len());
+    let html = std::fs::read_to_string(full.join("index.html")).unwrap();
+    for out in outputs {
+        // relative to where the command ran
+        let path = d.path().join(out["path"].as_str().unwrap());
+        let bytes = std::fs::metadata(&path)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+            .len();
+        assert!(bytes > 0, "{} is empty", path.display());
+        assert_eq!(Some(bytes), out["bytes"].as_u64(), "{}", path.display());
+        let name = path.file_name().unwrap().to_string_lossy();
+        if name.ends_with(".png") && !name.ends_with("_texture.png") && name != "sample_height.png"
+        {
+            assert!(
+                html.contains(&format!("src=\"{name}\"")),
+                "{name} is not on the page"
+            );
+        }
+    }
+    let sections = report["measurements"]["sections"].as_array().unwrap();
+    assert_eq!(sections.len(), 8, "{sections:?}");
+    for key in [
+        "peridier",
+        "kim-machiraju-thompson §4",
+        "kim-machiraju-thompson §5",
+        "poull-gentil",
+        "gobron-chiba",
+        "velho-perlin",
+    ] {
+        assert!(
+            sections.iter().any(|s| s.as_str().unwrap().contains(key)),
+            "{key} in {sections:?}"
+        );
+    }
+    let o = asperity(&["--quiet", "demo", "--quick", "--out", "quick"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        cards(&full),
+        cards(&d.path().join("quick")),
+        "the same cards"
+    );
+}
