@@ -8,6 +8,8 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 __version__: str
+DEFAULT_SEED: int
+SCHEMA_VERSION: int
 
 Progress = Optional[Callable[[int, int, str], None]]
 
@@ -17,9 +19,9 @@ def deposit(model: str, size: int, dim: int, layers: float, runs: int, relax: in
             alpha_sizes: Optional[List[int]], points: bool, substrate: str, radius: float,
             mesh: Any, resolution: int, seed: int, threads: Optional[int],
             progress: Progress) -> Dict[str, Any]: ...
-def dla(seed_shape: str, size: Optional[Tuple[int, int, int]], dim: int, particles: int,
-        stick: float, seed_radius: float, mesh: Any, resolution: int, image: Any,
-        seed_density: float, launch_gap: float, sides: str, seed: int, threads: Optional[int],
+def describe(job: str) -> str: ...
+def jobs() -> List[str]: ...
+def dla(params: str, mesh: Any, image: Any, threads: Optional[int],
         progress: Progress) -> Dict[str, Any]: ...
 def reconstruct(points: np.ndarray, level_set: Dict[str, Any], threads: Optional[int],
                 progress: Progress) -> Dict[str, Any]: ...

@@ -16,6 +16,7 @@ from typing import Any, Dict, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from . import _asperity
+from ._jobs import Job
 from ._run import call
 from .types import HeightField, Mesh, PointSet, _wrap
 
@@ -138,46 +139,24 @@ rdsr.__doc__ = _DEPOSIT_DOC.format(
 bd.__doc__ = _DEPOSIT_DOC.format(name="Ballistic deposition (BD)", cmd="bd", relax="")
 
 
-def dla(seed_shape: str = "point", size: Optional[Sequence[int]] = None, dim: int = 3,
-        particles: int = 20_000, stick: float = 1.0, seed_radius: float = 10.0,
-        mesh: Optional[Mesh] = None, resolution: int = 32, image: Optional[HeightField] = None,
-        seed_density: float = 0.02, launch_gap: float = 2.0, sides: str = "periodic",
-        seed: int = 7, threads: Optional[int] = None, progress=False) -> Result:
-    """Diffusion-limited aggregation (kim-machiraju-thompson §4.3).
-
-    Parameters (the CLI's ``growth dla`` flags):
-        seed_shape: "point", "plane", "sphere", "mesh" or "image".
-        size: lattice (nx, ny, nz) in cells (2-D: (nx, nz)); default from ``particles``.
-        dim: 2 or 3 (default 3).
-        particles: particles released (default 20000).
-        stick: sticking probability in (0, 1] (default 1).
-        seed_radius: radius in cells of a sphere seed (default 10).
-        mesh: a :class:`Mesh` seed, voxelised at ``resolution`` cells along its
-            longest axis (default 32).
-        image: a :class:`HeightField` whose bright columns seed a plane deposit,
-            a white column with probability ``seed_density`` (default 0.02).
-        launch_gap: cells between the cluster and the launch surface (default 2).
-        sides: "periodic" or "walls" for plane deposits (default periodic).
-
-    Returns a :class:`Result` with ``points`` (a :class:`PointSet`), ``warnings``,
-    ``measurements`` (R_g, D, ρ(z) as the CLI's JSON), ``radius_of_gyration`` and
-    ``dimension``.
-    """
-    if size is not None:
-        size = list(size)
-        if dim == 2 and len(size) == 2:
-            size = [size[0], 1, size[1]]
-        if len(size) == 1:
-            size = size * 3
-        if len(size) != 3:
-            raise ValueError(f"size {size}: expected (nx, ny, nz) (or (nx, nz) in 2-D)")
-    d = call(_asperity.dla, seed_shape, None if size is None else tuple(size), dim, particles, stick,
-             seed_radius, mesh, resolution, image, seed_density, launch_gap, sides, seed, threads,
-             progress=progress)
+def _dla_result(d: dict) -> Result:
     m = _parse(d["measurements"])
     return Result(points=PointSet._from(d["points"], d["title"]), warnings=d["warnings"],
                   measurements=m, radius_of_gyration=m.get("radius_of_gyration"),
                   dimension=m.get("fractal_dimension"))
+
+
+dla = Job(
+    "growth dla", _asperity.dla, _dla_result, name="dla",
+    summary="Diffusion-limited aggregation (kim-machiraju-thompson §4.2): the CLI's ``growth dla``.",
+    inputs=[("mesh", None, "a closed :class:`Mesh` seed for ``seed_shape='mesh'``, voxelised at "
+                           "``resolution`` cells along its longest axis."),
+            ("image", None, "a :class:`HeightField` whose bright columns seed a plane deposit "
+                            "(``seed_shape='image'``), with probability up to ``seed_density``.")],
+    returns="Returns a :class:`Result` with ``points`` (a :class:`PointSet`, seeds first, in "
+            "deposition order), ``warnings``, ``measurements`` (R_g, D, ρ(z) as the CLI's JSON), "
+            "``radius_of_gyration`` and ``dimension``.",
+).function()
 
 
 # ---------------------------------------------------------------- level sets

@@ -133,8 +133,9 @@ pub fn initial_grid(
                     "density must be in [0, 1], got {density}"
                 )));
             }
-            let [nx, ny] = size
-                .ok_or_else(|| CaError::BadInit("a random initial grid needs --size WxH".into()))?;
+            let [nx, ny] = size.ok_or_else(|| {
+                CaError::BadInit("a random initial grid needs ⟨size⟩ (WxH)".into())
+            })?;
             let mut g = Grid2::try_filled([nx, ny], 0u8, budget)?;
             let mut rng = seeded(*seed);
             for v in g.data_mut() {

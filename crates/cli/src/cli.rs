@@ -44,11 +44,21 @@ pub struct Cli {
     pub command: Command,
 }
 
+/// `--params FILE.json`, for the commands whose parameters are an engine job's.
+#[derive(Args, Debug, Clone, Default)]
+pub struct ParamsFile {
+    /// Take the parameters from a JSON file: the `params` of a `--json` report or of a
+    /// file's metadata (or any object of this command's parameters). Flags given as
+    /// well win, and the report says which.
+    #[arg(long = "params", value_name = "FILE.json")]
+    pub file: Option<PathBuf>,
+}
+
 /// Options every command accepts.
 #[derive(Args, Debug, Clone)]
 pub struct Global {
     /// Random seed; the same seed gives byte-identical output at any thread count.
-    #[arg(long, global = true, default_value_t = 7, value_name = "U64")]
+    #[arg(long, global = true, default_value_t = asperity_engine::params::DEFAULT_SEED, value_name = "U64")]
     pub seed: u64,
     /// Output file or directory (commands say which); the format follows the extension.
     /// `-o -` writes a single-file output to stdout, in the format named by --format.
@@ -814,63 +824,23 @@ pub struct DepositArgs {
     pub plot: Option<PathBuf>,
 }
 
-/// DLA seeds.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SeedShapeArg {
-    /// One cell at the lattice centre (the classic cluster).
-    Point,
-    /// The whole bottom plane (terrain; periodic in x and y).
-    Plane,
-    /// A solid ball of --seed-radius cells.
-    Sphere,
-    /// A closed mesh (--mesh) voxelised at --resolution.
-    Mesh,
-    /// Seeds on the bottom plane with density from an image's grey levels (--image).
-    Image,
-}
-
 /// `asperity growth dla`
 #[derive(Args, Debug)]
 pub struct DlaArgs {
-    /// Seed shape.
-    #[arg(long, value_enum, default_value_t = SeedShapeArg::Point)]
-    pub seed_shape: SeedShapeArg,
-    /// Lattice size NXxNYxNZ (2-D: NXxNZ); default: sized for --particles (radial) or 128x128x128 (plane).
-    #[arg(long, value_name = "NXxNYxNZ")]
-    pub size: Option<String>,
-    /// Lattice dimension: 3 (cubic, 6 neighbours) or 2 (square in the x–z plane, 4 neighbours).
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(2..=3))]
-    pub dim: u8,
-    /// Particles to deposit (seeds not counted).
-    #[arg(long, default_value_t = 20_000)]
-    pub particles: usize,
-    /// Sticking probability p in (0, 1]: 1 dendritic, small p moss-like.
-    #[arg(long, default_value_t = 1.0)]
-    pub stick: f64,
-    /// Radius of the sphere seed, in cells.
-    #[arg(long, default_value_t = 10.0)]
-    pub seed_radius: f64,
-    /// Closed mesh used as the seed.
+    #[command(flatten)]
+    pub params: asperity_engine::growth::dla::DlaParams,
+    /// Closed mesh used as the seed (`--seed-shape mesh`).
     #[arg(long, value_name = "FILE")]
     pub mesh: Option<PathBuf>,
-    /// Cells along the seed mesh's longest axis.
-    #[arg(long, default_value_t = 32)]
-    pub resolution: usize,
-    /// Image whose grey levels give the seed density on the bottom plane (PNG, EXR, npy, GSF …).
+    /// Image whose grey levels give the seed density on the bottom plane (`--seed-shape
+    /// image`; PNG, EXR, npy, GSF …).
     #[arg(long, value_name = "FILE")]
     pub image: Option<PathBuf>,
-    /// Seed probability of a white pixel's column (image seeds).
-    #[arg(long, default_value_t = 0.02)]
-    pub seed_density: f64,
-    /// Gap δ between the cluster and the launch sphere or plane, in cells.
-    #[arg(long, default_value_t = 2.0)]
-    pub launch_gap: f64,
-    /// Plane and image seeds: periodic x and y sides (sizes multiples of 8) or reflecting walls.
-    #[arg(long, value_enum, default_value_t = SidesArg::Periodic)]
-    pub sides: SidesArg,
     /// Write plots (SVG and PNG): R_g(n), and the density profile ρ(z) in plane modes.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity generate fbm`

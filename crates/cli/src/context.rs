@@ -2,18 +2,20 @@
 //! `--json`, `--quiet`), and [`Run`]: one command's files, report and
 //! progress bar.
 
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 use asperity_core::{
     HeightField, LengthUnit, MemoryBudget, PointSet, RgbaImage, TimeBudget, TriMesh,
 };
+use asperity_engine::params::{JobParams, field_names, parse, record};
 use asperity_engine::plots::NamedPlot;
 use asperity_engine::{Measurements, Report};
 use asperity_io::{Surface, UpAxis, WriteOptions};
 use asperity_render::plot::{plot_png, plot_svg};
 
-use crate::cli::{Global, MaxTime};
+use crate::cli::{Global, MaxTime, ParamsFile};
 use crate::progress::Bar;
 
 /// Settings shared by every command after parsing.
@@ -31,10 +33,23 @@ pub struct Context {
     pub units: (Option<LengthUnit>, Option<LengthUnit>),
     /// `--up`: the up axis of mesh and point files read and written.
     pub up: Option<UpAxis>,
+    /// The arguments given on the command line (clap ids: field names), so
+    /// that flags win over a `--params` file.
+    pub explicit: BTreeSet<String>,
+}
+
+/// A job's parameters as the command runs them.
+pub struct Resolved<P> {
+    /// The parameters: flags over a `--params` file over the engine's defaults.
+    pub params: P,
+    /// The seed: `--seed`, else the file's, else the default.
+    pub seed: u64,
+    /// The flags that replaced a value of the file.
+    pub overridden: Vec<String>,
 }
 
 impl Context {
-    pub fn new(g: &Global) -> anyhow::Result<Self> {
+    pub fn new(g: &Global, explicit: BTreeSet<String>) -> anyhow::Result<Self> {
         if let Some(n) = g.threads {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(n as usize)
@@ -63,6 +78,60 @@ impl Context {
                 .map(str::parse)
                 .transpose()
                 .map_err(anyhow::Error::msg)?,
+            explicit,
+        })
+    }
+
+    /// The parameters of a job: `flags` as parsed (the engine's defaults
+    /// where none was given), or, with `--params FILE`, the file's values with
+    /// the flags given on the command line over them.
+    pub fn job_params<P: JobParams>(
+        &self,
+        flags: P,
+        file: &ParamsFile,
+    ) -> anyhow::Result<Resolved<P>> {
+        let Some(path) = &file.file else {
+            return Ok(Resolved {
+                params: flags,
+                seed: self.seed,
+                overridden: Vec::new(),
+            });
+        };
+        let value = asperity_engine::params::read_file(path)?;
+        let from_file =
+            parse::<P>(&value).with_context(|| format!("reading {}", path.display()))?;
+        let mut merged = match serde_json::to_value(&from_file.params)? {
+            serde_json::Value::Object(m) => m,
+            _ => anyhow::bail!("the parameters of {} are not an object", P::JOB),
+        };
+        let given = serde_json::to_value(&flags)?;
+        let mut overridden = Vec::new();
+        for name in field_names::<P>() {
+            if self.explicit.contains(&name)
+                && let Some(v) = given.get(&name)
+            {
+                if merged.get(&name) != Some(v) {
+                    overridden.push(name.clone());
+                }
+                merged.insert(name, v.clone());
+            }
+        }
+        let params = parse::<P>(&serde_json::Value::Object(merged))?.params;
+        let seed = match from_file.seed {
+            Some(s) if !self.explicit.contains("seed") => s,
+            _ => self.seed,
+        };
+        for name in &overridden {
+            self.note(format!(
+                "{} from the command line replaces the value in {}",
+                asperity_core::wording::param(name),
+                path.display()
+            ));
+        }
+        Ok(Resolved {
+            params,
+            seed,
+            overridden,
         })
     }
 
@@ -86,11 +155,13 @@ impl Context {
         }
     }
 
-    /// `msg` with the private file behind `-o -` called what it is: stdout.
+    /// `msg` with the private file behind `-o -` called what it is (stdout)
+    /// and parameters named as flags.
     pub fn shown(&self, msg: &str) -> String {
+        let msg = asperity_core::wording::spell(msg, asperity_core::wording::Spelling::Cli);
         match (&self.format, &self.output) {
             (Some(_), Some(out)) => msg.replace(&out.display().to_string(), "stdout"),
-            _ => msg.to_owned(),
+            _ => msg,
         }
     }
 
@@ -260,6 +331,14 @@ impl<'a> Run<'a> {
             }
         }
         Ok(())
+    }
+
+    /// Records the parameters the job ran with (and the seed, which the
+    /// report states too).
+    pub fn params<P: JobParams>(&mut self, params: &P, seed: u64, overridden: Vec<String>) {
+        self.report.seed = seed;
+        self.report.params = Some(record(params, seed));
+        self.report.params_overridden = overridden;
     }
 
     /// Records measurements.

@@ -5,12 +5,11 @@ use std::path::Path;
 use asperity_engine::files::{is_points_path, load_height};
 use asperity_engine::growth::curved::{self, CurvedJob, Substrate};
 use asperity_engine::growth::deposition::{self, DepositionJob, width_csv};
-use asperity_engine::growth::dla::{self, DlaJob};
+use asperity_engine::growth::dla::{self, SeedInputs, SeedShape};
 use asperity_growth::Model;
-use asperity_growth::seeds::SeedSpec;
 use asperity_io::Format;
 
-use crate::cli::{DepositArgs, DlaArgs, GrowthCommand, SeedShapeArg, SubstrateArg};
+use crate::cli::{DepositArgs, DlaArgs, GrowthCommand, SubstrateArg};
 use crate::context::{Context, Run};
 
 pub fn run(ctx: &Context, c: GrowthCommand) -> anyhow::Result<()> {
@@ -130,52 +129,27 @@ pub fn parse_size(text: &str, dim: usize) -> anyhow::Result<[usize; 3]> {
     }
 }
 
-fn seed_spec(a: &DlaArgs, ctx: &Context) -> anyhow::Result<SeedSpec> {
-    Ok(match a.seed_shape {
-        SeedShapeArg::Point => SeedSpec::Point,
-        SeedShapeArg::Plane => SeedSpec::Plane,
-        SeedShapeArg::Sphere => SeedSpec::Sphere(a.seed_radius),
-        SeedShapeArg::Mesh => {
-            let path = a
-                .mesh
-                .as_ref()
-                .ok_or_else(|| anyhow::anyhow!("--seed-shape mesh needs --mesh FILE"))?;
-            SeedSpec::Mesh {
-                mesh: ctx.load_triangles(path)?,
-                resolution: a.resolution,
-            }
-        }
-        SeedShapeArg::Image => {
-            let path = a
-                .image
-                .as_ref()
-                .ok_or_else(|| anyhow::anyhow!("--seed-shape image needs --image FILE"))?;
-            SeedSpec::Image {
-                image: load_height(path, &ctx.budget)?,
-                density: a.seed_density,
-            }
-        }
-    })
-}
-
 fn grow_dla(ctx: &Context, a: &DlaArgs) -> anyhow::Result<()> {
     let out = ctx.output(OUTPUT)?;
     anyhow::ensure!(
         is_points_path(&out)?,
         "a DLA cluster is a point set: give -o with .ply, .xyz or .csv"
     );
-    let dim = a.dim as usize;
-    let job = DlaJob {
-        dim,
-        size: a.size.as_deref().map(|s| parse_size(s, dim)).transpose()?,
-        particles: a.particles,
-        stick: a.stick,
-        seed: seed_spec(a, ctx)?,
-        launch_gap: a.launch_gap,
-        sides: a.sides.into(),
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let p = &job.params;
+    let inputs = SeedInputs {
+        mesh: match (&a.mesh, p.seed_shape) {
+            (Some(path), SeedShape::Mesh) => Some(ctx.load_triangles(path)?),
+            _ => None,
+        },
+        image: match (&a.image, p.seed_shape) {
+            (Some(path), SeedShape::Image) => Some(load_height(path, &ctx.budget)?),
+            _ => None,
+        },
     };
     let mut run = Run::new(ctx, "growth dla");
-    let r = dla::grow(job, ctx.seed, &ctx.budget, &ctx.time, &ctx.bar())?;
+    let r = dla::grow(p, inputs, job.seed, &ctx.budget, &ctx.time, &ctx.bar())?;
+    run.params(&r.resolved, job.seed, job.overridden);
     for (kind, msg) in r.warnings() {
         run.warn(kind, msg);
     }

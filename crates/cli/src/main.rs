@@ -48,10 +48,12 @@ mod surfca_cmd;
 
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 
 fn main() -> ExitCode {
-    let mut args = cli::Cli::parse();
+    let matches = cli::Cli::command().get_matches();
+    let mut args = cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    let explicit = given_on_the_command_line(&matches);
     // `-o -`: the command writes into a private folder; the file goes to
     // stdout only once the command has succeeded.
     let stdout_dir = match stdout::redirect(&mut args.global) {
@@ -70,7 +72,7 @@ fn main() -> ExitCode {
     let outputs =
         (!matches!(args.command, cli::Command::Bench(_))).then(asperity_io::Transaction::begin);
     let quiet = args.global.quiet;
-    let result = run(args)
+    let result = run(args, explicit)
         .and_then(|()| match outputs {
             Some(tx) => Ok(tx.commit()?),
             None => Ok(()),
@@ -103,7 +105,8 @@ fn main() -> ExitCode {
 }
 
 /// The error and its causes on one line, each cause once: a cause whose text
-/// the message already holds (errors that print their source) is not repeated.
+/// the message already holds (errors that print their source) is not repeated;
+/// parameters named as flags.
 fn message(err: &anyhow::Error) -> String {
     let mut msg = err.to_string();
     for cause in err.chain().skip(1) {
@@ -112,11 +115,27 @@ fn message(err: &anyhow::Error) -> String {
             msg = format!("{msg}: {c}");
         }
     }
-    msg
+    asperity_core::wording::spell(&msg, asperity_core::wording::Spelling::Cli)
 }
 
-fn run(args: cli::Cli) -> anyhow::Result<()> {
-    let ctx = context::Context::new(&args.global)?;
+/// The ids (field names) of every argument given on the command line, at any
+/// level of subcommands.
+fn given_on_the_command_line(matches: &clap::ArgMatches) -> std::collections::BTreeSet<String> {
+    let mut given = std::collections::BTreeSet::new();
+    let mut level = Some(matches);
+    while let Some(m) = level {
+        for id in m.ids() {
+            if m.value_source(id.as_str()) == Some(clap::parser::ValueSource::CommandLine) {
+                given.insert(id.as_str().to_owned());
+            }
+        }
+        level = m.subcommand().map(|(_, sub)| sub);
+    }
+    given
+}
+
+fn run(args: cli::Cli, explicit: std::collections::BTreeSet<String>) -> anyhow::Result<()> {
+    let ctx = context::Context::new(&args.global, explicit)?;
     match args.command {
         cli::Command::Demo(a) => demo::run(&ctx, &a),
         cli::Command::Convert(a) => convert::run(&ctx, &a),

@@ -68,9 +68,10 @@ pub enum CoreError {
     Empty(&'static str),
     /// An allocation would exceed the memory budget.
     #[error(
-        "{what} would need about {} but the memory limit is {} (raise it with --max-memory)",
+        "{what} would need about {} but the memory limit is {} (raise it with {})",
         crate::memory::format_bytes(*needed),
-        crate::memory::format_bytes(*limit)
+        crate::memory::format_bytes(*limit),
+        crate::wording::param("max_memory")
     )]
     MemoryLimit {
         /// What was about to be allocated.
@@ -82,9 +83,10 @@ pub enum CoreError {
     },
     /// A run would take longer than the time budget.
     #[error(
-        "{what} would take at least {} ({detail}), over the time limit of {} (lower the counts, or raise --max-time if you mean it)",
+        "{what} would take at least {} ({detail}), over the time limit of {} (lower the counts, or raise {} if you mean it)",
         crate::time_budget::format_seconds(*seconds),
-        crate::time_budget::format_seconds(*limit_s)
+        crate::time_budget::format_seconds(*limit_s),
+        crate::wording::param("max_time")
     )]
     TimeLimit {
         /// What was about to run.

@@ -15,6 +15,7 @@
 //! | [`memory_hints`] | software prefetch (no change to values) | level set, DLA |
 //! | [`progress`] | [`Progress`]: progress reporting without a UI dependency | long-running methods |
 //! | [`error`] | [`CoreError`]: typed errors with numbers in their messages | everything |
+//! | [`wording`] | parameters named in messages, spelled by each front end (`--max-memory`, `max_memory=`) | every error that names a parameter |
 //! | [`shapes`] | built-in meshes (icosphere) | demo, tests |
 //! | [`voxelize`] | Solid voxelisation of a closed mesh | growth substrates |
 //! | [`fourier_surface`] | Reference self-affine surface with a known spectrum | demo, analysis tests, benchmarks |
@@ -69,6 +70,7 @@ pub mod tri_mesh;
 pub mod units;
 pub mod vec3;
 pub mod voxelize;
+pub mod wording;
 
 #[cfg(feature = "proptest")]
 pub mod strategies;

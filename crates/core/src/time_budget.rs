@@ -212,7 +212,7 @@ mod tests {
         let w = Work::new("the corrosion", 1.8447e19 * 1e5, "cell updates", 1e9);
         let e = b.check(&w).unwrap_err().to_string();
         assert!(
-            e.contains("the corrosion") && e.contains("years") && e.contains("--max-time"),
+            e.contains("the corrosion") && e.contains("years") && e.contains("⟨max_time⟩"),
             "{e}"
         );
         assert!(

@@ -150,7 +150,7 @@ fn parse_options(o: &AnalyzeOptions) -> Result<(Option<level::Level>, Window)> {
             w[0].is_finite() && w[1].is_finite() && w[0] > 0.0 && w[1] > w[0],
             || {
                 format!(
-                    "--fit-window takes QMIN,QMAX with 0 < QMIN < QMAX, got {:?}",
+                    "⟨fit_window⟩ takes QMIN,QMAX with 0 < QMIN < QMAX, got {:?}",
                     w.to_vec()
                 )
             },

@@ -138,7 +138,7 @@ pub fn run(
     ensure(
         !(boundary == Boundary::Infinite && job.size.is_some() && seeded),
         || {
-            "--boundary infinite takes its region from the pattern; drop --size (or use --boundary cyclic)".into()
+            "⟨boundary=infinite⟩ takes its region from the pattern; drop ⟨size⟩ (or use ⟨boundary=cyclic⟩)".into()
         },
     )?;
     let params = CaParams {
@@ -274,7 +274,7 @@ pub fn gallery_image(
     })?;
     ensure(
         (1..=16384).contains(&tw) && (1..=16384).contains(&th),
-        || format!("--tile must be 1..=16384 pixels a side, got {tw}x{th}"),
+        || format!("⟨tile⟩ must be 1..=16384 pixels a side, got {tw}x{th}"),
     )?;
     let tiles = f64::from(rows) * f64::from(cols);
     let mut work = estimate::ca(g.size[0] as f64 * g.size[1] as f64, g.steps as f64 * tiles);
@@ -343,7 +343,7 @@ pub fn facets(h: &HeightField, job: &FacetJob) -> Result<(TriMesh, Vec<Vec<[f64;
     let mut curves = Vec::new();
     if let Some(c) = job.circle {
         ensure(c.iter().all(|v| v.is_finite()), || {
-            format!("--circle takes CX,CY,R, got {:?}", c.to_vec())
+            format!("⟨circle⟩ takes CX,CY,R, got {:?}", c.to_vec())
         })?;
         ensure(c[2] > 0.0, || "circle radius must be positive".into())?;
         curves.push(drape(h, &circle(c[0], c[1], c[2], 180))?);

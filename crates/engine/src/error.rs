@@ -18,6 +18,10 @@ pub enum EngineError {
     /// A parameter or an input the job cannot use; the message says which and why.
     #[error("{0}")]
     Invalid(String),
+    /// A parameter the job does not have, or a value of the wrong type (a
+    /// front end's `TypeError`); the message names it.
+    #[error("{0}")]
+    Type(String),
     /// A shared-type error: invalid geometry, a size, the memory budget.
     #[error(transparent)]
     Core(#[from] CoreError),
@@ -47,6 +51,8 @@ pub enum EngineError {
 pub enum ErrorKind {
     /// Bad parameters or input data: the caller can fix the request.
     Invalid,
+    /// A parameter the job does not have, or a value of the wrong type.
+    Type,
     /// The operating system refused a file operation.
     Os,
     /// The job would exceed the memory budget.
@@ -58,8 +64,10 @@ pub enum ErrorKind {
 impl EngineError {
     /// The kind of failure.
     pub fn kind(&self) -> ErrorKind {
-        if let EngineError::File(IoError::Os { .. }) = self {
-            return ErrorKind::Os;
+        match self {
+            EngineError::File(IoError::Os { .. }) => return ErrorKind::Os,
+            EngineError::Type(_) => return ErrorKind::Type,
+            _ => {}
         }
         match self.core() {
             Some(CoreError::MemoryLimit { .. }) => ErrorKind::Memory,

@@ -142,7 +142,7 @@ mod tests {
         assert!(check(&day, &ca(8192.0 * 8192.0, 256.0)).is_ok());
         assert!(check(&day, &surface_ca(220_000.0, 950.0)).is_ok());
         assert!(check(&day, &dla(1e7)).is_ok());
-        assert!(check_file_count(500, "--frames").is_ok());
-        assert!(check_file_count(1 << 40, "--frames").is_err());
+        assert!(check_file_count(500, "⟨frames⟩").is_ok());
+        assert!(check_file_count(1 << 40, "⟨frames⟩").is_err());
     }
 }

@@ -63,7 +63,7 @@ pub fn load(spec: &ModelSpec) -> Result<Loaded> {
         (Some(name), _) => (name.clone(), preset(name, p)?),
         (None, Some(path)) => {
             ensure(*p == PresetParams::default(), || {
-                "--w, --degree and --height apply to presets; edit the model file instead".into()
+                "⟨w⟩, ⟨degree⟩ and ⟨height⟩ apply to presets; edit the model file instead".into()
             })?;
             let f = ModelFile::from_json(&read_text(path)?)
                 .map_err(|e| invalid(format!("{}: {e}", path.display())))?;
@@ -72,13 +72,13 @@ pub fn load(spec: &ModelSpec) -> Result<Loaded> {
         (None, None) => match &spec.json {
             Some(text) => {
                 ensure(*p == PresetParams::default(), || {
-                    "--w, --degree and --height apply to presets; edit the model file instead"
+                    "⟨w⟩, ⟨degree⟩ and ⟨height⟩ apply to presets; edit the model file instead"
                         .into()
                 })?;
                 let f = ModelFile::from_json(text).map_err(|e| invalid(format!("model: {e}")))?;
                 (f.name.clone(), f)
             }
-            None => return Err(invalid("give --preset NAME or --ifs FILE")),
+            None => return Err(invalid("give ⟨preset⟩ or ⟨ifs⟩")),
         },
     };
     let mut model = file
@@ -233,36 +233,36 @@ fn apply_control(model: Model, v: &Value, path: &Path) -> Result<Model> {
 fn apply_move(model: &mut Model, spec: &str) -> Result<()> {
     let (idx, to) = spec
         .split_once('=')
-        .ok_or_else(|| invalid(format!("--move {spec:?}: expected I=x,y[,z] or I,J=x,y,z")))?;
+        .ok_or_else(|| invalid(format!("⟨move⟩ {spec:?}: expected I=x,y[,z] or I,J=x,y,z")))?;
     let idx: Vec<usize> = idx
         .split(',')
         .map(|x| {
             x.trim()
                 .parse()
-                .map_err(|_| invalid(format!("--move {spec:?}: {x:?} is not an index")))
+                .map_err(|_| invalid(format!("⟨move⟩ {spec:?}: {x:?} is not an index")))
         })
         .collect::<Result<_>>()?;
-    let v = parse_numbers(to, &format!("--move {spec:?}"))?;
+    let v = parse_numbers(to, &format!("⟨move⟩ {spec:?}"))?;
     ensure((2..=3).contains(&v.len()), || {
-        format!("--move {spec:?}: a point has 2 or 3 coordinates")
+        format!("⟨move⟩ {spec:?}: a point has 2 or 3 coordinates")
     })?;
     let p = [v[0], v[1], v.get(2).copied().unwrap_or(0.0)];
     match (model, idx.as_slice()) {
         (Model::Curve(c), [i]) => c.move_point(*i, p)?,
         (Model::Surface(s), [a, b]) => {
             ensure(v.len() == 3, || {
-                format!("--move {spec:?}: surface points are x,y,z")
+                format!("⟨move⟩ {spec:?}: surface points are x,y,z")
             })?;
             s.move_point(*a, *b, p)?;
         }
         (Model::Curve(_), _) => {
             return Err(invalid(format!(
-                "--move {spec:?}: a curve point is I=x,y[,z]"
+                "⟨move⟩ {spec:?}: a curve point is I=x,y[,z]"
             )));
         }
         (Model::Surface(_), _) => {
             return Err(invalid(format!(
-                "--move {spec:?}: a surface point is I,J=x,y,z"
+                "⟨move⟩ {spec:?}: a surface point is I,J=x,y,z"
             )));
         }
     }
@@ -549,7 +549,7 @@ pub fn curvature_report(l: &Loaded, at: &[String]) -> Result<CurvatureReport> {
                 .iter()
                 .map(|s| {
                     let s: f64 = s.trim().parse().map_err(|_| {
-                        invalid(format!("--at {s:?}: a curve point is one parameter S"))
+                        invalid(format!("⟨at⟩ {s:?}: a curve point is one parameter S"))
                     })?;
                     Ok(curve_at(c, &an, s)?)
                 })
@@ -565,7 +565,7 @@ pub fn curvature_report(l: &Loaded, at: &[String]) -> Result<CurvatureReport> {
             let pts = at
                 .iter()
                 .map(|v| {
-                    let (u, w): (f64, f64) = pair(v, "--at")?;
+                    let (u, w): (f64, f64) = pair(v, "⟨at⟩")?;
                     Ok(surface_at(s, &an_s, &an_t, u, w)?)
                 })
                 .collect::<Result<_>>()?;
@@ -629,7 +629,7 @@ pub fn dcf_for(
     start: Option<Start>,
     samples: usize,
 ) -> Result<DcfCurve> {
-    ensure(i < 2, || format!("--operator {i}: the operator is 0 or 1"))?;
+    ensure(i < 2, || format!("⟨operator={i}⟩: the operator is 0 or 1"))?;
     let an = DirectionAnalysis::new(&c.pifs, opts);
     let op = &an.operators[i];
     let q = start_point(

@@ -18,6 +18,7 @@
 //! | [`render`] | turntable views and surface bounds | gobron-chiba light model |
 //! | [`estimate`] | run-time estimates of the long jobs, checked before they start | — |
 //! | [`workloads`] | the benchmark workloads the issues name | — |
+//! | [`params`] | every job's parameters: schema, validation, records (`params`), parsing | — |
 //! | [`report`] | what a job wrote and measured | — |
 //!
 //! Errors are [`EngineError`]s, with a kind ([`ErrorKind`]) a front end maps to
@@ -31,6 +32,7 @@ pub mod estimate;
 pub mod files;
 pub mod growth;
 pub mod ifs;
+pub mod params;
 pub mod plots;
 pub mod reconstruct;
 pub mod render;

@@ -5,7 +5,7 @@
 use asperity_core::{MemoryBudget, Progress, TimeBudget, Topology, TriMesh};
 use asperity_growth::Model;
 use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
-use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla};
+use asperity_growth::dla::{DlaParams, SeedShape, dla};
 use asperity_levelset::{
     Band, DistanceMethod, ExtractOptions, FlowChoice, Length, Neighbourhood, ReconstructParams,
     Reconstruction, Scheme, Sizing, TagRule, reconstruct,
@@ -13,6 +13,7 @@ use asperity_levelset::{
 use serde_json::json;
 
 use crate::error::{Result, invalid};
+use crate::growth::dla::Sides;
 use crate::report::Measurements;
 
 /// The settings a command uses for what the user does not give.
@@ -282,7 +283,7 @@ pub fn surface(
     on_snapshot: &mut dyn FnMut(usize, TriMesh),
 ) -> Result<Reconstruction> {
     if save_every == Some(0) {
-        return Err(invalid("--save-every needs K ≥ 1"));
+        return Err(invalid("⟨save_every⟩ needs K ≥ 1"));
     }
     params.validate()?;
     let params = &ReconstructParams {
@@ -296,7 +297,7 @@ pub fn surface(
         &crate::estimate::level_set(grid.len() as f64, iterations),
     )?;
     if let Some(k) = save_every {
-        crate::estimate::check_file_count(params.iterations as u64 / k as u64 + 1, "--save-every")?;
+        crate::estimate::check_file_count(params.iterations as u64 / k as u64 + 1, "⟨save_every⟩")?;
     }
     let rec = reconstruct(points, params, budget, progress, &mut |step, ls| {
         let Some(k) = save_every else { return };
@@ -310,7 +311,7 @@ pub fn surface(
     })?;
     if rec.mesh.n_faces() == 0 {
         return Err(invalid(
-            "the reconstruction is empty: the offset surface vanished (try a smaller --offset or more points)",
+            "the reconstruction is empty: the offset surface vanished (try a smaller ⟨offset⟩ or more points)",
         ));
     }
     Ok(rec)
@@ -435,7 +436,7 @@ pub fn dla_terrain(
         stick,
         seed_shape: SeedShape::Plane,
         launch_gap: 2.0,
-        sides,
+        sides: sides.into(),
     };
     let cluster = dla(&params, seed, 0, budget, progress)?;
     let mut facts = Measurements::new();
@@ -445,11 +446,11 @@ pub fn dla_terrain(
     // The same words as `growth dla` (#22: only that command said it).
     let capped = cluster.capped_at.map(|k| {
         format!(
-            "the deposit reached the lattice top after {k} particles; later particles were released from the top layer (a taller --size keeps the growth free)"
+            "the deposit reached the lattice top after {k} particles; later particles were released from the top layer (a taller ⟨size⟩ keeps the growth free)"
         )
     });
     let cut = (sides == Sides::Periodic).then(|| {
-        "the deposit grew with periodic sides and is one cluster only across the wrap; the reconstruction is bounded, so the terrain falls into pieces at the sides (--sides walls keeps it in one piece)".to_string()
+        "the deposit grew with periodic sides and is one cluster only across the wrap; the reconstruction is bounded, so the terrain falls into pieces at the sides (⟨sides=walls⟩ keeps it in one piece)".to_string()
     });
     facts.set("sides", sides);
     Ok(Grown {

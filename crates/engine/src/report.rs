@@ -38,6 +38,13 @@ pub struct Report {
     pub measurements: Map<String, Value>,
     /// Warnings, in order.
     pub warnings: Vec<String>,
+    /// The job's parameters as [`crate::params::record`] writes them: with
+    /// them, `--params` (or Python's `**params`) runs the job again.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub params: Option<Value>,
+    /// Parameters given as flags over those of a `--params` file.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub params_overridden: Vec<String>,
     #[serde(skip)]
     started: Option<Instant>,
 }
@@ -54,6 +61,8 @@ impl Report {
             outputs: Vec::new(),
             measurements: Map::new(),
             warnings: Vec::new(),
+            params: None,
+            params_overridden: Vec::new(),
             started: Some(Instant::now()),
         }
     }

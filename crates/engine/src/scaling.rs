@@ -168,7 +168,7 @@ pub fn series(name: &str) -> Result<&'static Series> {
     SERIES.iter().find(|s| s.name == name).ok_or_else(|| {
         let names: Vec<_> = SERIES.iter().map(|s| s.name).collect();
         invalid(format!(
-            "--scaling {name:?}: no such method ({}, or all)",
+            "⟨scaling⟩ {name:?}: no such method ({}, or all)",
             names.join(", ")
         ))
     })

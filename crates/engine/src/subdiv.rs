@@ -184,7 +184,7 @@ impl Session {
 
 fn scene_at(source: &Source, seed: u64, limit: bool, t: f64) -> Result<Scene> {
     ensure((0.0..=1.0).contains(&t), || {
-        format!("--time {t} is outside [0, 1]")
+        format!("⟨time={t}⟩ is outside [0, 1]")
     })?;
     match source {
         Source::Scene { path, text } => {

@@ -346,7 +346,7 @@ impl App {
     pub fn voronoi(sites: Vec<usize>, p: Option<f64>, max_steps: u64) -> Result<Self> {
         let diagonal_p = p.unwrap_or(PAPER_P);
         ensure((0.0..=1.0).contains(&diagonal_p), || {
-            format!("--diagonal-p must be in [0, 1], got {diagonal_p}")
+            format!("⟨diagonal_p⟩ must be in [0, 1], got {diagonal_p}")
         })?;
         Ok(App::Voronoi {
             sites,
@@ -360,10 +360,10 @@ impl App {
     /// # Errors
     /// [`crate::EngineError::Invalid`] for no site or more sites than cells.
     pub fn random_sites(cells: &Cells, n: usize, seed: u64) -> Result<Vec<usize>> {
-        ensure(n >= 1, || "--sites must be at least 1".into())?;
+        ensure(n >= 1, || "⟨sites⟩ must be at least 1".into())?;
         ensure(n <= cells.len(), || {
             format!(
-                "--sites {n} exceeds the {} cells; use more cells",
+                "⟨sites={n}⟩ exceeds the {} cells; use more cells",
                 cells.len()
             )
         })?;
@@ -425,7 +425,7 @@ impl App {
         };
         rule.validate()
             .map_err(|e| invalid(format!("gray-scott: {e}")))?;
-        ensure(patches >= 1, || "--patches must be at least 1".into())?;
+        ensure(patches >= 1, || "⟨patches⟩ must be at least 1".into())?;
         Ok(App::GrayScott {
             rule,
             patches,
@@ -633,9 +633,9 @@ impl AppRun {
         let field = self.state.field();
         if let Some(k) = shape.displace {
             let (_, values) = field.as_ref().ok_or_else(|| {
-                invalid("--displace needs a per-cell thickness (corrosion: oxide; gray-scott: activator)")
+                invalid("⟨displace⟩ needs a per-cell thickness (corrosion: oxide; gray-scott: activator)")
             })?;
-            ensure(k.is_finite(), || "--displace must be finite".into())?;
+            ensure(k.is_finite(), || "⟨displace⟩ must be finite".into())?;
             return Ok(asperity_surfca::atlas::cell_mesh(
                 mesh,
                 cells,
@@ -671,7 +671,7 @@ impl AppRun {
     /// [`crate::EngineError::Invalid`] for another application.
     pub fn labels(&self, cov: &Covered) -> Result<PointSet> {
         let State::Labels(labels) = &self.state else {
-            return Err(invalid("labels exist for --app voronoi only"));
+            return Err(invalid("labels exist for ⟨app=voronoi⟩ only"));
         };
         let mut ps = PointSet::new(cov.cells.centre.clone());
         ps.add_attribute(

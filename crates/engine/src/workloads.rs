@@ -698,14 +698,15 @@ fn levelset_plane(
     } else {
         (lattice, particles, res)
     };
-    let job = crate::growth::dla::DlaJob {
-        size: Some(lattice),
+    let job = crate::growth::dla::DlaParams {
+        size: Some(crate::params::LatticeSize::new(&lattice)?),
         particles,
-        seed: asperity_growth::seeds::SeedSpec::Plane,
+        seed_shape: crate::growth::dla::SeedShape::Plane,
         ..Default::default()
     };
     let grown = crate::growth::dla::grow(
-        job,
+        &job,
+        Default::default(),
         7,
         &s.budget,
         &asperity_core::TimeBudget::unlimited(),

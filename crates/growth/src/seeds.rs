@@ -64,7 +64,7 @@ pub fn density_from_image(
 ) -> Result<Vec<f64>, GrowthError> {
     if !(density > 0.0 && density <= 1.0) {
         return Err(bad(format!(
-            "--seed-density must be in (0, 1], got {density}"
+            "⟨seed_density⟩ must be in (0, 1], got {density}"
         )));
     }
     let (lo, hi) = image.min_max();
@@ -100,7 +100,7 @@ pub fn cells_from_mesh(
     let shift = [0, 1, 2].map(|k| ((size[k] as i64 - vox.dims[k] as i64) / 2) as i32);
     if shift.iter().any(|&s| s < 2) {
         return Err(GrowthError::Capacity(format!(
-            "the voxelised mesh ({:?} cells) does not fit the {}x{}x{} lattice; raise --size or lower --resolution",
+            "the voxelised mesh ({:?} cells) does not fit the {}x{}x{} lattice; raise ⟨size⟩ or lower ⟨resolution⟩",
             vox.dims, size[0], size[1], size[2]
         )));
     }
@@ -224,7 +224,7 @@ impl SeedSpec {
             )?)),
             SeedSpec::Mesh { mesh, resolution } => {
                 if dim != 3 {
-                    return Err(bad("a mesh seed needs --dim 3"));
+                    return Err(bad("a mesh seed needs ⟨dim=3⟩"));
                 }
                 let (cells, frame) = cells_from_mesh(&mesh, resolution, size, budget)?;
                 Ok((SeedShape::Cells(cells), frame))

@@ -201,15 +201,15 @@ const PRESETS: &[(&str, &str)] = &[
     ),
     (
         "bezier",
-        "Bézier curve of degree --degree (default 3) on an arc",
+        "Bézier curve of degree ⟨degree⟩ (default 3) on an arc",
     ),
     (
         "takagi-landsberg",
-        "Takagi–Landsberg curve y = Σ wⁿ dist(2ⁿx, ℤ) (--w, default 1/√2: a finite curvature range)",
+        "Takagi–Landsberg curve y = Σ wⁿ dist(2ⁿx, ℤ) (⟨w⟩, default 1/√2: a finite curvature range)",
     ),
     (
         "takagi-square",
-        "Takagi–Landsberg curve as a 4-point P-IFS over the square (0,0),(0,1),(1,1),(1,0), as in the paper's Figs. 2–3 (--w); moving (1,1) bends it",
+        "Takagi–Landsberg curve as a 4-point P-IFS over the square (0,0),(0,1),(1,1),(1,0), as in the paper's Figs. 2–3 (⟨w⟩); moving (1,1) bends it",
     ),
     (
         "bezier-bicubic",
@@ -217,11 +217,11 @@ const PRESETS: &[(&str, &str)] = &[
     ),
     (
         "takagi-landsberg-surface",
-        "Takagi ⊗ Takagi surface z = h(T_w(s) + T_w(t)), slightly sheared (paper Figs. 1 and 4; --w, --height)",
+        "Takagi ⊗ Takagi surface z = h(T_w(s) + T_w(t)), slightly sheared (paper Figs. 1 and 4; ⟨w⟩, ⟨height⟩)",
     ),
     (
         "bezier-takagi",
-        "smooth along s (cubic Bézier), rough along t (Takagi, --w): one surface, two roughness orders",
+        "smooth along s (cubic Bézier), rough along t (Takagi, ⟨w⟩): one surface, two roughness orders",
     ),
 ];
 
@@ -400,13 +400,13 @@ fn check_preset(name: &str, p: &PresetParams) -> Result<Checked> {
     if p.w.is_some() && !takes_w {
         return Err(invalid(
             "w",
-            format!("preset {name} has no roughness parameter (--w applies to the takagi presets)"),
+            format!("preset {name} has no roughness parameter (⟨w⟩ applies to the takagi presets)"),
         ));
     }
     if p.degree.is_some() && name != "bezier" {
         return Err(invalid(
             "degree",
-            format!("preset {name} has a fixed degree (--degree applies to `bezier`)"),
+            format!("preset {name} has a fixed degree (⟨degree⟩ applies to `bezier`)"),
         ));
     }
     let surface = matches!(

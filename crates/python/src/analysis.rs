@@ -39,7 +39,7 @@ pub fn analyze<'py>(
     })?;
     let out = PyDict::new(py);
     out.set_item("measurements", json(&r.facts)?)?;
-    out.set_item("warnings", r.warnings)?;
+    out.set_item("warnings", crate::spelled_all(r.warnings))?;
     Ok(out)
 }
 

@@ -3,10 +3,8 @@
 
 use asperity_engine::growth::curved::{self, CurvedJob, Substrate};
 use asperity_engine::growth::deposition::{self, DepositionJob};
-use asperity_engine::growth::dla::{self as engine_dla, DlaJob};
+use asperity_engine::growth::dla::{self as engine_dla, DlaParams, SeedInputs, SeedShape};
 use asperity_growth::Model;
-use asperity_growth::dla::Sides;
-use asperity_growth::seeds::SeedSpec;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -103,64 +101,34 @@ pub fn deposit<'py>(
     Ok(out)
 }
 
-/// Diffusion-limited aggregation; returns a dict with `points`, `title`,
-/// `warnings` and `measurements`.
+/// Diffusion-limited aggregation (`growth dla`) with the parameters and seed
+/// of `params` (JSON, the engine's `DlaParams`) and the seed's inputs; returns
+/// a dict with `points`, `title`, `warnings`, `measurements` and `params`
+/// (JSON texts).
 #[pyfunction]
-#[pyo3(signature = (seed_shape, size, dim, particles, stick, seed_radius, mesh, resolution,
-    image, seed_density, launch_gap, sides, seed, threads, progress))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (params, mesh, image, threads, progress))]
 pub fn dla<'py>(
     py: Python<'py>,
-    seed_shape: &str,
-    size: Option<[usize; 3]>,
-    dim: usize,
-    particles: usize,
-    stick: f64,
-    seed_radius: f64,
+    params: &str,
     mesh: Option<Bound<'py, PyAny>>,
-    resolution: usize,
     image: Option<Bound<'py, PyAny>>,
-    seed_density: f64,
-    launch_gap: f64,
-    sides: &str,
-    seed: u64,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let shapes = ["point", "plane", "sphere", "mesh", "image"];
-    let seed_spec = match choice(seed_shape, &shapes, "seed_shape")? {
-        "point" => SeedSpec::Point,
-        "plane" => SeedSpec::Plane,
-        "sphere" => SeedSpec::Sphere(seed_radius),
-        "mesh" => SeedSpec::Mesh {
-            mesh: mesh_in(
-                &mesh.ok_or_else(|| crate::value_error("seed_shape='mesh' needs mesh="))?,
-            )?,
-            resolution,
+    let (p, seed): (DlaParams, u64) = crate::params::from_json(py, params)?;
+    let inputs = SeedInputs {
+        mesh: match (&mesh, p.seed_shape) {
+            (Some(m), SeedShape::Mesh) => Some(mesh_in(m)?),
+            _ => None,
         },
-        _ => SeedSpec::Image {
-            image: height_in(
-                &image.ok_or_else(|| crate::value_error("seed_shape='image' needs image="))?,
-            )?,
-            density: seed_density,
+        image: match (&image, p.seed_shape) {
+            (Some(i), SeedShape::Image) => Some(height_in(i)?),
+            _ => None,
         },
-    };
-    let sides = match choice(sides, &["periodic", "walls"], "sides")? {
-        "walls" => Sides::Walls,
-        _ => Sides::Periodic,
-    };
-    let job = DlaJob {
-        dim,
-        size,
-        particles,
-        stick,
-        seed: seed_spec,
-        launch_gap,
-        sides,
     };
     let opts = RunOptions { threads, progress };
     let r = run(py, &opts, move |w, time| {
-        engine_dla::grow(job, seed, &budget(), time, w)
+        engine_dla::grow(&p, inputs, seed, &budget(), time, w)
     })?;
     let out = PyDict::new(py);
     let warnings: Vec<String> = r.warnings().into_iter().map(|(_, m)| m).collect();
@@ -169,7 +137,8 @@ pub fn dla<'py>(
         points_out(py, &asperity_core::PointSet::new(r.world_points()))?,
     )?;
     out.set_item("title", "dla")?;
-    out.set_item("warnings", warnings)?;
+    out.set_item("warnings", crate::spelled_all(warnings))?;
     out.set_item("measurements", json(&r.measurements())?)?;
+    out.set_item("params", crate::params::record(&r.resolved, seed))?;
     Ok(out)
 }

@@ -206,9 +206,10 @@ fn finish<T>(py: Python<'_>, outcome: Outcome<T>) -> PyResult<T> {
 /// The Python exception for an engine error: the CLI's message, the class by
 /// its kind.
 pub fn to_py(py: Python<'_>, e: EngineError) -> PyErr {
-    let msg = e.to_string();
+    let msg = crate::spelled(&e.to_string());
     match e.kind() {
         ErrorKind::Invalid => PyValueError::new_err(msg),
+        ErrorKind::Type => pyo3::exceptions::PyTypeError::new_err(msg),
         ErrorKind::Os => PyOSError::new_err(msg),
         ErrorKind::Memory => {
             let (needed, limit) = memory_numbers(&e);

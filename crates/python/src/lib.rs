@@ -15,6 +15,7 @@ mod growth;
 mod ifs;
 mod io;
 mod job;
+mod params;
 mod reconstruct;
 mod render;
 mod subdiv;
@@ -37,6 +38,16 @@ pub(crate) fn choice<'a>(value: &str, allowed: &[&'a str], what: &str) -> PyResu
         })
 }
 
+/// `text` with parameters named as keywords (`max_memory=`).
+pub(crate) fn spelled(text: &str) -> String {
+    asperity_core::wording::spell(text, asperity_core::wording::Spelling::Python)
+}
+
+/// Each of `texts` with parameters named as keywords.
+pub(crate) fn spelled_all(texts: impl IntoIterator<Item = String>) -> Vec<String> {
+    texts.into_iter().map(|t| spelled(&t)).collect()
+}
+
 /// A ValueError with `msg`.
 pub(crate) fn value_error(msg: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(msg.to_string())
@@ -46,6 +57,10 @@ pub(crate) fn value_error(msg: impl std::fmt::Display) -> PyErr {
 #[pymodule]
 fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("DEFAULT_SEED", asperity_engine::params::DEFAULT_SEED)?;
+    m.add("SCHEMA_VERSION", asperity_engine::params::SCHEMA_VERSION)?;
+    m.add_function(wrap_pyfunction!(params::describe, m)?)?;
+    m.add_function(wrap_pyfunction!(params::jobs, m)?)?;
     m.add_function(wrap_pyfunction!(job::set_limits, m)?)?;
     m.add_function(wrap_pyfunction!(growth::deposit, m)?)?;
     m.add_function(wrap_pyfunction!(growth::dla, m)?)?;

@@ -144,7 +144,7 @@ fn pipeline<'py>(
         "points",
         points_out(py, &asperity_core::PointSet::new(grown.points.clone()))?,
     )?;
-    out.set_item("warnings", grown.warnings)?;
+    out.set_item("warnings", crate::spelled_all(grown.warnings))?;
     out.set_item("grown", json(&grown.facts)?)?;
     surface(py, grown.points, params, opts, &out)?;
     Ok(out)
@@ -168,8 +168,8 @@ pub fn dla_terrain<'py>(
     let paper = options(level_set)?.paper;
     let particles = particles.unwrap_or(engine::terrain_particles(paper));
     let sides = match choice(sides, &["walls", "periodic"], "sides")? {
-        "periodic" => asperity_growth::dla::Sides::Periodic,
-        _ => asperity_growth::dla::Sides::Walls,
+        "periodic" => asperity_engine::growth::dla::Sides::Periodic,
+        _ => asperity_engine::growth::dla::Sides::Walls,
     };
     let opts = RunOptions { threads, progress };
     let grown = run(py, &opts, move |w, time| {

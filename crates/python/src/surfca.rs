@@ -144,7 +144,7 @@ pub fn surface_ca<'py>(
     }
     let mut warnings: Vec<String> = cov.cells.stats.warnings.clone();
     warnings.extend(r.warnings());
-    out.set_item("warnings", warnings)?;
+    out.set_item("warnings", crate::spelled_all(warnings))?;
     out.set_item("measurements", json(&r.measurements(&cov))?)?;
     Ok(out)
 }

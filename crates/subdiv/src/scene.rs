@@ -690,12 +690,12 @@ pub fn feature_from_spec(spec: &str, t: f64) -> Result<Feature, String> {
     for kv in params.split(',').filter(|s| !s.trim().is_empty()) {
         let (key, v) = kv
             .split_once('=')
-            .ok_or_else(|| format!("--detail {name}: {kv:?} is not key=value"))?;
+            .ok_or_else(|| format!("⟨detail⟩ {name}: {kv:?} is not key=value"))?;
         let v = v.trim();
         let parse_num = |x: &str| {
             x.trim()
                 .parse::<f64>()
-                .map_err(|_| format!("--detail {name}: {x:?} is not a number"))
+                .map_err(|_| format!("⟨detail⟩ {name}: {x:?} is not a number"))
         };
         let value = if let Some((a, b)) = v.split_once("..") {
             Value::Array(vec![
@@ -709,7 +709,7 @@ pub fn feature_from_spec(spec: &str, t: f64) -> Result<Feature, String> {
                         x.trim()
                             .parse::<i64>()
                             .map(Value::Integer)
-                            .map_err(|_| format!("--detail {name}: {x:?} is not a whole number"))
+                            .map_err(|_| format!("⟨detail⟩ {name}: {x:?} is not a whole number"))
                     })
                     .collect::<Result<_, _>>()?,
             )
@@ -732,7 +732,7 @@ pub fn feature_from_spec(spec: &str, t: f64) -> Result<Feature, String> {
         };
         table.insert(key.trim().into(), value);
     }
-    feature(&table, t, "--detail").map(|(_, f)| f)
+    feature(&table, t, "⟨detail⟩").map(|(_, f)| f)
 }
 
 /// A `--crease` argument `A-B:SHARPNESS` (e.g. `0-1:2` or `0-1:inf`).
@@ -740,7 +740,7 @@ pub fn feature_from_spec(spec: &str, t: f64) -> Result<Feature, String> {
 /// # Errors
 /// A message with the expected form.
 pub fn crease_from_spec(spec: &str) -> Result<(u32, u32, f64), String> {
-    let err = || format!("--crease {spec:?}: expected A-B:SHARPNESS, e.g. 0-1:2 or 0-1:inf");
+    let err = || format!("⟨crease⟩ {spec:?}: expected A-B:SHARPNESS, e.g. 0-1:2 or 0-1:inf");
     let (edge, s) = spec.split_once(':').ok_or_else(err)?;
     let (a, b) = edge.split_once('-').ok_or_else(err)?;
     let s: f64 = s.trim().parse().map_err(|_| err())?;

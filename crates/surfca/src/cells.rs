@@ -325,7 +325,7 @@ fn measure(pos: &[[f64; 3]], tris: &[[u32; 3]]) -> Result<MeshMeasures, CoreErro
             return Err(invalid(
                 "mesh",
                 format!(
-                    "triangle {t} is degenerate (area {area:e}); remove it or run with --repair"
+                    "triangle {t} is degenerate (area {area:e}); remove it or run with ⟨repair⟩"
                 ),
             ));
         }

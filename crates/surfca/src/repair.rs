@@ -19,7 +19,7 @@ use asperity_core::{CoreError, TriMesh};
 pub fn check(mesh: &TriMesh) -> Result<(), CoreError> {
     check_triangles(mesh, SurfaceNeeds::default()).map_err(|d| {
         let hint = if d.repairable() {
-            "; --repair fixes this"
+            "; ⟨repair⟩ fixes this"
         } else {
             " (this cannot be repaired automatically)"
         };

@@ -78,7 +78,7 @@ pub fn deposit(
         }
     };
     ensure(job.samples_per_decade >= 1, || {
-        "--samples-per-decade must be at least 1".into()
+        "⟨samples_per_decade⟩ must be at least 1".into()
     })?;
     let params = CurvedParams {
         model: job.model,

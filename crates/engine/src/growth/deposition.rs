@@ -74,7 +74,7 @@ impl DepositionJob {
             Some(w) => {
                 ensure(w[0] > 0.0 && w[1] > w[0], || {
                     format!(
-                        "--fit-window takes TMIN,TMAX with 0 < TMIN < TMAX, got {:?}",
+                        "⟨fit_window⟩ takes TMIN,TMAX with 0 < TMIN < TMAX, got {:?}",
                         w.to_vec()
                     )
                 })?;
@@ -127,7 +127,7 @@ pub fn deposit(
     time: &TimeBudget,
     progress: &dyn Progress,
 ) -> Result<DepositionRun> {
-    ensure(job.runs >= 1, || "--runs must be at least 1".into())?;
+    ensure(job.runs >= 1, || "⟨runs⟩ must be at least 1".into())?;
     let window = job.window()?;
     let lattice = Lattice::new(job.size, job.dim)?;
     let mut p = DepositionParams::new(job.model, lattice, job.layers);
@@ -139,7 +139,7 @@ pub fn deposit(
     estimate::check(time, &work)?;
     p.bin = job.bin;
     ensure(job.samples_per_decade >= 1, || {
-        "--samples-per-decade must be at least 1".into()
+        "⟨samples_per_decade⟩ must be at least 1".into()
     })?;
     p.samples_per_decade = job.samples_per_decade;
     p.keep_particles = job.keep_points && job.model == Model::Bd;
@@ -226,7 +226,7 @@ fn alpha_study(job: &DepositionJob, sizes: &[usize], seed: u64) -> Result<AlphaS
         "random deposition never saturates: α is undefined for rd".into()
     })?;
     ensure(sizes.len() >= 3, || {
-        "--alpha-sizes needs at least 3 sizes".into()
+        "⟨alpha_sizes⟩ needs at least 3 sizes".into()
     })?;
     let z = dynamic_exponent(model, job.dim);
     let lattices = sizes

@@ -5,46 +5,164 @@ use asperity_analysis::scaling::{
     density_dimension, density_profile, gyration_dimension, mass_radius_dimension,
     radius_of_gyration,
 };
-use asperity_core::{MemoryBudget, Progress, TimeBudget};
-pub use asperity_growth::dla::Sides;
-use asperity_growth::dla::{DlaCluster, DlaParams, dla};
+use asperity_core::{HeightField, MemoryBudget, Progress, TimeBudget, TriMesh};
+use asperity_growth::dla::{DlaCluster, DlaParams as Simulation, Sides as GrowthSides, dla};
 use asperity_growth::seeds::{LatticeFrame, SeedSpec};
+use clap::Args;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 
-use crate::error::Result;
+use crate::error::{EngineError, Result};
+use crate::params::{JobParams, LatticeSize, choice};
 use crate::plots::{NamedPlot, log_log, points};
 use crate::report::Measurements;
 
-/// A DLA run as `asperity growth dla` runs it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct DlaJob {
-    /// 2 (square lattice in the x–z plane) or 3. Default 3.
+choice! {
+    /// The seed a DLA cluster grows on.
+    pub enum SeedShape {
+        /// One cell at the lattice centre (a radial cluster).
+        Point = "point",
+        /// The whole bottom plane z = 0 (a deposit).
+        Plane = "plane",
+        /// A solid ball at the lattice centre (its radius: the seed radius).
+        Sphere = "sphere",
+        /// A closed mesh (an input), voxelised at the resolution.
+        Mesh = "mesh",
+        /// The bottom plane, seeded where an image (an input) is bright, up to the seed density.
+        Image = "image",
+    }
+}
+
+choice! {
+    /// Plane and image seeds: what happens at the lattice's x and y sides.
+    pub enum Sides {
+        /// The lattice wraps (sizes multiples of 8): no edge effects, the usual set-up of growth physics.
+        Periodic = "periodic",
+        /// Reflecting walls: the deposit is one connected piece (a terrain), any size.
+        Walls = "walls",
+    }
+}
+
+impl From<Sides> for GrowthSides {
+    fn from(s: Sides) -> Self {
+        match s {
+            Sides::Periodic => GrowthSides::Periodic,
+            Sides::Walls => GrowthSides::Walls,
+        }
+    }
+}
+
+/// Diffusion-limited aggregation (`growth dla`): random walkers released far
+/// from the cluster stick where they touch it (kim-machiraju-thompson §4.2).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema, Args)]
+#[serde(default)]
+pub struct DlaParams {
+    /// Seed shape.
+    #[arg(long, value_enum, default_value_t = Self::DEFAULT.seed_shape)]
+    pub seed_shape: SeedShape,
+    /// Lattice size in cells: N (a cube; N×N in 2-D), NXxNYxNZ, or NXxNZ in 2-D.
+    /// Default: sized for the particles (radial seeds), 128x128x128 (plane seeds; 512x512 in 2-D).
+    #[arg(long, value_name = "NXxNYxNZ")]
+    pub size: Option<LatticeSize>,
+    /// Lattice dimension: 3 (cubic, 6 neighbours) or 2 (square in the x–z plane, 4 neighbours).
+    #[schemars(range(min = 2, max = 3))]
+    #[arg(long, default_value_t = Self::DEFAULT.dim)]
     pub dim: usize,
-    /// Lattice size (default: [`SeedSpec::default_size`]).
-    pub size: Option<[usize; 3]>,
-    /// Particles released. Default 10 000.
+    /// Particles to deposit (seeds not counted).
+    #[schemars(range(min = 1, max = 4_000_000_000u64))]
+    #[arg(long, default_value_t = Self::DEFAULT.particles)]
     pub particles: usize,
-    /// Sticking probability p in (0, 1]. Default 1.
+    /// Sticking probability p in (0, 1]: 1 dendritic, small p moss-like.
+    #[schemars(extend("exclusiveMinimum" = 0.0), range(max = 1.0))]
+    #[arg(long, default_value_t = Self::DEFAULT.stick)]
     pub stick: f64,
-    /// The seed. Default a point.
-    pub seed: SeedSpec,
-    /// Gap between the cluster and the launch sphere (plane), in cells. Default 2.
+    /// Radius of the sphere seed, in cells.
+    #[schemars(range(min = 0.5))]
+    #[arg(long, default_value_t = Self::DEFAULT.seed_radius)]
+    pub seed_radius: f64,
+    /// Cells along the seed mesh's longest axis.
+    #[schemars(range(min = 2, max = 4096))]
+    #[arg(long, default_value_t = Self::DEFAULT.resolution)]
+    pub resolution: usize,
+    /// Probability of a seed in the column of the image's brightest pixel (image seeds), in (0, 1].
+    #[schemars(extend("exclusiveMinimum" = 0.0), range(max = 1.0))]
+    #[arg(long, default_value_t = Self::DEFAULT.seed_density)]
+    pub seed_density: f64,
+    /// Gap δ between the cluster and the launch sphere or plane, in cells.
+    #[schemars(range(min = 1.0))]
+    #[arg(long, default_value_t = Self::DEFAULT.launch_gap)]
     pub launch_gap: f64,
-    /// Plane seeds: periodic sides or walls. Default periodic.
+    /// Plane and image seeds: the lattice's x and y sides.
+    #[arg(long, value_enum, default_value_t = Self::DEFAULT.sides)]
     pub sides: Sides,
 }
 
-impl Default for DlaJob {
+impl DlaParams {
+    /// The defaults every front end shows.
+    pub const DEFAULT: Self = Self {
+        seed_shape: SeedShape::Point,
+        size: None,
+        dim: 3,
+        particles: 20_000,
+        stick: 1.0,
+        seed_radius: 10.0,
+        resolution: 32,
+        seed_density: 0.02,
+        launch_gap: 2.0,
+        sides: Sides::Periodic,
+    };
+}
+
+impl Default for DlaParams {
     fn default() -> Self {
-        Self {
-            dim: 3,
-            size: None,
-            particles: 10_000,
-            stick: 1.0,
-            seed: SeedSpec::Point,
-            launch_gap: 2.0,
-            sides: Sides::Periodic,
+        Self::DEFAULT
+    }
+}
+
+impl JobParams for DlaParams {
+    const JOB: &'static str = "growth dla";
+
+    fn check(&self) -> Result<()> {
+        if let Some(size) = &self.size {
+            size.resolve(self.dim)?;
         }
+        Ok(())
+    }
+}
+
+/// The inputs a DLA seed may need beside its parameters.
+#[derive(Clone, Debug, Default)]
+pub struct SeedInputs {
+    /// The seed mesh (`seed_shape` mesh).
+    pub mesh: Option<TriMesh>,
+    /// The seed-density image (`seed_shape` image).
+    pub image: Option<HeightField>,
+}
+
+impl DlaParams {
+    /// The simulator's seed: the shape with its input.
+    fn seed_spec(&self, inputs: SeedInputs) -> Result<SeedSpec> {
+        let missing = |what: &str| {
+            EngineError::Invalid(format!(
+                "{} needs {}",
+                asperity_core::wording::param_value("seed_shape", what),
+                asperity_core::wording::param(what)
+            ))
+        };
+        Ok(match self.seed_shape {
+            SeedShape::Point => SeedSpec::Point,
+            SeedShape::Plane => SeedSpec::Plane,
+            SeedShape::Sphere => SeedSpec::Sphere(self.seed_radius),
+            SeedShape::Mesh => SeedSpec::Mesh {
+                mesh: inputs.mesh.ok_or_else(|| missing("mesh"))?,
+                resolution: self.resolution,
+            },
+            SeedShape::Image => SeedSpec::Image {
+                image: inputs.image.ok_or_else(|| missing("image"))?,
+                density: self.seed_density,
+            },
+        })
     }
 }
 
@@ -79,8 +197,11 @@ impl Dimension {
 /// What a DLA run gives.
 #[derive(Clone, Debug)]
 pub struct DlaRun {
-    /// The parameters it ran with (the lattice size filled in).
-    pub params: DlaParams,
+    /// The job's parameters with the lattice size filled in (what
+    /// [`crate::params::record`] records).
+    pub resolved: DlaParams,
+    /// The simulator's parameters.
+    pub params: Simulation,
     /// The cluster, in lattice cells.
     pub cluster: DlaCluster,
     /// Lattice cells to the input's coordinates (a mesh seed's).
@@ -91,32 +212,41 @@ pub struct DlaRun {
     pub dimension: Dimension,
 }
 
-/// Grows the cluster of `job` and measures it.
+/// Grows the cluster of `p` from its seed and measures it.
 ///
 /// # Errors
-/// The seed's (a mesh that does not fit, an image density out of range) and
-/// the simulator's (parameters, lattice capacity, memory budget).
+/// The parameters' ([`crate::params::validate`]), the seed's (a mesh that does
+/// not fit, a missing input) and the simulator's (lattice capacity, memory
+/// budget, time budget).
 pub fn grow(
-    job: DlaJob,
+    p: &DlaParams,
+    inputs: SeedInputs,
     seed: u64,
     budget: &MemoryBudget,
     time: &TimeBudget,
     progress: &dyn Progress,
 ) -> Result<DlaRun> {
-    crate::estimate::check(time, &crate::estimate::dla(job.particles as f64))?;
-    let size = job
-        .size
-        .unwrap_or_else(|| job.seed.default_size(job.dim, job.particles, job.stick));
-    let plane = job.seed.is_plane();
-    let (seed_shape, frame) = job.seed.place(job.dim, size, budget)?;
-    let params = DlaParams {
-        dim: job.dim,
+    crate::params::validate(p)?;
+    crate::estimate::check(time, &crate::estimate::dla(p.particles as f64))?;
+    let spec = p.seed_spec(inputs)?;
+    let size = match &p.size {
+        Some(s) => s.resolve(p.dim)?,
+        None => spec.default_size(p.dim, p.particles, p.stick),
+    };
+    let plane = spec.is_plane();
+    let (seed_shape, frame) = spec.place(p.dim, size, budget)?;
+    let params = Simulation {
+        dim: p.dim,
         size,
-        particles: job.particles,
-        stick: job.stick,
+        particles: p.particles,
+        stick: p.stick,
         seed_shape,
-        launch_gap: job.launch_gap,
-        sides: job.sides,
+        launch_gap: p.launch_gap,
+        sides: p.sides.into(),
+    };
+    let resolved = DlaParams {
+        size: Some(LatticeSize::new(&size)?),
+        ..p.clone()
     };
     let cluster = dla(&params, seed, 0, budget, progress)?;
     let parts = particle_points(&cluster);
@@ -126,12 +256,13 @@ pub fn grow(
         radius_of_gyration(&parts)
     };
     let dimension = if plane {
-        plane_dimension(&parts, size, job.dim)
+        plane_dimension(&parts, size, p.dim)
     } else {
         radial_dimension(&cluster)
     }
-    .within(job.dim);
+    .within(p.dim);
     Ok(DlaRun {
+        resolved,
         params,
         cluster,
         frame,
@@ -171,7 +302,7 @@ fn radial_dimension(c: &DlaCluster) -> Dimension {
             method,
             details: json!({"gyration_fit": null, "mass_radius": null}),
             warning: Some(format!(
-                "the fractal dimension is not reported for a seed of {} cells: R_g(n) ~ n^(1/D) holds for a cluster grown from a point (use --seed-shape point), or measure a plane deposit's density profile",
+                "the fractal dimension is not reported for a seed of {} cells: R_g(n) ~ n^(1/D) holds for a cluster grown from a point (use ⟨seed_shape=point⟩), or measure a plane deposit's density profile",
                 c.seeds
             )),
         };

@@ -194,7 +194,7 @@ impl Setup<'_> {
             }
             if lat.top_used() == size[0] * size[1] && k + 1 < particles {
                 end.stopped = Some(format!(
-                    "the lattice's top layer is full after {} particles; use a larger --size",
+                    "the lattice's top layer is full after {} particles; use a larger ⟨size⟩",
                     k + 1
                 ));
                 return true;
@@ -204,7 +204,7 @@ impl Setup<'_> {
         let edge = (0..3).any(|a| size[a] > 1 && (p[a] < 2 || p[a] >= size[a] as i32 - 2));
         if edge && k + 1 < particles {
             end.stopped = Some(format!(
-                "the deposit reached the lattice boundary after {} particles; use a larger --size",
+                "the deposit reached the lattice boundary after {} particles; use a larger ⟨size⟩",
                 k + 1
             ));
             return true;

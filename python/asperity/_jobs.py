@@ -1,0 +1,177 @@
+"""Python functions made from the engine's job parameters (issue #36).
+
+Every engine job has one parameter struct in Rust — documented fields, one
+default each, valid ranges, choices — and this module builds a job's Python
+function from its description (``_asperity.describe(job)``): the signature
+shows the engine's defaults, ``help()`` its documentation, and the keyword
+arguments go to the engine as JSON, where the same code that reads the CLI's
+flags fills in defaults, refuses unknown names (``TypeError``) and checks
+ranges (``ValueError``). No default or choice is written here.
+
+``asperity.dla(**result.params)`` runs a job again: a result's ``params`` (and
+a CLI report's) holds the job, the schema version, the seed and every value.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+import json
+from typing import Any, Callable, Dict, Optional, Sequence, Tuple
+
+import numpy as np
+
+from . import _asperity
+from ._run import call
+
+DEFAULT_SEED = _asperity.DEFAULT_SEED
+
+P = inspect.Parameter
+
+
+@functools.lru_cache(maxsize=None)
+def describe(job: str) -> dict:
+    """The engine's description of ``job`` (e.g. ``"growth dla"``): its fields
+    in order with descriptions, defaults, types, bounds and choices."""
+    return json.loads(_asperity.describe(job))
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (set, frozenset)):
+        return sorted(value)
+    raise TypeError(f"{type(value).__name__} is not a parameter value")
+
+
+def to_json(fields: Dict[str, Any]) -> str:
+    """Keyword arguments as the engine's JSON (tuples as lists, numpy scalars as numbers)."""
+    return json.dumps(fields, default=_jsonable)
+
+
+_JSON_TYPES = {"integer": "int", "number": "float", "string": "str", "boolean": "bool", "array": "list"}
+
+
+def annotation(field: dict) -> str:
+    """The field's Python type as text (for docs and stubs)."""
+    if "choices" in field:
+        t = "Literal[" + ", ".join(repr(c["value"]) for c in field["choices"]) + "]"
+    elif field.get("type") == "array":
+        item = _JSON_TYPES.get((field.get("items") or {}).get("type"), "Any")
+        t = f"Sequence[{item}]"
+    else:
+        t = _JSON_TYPES.get(field.get("type"), "Any")
+        if field["name"] == "size" and t == "Any":
+            t = "Union[int, Sequence[int]]"
+    return f"Optional[{t}]" if field.get("nullable") else t
+
+
+def _bounds(field: dict) -> str:
+    words = []
+    for key, word in (("minimum", "≥"), ("exclusiveMinimum", ">"), ("maximum", "≤"),
+                      ("exclusiveMaximum", "<")):
+        if key in field:
+            words.append(f"{word} {field[key]:g}" if isinstance(field[key], float) else f"{word} {field[key]}")
+    return ", ".join(words)
+
+
+def field_doc(field: dict) -> str:
+    """One field's line in a docstring: description, choices, bounds, default."""
+    text = field["description"].replace("\n", " ").rstrip(".")
+    extras = []
+    if "choices" in field:
+        extras.append("one of " + ", ".join(repr(c["value"]) for c in field["choices"]))
+    bounds = _bounds(field)
+    if bounds:
+        extras.append(bounds)
+    extras.append(f"default {field['default']!r}")
+    return f"{field['name']}: {text} ({'; '.join(extras)})."
+
+
+class Job:
+    """How one engine job is called from Python.
+
+    ``leading``: required positional inputs ``(name, doc)``; ``inputs``:
+    keyword-only inputs and output choices ``(name, default, doc)`` that are
+    not parameters (meshes, images, ``points=True``); ``engine``: the
+    binding's function, called as ``engine(params_json, *leading, *inputs,
+    threads, progress=…)`` with the seed among the parameters (seeded jobs);
+    ``finish`` turns its dict into the result.
+    """
+
+    def __init__(self, job: str, engine: Callable, finish: Callable[[dict], Any], *, name: str,
+                 summary: str, returns: str, leading: Sequence[Tuple[str, str]] = (),
+                 inputs: Sequence[Tuple[str, Any, str]] = (), threads: bool = True,
+                 progress: bool = True):
+        self.job, self.engine, self.finish = job, engine, finish
+        self.name, self.summary, self.returns = name, summary, returns
+        self.leading, self.inputs = list(leading), list(inputs)
+        self.threads, self.progress = threads, progress
+        self.description = describe(job)
+        self.fields = [f["name"] for f in self.description["fields"]]
+
+    def signature(self) -> inspect.Signature:
+        ps = [P(n, P.POSITIONAL_OR_KEYWORD) for n, _ in self.leading]
+        ps += [P(f["name"], P.POSITIONAL_OR_KEYWORD, default=f["default"])
+               for f in self.description["fields"]]
+        ps += [P(n, P.KEYWORD_ONLY, default=d) for n, d, _ in self.inputs]
+        if self.description["seeded"]:
+            ps.append(P("seed", P.KEYWORD_ONLY, default=DEFAULT_SEED))
+        if self.threads:
+            ps.append(P("threads", P.KEYWORD_ONLY, default=None))
+        if self.progress:
+            ps.append(P("progress", P.KEYWORD_ONLY, default=False))
+        ps.append(P("params", P.VAR_KEYWORD))
+        return inspect.Signature(ps)
+
+    def doc(self) -> str:
+        lines = [self.summary, "", f"Parameters (the engine's; the CLI's ``{self.job}`` flags):"]
+        lines += [f"    {n}: {d}" for n, d in self.leading]
+        lines += ["    " + field_doc(f) for f in self.description["fields"]]
+        lines += [f"    {n}: {d}" for n, _, d in self.inputs]
+        if self.description["seeded"]:
+            lines.append(f"    seed: random seed (default {DEFAULT_SEED}, as the CLI's ``--seed``).")
+        if self.threads:
+            lines.append("    threads: worker threads (default: every core; results do not depend on it).")
+        if self.progress:
+            lines.append("    progress: True for a tqdm bar, or a callable (done, total, message).")
+        lines.append("    **params: a result's ``params`` (a record of a run) to run it again.")
+        lines += ["", self.returns, "",
+                  "Every result has ``params``: the job, schema version, seed and every value it ran with."]
+        return "\n".join(lines)
+
+    def function(self) -> Callable:
+        sig = self.signature()
+
+        def run(*args, **kwargs):
+            bound = sig.bind(*args, **kwargs)
+            given = dict(bound.arguments)
+            fields = {k: given.pop(k) for k in self.fields if k in given}
+            fields.update(given.pop("params", {}))
+            seed = given.pop("seed", DEFAULT_SEED)
+            threads = given.pop("threads", None)
+            progress = given.pop("progress", False)
+            lead = [given.pop(n) for n, _ in self.leading]
+            extra = [given.pop(n, d) for n, d, _ in self.inputs]
+            if self.description["seeded"]:
+                fields["seed"] = seed
+            args = [to_json(fields), *lead, *extra]
+            if self.threads:
+                args.append(threads)
+            if self.progress:
+                raw = call(self.engine, *args, progress=progress)
+            else:
+                raw = self.engine(*args)
+            result = self.finish(raw)
+            if isinstance(result, dict) and "params" in raw:
+                result["params"] = json.loads(raw["params"])
+            return result
+
+        run.__name__ = run.__qualname__ = self.name
+        run.__module__ = "asperity"
+        run.__signature__ = sig
+        run.__doc__ = self.doc()
+        run.job = self.job
+        return run
