@@ -155,6 +155,8 @@ class Job:
             progress = given.pop("progress", False)
             lead = [given.pop(n) for n, _ in self.leading]
             extra = [given.pop(n, d) for n, d, _ in self.inputs]
+            if fields.setdefault("job", self.job) != self.job:
+                raise ValueError(f"these parameters are for {fields['job']!r}, not {self.job!r}")
             if self.description["seeded"]:
                 fields["seed"] = seed
             args = [to_json(fields), *lead, *extra]

@@ -61,12 +61,7 @@ def set_limits(max_memory: Optional[int] = None, max_time: Optional[float] = Non
 # ---------------------------------------------------------------- growth
 
 
-def _deposit(model, size, dim, layers, runs, relax, bin, samples_per_decade, fit_window,
-             alpha_sizes, points, substrate, radius, mesh, resolution, seed, threads, progress):
-    d = call(_asperity.deposit, model, size, dim, layers, runs, relax, bin, samples_per_decade,
-             None if fit_window is None else tuple(fit_window),
-             None if alpha_sizes is None else list(alpha_sizes), points, substrate, radius, mesh,
-             resolution, seed, threads, progress=progress)
+def _deposit_result(d: dict) -> Result:
     m = _parse(d["measurements"])
     r = Result(measurements=m, beta=m.get("beta"))
     series = m.get("width_series") or []
@@ -75,68 +70,32 @@ def _deposit(model, size, dim, layers, runs, relax, bin, samples_per_decade, fit
     if "heights" in d:
         surface = HeightField._from(d["heights"], d["title"])
         r["surface"] = surface
-        r["heights"] = surface.heights[0] if dim == 1 else surface.heights
+        r["heights"] = surface.heights[0] if json.loads(d["params"])["dim"] == 1 else surface.heights
     if "points" in d:
         r["points"] = PointSet._from(d["points"], d["title"])
     return r
 
 
-_DEPOSIT_DOC = """{name} on a flat or curved substrate (kim-machiraju-thompson §4).
-
-    Parameters (the CLI's ``growth {cmd}`` flags):
-        size: columns per side L (default 256).
-        dim: substrate dimension d, 1 or 2 (default 2).
-        layers: monolayers T deposited (default 100).
-        runs: independent runs averaged for W(t) (default 1).{relax}
-        bin: max-height binning side ε in columns (must divide L; default none).
-        samples_per_decade: W(t) samples per decade of time (default 10).
-        fit_window: (t_min, t_max) of the β fit in monolayers.
-        alpha_sizes: sizes L for the saturated widths that give α.
-        points: also return every particle as ``points`` (lattice units).
-        substrate: "flat", "sphere" or "mesh" (curved substrates give points).
-        radius: sphere radius in cells (default 40).
-        mesh: a closed :class:`Mesh` substrate, voxelised at ``resolution`` cells.
-        seed: random seed (default 7, as the CLI's ``--seed``).
-
-    Returns a :class:`Result` with ``heights`` (``(L,)`` or ``(L, L)``), ``surface``
-    (a :class:`HeightField`), ``width`` (arrays ``t`` and ``w``: W(t)), ``beta``, ``alpha``,
-    ``points`` when asked, and ``measurements`` (the CLI's JSON keys).
-    """
+def _deposition(model: str, name: str, summary: str) -> Any:
+    return Job(
+        f"growth {model}", _asperity.deposit, _deposit_result, name=model, summary=summary,
+        inputs=[("mesh", None, "a closed :class:`Mesh` substrate for ``substrate='mesh'``, "
+                               "voxelised at ``resolution`` cells."),
+                ("points", False, "also return every particle as ``points`` (lattice units; "
+                                  "curved substrates always do).")],
+        returns="Returns a :class:`Result` with ``heights`` (``(L,)`` or ``(L, L)``), ``surface`` "
+                "(a :class:`HeightField`), ``width`` (arrays ``t`` and ``w``: W(t)), ``beta``, "
+                "``alpha``, ``points`` when asked (curved substrates: always) and ``measurements`` "
+                "(the CLI's JSON keys).",
+    ).function()
 
 
-def rd(size: int = 256, dim: int = 2, layers: float = 100.0, runs: int = 1, bin: Optional[int] = None,
-       samples_per_decade: int = 10, fit_window: Optional[Sequence[float]] = None,
-       alpha_sizes: Optional[Sequence[int]] = None, points: bool = False, substrate: str = "flat",
-       radius: float = 40.0, mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 7,
-       threads: Optional[int] = None, progress=False) -> Result:
-    return _deposit("rd", size, dim, layers, runs, 1, bin, samples_per_decade, fit_window, alpha_sizes,
-                    points, substrate, radius, mesh, resolution, seed, threads, progress)
-
-
-def rdsr(size: int = 256, dim: int = 2, layers: float = 100.0, runs: int = 1, relax: int = 1,
-         bin: Optional[int] = None, samples_per_decade: int = 10,
-         fit_window: Optional[Sequence[float]] = None, alpha_sizes: Optional[Sequence[int]] = None,
-         points: bool = False, substrate: str = "flat", radius: float = 40.0,
-         mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 7,
-         threads: Optional[int] = None, progress=False) -> Result:
-    return _deposit("rdsr", size, dim, layers, runs, relax, bin, samples_per_decade, fit_window,
-                    alpha_sizes, points, substrate, radius, mesh, resolution, seed, threads, progress)
-
-
-def bd(size: int = 256, dim: int = 2, layers: float = 100.0, runs: int = 1, bin: Optional[int] = None,
-       samples_per_decade: int = 10, fit_window: Optional[Sequence[float]] = None,
-       alpha_sizes: Optional[Sequence[int]] = None, points: bool = False, substrate: str = "flat",
-       radius: float = 40.0, mesh: Optional[Mesh] = None, resolution: int = 64, seed: int = 7,
-       threads: Optional[int] = None, progress=False) -> Result:
-    return _deposit("bd", size, dim, layers, runs, 1, bin, samples_per_decade, fit_window, alpha_sizes,
-                    points, substrate, radius, mesh, resolution, seed, threads, progress)
-
-
-rd.__doc__ = _DEPOSIT_DOC.format(name="Random deposition (RD)", cmd="rd", relax="")
-rdsr.__doc__ = _DEPOSIT_DOC.format(
-    name="Random deposition with surface relaxation (RDSR)", cmd="rdsr",
-    relax="\n        relax: relaxation radius in columns (default 1, the Family model).")
-bd.__doc__ = _DEPOSIT_DOC.format(name="Ballistic deposition (BD)", cmd="bd", relax="")
+rd = _deposition("rd", "rd", "Random deposition (RD, kim-machiraju-thompson §4.1) on a flat or "
+                             "curved substrate: the CLI's ``growth rd``.")
+rdsr = _deposition("rdsr", "rdsr", "Random deposition with surface relaxation (RDSR, "
+                                   "kim-machiraju-thompson §4.1): the CLI's ``growth rdsr``.")
+bd = _deposition("bd", "bd", "Ballistic deposition (BD, kim-machiraju-thompson §4.1): the CLI's "
+                             "``growth bd``.")
 
 
 def _dla_result(d: dict) -> Result:

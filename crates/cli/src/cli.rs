@@ -751,68 +751,23 @@ pub struct RdsrSphereArgs {
 #[derive(Subcommand, Debug)]
 pub enum GrowthCommand {
     /// Random deposition: each particle lands on top of a random column.
-    Rd(DepositArgs),
+    Rd(DepositArgs<asperity_engine::growth::RdParams>),
     /// Random deposition with surface relaxation (Family model) to the lowest nearby column.
-    Rdsr(DepositArgs),
+    Rdsr(DepositArgs<asperity_engine::growth::RdsrParams>),
     /// Ballistic deposition: sticks at first contact with a nearest neighbour (porous, KPZ class).
-    Bd(DepositArgs),
+    Bd(DepositArgs<asperity_engine::growth::BdParams>),
     /// Diffusion-limited aggregation on the cubic (or square) lattice.
     Dla(DlaArgs),
 }
 
-/// Substrates for RD, RDSR and BD.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SubstrateArg {
-    /// Periodic L (1+1D) or L×L (2+1D) lattice of columns.
-    Flat,
-    /// A ball of --radius cells; particles arrive radially.
-    Sphere,
-    /// A closed mesh (--mesh) voxelised at --resolution; particles arrive along its normals.
-    Mesh,
-}
-
-/// `asperity growth rd|rdsr|bd`
+/// `asperity growth rd|rdsr|bd`: the job's parameters (`P`) and the files.
 #[derive(Args, Debug)]
-pub struct DepositArgs {
-    /// Columns per side L of the flat substrate.
-    #[arg(long, default_value_t = 256)]
-    pub size: usize,
-    /// Substrate dimension d: 1 (a row of L columns) or 2 (L×L).
-    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=2))]
-    pub dim: u8,
-    /// Monolayers T to deposit (depositions = T × columns).
-    #[arg(long, default_value_t = 100.0)]
-    pub layers: f64,
-    /// Independent runs averaged for W(t) (in parallel; each reproducible from --seed).
-    #[arg(long, default_value_t = 1)]
-    pub runs: usize,
-    /// RDSR relaxation radius in columns (1 is Family's nearest-neighbour rule).
-    #[arg(long, default_value_t = 1)]
-    pub relax: u32,
-    /// Max-height binning side ε for a coarse-grained width (must divide L); BD needs it.
-    #[arg(long, value_name = "EPS")]
-    pub bin: Option<usize>,
-    /// Width samples per decade of time.
-    #[arg(long, default_value_t = 10)]
-    pub samples_per_decade: usize,
-    /// Fit window for β in monolayers: TMIN,TMAX (default: 10 to T, or 1 to T when T < 100).
-    #[arg(long, value_delimiter = ',', value_name = "TMIN,TMAX")]
-    pub fit_window: Option<Vec<f64>>,
-    /// Also measure α: saturated widths for these sizes (comma list), each run to 2·L^z monolayers.
-    #[arg(long, value_delimiter = ',', value_name = "L1,L2,...")]
-    pub alpha_sizes: Option<Vec<usize>>,
-    /// Substrate shape.
-    #[arg(long, value_enum, default_value_t = SubstrateArg::Flat)]
-    pub substrate: SubstrateArg,
-    /// Radius of the sphere substrate, in cells.
-    #[arg(long, default_value_t = 40.0)]
-    pub radius: f64,
-    /// Closed mesh used as the substrate (OBJ, PLY, STL, GLB …).
+pub struct DepositArgs<P: Args> {
+    #[command(flatten)]
+    pub params: P,
+    /// Closed mesh used as the substrate (`--substrate mesh`; OBJ, PLY, STL, GLB …).
     #[arg(long, value_name = "FILE")]
     pub mesh: Option<PathBuf>,
-    /// Cells along the mesh's longest axis.
-    #[arg(long, default_value_t = 64)]
-    pub resolution: usize,
     /// Also write the occupied cells as a point set (flat substrate; PLY, XYZ, CSV, npy).
     #[arg(long, value_name = "FILE")]
     pub points: Option<PathBuf>,
@@ -822,6 +777,8 @@ pub struct DepositArgs {
     /// Write plots of W(t) with the β fits into this directory (SVG and PNG).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity growth dla`

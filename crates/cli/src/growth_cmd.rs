@@ -1,115 +1,73 @@
 //! `asperity growth rd|rdsr|bd|dla`: the growth jobs of `asperity_engine::growth`.
 
-use std::path::Path;
-
 use asperity_engine::files::{is_points_path, load_height};
-use asperity_engine::growth::curved::{self, CurvedJob, Substrate};
-use asperity_engine::growth::deposition::{self, DepositionJob, width_csv};
+use asperity_engine::growth::deposition::width_csv;
 use asperity_engine::growth::dla::{self, SeedInputs, SeedShape};
-use asperity_growth::Model;
+use asperity_engine::growth::{self, DepositJob, Deposited, SubstrateShape};
 use asperity_io::Format;
 
-use crate::cli::{DepositArgs, DlaArgs, GrowthCommand, SubstrateArg};
+use crate::cli::{DepositArgs, DlaArgs, GrowthCommand};
 use crate::context::{Context, Run};
 
 pub fn run(ctx: &Context, c: GrowthCommand) -> anyhow::Result<()> {
     match c {
-        GrowthCommand::Rd(a) => deposit(ctx, Model::Rd, &a),
-        GrowthCommand::Rdsr(a) => deposit(ctx, Model::Rdsr { radius: a.relax }, &a),
-        GrowthCommand::Bd(a) => deposit(ctx, Model::Bd, &a),
+        GrowthCommand::Rd(a) => deposit(ctx, &a),
+        GrowthCommand::Rdsr(a) => deposit(ctx, &a),
+        GrowthCommand::Bd(a) => deposit(ctx, &a),
         GrowthCommand::Dla(a) => grow_dla(ctx, &a),
     }
 }
 
 const OUTPUT: &str = "FILE (e.g. -o h.npy or -o points.ply)";
 
-fn deposit(ctx: &Context, model: Model, a: &DepositArgs) -> anyhow::Result<()> {
+fn deposit<P: DepositJob + clap::Args>(ctx: &Context, a: &DepositArgs<P>) -> anyhow::Result<()> {
     let out = ctx.output(OUTPUT)?;
-    anyhow::ensure!(a.runs >= 1, "--runs must be at least 1");
-    if a.substrate != SubstrateArg::Flat {
-        return deposit_curved(ctx, model, a, &out);
-    }
-    let job = DepositionJob {
-        model,
-        size: a.size,
-        dim: a.dim as usize,
-        layers: a.layers,
-        runs: a.runs,
-        bin: a.bin,
-        samples_per_decade: a.samples_per_decade,
-        fit_window: fit_window(&a.fit_window)?,
-        alpha_sizes: a.alpha_sizes.clone(),
-        keep_points: a.points.is_some() || is_points_path(&out)?,
-    };
-    let mut run = Run::new(ctx, "growth");
-    let r = deposition::deposit(&job, ctx.seed, &ctx.budget, &ctx.time, &ctx.bar())?;
-    let name = model.name();
-    if is_points_path(&out)? {
-        run.points(&out, r.deposit.point_set().positions().to_vec(), name)?;
-    } else if a.dim == 1 && Format::from_path(&out)? == Format::Npy {
-        let h: Vec<f64> = r.deposit.heights.iter().map(|&v| v as f64).collect();
-        asperity_io::write_npy_f64(&out, &[a.size], &h)?;
-        run.report.output(&out);
-    } else {
-        run.height(&out, &r.deposit.height_field(), job.title())?;
-    }
-    if let Some(pp) = &a.points {
-        run.points(pp, r.deposit.point_set().positions().to_vec(), name)?;
-    }
-    if let Some(c) = &a.width_csv {
-        run.text(c, &width_csv(&r.series))?;
-    }
-    if let Some(dir) = &a.plot {
-        run.plots(dir, &r.plots(&job), (800, 560))?;
-    }
-    run.measure(r.measurements(&job));
-    run.note(r.summary(&job));
-    run.finish()
-}
-
-fn fit_window(w: &Option<Vec<f64>>) -> anyhow::Result<Option<[f64; 2]>> {
-    match w.as_deref() {
-        None => Ok(None),
-        Some([a, b]) => Ok(Some([*a, *b])),
-        Some(w) => anyhow::bail!("--fit-window takes TMIN,TMAX with 0 < TMIN < TMAX, got {w:?}"),
-    }
-}
-
-fn deposit_curved(ctx: &Context, model: Model, a: &DepositArgs, out: &Path) -> anyhow::Result<()> {
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let d = job.params.deposit();
+    let points_out = is_points_path(&out)?;
     anyhow::ensure!(
-        is_points_path(out)?,
+        d.substrate == SubstrateShape::Flat || points_out,
         "a curved deposit is a point set: give -o with .ply, .xyz or .csv"
     );
-    let substrate = match a.substrate {
-        SubstrateArg::Mesh => {
-            let path = a
-                .mesh
-                .as_ref()
-                .ok_or_else(|| anyhow::anyhow!("--substrate mesh needs --mesh FILE"))?;
-            Substrate::Mesh {
-                mesh: ctx.load_triangles(path)?,
-                resolution: a.resolution,
-            }
-        }
-        _ => Substrate::Sphere(a.radius),
+    let mesh = match (&a.mesh, d.substrate) {
+        (Some(path), SubstrateShape::Mesh) => Some(ctx.load_triangles(path)?),
+        _ => None,
     };
-    let job = CurvedJob {
-        model,
-        substrate,
-        layers: a.layers,
-        samples_per_decade: a.samples_per_decade,
-    };
+    let keep_points = a.points.is_some() || points_out;
     let mut run = Run::new(ctx, "growth");
-    let r = curved::deposit(&job, ctx.seed, &ctx.budget, &ctx.bar())?;
-    run.points(out, r.world_points(), model.name())?;
+    let r = growth::deposit(
+        &job.params,
+        mesh,
+        keep_points,
+        job.seed,
+        (&ctx.budget, &ctx.time),
+        &ctx.bar(),
+    )?;
+    run.params(&job.params, job.seed, job.overridden);
+    let name = job.params.model().name();
+    match &r {
+        Deposited::Curved(..) => run.points(&out, r.points().positions().to_vec(), name)?,
+        Deposited::Flat(..) if points_out => {
+            run.points(&out, r.points().positions().to_vec(), name)?
+        }
+        Deposited::Flat(_, flat) if d.dim == 1 && Format::from_path(&out)? == Format::Npy => {
+            let h: Vec<f64> = flat.deposit.heights.iter().map(|&v| v as f64).collect();
+            asperity_io::write_npy_f64(&out, &[d.size], &h)?;
+            run.report.output(&out);
+        }
+        Deposited::Flat(_, flat) => run.height(&out, &flat.deposit.height_field(), r.title())?,
+    }
+    if let (Some(pp), Deposited::Flat(..)) = (&a.points, &r) {
+        run.points(pp, r.points().positions().to_vec(), name)?;
+    }
     if let Some(c) = &a.width_csv {
-        run.text(c, &width_csv(&r.deposit.series))?;
+        run.text(c, &width_csv(r.series()))?;
     }
     if let Some(dir) = &a.plot {
-        run.plots(dir, &r.plots(&job), (800, 560))?;
+        run.plots(dir, &r.plots(), (800, 560))?;
     }
-    run.measure(r.measurements(&job));
-    run.note(r.summary(&job));
+    run.measure(r.measurements());
+    run.note(r.summary());
     run.finish()
 }
 

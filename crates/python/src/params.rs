@@ -18,6 +18,12 @@ pub fn from_json<P: JobParams>(py: Python<'_>, text: &str) -> PyResult<(P, u64)>
         .map_err(|e| to_py(py, e))
 }
 
+/// The `job` a JSON parameter object names, if any.
+pub fn job_of(text: &str) -> Option<String> {
+    let value: serde_json::Value = serde_json::from_str(text).ok()?;
+    value.get("job")?.as_str().map(str::to_owned)
+}
+
 /// The record of a run as JSON text (`result.params` in Python).
 pub fn record<P: JobParams>(p: &P, seed: u64) -> String {
     params::record(p, seed).to_string()

@@ -70,7 +70,7 @@ pub struct DlaParams {
     #[arg(long, default_value_t = Self::DEFAULT.dim)]
     pub dim: usize,
     /// Particles to deposit (seeds not counted).
-    #[schemars(range(min = 1, max = 4_000_000_000u64))]
+    #[schemars(range(min = 1))]
     #[arg(long, default_value_t = Self::DEFAULT.particles)]
     pub particles: usize,
     /// Sticking probability p in (0, 1]: 1 dendritic, small p moss-like.
