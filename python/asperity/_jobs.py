@@ -167,8 +167,12 @@ class Job:
             else:
                 raw = self.engine(*args)
             result = self.finish(raw)
-            if isinstance(result, dict) and "params" in raw:
-                result["params"] = json.loads(raw["params"])
+            if "params" in raw:
+                record = json.loads(raw["params"])
+                if isinstance(result, dict):
+                    result["params"] = record
+                else:
+                    result.params = record
             return result
 
         run.__name__ = run.__qualname__ = self.name

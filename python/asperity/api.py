@@ -457,13 +457,13 @@ def fractal_dimensions(surface: Union[HeightField, np.ndarray], **options) -> di
     return analyze(surface, **options)["fractal_dimension"]
 
 
-def fbm(size: int = 256, hurst: float = 0.8, rms: float = 1.0, spacing: float = 1.0, seed: int = 7,
-        threads: Optional[int] = None) -> HeightField:
-    """A periodic self-affine (fBm) test surface by Fourier synthesis: the CLI's
-    ``generate fbm``. size: N (N×N samples), hurst: H in (0, 1), rms: the
-    heights' rms, spacing: sample spacing."""
-    d = _asperity.fbm(size, hurst, rms, spacing, seed, threads)
-    return HeightField._from(d, d["title"])
+fbm = Job(
+    "generate fbm", _asperity.fbm, lambda d: HeightField._from(d, d["title"]), name="fbm",
+    summary="A periodic self-affine (fBm) test surface by Fourier synthesis: the CLI's "
+            "``generate fbm``.",
+    returns="Returns a :class:`HeightField` (N × N samples); its ``params`` record the run.",
+    progress=False,
+).function()
 
 
 # ---------------------------------------------------------------- io and render

@@ -24,6 +24,10 @@ def _f64(a, shape_tail, what):
 
 class _Surface:
     title: Optional[str]
+    #: The record of the job that made it (job, schema version, seed, every
+    #: value); ``asperity.fbm(**h.params)`` makes it again. None for surfaces
+    #: read from files or built by hand.
+    params: Optional[dict] = None
 
     def save(self, path, title: Optional[str] = None, up: Optional[str] = None) -> None:
         """Writes the surface to ``path``; the format follows the extension

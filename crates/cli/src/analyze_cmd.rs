@@ -1,6 +1,5 @@
 //! `asperity analyze` and `asperity generate fbm`.
 
-use asperity_core::fourier_surface::FourierParams;
 use asperity_engine::analyze::{AnalyzeOptions, analyze as analyze_surface};
 use serde_json::Value;
 
@@ -141,27 +140,22 @@ fn text_report(facts: &serde_json::Map<String, Value>) -> anyhow::Result<()> {
 
 pub fn fbm(ctx: &Context, a: &FbmArgs) -> anyhow::Result<()> {
     let out = ctx.output("field.npy")?;
-    let p = FourierParams {
-        n: a.size,
-        hurst: a.hurst,
-        modes: a.size / 2,
-        rms: a.rms,
-        spacing: a.spacing,
-    };
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let p = &job.params;
     let mut run = Run::new(ctx, "generate fbm");
-    // The FFT synthesis (O(N² log N)); the same field as core's direct sum.
-    let h = asperity_analysis::synthesis::fbm(&p, ctx.seed, &ctx.budget)?;
-    run.height(&out, &h, format!("fBm H={}", a.hurst))?;
-    run.report.measure("size", a.size);
-    run.report.measure("hurst", a.hurst);
-    run.report.measure("rms", a.rms);
+    let h = asperity_engine::synthesis::fbm(p, job.seed, &ctx.budget)?;
+    run.params(p, job.seed, job.overridden.clone());
+    run.height(&out, &h, p.title())?;
+    run.report.measure("size", p.size);
+    run.report.measure("hurst", p.hurst);
+    run.report.measure("rms", p.rms);
     run.note(format!(
         "wrote {} ({}×{}, H = {}, rms {})",
         out.display(),
-        a.size,
-        a.size,
-        a.hurst,
-        a.rms
+        p.size,
+        p.size,
+        p.hurst,
+        p.rms
     ));
     run.finish()
 }

@@ -803,18 +803,10 @@ pub struct DlaArgs {
 /// `asperity generate fbm`
 #[derive(Args, Debug)]
 pub struct FbmArgs {
-    /// Samples per side.
-    #[arg(long, default_value_t = 256)]
-    pub size: usize,
-    /// Hurst exponent H in (0, 1] (fractal dimension 3 − H).
-    #[arg(long, default_value_t = 0.8)]
-    pub hurst: f64,
-    /// Root-mean-square height.
-    #[arg(long, default_value_t = 1.0)]
-    pub rms: f64,
-    /// Grid spacing (the field is periodic with period size·spacing).
-    #[arg(long, default_value_t = 1.0)]
-    pub spacing: f64,
+    #[command(flatten)]
+    pub params: asperity_engine::synthesis::FbmParams,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// Open-boundary rule of Catmull–Clark subdivision.

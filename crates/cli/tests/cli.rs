@@ -682,7 +682,7 @@ fn analyze_and_generate() {
     fails(
         d.path(),
         &["generate", "fbm", "--hurst", "1.5", "-o", "x.npy"],
-        "Hurst",
+        "--hurst must be in (0, 1], got 1.5",
     );
 }
 

@@ -15,6 +15,7 @@
 //! | [`subdiv`] | multiresolution surfaces from options or scenes, detail files | velho-perlin |
 //! | [`ifs`] | projected-IFS models, attractors, DCF/SDCF and curvature reports | poull-gentil |
 //! | [`surfca`] | Voronoi, corrosion and Gray–Scott on a mesh, coloured and textured | gobron-chiba |
+//! | [`synthesis`] | self-affine (fBm) test surfaces (`generate fbm`) | — |
 //! | [`render`] | turntable views and surface bounds | gobron-chiba light model |
 //! | [`estimate`] | run-time estimates of the long jobs, checked before they start | — |
 //! | [`workloads`] | the benchmark workloads the issues name | — |
@@ -40,6 +41,7 @@ pub mod report;
 pub mod scaling;
 pub mod subdiv;
 pub mod surfca;
+pub mod synthesis;
 pub mod workloads;
 
 pub use error::{EngineError, ErrorKind, Result};

@@ -303,6 +303,7 @@ pub fn jobs() -> Vec<JobEntry> {
         JobEntry::of::<growth::RdsrParams>(),
         JobEntry::of::<growth::BdParams>(),
         JobEntry::of::<growth::dla::DlaParams>(),
+        JobEntry::of::<crate::synthesis::FbmParams>(),
     ]
 }
 

@@ -1,8 +1,8 @@
 //! `asperity.analyze` and `asperity.fbm`: roughness reports
 //! (`asperity_engine::analyze`) and self-affine test surfaces.
 
-use asperity_core::fourier_surface::FourierParams;
 use asperity_engine::analyze::{AnalyzeOptions, analyze as analyze_surface};
+use asperity_engine::synthesis::FbmParams;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -43,31 +43,23 @@ pub fn analyze<'py>(
     Ok(out)
 }
 
-/// A periodic self-affine (fBm) height field by Fourier synthesis: the
-/// CLI's `generate fbm`.
+/// A periodic self-affine (fBm) height field by Fourier synthesis (`generate
+/// fbm`) with the parameters and seed of `params` (JSON): a height-field dict
+/// with `title` and `params` (JSON text).
 #[pyfunction]
-#[pyo3(signature = (size, hurst, rms, spacing, seed, threads))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (params, threads))]
 pub fn fbm<'py>(
     py: Python<'py>,
-    size: usize,
-    hurst: f64,
-    rms: f64,
-    spacing: f64,
-    seed: u64,
+    params: &str,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let p = FourierParams {
-        n: size,
-        hurst,
-        modes: size / 2,
-        rms,
-        spacing,
-    };
-    let h = run(py, &RunOptions::quiet(threads), move |_, _| {
-        Ok(asperity_analysis::synthesis::fbm(&p, seed, &budget())?)
+    let (p, seed): (FbmParams, u64) = crate::params::from_json(py, params)?;
+    let (p, h) = run(py, &RunOptions::quiet(threads), move |_, _| {
+        let h = asperity_engine::synthesis::fbm(&p, seed, &budget())?;
+        Ok((p, h))
     })?;
     let d = height_out(py, h)?;
-    d.set_item("title", format!("fBm H={hurst}"))?;
+    d.set_item("title", p.title())?;
+    d.set_item("params", crate::params::record(&p, seed))?;
     Ok(d)
 }
