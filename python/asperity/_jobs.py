@@ -93,7 +93,8 @@ def field_doc(field: dict) -> str:
 class Job:
     """How one engine job is called from Python.
 
-    ``leading``: required positional inputs ``(name, doc)``; ``inputs``:
+    ``leading``: required positional inputs ``(name, doc)`` or ``(name, doc,
+    convert)`` (a function that prepares the value for the engine); ``inputs``:
     keyword-only inputs and output choices ``(name, default, doc)`` that are
     not parameters (meshes, images, ``points=True``); ``engine``: the
     binding's function, called as ``engine(params_json, *leading, *inputs,
@@ -102,7 +103,7 @@ class Job:
     """
 
     def __init__(self, job: str, engine: Callable, finish: Callable[[dict], Any], *, name: str,
-                 summary: str, returns: str, leading: Sequence[Tuple[str, str]] = (),
+                 summary: str, returns: str, leading: Sequence[tuple] = (),
                  inputs: Sequence[Tuple[str, Any, str]] = (), threads: bool = True,
                  progress: bool = True):
         self.job, self.engine, self.finish = job, engine, finish
@@ -113,7 +114,7 @@ class Job:
         self.fields = [f["name"] for f in self.description["fields"]]
 
     def signature(self) -> inspect.Signature:
-        ps = [P(n, P.POSITIONAL_OR_KEYWORD) for n, _ in self.leading]
+        ps = [P(n, P.POSITIONAL_OR_KEYWORD) for n, *_ in self.leading]
         ps += [P(f["name"], P.POSITIONAL_OR_KEYWORD, default=f["default"])
                for f in self.description["fields"]]
         ps += [P(n, P.KEYWORD_ONLY, default=d) for n, d, _ in self.inputs]
@@ -128,7 +129,7 @@ class Job:
 
     def doc(self) -> str:
         lines = [self.summary, "", f"Parameters (the engine's; the CLI's ``{self.job}`` flags):"]
-        lines += [f"    {n}: {d}" for n, d in self.leading]
+        lines += [f"    {n}: {d}" for n, d, *_ in self.leading]
         lines += ["    " + field_doc(f) for f in self.description["fields"]]
         lines += [f"    {n}: {d}" for n, _, d in self.inputs]
         if self.description["seeded"]:
@@ -153,7 +154,7 @@ class Job:
             seed = given.pop("seed", DEFAULT_SEED)
             threads = given.pop("threads", None)
             progress = given.pop("progress", False)
-            lead = [given.pop(n) for n, _ in self.leading]
+            lead = [(conv[0] if conv else (lambda v: v))(given.pop(n)) for n, _, *conv in self.leading]
             extra = [given.pop(n, d) for n, d, _ in self.inputs]
             if fields.setdefault("job", self.job) != self.job:
                 raise ValueError(f"these parameters are for {fields['job']!r}, not {self.job!r}")

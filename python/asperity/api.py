@@ -120,46 +120,6 @@ dla = Job(
 
 # ---------------------------------------------------------------- level sets
 
-_LEVEL_SET_DOC = """
-    Level-set keywords (the CLI's flags with ``_`` for ``-``; None means the job's
-    own default, which ``paper=True`` changes to the paper's settings):
-        paper: ε = 3h, 30 steps, Godunov distance, the 3×3×3 tube N (default False).
-        resolution: grid cells along the longest axis (reconstruct: 128; pipelines:
-            spacing 0.7 lattice units, paper 96 cells).
-        spacing: grid spacing h in the points' units (instead of resolution).
-        offset: ε, the starting distance from the points: a length in the points'
-            units, or a string in grid cells such as "3h" (default 3h).
-        iterations: time steps (reconstruct 30, pipelines 60).
-        tolerance: stop when the front moves less than this many cells per step.
-        point_radius: the arrest distance δ in the points' units (default 0.75 × the
-            measured sample spacing, at least 0.6h; 0 is the paper's model).
-        scheme: "eno2" (default) or "upwind".
-        flow: "convection" (default), "regularized" (with curvature_weight, in
-            cells, default 1) or "zhao" (v = −∇d).
-        distance: "closest-point" (default) or "godunov" (fast sweeping).
-        tube_n: "axes" (default) or "cube" (the 3×3×3 neighbourhood).
-        tagging: "paper" (default) or "threshold".
-        tube: flow tube half-width in cells (default 3); beta: reinitialisation band
-            half-width in cells (default 2); cfl: CFL number (default 0.9);
-            redistance: redistancing iterations per step (default 2).
-        full_grid: evolve every node, not the narrow band (default False).
-        curvature: add a per-vertex ``mean_curvature`` scalar (default False).
-        min_shell: drop shells of fewer triangles (default 32).
-"""
-
-_LEVEL_SET_KEYS = ("paper", "resolution", "spacing", "offset", "iterations", "tolerance",
-                   "point_radius", "scheme", "flow", "curvature_weight", "distance", "tube_n",
-                   "tagging", "tube", "beta", "cfl", "redistance", "full_grid", "curvature",
-                   "min_shell")
-
-
-def _level_set(kw: Dict[str, Any]) -> Dict[str, Any]:
-    unknown = set(kw) - set(_LEVEL_SET_KEYS)
-    if unknown:
-        raise TypeError(f"unexpected keyword argument(s): {', '.join(sorted(unknown))}")
-    return {k: v for k, v in kw.items() if v is not None}
-
-
 def _reconstructed(d: dict) -> Result:
     r = Result(mesh=Mesh._from(d["mesh"]), measurements=_parse(d["measurements"]))
     if "points" in d:
@@ -169,39 +129,37 @@ def _reconstructed(d: dict) -> Result:
     return r
 
 
-def reconstruct(points: Union[PointSet, np.ndarray], threads: Optional[int] = None, progress=False,
-                **level_set) -> Result:
-    """A watertight surface around (N, 3) points by the level-set flow
-    (kim-machiraju-thompson §5). Returns ``mesh`` (with normals, and a
-    ``curvature`` scalar with ``curvature=True``) and ``measurements`` (grid,
-    timings, topology as the CLI's JSON).
-    """
-    pts = points.points if isinstance(points, PointSet) else np.ascontiguousarray(points, dtype=np.float64)
-    return _reconstructed(call(_asperity.reconstruct, pts, _level_set(level_set), threads,
-                               progress=progress))
+def _points(points) -> np.ndarray:
+    return points.points if isinstance(points, PointSet) else np.ascontiguousarray(points, dtype=np.float64)
 
 
-def dla_terrain(size: Sequence[int] = (64, 64, 64), particles: Optional[int] = None, stick: float = 1.0,
-                sides: str = "walls", seed: int = 7, threads: Optional[int] = None, progress=False,
-                **level_set) -> Result:
-    """A plane DLA deposit reconstructed as a terrain (Figs. 9–11): the CLI's
-    ``generate dla-terrain``. Returns ``mesh``, ``points``, ``grown`` (the growth
-    facts), ``warnings`` and ``measurements``."""
-    return _reconstructed(call(_asperity.dla_terrain, tuple(size), particles, stick, sides,
-                               _level_set(level_set), seed, threads, progress=progress))
+_RECONSTRUCTED = ("Returns a :class:`Result` with ``mesh`` (with normals, and a ``mean_curvature`` "
+                  "scalar with ``curvature=True``) and ``measurements`` (grid, timings, topology as "
+                  "the CLI's JSON)")
 
+reconstruct = Job(
+    "reconstruct", _asperity.reconstruct, _reconstructed, name="reconstruct",
+    summary="A watertight surface around (N, 3) points by the level-set flow "
+            "(kim-machiraju-thompson §5): the CLI's ``reconstruct``.",
+    leading=[("points", "a :class:`PointSet` or an (N, 3) array.", _points)],
+    returns=_RECONSTRUCTED + ".",
+).function()
 
-def rdsr_sphere(radius: float = 20.0, layers: float = 10.0, relax: int = 1, seed: int = 7,
-                threads: Optional[int] = None, progress=False, **level_set) -> Result:
-    """RDSR layers grown on a sphere and reconstructed (Fig. 8): the CLI's
-    ``generate rdsr-sphere``."""
-    return _reconstructed(call(_asperity.rdsr_sphere, radius, layers, relax, _level_set(level_set),
-                               seed, threads, progress=progress))
+dla_terrain = Job(
+    "generate dla-terrain", _asperity.dla_terrain, _reconstructed, name="dla_terrain",
+    summary="A plane DLA deposit reconstructed as a terrain (kim-machiraju-thompson Figs. 9–11): "
+            "the CLI's ``generate dla-terrain``.",
+    returns=_RECONSTRUCTED + ", ``points`` (the deposit), ``grown`` (the growth facts) and "
+            "``warnings``.",
+).function()
 
-
-reconstruct.__doc__ += _LEVEL_SET_DOC
-dla_terrain.__doc__ += _LEVEL_SET_DOC
-rdsr_sphere.__doc__ += _LEVEL_SET_DOC
+rdsr_sphere = Job(
+    "generate rdsr-sphere", _asperity.rdsr_sphere, _reconstructed, name="rdsr_sphere",
+    summary="RDSR layers grown on a sphere and reconstructed (kim-machiraju-thompson Fig. 8): the "
+            "CLI's ``generate rdsr-sphere``.",
+    returns=_RECONSTRUCTED + ", ``points`` (the deposit), ``grown`` (the growth facts) and "
+            "``warnings``.",
+).function()
 
 
 # ---------------------------------------------------------------- cellular automata

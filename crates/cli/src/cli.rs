@@ -557,194 +557,39 @@ pub enum GenerateCommand {
     RdsrSphere(RdsrSphereArgs),
 }
 
-/// The x and y sides of a plane deposit.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SidesArg {
-    /// Periodic (growth physics' standard: no edge effects); one cluster only across the wrap.
-    Periodic,
-    /// Reflecting walls: the deposit is one connected piece without any wrap; any size.
-    Walls,
-}
-
-impl From<SidesArg> for asperity_engine::growth::dla::Sides {
-    fn from(s: SidesArg) -> Self {
-        match s {
-            SidesArg::Periodic => Self::Periodic,
-            SidesArg::Walls => Self::Walls,
-        }
-    }
-}
-
-/// Space discretisation of the flow.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SchemeArg {
-    /// Second-order ENO (the paper's).
-    Eno2,
-    /// First-order upwind.
-    Upwind,
-}
-
-/// The level-set flow.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FlowArg {
-    /// φ_t = d|∇φ| (Eq. 6): keeps the roughness.
-    Convection,
-    /// Convection plus a curvature term weighted by d (Zhao's weighted minimal surface): smoother.
-    Regularized,
-    /// Zhao's φ_t = ∇d·∇φ (velocity −∇d), which the paper replaces by Eq. 6: ∇d is unstable on rough data.
-    Zhao,
-}
-
-/// How the tube T grows into N.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TubeNArg {
-    /// One node along each axis (6 neighbours; fastest).
-    Axes,
-    /// The 3×3×3 block (26 neighbours), the paper's N (Eq. 10's outline, step 1).
-    Cube,
-}
-
-/// Unsigned-distance method.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DistanceArg {
-    /// Closest-point wavefront in the band (nearly exact, fast).
-    ClosestPoint,
-    /// Godunov fast sweeping over the whole grid (the paper's, first order).
-    Godunov,
-}
-
-/// Tagging rule of Algorithm 1.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TagRuleArg {
-    /// As published: never step onto a node with a farther interior neighbour.
-    Paper,
-    /// The ε rule only: flood fill of {d ≥ ε} from the box.
-    Threshold,
-}
-
-/// Settings of the level-set reconstruction, shared by `reconstruct` and the pipelines.
-#[derive(Args, Debug, Clone)]
-pub struct LevelSetArgs {
-    /// The paper's own settings and algorithms for what is not given: ε = 3h, 30 steps, Godunov
-    /// distance, the 3×3×3 tube N, the pure Eq. 6 flow (reconstruct; the pipelines keep δ, see
-    /// ARCHITECTURE), and the paper's grid (pipelines: 96 cells along the lattice, 115 nodes).
-    #[arg(long)]
-    pub paper: bool,
-    /// Cells along the longest axis of the points' bounding box.
-    #[arg(long, conflicts_with = "spacing")]
-    pub resolution: Option<usize>,
-    /// Grid spacing h in the points' units (instead of --resolution).
-    #[arg(long)]
-    pub spacing: Option<f64>,
-    /// Offset ε of the initial surface from the points: in their units (0.5) or in grid cells
-    /// with an h suffix (3h, the paper's "3 grid cells"). Default: 3h; pipelines: 3 units.
-    #[arg(long, value_name = "EPS", value_parser = asperity_levelset::Length::parse)]
-    pub offset: Option<asperity_levelset::Length>,
-    /// Time steps of the flow (default 30; pipelines 60; --paper 30).
-    #[arg(long)]
-    pub iterations: Option<usize>,
-    /// Stop early once the front moves less than this many cells per step.
-    #[arg(long, value_name = "CELLS")]
-    pub tolerance: Option<f64>,
-    /// Radius δ at which the front stops around each point (default: 0.75 × sample spacing, ≥ 0.6h; 0 = the paper's model).
-    #[arg(long, value_name = "R")]
-    pub point_radius: Option<f64>,
-    /// Space discretisation.
-    #[arg(long, value_enum, default_value_t = SchemeArg::Eno2)]
-    pub scheme: SchemeArg,
-    /// The flow.
-    #[arg(long, value_enum, default_value_t = FlowArg::Convection)]
-    pub flow: FlowArg,
-    /// Curvature weight λ of the regularised flow, in cells.
-    #[arg(long, default_value_t = 1.0)]
-    pub curvature_weight: f64,
-    /// Unsigned-distance method (default closest-point; --paper godunov).
-    #[arg(long, value_enum)]
-    pub distance: Option<DistanceArg>,
-    /// The neighbourhood that grows the flow tube T into the redistancing tube N (default
-    /// axes; --paper cube).
-    #[arg(long, value_enum, value_name = "NEIGHBOURHOOD")]
-    pub tube_n: Option<TubeNArg>,
-    /// Tagging rule.
-    #[arg(long, value_enum, default_value_t = TagRuleArg::Paper)]
-    pub tagging: TagRuleArg,
-    /// Tube half-width γ in cells.
-    #[arg(long, default_value_t = 3.0)]
-    pub tube: f64,
-    /// Full-speed half-width β of the cut-off, in cells (< γ).
-    #[arg(long, default_value_t = 2.0)]
-    pub beta: f64,
-    /// CFL number of the time step.
-    #[arg(long, default_value_t = 0.9)]
-    pub cfl: f64,
-    /// Redistancing iterations per step (Eq. 11).
-    #[arg(long, default_value_t = 2)]
-    pub redistance: usize,
-    /// Update every node every step (the naive scheme, for comparison) instead of the tubes.
-    #[arg(long)]
-    pub full_grid: bool,
-    /// Store the mean curvature H (Eq. 2) per vertex as `mean_curvature`.
-    #[arg(long)]
-    pub curvature: bool,
-    /// Drop connected pieces with fewer triangles than this (single-node voids the flow opens
-    /// inside a deposit have 8); 0 keeps everything.
-    #[arg(long, default_value_t = asperity_engine::reconstruct::MIN_SHELL_TRIANGLES, value_name = "TRIANGLES")]
-    pub min_shell: usize,
-    /// Also write the surface every K steps (and the initial one) as OUT_stepNNNN.EXT.
-    #[arg(long, value_name = "K")]
-    pub save_every: Option<usize>,
-}
-
 /// `asperity reconstruct`
 #[derive(Args, Debug)]
 pub struct ReconstructArgs {
     /// Point set (PLY, XYZ, CSV, OBJ/STL vertices …).
     pub input: PathBuf,
     #[command(flatten)]
-    pub level_set: LevelSetArgs,
+    pub params: asperity_engine::reconstruct::LevelSetParams,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity generate dla-terrain`
 #[derive(Args, Debug)]
 pub struct DlaTerrainArgs {
-    /// Lattice NXxNYxNZ.
-    #[arg(long, default_value = "64x64x64", value_name = "NXxNYxNZ")]
-    pub size: String,
-    /// DLA particles released from above the plane (default 6000, below the lattice top; --paper 2500, a deposit
-    /// about 20 cells high as the paper's 49-node grid height implies).
-    #[arg(long)]
-    pub particles: Option<usize>,
-    /// Sticking probability p in (0, 1].
-    #[arg(long, default_value_t = 1.0)]
-    pub stick: f64,
-    /// The lattice's x and y sides: walls keep the terrain in one piece; periodic
-    /// sides wrap the deposit, which the bounded reconstruction then cuts into pieces.
-    #[arg(long, value_enum, default_value_t = SidesArg::Walls)]
-    pub sides: SidesArg,
+    #[command(flatten)]
+    pub params: asperity_engine::reconstruct::DlaTerrainParams,
     /// Also write the particles (PLY, XYZ, CSV).
     #[arg(long, value_name = "FILE")]
     pub points: Option<PathBuf>,
     #[command(flatten)]
-    pub level_set: LevelSetArgs,
+    pub params_file: ParamsFile,
 }
 
 /// `asperity generate rdsr-sphere`
 #[derive(Args, Debug)]
 pub struct RdsrSphereArgs {
-    /// Radius of the substrate ball, in cells.
-    #[arg(long, default_value_t = 20.0)]
-    pub radius: f64,
-    /// Monolayers deposited.
-    #[arg(long, default_value_t = 10.0)]
-    pub layers: f64,
-    /// RDSR relaxation radius in cells.
-    #[arg(long, default_value_t = 1)]
-    pub relax: u32,
+    #[command(flatten)]
+    pub params: asperity_engine::reconstruct::RdsrSphereParams,
     /// Also write the particles (PLY, XYZ, CSV).
     #[arg(long, value_name = "FILE")]
     pub points: Option<PathBuf>,
     #[command(flatten)]
-    pub level_set: LevelSetArgs,
+    pub params_file: ParamsFile,
 }
 
 /// `asperity growth …`

@@ -71,22 +71,6 @@ fn deposit<P: DepositJob + clap::Args>(ctx: &Context, a: &DepositArgs<P>) -> any
     run.finish()
 }
 
-/// Parses NXxNYxNZ (or NXxNZ in 2-D) into a lattice size.
-pub fn parse_size(text: &str, dim: usize) -> anyhow::Result<[usize; 3]> {
-    let parts: Vec<usize> = text
-        .split(['x', 'X', '×'])
-        .map(|s| s.trim().parse::<usize>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| anyhow::anyhow!("--size {text:?}: expected NXxNYxNZ (or NXxNZ in 2-D)"))?;
-    match (dim, parts.as_slice()) {
-        (3, [x, y, z]) => Ok([*x, *y, *z]),
-        (3, [n]) => Ok([*n; 3]),
-        (2, [x, z]) => Ok([*x, 1, *z]),
-        (2, [n]) => Ok([*n, 1, *n]),
-        _ => anyhow::bail!("--size {text:?}: expected {} numbers separated by x", dim),
-    }
-}
-
 fn grow_dla(ctx: &Context, a: &DlaArgs) -> anyhow::Result<()> {
     let out = ctx.output(OUTPUT)?;
     anyhow::ensure!(

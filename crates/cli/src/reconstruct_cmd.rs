@@ -5,60 +5,10 @@
 use std::path::{Path, PathBuf};
 
 use asperity_engine::files::{numbered, require_mesh_format};
-use asperity_engine::reconstruct::{self, Grown, Job, LevelSetOptions};
-use asperity_levelset::{
-    DistanceMethod, FlowChoice, Neighbourhood, ReconstructParams, Scheme, TagRule,
-};
+use asperity_engine::reconstruct::{self, Grown, Job, LevelSetParams};
 
-use crate::cli::{
-    DistanceArg, DlaTerrainArgs, FlowArg, LevelSetArgs, RdsrSphereArgs, ReconstructArgs, SchemeArg,
-    TagRuleArg, TubeNArg,
-};
+use crate::cli::{DlaTerrainArgs, RdsrSphereArgs, ReconstructArgs};
 use crate::context::{Context, Run};
-
-fn params(a: &LevelSetArgs, job: Job) -> ReconstructParams {
-    LevelSetOptions {
-        paper: a.paper,
-        resolution: a.resolution,
-        spacing: a.spacing,
-        offset: a.offset,
-        iterations: a.iterations,
-        tolerance: a.tolerance,
-        point_radius: a.point_radius,
-        scheme: match a.scheme {
-            SchemeArg::Eno2 => Scheme::Eno2,
-            SchemeArg::Upwind => Scheme::Upwind,
-        },
-        flow: match a.flow {
-            FlowArg::Convection => FlowChoice::Convection,
-            FlowArg::Regularized => FlowChoice::Regularized {
-                weight_cells: a.curvature_weight,
-            },
-            FlowArg::Zhao => FlowChoice::Zhao,
-        },
-        distance: a.distance.map(|d| match d {
-            DistanceArg::ClosestPoint => DistanceMethod::ClosestPoint,
-            DistanceArg::Godunov => DistanceMethod::GODUNOV,
-        }),
-        neighbourhood: a.tube_n.map(|n| match n {
-            TubeNArg::Axes => Neighbourhood::Axes,
-            TubeNArg::Cube => Neighbourhood::Cube,
-        }),
-        tag_rule: match a.tagging {
-            TagRuleArg::Paper => TagRule::Paper,
-            TagRuleArg::Threshold => TagRule::Threshold,
-        },
-        tube_cells: a.tube,
-        beta_cells: a.beta,
-        cfl: a.cfl,
-        redistance_iterations: a.redistance,
-        full_grid: a.full_grid,
-        curvature: a.curvature,
-        min_shell_triangles: a.min_shell,
-        save_every: a.save_every,
-    }
-    .params(job)
-}
 
 fn mesh_output(ctx: &Context) -> anyhow::Result<PathBuf> {
     let out = ctx.output("MESH (e.g. -o surface.ply or -o surface.glb)")?;
@@ -70,11 +20,11 @@ fn mesh_output(ctx: &Context) -> anyhow::Result<PathBuf> {
 fn surface(
     run: &mut Run,
     points: &[[f64; 3]],
-    a: &LevelSetArgs,
+    a: &LevelSetParams,
     job: Job,
     out: &Path,
 ) -> anyhow::Result<()> {
-    let p = params(a, job);
+    let p = a.settings(job);
     let _purge = crate::memory::PromptPurge::new();
     // Saved steps are written as they come (a long run holds none in memory).
     let mut saved = Vec::new();
@@ -121,15 +71,22 @@ fn surface(
 /// `asperity reconstruct POINTS -o MESH`
 pub fn run(ctx: &Context, a: &ReconstructArgs) -> anyhow::Result<()> {
     let out = mesh_output(ctx)?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    asperity_engine::params::validate(&job.params)?;
     // From the reading on: the reader's buffers go back before the stages
     // allocate theirs.
     let _purge = crate::memory::PromptPurge::new();
     let points = ctx.load_points(&a.input)?;
     let mut run = Run::new(ctx, "reconstruct");
+    run.params(
+        &job.params.resolved(Job::Reconstruct),
+        job.seed,
+        job.overridden,
+    );
     surface(
         &mut run,
         points.positions(),
-        &a.level_set,
+        &job.params,
         Job::Reconstruct,
         &out,
     )?;
@@ -141,7 +98,7 @@ fn pipeline(
     mut run: Run,
     grown: Grown,
     points_out: Option<&Path>,
-    a: &LevelSetArgs,
+    a: &LevelSetParams,
     out: &Path,
     job: Job,
 ) -> anyhow::Result<()> {
@@ -163,20 +120,16 @@ fn pipeline(
 /// `asperity generate dla-terrain`
 pub fn dla_terrain(ctx: &Context, a: &DlaTerrainArgs) -> anyhow::Result<()> {
     let out = mesh_output(ctx)?;
-    let size = crate::growth_cmd::parse_size(&a.size, 3)?;
-    let run = Run::new(ctx, "generate dla-terrain");
-    let grown = reconstruct::dla_terrain(
-        size,
-        a.particles
-            .unwrap_or(reconstruct::terrain_particles(a.level_set.paper)),
-        (a.stick, a.sides.into()),
-        (ctx.seed, &ctx.budget, &ctx.time, &ctx.bar()),
-    )?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let mut run = Run::new(ctx, "generate dla-terrain");
+    let grown =
+        reconstruct::dla_terrain(&job.params, (job.seed, &ctx.budget, &ctx.time, &ctx.bar()))?;
+    run.params(&job.params.resolved()?, job.seed, job.overridden);
     pipeline(
         run,
         grown,
         a.points.as_deref(),
-        &a.level_set,
+        &job.params.level_set,
         &out,
         Job::DlaTerrain,
     )
@@ -185,18 +138,15 @@ pub fn dla_terrain(ctx: &Context, a: &DlaTerrainArgs) -> anyhow::Result<()> {
 /// `asperity generate rdsr-sphere`
 pub fn rdsr_sphere(ctx: &Context, a: &RdsrSphereArgs) -> anyhow::Result<()> {
     let out = mesh_output(ctx)?;
-    let run = Run::new(ctx, "generate rdsr-sphere");
-    let grown = reconstruct::rdsr_sphere(
-        a.radius,
-        a.layers,
-        a.relax,
-        (ctx.seed, &ctx.budget, &ctx.bar()),
-    )?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let mut run = Run::new(ctx, "generate rdsr-sphere");
+    let grown = reconstruct::rdsr_sphere(&job.params, (job.seed, &ctx.budget, &ctx.bar()))?;
+    run.params(&job.params.resolved(), job.seed, job.overridden);
     pipeline(
         run,
         grown,
         a.points.as_deref(),
-        &a.level_set,
+        &job.params.level_set,
         &out,
         Job::RdsrSphere,
     )

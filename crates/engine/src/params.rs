@@ -303,6 +303,9 @@ pub fn jobs() -> Vec<JobEntry> {
         JobEntry::of::<growth::RdsrParams>(),
         JobEntry::of::<growth::BdParams>(),
         JobEntry::of::<growth::dla::DlaParams>(),
+        JobEntry::of::<crate::reconstruct::LevelSetParams>(),
+        JobEntry::of::<crate::reconstruct::DlaTerrainParams>(),
+        JobEntry::of::<crate::reconstruct::RdsrSphereParams>(),
         JobEntry::of::<crate::synthesis::FbmParams>(),
     ]
 }
@@ -711,6 +714,11 @@ impl LatticeSize {
     /// [`EngineError::Invalid`] otherwise.
     pub fn new(sides: &[usize]) -> Result<Self> {
         Self::from_sides(sides.to_vec()).map_err(EngineError::Invalid)
+    }
+
+    /// An N × N × N lattice.
+    pub fn cube(n: usize) -> Self {
+        Self(vec![n; 3])
     }
 
     /// The sides as given.

@@ -7,7 +7,9 @@ use asperity_core::{MemoryBudget, NoProgress, TimeBudget};
 use asperity_engine::ErrorKind;
 use asperity_engine::files::{builtin_mesh, load, load_mesh};
 use asperity_engine::growth::dla::Sides;
-use asperity_engine::reconstruct::{Job, PIPELINE, dla_terrain, pieces, rdsr_sphere, surface};
+use asperity_engine::reconstruct::{
+    DlaTerrainParams, Job, PIPELINE, RdsrSphereParams, dla_terrain, pieces, rdsr_sphere, surface,
+};
 use asperity_engine::surfca::{App, Covered, OutputShape, cover, run_app};
 use asperity_levelset::{FlowChoice, ReconstructParams, Reconstruction};
 use asperity_surfca::CellSize;
@@ -123,7 +125,12 @@ fn outputs_an_application_cannot_give_are_refused() {
 fn rdsr_sphere_pipeline_gives_a_closed_sphere_around_the_deposit() {
     let budget = MemoryBudget::unlimited();
     let (radius, layers) = (8.0, 3.0);
-    let grown = rdsr_sphere(radius, layers, 1, (5, &budget, &NoProgress)).unwrap();
+    let p = RdsrSphereParams {
+        radius,
+        layers,
+        ..RdsrSphereParams::DEFAULT
+    };
+    let grown = rdsr_sphere(&p, (5, &budget, &NoProgress)).unwrap();
     let thickness = grown.facts.get("thickness").unwrap().as_f64().unwrap();
     assert!(thickness > 0.0 && thickness < 3.0 * layers, "{thickness}");
 
@@ -211,7 +218,7 @@ fn files_are_refused_with_the_right_kind() {
 #[test]
 fn rdsr_sphere_in_paper_mode_has_the_papers_grid() {
     let budget = MemoryBudget::unlimited();
-    let grown = rdsr_sphere(20.0, 10.0, 1, (7, &budget, &NoProgress)).unwrap();
+    let grown = rdsr_sphere(&RdsrSphereParams::DEFAULT, (7, &budget, &NoProgress)).unwrap();
     let rec = surface(
         &grown.points,
         &Job::RdsrSphere.defaults(true).params(),
@@ -238,13 +245,12 @@ fn dla_terrain_is_one_piece_with_arches() {
     let budget = MemoryBudget::unlimited();
     let time = TimeBudget::unlimited();
     let terrain_with = |particles: usize, sides: Sides, params: ReconstructParams, seed: u64| {
-        let grown = dla_terrain(
-            [64, 64, 64],
-            particles,
-            (1.0, sides),
-            (seed, &budget, &time, &NoProgress),
-        )
-        .unwrap();
+        let p = DlaTerrainParams {
+            particles: Some(particles),
+            sides,
+            ..DlaTerrainParams::default()
+        };
+        let grown = dla_terrain(&p, (seed, &budget, &time, &NoProgress)).unwrap();
         let rec = reconstructed(&grown.points, &params);
         (grown, rec)
     };

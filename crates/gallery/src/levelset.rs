@@ -11,7 +11,10 @@ use asperity_core::{NoProgress, TriMesh};
 use asperity_engine::Result;
 use asperity_engine::error::invalid;
 use asperity_engine::growth::dla::Sides;
-use asperity_engine::reconstruct::{Job, PAPER_TERRAIN_PARTICLES, dla_terrain, pieces};
+use asperity_engine::params::LatticeSize;
+use asperity_engine::reconstruct::{
+    DlaTerrainParams, Job, PAPER_TERRAIN_PARTICLES, dla_terrain, pieces,
+};
 use asperity_io::Surface;
 use asperity_levelset::{FlowChoice, GridSpec, ReconstructParams, Sizing, reconstruct};
 use asperity_render::plot::{Plot, Series, Style, plot_svg};
@@ -74,10 +77,14 @@ fn cases(env: &Env) -> Result<Vec<Case>> {
     let fig9 = (PAPER_TERRAIN_PARTICLES as f64 * scale) as usize;
     let fig11 = (6_000.0 * scale) as usize;
     let terrain = |particles: usize, seed: u64| -> Result<Vec<[f64; 3]>> {
+        let p = DlaTerrainParams {
+            size: LatticeSize::cube(side),
+            particles: Some(particles),
+            sides: Sides::Walls,
+            ..DlaTerrainParams::default()
+        };
         let grown = dla_terrain(
-            [side, side, side],
-            particles,
-            (1.0, Sides::Walls),
+            &p,
             (seed, &env.budget, &TimeBudget::unlimited(), &NoProgress),
         )?;
         Ok(grown.points)

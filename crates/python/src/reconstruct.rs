@@ -2,94 +2,14 @@
 //! level-set reconstruction and the two-pass pipelines
 //! (`asperity_engine::reconstruct`, kim-machiraju-thompson §5–6).
 
-use asperity_engine::reconstruct::{self as engine, Grown, Job, LevelSetOptions};
-use asperity_levelset::{DistanceMethod, FlowChoice, Length, Neighbourhood, Scheme, TagRule};
+use asperity_engine::reconstruct::{
+    self as engine, DlaTerrainParams, Grown, Job, LevelSetParams, RdsrSphereParams,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::choice;
 use crate::convert::{json, mesh_out, points_out, rows};
 use crate::job::{RunOptions, budget, run};
-
-/// The level-set keywords, as the Python layer passes them (a dict of the
-/// CLI's flag names with underscores).
-fn options(kw: &Bound<'_, PyDict>) -> PyResult<LevelSetOptions> {
-    let mut o = LevelSetOptions::default();
-    for (k, v) in kw.iter() {
-        let key: String = k.extract()?;
-        if v.is_none() {
-            continue;
-        }
-        match key.as_str() {
-            "paper" => o.paper = v.extract()?,
-            "resolution" => o.resolution = Some(v.extract()?),
-            "spacing" => o.spacing = Some(v.extract()?),
-            "offset" => {
-                o.offset = Some(match v.extract::<f64>() {
-                    Ok(x) => Length::World(x),
-                    Err(_) => Length::parse(&v.extract::<String>()?).map_err(crate::value_error)?,
-                })
-            }
-            "iterations" => o.iterations = Some(v.extract()?),
-            "tolerance" => o.tolerance = Some(v.extract()?),
-            "point_radius" => o.point_radius = Some(v.extract()?),
-            "scheme" => {
-                o.scheme = match choice(&v.extract::<String>()?, &["eno2", "upwind"], "scheme")? {
-                    "upwind" => Scheme::Upwind,
-                    _ => Scheme::Eno2,
-                }
-            }
-            "flow" => {
-                let flows = ["convection", "regularized", "zhao"];
-                o.flow = match choice(&v.extract::<String>()?, &flows, "flow")? {
-                    "convection" => FlowChoice::Convection,
-                    "zhao" => FlowChoice::Zhao,
-                    _ => FlowChoice::Regularized {
-                        weight_cells: kw
-                            .get_item("curvature_weight")?
-                            .map_or(Ok(1.0), |w| w.extract())?,
-                    },
-                }
-            }
-            "curvature_weight" => {}
-            "distance" => {
-                let names = ["closest-point", "godunov"];
-                o.distance = Some(match choice(&v.extract::<String>()?, &names, "distance")? {
-                    "godunov" => DistanceMethod::GODUNOV,
-                    _ => DistanceMethod::ClosestPoint,
-                })
-            }
-            "tube_n" => {
-                o.neighbourhood = Some(
-                    match choice(&v.extract::<String>()?, &["axes", "cube"], "tube_n")? {
-                        "cube" => Neighbourhood::Cube,
-                        _ => Neighbourhood::Axes,
-                    },
-                )
-            }
-            "tagging" => {
-                o.tag_rule =
-                    match choice(&v.extract::<String>()?, &["paper", "threshold"], "tagging")? {
-                        "threshold" => TagRule::Threshold,
-                        _ => TagRule::Paper,
-                    }
-            }
-            "tube" => o.tube_cells = v.extract()?,
-            "beta" => o.beta_cells = v.extract()?,
-            "cfl" => o.cfl = v.extract()?,
-            "redistance" => o.redistance_iterations = v.extract()?,
-            "full_grid" => o.full_grid = v.extract()?,
-            "curvature" => o.curvature = v.extract()?,
-            "min_shell" => o.min_shell_triangles = v.extract()?,
-            other => {
-                return Err(pyo3::exceptions::PyTypeError::new_err(format!(
-                    "unexpected keyword argument {other:?}"
-                )));
-            }
-        }
-    }
-    Ok(o)
-}
 
 fn surface<'py>(
     py: Python<'py>,
@@ -113,21 +33,27 @@ fn surface<'py>(
     Ok(())
 }
 
-/// Reconstructs a watertight surface from (N, 3) points; returns a dict with
-/// `mesh` and `measurements`.
+/// Reconstructs a watertight surface from (N, 3) points with the level-set
+/// settings of `params` (JSON, the engine's `LevelSetParams`); returns a dict
+/// with `mesh`, `measurements` and `params`.
 #[pyfunction]
-#[pyo3(signature = (points, level_set, threads, progress))]
+#[pyo3(signature = (params, points, threads, progress))]
 pub fn reconstruct<'py>(
     py: Python<'py>,
+    params: &str,
     points: &Bound<'py, PyAny>,
-    level_set: &Bound<'py, PyDict>,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let (p, seed): (LevelSetParams, u64) = crate::params::from_json(py, params)?;
     let pts = rows::<3>(points, "points")?;
-    let params = options(level_set)?.params(Job::Reconstruct);
     let out = PyDict::new(py);
-    surface(py, pts, params, &RunOptions { threads, progress }, &out)?;
+    let settings = p.settings(Job::Reconstruct);
+    surface(py, pts, settings, &RunOptions { threads, progress }, &out)?;
+    out.set_item(
+        "params",
+        crate::params::record(&p.resolved(Job::Reconstruct), seed),
+    )?;
     Ok(out)
 }
 
@@ -135,66 +61,59 @@ fn pipeline<'py>(
     py: Python<'py>,
     grown: Grown,
     job: Job,
-    level_set: &Bound<'py, PyDict>,
+    level_set: &LevelSetParams,
     opts: &RunOptions,
 ) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
-    let params = options(level_set)?.params(job);
     out.set_item(
         "points",
         points_out(py, &asperity_core::PointSet::new(grown.points.clone()))?,
     )?;
     out.set_item("warnings", crate::spelled_all(grown.warnings))?;
     out.set_item("grown", json(&grown.facts)?)?;
-    surface(py, grown.points, params, opts, &out)?;
+    surface(py, grown.points, level_set.settings(job), opts, &out)?;
     Ok(out)
 }
 
-/// Grows a plane DLA deposit and reconstructs it (Figs. 9–11).
+/// Grows a plane DLA deposit and reconstructs it (Figs. 9–11) with the
+/// parameters and seed of `params` (JSON, the engine's `DlaTerrainParams`).
 #[pyfunction]
-#[pyo3(signature = (size, particles, stick, sides, level_set, seed, threads, progress))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (params, threads, progress))]
 pub fn dla_terrain<'py>(
     py: Python<'py>,
-    size: [usize; 3],
-    particles: Option<usize>,
-    stick: f64,
-    sides: &str,
-    level_set: &Bound<'py, PyDict>,
-    seed: u64,
+    params: &str,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let paper = options(level_set)?.paper;
-    let particles = particles.unwrap_or(engine::terrain_particles(paper));
-    let sides = match choice(sides, &["walls", "periodic"], "sides")? {
-        "periodic" => asperity_engine::growth::dla::Sides::Periodic,
-        _ => asperity_engine::growth::dla::Sides::Walls,
-    };
+    let (p, seed): (DlaTerrainParams, u64) = crate::params::from_json(py, params)?;
     let opts = RunOptions { threads, progress };
-    let grown = run(py, &opts, move |w, time| {
-        engine::dla_terrain(size, particles, (stick, sides), (seed, &budget(), time, w))
+    let (p, grown) = run(py, &opts, move |w, time| {
+        let grown = engine::dla_terrain(&p, (seed, &budget(), time, w))?;
+        Ok((p, grown))
     })?;
-    pipeline(py, grown, Job::DlaTerrain, level_set, &opts)
+    let out = pipeline(py, grown, Job::DlaTerrain, &p.level_set, &opts)?;
+    let resolved = p.resolved().map_err(|e| crate::job::to_py(py, e))?;
+    out.set_item("params", crate::params::record(&resolved, seed))?;
+    Ok(out)
 }
 
-/// Grows RDSR layers on a sphere and reconstructs them (Fig. 8).
+/// Grows RDSR layers on a sphere and reconstructs them (Fig. 8) with the
+/// parameters and seed of `params` (JSON, the engine's `RdsrSphereParams`).
 #[pyfunction]
-#[pyo3(signature = (radius, layers, relax, level_set, seed, threads, progress))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (params, threads, progress))]
 pub fn rdsr_sphere<'py>(
     py: Python<'py>,
-    radius: f64,
-    layers: f64,
-    relax: u32,
-    level_set: &Bound<'py, PyDict>,
-    seed: u64,
+    params: &str,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let (p, seed): (RdsrSphereParams, u64) = crate::params::from_json(py, params)?;
     let opts = RunOptions { threads, progress };
-    let grown = run(py, &opts, move |w, _| {
-        engine::rdsr_sphere(radius, layers, relax, (seed, &budget(), w))
+    let (p, grown) = run(py, &opts, move |w, _| {
+        let grown = engine::rdsr_sphere(&p, (seed, &budget(), w))?;
+        Ok((p, grown))
     })?;
-    pipeline(py, grown, Job::RdsrSphere, level_set, &opts)
+    let out = pipeline(py, grown, Job::RdsrSphere, &p.level_set, &opts)?;
+    out.set_item("params", crate::params::record(&p.resolved(), seed))?;
+    Ok(out)
 }

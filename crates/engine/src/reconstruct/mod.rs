@@ -7,10 +7,16 @@ use asperity_growth::Model;
 use asperity_growth::curved::{CurvedParams, CurvedSubstrate, deposit_curved};
 use asperity_growth::dla::{DlaParams, SeedShape, dla};
 use asperity_levelset::{
-    Band, DistanceMethod, ExtractOptions, FlowChoice, Length, Neighbourhood, ReconstructParams,
-    Reconstruction, Scheme, Sizing, TagRule, reconstruct,
+    DistanceMethod, Length, Neighbourhood, ReconstructParams, Reconstruction, Sizing, reconstruct,
 };
 use serde_json::json;
+
+mod params;
+
+pub use params::{
+    DistanceName, DlaTerrainParams, FlowName, LevelSetParams, Offset, RdsrSphereParams,
+    SchemeChoice, Tagging, TubeN,
+};
 
 use crate::error::{Result, invalid};
 use crate::growth::dla::Sides;
@@ -31,119 +37,6 @@ pub struct Defaults {
     pub neighbourhood: Neighbourhood,
     /// The arrest distance δ; `None` sets it from the sample spacing.
     pub point_radius: Option<f64>,
-}
-
-/// What a front end asks of a reconstruction, every choice optional where the
-/// job has a default ([`Job::defaults`]): the CLI's level-set flags and the
-/// Python keywords map one to one onto these fields.
-#[derive(Clone, Debug, PartialEq)]
-pub struct LevelSetOptions {
-    /// The paper's settings for what is not given (`--paper`).
-    pub paper: bool,
-    /// Cells along the longest axis (wins over `spacing`).
-    pub resolution: Option<usize>,
-    /// Grid spacing h in the points' units.
-    pub spacing: Option<f64>,
-    /// ε, in world units or grid cells.
-    pub offset: Option<Length>,
-    /// Time steps.
-    pub iterations: Option<usize>,
-    /// Stop when the front moves less than this per step.
-    pub tolerance: Option<f64>,
-    /// The arrest distance δ.
-    pub point_radius: Option<f64>,
-    /// The convection scheme.
-    pub scheme: Scheme,
-    /// The flow.
-    pub flow: FlowChoice,
-    /// The unsigned-distance method.
-    pub distance: Option<DistanceMethod>,
-    /// The redistancing tube N.
-    pub neighbourhood: Option<Neighbourhood>,
-    /// The inside/outside tagging rule.
-    pub tag_rule: TagRule,
-    /// The flow tube's half-width in cells.
-    pub tube_cells: f64,
-    /// The reinitialisation band's half-width in cells.
-    pub beta_cells: f64,
-    /// CFL number.
-    pub cfl: f64,
-    /// Redistancing iterations per step.
-    pub redistance_iterations: usize,
-    /// Evolve the whole grid instead of the narrow band.
-    pub full_grid: bool,
-    /// Mean curvature per vertex on the mesh.
-    pub curvature: bool,
-    /// Shells with fewer triangles are dropped.
-    pub min_shell_triangles: usize,
-    /// A mesh every this many steps.
-    pub save_every: Option<usize>,
-}
-
-impl Default for LevelSetOptions {
-    /// The CLI's defaults.
-    fn default() -> Self {
-        Self {
-            paper: false,
-            resolution: None,
-            spacing: None,
-            offset: None,
-            iterations: None,
-            tolerance: None,
-            point_radius: None,
-            scheme: Scheme::Eno2,
-            flow: FlowChoice::Convection,
-            distance: None,
-            neighbourhood: None,
-            tag_rule: TagRule::Paper,
-            tube_cells: 3.0,
-            beta_cells: 2.0,
-            cfl: 0.9,
-            redistance_iterations: 2,
-            full_grid: false,
-            curvature: false,
-            min_shell_triangles: MIN_SHELL_TRIANGLES,
-            save_every: None,
-        }
-    }
-}
-
-impl LevelSetOptions {
-    /// The parameters of `job` with these choices over its defaults.
-    pub fn params(&self, job: Job) -> ReconstructParams {
-        let d = job.defaults(self.paper);
-        let sizing = match (self.resolution, self.spacing) {
-            (Some(n), _) => Sizing::Resolution(n),
-            (None, Some(h)) => Sizing::Spacing(h),
-            (None, None) => d.sizing,
-        };
-        ReconstructParams {
-            sizing,
-            offset: self.offset.or(d.offset),
-            tube_cells: self.tube_cells,
-            beta_cells: self.beta_cells,
-            distance: self.distance.unwrap_or(d.distance),
-            tag_rule: self.tag_rule,
-            iterations: self.iterations.unwrap_or(d.iterations),
-            scheme: self.scheme,
-            flow: self.flow,
-            cfl: self.cfl,
-            redistance_iterations: self.redistance_iterations,
-            tolerance: self.tolerance,
-            band: if self.full_grid {
-                Band::Full
-            } else {
-                Band::Narrow
-            },
-            point_radius: self.point_radius.or(d.point_radius),
-            extract: ExtractOptions {
-                curvature: self.curvature,
-                min_shell_triangles: self.min_shell_triangles,
-            },
-            snapshot_every: self.save_every,
-            neighbourhood: self.neighbourhood.unwrap_or(d.neighbourhood),
-        }
-    }
 }
 
 /// `asperity reconstruct`: 128 cells along the longest axis, ε = 3h, 30 steps.
@@ -251,16 +144,6 @@ impl Job {
             (Job::DlaTerrain | Job::RdsrSphere, false) => PIPELINE,
             (Job::DlaTerrain | Job::RdsrSphere, true) => PIPELINE_PAPER,
         }
-    }
-}
-
-/// Particles of `generate dla-terrain`: the default (6 000, which stays below
-/// the top of a 64-cell lattice), or [`PAPER_TERRAIN_PARTICLES`] for `--paper`.
-pub fn terrain_particles(paper: bool) -> usize {
-    if paper {
-        PAPER_TERRAIN_PARTICLES
-    } else {
-        6_000
     }
 }
 
@@ -414,26 +297,28 @@ pub struct Grown {
     pub warnings: Vec<String>,
 }
 
-/// A DLA terrain: a plane deposit of `particles` on a lattice of `size` with
-/// sticking probability `stick` (kim-machiraju-thompson Figs. 9–11). With
+/// A DLA terrain's deposit (`generate dla-terrain`): a plane deposit of the
+/// job's particles on its lattice (kim-machiraju-thompson Figs. 9–11). With
 /// [`Sides::Walls`] the deposit is one connected set and its reconstruction one
 /// piece; with periodic sides it is connected only across the wrap, which a
 /// bounded reconstruction cuts (a warning says so).
 ///
 /// # Errors
-/// The simulator's (parameters, memory budget).
+/// The parameters' and the simulator's (lattice, memory budget).
 pub fn dla_terrain(
-    size: [usize; 3],
-    particles: usize,
-    (stick, sides): (f64, Sides),
+    p: &DlaTerrainParams,
     (seed, budget, time, progress): (u64, &MemoryBudget, &TimeBudget, &dyn Progress),
 ) -> Result<Grown> {
+    crate::params::validate(p)?;
+    let size = p.size.resolve(3)?;
+    let particles = p.particle_count();
+    let sides = p.sides;
     crate::estimate::check(time, &crate::estimate::dla(particles as f64))?;
     let params = DlaParams {
         dim: 3,
         size,
         particles,
-        stick,
+        stick: p.stick,
         seed_shape: SeedShape::Plane,
         launch_gap: 2.0,
         sides: sides.into(),
@@ -464,21 +349,21 @@ pub fn dla_terrain(
     })
 }
 
-/// An RDSR deposit of `layers` monolayers (relaxation radius `relax`) on a ball
-/// of `radius` cells (kim-machiraju-thompson Fig. 8).
+/// An RDSR sphere's deposit (`generate rdsr-sphere`): the job's monolayers
+/// (with its relaxation radius) on a ball of its radius in cells
+/// (kim-machiraju-thompson Fig. 8).
 ///
 /// # Errors
-/// The simulator's (parameters, memory budget).
+/// The parameters' and the simulator's (memory budget).
 pub fn rdsr_sphere(
-    radius: f64,
-    layers: f64,
-    relax: u32,
+    p: &RdsrSphereParams,
     (seed, budget, progress): (u64, &MemoryBudget, &dyn Progress),
 ) -> Result<Grown> {
+    crate::params::validate(p)?;
     let params = CurvedParams {
-        model: Model::Rdsr { radius: relax },
-        substrate: CurvedSubstrate::Sphere(radius),
-        layers,
+        model: Model::Rdsr { radius: p.relax },
+        substrate: CurvedSubstrate::Sphere(p.radius),
+        layers: p.layers,
         samples_per_decade: 10,
     };
     let deposit = deposit_curved(&params, seed, 0, budget, progress)?;
