@@ -86,7 +86,7 @@ def field_doc(field: dict) -> str:
     bounds = _bounds(field)
     if bounds:
         extras.append(bounds)
-    extras.append(f"default {field['default']!r}")
+    extras.append("required" if field.get("required") else f"default {field['default']!r}")
     return f"{field['name']}: {text} ({'; '.join(extras)})."
 
 
@@ -105,18 +105,21 @@ class Job:
     def __init__(self, job: str, engine: Callable, finish: Callable[[dict], Any], *, name: str,
                  summary: str, returns: str, leading: Sequence[tuple] = (),
                  inputs: Sequence[Tuple[str, Any, str]] = (), threads: bool = True,
-                 progress: bool = True):
+                 progress: bool = True, convert: Optional[Dict[str, Callable]] = None):
         self.job, self.engine, self.finish = job, engine, finish
         self.name, self.summary, self.returns = name, summary, returns
         self.leading, self.inputs = list(leading), list(inputs)
         self.threads, self.progress = threads, progress
+        self.convert = convert or {}
         self.description = describe(job)
         self.fields = [f["name"] for f in self.description["fields"]]
 
     def signature(self) -> inspect.Signature:
         ps = [P(n, P.POSITIONAL_OR_KEYWORD) for n, *_ in self.leading]
+        ps += [P(f["name"], P.POSITIONAL_OR_KEYWORD)
+               for f in self.description["fields"] if f.get("required")]
         ps += [P(f["name"], P.POSITIONAL_OR_KEYWORD, default=f["default"])
-               for f in self.description["fields"]]
+               for f in self.description["fields"] if not f.get("required")]
         ps += [P(n, P.KEYWORD_ONLY, default=d) for n, d, _ in self.inputs]
         if self.description["seeded"]:
             ps.append(P("seed", P.KEYWORD_ONLY, default=DEFAULT_SEED))
@@ -155,7 +158,7 @@ class Job:
             threads = given.pop("threads", None)
             progress = given.pop("progress", False)
             lead = [(conv[0] if conv else (lambda v: v))(given.pop(n)) for n, _, *conv in self.leading]
-            extra = [given.pop(n, d) for n, d, _ in self.inputs]
+            extra = [self.convert.get(n, lambda v: v)(given.pop(n, d)) for n, d, _ in self.inputs]
             if fields.setdefault("job", self.job) != self.job:
                 raise ValueError(f"these parameters are for {fields['job']!r}, not {self.job!r}")
             if self.description["seeded"]:

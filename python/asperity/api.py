@@ -165,25 +165,7 @@ rdsr_sphere = Job(
 # ---------------------------------------------------------------- cellular automata
 
 
-def ca_run(rule: Union[int, str], steps: int, family: str = "totalistic9", states: int = 2,
-           init: str = "seed", size: Optional[Sequence[int]] = None, boundary: Optional[str] = None,
-           no_step0: bool = False, decay: Optional[float] = None,
-           weights: Optional[Sequence[float]] = None, values: Optional[Sequence[float]] = None,
-           keep_states: bool = False, seed: int = 7, threads: Optional[int] = None,
-           progress=False) -> Result:
-    """A height field accumulated from a 2-D totalistic CA (peridier): the CLI's
-    ``ca run RULE --steps T``.
-
-    rule: Wolfram code (Mathematica numbering); family: "totalistic9",
-    "totalistic5", "outer9" or "outer5"; states: k (2–12); init: "seed",
-    "random:P" or a file; size: (width, height) cells; boundary: "cyclic" or
-    "infinite"; decay / weights: step weights; values: the height of each
-    state; keep_states: also return every step as ``states`` (T+1, ny, nx).
-    """
-    d = call(_asperity.ca_run, str(rule), steps, family, states, init,
-             None if size is None else tuple(size), boundary, no_step0, decay,
-             None if weights is None else list(weights), None if values is None else list(values),
-             keep_states, seed, threads, progress=progress)
+def _ca_result(d: dict) -> Result:
     surface = HeightField._from(d["heights"], d["title"])
     r = Result(surface=surface, heights=surface.heights, measurements=_parse(d["measurements"]))
     if "states" in d:
@@ -191,20 +173,40 @@ def ca_run(rule: Union[int, str], steps: int, family: str = "totalistic9", state
     return r
 
 
-def ca_rule(rule: Union[int, str], family: str = "totalistic9", states: int = 2) -> Result:
-    """A rule's look-up table (``describe``, text) and facts (the CLI's ``ca rule``)."""
-    d = _asperity.ca_rule(str(rule), family, states)
-    return Result(describe=d["describe"], measurements=_parse(d["measurements"]))
+ca_run = Job(
+    "ca run", _asperity.ca_run, _ca_result, name="ca_run",
+    summary="A height field accumulated from a 2-D totalistic cellular automaton (peridier §2–3): "
+            "the CLI's ``ca run --rule RULE --steps T``.",
+    inputs=[("keep_states", False, "also return every step as ``states`` (T+1, ny, nx) uint8.")],
+    returns="Returns a :class:`Result` with ``surface`` (a :class:`HeightField`), ``heights``, "
+            "``measurements`` and, with ``keep_states``, ``states``.",
+).function()
+
+ca_rule = Job(
+    "ca rule", _asperity.ca_rule,
+    lambda d: Result(describe=d["describe"], measurements=_parse(d["measurements"])),
+    name="ca_rule",
+    summary="A rule's look-up table (peridier Figure 2): the CLI's ``ca rule``.",
+    returns="Returns a :class:`Result` with ``describe`` (the table as text) and ``measurements``.",
+    threads=False, progress=False,
+).function()
 
 
-def facet(heights: HeightField, smooth: bool = False, shared: bool = False,
-          circle: Optional[Sequence[float]] = None, polyline=None) -> Result:
-    """The alternating-diagonal facet mesh of a height field with curves draped
-    on it (peridier §3; the CLI's ``facet``): ``mesh`` and ``curves`` (a list of
-    (n, 3) arrays). circle: (cx, cy, r); polyline: (n, 2) x, y points."""
-    d = _asperity.facet(heights, smooth, shared, None if circle is None else tuple(circle),
-                        None if polyline is None else np.ascontiguousarray(polyline, dtype=np.float64))
-    return Result(mesh=Mesh._from(d["mesh"]), curves=d["curves"])
+def _polyline(p):
+    return None if p is None else np.ascontiguousarray(p, dtype=np.float64)
+
+
+facet = Job(
+    "facet", _asperity.facet,
+    lambda d: Result(mesh=Mesh._from(d["mesh"]), curves=d["curves"]),
+    name="facet",
+    summary="The alternating-diagonal facet mesh of a height field with curves draped on it "
+            "(peridier §3): the CLI's ``facet``.",
+    leading=[("heights", "a :class:`HeightField`.")],
+    inputs=[("polyline", None, "(n, 2) x, y points of a curve to drape on the facets.")],
+    returns="Returns a :class:`Result` with ``mesh`` and ``curves`` (a list of (n, 3) arrays).",
+    threads=False, progress=False, convert={"polyline": _polyline},
+).function()
 
 
 def interpolate(heights: HeightField, points) -> np.ndarray:

@@ -4,16 +4,13 @@
 use std::time::Instant;
 
 use asperity_ca::facets::interpolate_many;
-use asperity_ca::{Boundary, Weights};
 use asperity_engine::ca::{
-    FacetJob, GalleryGrid, RunJob, facets, gallery_image, parse_init, render_with_curves, rule,
-    rule_measurements, run_measurements, step_image,
+    facets, gallery_image, render_with_curves, rule_measurements, run_job, step_image,
 };
 use asperity_engine::files::{load_height, load_xy};
+use asperity_engine::params::require;
 
-use crate::cli::{
-    CaCommand, CaGalleryArgs, CaRuleArgs, CaRunArgs, FacetArgs, InterpolateArgs, RuleArgs,
-};
+use crate::cli::{CaCommand, CaGalleryArgs, CaRuleArgs, CaRunArgs, FacetArgs, InterpolateArgs};
 use crate::context::{Context, Run};
 
 pub fn run(ctx: &Context, c: CaCommand) -> anyhow::Result<()> {
@@ -24,44 +21,29 @@ pub fn run(ctx: &Context, c: CaCommand) -> anyhow::Result<()> {
     }
 }
 
-fn rule_of(a: &RuleArgs, text: &str) -> anyhow::Result<asperity_ca::Rule> {
-    Ok(rule(&a.family, a.states, text)?)
-}
-
 fn ca_run(ctx: &Context, a: &CaRunArgs) -> anyhow::Result<()> {
     let out = ctx.output("heights.npy")?;
-    let rule = rule_of(&a.rule_args, &a.rule)?;
-    let k = rule.states();
-    let job = RunJob {
-        init: parse_init(&a.init, k, ctx.seed, &ctx.budget)?,
-        rule,
-        steps: a.steps,
-        size: a.size.map(|(w, h)| [w as usize, h as usize]),
-        boundary: a.boundary.as_deref().map(|b| match b {
-            "infinite" => Boundary::Infinite,
-            _ => Boundary::Cyclic,
-        }),
-        no_step0: a.no_step0,
-        weights: match (&a.weights, a.decay) {
-            (Some(w), _) => Weights::Explicit(w.clone()),
-            (None, Some(r)) => Weights::Geometric(r),
-            (None, None) => Weights::Uniform,
-        },
-        values: a.values.clone(),
-        keep_states: a.states_out.is_some() || a.steps_png.is_some(),
-    };
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let keep_states = a.states_out.is_some() || a.steps_png.is_some();
     let t = Instant::now();
-    let (result, boundary) = asperity_engine::ca::run(&job, &ctx.budget, &ctx.time, &ctx.bar())?;
+    let r = run_job(
+        &job.params,
+        keep_states,
+        job.seed,
+        (&ctx.budget, &ctx.time),
+        &ctx.bar(),
+    )?;
     let seconds = t.elapsed().as_secs_f64();
-    let h = &result.heights;
+    let (h, steps, k) = (&r.output.heights, r.job.steps, r.job.rule.states());
     let mut run = Run::new(ctx, "ca run");
-    run.height(&out, h, format!("CA rule {}", job.rule.code()))?;
+    run.params(&job.params, job.seed, job.overridden);
+    run.height(&out, h, r.title())?;
     let [nx, ny] = h.dims();
-    if let (Some(st), Some(path)) = (&result.states, &a.states_out) {
-        asperity_io::write_npy_u8(path, &[a.steps + 1, ny, nx], st)?;
+    if let (Some(st), Some(path)) = (&r.output.states, &a.states_out) {
+        asperity_io::write_npy_u8(path, &[steps + 1, ny, nx], st)?;
         run.report.output(path);
     }
-    if let (Some(st), Some(dir)) = (&result.states, &a.steps_png) {
+    if let (Some(st), Some(dir)) = (&r.output.states, &a.steps_png) {
         asperity_io::create_output_dir(dir)?;
         for (t, step) in st.chunks(nx * ny).enumerate() {
             run.png(
@@ -70,11 +52,11 @@ fn ca_run(ctx: &Context, a: &CaRunArgs) -> anyhow::Result<()> {
             )?;
         }
     }
-    run.measure(run_measurements(&job, h, boundary));
+    run.measure(r.measurements());
     run.report.measure("seconds", seconds);
     run.report.measure(
         "cell_updates_per_second",
-        (nx * ny * a.steps) as f64 / seconds.max(1e-12),
+        (nx * ny * steps) as f64 / seconds.max(1e-12),
     );
     let (lo, hi) = h.min_max();
     run.note(format!(
@@ -85,9 +67,11 @@ fn ca_run(ctx: &Context, a: &CaRunArgs) -> anyhow::Result<()> {
 }
 
 fn ca_rule(ctx: &Context, a: &CaRuleArgs) -> anyhow::Result<()> {
-    let r = rule_of(&a.rule_args, &a.rule)?;
+    asperity_engine::params::validate(&a.params)?;
+    let r = a.params.family.rule(&require(&a.params.rule, "rule")?)?;
     if ctx.json {
         let mut run = Run::new(ctx, "ca rule");
+        run.params(&a.params, ctx.seed, Vec::new());
         run.measure(rule_measurements(&r));
         return run.finish();
     }
@@ -97,49 +81,35 @@ fn ca_rule(ctx: &Context, a: &CaRuleArgs) -> anyhow::Result<()> {
 
 fn ca_gallery(ctx: &Context, a: &CaGalleryArgs) -> anyhow::Result<()> {
     let out = ctx.output("grid.png")?;
-    let grid = GalleryGrid {
-        rules: a.rules.clone(),
-        family: a.rule_args.family.clone(),
-        states: a.rule_args.states,
-        inits: a.inits.clone(),
-        steps: a.steps,
-        size: [a.size.0 as usize, a.size.1 as usize],
-        tile: a.tile,
-    };
-    let img = gallery_image(&grid, ctx.seed, &ctx.budget, &ctx.time)?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let p = &job.params;
+    let img = gallery_image(p, job.seed, &ctx.budget, &ctx.time)?;
     let mut run = Run::new(ctx, "ca gallery");
+    run.params(p, job.seed, job.overridden.clone());
     run.png(&out, &img)?;
-    run.report.measure("rules", &a.rules);
-    run.report.measure("inits", &a.inits);
+    run.report.measure("rules", &p.rules);
+    run.report.measure("inits", &p.inits);
     run.note(format!(
         "wrote {} ({} rules × {} initial conditions)",
         out.display(),
-        a.rules.len(),
-        a.inits.len()
+        p.rules.len(),
+        p.inits.len()
     ));
     run.finish()
 }
 
 pub fn facet(ctx: &Context, a: &FacetArgs) -> anyhow::Result<()> {
     let out = ctx.output("mesh.ply")?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
     let h = load_height(&a.input, &ctx.budget)?;
-    let circle = match a.circle.as_deref() {
-        None => None,
-        Some([x, y, r]) => Some([*x, *y, *r]),
-        Some(c) => anyhow::bail!("--circle takes CX,CY,R, got {c:?}"),
-    };
-    let job = FacetJob {
-        smooth: a.smooth,
-        shared: a.shared,
-        circle,
-        polyline: a
-            .polyline
-            .as_deref()
-            .map(|p| load_xy(p, &ctx.budget))
-            .transpose()?,
-    };
-    let (mesh, curves) = facets(&h, &job)?;
+    let polyline = a
+        .polyline
+        .as_deref()
+        .map(|p| load_xy(p, &ctx.budget))
+        .transpose()?;
+    let (mesh, curves) = facets(&h, &job.params, polyline.as_deref())?;
     let mut run = Run::new(ctx, "facet");
+    run.params(&job.params, job.seed, job.overridden.clone());
     if curves.is_empty() {
         run.mesh(&out, &mesh)?;
     } else {
@@ -147,7 +117,10 @@ pub fn facet(ctx: &Context, a: &FacetArgs) -> anyhow::Result<()> {
         run.report.output(&out);
     }
     if let Some(png) = &a.render {
-        run.png(png, &render_with_curves(&mesh, &curves, &job, &ctx.budget)?)?;
+        run.png(
+            png,
+            &render_with_curves(&mesh, &curves, &job.params, &ctx.budget)?,
+        )?;
     }
     run.report.measure("triangles", mesh.n_faces());
     run.report
@@ -167,6 +140,11 @@ pub fn interpolate(ctx: &Context, a: &InterpolateArgs) -> anyhow::Result<()> {
     let outside = z.iter().filter(|v| v.is_none()).count();
     if ctx.json {
         let mut run = Run::new(ctx, "interpolate");
+        run.params(
+            &asperity_engine::ca::InterpolateParams {},
+            ctx.seed,
+            Vec::new(),
+        );
         let rows: Vec<[f64; 3]> = pts
             .iter()
             .zip(&z)

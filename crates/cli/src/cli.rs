@@ -373,96 +373,35 @@ pub enum CaCommand {
     Gallery(CaGalleryArgs),
 }
 
-/// Rule selection shared by the `ca` commands.
-#[derive(Args, Debug, Clone)]
-pub struct RuleArgs {
-    /// Rule family.
-    #[arg(long, default_value = "totalistic9", value_parser = ["totalistic9", "totalistic5", "outer9", "outer5"])]
-    pub family: String,
-    /// Number of states k (totalistic families only).
-    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=12))]
-    pub states: u8,
-}
-
 /// `asperity ca run`
 #[derive(Args, Debug)]
 pub struct CaRunArgs {
-    /// Wolfram code (e.g. 450) or a B/S string (e.g. B3/S23).
-    #[arg(long)]
-    pub rule: String,
     #[command(flatten)]
-    pub rule_args: RuleArgs,
-    /// Number of steps T.
-    #[arg(long)]
-    pub steps: usize,
-    /// Initial grid: seed, random:DENSITY, or a file (.npy states, or an image thresholded at 50 %).
-    #[arg(long, default_value = "seed")]
-    pub init: String,
-    /// Grid size WxH (columns x rows); without it a seed sits on an infinite background.
-    #[arg(long, value_parser = parse_size_wh)]
-    pub size: Option<(u32, u32)>,
-    /// cyclic (wrap-around) or infinite (growing region on a background).
-    #[arg(long, value_parser = ["cyclic", "infinite"])]
-    pub boundary: Option<String>,
-    /// Leave step 0 (the initial grid) out of the sum.
-    #[arg(long)]
-    pub no_step0: bool,
-    /// Weight step t by R^t (geometric decay).
-    #[arg(long, value_name = "R", conflicts_with = "weights")]
-    pub decay: Option<f64>,
-    /// Explicit weight of each step 0…T, comma-separated (T+1 values).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        value_name = "W0,W1,…",
-        allow_negative_numbers = true
-    )]
-    pub weights: Option<Vec<f64>>,
-    /// Height of each state, comma-separated (k values; default 0, 1, …).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        value_name = "V0,V1,…",
-        allow_negative_numbers = true
-    )]
-    pub values: Option<Vec<f64>>,
+    pub params: asperity_engine::ca::CaRunParams,
     /// Write every step as a (T+1)×H×W uint8 .npy array.
     #[arg(long, value_name = "FILE")]
     pub states_out: Option<PathBuf>,
     /// Write every step as a PNG image into this directory (the paper's Figure 3).
     #[arg(long, value_name = "DIR")]
     pub steps_png: Option<PathBuf>,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity ca rule`
 #[derive(Args, Debug)]
 pub struct CaRuleArgs {
-    /// Wolfram code or B/S string.
-    pub rule: String,
     #[command(flatten)]
-    pub rule_args: RuleArgs,
+    pub params: asperity_engine::ca::CaRuleParams,
 }
 
 /// `asperity ca gallery`
 #[derive(Args, Debug)]
 pub struct CaGalleryArgs {
-    /// Rules, one row each.
-    #[arg(long, value_delimiter = ',', default_value = "8,480,450")]
-    pub rules: Vec<String>,
     #[command(flatten)]
-    pub rule_args: RuleArgs,
-    /// Initial conditions, one column each: seed, random:DENSITY or random:DENSITY@SEED, or files.
-    #[arg(long, value_delimiter = ',', default_value = "seed,random:0.3")]
-    pub inits: Vec<String>,
-    /// Steps per run.
-    #[arg(long, default_value_t = 10)]
-    pub steps: usize,
-    /// Cyclic grid size WxH for every run.
-    #[arg(long, default_value = "41x41", value_parser = parse_size_wh)]
-    pub size: (u32, u32),
-    /// Size of each tile, WxH.
-    #[arg(long, default_value = "320x240", value_parser = parse_size_wh)]
-    pub tile: (u32, u32),
+    pub params: asperity_engine::ca::CaGalleryParams,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity facet`
@@ -470,26 +409,16 @@ pub struct CaGalleryArgs {
 pub struct FacetArgs {
     /// Height field file.
     pub input: PathBuf,
-    /// Share vertices between facets (smooth shading in viewers) instead of flat facets.
-    #[arg(long)]
-    pub shared: bool,
-    /// Ordinary triangulation (same diagonal in every cell) for comparison.
-    #[arg(long)]
-    pub smooth: bool,
-    /// Draw a circle CX,CY,R (physical units) on the surface (Figure 9).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        value_name = "CX,CY,R",
-        allow_negative_numbers = true
-    )]
-    pub circle: Option<Vec<f64>>,
+    #[command(flatten)]
+    pub params: asperity_engine::ca::FacetParams,
     /// Draw the polyline of x,y rows in this CSV file on the surface.
     #[arg(long, value_name = "FILE")]
     pub polyline: Option<PathBuf>,
     /// Also render the mesh (with the curves) to this PNG.
     #[arg(long, value_name = "PNG")]
     pub render: Option<PathBuf>,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity interpolate`

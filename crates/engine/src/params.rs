@@ -48,6 +48,10 @@ pub trait JobParams:
     const JOB: &'static str;
     /// Whether the seed changes the output (it is recorded only then).
     const SEEDED: bool = true;
+    /// Fields that have no default: the job refuses to run without them
+    /// ([`require`] in its [`JobParams::check`]), and Python's signature
+    /// shows them without one.
+    const REQUIRED: &'static [&'static str] = &[];
 
     /// Checks that involve more than one field (ranges of single fields are
     /// in the schema and checked by [`validate`]).
@@ -306,6 +310,11 @@ pub fn jobs() -> Vec<JobEntry> {
         JobEntry::of::<crate::reconstruct::LevelSetParams>(),
         JobEntry::of::<crate::reconstruct::DlaTerrainParams>(),
         JobEntry::of::<crate::reconstruct::RdsrSphereParams>(),
+        JobEntry::of::<crate::ca::CaRunParams>(),
+        JobEntry::of::<crate::ca::CaRuleParams>(),
+        JobEntry::of::<crate::ca::CaGalleryParams>(),
+        JobEntry::of::<crate::ca::FacetParams>(),
+        JobEntry::of::<crate::ca::InterpolateParams>(),
         JobEntry::of::<crate::synthesis::FbmParams>(),
     ]
 }
@@ -319,6 +328,107 @@ pub fn job(name: &str) -> Result<JobEntry> {
         let names: Vec<&str> = jobs().iter().map(|j| j.name).collect();
         EngineError::Invalid(format!("no job {name:?}; there are: {}", names.join(", ")))
     })
+}
+
+/// `value`, or the error that a required parameter was not given.
+///
+/// # Errors
+/// [`EngineError::Invalid`] naming the parameter.
+pub fn require<T: Clone>(value: &Option<T>, name: &str) -> Result<T> {
+    value
+        .clone()
+        .ok_or_else(|| EngineError::Invalid(format!("{} is required", param(name))))
+}
+
+/// `N` numbers: `a,b,c` on the command line, `[a, b, c]` in JSON (a circle
+/// CX,CY,R, a point X,Y,Z, a light AZ,ALT).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Numbers<const N: usize>(pub [f64; N]);
+
+impl<const N: usize> Serialize for Numbers<N> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        self.0.as_slice().serialize(s)
+    }
+}
+
+impl<'de, const N: usize> serde::Deserialize<'de> for Numbers<N> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let v = Vec::<f64>::deserialize(d)?;
+        let len = v.len();
+        v.try_into()
+            .map(Self)
+            .map_err(|_| serde::de::Error::invalid_length(len, &format!("{N} numbers").as_str()))
+    }
+}
+
+impl<const N: usize> JsonSchema for Numbers<N> {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        format!("Numbers{N}").into()
+    }
+
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({
+            "type": "array",
+            "items": {"type": "number"},
+            "minItems": N,
+            "maxItems": N,
+        })
+    }
+}
+
+impl<const N: usize> std::str::FromStr for Numbers<N> {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let v: Vec<f64> = s
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<std::result::Result<_, _>>()
+            .map_err(|_| format!("{s:?} is not {N} numbers separated by commas"))?;
+        v.try_into()
+            .map(Self)
+            .map_err(|_| format!("{s:?} is not {N} numbers separated by commas"))
+    }
+}
+
+impl<const N: usize> std::fmt::Display for Numbers<N> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let parts: Vec<String> = self.0.iter().map(f64::to_string).collect();
+        f.write_str(&parts.join(","))
+    }
+}
+
+/// A size in cells or pixels, `WxH` on the command line, `[W, H]` in JSON.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, JsonSchema)]
+#[serde(from = "[usize; 2]", into = "[usize; 2]")]
+#[schemars(with = "[usize; 2]")]
+pub struct Size2(pub [usize; 2]);
+
+impl From<[usize; 2]> for Size2 {
+    fn from(v: [usize; 2]) -> Self {
+        Self(v)
+    }
+}
+
+impl From<Size2> for [usize; 2] {
+    fn from(v: Size2) -> Self {
+        v.0
+    }
+}
+
+impl std::str::FromStr for Size2 {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let err = || format!("{s:?} is not WIDTHxHEIGHT, e.g. 1024x768");
+        let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(err)?;
+        let p = |v: &str| v.trim().parse::<usize>().map_err(|_| err());
+        Ok(Self([p(w)?, p(h)?]))
+    }
+}
+
+impl std::fmt::Display for Size2 {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}x{}", self.0[0], self.0[1])
+    }
 }
 
 /// The largest parameter file read (a report is a few kilobytes).
@@ -422,6 +532,14 @@ pub fn describe<P: JobParams>() -> Value {
         .map(|name| {
             let node = props.get(&name).cloned().unwrap_or(Value::Null);
             describe_field(&schema, &name, &node, defaults.get(&name))
+        })
+        .collect();
+    let fields: Vec<Value> = fields
+        .into_iter()
+        .map(|mut f| {
+            let required = f["name"].as_str().is_some_and(|n| P::REQUIRED.contains(&n));
+            f["required"] = json!(required);
+            f
         })
         .collect();
     json!({

@@ -7,7 +7,8 @@ use asperity_ca::facets::{circle, drape, facet_mesh};
 use asperity_ca::{Boundary, CaParams, Family, Init, Rule, accumulate, initial_grid};
 use asperity_core::{Diagonal, HeightField, RgbaImage};
 use asperity_engine::Result;
-use asperity_engine::ca::{GalleryGrid, gallery_image, render_facets};
+use asperity_engine::ca::{CaGalleryParams, RuleCode, gallery_image, render_facets};
+use asperity_engine::params::Size2;
 use asperity_io::{Surface, WriteOptions};
 use asperity_render::cells::{cell_image, strip};
 use asperity_render::{ColorMap, Polyline, RenderOptions, Shader, hillshade, render_mesh};
@@ -118,17 +119,14 @@ fn steps_strip(states: &[u8], [nx, ny]: [usize; 2]) -> RgbaImage {
 
 /// Figure 4: rules 8 and 480 × two initial conditions.
 fn figure_4(env: &Env) -> Result<Item> {
-    let grid = GalleryGrid {
-        rules: vec!["8".into(), "480".into()],
-        family: "totalistic9".into(),
-        states: 2,
+    let grid = CaGalleryParams {
+        rules: vec![RuleCode("8".into()), RuleCode("480".into())],
         inits: vec![
             format!("random:0.2@{}", env.seed),
             format!("random:0.5@{}", env.seed),
         ],
-        steps: 10,
-        size: [41, 41],
-        tile: if env.quick { (240, 180) } else { (400, 300) },
+        tile: Size2(if env.quick { [240, 180] } else { [400, 300] }),
+        ..CaGalleryParams::default()
     };
     let fig4 = env.picture(
         "ca_fig4_gallery.png",

@@ -22,6 +22,13 @@ use asperity_render::{Polyline, RenderOptions, Shader, render_mesh};
 use crate::error::{Result, ensure, invalid};
 use crate::report::Measurements;
 
+mod params;
+
+pub use params::{
+    BoundaryName, CaGalleryParams, CaRuleParams, CaRunParams, FacetParams, FamilyName,
+    InterpolateParams, RuleCode, RuleFamily,
+};
+
 /// A rule of `family` (by name) with `states` states, from a Wolfram code or a
 /// B/S string.
 ///
@@ -117,6 +124,62 @@ pub struct RunJob {
 
 /// A finished run: the accumulated heights and, if kept, every step.
 pub type RunOutput = asperity_ca::CaOutput;
+
+/// What `ca run` gives: the run as resolved, its output and the boundary used.
+#[derive(Clone, Debug)]
+pub struct CaRun {
+    /// The run: the rule, the initial condition, the steps.
+    pub job: RunJob,
+    /// The accumulated heights and, if kept, every step.
+    pub output: RunOutput,
+    /// The boundary the run used.
+    pub boundary: Boundary,
+}
+
+impl CaRun {
+    /// The measurements the job reports.
+    pub fn measurements(&self) -> Measurements {
+        run_measurements(&self.job, &self.output.heights, self.boundary)
+    }
+
+    /// The title of the height field written.
+    pub fn title(&self) -> String {
+        format!("CA rule {}", self.job.rule.code())
+    }
+}
+
+/// Runs `ca run` with the parameters of `p`; `keep_states` keeps every step
+/// (for state files and step pictures).
+///
+/// # Errors
+/// The parameters' ([`crate::params::validate`]) and those of [`run`].
+pub fn run_job(
+    p: &CaRunParams,
+    keep_states: bool,
+    seed: u64,
+    (budget, time): (&MemoryBudget, &TimeBudget),
+    progress: &dyn Progress,
+) -> Result<CaRun> {
+    crate::params::validate(p)?;
+    let rule = p.family.rule(&crate::params::require(&p.rule, "rule")?)?;
+    let job = RunJob {
+        init: parse_init(&p.init, rule.states(), seed, budget)?,
+        rule,
+        steps: crate::params::require(&p.steps, "steps")?,
+        size: p.size.map(|s| s.0),
+        boundary: p.boundary.map(Into::into),
+        no_step0: p.no_step0,
+        weights: p.step_weights(),
+        values: p.values.clone(),
+        keep_states,
+    };
+    let (output, boundary) = run(&job, budget, time, progress)?;
+    Ok(CaRun {
+        job,
+        output,
+        boundary,
+    })
+}
 
 /// Evolves and accumulates `job`.
 ///
@@ -236,25 +299,6 @@ pub fn render_facets(h: &HeightField, opts: &RenderOptions) -> Result<RgbaImage>
     )?)
 }
 
-/// The Figure 4 grid as `asperity ca gallery` describes it.
-#[derive(Clone, Debug, PartialEq)]
-pub struct GalleryGrid {
-    /// Rules, one row each.
-    pub rules: Vec<String>,
-    /// Their family's name.
-    pub family: String,
-    /// Their state count.
-    pub states: u8,
-    /// Initial conditions, one column each (as [`parse_init`] reads them).
-    pub inits: Vec<String>,
-    /// Steps per run.
-    pub steps: usize,
-    /// Cyclic grid size of every run.
-    pub size: [usize; 2],
-    /// Size of each tile in pixels.
-    pub tile: (u32, u32),
-}
-
 /// The Figure 4 grid: one row per rule, one column per initial condition, each
 /// tile labelled with its rule.
 ///
@@ -262,12 +306,13 @@ pub struct GalleryGrid {
 /// [`crate::EngineError::Invalid`] with no rule or no initial condition; as
 /// [`rule`], [`parse_init`] and the CA and renderer.
 pub fn gallery_image(
-    g: &GalleryGrid,
+    g: &CaGalleryParams,
     seed: u64,
     budget: &MemoryBudget,
     time: &TimeBudget,
 ) -> Result<RgbaImage> {
-    let (tw, th) = g.tile;
+    crate::params::validate(g)?;
+    let [tw, th] = g.tile.0.map(|v| u32::try_from(v).unwrap_or(u32::MAX));
     let (rows, cols) = (g.rules.len() as u32, g.inits.len() as u32);
     ensure(rows > 0 && cols > 0, || {
         "need at least one rule and one initial condition".into()
@@ -277,7 +322,10 @@ pub fn gallery_image(
         || format!("⟨tile⟩ must be 1..=16384 pixels a side, got {tw}x{th}"),
     )?;
     let tiles = f64::from(rows) * f64::from(cols);
-    let mut work = estimate::ca(g.size[0] as f64 * g.size[1] as f64, g.steps as f64 * tiles);
+    let mut work = estimate::ca(
+        g.size.0[0] as f64 * g.size.0[1] as f64,
+        g.steps as f64 * tiles,
+    );
     work.what = "the gallery's CA runs".into();
     estimate::check(time, &work)?;
     let (width, height) = (cols as u64 * tw as u64, rows as u64 * th as u64);
@@ -293,11 +341,11 @@ pub fn gallery_image(
         budget: *budget,
         ..RenderOptions::default()
     };
-    for (r, text) in g.rules.iter().enumerate() {
-        let rule = rule(&g.family, g.states, text)?;
+    for (r, code) in g.rules.iter().enumerate() {
+        let rule = g.family.rule(code)?;
         for (c, init) in g.inits.iter().enumerate() {
             let init = parse_init(init, rule.states(), seed, budget)?;
-            let grid = initial_grid(&init, Some(g.size), rule.states(), budget)?;
+            let grid = initial_grid(&init, Some(g.size.0), rule.states(), budget)?;
             let out = accumulate(&grid, &CaParams::new(rule.clone(), g.steps), budget)?;
             let tile = render_facets(&out.heights, &opts)?;
             let (x0, y0) = (c as u32 * tw, r as u32 * th);
@@ -315,25 +363,17 @@ pub fn gallery_image(
     Ok(img)
 }
 
-/// How `asperity facet` builds its mesh.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct FacetJob {
-    /// One diagonal everywhere and a `height` scalar (for comparison).
-    pub smooth: bool,
-    /// Shared vertices between facets instead of flat facets.
-    pub shared: bool,
-    /// A circle (cx, cy, r) to drape.
-    pub circle: Option<[f64; 3]>,
-    /// A polyline of (x, y) points to drape.
-    pub polyline: Option<Vec<[f64; 2]>>,
-}
-
 /// The facet mesh of `h` and the curves draped on it.
 ///
 /// # Errors
 /// [`crate::EngineError::Invalid`] for a circle that is not finite or has no
 /// positive radius; the CA's (a field too small to facet).
-pub fn facets(h: &HeightField, job: &FacetJob) -> Result<(TriMesh, Vec<Vec<[f64; 3]>>)> {
+pub fn facets(
+    h: &HeightField,
+    job: &FacetParams,
+    polyline: Option<&[[f64; 2]]>,
+) -> Result<(TriMesh, Vec<Vec<[f64; 3]>>)> {
+    crate::params::validate(job)?;
     let mesh = if job.smooth {
         h.to_trimesh(Diagonal::Forward)?
             .with_scalar("height", h.data().to_vec())?
@@ -341,14 +381,14 @@ pub fn facets(h: &HeightField, job: &FacetJob) -> Result<(TriMesh, Vec<Vec<[f64;
         facet_mesh(h, !job.shared)?
     };
     let mut curves = Vec::new();
-    if let Some(c) = job.circle {
+    if let Some(c) = job.circle.map(|c| c.0) {
         ensure(c.iter().all(|v| v.is_finite()), || {
             format!("⟨circle⟩ takes CX,CY,R, got {:?}", c.to_vec())
         })?;
         ensure(c[2] > 0.0, || "circle radius must be positive".into())?;
         curves.push(drape(h, &circle(c[0], c[1], c[2], 180))?);
     }
-    if let Some(p) = &job.polyline {
+    if let Some(p) = polyline {
         curves.push(drape(h, p)?);
     }
     Ok((mesh, curves))
@@ -362,7 +402,7 @@ pub fn facets(h: &HeightField, job: &FacetJob) -> Result<(TriMesh, Vec<Vec<[f64;
 pub fn render_with_curves(
     mesh: &TriMesh,
     curves: &[Vec<[f64; 3]>],
-    job: &FacetJob,
+    job: &FacetParams,
     budget: &MemoryBudget,
 ) -> Result<RgbaImage> {
     let polylines = curves
