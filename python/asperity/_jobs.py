@@ -17,6 +17,7 @@ from __future__ import annotations
 import functools
 import inspect
 import json
+from pathlib import PurePath
 from typing import Any, Callable, Dict, Optional, Sequence, Tuple
 
 import numpy as np
@@ -43,6 +44,8 @@ def _jsonable(value: Any) -> Any:
         return value.tolist()
     if isinstance(value, (set, frozenset)):
         return sorted(value)
+    if isinstance(value, PurePath):
+        return str(value)
     raise TypeError(f"{type(value).__name__} is not a parameter value")
 
 
@@ -105,12 +108,14 @@ class Job:
     def __init__(self, job: str, engine: Callable, finish: Callable[[dict], Any], *, name: str,
                  summary: str, returns: str, leading: Sequence[tuple] = (),
                  inputs: Sequence[Tuple[str, Any, str]] = (), threads: bool = True,
-                 progress: bool = True, convert: Optional[Dict[str, Callable]] = None):
+                 progress: bool = True, convert: Optional[Dict[str, Callable]] = None,
+                 prepare: Optional[Callable[[dict], dict]] = None):
         self.job, self.engine, self.finish = job, engine, finish
         self.name, self.summary, self.returns = name, summary, returns
         self.leading, self.inputs = list(leading), list(inputs)
         self.threads, self.progress = threads, progress
         self.convert = convert or {}
+        self.prepare = prepare or (lambda fields: fields)
         self.description = describe(job)
         self.fields = [f["name"] for f in self.description["fields"]]
 
@@ -154,6 +159,7 @@ class Job:
             given = dict(bound.arguments)
             fields = {k: given.pop(k) for k in self.fields if k in given}
             fields.update(given.pop("params", {}))
+            fields = self.prepare(fields)
             seed = given.pop("seed", DEFAULT_SEED)
             threads = given.pop("threads", None)
             progress = given.pop("progress", False)

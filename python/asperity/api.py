@@ -218,37 +218,32 @@ def interpolate(heights: HeightField, points) -> np.ndarray:
 # ---------------------------------------------------------------- subdivision
 
 
-def subdiv(scene: Optional[Union[str, Path]] = None, base: str = "cube", levels: int = 3,
-           detail: Sequence[str] = (), crease: Sequence[str] = (), boundary: str = "edge-only",
-           limit: bool = False, time: float = 0.0, apply_details: Optional[Union[str, Path]] = None,
-           export_details: bool = False, seed: int = 7, threads: Optional[int] = None,
-           progress=False) -> Result:
-    """A multiresolution Catmull–Clark surface with procedural detail
-    (velho-perlin): the CLI's ``subdiv … --triangles``.
+def _scene(fields: dict) -> dict:
+    """``scene`` may be a scene file (a path, or a string ending in .toml) or
+    its TOML text: the text goes to the engine as ``scene_text``."""
+    scene = fields.get("scene")
+    if scene is None or isinstance(scene, Path):
+        return fields
+    text = str(scene)
+    if "\n" not in text and len(text) < 4096 and Path(text).suffix == ".toml":
+        return fields
+    fields = dict(fields, scene_text=text)
+    del fields["scene"]
+    return fields
 
-    scene: a scene file (path) or the TOML text of one (relative paths inside
-    resolve against the current folder); otherwise base ("cube",
-    "builtin:…" or a mesh file), levels, detail (e.g. ["rock:1:0.2"]),
-    crease and boundary as the CLI's flags. time: animation time 0…1;
-    limit: push to the limit surface; apply_details: a detail file to re-apply;
-    export_details: return the detail file's text as ``details``.
 
-    Returns ``mesh`` (triangles), ``levels`` ((vertices, faces) per level),
-    ``euler_characteristic`` and ``details``.
-    """
-    path = text = None
-    if scene is not None:
-        p = Path(scene)
-        if isinstance(scene, Path) or (len(str(scene)) < 4096 and "\n" not in str(scene) and p.suffix == ".toml"):
-            path, text = p, p.read_text()
-        else:
-            path, text = Path.cwd() / "scene.toml", str(scene)
-    d = call(_asperity.subdiv, None if path is None else str(path), text, base, levels, list(detail),
-             list(crease), boundary, limit, time,
-             None if apply_details is None else str(apply_details), export_details, seed, threads,
-             progress=progress)
-    return Result(mesh=Mesh._from(d["mesh"]), levels=[tuple(c) for c in d["levels"]],
-                  euler_characteristic=d["euler_characteristic"], details=d["details"])
+subdiv = Job(
+    "subdiv", _asperity.subdiv,
+    lambda d: Result(mesh=Mesh._from(d["mesh"]), levels=[tuple(c) for c in d["levels"]],
+                     euler_characteristic=d["euler_characteristic"], details=d["details"]),
+    name="subdiv",
+    summary="A multiresolution Catmull–Clark surface with procedural detail (velho-perlin): the "
+            "CLI's ``subdiv … --triangles``. ``scene`` may also be a scene's TOML text.",
+    inputs=[("export_details", False, "also return the detail file's text as ``details``.")],
+    returns="Returns a :class:`Result` with ``mesh`` (triangles), ``levels`` ((vertices, faces) "
+            "per level), ``euler_characteristic`` and ``details``.",
+    prepare=_scene,
+).function()
 
 
 # ---------------------------------------------------------------- projected IFS

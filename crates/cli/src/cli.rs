@@ -583,71 +583,22 @@ pub struct FbmArgs {
     pub params_file: ParamsFile,
 }
 
-/// Open-boundary rule of Catmull–Clark subdivision.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BoundaryArg {
-    /// Boundary edges sharp, boundary vertices on the boundary B-spline.
-    EdgeOnly,
-    /// As edge-only, and boundary vertices with two edges stay fixed.
-    EdgeAndCorner,
-}
-
 /// `asperity subdiv`
 #[derive(Args, Debug)]
 pub struct SubdivArgs {
-    /// A scene file (TOML) describing base, levels, seed, details, edits, blends
-    /// and shading (see crates/subdiv/scenes); the shape options below then
-    /// cannot be given.
-    pub scene: Option<std::path::PathBuf>,
-    /// Base mesh: cube, sphere (a quad sphere), torus, cylinder, plane, fuse,
-    /// revolution:PROFILE (a text file of `r z` rows, bottom to top), or a mesh
-    /// file (OBJ/PLY polygons kept).
-    #[arg(long, default_value = "cube", conflicts_with = "scene")]
-    pub base: String,
-    /// Subdivision levels.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(0..=10), conflicts_with = "scene")]
-    pub levels: u32,
-    /// Procedural detail (repeatable): rock, fbm, berry, tentacle, mine,
-    /// mushroom or spur with key=value parameters, e.g.
-    /// rock:amplitude=0.08,decay=0.5 or berry:radius=0.3,spacing=0.6; a..b
-    /// animates a number over --frames.
-    #[arg(long, value_name = "SPEC", conflicts_with = "scene")]
-    pub detail: Vec<String>,
-    /// Tag a crease on the base (repeatable): A-B:SHARPNESS (inf = sharp forever).
-    #[arg(long, value_name = "A-B:S", conflicts_with = "scene")]
-    pub crease: Vec<String>,
-    /// Boundary rule for open meshes.
-    #[arg(
-        long,
-        value_enum,
-        default_value = "edge-only",
-        conflicts_with = "scene"
-    )]
-    pub boundary: BoundaryArg,
-    /// Move the finest level onto the limit surface (normals: exact limit normals).
-    #[arg(long)]
-    pub limit: bool,
+    #[command(flatten)]
+    pub params: asperity_engine::subdiv::SubdivParams,
     /// Split the quads into triangles in PLY and OBJ too (glTF and STL always are).
     #[arg(long)]
     pub triangles: bool,
     /// Write an animation of N frames (t from 0 to 1): OUT becomes OUT_0000.ext, ….
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub frames: Option<u32>,
-    /// Animation time t ∈ [0, 1] of a single frame.
-    #[arg(long, default_value_t = 0.0, conflicts_with = "frames")]
-    pub time: f64,
     /// Write the details of every level (local frames) to a JSON file.
     #[arg(long, value_name = "FILE")]
     pub export_details: Option<std::path::PathBuf>,
-    /// Re-apply exported details to this base (same connectivity) instead of
-    /// running the procedures.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "detail"])]
-    pub apply_details: Option<std::path::PathBuf>,
-    /// Analyse a fine mesh whose connectivity is --levels subdivisions of --base
-    /// (a PLY as this command writes it, positions edited freely) into base +
-    /// details by quasi-interpolation; use with --export-details.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "detail", "apply_details"])]
-    pub analyze: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// Surface-CA applications.

@@ -3,71 +3,31 @@
 //! animation frames and detail export and re-apply.
 
 use asperity_core::{NoProgress, Progress};
-use asperity_engine::files::{numbered, read_text, require_mesh_format};
-use asperity_engine::subdiv::{Options, Session, Source};
-use asperity_subdiv::catmull_clark::Boundary;
-use asperity_subdiv::evaluate::Composed;
+use asperity_engine::files::{numbered, require_mesh_format};
 use serde_json::json;
 
-use crate::cli::{BoundaryArg, SubdivArgs};
+use crate::cli::SubdivArgs;
 use crate::context::{Context, Run};
 
-fn source(a: &SubdivArgs) -> anyhow::Result<Source> {
-    Ok(match &a.scene {
-        Some(p) => Source::Scene {
-            path: p.clone(),
-            text: read_text(p)?,
-        },
-        None => Source::Options(Options {
-            base: a.base.clone(),
-            levels: a.levels as usize,
-            details: a.detail.clone(),
-            creases: a.crease.clone(),
-            boundary: match a.boundary {
-                BoundaryArg::EdgeOnly => Boundary::EdgeOnly,
-                BoundaryArg::EdgeAndCorner => Boundary::EdgeAndCorner,
-            },
-        }),
-    })
-}
-
-/// The animation time of frame `i`: `--time` alone, 0…1 over `--frames`.
-fn time(a: &SubdivArgs, i: u32, frames: u32) -> f64 {
+/// The animation time of frame `i` of `frames`: the parameters' time alone,
+/// 0…1 over `--frames`.
+fn time(a: &SubdivArgs, i: u32, frames: u32) -> Option<f64> {
     match a.frames {
-        None => a.time,
-        Some(_) if frames == 1 => 0.0,
-        Some(_) => f64::from(i) / f64::from(frames - 1),
+        None => None,
+        Some(_) if frames == 1 => Some(0.0),
+        Some(_) => Some(f64::from(i) / f64::from(frames - 1)),
     }
-}
-
-/// One frame's surface: re-applied details, an analysed fine mesh, or the scene.
-fn frame(
-    s: &Session,
-    a: &SubdivArgs,
-    (i, frames): (u32, u32),
-    bar: &dyn Progress,
-) -> anyhow::Result<(Composed, bool, Boundary)> {
-    let scene = if i == 0 && a.frames.is_none() {
-        s.first.clone()
-    } else {
-        s.scene(time(a, i, frames))?
-    };
-    let c = match (&a.apply_details, &a.analyze) {
-        (Some(p), _) => s.apply_details(p, scene.boundary)?,
-        (None, Some(p)) => s.analyze_fine(p, &scene)?,
-        (None, None) if frames == 1 => s.frame(&scene, bar)?,
-        (None, None) => s.frame(&scene, &NoProgress)?,
-    };
-    Ok((c, scene.limit, scene.boundary))
 }
 
 pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
     let out = ctx.output("FILE (e.g. -o rock.ply)")?;
     require_mesh_format(&out, ".ply, .obj, .stl or .glb")?;
-    let session = Session::open(source(a)?, ctx.seed, a.limit, a.time, &ctx.budget)?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let session = job.params.open(job.seed, &ctx.budget)?;
     let mut run = Run::new(ctx, "subdiv");
+    run.params(&job.params, job.seed, job.overridden.clone());
     let frames = a.frames.unwrap_or(1);
-    asperity_engine::estimate::check_file_count(u64::from(frames), "--frames")?;
+    asperity_engine::estimate::check_file_count(u64::from(frames), "⟨frames⟩")?;
     let bar = ctx.bar();
     if frames > 1 {
         bar.start(u64::from(frames), "subdiv frames");
@@ -75,7 +35,11 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
     let mut last = None;
     let t0 = std::time::Instant::now();
     for i in 0..frames {
-        let (composed, limit, boundary) = frame(&session, a, (i, frames), &bar)?;
+        let (composed, limit, boundary) = if frames == 1 {
+            session.surface(&job.params, time(a, i, frames), &bar)?
+        } else {
+            session.surface(&job.params, time(a, i, frames), &NoProgress)?
+        };
         let tri = composed.to_trimesh(limit, boundary)?;
         let path = match a.frames {
             Some(_) => numbered(&out, "", u64::from(i), 4),

@@ -14,8 +14,139 @@ use asperity_subdiv::evaluate::{Captured, Composed, Inputs, evaluate};
 use asperity_subdiv::multires::analyze_captured;
 use asperity_subdiv::scene::{Scene, crease_from_spec, feature_from_spec, parse};
 
+use clap::Args;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
 use crate::error::{Result, ensure, invalid};
 use crate::files::read_text;
+use crate::params::{JobParams, choice};
+
+choice! {
+    /// The rule of Catmull–Clark subdivision at open boundaries.
+    pub enum BoundaryRule {
+        /// Boundary edges sharp, boundary vertices on the boundary B-spline.
+        EdgeOnly = "edge-only",
+        /// As edge-only, and boundary vertices with two edges stay fixed.
+        EdgeAndCorner = "edge-and-corner",
+    }
+}
+
+impl From<BoundaryRule> for Boundary {
+    fn from(b: BoundaryRule) -> Self {
+        match b {
+            BoundaryRule::EdgeOnly => Boundary::EdgeOnly,
+            BoundaryRule::EdgeAndCorner => Boundary::EdgeAndCorner,
+        }
+    }
+}
+
+/// `subdiv`: a multiresolution Catmull–Clark surface with procedural detail
+/// (velho-perlin §2–6), from a scene or from a base, levels and details.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema, Args)]
+#[serde(default)]
+pub struct SubdivParams {
+    /// A scene file (TOML) describing base, levels, seed, details, edits, blends and shading
+    /// (see crates/subdiv/scenes); the shape parameters below then cannot be given.
+    #[arg(value_name = "SCENE")]
+    pub scene: Option<PathBuf>,
+    /// A scene's TOML text instead of its file (its relative paths: against the scene file's
+    /// folder if one is given, else the current folder).
+    #[arg(skip)]
+    pub scene_text: Option<String>,
+    /// Base mesh: cube, sphere (a quad sphere), torus, cylinder, plane, fuse,
+    /// revolution:PROFILE (a text file of `r z` rows, bottom to top), or a mesh file (OBJ/PLY
+    /// polygons kept).
+    #[arg(long, default_value_t = Self::default().base, conflicts_with = "scene")]
+    pub base: String,
+    /// Subdivision levels.
+    #[schemars(range(max = 10))]
+    #[arg(long, default_value_t = Self::default().levels, conflicts_with = "scene")]
+    pub levels: usize,
+    /// Procedural details: rock, fbm, berry, tentacle, mine, mushroom or spur with key=value
+    /// parameters, e.g. rock:amplitude=0.08,decay=0.5 or berry:radius=0.3,spacing=0.6; a..b
+    /// animates a number over time.
+    #[arg(long, value_name = "SPEC", conflicts_with = "scene")]
+    pub detail: Vec<String>,
+    /// Creases on the base: A-B:SHARPNESS (inf = sharp forever).
+    #[arg(long, value_name = "A-B:S", conflicts_with = "scene")]
+    pub crease: Vec<String>,
+    /// Boundary rule for open meshes.
+    #[arg(long, value_enum, default_value_t = Self::default().boundary, conflicts_with = "scene")]
+    pub boundary: BoundaryRule,
+    /// Move the finest level onto the limit surface (normals: exact limit normals).
+    #[arg(long)]
+    pub limit: bool,
+    /// Animation time t in [0, 1].
+    #[schemars(range(min = 0.0, max = 1.0))]
+    #[arg(long, default_value_t = Self::default().time, conflicts_with = "frames")]
+    pub time: f64,
+    /// Re-apply exported details (a JSON file) to this base (same connectivity) instead of
+    /// running the procedures.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "detail"])]
+    pub apply_details: Option<PathBuf>,
+    /// Analyse a fine mesh whose connectivity is the levels' subdivisions of the base (a PLY as
+    /// subdiv writes it, positions edited freely) into base and details by quasi-interpolation.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["scene", "detail", "apply_details"])]
+    pub analyze: Option<PathBuf>,
+}
+
+impl Default for SubdivParams {
+    fn default() -> Self {
+        Self {
+            scene: None,
+            scene_text: None,
+            base: "cube".into(),
+            levels: 3,
+            detail: Vec::new(),
+            crease: Vec::new(),
+            boundary: BoundaryRule::EdgeOnly,
+            limit: false,
+            time: 0.0,
+            apply_details: None,
+            analyze: None,
+        }
+    }
+}
+
+impl JobParams for SubdivParams {
+    const JOB: &'static str = "subdiv";
+}
+
+impl SubdivParams {
+    /// Where the scene comes from: a file, a text, or the options.
+    ///
+    /// # Errors
+    /// An unreadable scene file.
+    pub fn source(&self) -> Result<Source> {
+        Ok(match (&self.scene, &self.scene_text) {
+            (path, Some(text)) => Source::Scene {
+                path: path.clone().unwrap_or_else(|| PathBuf::from("scene.toml")),
+                text: text.clone(),
+            },
+            (Some(path), None) => Source::Scene {
+                path: path.clone(),
+                text: read_text(path)?,
+            },
+            (None, None) => Source::Options(Options {
+                base: self.base.clone(),
+                levels: self.levels,
+                details: self.detail.clone(),
+                creases: self.crease.clone(),
+                boundary: self.boundary.into(),
+            }),
+        })
+    }
+
+    /// The session of these parameters (the scene at `time`).
+    ///
+    /// # Errors
+    /// As [`Session::open`], and the parameters'.
+    pub fn open(&self, seed: u64, budget: &MemoryBudget) -> Result<Session> {
+        crate::params::validate(self)?;
+        Session::open(self.source()?, seed, self.limit, self.time, budget)
+    }
+}
 
 /// The built-in bases [`load_base`] knows.
 pub const BUILTIN_BASES: &str = "cube, sphere, torus, cylinder, plane, fuse";
@@ -169,6 +300,30 @@ impl Session {
             scene.levels,
             scene.boundary,
         )?)
+    }
+
+    /// The surface of these parameters at time `t` (the scene's first time
+    /// when `None`): re-applied details, an analysed fine mesh, or the scene
+    /// evaluated; with the scene's limit and boundary rule.
+    ///
+    /// # Errors
+    /// As [`Session::frame`], [`Session::apply_details`] and [`Session::analyze_fine`].
+    pub fn surface(
+        &self,
+        p: &SubdivParams,
+        t: Option<f64>,
+        progress: &dyn Progress,
+    ) -> Result<(Composed, bool, Boundary)> {
+        let scene = match t {
+            None => self.first.clone(),
+            Some(t) => self.scene(t)?,
+        };
+        let c = match (&p.apply_details, &p.analyze) {
+            (Some(path), _) => self.apply_details(path, scene.boundary)?,
+            (None, Some(path)) => self.analyze_fine(path, &scene)?,
+            (None, None) => self.frame(&scene, progress)?,
+        };
+        Ok((c, scene.limit, scene.boundary))
     }
 
     /// The details file of a composed surface (`--export-details`).

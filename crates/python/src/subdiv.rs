@@ -2,65 +2,34 @@
 //! procedural detail, from options or a scene (velho-perlin;
 //! `asperity_engine::subdiv`).
 
-use std::path::PathBuf;
-
-use asperity_engine::subdiv::{Options, Session, Source};
-use asperity_subdiv::catmull_clark::Boundary;
+use asperity_engine::subdiv::SubdivParams;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::convert::mesh_out;
 use crate::job::{RunOptions, budget, run};
 
-/// One surface (the CLI's `subdiv … --triangles`): a dict with `mesh`,
-/// `levels` ((vertices, faces) per level), `euler_characteristic` and, with
-/// `export_details`, `details` (the detail file's text).
+/// One surface (the CLI's `subdiv … --triangles`) with the parameters and
+/// seed of `params` (JSON): a dict with `mesh`, `levels` ((vertices, faces)
+/// per level), `euler_characteristic`, `params` and, with `export_details`,
+/// `details` (the detail file's text).
 #[pyfunction]
-#[pyo3(signature = (scene_path, scene_text, base, levels, details, creases, boundary, limit,
-    time, apply_details, export_details, seed, threads, progress))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (params, export_details, threads, progress))]
 pub fn subdiv<'py>(
     py: Python<'py>,
-    scene_path: Option<PathBuf>,
-    scene_text: Option<String>,
-    base: String,
-    levels: usize,
-    details: Vec<String>,
-    creases: Vec<String>,
-    boundary: &str,
-    limit: bool,
-    time: f64,
-    apply_details: Option<PathBuf>,
+    params: &str,
     export_details: bool,
-    seed: u64,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let boundary = match crate::choice(boundary, &["edge-only", "edge-and-corner"], "boundary")? {
-        "edge-and-corner" => Boundary::EdgeAndCorner,
-        _ => Boundary::EdgeOnly,
-    };
-    let source = match (scene_path, scene_text) {
-        (Some(path), Some(text)) => Source::Scene { path, text },
-        _ => Source::Options(Options {
-            base,
-            levels,
-            details,
-            creases,
-            boundary,
-        }),
-    };
+    let (p, seed): (SubdivParams, u64) = crate::params::from_json(py, params)?;
     let opts = RunOptions { threads, progress };
-    let (tri, composed, text) = run(py, &opts, move |w, _| {
-        let s = Session::open(source, seed, limit, time, &budget())?;
-        let scene = s.first.clone();
-        let c = match &apply_details {
-            Some(p) => s.apply_details(p, scene.boundary)?,
-            None => s.frame(&scene, w)?,
-        };
-        let tri = c.to_trimesh(scene.limit, scene.boundary)?;
+    let (p, tri, composed, text) = run(py, &opts, move |w, _| {
+        let s = p.open(seed, &budget())?;
+        let (c, limit, boundary) = s.surface(&p, None, w)?;
+        let tri = c.to_trimesh(limit, boundary)?;
         let text = export_details.then(|| s.details_file(&c));
-        Ok((tri, c, text))
+        Ok((p, tri, c, text))
     })?;
     let out = PyDict::new(py);
     out.set_item("mesh", mesh_out(py, &tri)?)?;
@@ -70,6 +39,7 @@ pub fn subdiv<'py>(
         composed.mesh.mesh.euler_characteristic(),
     )?;
     out.set_item("details", text)?;
+    out.set_item("params", crate::params::record(&p, seed))?;
     Ok(out)
 }
 
