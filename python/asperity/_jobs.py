@@ -93,6 +93,15 @@ def field_doc(field: dict) -> str:
     return f"{field['name']}: {text} ({'; '.join(extras)})."
 
 
+class ArrayResult(np.ndarray):
+    """An array that a job returned, with the job's ``params``."""
+
+    params: Optional[dict] = None
+
+    def __array_finalize__(self, obj):
+        self.params = getattr(obj, "params", None)
+
+
 class Job:
     """How one engine job is called from Python.
 
@@ -109,13 +118,14 @@ class Job:
                  summary: str, returns: str, leading: Sequence[tuple] = (),
                  inputs: Sequence[Tuple[str, Any, str]] = (), threads: bool = True,
                  progress: bool = True, convert: Optional[Dict[str, Callable]] = None,
-                 prepare: Optional[Callable[[dict], dict]] = None):
+                 prepare: Optional[Callable[[dict], dict]] = None, record: bool = True):
         self.job, self.engine, self.finish = job, engine, finish
         self.name, self.summary, self.returns = name, summary, returns
         self.leading, self.inputs = list(leading), list(inputs)
         self.threads, self.progress = threads, progress
         self.convert = convert or {}
         self.prepare = prepare or (lambda fields: fields)
+        self.record = record
         self.description = describe(job)
         self.fields = [f["name"] for f in self.description["fields"]]
 
@@ -177,10 +187,13 @@ class Job:
             else:
                 raw = self.engine(*args)
             result = self.finish(raw)
-            if "params" in raw:
+            if self.record and isinstance(raw, dict) and "params" in raw:
                 record = json.loads(raw["params"])
                 if isinstance(result, dict):
                     result["params"] = record
+                elif isinstance(result, np.ndarray):
+                    result = result.view(ArrayResult)
+                    result.params = record
                 else:
                     result.params = record
             return result

@@ -249,20 +249,21 @@ subdiv = Job(
 # ---------------------------------------------------------------- projected IFS
 
 
-def _model(preset, model, w, degree, height, moves, family_depth, family_period):
+def _ifs_fields(fields: dict) -> dict:
+    """A model given as a dict (e.g. built from numpy arrays of control points
+    and operator matrices) goes to the engine as its JSON text; ``at`` points
+    as "s" or "s,t" strings."""
+    fields = dict(fields)
+    model = fields.get("model")
     if isinstance(model, dict):
-        # numpy arrays of control points and matrices become JSON lists
-        model = json.dumps(model, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
-    return {"preset": preset, "model": model, "w": w, "degree": degree, "height": height,
-            "moves": list(moves), "family_depth": family_depth, "family_period": family_period}
+        fields["model"] = json.dumps(model, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
+    if "at" in fields:
+        fields["at"] = [",".join(map(str, a)) if isinstance(a, (tuple, list)) else str(a)
+                        for a in fields["at"]]
+    return fields
 
 
-_IFS_DOC = """
-    Model keywords: preset (see :func:`ifs_presets`) or model (a model file as
-    a dict or JSON text, e.g. built from numpy arrays of control points and
-    operator matrices); w, degree, height (preset parameters); moves
-    (["I,J=X,Y[,Z]"] control-point moves); family_depth (10), family_period (12).
-"""
+_IFS = dict(prepare=_ifs_fields, threads=False, progress=False)
 
 
 def ifs_presets() -> list:
@@ -270,68 +271,50 @@ def ifs_presets() -> list:
     return _parse(_asperity.ifs_presets())
 
 
-def ifs_model(preset: Optional[str] = None, model=None, w=None, degree=None, height=None,
-              moves: Sequence[str] = (), family_depth: int = 10, family_period: int = 12) -> dict:
-    """The model as a model-file dict (what ``asperity ifs preset`` writes); edit
-    it and pass it back as ``model=``."""
-    return _parse(_asperity.ifs_model(_model(preset, model, w, degree, height, moves, family_depth,
-                                             family_period)))
+ifs_model = Job(
+    "ifs preset", _asperity.ifs_model, _parse, name="ifs_model", record=False,
+    summary="The model as a model-file dict (what ``asperity ifs preset`` writes); edit it and "
+            "pass it back as ``model=``.",
+    returns="Returns the model file as a dict.", **_IFS,
+).function()
 
+ifs_curve = Job(
+    "ifs curve", _asperity.ifs_curve, lambda d: d["points"], name="ifs_curve",
+    summary="A projected-IFS curve's attractor (poull-gentil §2): the CLI's ``ifs curve``.",
+    returns="Returns the (2^depth + 1, 3) attractor points (an array with ``params``).", **_IFS,
+).function()
 
-def ifs_curve(preset: Optional[str] = None, model=None, depth: int = 12, w=None, degree=None,
-              height=None, moves: Sequence[str] = (), family_depth: int = 10,
-              family_period: int = 12) -> np.ndarray:
-    """A projected-IFS curve's attractor: (2^depth + 1, 3) points (poull-gentil §2)."""
-    pts, _ = _asperity.ifs_curve(_model(preset, model, w, degree, height, moves, family_depth,
-                                        family_period), depth)
-    return pts
+ifs_surface = Job(
+    "ifs surface", _asperity.ifs_surface, lambda d: Mesh._from(d["mesh"], d["name"]),
+    name="ifs_surface",
+    summary="A tensor-product IFS surface's attractor mesh, with pseudo-curvature scalars unless "
+            "``curvature=False`` (poull-gentil §2, §4): the CLI's ``ifs surface``.",
+    returns="Returns a :class:`Mesh`.", prepare=_ifs_fields, progress=False,
+).function()
 
+ifs_dcf = Job(
+    "ifs dcf", _asperity.ifs_dcf,
+    lambda d: Result(points=d["points"], **{"class": d["class"]}, alpha=d["alpha"]),
+    name="ifs_dcf",
+    summary="The DCF of operator T_i of a curve (poull-gentil §3): the CLI's ``ifs dcf``.",
+    returns="Returns a :class:`Result` with ``points`` (samples + 1, 3), ``class`` and ``alpha``.",
+    **_IFS,
+).function()
 
-def ifs_surface(preset: Optional[str] = None, model=None, depth: int = 8, curvature: bool = True,
-                w=None, degree=None, height=None, moves: Sequence[str] = (), family_depth: int = 10,
-                family_period: int = 12, threads: Optional[int] = None) -> Mesh:
-    """A tensor-product IFS surface's attractor mesh, with pseudo-curvature
-    scalars unless ``curvature=False`` (poull-gentil §2, §4)."""
-    d = _asperity.ifs_surface(_model(preset, model, w, degree, height, moves, family_depth,
-                                     family_period), depth, curvature, threads)
-    return Mesh._from(d["mesh"], d["name"])
+ifs_sdcf = Job(
+    "ifs sdcf", _asperity.ifs_sdcf, lambda d: Mesh._from(d["mesh"]), name="ifs_sdcf",
+    summary="The SDCF of T_i ⊗ T'_j of a surface as a mesh (poull-gentil §4, Fig. 4): the CLI's "
+            "``ifs sdcf``.",
+    returns="Returns a :class:`Mesh`.", **_IFS,
+).function()
 
-
-def ifs_dcf(preset: Optional[str] = None, model=None, operator: int = 0, start: Optional[float] = None,
-            bound: Optional[str] = None, samples: int = 256, w=None, degree=None, height=None,
-            moves: Sequence[str] = (), family_depth: int = 10, family_period: int = 12) -> Result:
-    """The DCF of operator T_i of a curve (poull-gentil §3): ``points``
-    (samples + 1, 3), ``class`` and ``alpha``. start: the parameter it starts
-    at (default the operator's fixed end); bound: "lower" or "upper"."""
-    d = _asperity.ifs_dcf(_model(preset, model, w, degree, height, moves, family_depth,
-                                 family_period), operator, start, bound, samples)
-    return Result(points=d["points"], **{"class": d["class"]}, alpha=d["alpha"])
-
-
-def ifs_sdcf(preset: Optional[str] = None, model=None, operator: Tuple[int, int] = (0, 0),
-             start: Optional[Tuple[float, float]] = None, bound: Optional[str] = None,
-             resolution: int = 64, w=None, degree=None, height=None, moves: Sequence[str] = (),
-             family_depth: int = 10, family_period: int = 12) -> Mesh:
-    """The SDCF of T_i ⊗ T'_j of a surface as a mesh (poull-gentil §4, Fig. 4)."""
-    d = _asperity.ifs_sdcf(_model(preset, model, w, degree, height, moves, family_depth,
-                                  family_period), tuple(operator),
-                           None if start is None else tuple(start), bound, resolution)
-    return Mesh._from(d)
-
-
-def ifs_curvature(preset: Optional[str] = None, model=None, at: Sequence[Union[str, float]] = (),
-                  w=None, degree=None, height=None, moves: Sequence[str] = (), family_depth: int = 10,
-                  family_period: int = 12) -> dict:
-    """Pseudo-curvature ranges per operator and at points (poull-gentil §5):
-    the CLI's ``ifs curvature --json`` document. at: parameters s (curves) or
-    "s,t" strings / (s, t) pairs (surfaces)."""
-    pts = [",".join(map(str, a)) if isinstance(a, (tuple, list)) else str(a) for a in at]
-    return _parse(_asperity.ifs_curvature(_model(preset, model, w, degree, height, moves,
-                                                 family_depth, family_period), pts))
-
-
-for _f in (ifs_curve, ifs_surface, ifs_dcf, ifs_sdcf, ifs_curvature, ifs_model):
-    _f.__doc__ += _IFS_DOC
+ifs_curvature = Job(
+    "ifs curvature", _asperity.ifs_curvature, _parse, name="ifs_curvature",
+    summary="Pseudo-curvature ranges per operator and at points (poull-gentil §5): the CLI's "
+            "``ifs curvature --json`` document. ``at``: parameters s (curves), or (s, t) pairs "
+            "or \"s,t\" strings (surfaces).",
+    returns="Returns the report as a dict (with ``params``).", **_IFS,
+).function()
 
 
 # ---------------------------------------------------------------- surface CA

@@ -727,147 +727,62 @@ pub enum IfsCommand {
     Curvature(IfsCurvatureArgs),
 }
 
-/// Preset parameters.
-#[derive(Args, Debug, Clone, Default)]
-pub struct IfsPresetParams {
-    /// Takagi–Landsberg roughness w, |w| < 1 (takagi presets; default 1/√2 ≈ 0.7071).
-    #[arg(long, allow_hyphen_values = true)]
-    pub w: Option<f64>,
-    /// Degree of the `bezier` preset (default 3).
-    #[arg(long)]
-    pub degree: Option<usize>,
-    /// Height scale of the surface presets (default 0.25 for takagi-landsberg-surface, 0.5 otherwise).
-    #[arg(long, allow_hyphen_values = true)]
-    pub height: Option<f64>,
-}
-
-/// Where a model comes from and how it is edited.
-#[derive(Args, Debug, Clone)]
-pub struct IfsModelArgs {
-    /// Built-in preset (`asperity ifs presets` lists them).
-    #[arg(
-        long,
-        value_name = "NAME",
-        required_unless_present = "ifs",
-        conflicts_with = "ifs"
-    )]
-    pub preset: Option<String>,
-    /// Model file (JSON), e.g. one written by `asperity ifs preset NAME -o FILE` and edited.
-    #[arg(long, value_name = "FILE")]
-    pub ifs: Option<PathBuf>,
-    #[command(flatten)]
-    pub params: IfsPresetParams,
-    /// Replace the control points: JSON (a list of points, or N rows of M points) or
-    /// CSV (x,y or x,y,z per line; surfaces row-major).
-    #[arg(long, value_name = "FILE")]
-    pub control: Option<PathBuf>,
-    /// Move a control point: I=x,y or I=x,y,z (curves), I,J=x,y,z (surfaces). Repeatable.
-    #[arg(long = "move", value_name = "SPEC", allow_hyphen_values = true)]
-    pub moves: Vec<String>,
-    /// Family of DCFs: dyadic starting points k/2^D in the fundamental domain.
-    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..=20))]
-    pub family_depth: u32,
-    /// Family of DCFs: periodic starting points of every period up to P.
-    #[arg(long, default_value_t = 12, value_parser = clap::value_parser!(u32).range(0..=20))]
-    pub family_period: u32,
-}
-
 /// `asperity ifs preset`
 #[derive(Args, Debug)]
 pub struct IfsPresetArgs {
-    /// Preset name.
-    pub name: String,
+    /// Preset name (or give --preset, or --ifs FILE to rewrite a model file with its edits).
+    #[arg(value_name = "NAME")]
+    pub name: Option<String>,
     #[command(flatten)]
-    pub params: IfsPresetParams,
+    pub params: asperity_engine::ifs::IfsPresetParams,
 }
 
 /// `asperity ifs curve`
 #[derive(Args, Debug)]
 pub struct IfsCurveArgs {
     #[command(flatten)]
-    pub model: IfsModelArgs,
-    /// Dyadic depth: 2^D + 1 points.
-    #[arg(long, default_value_t = 12)]
-    pub depth: u32,
+    pub params: asperity_engine::ifs::IfsCurveParams,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity ifs surface`
 #[derive(Args, Debug)]
 pub struct IfsSurfaceArgs {
     #[command(flatten)]
-    pub model: IfsModelArgs,
-    /// Dyadic depth: (2^D + 1)² vertices (10 ≈ 1M).
-    #[arg(long, default_value_t = 8)]
-    pub depth: u32,
+    pub params: asperity_engine::ifs::IfsSurfaceParams,
     /// Also write the control grid as lines (.obj or .ply).
     #[arg(long, value_name = "FILE")]
     pub control_net: Option<PathBuf>,
-    /// Skip the per-vertex pseudo-curvature attributes.
-    #[arg(long)]
-    pub no_curvature: bool,
-}
-
-/// Which member of the family.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BoundArg {
-    /// Smallest c₂ (lower bound DCF).
-    Lower,
-    /// Largest c₂ (upper bound DCF).
-    Upper,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity ifs dcf`
 #[derive(Args, Debug)]
 pub struct IfsDcfArgs {
     #[command(flatten)]
-    pub model: IfsModelArgs,
-    /// Operator (0 or 1).
-    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=1))]
-    pub operator: u8,
-    /// Starting point as an attractor parameter (default: the other operator's fixed point).
-    #[arg(long, conflicts_with = "bound")]
-    pub start: Option<f64>,
-    /// Start from the lower- or upper-bound member of the family instead.
-    #[arg(long)]
-    pub bound: Option<BoundArg>,
-    /// Samples along t ∈ [0, 1].
-    #[arg(long, default_value_t = 256)]
-    pub samples: usize,
-    /// Family members drawn in an .svg figure.
-    #[arg(long, default_value_t = 12)]
-    pub family: usize,
+    pub params: asperity_engine::ifs::IfsDcfParams,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity ifs sdcf`
 #[derive(Args, Debug)]
 pub struct IfsSdcfArgs {
     #[command(flatten)]
-    pub model: IfsModelArgs,
-    /// Tensor operator I,J (each 0 or 1).
-    #[arg(long, default_value = "0,0")]
-    pub operator: String,
-    /// Starting point S,T as attractor parameters (default: the opposite corner).
-    #[arg(long, conflicts_with = "bound")]
-    pub start: Option<String>,
-    /// Start from the lower- or upper-bound members of both families instead.
-    #[arg(long)]
-    pub bound: Option<BoundArg>,
-    /// Grid resolution of the SDCF mesh (cells per side).
-    #[arg(long, default_value_t = 64)]
-    pub resolution: usize,
-    /// Also include the attractor at this depth (grey; the SDCF is blue), for viewing.
-    #[arg(long, value_name = "DEPTH")]
-    pub with_attractor: Option<u32>,
+    pub params: asperity_engine::ifs::IfsSdcfParams,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity ifs curvature`
 #[derive(Args, Debug)]
 pub struct IfsCurvatureArgs {
     #[command(flatten)]
-    pub model: IfsModelArgs,
-    /// Dyadic point(s) to evaluate: S for curves, S,T for surfaces (repeatable).
-    #[arg(long, value_name = "S[,T]")]
-    pub at: Vec<String>,
+    pub params: asperity_engine::ifs::IfsCurvatureParams,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity bench`

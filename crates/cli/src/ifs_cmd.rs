@@ -6,16 +6,12 @@ use std::time::Instant;
 
 use asperity_core::TriMesh;
 use asperity_engine::files::{extension, require_mesh_format};
-use asperity_engine::ifs::{
-    CurvatureReport, Loaded, ModelSpec, control_net, curvature_doc, curvature_report, dcf_for,
-    figure, load, pair, sdcf_for, surface_mesh,
-};
-use asperity_ifs::sdcf::Start;
-use asperity_ifs::{DirectionAnalysis, FamilyOptions, PresetParams, preset, preset_names};
+use asperity_engine::ifs::{CurvatureReport, Loaded, control_net, figure};
+use asperity_ifs::{DirectionAnalysis, preset_names};
 
 use crate::cli::{
-    BoundArg, IfsCommand, IfsCurvatureArgs, IfsCurveArgs, IfsDcfArgs, IfsModelArgs, IfsPresetArgs,
-    IfsPresetParams, IfsSdcfArgs, IfsSurfaceArgs,
+    IfsCommand, IfsCurvatureArgs, IfsCurveArgs, IfsDcfArgs, IfsPresetArgs, IfsSdcfArgs,
+    IfsSurfaceArgs,
 };
 use crate::context::{Context, Run};
 
@@ -31,29 +27,6 @@ pub fn run(ctx: &Context, c: IfsCommand) -> anyhow::Result<()> {
     }
 }
 
-fn params(p: &IfsPresetParams) -> PresetParams {
-    PresetParams {
-        w: p.w,
-        degree: p.degree,
-        height: p.height,
-    }
-}
-
-fn model(a: &IfsModelArgs) -> anyhow::Result<Loaded> {
-    Ok(load(&ModelSpec {
-        preset: a.preset.clone(),
-        file: a.ifs.clone(),
-        json: None,
-        params: params(&a.params),
-        control: a.control.clone(),
-        moves: a.moves.clone(),
-        family: FamilyOptions {
-            dyadic_depth: a.family_depth,
-            period: a.family_period,
-        },
-    })?)
-}
-
 fn presets(ctx: &Context) -> anyhow::Result<()> {
     if ctx.json {
         let v = asperity_engine::ifs::presets();
@@ -67,7 +40,12 @@ fn presets(ctx: &Context) -> anyhow::Result<()> {
 }
 
 fn write_preset(ctx: &Context, a: &IfsPresetArgs) -> anyhow::Result<()> {
-    let text = preset(&a.name, &params(&a.params))?.to_json();
+    let mut p = a.params.clone();
+    if let Some(name) = &a.name {
+        p.model.preset = Some(name.clone());
+    }
+    asperity_engine::params::validate(&p)?;
+    let text = p.model.load()?.file().to_json();
     match &ctx.output {
         Some(path) => {
             let mut run = Run::new(ctx, "ifs preset");
@@ -104,11 +82,12 @@ fn csv(header: &str, pts: &[[f64; 3]], dims: usize, count: f64) -> String {
 }
 
 fn curve(ctx: &Context, a: &IfsCurveArgs) -> anyhow::Result<()> {
-    let (name, c, opts) = model(&a.model)?.curve()?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
     let out = ctx.output("FILE (e.g. -o curve.obj, curve.csv or curve.svg)")?;
     let mut run = Run::new(ctx, "ifs curve");
     let t = Instant::now();
-    let pts = c.attractor(a.depth)?;
+    let (name, c, opts, pts) = job.params.attractor()?;
+    run.params(&job.params, job.seed, job.overridden.clone());
     run.report.measure("build_s", t.elapsed().as_secs_f64());
     match extension(&out).as_str() {
         "csv" => {
@@ -127,7 +106,7 @@ fn curve(ctx: &Context, a: &IfsCurveArgs) -> anyhow::Result<()> {
         ),
     }
     run.report.measure("points", pts.len());
-    run.report.measure("depth", a.depth);
+    run.report.measure("depth", job.params.depth);
     run.note(format!(
         "{name}: {} attractor points written to {}",
         pts.len(),
@@ -137,12 +116,13 @@ fn curve(ctx: &Context, a: &IfsCurveArgs) -> anyhow::Result<()> {
 }
 
 fn surface(ctx: &Context, a: &IfsSurfaceArgs) -> anyhow::Result<()> {
-    let (name, s, opts) = model(&a.model)?.surface(a.model.params.height)?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
     let out = ctx.output("FILE (e.g. -o attractor.ply)")?;
     require_mesh_format(&out, ".ply, .obj, .stl or .glb")?;
     let mut run = Run::new(ctx, "ifs surface");
     let t = Instant::now();
-    let (mesh, note) = surface_mesh(&s, &opts, a.depth, !a.no_curvature, &ctx.budget)?;
+    let (name, s, mesh, note) = job.params.mesh(&ctx.budget)?;
+    run.params(&job.params, job.seed, job.overridden.clone());
     run.report.measure("build_s", t.elapsed().as_secs_f64());
     if let Some(n) = note {
         run.note(&n);
@@ -157,7 +137,7 @@ fn surface(ctx: &Context, a: &IfsSurfaceArgs) -> anyhow::Result<()> {
     let attributes: Vec<String> = mesh.scalars().iter().map(|s| s.name.clone()).collect();
     run.report.measure("vertices", mesh.n_vertices());
     run.report.measure("triangles", mesh.n_faces());
-    run.report.measure("depth", a.depth);
+    run.report.measure("depth", job.params.depth);
     run.report.measure("attributes", attributes);
     run.note(format!(
         "{name}: {} vertices, {} triangles written to {}",
@@ -168,27 +148,20 @@ fn surface(ctx: &Context, a: &IfsSurfaceArgs) -> anyhow::Result<()> {
     run.finish()
 }
 
-fn start(bound: Option<BoundArg>, param: f64) -> Start {
-    match bound {
-        Some(BoundArg::Lower) => Start::Lower,
-        Some(BoundArg::Upper) => Start::Upper,
-        None => Start::Parameter(param),
-    }
-}
-
 fn dcf(ctx: &Context, a: &IfsDcfArgs) -> anyhow::Result<()> {
-    let (name, c, opts) = model(&a.model)?.curve()?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let p = &job.params;
     let out = ctx.output("FILE (e.g. -o dcf.svg, dcf.csv or dcf.obj)")?;
-    let i = a.operator as usize;
-    let first = start(a.bound, a.start.unwrap_or(1.0 - i as f64));
-    let d = dcf_for(&c, &opts, i, Some(first), a.samples)?;
+    let (name, c, opts, d) = p.dcf()?;
+    let i = p.operator;
     let (pts, class) = (d.points, d.class);
     let mut run = Run::new(ctx, "ifs dcf");
+    run.params(p, job.seed, job.overridden.clone());
     match extension(&out).as_str() {
-        "csv" => run.text(&out, &csv("t,x,y,z", &pts, 3, a.samples as f64))?,
+        "csv" => run.text(&out, &csv("t,x,y,z", &pts, 3, p.samples as f64))?,
         "svg" => {
             let an = DirectionAnalysis::new(&c.pifs, &opts);
-            run.text(&out, &figure(&c, &an, &name, a.family, Some((i, &pts)))?)?
+            run.text(&out, &figure(&c, &an, &name, p.family, Some((i, &pts)))?)?
         }
         "obj" | "ply" => write_lines(&mut run, &out, std::slice::from_ref(&pts))?,
         e => anyhow::bail!(
@@ -199,7 +172,7 @@ fn dcf(ctx: &Context, a: &IfsDcfArgs) -> anyhow::Result<()> {
     run.report.measure("operator", i);
     run.report.measure("class", class);
     run.report.measure("alpha", d.alpha);
-    run.report.measure("samples", a.samples);
+    run.report.measure("samples", p.samples);
     run.note(format!(
         "DCF of T{i} ({class}) written to {}",
         out.display()
@@ -208,26 +181,12 @@ fn dcf(ctx: &Context, a: &IfsDcfArgs) -> anyhow::Result<()> {
 }
 
 fn sdcf(ctx: &Context, a: &IfsSdcfArgs) -> anyhow::Result<()> {
-    let (name, s, opts) = model(&a.model)?.surface(a.model.params.height)?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
     let out = ctx.output("FILE (e.g. -o sdcf.ply)")?;
-    let (i, j): (usize, usize) = pair(&a.operator, "--operator")?;
-    anyhow::ensure!(
-        i < 2 && j < 2,
-        "--operator {}: I and J are 0 or 1",
-        a.operator
-    );
-    let st = match &a.start {
-        Some(v) => pair(v, "--start")?,
-        None => (1.0 - i as f64, 1.0 - j as f64),
-    };
-    let starts = (start(a.bound, st.0), start(a.bound, st.1));
-    let mut mesh = sdcf_for(&s, &opts, (i, j), starts, a.resolution, &ctx.budget)?;
-    if let Some(d) = a.with_attractor {
-        let att = s.attractor_mesh(d, &ctx.budget)?;
-        mesh =
-            TriMesh::merge_colored(&[(&att, [190, 190, 190, 255]), (&mesh, [40, 90, 220, 255])])?;
-    }
+    let (name, mesh) = job.params.mesh(&ctx.budget)?;
+    let (i, j) = job.params.indices()?;
     let mut run = Run::new(ctx, "ifs sdcf");
+    run.params(&job.params, job.seed, job.overridden.clone());
     run.mesh(&out, &mesh)?;
     run.report.measure("operator", [i, j]);
     run.report.measure("vertices", mesh.n_vertices());
@@ -247,11 +206,11 @@ fn fmt_range(r: Option<[f64; 2]>) -> String {
 }
 
 fn curvature(ctx: &Context, a: &IfsCurvatureArgs) -> anyhow::Result<()> {
-    let l = model(&a.model)?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
     let t = Instant::now();
-    let report = curvature_report(&l, &a.at)?;
-    let mut doc = curvature_doc(&l, &report)?;
+    let (l, report, mut doc) = job.params.report()?;
     doc["seconds"] = serde_json::json!(t.elapsed().as_secs_f64());
+    doc["params"] = asperity_engine::params::record(&job.params, job.seed);
     if ctx.json {
         outln!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());

@@ -316,6 +316,12 @@ pub fn jobs() -> Vec<JobEntry> {
         JobEntry::of::<crate::ca::FacetParams>(),
         JobEntry::of::<crate::ca::InterpolateParams>(),
         JobEntry::of::<crate::subdiv::SubdivParams>(),
+        JobEntry::of::<crate::ifs::IfsPresetParams>(),
+        JobEntry::of::<crate::ifs::IfsCurveParams>(),
+        JobEntry::of::<crate::ifs::IfsSurfaceParams>(),
+        JobEntry::of::<crate::ifs::IfsDcfParams>(),
+        JobEntry::of::<crate::ifs::IfsSdcfParams>(),
+        JobEntry::of::<crate::ifs::IfsCurvatureParams>(),
         JobEntry::of::<crate::synthesis::FbmParams>(),
     ]
 }

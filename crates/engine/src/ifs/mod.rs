@@ -21,6 +21,13 @@ use serde_json::Value;
 use crate::error::{Result, ensure, invalid};
 use crate::files::read_text;
 
+mod params;
+
+pub use params::{
+    Bound, IfsCurvatureParams, IfsCurveParams, IfsDcfParams, IfsModelParams, IfsPresetParams,
+    IfsSdcfParams, IfsSurfaceParams,
+};
+
 /// Where a model comes from and how it is edited, as `asperity ifs …` says it.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ModelSpec {
