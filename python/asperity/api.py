@@ -319,42 +319,30 @@ ifs_curvature = Job(
 
 # ---------------------------------------------------------------- surface CA
 
-_CORROSION_KEYS = ("k1", "k2", "k3", "seed_rate", "max_seeds", "strong_fraction", "strong_noise",
-                   "max_attacked", "attack", "maturity")
+def _site_points(p):
+    if p is None:
+        return None
+    return np.ascontiguousarray(p.points if isinstance(p, PointSet) else p, dtype=np.float64)
 
 
-def surface_ca(mesh: Union[Mesh, str], app: str = "voronoi", cells: int = 100_000,
-               cell_size: Optional[float] = None, repair: bool = False, sites: int = 12,
-               site_points=None, diagonal_p: Optional[float] = None, max_steps: int = 100_000,
-               steps: int = 600, feed: float = 0.0367, kill: float = 0.0649, patches: int = 20,
-               textured: bool = True, cell_mesh: bool = False, displace: Optional[float] = None,
-               seed: int = 7, threads: Optional[int] = None, progress=False, **corrosion) -> Result:
-    """A cellular automaton on a triangle mesh (gobron-chiba): the CLI's
-    ``surface-ca``.
-
-    mesh: a :class:`Mesh`, or "builtin:sphere|cube|cylinder|cup" or a path.
-    app: "voronoi", "corrosion" or "gray-scott". cells: about this many cells
-    (default 100000) or cell_size: their side. sites / site_points ((n, 3)
-    points): the Voronoi or corrosion sites. Corrosion keywords: k1, k2, k3,
-    seed_rate, max_seeds, strong_fraction, strong_noise, max_attacked,
-    attack, maturity. textured: the original mesh with the cell atlas as
-    ``mesh.texture`` (as the CLI writes .glb/.obj); otherwise coloured cells.
-
-    Returns ``mesh``, ``labels`` (Voronoi: a :class:`PointSet` of cell centres
-    with their region label; None otherwise), ``field`` (per-cell oxide or activator, or None), ``warnings`` and
-    ``measurements``.
-    """
-    unknown = set(corrosion) - set(_CORROSION_KEYS)
-    if unknown:
-        raise TypeError(f"unexpected keyword argument(s): {', '.join(sorted(unknown))}")
-    sp = None if site_points is None else np.ascontiguousarray(
-        site_points.points if isinstance(site_points, PointSet) else site_points, dtype=np.float64)
-    d = call(_asperity.surface_ca, mesh, app, cells, cell_size, repair, sites, sp, diagonal_p,
-             max_steps, steps, feed, kill, patches, corrosion, textured, cell_mesh, displace, seed,
-             threads, progress=progress)
-    labels = None if d["labels"] is None else PointSet._from(d["labels"])
-    return Result(mesh=Mesh._from(d["mesh"]), labels=labels,
-                  field=d["field"], warnings=d["warnings"], measurements=_parse(d["measurements"]))
+surface_ca = Job(
+    "surface-ca", _asperity.surface_ca,
+    lambda d: Result(mesh=Mesh._from(d["mesh"]),
+                     labels=None if d["labels"] is None else PointSet._from(d["labels"]),
+                     field=d["field"], warnings=d["warnings"],
+                     measurements=_parse(d["measurements"])),
+    name="surface_ca",
+    summary="A cellular automaton on a triangle mesh (gobron-chiba): the CLI's ``surface-ca``.",
+    leading=[("mesh", "a :class:`Mesh`, or \"builtin:sphere|cube|cylinder|cup\" or a path.")],
+    inputs=[("site_points", None, "(n, 3) points or a :class:`PointSet`: the Voronoi sites, or "
+                                  "the cells corroded from the start."),
+            ("textured", True, "the original mesh with the cell atlas as ``mesh.texture`` (as "
+                               "the CLI writes .glb/.obj); otherwise coloured cells.")],
+    convert={"site_points": _site_points},
+    returns="Returns a :class:`Result` with ``mesh``, ``labels`` (Voronoi: a :class:`PointSet` "
+            "of cell centres with their region label; None otherwise), ``field`` (per-cell "
+            "oxide or activator, or None), ``warnings`` and ``measurements``.",
+).function()
 
 
 # ---------------------------------------------------------------- analysis

@@ -601,101 +601,20 @@ pub struct SubdivArgs {
     pub params_file: ParamsFile,
 }
 
-/// Surface-CA applications.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SurfaceApp {
-    /// Surface Voronoi diagram by regular probabilistic growth.
-    Voronoi,
-    /// Copper corrosion and its green patina.
-    Corrosion,
-    /// Gray–Scott reaction–diffusion (spots, stripes) on the surface.
-    GrayScott,
-}
-
 /// `asperity surface-ca`
 #[derive(Args, Debug)]
 pub struct SurfaceCaArgs {
     /// Mesh file (OBJ, PLY, STL, …) or builtin:sphere, builtin:cube, builtin:cylinder, builtin:cup.
     pub mesh: String,
-    /// Drop degenerate triangles and reorient inconsistent ones instead of refusing the mesh.
-    #[arg(long)]
-    pub repair: bool,
-    /// The application.
-    #[arg(long, value_enum, default_value = "voronoi")]
-    pub app: SurfaceApp,
-    /// Approximate number of cells (h = √(area / C)).
-    #[arg(long, default_value_t = 100_000, conflicts_with = "cell_size")]
-    pub cells: usize,
-    /// Cell side h in mesh units (instead of --cells).
-    #[arg(long)]
-    pub cell_size: Option<f64>,
-    /// Voronoi: number of random sites (area-weighted).
-    #[arg(long, default_value_t = 12)]
-    pub sites: usize,
+    #[command(flatten)]
+    pub params: asperity_engine::surfca::SurfaceCaParams,
     /// Voronoi: sites at these points instead; corrosion: cells corroded from the start
     /// (any point-set file; the nearest cell each).
     #[arg(long, value_name = "FILE", conflicts_with = "sites")]
     pub site_points: Option<PathBuf>,
-    /// For .glb/.obj output: write the cells as their own mesh with vertex colours instead of
-    /// the original mesh with a texture atlas.
-    #[arg(long)]
-    pub cell_mesh: bool,
-    /// Displace the cell mesh along the normal by SCALE × the per-cell thickness (corrosion:
-    /// oxide; gray-scott: activator), averaged across cells and triangle edges.
-    #[arg(long, value_name = "SCALE", allow_hyphen_values = true)]
-    pub displace: Option<f64>,
     /// Write the coloured cell mesh every K steps as OUT_stepNNNN.EXT (animation frames).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
     pub frames: Option<u64>,
-    /// Gray–Scott: feed rate F.
-    #[arg(long, default_value_t = 0.0367)]
-    pub feed: f32,
-    /// Gray–Scott: kill rate k.
-    #[arg(long, default_value_t = 0.0649)]
-    pub kill: f32,
-    /// Gray–Scott: number of seeded patches.
-    #[arg(long, default_value_t = 20)]
-    pub patches: usize,
-    /// Voronoi: probability that a corner neighbour passes its label (default √2/2 − ½, the
-    /// paper's; (√2 − 1)² ≈ 0.1716 is isotropic at large radii).
-    #[arg(long)]
-    pub diagonal_p: Option<f64>,
-    /// Step limit (Voronoi stops earlier when no cell changes).
-    #[arg(long, default_value_t = 100_000)]
-    pub max_steps: u64,
-    /// Corrosion and Gray–Scott: steps to run.
-    #[arg(long, default_value_t = 600)]
-    pub steps: u64,
-    /// Corrosion: metal lost per corroded step (k1).
-    #[arg(long, default_value_t = 0.0005)]
-    pub k1: f32,
-    /// Corrosion: oxide gained per corroded step (k2).
-    #[arg(long, default_value_t = 0.01)]
-    pub k2: f32,
-    /// Corrosion: oxide cap (k3).
-    #[arg(long, default_value_t = 1.0)]
-    pub k3: f32,
-    /// Corrosion: probability per step that a metal cell becomes a new seed.
-    #[arg(long, default_value_t = 2e-5)]
-    pub seed_rate: f64,
-    /// Corrosion: most seeds over the run.
-    #[arg(long, default_value_t = 400)]
-    pub max_seeds: usize,
-    /// Corrosion: share of strong (resistant) cells.
-    #[arg(long, default_value_t = 0.35)]
-    pub strong_fraction: f64,
-    /// Corrosion: strong cells from a value-noise field of this feature size (mesh units).
-    #[arg(long, value_name = "SCALE")]
-    pub strong_noise: Option<f64>,
-    /// Corrosion: most neighbours one corroded cell attacks per step (1–7).
-    #[arg(long, default_value_t = 4)]
-    pub max_attacked: u32,
-    /// Corrosion: attack strength of a mature corroded cell (defence: 0.35 weak, 0.8 strong).
-    #[arg(long, default_value_t = 0.12)]
-    pub attack: f64,
-    /// Corrosion: age (steps) at which a corroded cell attacks at full strength.
-    #[arg(long, default_value_t = 40)]
-    pub maturity: u32,
     /// Point set of cell centres with integer `label` and float `area` (PLY).
     #[arg(long, value_name = "FILE")]
     pub labels_out: Option<PathBuf>,
@@ -705,6 +624,8 @@ pub struct SurfaceCaArgs {
     /// PNG plot of the per-step statistics (the paper's Figure 16).
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity ifs …`

@@ -1,93 +1,14 @@
 //! `asperity surface-ca`: cellular automata on a triangle mesh (gobron-chiba;
 //! `asperity_engine::surfca`).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use asperity_core::Progress;
 use asperity_engine::files::{numbered, require_mesh_format};
-use asperity_engine::surfca::{
-    App, AppRequest, AppRun, Covered, OutputShape, check_time, cover, run_app, start_progress,
-};
+use asperity_engine::surfca::{AppRun, SurfaceCaInputs, run_job};
 use asperity_io::Format;
-use asperity_surfca::CellSize;
-use asperity_surfca::corrosion::CorrosionParams;
 
-use crate::cli::{SurfaceApp, SurfaceCaArgs};
+use crate::cli::SurfaceCaArgs;
 use crate::context::{Context, Run};
-
-fn request(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<AppRequest> {
-    let at = match &a.site_points {
-        Some(path) => Some((ctx.load_points(path)?, path.display().to_string())),
-        None => None,
-    };
-    Ok(match a.app {
-        SurfaceApp::Voronoi => AppRequest::Voronoi {
-            sites: a.sites,
-            at,
-            diagonal_p: a.diagonal_p,
-            max_steps: a.max_steps,
-        },
-        SurfaceApp::Corrosion => AppRequest::Corrosion {
-            params: CorrosionParams {
-                k1: a.k1,
-                k2: a.k2,
-                k3: a.k3,
-                seed_rate: a.seed_rate,
-                max_seeds: a.max_seeds,
-                strong_fraction: a.strong_fraction,
-                strong_noise_scale: a.strong_noise,
-                max_attacked: a.max_attacked,
-                attack: a.attack,
-                maturity: a.maturity,
-                ..CorrosionParams::default()
-            },
-            steps: a.steps,
-            at,
-        },
-        SurfaceApp::GrayScott => AppRequest::GrayScott {
-            feed: a.feed,
-            kill: a.kill,
-            patches: a.patches,
-            steps: a.steps,
-        },
-    })
-}
-
-/// Runs the application, writing an animation frame every `--frames` steps.
-fn run_with_frames(
-    ctx: &Context,
-    a: &SurfaceCaArgs,
-    cov: &Covered,
-    app: App,
-    out: &Path,
-) -> anyhow::Result<(AppRun, Vec<PathBuf>)> {
-    if let Some(k) = a.frames {
-        asperity_engine::estimate::check_file_count(app.steps() / k + 1, "--frames")?;
-    }
-    let bar = ctx.bar();
-    start_progress(&bar, &app);
-    let (mut written, mut failed) = (Vec::new(), None);
-    let r = run_app(cov, app, ctx.seed, &ctx.time, |step, color| {
-        bar.advance(1);
-        let Some(k) = a.frames else { return };
-        if failed.is_some() || !step.is_multiple_of(k) {
-            return;
-        }
-        let path = numbered(out, "step", step, 4);
-        let m = cov.cell_mesh(color);
-        match m.map_err(anyhow::Error::from).and_then(|m| {
-            asperity_io::write_mesh(&path, &m, &ctx.write_options()).map_err(Into::into)
-        }) {
-            Ok(()) => written.push(path),
-            Err(e) => failed = Some(e),
-        }
-    })?;
-    bar.finish();
-    match failed {
-        Some(e) => Err(e),
-        None => Ok((r, written)),
-    }
-}
 
 /// The statistics file (`.json` or CSV) and plot, when asked for.
 fn statistics(run: &mut Run, a: &SurfaceCaArgs, r: &AppRun, n: usize) -> anyhow::Result<()> {
@@ -109,18 +30,54 @@ fn statistics(run: &mut Run, a: &SurfaceCaArgs, r: &AppRun, n: usize) -> anyhow:
 pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
     let out = ctx.output("FILE (e.g. -o voronoi.glb)")?;
     require_mesh_format(&out, ".glb, .ply or .obj")?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let p = &job.params;
     let mut run = Run::new(ctx, "surface-ca");
-    let size = match a.cell_size {
-        Some(h) => CellSize::Size(h),
-        None => CellSize::Count(a.cells),
+    run.params(p, job.seed, job.overridden.clone());
+    let inputs = SurfaceCaInputs {
+        mesh: ctx.load_mesh(&a.mesh)?,
+        name: a.mesh.clone(),
+        at: match &a.site_points {
+            Some(path) => Some((ctx.load_points(path)?, path.display().to_string())),
+            None => None,
+        },
     };
-    let mesh = ctx.load_mesh(&a.mesh)?;
-    let request = request(ctx, a)?;
-    // Refuse a run no machine could finish before building its cells.
-    if let Ok(cells) = asperity_surfca::cells::estimated_count(&mesh, size) {
-        check_time(cells, &request.kind(), &ctx.time)?;
+    let steps = match p.app {
+        asperity_engine::surfca::AppName::Voronoi => p.max_steps,
+        _ => p.steps,
+    };
+    if let Some(k) = a.frames {
+        asperity_engine::estimate::check_file_count(steps / k + 1, "⟨frames⟩")?;
     }
-    let cov = cover(mesh, &a.mesh, a.repair, size, &ctx.budget)?;
+    // Animation frames are written as the run goes.
+    let (mut frames, mut failed): (Vec<PathBuf>, _) = (Vec::new(), None);
+    let (cov, r) = run_job(
+        p,
+        inputs,
+        job.seed,
+        (&ctx.budget, &ctx.time),
+        &ctx.bar(),
+        |cov, step, color| {
+            let Some(k) = a.frames else { return };
+            if failed.is_some() || !step.is_multiple_of(k) {
+                return;
+            }
+            let path = numbered(&out, "step", step, 4);
+            let written = cov
+                .cell_mesh(color)
+                .map_err(anyhow::Error::from)
+                .and_then(|m| {
+                    asperity_io::write_mesh(&path, &m, &ctx.write_options()).map_err(Into::into)
+                });
+            match written {
+                Ok(()) => frames.push(path),
+                Err(e) => failed = Some(e),
+            }
+        },
+    )?;
+    if let Some(e) = failed {
+        return Err(e);
+    }
     if let Some(r) = &cov.repair {
         if r.dropped_degenerate > 0 || r.flipped > 0 || r.split_vertices > 0 {
             run.note(format!(
@@ -135,20 +92,14 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
         run.warn("warning", w.clone());
     }
     run.note(cov.summary());
-    let app = request.build(&cov, ctx.seed)?;
-    let (r, frames) = run_with_frames(ctx, a, &cov, app, &out)?;
-    for p in &frames {
-        run.report.output(p);
+    for path in &frames {
+        run.report.output(path);
     }
     for w in r.warnings() {
         run.warn("warning", w);
     }
-    let shape = OutputShape {
-        textured: matches!(Format::from_path(&out)?, Format::Glb | Format::Obj),
-        cell_mesh: a.cell_mesh,
-        displace: a.displace,
-    };
-    run.mesh(&out, &r.mesh(&cov, shape, &ctx.budget)?)?;
+    let textured = matches!(Format::from_path(&out)?, Format::Glb | Format::Obj);
+    run.mesh(&out, &r.mesh(&cov, p.shape(textured), &ctx.budget)?)?;
     if let Some(path) = &a.labels_out {
         run.point_set(path, &r.labels(&cov)?)?;
     }

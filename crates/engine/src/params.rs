@@ -315,6 +315,7 @@ pub fn jobs() -> Vec<JobEntry> {
         JobEntry::of::<crate::ca::CaGalleryParams>(),
         JobEntry::of::<crate::ca::FacetParams>(),
         JobEntry::of::<crate::ca::InterpolateParams>(),
+        JobEntry::of::<crate::surfca::SurfaceCaParams>(),
         JobEntry::of::<crate::subdiv::SubdivParams>(),
         JobEntry::of::<crate::ifs::IfsPresetParams>(),
         JobEntry::of::<crate::ifs::IfsCurveParams>(),

@@ -22,6 +22,10 @@ use serde_json::json;
 use crate::error::{Result, ensure, invalid};
 use crate::report::Measurements;
 
+mod params;
+
+pub use params::{AppName, SurfaceCaInputs, SurfaceCaParams, run_job};
+
 /// A mesh covered with cells, ready for an application.
 pub struct Covered {
     /// The mesh (repaired if asked).
