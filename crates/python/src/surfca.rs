@@ -17,6 +17,7 @@ use crate::job::{RunOptions, budget, run, to_py};
 /// `measurements` and `params`.
 #[pyfunction]
 #[pyo3(signature = (params, mesh, site_points, textured, threads, progress))]
+#[allow(clippy::too_many_arguments)] // the binding's boundary: parameters, three inputs, the run
 pub fn surface_ca<'py>(
     py: Python<'py>,
     params: &str,
