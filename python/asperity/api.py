@@ -348,21 +348,28 @@ surface_ca = Job(
 # ---------------------------------------------------------------- analysis
 
 
-def analyze(surface: Surface, level: str = "auto", periodic: Optional[bool] = None,
-            window: str = "hann", bins: int = 40, fit_window: Optional[Sequence[float]] = None,
-            name: str = "array", threads: Optional[int] = None) -> dict:
-    """Roughness numbers of a height field (ISO 25178 parameters, profiles,
-    PSD, five Hurst estimators, fractal dimensions), of a mesh (topology,
-    curvature) or of a point set: the CLI's ``analyze --json`` measurements,
-    same keys, plus ``warnings``. A numpy 2-D array is taken as heights with
-    unit spacing."""
-    if isinstance(surface, np.ndarray):
-        surface = HeightField(surface)
-    d = _asperity.analyze(surface, name, level, periodic, window, bins,
-                          None if fit_window is None else tuple(fit_window), threads)
+def _surface(surface):
+    """A numpy 2-D array is taken as heights with unit spacing."""
+    return HeightField(surface) if isinstance(surface, np.ndarray) else surface
+
+
+def _analysis(d: dict) -> dict:
     m = _parse(d["measurements"])
     m["warnings"] = d["warnings"]
     return m
+
+
+analyze = Job(
+    "analyze", _asperity.analyze, _analysis, name="analyze",
+    summary="Roughness numbers of a height field (ISO 25178 parameters, profiles, PSD, five Hurst "
+            "estimators, fractal dimensions), of a mesh (topology, curvature) or of a point set: "
+            "the CLI's ``analyze --json`` measurements, same keys, plus ``warnings``.",
+    leading=[("surface", "a :class:`HeightField` (or a 2-D array: heights with unit spacing), "
+                         "a :class:`Mesh` or a :class:`PointSet`.", _surface)],
+    inputs=[("name", "array", "the name the report gives the surface (the CLI: the file).")],
+    returns="Returns the measurements as a dict, with ``warnings`` and ``params``.",
+    progress=False,
+).function()
 
 
 def psd(surface: Union[HeightField, np.ndarray], **options) -> Tuple[np.ndarray, np.ndarray]:

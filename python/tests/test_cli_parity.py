@@ -194,16 +194,18 @@ def test_analysis_and_fbm(cli, tmp):
     rep = cli("analyze", tmp / "c.npy")
     mine = asperity.analyze(h)
     assert mine.pop("warnings") == rep["warnings"]
+    assert mine.pop("params") == rep["params"]
     assert strip_timing(mine) == strip_timing(rep["measurements"])
     # a plain numpy array is a height field with unit spacing
     plain = asperity.analyze(np.load(tmp / "c.npy"))
     plain.pop("warnings")
+    plain.pop("params")
     assert strip_timing(plain) == strip_timing(mine)
     q, C = asperity.psd(h)
     assert q.shape == C.shape and q.size > 10
     m = asperity.subdiv(base="cube", levels=2).mesh
     m.save(tmp / "m.ply")
-    assert strip_timing({k: v for k, v in asperity.analyze(m).items() if k != "warnings"}) == \
+    assert strip_timing({k: v for k, v in asperity.analyze(m).items() if k not in ("warnings", "params")}) == \
         strip_timing(cli("analyze", tmp / "m.ply")["measurements"])
 
 

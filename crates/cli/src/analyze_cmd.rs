@@ -1,33 +1,20 @@
 //! `asperity analyze` and `asperity generate fbm`.
 
-use asperity_engine::analyze::{AnalyzeOptions, analyze as analyze_surface};
+use asperity_engine::analyze::analyze as analyze_surface;
 use serde_json::Value;
 
-use crate::cli::{AnalyzeArgs, FbmArgs, PeriodicArg};
+use crate::cli::{AnalyzeArgs, FbmArgs};
 use crate::context::{Context, Run};
 
 pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
     // The run (and its clock) starts first, so elapsed_s counts the reading
     // and the analysis.
     let mut run = Run::new(ctx, "analyze");
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    asperity_engine::params::validate(&job.params)?;
+    run.params(&job.params, job.seed, job.overridden.clone());
     let s = ctx.load(&a.input)?;
-    let fit_window = match a.fit_window.as_deref() {
-        None => None,
-        Some([lo, hi]) => Some([*lo, *hi]),
-        Some(w) => anyhow::bail!("--fit-window takes QMIN,QMAX with 0 < QMIN < QMAX, got {w:?}"),
-    };
-    let opts = AnalyzeOptions {
-        level: a.level.clone(),
-        bins: a.bins,
-        fit_window,
-        periodic: match a.periodic {
-            PeriodicArg::Auto => None,
-            PeriodicArg::Yes => Some(true),
-            PeriodicArg::No => Some(false),
-        },
-        window: a.window.clone(),
-        plots: a.plot.is_some(),
-    };
+    let opts = job.params.options(a.plot.is_some());
     let name = a.input.display().to_string();
     let r = analyze_surface(&s, &name, &opts)?;
     for w in &r.warnings {

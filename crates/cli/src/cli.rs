@@ -436,43 +436,15 @@ pub struct InterpolateArgs {
 pub struct AnalyzeArgs {
     /// Height-field or mesh file.
     pub input: PathBuf,
-    /// Reference surface removed first (the F-operator): auto, none, mean, slope (the
-    /// mean-gradient plane), plane (least squares), quadratic. auto: mean for periodic
-    /// data, slope for periodic data with a tilt, plane otherwise.
-    #[arg(long, default_value = "auto")]
-    pub level: String,
-    /// Periodic data (a surface generated on a torus): auto decides from the data — opposite
-    /// edges that join as smoothly as neighbouring samples mean periodic; measured data and
-    /// crops are not. Non-periodic data get a window before every FFT.
-    #[arg(long, value_enum, default_value_t = PeriodicArg::Auto)]
-    pub periodic: PeriodicArg,
-    /// Window of non-periodic data: hann, kaiser (β 8.6), kaiser:BETA, blackman-harris, none.
-    #[arg(long, default_value = "hann")]
-    pub window: String,
-    /// Log-spaced bins of the radially averaged PSD.
-    #[arg(long, default_value_t = 40)]
-    pub bins: usize,
-    /// Hurst fit window QMIN,QMAX in rad/length (default: picked from the PSD, leaving out a
-    /// long-wavelength roll-off and a short-wavelength noise floor); the real-space estimators
-    /// use the matching wavelengths.
-    #[arg(long, value_delimiter = ',', value_name = "QMIN,QMAX")]
-    pub fit_window: Option<Vec<f64>>,
+    #[command(flatten)]
+    pub params: asperity_engine::analyze::AnalyzeParams,
     /// Write PNG plots into DIR: the PSD with its Hurst fit, the scale-dependent rms height,
     /// slope and curvature, the height-height correlation and the height histogram (height
     /// fields); curvature histograms (meshes).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<std::path::PathBuf>,
-}
-
-/// `analyze --periodic`.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PeriodicArg {
-    /// Decide from the data (the edge-jump test).
-    Auto,
-    /// Periodic: no window, pairs wrap around.
-    Yes,
-    /// Not periodic: windowed spectra.
-    No,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity generate …`

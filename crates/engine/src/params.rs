@@ -323,6 +323,7 @@ pub fn jobs() -> Vec<JobEntry> {
         JobEntry::of::<crate::ifs::IfsDcfParams>(),
         JobEntry::of::<crate::ifs::IfsSdcfParams>(),
         JobEntry::of::<crate::ifs::IfsCurvatureParams>(),
+        JobEntry::of::<crate::analyze::AnalyzeParams>(),
         JobEntry::of::<crate::synthesis::FbmParams>(),
     ]
 }

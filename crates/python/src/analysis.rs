@@ -1,7 +1,7 @@
 //! `asperity.analyze` and `asperity.fbm`: roughness reports
 //! (`asperity_engine::analyze`) and self-affine test surfaces.
 
-use asperity_engine::analyze::{AnalyzeOptions, analyze as analyze_surface};
+use asperity_engine::analyze::{AnalyzeParams, analyze as analyze_surface};
 use asperity_engine::synthesis::FbmParams;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -9,37 +9,28 @@ use pyo3::types::PyDict;
 use crate::convert::{height_out, json, surface_in};
 use crate::job::{RunOptions, budget, run};
 
-/// The CLI's `analyze` report of a mesh, height field or point set: a dict
-/// with `measurements` (JSON text, the CLI's keys) and `warnings`.
+/// The `analyze` report of a mesh, height field or point set with the
+/// parameters of `params` (JSON): a dict with `measurements` (JSON text, the
+/// CLI's keys), `warnings` and `params`.
 #[pyfunction]
-#[pyo3(signature = (surface, name, level, periodic, window, bins, fit_window, threads))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (params, surface, name, threads))]
 pub fn analyze<'py>(
     py: Python<'py>,
+    params: &str,
     surface: &Bound<'py, PyAny>,
     name: String,
-    level: String,
-    periodic: Option<bool>,
-    window: String,
-    bins: usize,
-    fit_window: Option<[f64; 2]>,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let (p, seed): (AnalyzeParams, u64) = crate::params::from_json(py, params)?;
     let s = surface_in(surface)?;
-    let opts = AnalyzeOptions {
-        level,
-        bins,
-        fit_window,
-        periodic,
-        window,
-        plots: false,
-    };
+    let opts = p.options(false);
     let r = run(py, &RunOptions::quiet(threads), move |_, _| {
         analyze_surface(&s, &name, &opts)
     })?;
     let out = PyDict::new(py);
     out.set_item("measurements", json(&r.facts)?)?;
     out.set_item("warnings", crate::spelled_all(r.warnings))?;
+    out.set_item("params", crate::params::record(&p, seed))?;
     Ok(out)
 }
 
