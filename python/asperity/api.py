@@ -418,12 +418,11 @@ def save(path: Union[str, Path], surface: Surface, title: Optional[str] = None,
     surface.save(path, title, up)
 
 
-def render(surface: Surface, width: int = 1024, height: int = 768, view: str = "iso",
-           shader: Optional[str] = None, colormap: str = "viridis", z_scale: float = 1.0,
-           shadows: bool = True, ao: float = 0.6, patina: bool = False,
-           scalar: Optional[str] = None, threads: Optional[int] = None) -> np.ndarray:
-    """A picture of a surface as an (H, W, 4) uint8 array, with the CLI's
-    ``render`` defaults. view: "iso", "top", "front", "side"; shader: "phong",
-    "flat", "normals", "height", "curvature", "vertex-color", "texture"."""
-    return _asperity.render(surface, width, height, view, shader, colormap, z_scale, shadows, ao,
-                            patina, scalar, threads)
+render = Job(
+    "render", _asperity.render, lambda d: d["image"], name="render",
+    summary="A picture of a surface (the CLI's ``render``: headless, on the CPU, the gobron-chiba "
+            "light model), or a map or hillshade of a height field.",
+    leading=[("surface", "a :class:`Mesh`, :class:`HeightField` or :class:`PointSet`.")],
+    returns="Returns the picture as an (H, W, 4) uint8 array (with ``params``).",
+    progress=False,
+).function()

@@ -39,14 +39,14 @@ class _Surface:
         """The CLI's ``info`` facts: counts, bounds, topology, height range."""
         return json.loads(_asperity.info(self))
 
-    def render(self, width: int = 800, height: int = 600, **options) -> np.ndarray:
+    def render(self, size=(800, 600), **options) -> np.ndarray:
         """A picture as an (H, W, 4) uint8 array; see :func:`asperity.render`."""
         from .api import render
 
-        return render(self, width=width, height=height, **options)
+        return render(self, size=size, **options)
 
     def _repr_png_(self) -> bytes:
-        return _asperity.encode_png(self.render(480, 360))
+        return _asperity.encode_png(self.render((480, 360)))
 
 
 class Mesh(_Surface):

@@ -212,7 +212,7 @@ def test_analysis_and_fbm(cli, tmp):
 def test_render_and_load_save(cli, tmp):
     asperity.subdiv(base="cube", levels=2, detail=["rock"]).mesh.save(tmp / "m.ply")
     cli("render", tmp / "m.ply", "--size", "96x64", "-o", tmp / "c.png")
-    img = asperity.render(asperity.load(tmp / "m.ply"), 96, 64)
+    img = asperity.render(asperity.load(tmp / "m.ply"), (96, 64))
     assert img.shape == (64, 96, 4) and img.dtype == np.uint8
     (tmp / "p.png").write_bytes(asperity._asperity.encode_png(img))
     same_bytes(tmp / "c.png", tmp / "p.png")

@@ -219,147 +219,18 @@ pub struct ConvertArgs {
     pub repair: bool,
 }
 
-/// Camera placement for `render`.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ViewArg {
-    /// From the (+1, −1, +1) diagonal.
-    Iso,
-    /// Straight down.
-    Top,
-    /// From −y.
-    Front,
-    /// From +x.
-    Side,
-    /// Height fields only: a 2-D map (colour + relief) with a legend.
-    Map,
-    /// Height fields only: grayscale shaded relief (hillshade).
-    Hillshade,
-}
-
-/// Shader for `render`.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ShaderArg {
-    /// Smooth normals, material colour, the gobron-chiba light model.
-    Phong,
-    /// Per-facet normals.
-    Flat,
-    /// World normals as RGB.
-    Normals,
-    /// Height through the colour map (default for height fields).
-    Height,
-    /// Mean curvature (or --scalar) through a diverging map.
-    Curvature,
-    /// The mesh's vertex colours.
-    VertexColor,
-    /// The mesh's texture.
-    Texture,
-}
-
 /// `asperity render`
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     /// Mesh, point-set or height-field file.
     pub input: PathBuf,
-    /// Image size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "1024x768", value_parser = parse_size_wh)]
-    pub size: (u32, u32),
-    /// Camera placement.
-    #[arg(long, value_enum, default_value_t = ViewArg::Iso)]
-    pub view: ViewArg,
-    /// Explicit camera position x,y,z (overrides --view).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        value_name = "X,Y,Z",
-        allow_negative_numbers = true
-    )]
-    pub eye: Option<Vec<f64>>,
-    /// Point looked at with --eye (default: the centre).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        value_name = "X,Y,Z",
-        allow_negative_numbers = true
-    )]
-    pub target: Option<Vec<f64>>,
-    /// Vertical field of view in degrees.
-    #[arg(long, default_value_t = 30.0)]
-    pub fov: f64,
-    /// Orthographic instead of perspective projection.
-    #[arg(long)]
-    pub ortho: bool,
-    /// Colouring (default: phong; height for height fields; vertex-color for coloured points).
-    #[arg(long, value_enum)]
-    pub shader: Option<ShaderArg>,
-    /// Key light as AZIMUTH,ALTITUDE in degrees, azimuth clockwise from +y (default:
-    /// over the viewer's left shoulder; 315,45 for hillshade).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        value_name = "AZ,ALT",
-        allow_negative_numbers = true
-    )]
-    pub light: Option<Vec<f64>>,
+    #[command(flatten)]
+    pub params: asperity_engine::render::RenderParams,
     /// Render N frames around the object (FILE_000.png …).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=3600))]
     pub turntable: Option<u32>,
-    /// Draw triangle edges.
-    #[arg(long)]
-    pub wireframe: bool,
-    /// No shadows from the key light.
-    #[arg(long)]
-    pub no_shadows: bool,
-    /// Ambient-occlusion strength, 0 (off) to 1.
-    #[arg(long, default_value_t = 0.6)]
-    pub ao: f32,
-    /// Supersampling per axis (2 = 4 samples per pixel).
-    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=8))]
-    pub supersample: u32,
-    /// Colour map: viridis, magma, coolwarm, gray, labels.
-    #[arg(long, default_value = "viridis")]
-    pub colormap: String,
-    /// Scalar attribute for the height/curvature shaders.
-    #[arg(long)]
-    pub scalar: Option<String>,
-    /// A corrosion mesh from `surface-ca --app corrosion`: light the patina and the copper each
-    /// with its own material, then mix them through the `oxide` and `metal` thicknesses the
-    /// mesh carries (gobron-chiba's two-layer model); holes keep their vertex colour.
-    #[arg(long)]
-    pub patina: bool,
-    /// Vertical exaggeration for height fields.
-    #[arg(long, default_value_t = 1.0)]
-    pub z_scale: f64,
-    /// Background: gradient (default), white, black, or a colour #RRGGBB.
-    #[arg(long, default_value = "gradient", value_parser = parse_background)]
-    pub background: [[u8; 3]; 2],
-}
-
-fn parse_background(s: &str) -> Result<[[u8; 3]; 2], String> {
-    match s {
-        "gradient" => Ok([[250, 250, 252], [205, 210, 222]]),
-        "white" => Ok([[255; 3]; 2]),
-        "black" => Ok([[0; 3]; 2]),
-        hex if hex.len() == 7 && hex.starts_with('#') => {
-            let c = |k: usize| {
-                u8::from_str_radix(&hex[k..k + 2], 16).map_err(|_| format!("{s:?} is not #RRGGBB"))
-            };
-            let rgb = [c(1)?, c(3)?, c(5)?];
-            Ok([rgb, rgb])
-        }
-        _ => Err(format!("{s:?}: use gradient, white, black or #RRGGBB")),
-    }
-}
-
-fn parse_size_wh(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("{s:?} is not WIDTHxHEIGHT, e.g. 1024x768"))?;
-    let p = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .map_err(|_| format!("{s:?} is not WIDTHxHEIGHT, e.g. 1024x768"))
-    };
-    Ok((p(w)?, p(h)?))
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity ca …`

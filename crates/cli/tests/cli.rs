@@ -2097,12 +2097,12 @@ fn hostile_inputs_are_refused_cleanly() {
     fails(
         dir,
         &["render", "t.obj", "-o", "r.png", "--fov", "0"],
-        "field of view",
+        "--fov must be in (0, 180), got 0",
     );
     fails(
         dir,
         &["render", "t.obj", "-o", "r.png", "--fov", "nan"],
-        "field of view",
+        "--fov must be a finite number",
     );
     fails(
         dir,

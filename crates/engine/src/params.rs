@@ -92,6 +92,14 @@ pub fn validate<P: JobParams>(p: &P) -> Result<()> {
 fn check_value(root: &Value, node: &Value, v: &Value, name: &str) -> Result<()> {
     let node = resolve(root, node);
     if v.is_null() {
+        // serde_json writes NaN and ±∞ as null: a number field that cannot be
+        // null held one of them
+        if is_number(node) && !nullable(root, node) {
+            return Err(EngineError::Invalid(format!(
+                "{} must be a finite number",
+                param(name)
+            )));
+        }
         return Ok(());
     }
     if let Some(branches) = node.get("anyOf").and_then(Value::as_array) {
@@ -126,6 +134,26 @@ fn check_value(root: &Value, node: &Value, v: &Value, name: &str) -> Result<()> 
         }
     }
     Ok(())
+}
+
+fn types(node: &Value) -> Vec<&str> {
+    match node.get("type") {
+        Some(Value::String(t)) => vec![t.as_str()],
+        Some(Value::Array(ts)) => ts.iter().filter_map(Value::as_str).collect(),
+        _ => Vec::new(),
+    }
+}
+
+fn is_number(node: &Value) -> bool {
+    types(node).iter().any(|t| *t == "number")
+}
+
+fn nullable(root: &Value, node: &Value) -> bool {
+    types(node).contains(&"null")
+        || node
+            .get("anyOf")
+            .and_then(Value::as_array)
+            .is_some_and(|bs| bs.iter().any(|b| types(resolve(root, b)).contains(&"null")))
 }
 
 fn count_words(at_least: u64, at_most: u64) -> String {
@@ -325,6 +353,7 @@ pub fn jobs() -> Vec<JobEntry> {
         JobEntry::of::<crate::ifs::IfsCurvatureParams>(),
         JobEntry::of::<crate::analyze::AnalyzeParams>(),
         JobEntry::of::<crate::synthesis::FbmParams>(),
+        JobEntry::of::<crate::render::RenderParams>(),
     ]
 }
 
@@ -975,6 +1004,15 @@ mod tests {
             let e = parse::<DlaParams>(&v).unwrap_err();
             assert_eq!(e.to_string(), want);
         }
+        // NaN and infinities (null once serialised) are refused by name
+        let nan = DlaParams {
+            stick: f64::NAN,
+            ..DlaParams::DEFAULT
+        };
+        assert_eq!(
+            validate(&nan).unwrap_err().to_string(),
+            "⟨stick⟩ must be a finite number"
+        );
         // the bounds a front end shows are those the check uses
         let d = describe::<DlaParams>();
         let stick = d["fields"]

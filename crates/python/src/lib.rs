@@ -24,20 +24,6 @@ mod surfca;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
-/// `value` if it is one of `allowed`, else a ValueError naming them.
-pub(crate) fn choice<'a>(value: &str, allowed: &[&'a str], what: &str) -> PyResult<&'a str> {
-    allowed
-        .iter()
-        .find(|a| a.eq_ignore_ascii_case(value))
-        .copied()
-        .ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "{what} {value:?} is not one of: {}",
-                allowed.join(", ")
-            ))
-        })
-}
-
 /// `text` with parameters named as keywords (`max_memory=`).
 pub(crate) fn spelled(text: &str) -> String {
     asperity_core::wording::spell(text, asperity_core::wording::Spelling::Python)
