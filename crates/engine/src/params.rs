@@ -145,7 +145,7 @@ fn types(node: &Value) -> Vec<&str> {
 }
 
 fn is_number(node: &Value) -> bool {
-    types(node).iter().any(|t| *t == "number")
+    types(node).contains(&"number")
 }
 
 fn nullable(root: &Value, node: &Value) -> bool {
