@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand};
 
 const ABOUT: &str = "Generate, analyse, render and export rough surfaces.";
 
@@ -168,28 +168,6 @@ pub struct DemoArgs {
     pub only: Vec<String>,
 }
 
-/// What to treat the input as.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    /// A triangle mesh (height fields are triangulated).
-    Mesh,
-    /// A point set (mesh vertices, height-field samples).
-    Points,
-    /// A height field.
-    Height,
-}
-
-/// Cell diagonal used when a height field becomes triangles.
-#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DiagonalArg {
-    /// Every cell split along the same diagonal.
-    Forward,
-    /// Every cell split along the other diagonal.
-    Backward,
-    /// Alternating diagonals (Peridier's facets).
-    Alternating,
-}
-
 /// `asperity convert`
 #[derive(Args, Debug)]
 pub struct ConvertArgs {
@@ -198,25 +176,10 @@ pub struct ConvertArgs {
     /// Output file (or -o); its extension picks the format.
     #[arg(value_name = "OUTPUT")]
     pub out_file: Option<PathBuf>,
-    /// Treat the input as this kind (default: what the file holds).
-    #[arg(long = "as", value_name = "KIND")]
-    pub as_kind: Option<Kind>,
-    /// Write PLY as ASCII instead of binary.
-    #[arg(long)]
-    pub ascii: bool,
-    /// Write .npy height fields as float32 instead of float64.
-    #[arg(long)]
-    pub f32: bool,
-    /// Diagonal for height field → mesh.
-    #[arg(long, value_enum, default_value_t = DiagonalArg::Forward)]
-    pub diagonal: DiagonalArg,
-    /// Set the height-field spacing before writing: DX, or DX,DY.
-    #[arg(long, value_name = "DX[,DY]", value_delimiter = ',')]
-    pub spacing: Option<Vec<f64>>,
-    /// Meshes: drop degenerate triangles, orient them consistently and split
-    /// vertices where separate fans meet, so subdiv and surface-ca accept the mesh.
-    #[arg(long)]
-    pub repair: bool,
+    #[command(flatten)]
+    pub params: asperity_engine::files::ConvertParams,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity render`

@@ -1,43 +1,12 @@
 //! `asperity convert`, `asperity info` and `asperity formats`.
 
 use anyhow::{Context as _, bail};
-use asperity_core::{Diagonal, PointSet, Progress};
+use asperity_core::Progress;
 use asperity_engine::describe::describe;
-use asperity_io::{FORMATS, Format, NpyDtype, PlyEncoding, Surface, WriteOptions};
+use asperity_io::{FORMATS, Format, Surface};
 
-use crate::cli::{ConvertArgs, DiagonalArg, InfoArgs, Kind};
+use crate::cli::{ConvertArgs, InfoArgs};
 use crate::context::{Context, Run};
-
-pub fn diagonal(d: DiagonalArg) -> Diagonal {
-    match d {
-        DiagonalArg::Forward => Diagonal::Forward,
-        DiagonalArg::Backward => Diagonal::Backward,
-        DiagonalArg::Alternating => Diagonal::Alternating,
-    }
-}
-
-fn to_kind(s: Surface, kind: Kind, diag: Diagonal) -> anyhow::Result<Surface> {
-    Ok(match (s, kind) {
-        (Surface::Height(h), Kind::Mesh) => Surface::Mesh(
-            h.to_trimesh(diag)?
-                .with_scalar("height", h.data().to_vec())?,
-        ),
-        (Surface::Height(h), Kind::Points) => Surface::Points(h.to_point_set()),
-        (Surface::Mesh(m), Kind::Points) => Surface::Points(PointSet::new(m.positions().to_vec())),
-        (s @ Surface::Mesh(_), Kind::Mesh)
-        | (s @ Surface::Points(_), Kind::Points)
-        | (s @ Surface::Height(_), Kind::Height) => s,
-        (s, k) => bail!("cannot turn {} into {}", s.kind(), kind_name(k)),
-    })
-}
-
-fn kind_name(k: Kind) -> &'static str {
-    match k {
-        Kind::Mesh => "a mesh",
-        Kind::Points => "a point set",
-        Kind::Height => "a height field",
-    }
-}
 
 /// Whether `format` can hold `s` (a height field also as a mesh or points; a
 /// mesh also as points).
@@ -59,39 +28,20 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
         .or_else(|| ctx.output.clone())
         .context("no output file: give OUT or -o PATH")?;
     let out_format = Format::from_path(&out)?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
     let mut run = Run::new(ctx, "convert");
+    run.params(&job.params, job.seed, job.overridden.clone());
     let bar = ctx.bar();
     bar.start(2, "converting");
-    let mut s = ctx.load(&a.input)?;
+    let s = ctx.load(&a.input)?;
     bar.advance(1);
-    let diag = diagonal(a.diagonal);
-    if let Some(k) = a.as_kind {
-        s = to_kind(s, k, diag)?;
-    }
-    if a.repair {
-        let Surface::Mesh(m) = &s else {
-            bail!(
-                "--repair works on meshes; {} holds {}",
-                a.input.display(),
-                s.kind()
-            );
-        };
-        let (fixed, r) = asperity_core::mesh_check::repair_surface(m)
-            .with_context(|| format!("{}: cannot repair", a.input.display()))?;
+    let (s, done) = job.params.apply(s, &a.input.display().to_string())?;
+    if let Some(r) = &done.repair {
         run.note(format!(
             "repaired: {} degenerate triangles dropped, {} flipped, {} vertices split",
             r.dropped_degenerate, r.flipped, r.split_vertices
         ));
-        run.report.measure("repair", &r);
-        s = Surface::Mesh(fixed);
-    }
-    if let (Some(sp), Surface::Height(h)) = (&a.spacing, &mut s) {
-        anyhow::ensure!(
-            matches!(sp.len(), 1 | 2),
-            "--spacing takes DX or DX,DY, got {sp:?}"
-        );
-        let sp = [sp[0], *sp.get(1).unwrap_or(&sp[0])];
-        *h = h.clone().with_spacing(sp)?;
+        run.report.measure("repair", r);
     }
     let info = out_format.info();
     if !fits(&s, out_format) {
@@ -105,26 +55,12 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
     for lost in asperity_io::lost_data(&s, out_format) {
         run.warn("warning", format!("{} loses {lost}", out.display()));
     }
-    let opts = WriteOptions {
-        ply_encoding: if a.ascii {
-            PlyEncoding::Ascii
-        } else {
-            PlyEncoding::BinaryLittleEndian
-        },
-        npy_dtype: if a.f32 {
-            NpyDtype::Float32
-        } else {
-            NpyDtype::Float64
-        },
-        diagonal: diag,
-        title: a
-            .input
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default(),
-        up: ctx.up,
-    };
-    asperity_io::write(&out, &s, &opts)?;
+    let title = a
+        .input
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    asperity_io::write(&out, &s, &job.params.write_options(title, ctx.up))?;
     bar.finish();
     run.report.output(&out);
     run.report.measure("input", a.input.display().to_string());
@@ -142,6 +78,7 @@ pub fn info(ctx: &Context, a: &InfoArgs) -> anyhow::Result<()> {
     let facts = describe(&ctx.load(&a.input)?);
     if ctx.json {
         let mut run = Run::new(ctx, "info");
+        run.params(&asperity_engine::files::InfoParams {}, ctx.seed, Vec::new());
         run.report.measure("file", a.input.display().to_string());
         run.measure(facts);
         return run.finish();

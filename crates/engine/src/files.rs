@@ -4,10 +4,14 @@
 
 use std::path::{Path, PathBuf};
 
-use asperity_core::{HeightField, MemoryBudget, PointSet, TriMesh, shapes};
+use asperity_core::{Diagonal, HeightField, MemoryBudget, PointSet, TriMesh, shapes};
 use asperity_io::{Format, IoError, Surface};
+use clap::Args;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, invalid};
+use crate::params::{JobParams, choice};
 
 /// Refuses to read `path` when [`asperity_io::read_estimate`] (its size, and the
 /// decoded size its header declares) exceeds the budget.
@@ -195,4 +199,185 @@ mod tests {
         let e = builtin_mesh("teapot").unwrap_err().to_string();
         assert!(e.contains("sphere, cube, cylinder, cup"), "{e}");
     }
+}
+
+choice! {
+    /// What a file's contents are taken as.
+    pub enum KindName {
+        /// A triangle mesh (height fields are triangulated).
+        Mesh = "mesh",
+        /// A point set (mesh vertices, height-field samples).
+        Points = "points",
+        /// A height field.
+        Height = "height",
+    }
+}
+
+choice! {
+    /// The diagonal each grid cell is split along when a height field becomes triangles.
+    pub enum DiagonalName {
+        /// Every cell split along the same diagonal.
+        Forward = "forward",
+        /// Every cell split along the other diagonal.
+        Backward = "backward",
+        /// Alternating diagonals (peridier's facets).
+        Alternating = "alternating",
+    }
+}
+
+impl From<DiagonalName> for Diagonal {
+    fn from(d: DiagonalName) -> Self {
+        match d {
+            DiagonalName::Forward => Diagonal::Forward,
+            DiagonalName::Backward => Diagonal::Backward,
+            DiagonalName::Alternating => Diagonal::Alternating,
+        }
+    }
+}
+
+/// `convert`: any surface file to any format that can hold it, optionally
+/// taken as another kind, repaired, or given a spacing.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema, Args)]
+#[serde(default)]
+pub struct ConvertParams {
+    /// Treat the input as this kind (default: what the file holds).
+    #[arg(long = "as", value_enum, value_name = "KIND")]
+    pub as_kind: Option<KindName>,
+    /// Write PLY as ASCII instead of binary.
+    #[arg(long)]
+    pub ascii: bool,
+    /// Write .npy height fields as float32 instead of float64.
+    #[arg(long)]
+    pub f32: bool,
+    /// Diagonal for height field → mesh.
+    #[arg(long, value_enum, default_value_t = Self::default().diagonal)]
+    pub diagonal: DiagonalName,
+    /// Set the height-field spacing before writing: DX, or DX,DY.
+    #[schemars(length(min = 1, max = 2))]
+    #[arg(long, value_name = "DX[,DY]", value_delimiter = ',')]
+    pub spacing: Option<Vec<f64>>,
+    /// Meshes: drop degenerate triangles, orient them consistently and split vertices where
+    /// separate fans meet, so subdiv and surface-ca accept the mesh.
+    #[arg(long)]
+    pub repair: bool,
+}
+
+impl Default for ConvertParams {
+    fn default() -> Self {
+        Self {
+            as_kind: None,
+            ascii: false,
+            f32: false,
+            diagonal: DiagonalName::Forward,
+            spacing: None,
+            repair: false,
+        }
+    }
+}
+
+impl JobParams for ConvertParams {
+    const JOB: &'static str = "convert";
+    const SEEDED: bool = false;
+}
+
+/// What `convert` did to a surface besides writing it.
+#[derive(Clone, Debug, Default)]
+pub struct Converted {
+    /// The repair's changes, when one was asked for.
+    pub repair: Option<asperity_core::mesh_check::RepairReport>,
+}
+
+impl ConvertParams {
+    /// `s` taken as the asked kind, repaired, given its spacing; `name`
+    /// names the input in messages.
+    ///
+    /// # Errors
+    /// A kind the surface cannot become; a repair of what is not a mesh, or
+    /// one that fails; a bad spacing.
+    pub fn apply(&self, mut s: Surface, name: &str) -> Result<(Surface, Converted)> {
+        crate::params::validate(self)?;
+        let mut done = Converted::default();
+        if let Some(k) = self.as_kind {
+            s = to_kind(s, k, self.diagonal.into())?;
+        }
+        if self.repair {
+            let Surface::Mesh(m) = &s else {
+                return Err(invalid(format!(
+                    "{} works on meshes; {name} holds {}",
+                    asperity_core::wording::param("repair"),
+                    s.kind()
+                )));
+            };
+            let (fixed, r) = asperity_core::mesh_check::repair_surface(m)
+                .map_err(|e| invalid(format!("{name}: cannot repair: {e}")))?;
+            done.repair = Some(r);
+            s = Surface::Mesh(fixed);
+        }
+        if let (Some(sp), Surface::Height(h)) = (&self.spacing, &mut s) {
+            let sp = [sp[0], *sp.get(1).unwrap_or(&sp[0])];
+            *h = h.clone().with_spacing(sp)?;
+        }
+        Ok((s, done))
+    }
+
+    /// The writer's options: PLY encoding, npy type, diagonal, with `title`
+    /// and the up axis.
+    pub fn write_options(
+        &self,
+        title: String,
+        up: Option<asperity_io::UpAxis>,
+    ) -> asperity_io::WriteOptions {
+        asperity_io::WriteOptions {
+            ply_encoding: if self.ascii {
+                asperity_io::PlyEncoding::Ascii
+            } else {
+                asperity_io::PlyEncoding::BinaryLittleEndian
+            },
+            npy_dtype: if self.f32 {
+                asperity_io::NpyDtype::Float32
+            } else {
+                asperity_io::NpyDtype::Float64
+            },
+            diagonal: self.diagonal.into(),
+            title,
+            up,
+        }
+    }
+}
+
+fn to_kind(s: Surface, kind: KindName, diag: Diagonal) -> Result<Surface> {
+    Ok(match (s, kind) {
+        (Surface::Height(h), KindName::Mesh) => Surface::Mesh(
+            h.to_trimesh(diag)?
+                .with_scalar("height", h.data().to_vec())?,
+        ),
+        (Surface::Height(h), KindName::Points) => Surface::Points(h.to_point_set()),
+        (Surface::Mesh(m), KindName::Points) => {
+            Surface::Points(asperity_core::PointSet::new(m.positions().to_vec()))
+        }
+        (s @ Surface::Mesh(_), KindName::Mesh)
+        | (s @ Surface::Points(_), KindName::Points)
+        | (s @ Surface::Height(_), KindName::Height) => s,
+        (s, k) => {
+            return Err(invalid(format!(
+                "cannot turn {} into {}",
+                s.kind(),
+                match k {
+                    KindName::Mesh => "a mesh",
+                    KindName::Points => "a point set",
+                    KindName::Height => "a height field",
+                }
+            )));
+        }
+    })
+}
+
+/// `info`: facts about a file; it has no parameters besides the file.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize, JsonSchema, Args)]
+#[serde(default)]
+pub struct InfoParams {}
+
+impl JobParams for InfoParams {
+    const JOB: &'static str = "info";
+    const SEEDED: bool = false;
 }

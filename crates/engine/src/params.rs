@@ -354,6 +354,8 @@ pub fn jobs() -> Vec<JobEntry> {
         JobEntry::of::<crate::analyze::AnalyzeParams>(),
         JobEntry::of::<crate::synthesis::FbmParams>(),
         JobEntry::of::<crate::render::RenderParams>(),
+        JobEntry::of::<crate::files::ConvertParams>(),
+        JobEntry::of::<crate::files::InfoParams>(),
     ]
 }
 
