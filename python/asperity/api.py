@@ -17,6 +17,7 @@ import numpy as np
 
 from . import _asperity
 from ._jobs import Job
+from ._pictures import render
 from ._run import call
 from .types import HeightField, Mesh, PointSet, _wrap
 
@@ -418,11 +419,3 @@ def save(path: Union[str, Path], surface: Surface, title: Optional[str] = None,
     surface.save(path, title, up)
 
 
-render = Job(
-    "render", _asperity.render, lambda d: d["image"], name="render",
-    summary="A picture of a surface (the CLI's ``render``: headless, on the CPU, the gobron-chiba "
-            "light model), or a map or hillshade of a height field.",
-    leading=[("surface", "a :class:`Mesh`, :class:`HeightField` or :class:`PointSet`.")],
-    returns="Returns the picture as an (H, W, 4) uint8 array (with ``params``).",
-    progress=False,
-).function()

@@ -41,7 +41,7 @@ class _Surface:
 
     def render(self, size=(800, 600), **options) -> np.ndarray:
         """A picture as an (H, W, 4) uint8 array; see :func:`asperity.render`."""
-        from .api import render
+        from ._pictures import render
 
         return render(self, size=size, **options)
 

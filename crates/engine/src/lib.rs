@@ -19,6 +19,7 @@
 //! | [`render`] | turntable views and surface bounds | gobron-chiba light model |
 //! | [`estimate`] | run-time estimates of the long jobs, checked before they start | — |
 //! | [`workloads`] | the benchmark workloads the issues name | — |
+//! | [`jobs`] | every job by name: its description and schema for the front ends | — |
 //! | [`params`] | every job's parameters: schema, validation, records (`params`), parsing | — |
 //! | [`report`] | what a job wrote and measured | — |
 //!
@@ -33,6 +34,7 @@ pub mod estimate;
 pub mod files;
 pub mod growth;
 pub mod ifs;
+pub mod jobs;
 pub mod params;
 pub mod plots;
 pub mod reconstruct;

@@ -3,6 +3,7 @@
 //! unknown keys refused, ranges checked — the same code the CLI's flags go
 //! through); results carry the record of what ran (`params`).
 
+use asperity_engine::jobs as registry;
 use asperity_engine::params::{self, JobParams};
 use pyo3::prelude::*;
 
@@ -33,12 +34,12 @@ pub fn record<P: JobParams>(p: &P, seed: u64) -> String {
 /// descriptions, defaults, types, bounds and choices (JSON text).
 #[pyfunction]
 pub fn describe(py: Python<'_>, job: &str) -> PyResult<String> {
-    let entry = params::job(job).map_err(|e| to_py(py, e))?;
+    let entry = registry::job(job).map_err(|e| to_py(py, e))?;
     Ok((entry.describe)().to_string())
 }
 
 /// The names of the jobs [`describe`] knows.
 #[pyfunction]
 pub fn jobs() -> Vec<&'static str> {
-    params::jobs().iter().map(|j| j.name).collect()
+    registry::jobs().iter().map(|j| j.name).collect()
 }
