@@ -1,0 +1,149 @@
+//! The job parameters' contract (issue #36), checked on a real job (DLA):
+//! records run the same job again, missing fields take the defaults and
+//! unknown ones are refused, ranges come from the schema the front ends show,
+//! one lattice rule serves every front end, choices parse and print their names.
+
+use asperity_engine::growth::dla::{DlaParams, SeedShape, Sides};
+use asperity_engine::params::*;
+use serde_json::json;
+
+#[test]
+fn a_record_runs_the_same_job_again() {
+    let p = DlaParams {
+        seed_shape: SeedShape::Plane,
+        size: Some(LatticeSize::new(&[64, 32, 48]).unwrap()),
+        sides: Sides::Walls,
+        ..DlaParams::DEFAULT
+    };
+    let r = record(&p, 11);
+    assert_eq!(r["job"], "growth dla");
+    assert_eq!(r["schema_version"], SCHEMA_VERSION);
+    assert_eq!(r["seed"], 11);
+    assert_eq!(r["size"], json!([64, 32, 48]));
+    assert_eq!(r["sides"], "walls");
+    let back = parse::<DlaParams>(&r).unwrap();
+    assert_eq!(back.params, p);
+    assert_eq!(back.seed, Some(11));
+    // the record lists the fields in the struct's order
+    let keys: Vec<&String> = r.as_object().unwrap().keys().collect();
+    assert_eq!(keys.len(), 3 + field_names::<DlaParams>().len());
+    assert_eq!(
+        field_names::<DlaParams>()[..3],
+        ["seed_shape", "size", "dim"]
+    );
+}
+
+#[test]
+fn missing_fields_take_the_defaults_and_unknown_ones_are_refused() {
+    let p = parse::<DlaParams>(&json!({"particles": 500}))
+        .unwrap()
+        .params;
+    assert_eq!(
+        p,
+        DlaParams {
+            particles: 500,
+            ..DlaParams::DEFAULT
+        }
+    );
+    let e = parse::<DlaParams>(&json!({"particle": 500})).unwrap_err();
+    assert_eq!(e.kind(), asperity_engine::ErrorKind::Type);
+    assert!(e.to_string().contains("no parameter \"particle\""), "{e}");
+    let e = parse::<DlaParams>(&json!({"job": "growth rd"})).unwrap_err();
+    assert!(
+        e.to_string().contains("for \"growth rd\", not growth dla"),
+        "{e}"
+    );
+    let e = parse::<DlaParams>(&json!({"schema_version": 99})).unwrap_err();
+    assert!(e.to_string().contains("schema version 99"), "{e}");
+    let e = parse::<DlaParams>(&json!({"particles": "many"})).unwrap_err();
+    assert_eq!(e.kind(), asperity_engine::ErrorKind::Type, "{e}");
+    let e = parse::<DlaParams>(&json!({"seed_shape": "blob"})).unwrap_err();
+    assert_eq!(e.kind(), asperity_engine::ErrorKind::Invalid, "{e}");
+    assert!(
+        e.to_string().starts_with("⟨seed_shape⟩: unknown variant"),
+        "{e}"
+    );
+}
+
+#[test]
+fn ranges_come_from_the_schema() {
+    let cases = [
+        (json!({"stick": 0.0}), "⟨stick⟩ must be in (0, 1], got 0"),
+        (json!({"stick": 1.5}), "⟨stick⟩ must be in (0, 1], got 1.5"),
+        (json!({"dim": 4}), "⟨dim⟩ must be in [2, 3], got 4"),
+        (
+            json!({"launch_gap": 0.5}),
+            "⟨launch_gap⟩ must be at least 1, got 0.5",
+        ),
+        (
+            json!({"particles": 0}),
+            "⟨particles⟩ must be at least 1, got 0",
+        ),
+    ];
+    for (v, want) in cases {
+        let e = parse::<DlaParams>(&v).unwrap_err();
+        assert_eq!(e.to_string(), want);
+    }
+    // NaN and infinities (null once serialised) are refused by name
+    let nan = DlaParams {
+        stick: f64::NAN,
+        ..DlaParams::DEFAULT
+    };
+    assert_eq!(
+        validate(&nan).unwrap_err().to_string(),
+        "⟨stick⟩ must be a finite number"
+    );
+    // the bounds a front end shows are those the check uses
+    let d = describe::<DlaParams>();
+    let stick = d["fields"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["name"] == "stick")
+        .unwrap();
+    assert_eq!(stick["exclusiveMinimum"], 0.0);
+    assert_eq!(stick["maximum"], 1.0);
+    assert_eq!(stick["default"], 1.0);
+    let shape = &d["fields"][0];
+    assert_eq!(shape["name"], "seed_shape");
+    assert_eq!(
+        shape["choices"].as_array().unwrap().len(),
+        SeedShape::ALL.len()
+    );
+    assert_eq!(shape["choices"][1]["value"], "plane");
+}
+
+#[test]
+fn one_lattice_rule_for_every_front_end() {
+    let n = LatticeSize::new(&[64]).unwrap();
+    assert_eq!(n.resolve(3).unwrap(), [64, 64, 64]);
+    assert_eq!(n.resolve(2).unwrap(), [64, 1, 64]);
+    let xz: LatticeSize = "64x32".parse().unwrap();
+    assert_eq!(xz.resolve(2).unwrap(), [64, 1, 32]);
+    assert!(xz.resolve(3).is_err());
+    let xyz: LatticeSize = serde_json::from_value(json!([8, 1, 16])).unwrap();
+    assert_eq!(xyz.resolve(2).unwrap(), [8, 1, 16]);
+    assert_eq!(xyz.resolve(3).unwrap(), [8, 1, 16]);
+    let one: LatticeSize = serde_json::from_value(json!(5)).unwrap();
+    assert_eq!(one, n_of(5));
+    assert!("0x4x4".parse::<LatticeSize>().is_err());
+    assert!(serde_json::from_value::<LatticeSize>(json!([1, 2, 3, 4])).is_err());
+    assert_eq!(xyz.to_string(), "8x1x16");
+}
+
+fn n_of(n: usize) -> LatticeSize {
+    LatticeSize::new(&[n]).unwrap()
+}
+
+#[test]
+fn choices_parse_and_print_their_names() {
+    assert_eq!("Walls".parse::<Sides>().unwrap(), Sides::Walls);
+    assert_eq!(Sides::Periodic.to_string(), "periodic");
+    assert!(
+        "wall"
+            .parse::<Sides>()
+            .unwrap_err()
+            .contains("periodic, walls")
+    );
+    assert_eq!(serde_json::to_value(SeedShape::Image).unwrap(), "image");
+}
