@@ -67,11 +67,15 @@ fn ca_run(ctx: &Context, a: &CaRunArgs) -> anyhow::Result<()> {
 }
 
 fn ca_rule(ctx: &Context, a: &CaRuleArgs) -> anyhow::Result<()> {
-    asperity_engine::params::validate(&a.params)?;
-    let r = a.params.family.rule(&require(&a.params.rule, "rule")?)?;
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    asperity_engine::params::validate(&job.params)?;
+    let r = job
+        .params
+        .family
+        .rule(&require(&job.params.rule, "rule")?)?;
     if ctx.json {
         let mut run = Run::new(ctx, "ca rule");
-        run.params(&a.params, ctx.seed, Vec::new());
+        run.params(&job.params, job.seed, job.overridden);
         run.measure(rule_measurements(&r));
         return run.finish();
     }

@@ -227,6 +227,8 @@ pub struct CaRunArgs {
 pub struct CaRuleArgs {
     #[command(flatten)]
     pub params: asperity_engine::ca::CaRuleParams,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity ca gallery`
@@ -462,6 +464,8 @@ pub struct IfsPresetArgs {
     pub name: Option<String>,
     #[command(flatten)]
     pub params: asperity_engine::ifs::IfsPresetParams,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
 }
 
 /// `asperity ifs curve`

@@ -40,7 +40,8 @@ fn presets(ctx: &Context) -> anyhow::Result<()> {
 }
 
 fn write_preset(ctx: &Context, a: &IfsPresetArgs) -> anyhow::Result<()> {
-    let mut p = a.params.clone();
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    let mut p = job.params;
     if let Some(name) = &a.name {
         p.model.preset = Some(name.clone());
     }
