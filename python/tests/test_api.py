@@ -9,6 +9,7 @@ import numpy as np
 
 import asperity
 from asperity import _asperity
+from asperity._jobs import describe
 
 
 def test_every_public_function_is_documented_with_defaults():
@@ -66,3 +67,31 @@ def test_defaults_are_the_clis(cli, tmp):
     cli("ifs", "surface", "--preset", "bezier-bicubic", "-o", tmp / "c.ply")
     asperity.ifs_surface("bezier-bicubic").save(tmp / "p.ply")
     assert (tmp / "c.ply").read_bytes() == (tmp / "p.ply").read_bytes()
+
+
+def test_signatures_show_the_engines_defaults():
+    """Every job's function takes the engine's fields with the engine's
+    defaults (issue #36): no default is restated in Python."""
+    jobs = set(_asperity.jobs())
+    seen = set()
+    for name in dir(asperity):
+        f = getattr(asperity, name)
+        job = getattr(f, "job", None)
+        if job is None:
+            continue
+        seen.add(job)
+        params = inspect.signature(f).parameters
+        desc = describe(job)
+        for field in desc["fields"]:
+            if field["name"] in ("scene_text", "model") and field["name"] not in params:
+                continue
+            p = params[field["name"]]
+            if field["required"]:
+                assert p.default is p.empty, f"{name}({p.name}) is required"
+            else:
+                assert p.default == field["default"], f"{name}({p.name})"
+        if desc["seeded"]:
+            assert params["seed"].default == _asperity.DEFAULT_SEED
+    # every job Python runs is one of the engine's (ca gallery, interpolate,
+    # convert and info are the CLI's, or plain functions here)
+    assert seen <= jobs and len(seen) >= 21, sorted(jobs - seen)

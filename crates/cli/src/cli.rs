@@ -543,3 +543,131 @@ pub struct InfoArgs {
     /// The file to describe.
     pub input: PathBuf,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use asperity_engine::{analyze, ca, files, growth, ifs, reconstruct, render, subdiv, surfca};
+
+    fn parsed(args: &[&str]) -> Command {
+        let argv = std::iter::once("asperity").chain(args.iter().copied());
+        Cli::try_parse_from(argv)
+            .unwrap_or_else(|e| panic!("{args:?}: {e}"))
+            .command
+    }
+
+    /// Every flag's default is the engine's: each command parsed with no
+    /// option gives its job's `Default` (clap takes its defaults from the
+    /// engine's structs, and this checks that nothing in between restates
+    /// one); the seed's default is the engine's.
+    #[test]
+    fn every_flag_defaults_to_the_engine_default() {
+        use Command as C;
+        let cli = Cli::try_parse_from(["asperity", "formats"]).unwrap();
+        assert_eq!(cli.global.seed, asperity_engine::params::DEFAULT_SEED);
+        let mut checked = Vec::new();
+        let mut check = |job: &str, same: bool| {
+            assert!(same, "{job}: a flag's default differs from the engine's");
+            checked.push(job.to_owned());
+        };
+        match parsed(&["growth", "rd"]) {
+            C::Growth(GrowthCommand::Rd(a)) => check("growth rd", a.params == growth::RdParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["growth", "rdsr"]) {
+            C::Growth(GrowthCommand::Rdsr(a)) => check("growth rdsr", a.params == growth::RdsrParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["growth", "bd"]) {
+            C::Growth(GrowthCommand::Bd(a)) => check("growth bd", a.params == growth::BdParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["growth", "dla"]) {
+            C::Growth(GrowthCommand::Dla(a)) => check("growth dla", a.params == growth::dla::DlaParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["reconstruct", "p.ply"]) {
+            C::Reconstruct(a) => check("reconstruct", a.params == reconstruct::LevelSetParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["generate", "dla-terrain"]) {
+            C::Generate(GenerateCommand::DlaTerrain(a)) => check("generate dla-terrain", a.params == reconstruct::DlaTerrainParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["generate", "rdsr-sphere"]) {
+            C::Generate(GenerateCommand::RdsrSphere(a)) => check("generate rdsr-sphere", a.params == reconstruct::RdsrSphereParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["generate", "fbm"]) {
+            C::Generate(GenerateCommand::Fbm(a)) => check("generate fbm", a.params == asperity_engine::synthesis::FbmParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["ca", "run"]) {
+            C::Ca(CaCommand::Run(a)) => check("ca run", a.params == ca::CaRunParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["ca", "rule"]) {
+            C::Ca(CaCommand::Rule(a)) => check("ca rule", a.params == ca::CaRuleParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["ca", "gallery"]) {
+            C::Ca(CaCommand::Gallery(a)) => check("ca gallery", a.params == ca::CaGalleryParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["facet", "h.npy"]) {
+            C::Facet(a) => check("facet", a.params == ca::FacetParams::default()),
+            c => panic!("{c:?}"),
+        }
+        check("interpolate", true); // no parameters besides its files
+        match parsed(&["subdiv"]) {
+            C::Subdiv(a) => check("subdiv", a.params == subdiv::SubdivParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["ifs", "preset"]) {
+            C::Ifs(IfsCommand::Preset(a)) => check("ifs preset", a.params == ifs::IfsPresetParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["ifs", "curve"]) {
+            C::Ifs(IfsCommand::Curve(a)) => check("ifs curve", a.params == ifs::IfsCurveParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["ifs", "surface"]) {
+            C::Ifs(IfsCommand::Surface(a)) => check("ifs surface", a.params == ifs::IfsSurfaceParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["ifs", "dcf"]) {
+            C::Ifs(IfsCommand::Dcf(a)) => check("ifs dcf", a.params == ifs::IfsDcfParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["ifs", "sdcf"]) {
+            C::Ifs(IfsCommand::Sdcf(a)) => check("ifs sdcf", a.params == ifs::IfsSdcfParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["ifs", "curvature"]) {
+            C::Ifs(IfsCommand::Curvature(a)) => check("ifs curvature", a.params == ifs::IfsCurvatureParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["surface-ca", "builtin:cube"]) {
+            C::SurfaceCa(a) => check("surface-ca", a.params == surfca::SurfaceCaParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["analyze", "f.npy"]) {
+            C::Analyze(a) => check("analyze", a.params == analyze::AnalyzeParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["render", "m.ply"]) {
+            C::Render(a) => check("render", a.params == render::RenderParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["convert", "a.ply", "b.obj"]) {
+            C::Convert(a) => check("convert", a.params == files::ConvertParams::default()),
+            c => panic!("{c:?}"),
+        }
+        check("info", true); // no parameters besides its file
+        // every job of the engine's registry is a command checked here
+        let mut jobs: Vec<&str> = asperity_engine::jobs::jobs().iter().map(|j| j.name).collect();
+        jobs.sort_unstable();
+        checked.sort();
+        assert_eq!(jobs, checked);
+    }
+}
