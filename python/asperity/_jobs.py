@@ -57,18 +57,23 @@ def to_json(fields: Dict[str, Any]) -> str:
 _JSON_TYPES = {"integer": "int", "number": "float", "string": "str", "boolean": "bool", "array": "list"}
 
 
+def _type(t, field: dict) -> str:
+    if t == "array":
+        item = _JSON_TYPES.get((field.get("items") or {}).get("type"), "Any")
+        return f"Sequence[{item}]"
+    return _JSON_TYPES.get(t, "Any")
+
+
 def annotation(field: dict) -> str:
     """The field's Python type as text (for docs and stubs)."""
+    t = field.get("type")
     if "choices" in field:
-        t = "Literal[" + ", ".join(repr(c["value"]) for c in field["choices"]) + "]"
-    elif field.get("type") == "array":
-        item = _JSON_TYPES.get((field.get("items") or {}).get("type"), "Any")
-        t = f"Sequence[{item}]"
+        text = "Literal[" + ", ".join(repr(c["value"]) for c in field["choices"]) + "]"
+    elif isinstance(t, list):
+        text = "Union[" + ", ".join(_type(x, field) for x in t) + "]"
     else:
-        t = _JSON_TYPES.get(field.get("type"), "Any")
-        if field["name"] == "size" and t == "Any":
-            t = "Union[int, Sequence[int]]"
-    return f"Optional[{t}]" if field.get("nullable") else t
+        text = _type(t, field)
+    return f"Optional[{text}]" if field.get("nullable") and not field.get("required") else text
 
 
 def _bounds(field: dict) -> str:
@@ -118,7 +123,8 @@ class Job:
                  summary: str, returns: str, leading: Sequence[tuple] = (),
                  inputs: Sequence[Tuple[str, Any, str]] = (), threads: bool = True,
                  progress: bool = True, convert: Optional[Dict[str, Callable]] = None,
-                 prepare: Optional[Callable[[dict], dict]] = None, record: bool = True):
+                 prepare: Optional[Callable[[dict], dict]] = None, record: bool = True,
+                 result: str = "Result"):
         self.job, self.engine, self.finish = job, engine, finish
         self.name, self.summary, self.returns = name, summary, returns
         self.leading, self.inputs = list(leading), list(inputs)
@@ -126,6 +132,7 @@ class Job:
         self.convert = convert or {}
         self.prepare = prepare or (lambda fields: fields)
         self.record = record
+        self.result = result
         self.description = describe(job)
         self.fields = [f["name"] for f in self.description["fields"]]
 
@@ -203,4 +210,5 @@ class Job:
         run.__signature__ = sig
         run.__doc__ = self.doc()
         run.job = self.job
+        run.result = self.result
         return run

@@ -8,7 +8,7 @@ from . import _asperity
 from ._jobs import Job
 
 render = Job(
-    "render", _asperity.render, lambda d: d["image"], name="render",
+    "render", _asperity.render, lambda d: d["image"], name="render", result="np.ndarray",
     summary="A picture of a surface (the CLI's ``render``: headless, on the CPU, the gobron-chiba "
             "light model), or a map or hillshade of a height field.",
     leading=[("surface", "a :class:`Mesh`, :class:`HeightField` or :class:`PointSet`.")],

@@ -273,21 +273,21 @@ def ifs_presets() -> list:
 
 
 ifs_model = Job(
-    "ifs preset", _asperity.ifs_model, _parse, name="ifs_model", record=False,
+    "ifs preset", _asperity.ifs_model, _parse, name="ifs_model", record=False, result="dict",
     summary="The model as a model-file dict (what ``asperity ifs preset`` writes); edit it and "
             "pass it back as ``model=``.",
     returns="Returns the model file as a dict.", **_IFS,
 ).function()
 
 ifs_curve = Job(
-    "ifs curve", _asperity.ifs_curve, lambda d: d["points"], name="ifs_curve",
+    "ifs curve", _asperity.ifs_curve, lambda d: d["points"], name="ifs_curve", result="np.ndarray",
     summary="A projected-IFS curve's attractor (poull-gentil §2): the CLI's ``ifs curve``.",
     returns="Returns the (2^depth + 1, 3) attractor points (an array with ``params``).", **_IFS,
 ).function()
 
 ifs_surface = Job(
     "ifs surface", _asperity.ifs_surface, lambda d: Mesh._from(d["mesh"], d["name"]),
-    name="ifs_surface",
+    name="ifs_surface", result="Mesh",
     summary="A tensor-product IFS surface's attractor mesh, with pseudo-curvature scalars unless "
             "``curvature=False`` (poull-gentil §2, §4): the CLI's ``ifs surface``.",
     returns="Returns a :class:`Mesh`.", prepare=_ifs_fields, progress=False,
@@ -303,14 +303,14 @@ ifs_dcf = Job(
 ).function()
 
 ifs_sdcf = Job(
-    "ifs sdcf", _asperity.ifs_sdcf, lambda d: Mesh._from(d["mesh"]), name="ifs_sdcf",
+    "ifs sdcf", _asperity.ifs_sdcf, lambda d: Mesh._from(d["mesh"]), name="ifs_sdcf", result="Mesh",
     summary="The SDCF of T_i ⊗ T'_j of a surface as a mesh (poull-gentil §4, Fig. 4): the CLI's "
             "``ifs sdcf``.",
     returns="Returns a :class:`Mesh`.", **_IFS,
 ).function()
 
 ifs_curvature = Job(
-    "ifs curvature", _asperity.ifs_curvature, _parse, name="ifs_curvature",
+    "ifs curvature", _asperity.ifs_curvature, _parse, name="ifs_curvature", result="dict",
     summary="Pseudo-curvature ranges per operator and at points (poull-gentil §5): the CLI's "
             "``ifs curvature --json`` document. ``at``: parameters s (curves), or (s, t) pairs "
             "or \"s,t\" strings (surfaces).",
@@ -361,7 +361,7 @@ def _analysis(d: dict) -> dict:
 
 
 analyze = Job(
-    "analyze", _asperity.analyze, _analysis, name="analyze",
+    "analyze", _asperity.analyze, _analysis, name="analyze", result="dict",
     summary="Roughness numbers of a height field (ISO 25178 parameters, profiles, PSD, five Hurst "
             "estimators, fractal dimensions), of a mesh (topology, curvature) or of a point set: "
             "the CLI's ``analyze --json`` measurements, same keys, plus ``warnings``.",
@@ -393,6 +393,7 @@ def fractal_dimensions(surface: Union[HeightField, np.ndarray], **options) -> di
 
 fbm = Job(
     "generate fbm", _asperity.fbm, lambda d: HeightField._from(d, d["title"]), name="fbm",
+    result="HeightField",
     summary="A periodic self-affine (fBm) test surface by Fourier synthesis: the CLI's "
             "``generate fbm``.",
     returns="Returns a :class:`HeightField` (N × N samples); its ``params`` record the run.",

@@ -95,3 +95,13 @@ def test_signatures_show_the_engines_defaults():
     # every job Python runs is one of the engine's (ca gallery, interpolate,
     # convert and info are the CLI's, or plain functions here)
     assert seen <= jobs and len(seen) >= 21, sorted(jobs - seen)
+
+
+def test_stubs_are_the_engines():
+    """``__init__.pyi`` is what ``python -m asperity._stubs`` writes from the
+    engine's descriptions (regenerate it after changing a job's parameters)."""
+    from asperity._stubs import stub_text
+
+    committed = Path(asperity.__file__).with_name("__init__.pyi").read_text()
+    assert committed == stub_text(), "stale stubs: python -m asperity._stubs > python/asperity/__init__.pyi"
+    ast.parse(committed)

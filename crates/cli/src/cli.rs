@@ -571,35 +571,55 @@ mod tests {
             checked.push(job.to_owned());
         };
         match parsed(&["growth", "rd"]) {
-            C::Growth(GrowthCommand::Rd(a)) => check("growth rd", a.params == growth::RdParams::default()),
+            C::Growth(GrowthCommand::Rd(a)) => {
+                check("growth rd", a.params == growth::RdParams::default())
+            }
             c => panic!("{c:?}"),
         }
         match parsed(&["growth", "rdsr"]) {
-            C::Growth(GrowthCommand::Rdsr(a)) => check("growth rdsr", a.params == growth::RdsrParams::default()),
+            C::Growth(GrowthCommand::Rdsr(a)) => {
+                check("growth rdsr", a.params == growth::RdsrParams::default())
+            }
             c => panic!("{c:?}"),
         }
         match parsed(&["growth", "bd"]) {
-            C::Growth(GrowthCommand::Bd(a)) => check("growth bd", a.params == growth::BdParams::default()),
+            C::Growth(GrowthCommand::Bd(a)) => {
+                check("growth bd", a.params == growth::BdParams::default())
+            }
             c => panic!("{c:?}"),
         }
         match parsed(&["growth", "dla"]) {
-            C::Growth(GrowthCommand::Dla(a)) => check("growth dla", a.params == growth::dla::DlaParams::default()),
+            C::Growth(GrowthCommand::Dla(a)) => {
+                check("growth dla", a.params == growth::dla::DlaParams::default())
+            }
             c => panic!("{c:?}"),
         }
         match parsed(&["reconstruct", "p.ply"]) {
-            C::Reconstruct(a) => check("reconstruct", a.params == reconstruct::LevelSetParams::default()),
+            C::Reconstruct(a) => check(
+                "reconstruct",
+                a.params == reconstruct::LevelSetParams::default(),
+            ),
             c => panic!("{c:?}"),
         }
         match parsed(&["generate", "dla-terrain"]) {
-            C::Generate(GenerateCommand::DlaTerrain(a)) => check("generate dla-terrain", a.params == reconstruct::DlaTerrainParams::default()),
+            C::Generate(GenerateCommand::DlaTerrain(a)) => check(
+                "generate dla-terrain",
+                a.params == reconstruct::DlaTerrainParams::default(),
+            ),
             c => panic!("{c:?}"),
         }
         match parsed(&["generate", "rdsr-sphere"]) {
-            C::Generate(GenerateCommand::RdsrSphere(a)) => check("generate rdsr-sphere", a.params == reconstruct::RdsrSphereParams::default()),
+            C::Generate(GenerateCommand::RdsrSphere(a)) => check(
+                "generate rdsr-sphere",
+                a.params == reconstruct::RdsrSphereParams::default(),
+            ),
             c => panic!("{c:?}"),
         }
         match parsed(&["generate", "fbm"]) {
-            C::Generate(GenerateCommand::Fbm(a)) => check("generate fbm", a.params == asperity_engine::synthesis::FbmParams::default()),
+            C::Generate(GenerateCommand::Fbm(a)) => check(
+                "generate fbm",
+                a.params == asperity_engine::synthesis::FbmParams::default(),
+            ),
             c => panic!("{c:?}"),
         }
         match parsed(&["ca", "run"]) {
@@ -611,7 +631,9 @@ mod tests {
             c => panic!("{c:?}"),
         }
         match parsed(&["ca", "gallery"]) {
-            C::Ca(CaCommand::Gallery(a)) => check("ca gallery", a.params == ca::CaGalleryParams::default()),
+            C::Ca(CaCommand::Gallery(a)) => {
+                check("ca gallery", a.params == ca::CaGalleryParams::default())
+            }
             c => panic!("{c:?}"),
         }
         match parsed(&["facet", "h.npy"]) {
@@ -624,27 +646,40 @@ mod tests {
             c => panic!("{c:?}"),
         }
         match parsed(&["ifs", "preset"]) {
-            C::Ifs(IfsCommand::Preset(a)) => check("ifs preset", a.params == ifs::IfsPresetParams::default()),
+            C::Ifs(IfsCommand::Preset(a)) => {
+                check("ifs preset", a.params == ifs::IfsPresetParams::default())
+            }
             c => panic!("{c:?}"),
         }
         match parsed(&["ifs", "curve"]) {
-            C::Ifs(IfsCommand::Curve(a)) => check("ifs curve", a.params == ifs::IfsCurveParams::default()),
+            C::Ifs(IfsCommand::Curve(a)) => {
+                check("ifs curve", a.params == ifs::IfsCurveParams::default())
+            }
             c => panic!("{c:?}"),
         }
         match parsed(&["ifs", "surface"]) {
-            C::Ifs(IfsCommand::Surface(a)) => check("ifs surface", a.params == ifs::IfsSurfaceParams::default()),
+            C::Ifs(IfsCommand::Surface(a)) => {
+                check("ifs surface", a.params == ifs::IfsSurfaceParams::default())
+            }
             c => panic!("{c:?}"),
         }
         match parsed(&["ifs", "dcf"]) {
-            C::Ifs(IfsCommand::Dcf(a)) => check("ifs dcf", a.params == ifs::IfsDcfParams::default()),
+            C::Ifs(IfsCommand::Dcf(a)) => {
+                check("ifs dcf", a.params == ifs::IfsDcfParams::default())
+            }
             c => panic!("{c:?}"),
         }
         match parsed(&["ifs", "sdcf"]) {
-            C::Ifs(IfsCommand::Sdcf(a)) => check("ifs sdcf", a.params == ifs::IfsSdcfParams::default()),
+            C::Ifs(IfsCommand::Sdcf(a)) => {
+                check("ifs sdcf", a.params == ifs::IfsSdcfParams::default())
+            }
             c => panic!("{c:?}"),
         }
         match parsed(&["ifs", "curvature"]) {
-            C::Ifs(IfsCommand::Curvature(a)) => check("ifs curvature", a.params == ifs::IfsCurvatureParams::default()),
+            C::Ifs(IfsCommand::Curvature(a)) => check(
+                "ifs curvature",
+                a.params == ifs::IfsCurvatureParams::default(),
+            ),
             c => panic!("{c:?}"),
         }
         match parsed(&["surface-ca", "builtin:cube"]) {
@@ -665,7 +700,10 @@ mod tests {
         }
         check("info", true); // no parameters besides its file
         // every job of the engine's registry is a command checked here
-        let mut jobs: Vec<&str> = asperity_engine::jobs::jobs().iter().map(|j| j.name).collect();
+        let mut jobs: Vec<&str> = asperity_engine::jobs::jobs()
+            .iter()
+            .map(|j| j.name)
+            .collect();
         jobs.sort_unstable();
         checked.sort();
         assert_eq!(jobs, checked);

@@ -45,8 +45,19 @@ impl From<BoundaryName> for Boundary {
 /// A rule code: a Wolfram code (450) or a B/S string (B3/S23). JSON takes a
 /// number or a string.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, JsonSchema)]
-#[schemars(with = "String")]
+#[schemars(with = "RuleForm")]
 pub struct RuleCode(pub String);
+
+/// The JSON forms of a [`RuleCode`] (for its schema).
+#[derive(JsonSchema)]
+#[allow(dead_code)]
+#[serde(untagged)]
+enum RuleForm {
+    /// A Wolfram code.
+    Code(u64),
+    /// A code or a B/S string.
+    Text(String),
+}
 
 impl<'de> Deserialize<'de> for RuleCode {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {

@@ -44,18 +44,18 @@ fn describe_field(root: &Value, name: &str, node: &Value, default: Option<&Value
         node.get("description").cloned().unwrap_or(json!("")),
     );
     out.insert("default".into(), default.cloned().unwrap_or(Value::Null));
-    let mut nullable = false;
-    let mut body = resolve(root, node).clone();
-    if let Some(branches) = body.get("anyOf").and_then(Value::as_array).cloned() {
-        nullable = branches
-            .iter()
-            .any(|b| resolve(root, b).get("type") == Some(&json!("null")));
-        if let Some(b) = branches
-            .iter()
-            .map(|b| resolve(root, b))
-            .find(|b| b.get("type") != Some(&json!("null")))
-        {
-            body = b.clone();
+    let (branches, nullable_branch) = forms(root, node);
+    let mut nullable = nullable_branch;
+    let mut body = Value::Null;
+    match branches.as_slice() {
+        [one] => body = one.clone(),
+        // several forms (a number or a list, a number or a text): their types
+        many => {
+            let types: Vec<Value> = many.iter().filter_map(|b| b.get("type").cloned()).collect();
+            out.insert("type".into(), Value::Array(types));
+            if let Some(items) = many.iter().find_map(|b| b.get("items")) {
+                out.insert("items".into(), items.clone());
+            }
         }
     }
     if let Some(t) = body.get("type") {
@@ -87,6 +87,25 @@ fn describe_field(root: &Value, name: &str, node: &Value, default: Option<&Value
     }
     out.insert("nullable".into(), json!(nullable));
     Value::Object(out)
+}
+
+/// The non-null forms a value of `node` may take (nested `anyOf`s and
+/// `$ref`s followed), and whether it may be null.
+fn forms(root: &Value, node: &Value) -> (Vec<Value>, bool) {
+    let node = resolve(root, node);
+    match node.get("anyOf").and_then(Value::as_array) {
+        Some(branches) => {
+            let (mut all, mut nullable) = (Vec::new(), false);
+            for b in branches {
+                let (f, n) = forms(root, b);
+                all.extend(f);
+                nullable |= n;
+            }
+            (all, nullable)
+        }
+        None if node.get("type") == Some(&json!("null")) => (Vec::new(), true),
+        None => (vec![node.clone()], false),
+    }
 }
 
 /// The choices of an enum schema (`oneOf` of constants with descriptions, or

@@ -173,6 +173,7 @@ pub struct LatticeSize(Vec<usize>);
 /// The JSON forms of a [`LatticeSize`] (for its schema).
 #[derive(JsonSchema)]
 #[allow(dead_code)]
+#[serde(untagged)]
 enum SizeForm {
     /// One number N.
     One(#[schemars(range(min = 1))] usize),

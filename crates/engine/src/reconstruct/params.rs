@@ -76,6 +76,7 @@ pub struct Offset(pub Length);
 /// The JSON forms of an [`Offset`] (for its schema).
 #[derive(JsonSchema)]
 #[allow(dead_code)]
+#[serde(untagged)]
 enum OffsetForm {
     /// In the points' units.
     World(f64),
