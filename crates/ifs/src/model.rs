@@ -201,15 +201,15 @@ const PRESETS: &[(&str, &str)] = &[
     ),
     (
         "bezier",
-        "Bézier curve of degree ⟨degree⟩ (default 3) on an arc",
+        "Bézier curve of degree n (parameter degree, default 3) on an arc",
     ),
     (
         "takagi-landsberg",
-        "Takagi–Landsberg curve y = Σ wⁿ dist(2ⁿx, ℤ) (⟨w⟩, default 1/√2: a finite curvature range)",
+        "Takagi–Landsberg curve y = Σ wⁿ dist(2ⁿx, ℤ) (parameter w, default 1/√2: a finite curvature range)",
     ),
     (
         "takagi-square",
-        "Takagi–Landsberg curve as a 4-point P-IFS over the square (0,0),(0,1),(1,1),(1,0), as in the paper's Figs. 2–3 (⟨w⟩); moving (1,1) bends it",
+        "Takagi–Landsberg curve as a 4-point P-IFS over the square (0,0),(0,1),(1,1),(1,0), as in the paper's Figs. 2–3 (parameter w); moving (1,1) bends it",
     ),
     (
         "bezier-bicubic",
@@ -217,11 +217,11 @@ const PRESETS: &[(&str, &str)] = &[
     ),
     (
         "takagi-landsberg-surface",
-        "Takagi ⊗ Takagi surface z = h(T_w(s) + T_w(t)), slightly sheared (paper Figs. 1 and 4; ⟨w⟩, ⟨height⟩)",
+        "Takagi ⊗ Takagi surface z = h(T_w(s) + T_w(t)), slightly sheared (paper Figs. 1 and 4; parameters w, height)",
     ),
     (
         "bezier-takagi",
-        "smooth along s (cubic Bézier), rough along t (Takagi, ⟨w⟩): one surface, two roughness orders",
+        "smooth along s (cubic Bézier), rough along t (Takagi, parameter w): one surface, two roughness orders",
     ),
 ];
 
