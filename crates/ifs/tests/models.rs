@@ -110,7 +110,7 @@ fn bad_files_and_parameters_are_clear() {
     };
     assert!(err(preset("takagi-landsberg", &w(1.2))).contains("(−1, 1)"));
     assert!(err(preset("takagi-landsberg", &w(f64::NAN))).contains("w"));
-    assert!(err(preset("bezier-cubic", &w(0.5))).contains("--w applies"));
+    assert!(err(preset("bezier-cubic", &w(0.5))).contains("⟨w⟩ applies"));
     assert!(ModelFile::from_json("{").is_err());
     let e = ModelFile::from_json(r#"{"name": "x", "curv": {}}"#).unwrap_err();
     assert!(e.to_string().contains("unknown field"), "{e}");

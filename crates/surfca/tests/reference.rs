@@ -666,7 +666,7 @@ fn completeness_check_and_repair() {
     tris.push([0, 0, 1]);
     let bad = TriMesh::new(good.positions().to_vec(), tris).unwrap();
     let e = check(&bad).unwrap_err().to_string();
-    assert!(e.contains("degenerate") && e.contains("--repair"), "{e}");
+    assert!(e.contains("degenerate") && e.contains("⟨repair⟩"), "{e}");
     let (fixed, r) = repair(&bad).unwrap();
     assert_eq!(r.dropped_degenerate, 1);
     assert!(r.flipped > 0);

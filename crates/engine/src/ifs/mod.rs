@@ -53,6 +53,8 @@ pub struct ModelSpec {
 pub struct Loaded {
     /// Its name (the preset's or the file's).
     pub name: String,
+    /// The preset's or the file's description and (informative) parameters.
+    pub about: (String, std::collections::BTreeMap<String, f64>),
     /// The model.
     pub model: Model,
     /// The family of DCFs to examine.
@@ -99,15 +101,20 @@ pub fn load(spec: &ModelSpec) -> Result<Loaded> {
     }
     Ok(Loaded {
         name,
+        about: (file.description.clone(), file.parameters.clone()),
         model,
         opts: spec.family,
     })
 }
 
 impl Loaded {
-    /// The model as a file (to write with `ifs preset`).
+    /// The model as a file (to write with `ifs preset`), with the preset's or
+    /// the file's description and parameters.
     pub fn file(&self) -> ModelFile {
-        self.model.to_file(&self.name, "")
+        ModelFile {
+            parameters: self.about.1.clone(),
+            ..self.model.to_file(&self.name, &self.about.0)
+        }
     }
 
     /// The curve model.
