@@ -34,6 +34,32 @@ def engine_library(profile: str) -> Path:
     sys.exit("cargo built no _asperity library")
 
 
+def engine_defaults(library: Path) -> dict:
+    """The engine's defaults the add-on's properties take (``defaults.snapshot``),
+    read from the package being bundled, loaded here from a scratch copy."""
+    import importlib
+    import importlib.util
+    import shutil
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as d:
+        pkg = Path(d) / "asperity"
+        shutil.copytree(ROOT / "python" / "asperity", pkg,
+                        ignore=shutil.ignore_patterns("__pycache__"))
+        shutil.copy(library, pkg / ("_asperity.pyd" if library.suffix == ".dll" else "_asperity.abi3.so"))
+        sys.path.insert(0, d)
+        try:
+            asp = importlib.import_module("asperity")
+            # the add-on's module alone (its package imports bpy)
+            spec = importlib.util.spec_from_file_location(
+                "asperity_addon_defaults", ROOT / "blender" / "asperity_addon" / "defaults.py")
+            defaults = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(defaults)
+            return defaults.snapshot(asp)
+        finally:
+            sys.path.remove(d)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--profile", default="release", help="cargo profile of the engine (release, dev)")
@@ -51,6 +77,7 @@ def main():
             if f.suffix in (".py", ".pyi", ".typed"):
                 z.write(f, f"asperity_addon/vendor/asperity/{f.name}")
         z.write(library, f"asperity_addon/vendor/asperity/{extension}")
+        z.writestr("asperity_addon/engine_defaults.json", json.dumps(engine_defaults(library), indent=1))
     tmp.replace(args.out)  # atomic: a failed build leaves the old zip
     print(f"wrote {args.out} ({args.out.stat().st_size / 1e6:.1f} MB; engine from {library})")
 

@@ -19,6 +19,7 @@ import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
 from . import build, engine, scenes
+from .defaults import default, follow, ifs_presets
 
 
 def _prefs(context):
@@ -124,12 +125,13 @@ class ASPERITY_OT_add_subdivision(AsperityOperator, bpy.types.Operator):
     bl_label = "Rough Surface: Subdivision"
 
     kind: EnumProperty(name="Kind", items=[(k, k.title(), scenes.DESCRIPTION[k]) for k in scenes.KINDS])
-    levels: IntProperty(name="Levels", default=4, min=1, max=7)
+    levels: IntProperty(name="Levels", default=follow("mesh.asperity_subdivision", "levels", "subdiv", "levels"),
+                        min=1, max=7)
     size: FloatProperty(name="Size", description="The detail's main size (amplitude, radius, length or height)",
                         default=0.0, min=0.0, soft_max=3.0)
     spacing: FloatProperty(name="Spacing", description="Distance between placed features, relative", default=0.0,
                            min=0.0, soft_max=2.0)
-    seed: IntProperty(name="Seed", default=7, min=0)
+    seed: IntProperty(name="Seed", default=follow("mesh.asperity_subdivision", "seed", "subdiv", "seed"), min=0)
 
     def job(self, asp, context):
         text = scenes.scene(self.kind, self.levels, self.seed, self.size or None, self.spacing or None)
@@ -151,7 +153,7 @@ class ASPERITY_OT_add_ca_terrain(AsperityOperator, bpy.types.Operator):
     density: FloatProperty(name="Density", default=0.3, min=0.0, max=1.0)
     size: IntProperty(name="Cells", default=64, min=4, soft_max=1024)
     height: FloatProperty(name="Height", description="Height of the whole run", default=0.25, min=0.0)
-    seed: IntProperty(name="Seed", default=7, min=0)
+    seed: IntProperty(name="Seed", default=follow("mesh.asperity_ca_terrain", "seed", "ca run", "seed"), min=0)
 
     def job(self, asp, context):
         init = "seed" if self.init == "seed" else f"random:{self.density}"
@@ -176,9 +178,12 @@ class ASPERITY_OT_add_dla_terrain(AsperityOperator, bpy.types.Operator):
     bl_idname = "mesh.asperity_dla_terrain"
     bl_label = "Rough Surface: DLA Terrain"
 
-    size: IntProperty(name="Lattice", default=48, min=16, soft_max=256)
-    particles: IntProperty(name="Particles", description="0: the CLI's default for the lattice", default=0, min=0)
-    seed: IntProperty(name="Seed", default=7, min=0)
+    size: IntProperty(name="Lattice", description="Cells along each side of the lattice",
+                      default=follow("mesh.asperity_dla_terrain", "size", "generate dla-terrain", "size")[0],
+                      min=16, soft_max=256)
+    particles: IntProperty(name="Particles", description="0: the engine's default for the lattice", default=0, min=0)
+    seed: IntProperty(name="Seed", default=follow("mesh.asperity_dla_terrain", "seed", "generate dla-terrain", "seed"),
+                      min=0)
 
     def job(self, asp, context):
         n = self.size
@@ -195,9 +200,14 @@ class ASPERITY_OT_add_rdsr_sphere(AsperityOperator, bpy.types.Operator):
     bl_idname = "mesh.asperity_rdsr_sphere"
     bl_label = "Rough Surface: RDSR Sphere"
 
-    radius: FloatProperty(name="Radius (cells)", default=12.0, min=3.0, soft_max=60.0)
-    layers: FloatProperty(name="Layers", default=6.0, min=0.5, soft_max=40.0)
-    seed: IntProperty(name="Seed", default=7, min=0)
+    radius: FloatProperty(name="Radius (cells)",
+                          default=follow("mesh.asperity_rdsr_sphere", "radius", "generate rdsr-sphere", "radius"),
+                          min=3.0, soft_max=60.0)
+    layers: FloatProperty(name="Layers",
+                          default=follow("mesh.asperity_rdsr_sphere", "layers", "generate rdsr-sphere", "layers"),
+                          min=0.5, soft_max=40.0)
+    seed: IntProperty(name="Seed", default=follow("mesh.asperity_rdsr_sphere", "seed", "generate rdsr-sphere", "seed"),
+                      min=0)
 
     def job(self, asp, context):
         return lambda progress: asp.rdsr_sphere(radius=self.radius, layers=self.layers, seed=self.seed,
@@ -207,20 +217,20 @@ class ASPERITY_OT_add_rdsr_sphere(AsperityOperator, bpy.types.Operator):
         build.add_object(context, "asperity RDSR sphere", _fit(result.mesh, None))
 
 
-def _ifs_presets(self, context):
-    return [(p, p, "") for p in ("bezier-bicubic", "takagi-landsberg-surface", "bezier-takagi")]
-
-
 class ASPERITY_OT_add_ifs_surface(AsperityOperator, bpy.types.Operator):
     """A tensor-product projected-IFS fractal surface with pseudo-curvature attributes (poull-gentil)"""
 
     bl_idname = "mesh.asperity_ifs_surface"
     bl_label = "Rough Surface: IFS Surface"
 
-    preset: EnumProperty(name="Preset", items=_ifs_presets)
+    # A static list, read from the engine when the add-on loads (a dynamic items callback
+    # would hide the choices from RNA, and its strings are the ones Blender's docs warn
+    # the Python GC may free while the menu shows them).
+    preset: EnumProperty(name="Preset", items=[(p, p, "") for p in ifs_presets()])
     w: FloatProperty(name="w", description="The Takagi presets' roughness (0: the preset's)", default=0.0,
                      min=0.0, max=0.99)
-    depth: IntProperty(name="Depth", default=6, min=1, max=10)
+    depth: IntProperty(name="Depth", default=follow("mesh.asperity_ifs_surface", "depth", "ifs surface", "depth"),
+                       min=1, max=10)
 
     def job(self, asp, context):
         w = self.w if self.w > 0 and "takagi" in self.preset else None
@@ -236,14 +246,18 @@ class ASPERITY_OT_add_fbm(AsperityOperator, bpy.types.Operator):
     bl_idname = "mesh.asperity_fbm"
     bl_label = "Rough Surface: fBm Height Field"
 
-    size: IntProperty(name="Samples", default=128, min=4, soft_max=2048)
-    hurst: FloatProperty(name="Hurst", default=0.8, min=0.01, max=0.99)
-    rms: FloatProperty(name="RMS height", default=0.05, min=0.0)
-    seed: IntProperty(name="Seed", default=7, min=0)
+    size: IntProperty(name="Samples", default=follow("mesh.asperity_fbm", "size", "generate fbm", "size"), min=4,
+                      soft_max=2048)
+    hurst: FloatProperty(name="Hurst", default=follow("mesh.asperity_fbm", "hurst", "generate fbm", "hurst"),
+                         min=0.01, max=1.0)
+    rms: FloatProperty(name="RMS height", description="In sample spacings",
+                       default=follow("mesh.asperity_fbm", "rms", "generate fbm", "rms"), min=0.0)
+    seed: IntProperty(name="Seed", default=follow("mesh.asperity_fbm", "seed", "generate fbm", "seed"), min=0)
 
     def job(self, asp, context):
         def run(progress):
-            h = asp.fbm(size=self.size, hurst=self.hurst, rms=self.rms, spacing=1.0 / self.size, seed=self.seed)
+            h = asp.fbm(size=self.size, hurst=self.hurst, rms=self.rms / self.size, spacing=1.0 / self.size,
+                        seed=self.seed)
             return asp.facet(h, shared=True).mesh, h
 
         return run
@@ -295,12 +309,15 @@ class ASPERITY_OT_weather(_OnMesh, AsperityOperator, bpy.types.Operator):
     bl_idname = "object.asperity_weather"
     bl_label = "Weather (corrosion and patina)"
 
-    cells: IntProperty(name="Cells", default=40000, min=1000, soft_max=1000000)
-    steps: IntProperty(name="Steps", default=600, min=1, soft_max=10000)
-    sites: IntProperty(name="Corrosion sites", default=12, min=1, soft_max=500)
+    cells: IntProperty(name="Cells", default=follow("object.asperity_weather", "cells", "surface-ca", "cells"),
+                       min=1000, soft_max=1000000)
+    steps: IntProperty(name="Steps", default=follow("object.asperity_weather", "steps", "surface-ca", "steps"), min=1,
+                       soft_max=10000)
+    sites: IntProperty(name="Corrosion sites", default=follow("object.asperity_weather", "sites", "surface-ca", "sites"),
+                       min=1, soft_max=500)
     displace: FloatProperty(name="Displacement", description="Pits and crust along the normals (0: none)",
                             default=0.0, min=0.0, soft_max=0.1)
-    seed: IntProperty(name="Seed", default=7, min=0)
+    seed: IntProperty(name="Seed", default=follow("object.asperity_weather", "seed", "surface-ca", "seed"), min=0)
 
     def job(self, asp, context):
         mesh = _object_mesh(asp, context.active_object)
@@ -320,11 +337,11 @@ class ASPERITY_OT_regions(_OnMesh, AsperityOperator, bpy.types.Operator):
     bl_idname = "object.asperity_regions"
     bl_label = "Regions (surface Voronoi)"
 
-    sites: IntProperty(name="Regions", default=12, min=2, soft_max=500)
-    cells: IntProperty(name="Cells", default=40000, min=1000, soft_max=1000000)
+    sites: IntProperty(name="Regions", default=follow("object.asperity_regions", "sites", "surface-ca", "sites"), min=2, soft_max=500)
+    cells: IntProperty(name="Cells", default=follow("object.asperity_regions", "cells", "surface-ca", "cells"), min=1000, soft_max=1000000)
     result_as: EnumProperty(name="As", items=[("MATERIALS", "Materials", "A material per region (face material index)"),
                                                ("TEXTURE", "Texture", "The coloured cell atlas as an image texture")])
-    seed: IntProperty(name="Seed", default=7, min=0)
+    seed: IntProperty(name="Seed", default=follow("object.asperity_regions", "seed", "surface-ca", "seed"), min=0)
 
     def job(self, asp, context):
         mesh = _object_mesh(asp, context.active_object)
@@ -361,11 +378,11 @@ class ASPERITY_OT_roughen(_OnMesh, AsperityOperator, bpy.types.Operator):
     bl_idname = "object.asperity_roughen"
     bl_label = "Roughen (subdivision detail)"
 
-    levels: IntProperty(name="Levels", default=3, min=1, max=6)
+    levels: IntProperty(name="Levels", default=follow("object.asperity_roughen", "levels", "subdiv", "levels"), min=1, max=6)
     amplitude: FloatProperty(name="Amplitude", default=0.08, min=0.0, soft_max=1.0)
     decay: FloatProperty(name="Decay", description="Amplitude ratio per level (1/f)", default=0.5, min=0.0,
                          max=1.0)
-    seed: IntProperty(name="Seed", default=7, min=0)
+    seed: IntProperty(name="Seed", default=follow("object.asperity_roughen", "seed", "subdiv", "seed"), min=0)
 
     def job(self, asp, context):
         v, polys, creases = build.object_arrays(context.active_object)

@@ -76,6 +76,25 @@ asp = engine.package()  # the engine the add-on's zip carries
 
 check("add-on installed from the zip and enabled", "asperity_addon" in bpy.context.preferences.addons)
 check("Add > Mesh > Rough Surface registered", hasattr(bpy.types, "VIEW3D_MT_asperity_add"))
+
+# ---- every property that follows an engine parameter has the engine's default (#36)
+from asperity_addon import defaults  # noqa: E402
+
+wrong = []
+for (op, prop), (job, field) in sorted(defaults.FIELDS.items()):
+    category, name = op.split(".")
+    have = getattr(getattr(bpy.ops, category), name).get_rna_type().properties[prop].default
+    desc = {f["name"]: f for f in json.loads(asp._asperity.describe(job))["fields"]}
+    want = asp._asperity.DEFAULT_SEED if field == "seed" else desc[field]["default"]
+    want = want[0] if isinstance(want, list) else want
+    if abs(float(have) - float(want)) > 1e-6 * max(1.0, abs(float(want))):
+        wrong.append(f"{op}.{prop} = {have}, the engine's {job} {field} = {want}")
+check("the add-on's properties default to the engine's", len(defaults.FIELDS) >= 18 and not wrong,
+      f"{len(defaults.FIELDS)} properties; {wrong}")
+presets = [i.identifier for i in
+           bpy.ops.mesh.asperity_ifs_surface.get_rna_type().properties["preset"].enum_items]
+check("the IFS presets are the engine's", bool(presets) and presets == [p["name"] for p in asp.ifs_presets()],
+      f"{presets}")
 scene = bpy.context.scene
 made = {}
 
@@ -133,7 +152,8 @@ if obj:
     check("IFS surface: the CLI's vertices", same_positions(obj, TMP / "ifs.ply"))
     check("IFS surface: curvature attributes", len(obj.data.attributes.keys()) > 2, str(obj.data.attributes.keys()))
 
-fbm = run("fBm", bpy.ops.mesh.asperity_fbm, size=48, hurst=0.7, rms=0.05, seed=8)
+# the add-on's RMS height is in sample spacings, as the engine's (spacing 1/48: 0.05)
+fbm = run("fBm", bpy.ops.mesh.asperity_fbm, size=48, hurst=0.7, rms=2.4, seed=8)
 # .gsf keeps the spacing (.npy would not)
 cli("--seed", 8, "generate", "fbm", "--size", 48, "--hurst", 0.7, "--rms", 0.05, "--spacing", 1 / 48, "-o",
     TMP / "fbm.gsf")

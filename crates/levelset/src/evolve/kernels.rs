@@ -201,7 +201,12 @@ pub(crate) fn lane_bits(n: usize) -> u32 {
 /// distance (1-Lipschitz, so each component is at most 1), ∇φ upwinded for
 /// the velocity v = −∇d: D⁻ where v points along +x, D⁺ where it points back.
 #[inline(always)]
-pub(crate) fn zhao_rate<V: Lanes>(c: &Step, phi: &impl Stencil<V>, d: &impl Stencil<V>, p0: V) -> V {
+pub(crate) fn zhao_rate<V: Lanes>(
+    c: &Step,
+    phi: &impl Stencil<V>,
+    d: &impl Stencil<V>,
+    p0: V,
+) -> V {
     let zero = V::splat(0.0);
     let half_inv_h = V::splat(0.5 * c.inv_h);
     let mut sum = zero;
@@ -299,4 +304,3 @@ pub(crate) fn redistanced<V: Lanes>(c: &Step, st: &impl Stencil<V>) -> V {
     let norm = (p0 * p0 + g2 * h * h).sqrt().fast_max(V::splat(1e-30));
     p0 - V::splat(0.3 * c.h) * (p0 / norm) * (g2.sqrt() - V::splat(1.0))
 }
-

@@ -636,4 +636,3 @@ pub(crate) fn first_tube(c: &Step, phi: &[f32]) -> (RunTube, f32) {
         .unzip();
     (RunTube { planes }, vmax.into_iter().fold(0.0, hi))
 }
-

@@ -177,7 +177,6 @@ pub(super) fn activate(
     scratch.extend_from_slice(&ls.phi[first * BRICK_NODES..]);
 }
 
-
 /// The flow's masks, one per slot: T, N, the previous step's N, the new T
 /// being rebuilt, the nodes that fit the ENO stencil; `spare` holds the cube
 /// neighbourhood's middle step. Kept from step to step (fresh buffers every
@@ -222,4 +221,3 @@ impl Tubes {
         self.prev_n.resize(self.n.len(), EMPTY_MASK);
     }
 }
-
