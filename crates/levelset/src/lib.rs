@@ -37,10 +37,14 @@
 mod curvature;
 pub mod distance;
 pub mod evolve;
+#[cfg(feature = "fault-injection")]
+pub mod faults;
 pub mod grid;
 mod lanes;
 pub mod marching_cubes;
 pub mod pipeline;
+#[cfg(feature = "reference")]
+pub mod reference;
 pub mod sparse;
 pub mod tagging;
 mod tube;

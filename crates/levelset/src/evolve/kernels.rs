@@ -232,6 +232,10 @@ pub(crate) fn one_sided<V: Lanes>(c: &Step, st: &impl Stencil<V>, axis: usize, p
         let c0 = pp - two * p0 + pm;
         let cm = p0 - two * pm + pmm;
         let cp = ppp - two * pp + p0;
+        #[cfg(feature = "fault-injection")]
+        if crate::faults::on(crate::faults::Fault::EnoSign) {
+            dm -= V::splat(2.0) * half * eno_pick(cm, c0);
+        }
         dm += half * eno_pick(cm, c0);
         dp -= half * eno_pick(c0, cp);
     }
@@ -264,6 +268,12 @@ pub(crate) fn rate<V: Lanes, const ZHAO: bool>(
     for axis in 0..3 {
         let (dm, dp) = one_sided(c, phi, axis, p0);
         let (a, b) = (dm.fast_min(zero), dp.fast_max(zero));
+        #[cfg(feature = "fault-injection")]
+        let (a, b) = if crate::faults::on(crate::faults::Fault::UpwindSide) {
+            (dm.fast_max(zero), dp.fast_min(zero))
+        } else {
+            (a, b)
+        };
         g2 += (a * a).fast_max(b * b);
     }
     let out = speed * g2.sqrt();
@@ -302,5 +312,9 @@ pub(crate) fn redistanced<V: Lanes>(c: &Step, st: &impl Stencil<V>) -> V {
     }
     let h = V::splat(c.h);
     let norm = (p0 * p0 + g2 * h * h).sqrt().fast_max(V::splat(1e-30));
+    #[cfg(feature = "fault-injection")]
+    if crate::faults::on(crate::faults::Fault::RedistanceStep) {
+        return p0 - V::splat(0.6 * c.h) * (p0 / norm) * (g2.sqrt() - V::splat(1.0));
+    }
     p0 - V::splat(0.3 * c.h) * (p0 / norm) * (g2.sqrt() - V::splat(1.0))
 }
