@@ -6,7 +6,8 @@ cellular-automaton height fields (:func:`ca_run`, :func:`facet`,
 :func:`interpolate`), subdivision surfaces (:func:`subdiv`), projected IFS
 (:func:`ifs_surface`, :func:`ifs_dcf`, :func:`ifs_sdcf`, :func:`ifs_curvature`…),
 cellular automata on meshes (:func:`surface_ca`), analysis (:func:`analyze`,
-:func:`psd`, :func:`hurst`, :func:`fbm`), files (:func:`load`, :func:`save`),
+:func:`psd`, :func:`hurst`, :func:`fbm`), files (:func:`load`, :func:`save`,
+:func:`save_image`),
 pictures (:func:`render`) and parameter sweeps on Dask (:func:`sweep`).
 
 Every function runs the same Rust engine as the ``asperity`` CLI.
@@ -16,7 +17,7 @@ from . import _asperity
 from .api import (Result, analyze, bd, ca_rule, ca_run, dla, dla_terrain, facet, fbm,
                   fractal_dimensions, hurst, ifs_curvature, ifs_curve, ifs_dcf, ifs_model,
                   ifs_presets, ifs_sdcf, ifs_surface, interpolate, load, psd, rd, rdsr, rdsr_sphere,
-                  reconstruct, render, save, set_limits, subdiv, surface_ca)
+                  reconstruct, render, save, save_image, set_limits, subdiv, surface_ca)
 from .errors import MemoryLimitError, TimeLimitError
 from .sweep import sweep
 from .types import HeightField, Mesh, PointSet
@@ -28,5 +29,5 @@ __all__ = [
     "analyze", "bd", "ca_rule", "ca_run", "dla", "dla_terrain", "facet", "fbm",
     "fractal_dimensions", "hurst", "ifs_curvature", "ifs_curve", "ifs_dcf", "ifs_model",
     "ifs_presets", "ifs_sdcf", "ifs_surface", "interpolate", "load", "psd", "rd", "rdsr",
-    "rdsr_sphere", "reconstruct", "render", "save", "set_limits", "subdiv", "surface_ca", "sweep",
+    "rdsr_sphere", "reconstruct", "render", "save", "save_image", "set_limits", "subdiv", "surface_ca", "sweep",
 ]

@@ -24,6 +24,7 @@ import numpy as np
 
 from . import _asperity
 from ._run import call
+from .types import _Surface
 
 DEFAULT_SEED = _asperity.DEFAULT_SEED
 
@@ -198,6 +199,10 @@ class Job:
                 record = json.loads(raw["params"])
                 if isinstance(result, dict):
                     result["params"] = record
+                    # the surfaces inside carry it too, into the files they are saved to
+                    for value in result.values():
+                        if isinstance(value, _Surface):
+                            value.params = record
                 elif isinstance(result, np.ndarray):
                     result = result.view(ArrayResult)
                     result.params = record

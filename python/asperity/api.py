@@ -19,7 +19,7 @@ from . import _asperity
 from ._jobs import Job
 from ._pictures import render
 from ._run import call
-from .types import HeightField, Mesh, PointSet, _wrap
+from .types import HeightField, Mesh, PointSet, _wrap, params_json
 
 Surface = Union[Mesh, HeightField, PointSet]
 
@@ -418,5 +418,12 @@ def save(path: Union[str, Path], surface: Surface, title: Optional[str] = None,
     """Writes a surface by the path's extension (atomically); ``up`` as the
     CLI's ``--up`` (by default OBJ is written y-up, the others z-up)."""
     surface.save(path, title, up)
+
+
+def save_image(path: Union[str, Path], image: np.ndarray) -> None:
+    """Writes an (H, W, 4) uint8 picture (a :func:`render`, a colour map) as
+    PNG, atomically; a picture a job returned keeps its ``params`` in the
+    file, as the CLI's ``render -o FILE.png`` does."""
+    _asperity.save_png(str(path), image, params_json(getattr(image, "params", None)))
 
 

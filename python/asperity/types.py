@@ -15,6 +15,11 @@ import numpy as np
 from . import _asperity
 
 
+def params_json(params: Optional[dict]) -> Optional[str]:
+    """A record as the JSON text the engine writes into files (None: none)."""
+    return None if params is None else json.dumps(params)
+
+
 def _f64(a, shape_tail, what):
     a = np.ascontiguousarray(a, dtype=np.float64)
     if a.ndim != 1 + len(shape_tail) or tuple(a.shape[1:]) != tuple(shape_tail):
@@ -25,15 +30,18 @@ def _f64(a, shape_tail, what):
 class _Surface:
     title: Optional[str]
     #: The record of the job that made it (job, schema version, seed, every
-    #: value); ``asperity.fbm(**h.params)`` makes it again. None for surfaces
-    #: read from files or built by hand.
+    #: value); ``asperity.fbm(**h.params)`` makes it again. A surface read
+    #: from a file has the record the file keeps (None where it keeps none);
+    #: None for surfaces built by hand.
     params: Optional[dict] = None
 
     def save(self, path, title: Optional[str] = None, up: Optional[str] = None) -> None:
         """Writes the surface to ``path``; the format follows the extension
         (``asperity formats`` lists them). The write is atomic. ``up``: "y" or
-        "z", the CLI's ``--up`` for mesh and point files."""
-        _asperity.save(str(path), self, title if title is not None else self.title, up)
+        "z", the CLI's ``--up`` for mesh and point files. The surface's
+        ``params`` go where the format keeps metadata, as the CLI writes them."""
+        _asperity.save(str(path), self, title if title is not None else self.title, up,
+                       params_json(self.params))
 
     def info(self) -> dict:
         """The CLI's ``info`` facts: counts, bounds, topology, height range."""
@@ -184,7 +192,11 @@ class PointSet(_Surface):
 def _wrap(d: dict, title: Optional[str] = None):
     kind = d.get("kind")
     if kind == "mesh":
-        return Mesh._from(d, title)
-    if kind == "height":
-        return HeightField._from(d, title)
-    return PointSet._from(d, title)
+        s = Mesh._from(d, title)
+    elif kind == "height":
+        s = HeightField._from(d, title)
+    else:
+        s = PointSet._from(d, title)
+    if "params" in d:  # the record a file keeps
+        s.params = json.loads(d["params"])
+    return s

@@ -3,6 +3,7 @@ a scratch folder. Run by ``cargo test`` (crates/python/tests/pytest.rs)."""
 
 import json
 import os
+import re
 import subprocess
 from pathlib import Path
 
@@ -36,6 +37,14 @@ def cli():
 @pytest.fixture
 def tmp(tmp_path) -> Path:
     return tmp_path
+
+
+def same_bytes_but_params(a, b):
+    """Equal PLY files but for the parameter records in their headers (two
+    ways of giving a job the same input: a scene file, its text)."""
+    strip = lambda p: re.sub(rb"comment asperity-params [^\n]*\n", b"", Path(p).read_bytes())
+    a, b = strip(a), strip(b)
+    assert len(a) == len(b) and a == b, f"files differ ({len(a)} vs {len(b)} bytes)"
 
 
 def same_bytes(a, b):

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from conftest import same_bytes
+
 import asperity
 from asperity import _asperity
 from asperity._jobs import describe
@@ -20,7 +22,7 @@ def test_every_public_function_is_documented_with_defaults():
             for p in inspect.signature(obj).parameters.values():
                 if p.kind is p.POSITIONAL_OR_KEYWORD and p.name not in ("surface", "points",
                                                                         "heights", "mesh", "rule",
-                                                                        "steps", "path", "method"):
+                                                                        "steps", "path", "method", "image"):
                     assert p.default is not p.empty, f"{name}({p.name}) has a default"
 
 
@@ -105,3 +107,31 @@ def test_stubs_are_the_engines():
     committed = Path(asperity.__file__).with_name("__init__.pyi").read_text()
     assert committed == stub_text(), "stale stubs: python -m asperity._stubs > python/asperity/__init__.pyi"
     ast.parse(committed)
+
+
+def test_files_keep_the_parameters_that_make_them_again(cli, tmp):
+    """A saved surface records its job's params (#36): loading the file gives
+    them back, they make the same bytes again, and the CLI reads them too."""
+    h = asperity.fbm(size=48, hurst=0.55, rms=0.3, seed=11)
+    for ext in ("gsf", "png", "exr", "x3p", "gwy", "csv"):
+        h.save(tmp / f"h.{ext}")
+        assert asperity.load(tmp / f"h.{ext}").params == h.params, ext
+    assert asperity.load(tmp / "h.gsf").params["seed"] == 11
+    again = asperity.fbm(**asperity.load(tmp / "h.gsf").params)
+    again.save(tmp / "again.gsf")
+    same_bytes(tmp / "h.gsf", tmp / "again.gsf")
+    cli("generate", "fbm", "--params", tmp / "h.gsf", "-o", tmp / "cli.gsf")
+    same_bytes(tmp / "h.gsf", tmp / "cli.gsf")
+    assert cli("info", tmp / "h.x3p")["measurements"]["made_with"] == h.params
+    # a surface inside a result, and a picture
+    r = asperity.rdsr(layers=4, size=24, seed=2)
+    r.surface.save(tmp / "r.ply")
+    assert asperity.load(tmp / "r.ply").params == r.params
+    img = asperity.render(h, size=(64, 48))
+    asperity.save_image(tmp / "render.png", img)
+    assert cli("info", tmp / "render.png")["measurements"]["made_with"] == img.params
+    # a file without a record: none, and --params says so
+    asperity.save(tmp / "bare.npy", asperity.HeightField(np.zeros((4, 4))))
+    assert asperity.load(tmp / "bare.npy").params is None
+    p = cli("generate", "fbm", "--params", tmp / "bare.npy", "-o", tmp / "x.gsf", check=False)
+    assert p.returncode != 0 and "records no parameters" in p.stderr

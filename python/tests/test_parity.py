@@ -234,7 +234,7 @@ def python_run(name, lead, params, out, kind):
                 break
         obj.save(out)
     elif kind == "png":
-        out.write_bytes(_asperity.encode_png(r))
+        out.write_bytes(_asperity.encode_png(r, json.dumps(r.params)))
     return r, None
 
 

@@ -124,3 +124,18 @@ ok("l.ply", len(e) == 2 and list(e["vertex1"]) == [6, 7] and list(e["vertex2"]) 
 lines = [l.split() for l in (d / "l.obj").read_text().splitlines() if l.startswith("l ")]
 verts = [l.split() for l in (d / "l.obj").read_text().splitlines() if l.startswith("v ")]
 ok("l.obj", lines == [["l", "7", "8", "9"]] and [float(x) for x in verts[8][1:4]] == [1.0, 2.0, 0.0])  # y-up
+
+# --- the recorded parameters (asperity_io::metadata), as other readers see them
+PARAMS = m["params"]
+hdr_exr = OpenEXR.File(str(d / "h.exr")).header()
+exr_text = hdr_exr.get("comments")
+exr_text = exr_text.decode() if isinstance(exr_text, bytes) else exr_text
+ply_comments = plyfile.PlyData.read(str(d / "m.ply")).comments
+ply_text = next(c[len("asperity-params "):] for c in ply_comments if c.startswith("asperity-params "))
+seen = {
+    "png": Image.open(d / "h.png").text["asperity:params"],
+    "exr": exr_text,
+    "gsf": hdr["AsperityParams"],
+    "ply": ply_text,
+}
+ok("params", all(json.loads(t) == PARAMS for t in seen.values()), str(seen))

@@ -117,7 +117,7 @@ pub fn facet(ctx: &Context, a: &FacetArgs) -> anyhow::Result<()> {
     if curves.is_empty() {
         run.mesh(&out, &mesh)?;
     } else {
-        asperity_io::write_mesh_with_polylines(&out, &mesh, &curves, &ctx.write_options())?;
+        asperity_io::write_mesh_with_polylines(&out, &mesh, &curves, &run.write_options())?;
         run.report.output(&out);
     }
     if let Some(png) = &a.render {

@@ -47,10 +47,11 @@ pub struct Cli {
 /// `--params FILE.json`, for the commands whose parameters are an engine job's.
 #[derive(Args, Debug, Clone, Default)]
 pub struct ParamsFile {
-    /// Take the parameters from a JSON file: the `params` of a `--json` report or of a
-    /// file's metadata (or any object of this command's parameters). Flags given as
-    /// well win, and the report says which.
-    #[arg(long = "params", value_name = "FILE.json")]
+    /// Take the parameters from a file: a `--json` report (its `params`), a JSON object
+    /// of this command's parameters, or a surface asperity wrote (PLY, OBJ, glTF, PNG,
+    /// EXR, GSF, .gwy, x3p and CSV files record them). Flags given as well win, and the
+    /// report says which.
+    #[arg(long = "params", value_name = "FILE")]
     pub file: Option<PathBuf>,
 }
 

@@ -250,9 +250,19 @@ impl<'a> Run<'a> {
         }
     }
 
+    /// Writer options with `--up` and the parameters recorded by
+    /// [`Run::params`], which every file with a place for metadata keeps
+    /// (`asperity_io::metadata`).
+    pub fn write_options(&self) -> WriteOptions {
+        WriteOptions {
+            params: self.report.params.clone(),
+            ..self.ctx.write_options()
+        }
+    }
+
     /// Writes a triangle mesh.
     pub fn mesh(&mut self, path: &Path, m: &TriMesh) -> anyhow::Result<()> {
-        asperity_io::write_mesh(path, m, &self.ctx.write_options())?;
+        asperity_io::write_mesh(path, m, &self.write_options())?;
         self.report.output(path);
         Ok(())
     }
@@ -266,7 +276,7 @@ impl<'a> Run<'a> {
     ) -> anyhow::Result<()> {
         let opts = WriteOptions {
             title,
-            ..self.ctx.write_options()
+            ..self.write_options()
         };
         match self.ctx.units {
             (None, None) => asperity_io::write_height(path, h, &opts)?,
@@ -281,7 +291,7 @@ impl<'a> Run<'a> {
         anyhow::ensure!(!pts.is_empty(), "no particle to write");
         let opts = WriteOptions {
             title: title.into(),
-            ..self.ctx.write_options()
+            ..self.write_options()
         };
         asperity_io::write_points(path, &PointSet::new(pts), &opts)?;
         self.report.output(path);
@@ -290,7 +300,7 @@ impl<'a> Run<'a> {
 
     /// Writes a point set.
     pub fn point_set(&mut self, path: &Path, ps: &PointSet) -> anyhow::Result<()> {
-        asperity_io::write_points(path, ps, &self.ctx.write_options())?;
+        asperity_io::write_points(path, ps, &self.write_options())?;
         self.report.output(path);
         Ok(())
     }
@@ -304,7 +314,7 @@ impl<'a> Run<'a> {
 
     /// Writes a PNG picture.
     pub fn png(&mut self, path: &Path, img: &RgbaImage) -> anyhow::Result<()> {
-        asperity_io::write_png(path, img)?;
+        asperity_io::write_png_with(path, img, &self.write_options())?;
         self.report.output(path);
         Ok(())
     }

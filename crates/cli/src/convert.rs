@@ -60,7 +60,13 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    asperity_io::write(&out, &s, &job.params.write_options(title, ctx.up))?;
+    // The surface's recipe: the parameters its file records, which a format
+    // change keeps (a file without them gets none; the report has convert's).
+    let opts = asperity_io::WriteOptions {
+        params: asperity_io::read_params(&a.input).unwrap_or_default(),
+        ..job.params.write_options(title, ctx.up)
+    };
+    asperity_io::write(&out, &s, &opts)?;
     bar.finish();
     run.report.output(&out);
     run.report.measure("input", a.input.display().to_string());
@@ -76,16 +82,24 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
 
 pub fn info(ctx: &Context, a: &InfoArgs) -> anyhow::Result<()> {
     let facts = describe(&ctx.load(&a.input)?);
+    // The parameters the file was made with, where it records them.
+    let made_with = asperity_io::read_params(&a.input)?;
     if ctx.json {
         let mut run = Run::new(ctx, "info");
         run.params(&asperity_engine::files::InfoParams {}, ctx.seed, Vec::new());
         run.report.measure("file", a.input.display().to_string());
         run.measure(facts);
+        if let Some(p) = made_with {
+            run.report.measure("made_with", p);
+        }
         return run.finish();
     }
     outln!("{}", a.input.display());
     for (k, v) in facts.0 {
         outln!("  {k:22} {v}");
+    }
+    if let Some(p) = made_with {
+        outln!("  {:22} {p}", "made_with");
     }
     Ok(())
 }

@@ -64,7 +64,7 @@ fn write_preset(ctx: &Context, a: &IfsPresetArgs) -> anyhow::Result<()> {
 /// Writes polylines alone as OBJ `l` / PLY `edge` elements.
 fn write_lines(run: &mut Run, path: &Path, lines: &[Vec<[f64; 3]>]) -> anyhow::Result<()> {
     let empty = TriMesh::new(Vec::new(), Vec::new())?;
-    asperity_io::write_mesh_with_polylines(path, &empty, lines, &run.ctx.write_options())?;
+    asperity_io::write_mesh_with_polylines(path, &empty, lines, &run.write_options())?;
     run.report.output(path);
     Ok(())
 }

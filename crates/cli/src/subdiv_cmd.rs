@@ -48,7 +48,7 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
         if a.triangles {
             run.mesh(&path, &tri)?;
         } else {
-            let opts = ctx.write_options();
+            let opts = run.write_options();
             asperity_io::write_poly_mesh(&path, &composed.mesh.mesh, &tri, &opts)?;
             run.report.output(&path);
         }

@@ -51,6 +51,7 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
     }
     // Animation frames are written as the run goes.
     let (mut frames, mut failed): (Vec<PathBuf>, _) = (Vec::new(), None);
+    let frame_options = run.write_options();
     let (cov, r) = run_job(
         p,
         inputs,
@@ -67,7 +68,7 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
                 .cell_mesh(color)
                 .map_err(anyhow::Error::from)
                 .and_then(|m| {
-                    asperity_io::write_mesh(&path, &m, &ctx.write_options()).map_err(Into::into)
+                    asperity_io::write_mesh(&path, &m, &frame_options).map_err(Into::into)
                 });
             match written {
                 Ok(()) => frames.push(path),

@@ -98,6 +98,25 @@ fn every_demo_glb_is_validator_clean() {
     for want in ["surfca_voronoi_cup.glb", "subdiv_planet.glb", "torus.glb"] {
         assert!(names.iter().any(|n| *n == want), "{want} in {names:?}");
     }
+    // and a job's output, with its parameters in `asset.extras`
+    let work = tempfile::tempdir().unwrap();
+    let made = work.path().join("ifs_with_params.glb");
+    let status = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args([
+            "ifs",
+            "surface",
+            "--preset",
+            "bezier-bicubic",
+            "--depth",
+            "4",
+            "-o",
+        ])
+        .arg(&made)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    assert!(asperity_io::read_params(&made).unwrap().is_some());
+    glbs.push(made);
     let v = Command::new(&node)
         .arg(dir.join("validate.mjs"))
         .args(&glbs)

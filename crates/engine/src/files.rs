@@ -341,6 +341,7 @@ impl ConvertParams {
             diagonal: self.diagonal.into(),
             title,
             up,
+            params: None,
         }
     }
 }

@@ -5,7 +5,8 @@
 //! error near 6e-8. The spacing and origin go into `double` header attributes
 //! `asperity.dx`, `asperity.dy`, `asperity.x0`, `asperity.y0` (one text
 //! attribute `asperity.geometry`), units into `asperity.units` (`xy=um z=nm`,
-//! when the field has any). Reading accepts
+//! when the field has any), the parameters it was made with into the standard
+//! `comments` attribute ([`crate::metadata`]). Reading accepts
 //! the first layer's `Y`, `Z`, `R` or only channel, in any sample type.
 
 use std::io::{Cursor, Seek, Write};
@@ -19,7 +20,11 @@ const GEOMETRY: &str = "asperity.geometry";
 const UNITS: &str = "asperity.units";
 
 /// Writes a height field as a single-channel float EXR (ZIP-compressed, lossless).
-pub(crate) fn write_height<W: Write + Seek>(w: W, h: &HeightField) -> std::io::Result<()> {
+pub(crate) fn write_height<W: Write + Seek>(
+    w: W,
+    h: &HeightField,
+    params: Option<&str>,
+) -> std::io::Result<()> {
     let samples: Vec<f32> = h.data().iter().map(|&z| z as f32).collect();
     let channel = AnyChannel::new("Y", FlatSamples::F32(samples));
     let mut attrs = LayerAttributes::named("height");
@@ -30,27 +35,31 @@ pub(crate) fn write_height<W: Write + Seek>(w: W, h: &HeightField) -> std::io::R
         Text::from(GEOMETRY),
         AttributeValue::Text(Text::from(geometry.as_str())),
     );
-    let units = h.units();
-    if !units.is_none() {
-        let text = format!("xy={} z={}", units.xy.ascii(), units.z.ascii());
-        attrs.other.insert(
-            Text::from(UNITS),
-            AttributeValue::Text(Text::from(text.as_str())),
-        );
-    }
+    // The parameters in the standard `comments` attribute (ASCII:
+    // crate::metadata escapes the rest, as EXR's text wants).
+    attrs.comments = params.map(Text::from);
     let layer = Layer::new(
         (h.nx(), h.ny()),
         attrs,
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(SmallVec::from_vec(vec![channel])),
     );
-    Image::from_layer(layer)
-        .write()
-        .to_buffered(w)
-        .map_err(|e| match e {
-            exr::error::Error::Io(io) => io,
-            other => std::io::Error::other(other.to_string()),
-        })
+    let mut image = Image::from_layer(layer);
+    // Custom attributes live in `exr`'s hash maps, written in their random
+    // order: one per map (geometry in the layer's, units in the image's) keeps
+    // the bytes the same from run to run. Both read back as the layer's.
+    let units = h.units();
+    if !units.is_none() {
+        let text = format!("xy={} z={}", units.xy.ascii(), units.z.ascii());
+        image.attributes.other.insert(
+            Text::from(UNITS),
+            AttributeValue::Text(Text::from(text.as_str())),
+        );
+    }
+    image.write().to_buffered(w).map_err(|e| match e {
+        exr::error::Error::Io(io) => io,
+        other => std::io::Error::other(other.to_string()),
+    })
 }
 
 /// The largest pixel count any layer of an OpenEXR file declares in its header,
@@ -64,6 +73,21 @@ pub(crate) fn header_pixels<R: std::io::Read + Seek>(r: R) -> FResult<u128> {
         .map(|h| h.layer_size.width() as u128 * h.layer_size.height() as u128)
         .max()
         .unwrap_or(0))
+}
+
+/// Text attribute `key` of the first layer (its header only is read).
+pub(crate) fn text_attribute(bytes: &[u8], key: &str) -> FResult<Option<String>> {
+    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false)
+        .map_err(|e| FormatError::Malformed(e.to_string()))?;
+    Ok(meta.headers.first().and_then(|h| {
+        if key == crate::metadata::EXR_KEY {
+            return h.own_attributes.comments.as_ref().map(Text::to_string);
+        }
+        match h.own_attributes.other.get(&Text::from(key)) {
+            Some(AttributeValue::Text(t)) => Some(t.to_string()),
+            _ => None,
+        }
+    }))
 }
 
 /// Reads a height field from the first layer of an EXR file.

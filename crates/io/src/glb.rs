@@ -201,12 +201,17 @@ fn vertex_attributes(bin: &mut Bin, m: &TriMesh) -> (Value, Option<RgbaImage>) {
 /// As the writer (a mesh too large for glTF's 32-bit sizes).
 pub fn encode(m: &TriMesh) -> std::io::Result<Vec<u8>> {
     let mut out = Vec::new();
-    write_mesh(&mut out, m)?;
+    write_mesh(&mut out, m, None)?;
     Ok(out)
 }
 
-/// Writes `m` as a single-mesh, single-node `.glb`.
-pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> {
+/// Writes `m` as a single-mesh, single-node `.glb`; `params` (the parameters
+/// it was made with, see [`crate::metadata`]) go into `asset.extras`.
+pub(crate) fn write_mesh(
+    w: &mut dyn Write,
+    m: &TriMesh,
+    params: Option<&str>,
+) -> std::io::Result<()> {
     let mut bin = Bin::default();
     let (attributes, texture) = vertex_attributes(&mut bin, m);
     let idx: Vec<u8> = m
@@ -229,6 +234,10 @@ pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> 
         "nodes": [{"mesh": 0, "name": "surface"}],
         "meshes": [{"name": "surface", "primitives": [{"attributes": attributes, "indices": indices, "material": 0, "mode": 4}]}],
     });
+    if let Some(p) = params {
+        let value: serde_json::Value = serde_json::from_str(p).map_err(std::io::Error::other)?;
+        doc["asset"]["extras"] = json!({ "asperity_params": value });
+    }
     if let Some(tex) = &texture {
         let png = crate::png_io::encode_rgba(tex).map_err(std::io::Error::other)?;
         let view = bin.view(&png, None);
@@ -263,4 +272,22 @@ pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> 
     w.write_all(&(bin.data.len() as u32).to_le_bytes())?;
     w.write_all(b"BIN\0")?;
     w.write_all(&bin.data)
+}
+
+/// The parameters in `asset.extras.asperity_params` of a `.glb` file.
+pub(crate) fn params(bytes: &[u8]) -> crate::error::FResult<Option<serde_json::Value>> {
+    let bad = |why: &str| crate::error::FormatError::Malformed(format!("not a glTF binary: {why}"));
+    if bytes.len() < 20 || &bytes[..4] != b"glTF" || &bytes[16..20] != b"JSON" {
+        return Err(bad("no glTF header and JSON chunk"));
+    }
+    let len = u32::from_le_bytes([bytes[12], bytes[13], bytes[14], bytes[15]]) as usize;
+    let text = bytes
+        .get(20..20 + len)
+        .ok_or_else(|| bad("the JSON chunk is cut short"))?;
+    let doc: serde_json::Value =
+        serde_json::from_slice(text).map_err(|e| bad(&format!("its JSON: {e}")))?;
+    Ok(doc
+        .pointer("/asset/extras/asperity_params")
+        .filter(|v| v.is_object())
+        .cloned())
 }

@@ -24,7 +24,12 @@ use crate::error::{FResult, FormatError, malformed};
 const MAGIC: &[u8] = b"Gwyddion Simple Field 1.0\n";
 
 /// Writes a GSF file.
-pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> std::io::Result<()> {
+pub(crate) fn write_height(
+    w: &mut dyn Write,
+    h: &HeightField,
+    title: &str,
+    params: Option<&str>,
+) -> std::io::Result<()> {
     let units = h.units();
     let (fx, fz) = units.metre_factors();
     let [dx, dy] = h.spacing().map(|v| v * fx);
@@ -52,6 +57,9 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> s
         "Title = {title}\nGenerator = asperity {}\n",
         env!("CARGO_PKG_VERSION")
     );
+    if let Some(p) = params {
+        head += &format!("{} = {p}\n", crate::metadata::GSF_KEY);
+    }
     let pad = 4 - head.len() % 4; // 1..=4 NULs, as Gwyddion's reader expects
     w.write_all(head.as_bytes())?;
     w.write_all(&[0u8; 4][..pad])?;
@@ -63,8 +71,8 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> s
     w.write_all(&data)
 }
 
-/// Reads a GSF file.
-pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+/// The header's `Key = value` fields and where the data starts.
+fn header(bytes: &[u8]) -> FResult<(std::collections::HashMap<String, String>, usize)> {
     if !bytes.starts_with(MAGIC) {
         return malformed("missing the `Gwyddion Simple Field 1.0` line");
     }
@@ -81,6 +89,17 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             .ok_or_else(|| FormatError::Malformed(format!("header line {line:?} has no '='")))?;
         keys.insert(k.trim().to_owned(), v.trim().to_owned());
     }
+    Ok((keys, data_start))
+}
+
+/// The header field `key`, if the file has it.
+pub(crate) fn header_field(bytes: &[u8], key: &str) -> FResult<Option<String>> {
+    Ok(header(bytes)?.0.remove(key))
+}
+
+/// Reads a GSF file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    let (keys, data_start) = header(bytes)?;
     let res = |k: &str| -> FResult<usize> {
         let v = keys
             .get(k)

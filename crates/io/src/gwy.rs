@@ -92,7 +92,12 @@ fn si_unit(unit: LengthUnit) -> std::io::Result<Vec<u8>> {
 }
 
 /// Writes a `.gwy` file with one channel.
-pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> std::io::Result<()> {
+pub(crate) fn write_height(
+    w: &mut dyn Write,
+    h: &HeightField,
+    title: &str,
+    params: Option<&str>,
+) -> std::io::Result<()> {
     let units = h.units();
     let (fx, fz) = units.metre_factors();
     let [dx, dy] = h.spacing().map(|v| v * fx);
@@ -118,6 +123,9 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> s
         "Generator",
         &format!("asperity {}", env!("CARGO_PKG_VERSION")),
     );
+    if let Some(p) = params {
+        put::string(&mut meta, crate::metadata::GWY_KEY, p);
+    }
     let mut container = Vec::new();
     put::object(&mut container, "/0/data", &object("GwyDataField", &field)?);
     put::string(&mut container, "/0/data/title", title);
@@ -275,6 +283,29 @@ fn channel(key: &str) -> Option<u32> {
     key.strip_prefix('/')?.strip_suffix("/data")?.parse().ok()
 }
 
+/// String `key` of the first channel's metadata container (`/N/meta`).
+pub(crate) fn meta_string(bytes: &[u8], key: &str) -> FResult<Option<String>> {
+    let Some(body) = bytes.strip_prefix(MAGIC) else {
+        return malformed("does not start with GWYP (a .gwy file from Gwyddion 2 does)");
+    };
+    let top = Reader { bytes: body, at: 0 }.object(0)?;
+    let meta = top
+        .components
+        .iter()
+        .filter_map(|(k, v)| {
+            let n: u32 = k.strip_prefix('/')?.strip_suffix("/meta")?.parse().ok()?;
+            match v {
+                Value::Object(o) => Some((n, o)),
+                _ => None,
+            }
+        })
+        .min_by_key(|(n, _)| *n);
+    Ok(match meta.and_then(|(_, o)| o.get(key)) {
+        Some(Value::Str(s)) => Some((*s).to_owned()),
+        _ => None,
+    })
+}
+
 /// Reads the first channel of a `.gwy` file.
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let Some(body) = bytes.strip_prefix(MAGIC) else {
@@ -359,7 +390,7 @@ mod tests {
 
     fn written(h: &HeightField) -> Vec<u8> {
         let mut out = Vec::new();
-        write_height(&mut out, h, "a title").unwrap();
+        write_height(&mut out, h, "a title", None).unwrap();
         out
     }
 
@@ -406,6 +437,7 @@ mod tests {
             &mut two,
             &HeightField::from_vec([1, 1], vec![9.0]).unwrap(),
             "",
+            None,
         )
         .unwrap();
         // Container: /3/data (1×1 field), /0/graph, /1/data (the 3×2 field).

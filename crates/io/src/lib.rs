@@ -28,6 +28,7 @@ pub mod exr_io;
 pub mod glb;
 pub mod gsf;
 pub mod gwy;
+pub mod metadata;
 pub mod npy;
 pub mod obj;
 pub mod ply;
@@ -46,13 +47,14 @@ use asperity_core::{Diagonal, HeightField, PointSet, PolyMesh, TriMesh};
 pub use atomic::write_atomic;
 pub use error::IoError;
 use error::{FResult, FormatError};
+pub use metadata::read_params;
 pub use npy::NpyDtype;
 pub use ply::PlyEncoding;
 pub use staging::{Transaction, create_output_dir, exit_removing_temporaries, stale_temporaries};
 pub use up::{UpAxis, reorient};
 pub use write::{
     lost_data, write, write_height, write_mesh, write_mesh_with_polylines, write_npy_f64,
-    write_npy_u8, write_png, write_points, write_poly_mesh, write_text,
+    write_npy_u8, write_png, write_png_with, write_points, write_poly_mesh, write_text,
 };
 
 /// The file formats asperity knows.
@@ -308,6 +310,16 @@ pub struct WriteOptions {
     /// The up axis of mesh and point files written (see [`up`]); `None` keeps
     /// each format's convention (OBJ y-up, the others z-up). glTF is always y-up.
     pub up: Option<UpAxis>,
+    /// The parameters the data was made with (a job's `params` record),
+    /// written where the format has a place for them ([`metadata`]).
+    pub params: Option<serde_json::Value>,
+}
+
+impl WriteOptions {
+    /// [`Self::params`] as the one-line text the writers record.
+    pub(crate) fn params_text(&self) -> Option<String> {
+        self.params.as_ref().map(metadata::params_text)
+    }
 }
 
 impl Default for WriteOptions {
@@ -318,6 +330,7 @@ impl Default for WriteOptions {
             diagonal: Diagonal::Forward,
             title: "asperity surface".into(),
             up: None,
+            params: None,
         }
     }
 }

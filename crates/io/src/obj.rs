@@ -200,23 +200,28 @@ pub(crate) fn write_mesh(
     m: &TriMesh,
     mtl: Option<&str>,
     y_up: bool,
+    params: Option<&str>,
 ) -> std::io::Result<()> {
     let flat = m.triangles().as_flattened();
     let offsets: Vec<u32> = (0..=m.n_faces() as u32).map(|f| 3 * f).collect();
-    write_faces(w, m, &offsets, flat, mtl, y_up)
+    write_faces(w, m, (&offsets, flat), mtl, y_up, params)
 }
 
-/// Writes polygons (CSR) with the per-vertex data of `m` (same vertices).
+/// Writes polygons (CSR: `offsets` into `verts`) with the per-vertex data of
+/// `m` (same vertices).
 pub(crate) fn write_faces(
     w: &mut dyn Write,
     m: &TriMesh,
-    offsets: &[u32],
-    verts: &[u32],
+    (offsets, verts): (&[u32], &[u32]),
     mtl: Option<&str>,
     y_up: bool,
+    params: Option<&str>,
 ) -> std::io::Result<()> {
     let n_faces = offsets.len().saturating_sub(1);
     writeln!(w, "# written by asperity {}", env!("CARGO_PKG_VERSION"))?;
+    if let Some(p) = params {
+        writeln!(w, "# {} {p}", crate::metadata::KEYWORD)?;
+    }
     if y_up {
         writeln!(w, "{Y_UP_LINE}")?;
     }
@@ -324,7 +329,7 @@ mod tests {
         let mut text = Vec::new();
         // what lib.rs hands the writer for an OBJ: the mesh in the y-up frame
         let file_frame = m.clone().map_vectors(crate::up::to_y_up);
-        write_mesh(&mut text, &file_frame, None, true).unwrap();
+        write_mesh(&mut text, &file_frame, None, true, None).unwrap();
         let s = String::from_utf8(text.clone()).unwrap();
         // in the file the height is along y, as Blender's OBJ import expects
         let ys: Vec<f64> = s

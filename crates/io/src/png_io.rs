@@ -20,19 +20,35 @@ use crate::error::{FResult, FormatError, malformed};
 
 /// Encodes an RGBA8 image as PNG bytes.
 pub fn encode_rgba(img: &RgbaImage) -> Result<Vec<u8>, png::EncodingError> {
+    encode_rgba_with(img, None)
+}
+
+/// Encodes an RGBA8 image as PNG bytes, with the parameters it was made with
+/// (see [`crate::metadata`]) in a `tEXt` chunk.
+pub fn encode_rgba_with(
+    img: &RgbaImage,
+    params: Option<&str>,
+) -> Result<Vec<u8>, png::EncodingError> {
     let mut out = Vec::new();
     let mut enc = png::Encoder::new(&mut out, img.width(), img.height());
     enc.set_color(png::ColorType::Rgba);
     enc.set_depth(png::BitDepth::Eight);
+    if let Some(p) = params {
+        enc.add_text_chunk(crate::metadata::PNG_KEY.into(), p.into())?;
+    }
     let mut w = enc.write_header()?;
     w.write_image_data(img.pixels())?;
     w.finish()?;
     Ok(out)
 }
 
-/// Writes an RGBA8 image as PNG.
-pub(crate) fn write_rgba(w: &mut dyn Write, img: &RgbaImage) -> std::io::Result<()> {
-    w.write_all(&encode_rgba(img).map_err(std::io::Error::other)?)
+/// Writes an RGBA8 image as PNG (with the parameters, where given).
+pub(crate) fn write_rgba(
+    w: &mut dyn Write,
+    img: &RgbaImage,
+    params: Option<&str>,
+) -> std::io::Result<()> {
+    w.write_all(&encode_rgba_with(img, params).map_err(std::io::Error::other)?)
 }
 
 fn dims_u32(h: &HeightField) -> std::io::Result<(u32, u32)> {
@@ -43,7 +59,12 @@ fn dims_u32(h: &HeightField) -> std::io::Result<(u32, u32)> {
 }
 
 /// Writes a height field as a 16-bit grayscale PNG with its range in tEXt chunks.
-pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> std::io::Result<()> {
+pub(crate) fn write_height(
+    w: &mut dyn Write,
+    h: &HeightField,
+    title: &str,
+    params: Option<&str>,
+) -> std::io::Result<()> {
     let (nx, ny) = dims_u32(h)?;
     let (lo, hi) = h.min_max();
     let scale = if hi > lo { 65535.0 / (hi - lo) } else { 0.0 };
@@ -99,6 +120,10 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField, title: &str) -> s
         enc.add_text_chunk(format!("Gwy::{k}"), v.to_string())
             .map_err(std::io::Error::other)?;
     }
+    if let Some(p) = params {
+        enc.add_text_chunk(crate::metadata::PNG_KEY.into(), p.into())
+            .map_err(std::io::Error::other)?;
+    }
     let mut out = enc.write_header().map_err(std::io::Error::other)?;
     let data: Vec<u8> = h
         .data()
@@ -122,6 +147,19 @@ pub(crate) fn header_pixels<R: std::io::BufRead + std::io::Seek>(r: R) -> FResul
     let reader = dec.read_info().map_err(decoding_error)?;
     let info = reader.info();
     Ok(info.width as u128 * info.height as u128)
+}
+
+/// The text of `tEXt` chunk `key` (the chunks before the image data).
+pub(crate) fn text_chunk(bytes: &[u8], key: &str) -> FResult<Option<String>> {
+    let reader = png::Decoder::new(Cursor::new(bytes))
+        .read_info()
+        .map_err(decoding_error)?;
+    Ok(reader
+        .info()
+        .uncompressed_latin1_text
+        .iter()
+        .find(|t| t.keyword == key)
+        .map(|t| t.text.clone()))
 }
 
 /// Reads any PNG as a height field (see the module docs).

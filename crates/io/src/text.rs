@@ -31,7 +31,11 @@ fn numbers(line: &str) -> impl Iterator<Item = &str> {
 }
 
 /// Writes a CSV height field.
-pub(crate) fn write_csv(w: &mut dyn Write, h: &HeightField) -> std::io::Result<()> {
+pub(crate) fn write_csv(
+    w: &mut dyn Write,
+    h: &HeightField,
+    params: Option<&str>,
+) -> std::io::Result<()> {
     let [dx, dy] = h.spacing();
     let [x0, y0] = h.origin();
     let units = h.units();
@@ -46,6 +50,9 @@ pub(crate) fn write_csv(w: &mut dyn Write, h: &HeightField) -> std::io::Result<(
         h.nx(),
         h.ny()
     )?;
+    if let Some(p) = params {
+        writeln!(w, "{}{p}", crate::metadata::CSV_PREFIX)?;
+    }
     let mut line = String::new();
     for j in 0..h.ny() {
         line.clear();
@@ -68,6 +75,9 @@ pub(crate) fn read_csv(bytes: &[u8]) -> FResult<HeightField> {
     let (mut nx, mut ny) = (0usize, 0usize);
     for (n, line) in text(bytes)?.lines().enumerate() {
         let line = line.trim();
+        if line.starts_with(crate::metadata::CSV_PREFIX.trim_end()) {
+            continue; // the parameters (JSON, whose `=` are no header fields)
+        }
         if let Some(c) = line.strip_prefix('#') {
             for kv in c.split_whitespace() {
                 if let Some((k, v)) = kv.split_once('=') {

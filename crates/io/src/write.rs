@@ -46,6 +46,8 @@ pub fn write_poly_mesh(
     }
     let os = |e| IoError::os(path, e);
     let up = up::written_up(f, opts.up);
+    let params = opts.params_text();
+    let params = params.as_deref();
     match f {
         Format::Ply if poly.n_faces() > 0 => write_atomic(path, |w| {
             ply::write_poly(
@@ -54,6 +56,7 @@ pub fn write_poly_mesh(
                 poly.face_offsets(),
                 poly.face_vertices(),
                 opts.ply_encoding,
+                params,
             )
             .map_err(os)
         }),
@@ -61,10 +64,10 @@ pub fn write_poly_mesh(
             obj::write_faces(
                 w,
                 &up::mesh_in_file_frame(attrs, up),
-                poly.face_offsets(),
-                poly.face_vertices(),
+                (poly.face_offsets(), poly.face_vertices()),
                 None,
                 up == UpAxis::Y,
+                params,
             )
             .map_err(os)
         }),
@@ -90,19 +93,21 @@ pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<()
     let up = up::written_up(f, opts.up);
     // (glTF's writer turns the mesh to y-up itself, with f32 positions)
     let in_file = || up::mesh_in_file_frame(mesh, up);
+    let params = opts.params_text();
+    let params = params.as_deref();
     match f {
         Format::Ply => write_atomic(path, |w| {
-            ply::write_mesh(w, &in_file(), opts.ply_encoding).map_err(os)
+            ply::write_mesh(w, &in_file(), opts.ply_encoding, params).map_err(os)
         }),
         Format::Stl => write_atomic(path, |w| stl::write_mesh(w, &in_file()).map_err(os)),
-        Format::Glb => write_atomic(path, |w| glb::write_mesh(w, mesh).map_err(os)),
+        Format::Glb => write_atomic(path, |w| glb::write_mesh(w, mesh, params).map_err(os)),
         Format::Obj => {
             let mtl = match mesh.texture().filter(|_| mesh.uvs().is_some()) {
                 Some(tex) => Some(write_obj_sidecars(path, tex)?),
                 None => None,
             };
             write_atomic(path, |w| {
-                obj::write_mesh(w, &in_file(), mtl.as_deref(), up == UpAxis::Y).map_err(os)
+                obj::write_mesh(w, &in_file(), mtl.as_deref(), up == UpAxis::Y, params).map_err(os)
             })
         }
         Format::Xyz | Format::Npy => {
@@ -121,7 +126,7 @@ fn write_obj_sidecars(path: &Path, tex: &RgbaImage) -> Result<String, IoError> {
     let png_path = path.with_file_name(&png_name);
     let mtl_path = path.with_file_name(&mtl_name);
     write_atomic(&png_path, |w| {
-        png_io::write_rgba(w, tex).map_err(|e| IoError::os(&png_path, e))
+        png_io::write_rgba(w, tex, None).map_err(|e| IoError::os(&png_path, e))
     })?;
     write_atomic(&mtl_path, |w| {
         obj::write_mtl(w, &png_name).map_err(|e| IoError::os(&mtl_path, e))
@@ -143,7 +148,8 @@ pub fn write_points(path: &Path, points: &PointSet, opts: &WriteOptions) -> Resu
     let points = &*up::points_in_file_frame(points, up::written_up(f, opts.up));
     match f {
         Format::Ply => write_atomic(path, |w| {
-            ply::write_points(w, points, opts.ply_encoding).map_err(os)
+            ply::write_points(w, points, opts.ply_encoding, opts.params_text().as_deref())
+                .map_err(os)
         }),
         Format::Xyz => write_atomic(path, |w| text::write_xyz(w, points).map_err(os)),
         Format::Npy => {
@@ -164,18 +170,19 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
     let f = Format::from_path(path)?;
     h.validate().map_err(|e| IoError::invalid(path, e))?;
     let os = |e| IoError::os(path, e);
+    let params = opts.params_text();
+    let p = params.as_deref();
+    let title = &opts.title;
     match f {
         Format::Npy => write_atomic(path, |w| {
             npy::write(w, &[h.ny(), h.nx()], h.data(), opts.npy_dtype).map_err(os)
         }),
-        Format::Png => write_atomic(path, |w| {
-            png_io::write_height(w, h, &opts.title).map_err(os)
-        }),
-        Format::Exr => write_atomic(path, |w| exr_io::write_height(w, h).map_err(os)),
-        Format::Gsf => write_atomic(path, |w| gsf::write_height(w, h, &opts.title).map_err(os)),
-        Format::Csv => write_atomic(path, |w| text::write_csv(w, h).map_err(os)),
-        Format::Gwy => write_atomic(path, |w| gwy::write_height(w, h, &opts.title).map_err(os)),
-        Format::X3p => write_atomic(path, |w| x3p::write_height(w, h).map_err(os)),
+        Format::Png => write_atomic(path, |w| png_io::write_height(w, h, title, p).map_err(os)),
+        Format::Exr => write_atomic(path, |w| exr_io::write_height(w, h, p).map_err(os)),
+        Format::Gsf => write_atomic(path, |w| gsf::write_height(w, h, title, p).map_err(os)),
+        Format::Csv => write_atomic(path, |w| text::write_csv(w, h, p).map_err(os)),
+        Format::Gwy => write_atomic(path, |w| gwy::write_height(w, h, title, p).map_err(os)),
+        Format::X3p => write_atomic(path, |w| x3p::write_height(w, h, p).map_err(os)),
         Format::Ply | Format::Obj | Format::Stl | Format::Glb => {
             let mesh = h
                 .to_trimesh(opts.diagonal)
@@ -204,8 +211,17 @@ pub fn write_text(path: &Path, text: &str) -> Result<(), IoError> {
 /// # Errors
 /// [`IoError::Os`].
 pub fn write_png(path: &Path, img: &RgbaImage) -> Result<(), IoError> {
+    write_png_with(path, img, &WriteOptions::default())
+}
+
+/// [`write_png`] recording `opts.params` (see [`crate::metadata`]).
+///
+/// # Errors
+/// [`IoError::Os`].
+pub fn write_png_with(path: &Path, img: &RgbaImage, opts: &WriteOptions) -> Result<(), IoError> {
+    let params = opts.params_text();
     write_atomic(path, |w| {
-        png_io::write_rgba(w, img).map_err(|e| IoError::os(path, e))
+        png_io::write_rgba(w, img, params.as_deref()).map_err(|e| IoError::os(path, e))
     })
 }
 
@@ -318,12 +334,14 @@ pub fn write_mesh_with_polylines(
     let os = |e| IoError::os(path, e);
     let up = up::written_up(f, opts.up);
     let m = up::mesh_in_file_frame(&m, up);
+    let params = opts.params_text();
+    let params = params.as_deref();
     match f {
         Format::Ply => write_atomic(path, |w| {
-            ply::write_mesh_edges(w, &m, &edges, opts.ply_encoding).map_err(os)
+            ply::write_mesh_edges(w, &m, &edges, opts.ply_encoding, params).map_err(os)
         }),
         _ => write_atomic(path, |w| {
-            obj::write_mesh(w, &m, None, up == UpAxis::Y)
+            obj::write_mesh(w, &m, None, up == UpAxis::Y, params)
                 .and_then(|()| obj::write_lines(w, lines, mesh.n_vertices()))
                 .map_err(os)
         }),

@@ -22,9 +22,12 @@
 //! **Writing**: a surface (`SUR`) with incremental `x`, `y`, float64 heights, the
 //! data and `main.xml` checksums. A field with units is converted to metres; a
 //! unitless field's numbers are written as metres (the format has no unitless
-//! case; [`crate::lost_data`] says so). No `Record2`: it is optional and would
-//! carry the date of writing, which would make the same seed give different
-//! files.
+//! case; [`crate::lost_data`] says so). `Record2` is written only to hold the
+//! parameters the surface was made with (its `Comment`, see
+//! [`crate::metadata`]): its `ProbingSystem` is `Software`, and its required
+//! `Date` and `CalibrationDate` state the Unix epoch, `1970-01-01T00:00:00Z` —
+//! a synthetic surface was never measured, and the date of writing would make
+//! the same parameters give different files.
 //!
 //! **Reading**: surfaces and profiles (`PRF`, read as an `n × 1` field) with
 //! incremental `x` and `y` and any of the four data types, checked against the
@@ -57,7 +60,11 @@ fn md5_hex(bytes: &[u8]) -> String {
 }
 
 /// Writes an x3p file.
-pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField) -> std::io::Result<()> {
+pub(crate) fn write_height(
+    w: &mut dyn Write,
+    h: &HeightField,
+    params: Option<&str>,
+) -> std::io::Result<()> {
     let units = h.units();
     let (fx, fz) = units.metre_factors();
     let data: Vec<u8> = h
@@ -81,13 +88,14 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField) -> std::io::Resul
          http://www.opengps.eu/2008/ISO5436_2/ISO5436_2.xsd\">\n  \
          <Record1>\n    <Revision>ISO5436 - 2000</Revision>\n    <FeatureType>SUR</FeatureType>\n    \
          <Axes>\n{}{}      <CZ>\n        <AxisType>A</AxisType>\n        <DataType>D</DataType>\n      \
-         </CZ>\n    </Axes>\n  </Record1>\n  <Record3>\n    <MatrixDimension>\n      \
+         </CZ>\n    </Axes>\n  </Record1>\n{}  <Record3>\n    <MatrixDimension>\n      \
          <SizeX>{}</SizeX>\n      <SizeY>{}</SizeY>\n      <SizeZ>1</SizeZ>\n    </MatrixDimension>\n    \
          <DataLink>\n      <PointDataLink>{DATA}</PointDataLink>\n      \
          <MD5ChecksumPointData>{}</MD5ChecksumPointData>\n    </DataLink>\n  </Record3>\n  \
          <Record4>\n    <ChecksumFile>{CHECKSUM}</ChecksumFile>\n  </Record4>\n</p:ISO5436_2>\n",
         axis("CX", dx, x0),
         axis("CY", dy, y0),
+        params.map(record2).unwrap_or_default(),
         h.nx(),
         h.ny(),
         md5_hex(&data).to_uppercase(),
@@ -104,6 +112,35 @@ pub(crate) fn write_height(w: &mut dyn Write, h: &HeightField) -> std::io::Resul
     zip.start_file(CHECKSUM, deflated).map_err(zip_err)?;
     zip.write_all(format!("{} *{MAIN}\n", md5_hex(main.as_bytes())).as_bytes())?;
     w.write_all(&zip.finish().map_err(zip_err)?.into_inner())
+}
+
+/// `Record2` holding `params` as its `Comment` (see the module docs).
+fn record2(params: &str) -> String {
+    const EPOCH: &str = "1970-01-01T00:00:00Z";
+    let comment = params
+        .replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;");
+    format!(
+        "  <Record2>\n    <Date>{EPOCH}</Date>\n    <Creator>asperity</Creator>\n    \
+         <Instrument>\n      <Manufacturer>asperity</Manufacturer>\n      \
+         <Model>synthetic surface</Model>\n      <Serial>not available</Serial>\n      \
+         <Version>{}</Version>\n    </Instrument>\n    \
+         <CalibrationDate>{EPOCH}</CalibrationDate>\n    <ProbingSystem>\n      \
+         <Type>Software</Type>\n      <Identification>asperity</Identification>\n    \
+         </ProbingSystem>\n    <Comment>{comment}</Comment>\n  </Record2>\n",
+        env!("CARGO_PKG_VERSION")
+    )
+}
+
+/// `Record2/Comment` of `main.xml`, if it has one.
+pub(crate) fn comment(bytes: &[u8]) -> FResult<Option<String>> {
+    let xml = main_xml(&mut archive(bytes)?)?;
+    let doc = roxmltree::Document::parse(&xml)
+        .map_err(|e| FormatError::Malformed(format!("{MAIN} is not valid XML: {e}")))?;
+    Ok(child(doc.root_element(), "Record2")
+        .and_then(|r| text(r, "Comment"))
+        .map(str::to_owned))
 }
 
 /// What `Record1` and `Record3` say about the data.
@@ -401,7 +438,7 @@ mod tests {
 
     fn written(h: &HeightField) -> Vec<u8> {
         let mut out = Vec::new();
-        write_height(&mut out, h).unwrap();
+        write_height(&mut out, h, None).unwrap();
         out
     }
 

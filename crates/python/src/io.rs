@@ -23,28 +23,51 @@ pub fn load<'py>(py: Python<'py>, path: PathBuf, up: Option<&str>) -> PyResult<B
     let up = up_axis(up)?;
     let s = run(py, &RunOptions::quiet(None), move |_, _| {
         let s = asperity_engine::files::load(&path, &budget())?;
-        Ok(match up {
-            Some(up) => asperity_io::reorient(s, &path, up)?,
-            None => s,
-        })
+        let made_with = asperity_io::read_params(&path)?;
+        Ok((
+            match up {
+                Some(up) => asperity_io::reorient(s, &path, up)?,
+                None => s,
+            },
+            made_with,
+        ))
     })?;
-    surface_out(py, s)
+    let (s, made_with) = s;
+    let d = surface_out(py, s)?;
+    if let Some(p) = made_with {
+        d.set_item("params", json(&p)?)?;
+    }
+    Ok(d)
+}
+
+/// A record's JSON text (from Python's `json.dumps`) as a value.
+pub(crate) fn params_value(params: Option<&str>) -> PyResult<Option<serde_json::Value>> {
+    params
+        .map(|t| {
+            serde_json::from_str(t).map_err(|e| {
+                pyo3::exceptions::PyValueError::new_err(format!("params is not JSON: {e}"))
+            })
+        })
+        .transpose()
 }
 
 /// Writes a mesh, height field or point set by the path's extension,
-/// atomically (a failure leaves no partial file).
+/// atomically (a failure leaves no partial file); `params` (a record's JSON
+/// text) go where the format keeps metadata.
 #[pyfunction]
-#[pyo3(signature = (path, surface, title = None, up = None))]
+#[pyo3(signature = (path, surface, title = None, up = None, params = None))]
 pub fn save(
     py: Python<'_>,
     path: PathBuf,
     surface: &Bound<'_, PyAny>,
     title: Option<String>,
     up: Option<&str>,
+    params: Option<&str>,
 ) -> PyResult<()> {
     let s = surface_in(surface)?;
     let mut opts = WriteOptions {
         up: up_axis(up)?,
+        params: params_value(params)?,
         ..WriteOptions::default()
     };
     if let Some(t) = title {

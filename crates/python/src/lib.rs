@@ -60,6 +60,7 @@ fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(io::info, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(render::encode_png, m)?)?;
+    m.add_function(wrap_pyfunction!(render::save_png, m)?)?;
     ca::register(m)?;
     ifs::register(m)?;
     surfca::register(m)?;

@@ -30,13 +30,38 @@ pub fn render<'py>(
     Ok(out)
 }
 
-/// An (H, W, 4) uint8 array as PNG bytes (for Jupyter's `_repr_png_`).
+/// An (H, W, 4) uint8 array as PNG bytes (for Jupyter's `_repr_png_`), with
+/// `params` (a record's JSON text) in a `tEXt` chunk as the CLI writes them.
 #[pyfunction]
+#[pyo3(signature = (image, params = None))]
 pub fn encode_png<'py>(
     py: Python<'py>,
     image: &Bound<'py, PyAny>,
+    params: Option<&str>,
 ) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
     let img = crate::convert::image_in(image, "image")?;
-    let bytes = asperity_io::png_io::encode_rgba(&img).map_err(crate::value_error)?;
+    let text = crate::io::params_value(params)?.map(|v| asperity_io::metadata::params_text(&v));
+    let bytes =
+        asperity_io::png_io::encode_rgba_with(&img, text.as_deref()).map_err(crate::value_error)?;
     Ok(pyo3::types::PyBytes::new(py, &bytes))
+}
+
+/// Writes an (H, W, 4) uint8 array as PNG, atomically, with `params` as
+/// [`encode_png`].
+#[pyfunction]
+#[pyo3(signature = (path, image, params = None))]
+pub fn save_png(
+    py: Python<'_>,
+    path: std::path::PathBuf,
+    image: &Bound<'_, PyAny>,
+    params: Option<&str>,
+) -> PyResult<()> {
+    let img = crate::convert::image_in(image, "image")?;
+    let opts = asperity_io::WriteOptions {
+        params: crate::io::params_value(params)?,
+        ..Default::default()
+    };
+    crate::job::run(py, &crate::job::RunOptions::quiet(None), move |_, _| {
+        Ok(asperity_io::write_png_with(&path, &img, &opts)?)
+    })
 }

@@ -324,13 +324,28 @@ pub fn require<T: Clone>(value: &Option<T>, name: &str) -> Result<T> {
 /// The largest parameter file read (a report is a few kilobytes).
 const MAX_PARAMS_FILE: u64 = 16 << 20;
 
-/// The parameters in a JSON file: a `--json` report's `params`, or the file's
-/// object itself.
+/// The parameters in a JSON file — a `--json` report's `params`, or the
+/// file's object itself — or those a surface file records (a PLY, PNG, GSF…
+/// that asperity wrote: [`asperity_io::metadata`]).
 ///
 /// # Errors
 /// [`EngineError::File`] when it cannot be read, [`EngineError::Invalid`] when
-/// it is not JSON, too large, or holds no object.
+/// it is not JSON, too large, or holds no object, or a surface file records
+/// no parameters.
 pub fn read_file(path: &std::path::Path) -> Result<Value> {
+    // A surface file asperity wrote records the parameters it was made with.
+    let is_json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    if !is_json && asperity_io::Format::from_path(path).is_ok() {
+        return asperity_io::read_params(path)?.ok_or_else(|| {
+            EngineError::Invalid(format!(
+                "{} records no parameters (asperity records them in PLY, OBJ, glTF, PNG, EXR, \
+                 GSF, .gwy, x3p and CSV files; a JSON report holds them for every job)",
+                path.display()
+            ))
+        });
+    }
     let len = std::fs::metadata(path)
         .map_err(|e| asperity_io::IoError::os(path, e))?
         .len();

@@ -176,6 +176,7 @@ fn header(
     cols: &[Column],
     faces: Option<usize>,
     edges: usize,
+    params: Option<&str>,
 ) -> String {
     let mut h = String::from("ply\n");
     h += if ascii {
@@ -187,6 +188,9 @@ fn header(
         "comment written by asperity {}\n",
         env!("CARGO_PKG_VERSION")
     );
+    if let Some(p) = params {
+        h += &format!("comment {} {p}\n", crate::metadata::KEYWORD);
+    }
     h += &format!("element vertex {vertices}\n");
     for c in cols {
         h += &c.header();
@@ -266,6 +270,7 @@ fn write_ply(
     faces: Option<Faces<'_>>,
     edges: &[[u32; 2]],
     enc: PlyEncoding,
+    params: Option<&str>,
 ) -> std::io::Result<()> {
     let ascii = enc == PlyEncoding::Ascii;
     let cols = vertex_columns(v);
@@ -275,6 +280,7 @@ fn write_ply(
         &cols,
         faces.map(|f| f.len()),
         edges.len(),
+        params,
     );
     w.write_all(h.as_bytes())?;
     write_rows(w, v.positions.len(), |i, out| {
@@ -322,14 +328,20 @@ pub(crate) fn write_poly(
     offsets: &[u32],
     verts: &[u32],
     enc: PlyEncoding,
+    params: Option<&str>,
 ) -> std::io::Result<()> {
     let v = mesh_vertex_data(m);
-    write_ply(w, &v, Some(Faces::Poly(offsets, verts)), &[], enc)
+    write_ply(w, &v, Some(Faces::Poly(offsets, verts)), &[], enc, params)
 }
 
 /// Writes a triangle mesh with all its per-vertex data.
-pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh, enc: PlyEncoding) -> std::io::Result<()> {
-    write_mesh_edges(w, m, &[], enc)
+pub(crate) fn write_mesh(
+    w: &mut dyn Write,
+    m: &TriMesh,
+    enc: PlyEncoding,
+    params: Option<&str>,
+) -> std::io::Result<()> {
+    write_mesh_edges(w, m, &[], enc, params)
 }
 
 /// Writes a triangle mesh plus an `edge` element (polylines drawn on it).
@@ -338,9 +350,10 @@ pub(crate) fn write_mesh_edges(
     m: &TriMesh,
     edges: &[[u32; 2]],
     enc: PlyEncoding,
+    params: Option<&str>,
 ) -> std::io::Result<()> {
     let v = mesh_vertex_data(m);
-    write_ply(w, &v, Some(Faces::Tri(m.triangles())), edges, enc)
+    write_ply(w, &v, Some(Faces::Tri(m.triangles())), edges, enc, params)
 }
 
 /// Writes a point set (vertices only).
@@ -348,6 +361,7 @@ pub(crate) fn write_points(
     w: &mut dyn Write,
     p: &PointSet,
     enc: PlyEncoding,
+    params: Option<&str>,
 ) -> std::io::Result<()> {
     let v = VertexData {
         positions: p.positions(),
@@ -360,5 +374,5 @@ pub(crate) fn write_points(
             .map(|a| (a.name.as_str(), a.values.as_slice()))
             .collect(),
     };
-    write_ply(w, &v, None, &[], enc)
+    write_ply(w, &v, None, &[], enc, params)
 }

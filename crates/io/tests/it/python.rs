@@ -20,14 +20,21 @@ fn python_reference_readers_accept_every_writer() {
     let mesh = rich_mesh();
     let closed = octahedron();
     let pts = points();
-    let def = WriteOptions::default();
+    // Every file records parameters (with non-ASCII and XML/JSON-special
+    // characters), which no reference reader may stumble on.
+    let params =
+        json!({"job": "test", "schema_version": 1, "seed": 3, "title": "µm <&> \"=\" 表面"});
+    let def = WriteOptions {
+        params: Some(params.clone()),
+        ..Default::default()
+    };
     let ascii = WriteOptions {
         ply_encoding: PlyEncoding::Ascii,
-        ..Default::default()
+        ..def.clone()
     };
     let f32opt = WriteOptions {
         npy_dtype: NpyDtype::Float32,
-        ..Default::default()
+        ..def.clone()
     };
     for (name, opts) in [
         ("h.npy", &def),
@@ -85,6 +92,7 @@ fn python_reference_readers_accept_every_writer() {
         "closed": {"positions": flat3(closed.positions()), "n_faces": closed.n_faces(), "volume": closed.signed_volume()},
         "points": {"positions": flat3(pts.positions()), "age": pts.attribute("age")},
         "poly": {"positions": flat3(poly.positions()), "faces": poly_faces},
+        "params": params,
     });
     std::fs::write(d.join("manifest.json"), manifest.to_string()).unwrap();
     let script = workspace().join("tests/python/check_formats.py");
@@ -100,5 +108,5 @@ fn python_reference_readers_accept_every_writer() {
     );
     assert!(out.status.success(), "python readers disagree:\n{text}");
     // The script prints one OK line per file it checked.
-    assert_eq!(text.matches("OK ").count(), 19, "{text}");
+    assert_eq!(text.matches("OK ").count(), 20, "{text}");
 }

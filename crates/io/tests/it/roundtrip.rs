@@ -280,3 +280,92 @@ fn up_axis_override_writes_and_reads_every_mesh_format_back_unchanged() {
         }
     }
 }
+
+/// Every format with a place for metadata gives back the parameters it was
+/// written with, unchanged, and the data reads back as without them; the
+/// others record none.
+#[test]
+fn recorded_parameters_read_back_from_every_format_that_holds_them() {
+    let params = serde_json::json!({
+        "job": "fbm", "schema_version": 1, "seed": 9, "rms": 1e-5,
+        "note": "µm <&> \"a=b\" # ; 表面 🙂", "size": [64, 32]
+    });
+    let with = WriteOptions {
+        params: Some(params.clone()),
+        ..Default::default()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let (h, m) = (height(), rich_mesh());
+    for ext in ["png", "exr", "gsf", "gwy", "x3p", "csv", "npy"] {
+        let path = dir.path().join(format!("h.{ext}"));
+        asperity_io::write_height(&path, &h, &with).unwrap();
+        let want = (ext != "npy").then(|| params.clone());
+        assert_eq!(asperity_io::read_params(&path).unwrap(), want, "{ext}");
+        let plain = height_roundtrip(ext, &WriteOptions::default(), &h);
+        assert_eq!(
+            asperity_io::read_height(&path).unwrap().data(),
+            plain.data(),
+            "{ext}"
+        );
+    }
+    for ext in ["ply", "obj", "glb", "stl"] {
+        let path = dir.path().join(format!("m.{ext}"));
+        let mesh = if ext == "stl" {
+            octahedron()
+        } else {
+            m.clone()
+        };
+        asperity_io::write_mesh(&path, &mesh, &with).unwrap();
+        let want = (ext != "stl").then(|| params.clone());
+        assert_eq!(asperity_io::read_params(&path).unwrap(), want, "{ext}");
+        if ext != "glb" {
+            let read = asperity_io::read_mesh(&path).unwrap();
+            assert_eq!(read.n_faces(), mesh.n_faces(), "{ext}");
+        }
+    }
+    for (ext, want) in [("ply", Some(params.clone())), ("xyz", None)] {
+        let path = dir.path().join(format!("p.{ext}"));
+        asperity_io::write_points(&path, &points(), &with).unwrap();
+        assert_eq!(
+            asperity_io::read_params(&path).unwrap(),
+            want,
+            "points .{ext}"
+        );
+    }
+    let png = dir.path().join("render.png");
+    let img = asperity_core::RgbaImage::filled(3, 2, [128, 64, 32, 255]);
+    asperity_io::write_png_with(&png, &img, &with).unwrap();
+    assert_eq!(
+        asperity_io::read_params(&png).unwrap(),
+        Some(params.clone())
+    );
+    // Written without parameters, a file records none.
+    let bare = dir.path().join("bare.gsf");
+    asperity_io::write_height(&bare, &h, &WriteOptions::default()).unwrap();
+    assert_eq!(asperity_io::read_params(&bare).unwrap(), None);
+}
+
+/// The same surface, units and parameters give the same bytes every time
+/// (the EXR writer's attributes sit in hash maps, written in random order).
+#[test]
+fn every_height_writer_gives_the_same_bytes_twice() {
+    let h = height().with_units(asperity_core::Units {
+        xy: asperity_core::LengthUnit::Um,
+        z: asperity_core::LengthUnit::Nm,
+    });
+    let opts = WriteOptions {
+        params: Some(serde_json::json!({"job": "fbm", "seed": 1})),
+        ..Default::default()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["png", "exr", "gsf", "gwy", "x3p", "csv", "npy"] {
+        let bytes: Vec<Vec<u8>> = (0..4)
+            .map(|k| {
+                let path = dir.path().join(format!("h{k}.{ext}"));
+                asperity_io::write_height(&path, &h, &opts).unwrap();
+                std::fs::read(&path).unwrap()
+            })
+            .collect();
+        assert!(bytes.windows(2).all(|w| w[0] == w[1]), "{ext}");
+    }
+}
