@@ -3,11 +3,11 @@
 
 use std::time::Instant;
 
-use asperity_ca::facets::interpolate_many;
 use asperity_engine::ca::{
     facets, gallery_image, render_with_curves, rule_measurements, run_job, step_image,
 };
 use asperity_engine::files::{load_height, load_xy};
+use asperity_engine::methods::ca::facets::interpolate_many;
 use asperity_engine::params::require;
 
 use crate::cli::{CaCommand, CaGalleryArgs, CaRuleArgs, CaRunArgs, FacetArgs, InterpolateArgs};
@@ -40,11 +40,11 @@ fn ca_run(ctx: &Context, a: &CaRunArgs) -> anyhow::Result<()> {
     run.height(&out, h, r.title())?;
     let [nx, ny] = h.dims();
     if let (Some(st), Some(path)) = (&r.output.states, &a.states_out) {
-        asperity_io::write_npy_u8(path, &[steps + 1, ny, nx], st)?;
+        asperity_engine::io::write_npy_u8(path, &[steps + 1, ny, nx], st)?;
         run.report.output(path);
     }
     if let (Some(st), Some(dir)) = (&r.output.states, &a.steps_png) {
-        asperity_io::create_output_dir(dir)?;
+        asperity_engine::io::create_output_dir(dir)?;
         for (t, step) in st.chunks(nx * ny).enumerate() {
             run.png(
                 &dir.join(format!("step_{t:03}.png")),
@@ -117,7 +117,7 @@ pub fn facet(ctx: &Context, a: &FacetArgs) -> anyhow::Result<()> {
     if curves.is_empty() {
         run.mesh(&out, &mesh)?;
     } else {
-        asperity_io::write_mesh_with_polylines(&out, &mesh, &curves, &run.write_options())?;
+        asperity_engine::io::write_mesh_with_polylines(&out, &mesh, &curves, &run.write_options())?;
         run.report.output(&out);
     }
     if let Some(png) = &a.render {

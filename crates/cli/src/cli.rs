@@ -86,11 +86,11 @@ pub struct Global {
     pub max_time: Option<MaxTime>,
     /// Length unit of the x, y coordinates of height fields written: m, mm, µm, nm or
     /// none (the default for synthetic data). Carried by GSF, .gwy, x3p (metres), PNG, EXR and CSV.
-    #[arg(long, global = true, value_name = "UNIT", value_parser = asperity_core::LengthUnit::parse)]
-    pub xy_unit: Option<asperity_core::LengthUnit>,
+    #[arg(long, global = true, value_name = "UNIT", value_parser = asperity_engine::core::LengthUnit::parse)]
+    pub xy_unit: Option<asperity_engine::core::LengthUnit>,
     /// Length unit of the heights of height fields written (as --xy-unit).
-    #[arg(long, global = true, value_name = "UNIT", value_parser = asperity_core::LengthUnit::parse)]
-    pub z_unit: Option<asperity_core::LengthUnit>,
+    #[arg(long, global = true, value_name = "UNIT", value_parser = asperity_engine::core::LengthUnit::parse)]
+    pub z_unit: Option<asperity_engine::core::LengthUnit>,
     /// Up axis of mesh and point files (OBJ, PLY, STL, XYZ, npy) read and written: y writes
     /// (x, z, -y) and reads files as y-up, z takes coordinates as they are. Default: OBJ y-up
     /// (asperity's own OBJ read back unchanged, others as they are), the rest z-up; glTF is
@@ -104,13 +104,13 @@ pub struct Global {
 pub struct MaxTime(pub Option<std::time::Duration>);
 
 fn parse_time(s: &str) -> Result<MaxTime, String> {
-    asperity_core::time_budget::parse_duration(s)
+    asperity_engine::core::time_budget::parse_duration(s)
         .map(MaxTime)
         .map_err(|e| e.to_string())
 }
 
 fn parse_memory(s: &str) -> Result<u64, String> {
-    asperity_core::memory::parse_size(s).map_err(|e| e.to_string())
+    asperity_engine::core::memory::parse_size(s).map_err(|e| e.to_string())
 }
 
 /// The commands.

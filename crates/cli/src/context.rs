@@ -6,14 +6,14 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use asperity_core::{
+use asperity_engine::core::{
     HeightField, LengthUnit, MemoryBudget, PointSet, RgbaImage, TimeBudget, TriMesh,
 };
+use asperity_engine::io::{Surface, UpAxis, WriteOptions};
+use asperity_engine::methods::render::plot::{plot_png, plot_svg};
 use asperity_engine::params::{JobParams, field_names, parse, record};
 use asperity_engine::plots::NamedPlot;
 use asperity_engine::{Measurements, Report};
-use asperity_io::{Surface, UpAxis, WriteOptions};
-use asperity_render::plot::{plot_png, plot_svg};
 
 use crate::cli::{Global, MaxTime, ParamsFile};
 use crate::progress::Bar;
@@ -60,7 +60,7 @@ impl Context {
         let time = match g.max_time {
             Some(MaxTime(None)) => TimeBudget::unlimited(),
             Some(MaxTime(Some(limit))) => TimeBudget::new(limit, threads),
-            None => TimeBudget::new(asperity_core::time_budget::DEFAULT_LIMIT, threads),
+            None => TimeBudget::new(asperity_engine::core::time_budget::DEFAULT_LIMIT, threads),
         };
         Ok(Self {
             time,
@@ -124,7 +124,7 @@ impl Context {
         for name in &overridden {
             self.note(format!(
                 "{} from the command line replaces the value in {}",
-                asperity_core::wording::param(name),
+                asperity_engine::core::wording::param(name),
                 path.display()
             ));
         }
@@ -158,7 +158,10 @@ impl Context {
     /// `msg` with the private file behind `-o -` called what it is (stdout)
     /// and parameters named as flags.
     pub fn shown(&self, msg: &str) -> String {
-        let msg = asperity_core::wording::spell(msg, asperity_core::wording::Spelling::Cli);
+        let msg = asperity_engine::core::wording::spell(
+            msg,
+            asperity_engine::core::wording::Spelling::Cli,
+        );
         match (&self.format, &self.output) {
             (Some(_), Some(out)) => msg.replace(&out.display().to_string(), "stdout"),
             _ => msg,
@@ -191,7 +194,7 @@ impl Context {
     /// without it).
     pub fn oriented(&self, path: &Path, s: Surface) -> anyhow::Result<Surface> {
         Ok(match self.up {
-            Some(up) => asperity_io::reorient(s, path, up)?,
+            Some(up) => asperity_engine::io::reorient(s, path, up)?,
             None => s,
         })
     }
@@ -201,7 +204,7 @@ impl Context {
         let m = asperity_engine::files::load_mesh(spec, &self.budget)?;
         Ok(match self.up {
             Some(up) if !spec.starts_with("builtin:") => {
-                asperity_io::up::reorient_mesh(m, Path::new(spec), up)?
+                asperity_engine::io::up::reorient_mesh(m, Path::new(spec), up)?
             }
             _ => m,
         })
@@ -211,7 +214,7 @@ impl Context {
     pub fn load_triangles(&self, path: &Path) -> anyhow::Result<TriMesh> {
         let m = asperity_engine::files::load_triangles(path, &self.budget)?;
         Ok(match self.up {
-            Some(up) => asperity_io::up::reorient_mesh(m, path, up)?,
+            Some(up) => asperity_engine::io::up::reorient_mesh(m, path, up)?,
             None => m,
         })
     }
@@ -221,7 +224,7 @@ impl Context {
     pub fn load_points(&self, path: &Path) -> anyhow::Result<PointSet> {
         let p = asperity_engine::files::load_points(path, &self.budget)?;
         Ok(match self.up {
-            Some(up) => asperity_io::up::reorient_points(p, path, up)?,
+            Some(up) => asperity_engine::io::up::reorient_points(p, path, up)?,
             None => p,
         })
     }
@@ -252,7 +255,7 @@ impl<'a> Run<'a> {
 
     /// Writer options with `--up` and the parameters recorded by
     /// [`Run::params`], which every file with a place for metadata keeps
-    /// (`asperity_io::metadata`).
+    /// (`asperity_engine::io::metadata`).
     pub fn write_options(&self) -> WriteOptions {
         WriteOptions {
             params: self.report.params.clone(),
@@ -262,7 +265,7 @@ impl<'a> Run<'a> {
 
     /// Writes a triangle mesh.
     pub fn mesh(&mut self, path: &Path, m: &TriMesh) -> anyhow::Result<()> {
-        asperity_io::write_mesh(path, m, &self.write_options())?;
+        asperity_engine::io::write_mesh(path, m, &self.write_options())?;
         self.report.output(path);
         Ok(())
     }
@@ -271,7 +274,7 @@ impl<'a> Run<'a> {
     pub fn height(
         &mut self,
         path: &Path,
-        h: &asperity_core::HeightField,
+        h: &asperity_engine::core::HeightField,
         title: String,
     ) -> anyhow::Result<()> {
         let opts = WriteOptions {
@@ -279,8 +282,8 @@ impl<'a> Run<'a> {
             ..self.write_options()
         };
         match self.ctx.units {
-            (None, None) => asperity_io::write_height(path, h, &opts)?,
-            _ => asperity_io::write_height(path, &self.ctx.with_units(h.clone()), &opts)?,
+            (None, None) => asperity_engine::io::write_height(path, h, &opts)?,
+            _ => asperity_engine::io::write_height(path, &self.ctx.with_units(h.clone()), &opts)?,
         }
         self.report.output(path);
         Ok(())
@@ -293,28 +296,28 @@ impl<'a> Run<'a> {
             title: title.into(),
             ..self.write_options()
         };
-        asperity_io::write_points(path, &PointSet::new(pts), &opts)?;
+        asperity_engine::io::write_points(path, &PointSet::new(pts), &opts)?;
         self.report.output(path);
         Ok(())
     }
 
     /// Writes a point set.
     pub fn point_set(&mut self, path: &Path, ps: &PointSet) -> anyhow::Result<()> {
-        asperity_io::write_points(path, ps, &self.write_options())?;
+        asperity_engine::io::write_points(path, ps, &self.write_options())?;
         self.report.output(path);
         Ok(())
     }
 
     /// Writes text.
     pub fn text(&mut self, path: &Path, text: &str) -> anyhow::Result<()> {
-        asperity_io::write_text(path, text)?;
+        asperity_engine::io::write_text(path, text)?;
         self.report.output(path);
         Ok(())
     }
 
     /// Writes a PNG picture.
     pub fn png(&mut self, path: &Path, img: &RgbaImage) -> anyhow::Result<()> {
-        asperity_io::write_png_with(path, img, &self.write_options())?;
+        asperity_engine::io::write_png_with(path, img, &self.write_options())?;
         self.report.output(path);
         Ok(())
     }
@@ -327,7 +330,7 @@ impl<'a> Run<'a> {
         plots: &[NamedPlot],
         size: (u32, u32),
     ) -> anyhow::Result<()> {
-        asperity_io::create_output_dir(dir)?;
+        asperity_engine::io::create_output_dir(dir)?;
         for p in plots {
             let path = dir.join(p.name);
             if p.name.ends_with(".svg") {

@@ -1,9 +1,9 @@
 //! `asperity convert`, `asperity info` and `asperity formats`.
 
 use anyhow::{Context as _, bail};
-use asperity_core::Progress;
+use asperity_engine::core::Progress;
 use asperity_engine::describe::describe;
-use asperity_io::{FORMATS, Format, Surface};
+use asperity_engine::io::{FORMATS, Format, Surface};
 
 use crate::cli::{ConvertArgs, InfoArgs};
 use crate::context::{Context, Run};
@@ -52,7 +52,7 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
             s.kind()
         );
     }
-    for lost in asperity_io::lost_data(&s, out_format) {
+    for lost in asperity_engine::io::lost_data(&s, out_format) {
         run.warn("warning", format!("{} loses {lost}", out.display()));
     }
     let title = a
@@ -62,11 +62,11 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
         .unwrap_or_default();
     // The surface's recipe: the parameters its file records, which a format
     // change keeps (a file without them gets none; the report has convert's).
-    let opts = asperity_io::WriteOptions {
-        params: asperity_io::read_params(&a.input).unwrap_or_default(),
+    let opts = asperity_engine::io::WriteOptions {
+        params: asperity_engine::io::read_params(&a.input).unwrap_or_default(),
         ..job.params.write_options(title, ctx.up)
     };
-    asperity_io::write(&out, &s, &opts)?;
+    asperity_engine::io::write(&out, &s, &opts)?;
     bar.finish();
     run.report.output(&out);
     run.report.measure("input", a.input.display().to_string());
@@ -83,7 +83,7 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
 pub fn info(ctx: &Context, a: &InfoArgs) -> anyhow::Result<()> {
     let facts = describe(&ctx.load(&a.input)?);
     // The parameters the file was made with, where it records them.
-    let made_with = asperity_io::read_params(&a.input)?;
+    let made_with = asperity_engine::io::read_params(&a.input)?;
     if ctx.json {
         let mut run = Run::new(ctx, "info");
         run.params(&asperity_engine::files::InfoParams {}, ctx.seed, Vec::new());
@@ -109,7 +109,7 @@ pub fn formats(ctx: &Context) -> anyhow::Result<()> {
         outln!("{}", serde_json::to_string_pretty(FORMATS)?);
         return Ok(());
     }
-    let cell = |a: asperity_io::Access| match (a.can_read(), a.can_write()) {
+    let cell = |a: asperity_engine::io::Access| match (a.can_read(), a.can_write()) {
         (true, true) => "read+write",
         (true, false) => "read",
         (false, true) => "write",

@@ -4,7 +4,7 @@ use asperity_engine::files::{is_points_path, load_height};
 use asperity_engine::growth::deposition::width_csv;
 use asperity_engine::growth::dla::{self, SeedInputs, SeedShape};
 use asperity_engine::growth::{self, DepositJob, Deposited, SubstrateShape};
-use asperity_io::Format;
+use asperity_engine::io::Format;
 
 use crate::cli::{DepositArgs, DlaArgs, GrowthCommand};
 use crate::context::{Context, Run};
@@ -52,7 +52,7 @@ fn deposit<P: DepositJob + clap::Args>(ctx: &Context, a: &DepositArgs<P>) -> any
         }
         Deposited::Flat(_, flat) if d.dim == 1 && Format::from_path(&out)? == Format::Npy => {
             let h: Vec<f64> = flat.deposit.heights.iter().map(|&v| v as f64).collect();
-            asperity_io::write_npy_f64(&out, &[d.size], &h)?;
+            asperity_engine::io::write_npy_f64(&out, &[d.size], &h)?;
             run.report.output(&out);
         }
         Deposited::Flat(_, flat) => run.height(&out, &flat.deposit.height_field(), r.title())?,

@@ -4,10 +4,10 @@
 use std::path::Path;
 use std::time::Instant;
 
-use asperity_core::TriMesh;
+use asperity_engine::core::TriMesh;
 use asperity_engine::files::{extension, require_mesh_format};
 use asperity_engine::ifs::{CurvatureReport, Loaded, control_net, figure};
-use asperity_ifs::{DirectionAnalysis, preset_names};
+use asperity_engine::methods::ifs::{DirectionAnalysis, preset_names};
 
 use crate::cli::{
     IfsCommand, IfsCurvatureArgs, IfsCurveArgs, IfsDcfArgs, IfsPresetArgs, IfsSdcfArgs,
@@ -64,7 +64,7 @@ fn write_preset(ctx: &Context, a: &IfsPresetArgs) -> anyhow::Result<()> {
 /// Writes polylines alone as OBJ `l` / PLY `edge` elements.
 fn write_lines(run: &mut Run, path: &Path, lines: &[Vec<[f64; 3]>]) -> anyhow::Result<()> {
     let empty = TriMesh::new(Vec::new(), Vec::new())?;
-    asperity_io::write_mesh_with_polylines(path, &empty, lines, &run.write_options())?;
+    asperity_engine::io::write_mesh_with_polylines(path, &empty, lines, &run.write_options())?;
     run.report.output(path);
     Ok(())
 }
@@ -221,7 +221,7 @@ fn curvature(ctx: &Context, a: &IfsCurvatureArgs) -> anyhow::Result<()> {
 
 fn print_curvature(l: &Loaded, report: &CurvatureReport) -> anyhow::Result<()> {
     match (report, &l.model) {
-        (CurvatureReport::Curve(ops, at), asperity_ifs::Model::Curve(c)) => {
+        (CurvatureReport::Curve(ops, at), asperity_engine::methods::ifs::Model::Curve(c)) => {
             outln!("{} (curve, N = {})", l.name, c.pifs.size());
             outln!(
                 "{:<4} {:<8} {:<20} {:<28} curvature",
@@ -262,7 +262,7 @@ fn print_curvature(l: &Loaded, report: &CurvatureReport) -> anyhow::Result<()> {
                 }
             }
         }
-        (CurvatureReport::Surface(ops, at), asperity_ifs::Model::Surface(s)) => {
+        (CurvatureReport::Surface(ops, at), asperity_engine::methods::ifs::Model::Surface(s)) => {
             let (n, m) = s.grid_size();
             outln!("{} (tensor-product surface, {n}×{m} control grid)", l.name);
             outln!(

@@ -65,12 +65,12 @@ fn main() -> ExitCode {
     };
     // Ctrl-C, SIGTERM, SIGHUP: delete the temporary files of unfinished outputs,
     // then exit as a shell expects of an interrupted program.
-    let _ = ctrlc::set_handler(|| asperity_io::exit_removing_temporaries(130));
+    let _ = ctrlc::set_handler(|| asperity_engine::io::exit_removing_temporaries(130));
     // Every output of the command is renamed into place only when the whole
     // command succeeded: a failure leaves every existing file as it was.
     // (`bench` writes only scratch files, timed with their rename.)
-    let outputs =
-        (!matches!(args.command, cli::Command::Bench(_))).then(asperity_io::Transaction::begin);
+    let outputs = (!matches!(args.command, cli::Command::Bench(_)))
+        .then(asperity_engine::io::Transaction::begin);
     let quiet = args.global.quiet;
     let result = run(args, explicit)
         .and_then(|()| match outputs {
@@ -79,7 +79,7 @@ fn main() -> ExitCode {
         })
         .and_then(|()| stdout_dir.as_ref().map_or(Ok(()), stdout::send));
     if !quiet {
-        for p in asperity_io::stale_temporaries() {
+        for p in asperity_engine::io::stale_temporaries() {
             eprintln!(
                 "warning: {} was left by an interrupted run (it was not used; delete it)",
                 p.display()
@@ -115,7 +115,7 @@ fn message(err: &anyhow::Error) -> String {
             msg = format!("{msg}: {c}");
         }
     }
-    asperity_core::wording::spell(&msg, asperity_core::wording::Spelling::Cli)
+    asperity_engine::core::wording::spell(&msg, asperity_engine::core::wording::Spelling::Cli)
 }
 
 /// The ids (field names) of every argument given on the command line, at any

@@ -1,10 +1,10 @@
-//! indicatif progress bars behind `asperity_core::Progress`.
+//! indicatif progress bars behind `asperity_engine::core::Progress`.
 
 use std::io::IsTerminal;
 use std::sync::Mutex;
 use std::time::Duration;
 
-use asperity_core::Progress;
+use asperity_engine::core::Progress;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// A bar on stderr, drawn only when stderr is a terminal and not `--quiet`.

@@ -38,7 +38,7 @@ fn surface(
         &mut |step, mesh| {
             let path = numbered(out, "step", step as u64, 4);
             if failed.is_none() {
-                match asperity_io::write_mesh(&path, &mesh, &run.write_options()) {
+                match asperity_engine::io::write_mesh(&path, &mesh, &run.write_options()) {
                     Ok(()) => saved.push(path),
                     Err(e) => failed = Some(e),
                 }

@@ -7,7 +7,7 @@
 
 use std::process::Command;
 
-use asperity_core::Progress;
+use asperity_engine::core::Progress;
 use asperity_engine::scaling::{SERIES, Series, loglog_slope, series};
 use serde_json::{Value, json};
 

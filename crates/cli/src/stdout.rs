@@ -41,7 +41,7 @@ pub fn redirect(g: &mut Global) -> anyhow::Result<Option<StdoutDir>> {
         "--format takes an extension such as npy, ply or csv, got {ext:?}"
     );
     let path = PathBuf::from(format!("stdout.{ext}"));
-    asperity_io::Format::from_path(&path)
+    asperity_engine::io::Format::from_path(&path)
         .with_context(|| format!("--format {ext}: run `asperity formats`"))?;
     let dir = tempfile::Builder::new()
         .prefix(".asperity-stdout.")

@@ -2,7 +2,7 @@
 //! (velho-perlin; `asperity_engine::subdiv`) from options or a scene file, with
 //! animation frames and detail export and re-apply.
 
-use asperity_core::{NoProgress, Progress};
+use asperity_engine::core::{NoProgress, Progress};
 use asperity_engine::files::{numbered, require_mesh_format};
 use serde_json::json;
 
@@ -49,7 +49,7 @@ pub fn run(ctx: &Context, a: &SubdivArgs) -> anyhow::Result<()> {
             run.mesh(&path, &tri)?;
         } else {
             let opts = run.write_options();
-            asperity_io::write_poly_mesh(&path, &composed.mesh.mesh, &tri, &opts)?;
+            asperity_engine::io::write_poly_mesh(&path, &composed.mesh.mesh, &tri, &opts)?;
             run.report.output(&path);
         }
         if frames > 1 {

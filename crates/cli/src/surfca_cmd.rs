@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use asperity_engine::files::{numbered, require_mesh_format};
+use asperity_engine::io::Format;
 use asperity_engine::surfca::{AppRun, SurfaceCaInputs, run_job};
-use asperity_io::Format;
 
 use crate::cli::SurfaceCaArgs;
 use crate::context::{Context, Run};
@@ -21,7 +21,7 @@ fn statistics(run: &mut Run, a: &SurfaceCaArgs, r: &AppRun, n: usize) -> anyhow:
         run.text(path, &text)?;
     }
     if let Some(path) = &a.plot {
-        let img = asperity_render::plot::plot_png(&r.stats_plot(n), 900, 600)?;
+        let img = asperity_engine::methods::render::plot::plot_png(&r.stats_plot(n), 900, 600)?;
         run.png(path, &img)?;
     }
     Ok(())
@@ -68,7 +68,7 @@ pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
                 .cell_mesh(color)
                 .map_err(anyhow::Error::from)
                 .and_then(|m| {
-                    asperity_io::write_mesh(&path, &m, &frame_options).map_err(Into::into)
+                    asperity_engine::io::write_mesh(&path, &m, &frame_options).map_err(Into::into)
                 });
             match written {
                 Ok(()) => frames.push(path),

@@ -1,5 +1,5 @@
 //! `asperity analyze` against SurfaceTopography (issue #21): the battery of
-//! `tests/python/check_analysis.py` — surfaces of known Hurst exponent made by
+//! `python/tests/reference/check_analysis.py` — surfaces of known Hurst exponent made by
 //! SurfaceTopography's `fourier_synthesis`, periodic and cropped, tilted, 256² to
 //! 2048², and line scans — run through the real binary. The checks and their
 //! tolerances are in the script's docstring. Slow tier: `cargo test -- --ignored`.
@@ -12,7 +12,7 @@ use asperity_fixtures::{python::python, workspace};
 #[ignore = "slow tier: the SurfaceTopography battery, ~2 min (cargo test -- --ignored)"]
 fn analyze_agrees_with_surface_topography_and_recovers_known_exponents() {
     let dir = tempfile::tempdir().unwrap();
-    let script = workspace().join("tests/python/check_analysis.py");
+    let script = workspace().join("python/tests/reference/check_analysis.py");
     let out = Command::new(python())
         .arg(&script)
         .arg(env!("CARGO_BIN_EXE_asperity"))

@@ -1407,7 +1407,7 @@ fn surface_ca_as_documented() {
             .all(|&l| (0.0..5.0).contains(&l) && l.fract() == 0.0)
     );
     let area: f64 = pts.attribute("area").unwrap().iter().sum();
-    let sphere = asperity_core::shapes::icosphere(3, 1.0).area();
+    let sphere = asperity_engine::core::shapes::icosphere(3, 1.0).area();
     assert!((area - sphere).abs() < 1e-9 * sphere, "{area} vs {sphere}");
     let csv = std::fs::read_to_string(dir.join("steps.csv")).unwrap();
     assert_eq!(csv.lines().count(), steps + 1);
@@ -1511,7 +1511,10 @@ fn surface_ca_as_documented() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(dir.join("atlas_texture.png").exists() && dir.join("atlas.mtl").exists());
     let cube = asperity_io::read_mesh(&dir.join("atlas.obj")).unwrap();
-    assert_eq!(cube.n_faces(), asperity_core::shapes::cube(4).n_faces());
+    assert_eq!(
+        cube.n_faces(),
+        asperity_engine::core::shapes::cube(4).n_faces()
+    );
     assert!(cube.uvs().is_some());
     // A third application, sites from a file, animation frames.
     let o = asperity(
@@ -1843,7 +1846,7 @@ fn subdiv_as_documented() {
     let positions: Vec<[f64; 3]> = (0..n).map(|v| base.positions()[flip(v) as usize]).collect();
     let triangles = base.triangles().iter().map(|t| t.map(flip)).collect();
     let alpha = |v: u32| f64::from(flip(v) % 2);
-    let painted = asperity_core::TriMesh::new(positions, triangles)
+    let painted = asperity_engine::core::TriMesh::new(positions, triangles)
         .unwrap()
         .with_colors((0..n).map(|v| [(255.0 * alpha(v)) as u8; 4]).collect())
         .unwrap()

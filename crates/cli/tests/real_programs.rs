@@ -7,9 +7,9 @@
 //!   asperity's `.gsf`, 16-bit `.png`, `.x3p` and `.gwy` height fields and the
 //!   demo's with the right sizes, extents, offsets, units and heights, and
 //!   asperity reads the `.gwy` files Gwyddion writes
-//!   (`tests/python/check_gwyddion.py`, read back with `gwyfile`);
+//!   (`python/tests/reference/check_gwyddion.py`, read back with `gwyfile`);
 //! - `.x3p` both ways with SurfaceTopography and x3pio
-//!   (`tests/python/check_x3p.py`);
+//!   (`python/tests/reference/check_x3p.py`);
 //! - Blender (Debian's `blender`, headless) imports the demo's `.glb`, `.obj`,
 //!   `.ply` and `.stl` upright, with the planet's colours equal in `.glb`, `.obj`
 //!   and `.ply` and the cup's image texture (`tests/blender/check_import.py`);
@@ -144,7 +144,7 @@ fn gwyddion_reads_our_height_fields_and_we_read_its_gwy() {
     let checks = run_checks(
         &python(),
         &[
-            script("tests/python/check_gwyddion.py").as_os_str(),
+            script("python/tests/reference/check_gwyddion.py").as_os_str(),
             env!("CARGO_BIN_EXE_asperity").as_ref(),
             work.path().as_os_str(),
             demo().as_os_str(),
@@ -159,7 +159,7 @@ fn x3p_round_trips_through_surface_topography_and_x3pio() {
     let checks = run_checks(
         &python(),
         &[
-            script("tests/python/check_x3p.py").as_os_str(),
+            script("python/tests/reference/check_x3p.py").as_os_str(),
             env!("CARGO_BIN_EXE_asperity").as_ref(),
             work.path().as_os_str(),
         ],

@@ -47,4 +47,24 @@ pub mod synthesis;
 pub mod workloads;
 
 pub use error::{EngineError, ErrorKind, Result};
+
+/// The shared types (meshes, height fields, budgets, progress), re-exported
+/// so that a front end depends on `asperity-engine` alone (#36).
+pub use asperity_core as core;
+/// The file formats, re-exported for the front ends.
+pub use asperity_io as io;
+
+/// The method crates under the jobs, re-exported for the front ends that need
+/// their types (the gallery's figures, the CLI's few direct calls): a front
+/// end depends on `asperity-engine` alone.
+pub mod methods {
+    pub use asperity_analysis as analysis;
+    pub use asperity_ca as ca;
+    pub use asperity_growth as growth;
+    pub use asperity_ifs as ifs;
+    pub use asperity_levelset as levelset;
+    pub use asperity_render as render;
+    pub use asperity_subdiv as subdiv;
+    pub use asperity_surfca as surfca;
+}
 pub use report::{Measurements, Report};

@@ -1,11 +1,11 @@
 //! The foundation: the shared types and every file format, on a built-in
 //! self-affine sample surface (not a paper's method).
 
-use asperity_core::fourier_surface::{FourierParams, fourier_surface};
-use asperity_core::{Diagonal, HeightField, LengthUnit, RgbaImage, TriMesh, Units, shapes};
 use asperity_engine::Result;
-use asperity_io::Surface;
-use asperity_render::{ColorMap, RenderOptions, Shader, hillshade};
+use asperity_engine::core::fourier_surface::{FourierParams, fourier_surface};
+use asperity_engine::core::{Diagonal, HeightField, LengthUnit, RgbaImage, TriMesh, Units, shapes};
+use asperity_engine::io::Surface;
+use asperity_engine::methods::render::{ColorMap, RenderOptions, Shader, hillshade};
 
 use crate::{Env, Item, Section, fact};
 

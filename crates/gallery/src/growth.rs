@@ -4,17 +4,23 @@
 //! plane, dendritic and moss-like (Figures 9–11), and RDSR on a sphere
 //! (Figure 8).
 
-use asperity_analysis::scaling::{
+use asperity_engine::Result;
+use asperity_engine::core::{NoProgress, PointSet, RgbaImage};
+use asperity_engine::io::Surface;
+use asperity_engine::methods::analysis::scaling::{
     density_dimension, density_profile, growth_exponent, gyration_dimension,
 };
-use asperity_core::{NoProgress, PointSet, RgbaImage};
-use asperity_engine::Result;
-use asperity_growth::curved::{CurvedDeposit, CurvedParams, CurvedSubstrate, deposit_curved};
-use asperity_growth::dla::{DlaParams, SeedShape, Sides, dla};
-use asperity_growth::{DepositionParams, Lattice, Model, WidthSeries, deposit_ensemble};
-use asperity_io::Surface;
-use asperity_render::plot::{Plot, Series, Style, plot_svg};
-use asperity_render::{ColorMap, RenderOptions, Shader, render_height, render_points};
+use asperity_engine::methods::growth::curved::{
+    CurvedDeposit, CurvedParams, CurvedSubstrate, deposit_curved,
+};
+use asperity_engine::methods::growth::dla::{DlaParams, SeedShape, Sides, dla};
+use asperity_engine::methods::growth::{
+    DepositionParams, Lattice, Model, WidthSeries, deposit_ensemble,
+};
+use asperity_engine::methods::render::plot::{Plot, Series, Style, plot_svg};
+use asperity_engine::methods::render::{
+    ColorMap, RenderOptions, Shader, render_height, render_points,
+};
 
 use crate::{Env, Item, Section, fact};
 

@@ -4,16 +4,16 @@
 //! on it (Figure 4), and a surface smooth in one direction and rough in the
 //! other, with its control net.
 
-use asperity_core::TriMesh;
 use asperity_engine::Result;
+use asperity_engine::core::TriMesh;
 use asperity_engine::error::invalid;
 use asperity_engine::ifs::{control_net, figure, orbit_figure, sdcf_for, surface_mesh};
-use asperity_ifs::curvature::{curve_report, surface_report};
-use asperity_ifs::sdcf::Start;
-use asperity_ifs::{
+use asperity_engine::methods::ifs::curvature::{curve_report, surface_report};
+use asperity_engine::methods::ifs::sdcf::Start;
+use asperity_engine::methods::ifs::{
     CurveIfs, DirectionAnalysis, FamilyOptions, Model, PresetParams, SurfaceIfs, preset,
 };
-use asperity_render::{Polyline, RenderOptions, Shader, View};
+use asperity_engine::methods::render::{Polyline, RenderOptions, Shader, View};
 
 use crate::{Env, Item, Section, fact};
 

@@ -5,20 +5,22 @@
 //! to 30 steps of the flow; Zhao's −∇d flow on the terrain (§5.1), and the §6
 //! contrast of the convection flow with a curvature-regularised one.
 
-use asperity_core::PointSet;
-use asperity_core::TimeBudget;
-use asperity_core::{NoProgress, TriMesh};
 use asperity_engine::Result;
+use asperity_engine::core::PointSet;
+use asperity_engine::core::TimeBudget;
+use asperity_engine::core::{NoProgress, TriMesh};
 use asperity_engine::error::invalid;
 use asperity_engine::growth::dla::Sides;
+use asperity_engine::io::Surface;
+use asperity_engine::methods::levelset::{
+    FlowChoice, GridSpec, ReconstructParams, Sizing, reconstruct,
+};
+use asperity_engine::methods::render::plot::{Plot, Series, Style, plot_svg};
+use asperity_engine::methods::render::render_points;
 use asperity_engine::params::LatticeSize;
 use asperity_engine::reconstruct::{
     DlaTerrainParams, Job, PAPER_TERRAIN_PARTICLES, dla_terrain, pieces,
 };
-use asperity_io::Surface;
-use asperity_levelset::{FlowChoice, GridSpec, ReconstructParams, Sizing, reconstruct};
-use asperity_render::plot::{Plot, Series, Style, plot_svg};
-use asperity_render::render_points;
 
 use crate::growth::rdsr_sphere;
 use crate::{Env, Item, Section, fact};
@@ -303,7 +305,7 @@ fn figure_7(env: &Env) -> Result<Vec<Item>> {
     let delta = 1.1 * longest / resolution as f64;
     let params = ReconstructParams {
         sizing: Sizing::Resolution(resolution),
-        offset: Some(asperity_levelset::Length::Cells(17.0)),
+        offset: Some(asperity_engine::methods::levelset::Length::Cells(17.0)),
         iterations: steps[1],
         snapshot_every: Some(steps[0]),
         point_radius: Some(delta),
@@ -367,7 +369,7 @@ fn largest_piece_within(mesh: &TriMesh, xs: [f64; 2], ys: [f64; 2]) -> Result<Tr
             (xs[0]..xs[1]).contains(&c(0)) && (ys[0]..ys[1]).contains(&c(1))
         })
         .collect();
-    let (count, labels) = asperity_core::tri_mesh::component_labels(p.len(), &kept);
+    let (count, labels) = asperity_engine::core::tri_mesh::component_labels(p.len(), &kept);
     let mut size = vec![0usize; count];
     for t in &kept {
         size[labels[t[0] as usize] as usize] += 1;

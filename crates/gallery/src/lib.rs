@@ -24,11 +24,11 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use asperity_core::{MemoryBudget, Progress, RgbaImage, TriMesh};
+use asperity_engine::core::{MemoryBudget, Progress, RgbaImage, TriMesh};
 use asperity_engine::error::invalid;
+use asperity_engine::io::{Surface, WriteOptions};
+use asperity_engine::methods::render::{RenderOptions, Shader, render_mesh};
 use asperity_engine::{Report, Result};
-use asperity_io::{Surface, WriteOptions};
-use asperity_render::{RenderOptions, Shader, render_mesh};
 
 pub mod foundation;
 pub mod growth;
@@ -81,7 +81,7 @@ impl Env {
     /// The writer's.
     pub fn write(&self, name: &str, s: &Surface) -> Result<String> {
         let path = self.dir.join(name);
-        asperity_io::write(&path, s, &WriteOptions::default())?;
+        asperity_engine::io::write(&path, s, &WriteOptions::default())?;
         self.report.borrow_mut().output(&path);
         if let Surface::Mesh(m) = s {
             self.model(name, m)?;
@@ -133,7 +133,7 @@ impl Env {
     /// The writer's.
     pub fn text(&self, name: &str, text: &str) -> Result<String> {
         let path = self.dir.join(name);
-        asperity_io::write_text(&path, text)?;
+        asperity_engine::io::write_text(&path, text)?;
         self.report.borrow_mut().output(&path);
         Ok(name.to_owned())
     }
@@ -144,7 +144,7 @@ impl Env {
     /// The writer's.
     pub fn picture(&self, name: &str, img: &RgbaImage) -> Result<String> {
         let path = self.dir.join(name);
-        asperity_io::write_png(&path, img)?;
+        asperity_engine::io::write_png(&path, img)?;
         self.report.borrow_mut().output(&path);
         Ok(name.to_owned())
     }
@@ -279,14 +279,14 @@ fn finish(env: Env, mut sections: Vec<Section>, o: &Options) -> Result<Report> {
         viewer::write_assets(&o.dir)?;
     }
     let index = o.dir.join("index.html");
-    asperity_io::write_text(&index, &page::page(&sections, o.seed, o.quick))?;
+    asperity_engine::io::write_text(&index, &page::page(&sections, o.seed, o.quick))?;
     let mut report = env.report.into_inner();
     report.output(&index);
     let titles: Vec<String> = sections.iter().map(|s| s.title.clone()).collect();
     report.measure("sections", titles);
     let json =
         serde_json::to_string_pretty(&report).map_err(|e| invalid(format!("report.json: {e}")))?;
-    asperity_io::write_text(&o.dir.join("report.json"), &json)?;
+    asperity_engine::io::write_text(&o.dir.join("report.json"), &json)?;
     Ok(report)
 }
 

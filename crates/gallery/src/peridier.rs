@@ -3,15 +3,19 @@
 //! (Figure 4), smooth shading against facets (Figure 6), a draped circle
 //! (Figure 9), and a large surface.
 
-use asperity_ca::facets::{circle, drape, facet_mesh};
-use asperity_ca::{Boundary, CaParams, Family, Init, Rule, accumulate, initial_grid};
-use asperity_core::{Diagonal, HeightField, RgbaImage};
 use asperity_engine::Result;
 use asperity_engine::ca::{CaGalleryParams, RuleCode, gallery_image, render_facets};
+use asperity_engine::core::{Diagonal, HeightField, RgbaImage};
+use asperity_engine::io::{Surface, WriteOptions};
+use asperity_engine::methods::ca::facets::{circle, drape, facet_mesh};
+use asperity_engine::methods::ca::{
+    Boundary, CaParams, Family, Init, Rule, accumulate, initial_grid,
+};
+use asperity_engine::methods::render::cells::{cell_image, strip};
+use asperity_engine::methods::render::{
+    ColorMap, Polyline, RenderOptions, Shader, hillshade, render_mesh,
+};
 use asperity_engine::params::Size2;
-use asperity_io::{Surface, WriteOptions};
-use asperity_render::cells::{cell_image, strip};
-use asperity_render::{ColorMap, Polyline, RenderOptions, Shader, hillshade, render_mesh};
 
 use crate::{Env, Item, Section, fact};
 
@@ -134,7 +138,7 @@ fn figure_4(env: &Env) -> Result<Item> {
             &grid,
             env.seed,
             &env.budget,
-            &asperity_core::TimeBudget::unlimited(),
+            &asperity_engine::core::TimeBudget::unlimited(),
         )?,
     )?;
     Ok(Item::new(
@@ -152,7 +156,7 @@ fn figure_4(env: &Env) -> Result<Item> {
 /// Figures 5/6 and 9: smooth shading versus facets on random data, and a
 /// circle draped on the facets.
 fn figures_6_and_9(env: &Env, flat: &RenderOptions) -> Result<Vec<Item>> {
-    let mut rng = asperity_core::seeded(env.seed);
+    let mut rng = asperity_engine::core::seeded(env.seed);
     let heights = (0..225)
         .map(|_| rand::Rng::random::<f64>(&mut rng) * 3.0)
         .collect();
@@ -195,7 +199,7 @@ fn figure_9(env: &Env, h: &HeightField, flat: &RenderOptions) -> Result<Item> {
     let ring = drape(h, &circle(7.0, 7.0, 5.0, 180))?;
     env.mesh("ca_fig9_circle.ply", &facets)?;
     let obj = env.dir.join("ca_fig9_circle.obj");
-    asperity_io::write_mesh_with_polylines(
+    asperity_engine::io::write_mesh_with_polylines(
         &obj,
         &facet_mesh(h, false)?,
         std::slice::from_ref(&ring),

@@ -2,11 +2,11 @@
 //! map views, point splats and plots (the light model is gobron-chiba's
 //! "Simple Light Model").
 
-use asperity_core::fourier_surface::{FourierParams, fourier_surface};
-use asperity_core::{HeightField, TriMesh};
 use asperity_engine::Result;
-use asperity_render::plot::histogram_svg;
-use asperity_render::{
+use asperity_engine::core::fourier_surface::{FourierParams, fourier_surface};
+use asperity_engine::core::{HeightField, TriMesh};
+use asperity_engine::methods::render::plot::histogram_svg;
+use asperity_engine::methods::render::{
     ColorMap, Polyline, Projection, RenderOptions, Shader, View, hillshade, render_height,
     render_points,
 };
@@ -39,8 +39,8 @@ pub fn section(env: &Env) -> Result<Section> {
 /// An icosphere displaced radially by 3-D random-phase Fourier noise with a
 /// power-law spectrum (amplitude ∝ |k|^−(1+H)): a rough "rock" for the shaders.
 fn rock(level: u32, seed: u64) -> Result<TriMesh> {
-    let sphere = asperity_core::shapes::icosphere(level, 1.0);
-    let mut rng = asperity_core::seeded(seed);
+    let sphere = asperity_engine::core::shapes::icosphere(level, 1.0);
+    let mut rng = asperity_engine::core::seeded(seed);
     let waves: Vec<([f64; 3], f64, f64)> = (0..160)
         .map(|_| {
             let k = 2.0 * 20f64.powf(rng.random::<f64>()); // |k| log-uniform in [2, 40]
@@ -206,7 +206,7 @@ fn splats(env: &Env) -> Result<Item> {
 
 /// A histogram of the rock's mean curvature as SVG.
 fn curvature_plot(env: &Env, rock: &TriMesh) -> Result<Item> {
-    let curv = asperity_render::render::mean_curvature(rock);
+    let curv = asperity_engine::methods::render::render::mean_curvature(rock);
     let svg = histogram_svg(
         &curv,
         60,

@@ -5,17 +5,19 @@
 
 use std::path::Path;
 
-use asperity_core::TriMesh;
-use asperity_core::vec3::{add, cross, dist, dot, norm, scale, sub, unit};
 use asperity_engine::Result;
+use asperity_engine::core::TriMesh;
+use asperity_engine::core::vec3::{add, cross, dist, dot, norm, scale, sub, unit};
 use asperity_engine::error::invalid;
+use asperity_engine::methods::render::{Polyline, RenderOptions};
+use asperity_engine::methods::subdiv::catmull_clark::{Boundary, Creased, limit_positions};
+use asperity_engine::methods::subdiv::compose::{Anchor, Layer, grow};
+use asperity_engine::methods::subdiv::detail::{
+    Berry, Feature, Procedure, Seeds, Spur, Tentacle, TentacleReading,
+};
+use asperity_engine::methods::subdiv::evaluate::{Composed, evaluate};
+use asperity_engine::methods::subdiv::multires::synthesize;
 use asperity_engine::subdiv::load_base;
-use asperity_render::{Polyline, RenderOptions};
-use asperity_subdiv::catmull_clark::{Boundary, Creased, limit_positions};
-use asperity_subdiv::compose::{Anchor, Layer, grow};
-use asperity_subdiv::detail::{Berry, Feature, Procedure, Seeds, Spur, Tentacle, TentacleReading};
-use asperity_subdiv::evaluate::{Composed, evaluate};
-use asperity_subdiv::multires::synthesize;
 
 use crate::{Env, Item, Section, fact};
 
@@ -109,7 +111,7 @@ pub fn section(env: &Env) -> Result<Section> {
 
 /// The cube and its limit surface (4 levels), with the control cage.
 fn cube_limit(env: &Env) -> Result<Item> {
-    let cube = Creased::smooth(asperity_subdiv::base::cube());
+    let cube = Creased::smooth(asperity_engine::methods::subdiv::base::cube());
     let levels = synthesize(&cube, &[], 4, Boundary::EdgeOnly)?;
     let fine = &levels[4];
     let limit = fine
@@ -150,7 +152,7 @@ fn cube_limit(env: &Env) -> Result<Item> {
 /// One example scene, as in the paper's figure.
 fn scene(env: &Env, name: &str, text: &str, title: &str) -> Result<Item> {
     let t = if name == "tentacle" { 0.15 } else { 0.0 };
-    let mut scene = asperity_subdiv::scene::parse(text, t)
+    let mut scene = asperity_engine::methods::subdiv::scene::parse(text, t)
         .map_err(|e| invalid(format!("scene {name}: {e}")))?;
     if env.quick {
         scene.levels = scene.levels.saturating_sub(1).max(2);
@@ -161,7 +163,7 @@ fn scene(env: &Env, name: &str, text: &str, title: &str) -> Result<Item> {
         &scene,
         &base,
         &Default::default(),
-        &asperity_core::NoProgress,
+        &asperity_engine::core::NoProgress,
     )?;
     // Timings go to report.json (the gallery must not depend on them).
     env.measure(
@@ -237,7 +239,7 @@ fn side_by_side(meshes: &[TriMesh]) -> Result<TriMesh> {
 
 /// A row of the finest levels of `layers` grown on the sphere, with normals.
 fn row(env: &Env, layers: impl Iterator<Item = (usize, Layer)>) -> Result<TriMesh> {
-    let sphere = Creased::smooth(asperity_subdiv::base::quad_sphere(2));
+    let sphere = Creased::smooth(asperity_engine::methods::subdiv::base::quad_sphere(2));
     let meshes = layers
         .map(|(levels, layer)| {
             let m = grow(&sphere, levels, Boundary::EdgeOnly, &layer, env.seed)?;
@@ -368,7 +370,7 @@ fn figure_4(env: &Env) -> Result<Item> {
 /// great circle).
 fn figure_10(env: &Env) -> Result<Vec<Item>> {
     let text = include_str!("../../subdiv/scenes/edited_rock.toml");
-    let mut scene = asperity_subdiv::scene::parse(text, 0.0)
+    let mut scene = asperity_engine::methods::subdiv::scene::parse(text, 0.0)
         .map_err(|e| invalid(format!("scene edited_rock: {e}")))?;
     if env.quick {
         scene.levels = scene.levels.saturating_sub(1).max(2);
@@ -392,7 +394,12 @@ fn figure_10(env: &Env) -> Result<Vec<Item>> {
         if !edited {
             sc.layers[0].edits.clear();
         }
-        let c = evaluate(&sc, &base, &Default::default(), &asperity_core::NoProgress)?;
+        let c = evaluate(
+            &sc,
+            &base,
+            &Default::default(),
+            &asperity_engine::core::NoProgress,
+        )?;
         let tri = c.mesh.mesh.triangulate().with_computed_normals();
         let file = env.mesh(&format!("{stem}.ply"), &tri)?;
         let opts = RenderOptions {
@@ -415,7 +422,10 @@ fn figure_10(env: &Env) -> Result<Vec<Item>> {
 
 /// A red ring per edit: a great circle of the sphere through its centre with
 /// the edit's radius in mean base-edge lengths, lifted off the relief.
-fn edit_rings(base: &Creased, edits: &[asperity_subdiv::compose::Edit]) -> Vec<Polyline> {
+fn edit_rings(
+    base: &Creased,
+    edits: &[asperity_engine::methods::subdiv::compose::Edit],
+) -> Vec<Polyline> {
     let p = base.mesh.positions();
     let edges: Vec<f64> = base
         .mesh

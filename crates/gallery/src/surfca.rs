@@ -3,16 +3,18 @@
 //! per-step statistics of Figure 16), copper corrosion with patina (Figure 22),
 //! and Gray–Scott spots to show the engine is general.
 
-use asperity_core::{TriMesh, shapes};
 use asperity_engine::Result;
+use asperity_engine::core::{TriMesh, shapes};
+use asperity_engine::methods::render::plot::{Plot, Series, Style, plot_png};
+use asperity_engine::methods::render::{RenderOptions, Shader};
+use asperity_engine::methods::surfca::corrosion::{Behaviour, CorrosionParams, corrode, initial};
+use asperity_engine::methods::surfca::engine::{RunOptions, RunStats, run};
+use asperity_engine::methods::surfca::reaction_diffusion::{GrayScott, seeded_state};
+use asperity_engine::methods::surfca::voronoi::{
+    PAPER_P, VoronoiRule, random_sites, spherical_agreement, voronoi,
+};
+use asperity_engine::methods::surfca::{CellSize, build};
 use asperity_engine::surfca::{Covered, corrosion_mesh, label_color, patina_shading, rd_color};
-use asperity_render::plot::{Plot, Series, Style, plot_png};
-use asperity_render::{RenderOptions, Shader};
-use asperity_surfca::corrosion::{Behaviour, CorrosionParams, corrode, initial};
-use asperity_surfca::engine::{RunOptions, RunStats, run};
-use asperity_surfca::reaction_diffusion::{GrayScott, seeded_state};
-use asperity_surfca::voronoi::{PAPER_P, VoronoiRule, random_sites, spherical_agreement, voronoi};
-use asperity_surfca::{CellSize, build};
 
 use crate::{Env, Item, Section, fact};
 
@@ -75,7 +77,7 @@ fn voronoi_item(
     if name == "cup" {
         // The original mesh with the cells in a texture atlas, as
         // `surface-ca … -o v.glb` writes it.
-        let textured = asperity_surfca::atlas::atlas_mesh(
+        let textured = asperity_engine::methods::surfca::atlas::atlas_mesh(
             &cov.mesh,
             cells,
             |c| label_color(labels[c]),

@@ -17,8 +17,8 @@
 
 use std::path::Path;
 
-use asperity_core::TriMesh;
 use asperity_engine::Result;
+use asperity_engine::core::TriMesh;
 use base64::Engine as _;
 
 /// The folder (inside the gallery) holding the viewer and the models.
@@ -44,8 +44,9 @@ pub fn write_assets(gallery: &Path) -> Result<()> {
         ("asperity-viewer.js", PAGE_SCRIPT),
     ] {
         let path = dir.join(name);
-        asperity_io::write_atomic(&path, |w| {
-            std::io::Write::write_all(w, bytes).map_err(|e| asperity_io::IoError::os(&path, e))
+        asperity_engine::io::write_atomic(&path, |w| {
+            std::io::Write::write_all(w, bytes)
+                .map_err(|e| asperity_engine::io::IoError::os(&path, e))
         })?;
     }
     Ok(())
@@ -61,12 +62,12 @@ pub fn write_model(gallery: &Path, stem: &str, m: &TriMesh) -> Result<Option<Str
         return Ok(None);
     }
     // what the view shows: geometry, normals, colours, texture (no scalars)
-    let glb = asperity_io::glb::encode(&m.clone().without_scalars())
+    let glb = asperity_engine::io::glb::encode(&m.clone().without_scalars())
         .map_err(|e| asperity_engine::error::invalid(format!("3-D view of {stem}: {e}")))?;
     let name = format!("{DIR}/{stem}.js");
     let b64 = base64::engine::general_purpose::STANDARD.encode(glb);
     let quoted = serde_json::to_string(stem).unwrap_or_default(); // a JS string literal
-    asperity_io::write_text(
+    asperity_engine::io::write_text(
         &gallery.join(&name),
         &format!("asperityModel({quoted}, \"{b64}\");\n"),
     )?;

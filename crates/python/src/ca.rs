@@ -1,10 +1,10 @@
 //! `asperity.ca_run`, `ca_rule`, `facet`, `interpolate`: peridier's
 //! cellular-automaton height fields (`asperity_engine::ca`).
 
-use asperity_ca::facets::interpolate_many;
 use asperity_engine::ca::{
     CaRuleParams, CaRunParams, FacetParams, facets, rule_measurements, run_job,
 };
+use asperity_engine::methods::ca::facets::interpolate_many;
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

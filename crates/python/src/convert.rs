@@ -13,8 +13,8 @@
 //! `scalars`, `texture`), a height field anything with `heights`, `spacing`
 //! and `origin`, a point set anything with `points`.
 
-use asperity_core::{HeightField, LengthUnit, PointSet, RgbaImage, TriMesh, Units};
-use asperity_io::Surface;
+use asperity_engine::core::{HeightField, LengthUnit, PointSet, RgbaImage, TriMesh, Units};
+use asperity_engine::io::Surface;
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -91,7 +91,7 @@ fn scalars_in(obj: &Bound<'_, PyAny>) -> PyResult<Vec<(String, Vec<f64>)>> {
 /// Named per-vertex values as a dict of 1-D arrays.
 fn scalars_out<'py>(
     py: Python<'py>,
-    attributes: &[asperity_core::Attribute],
+    attributes: &[asperity_engine::core::Attribute],
 ) -> PyResult<Bound<'py, PyDict>> {
     let scalars = PyDict::new(py);
     for a in attributes {

@@ -108,7 +108,7 @@ pub fn dla<'py>(
     let warnings: Vec<String> = r.warnings().into_iter().map(|(_, m)| m).collect();
     out.set_item(
         "points",
-        points_out(py, &asperity_core::PointSet::new(r.world_points()))?,
+        points_out(py, &asperity_engine::core::PointSet::new(r.world_points()))?,
     )?;
     out.set_item("title", "dla")?;
     out.set_item("warnings", crate::spelled_all(warnings))?;

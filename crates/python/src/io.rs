@@ -1,16 +1,16 @@
 //! `asperity.load`, `asperity.save`, `asperity.info`: every format asperity
-//! reads and writes (`asperity_io`, through `asperity_engine::files`).
+//! reads and writes (`asperity_engine::io`, through `asperity_engine::files`).
 
 use std::path::PathBuf;
 
-use asperity_io::{Surface, WriteOptions};
+use asperity_engine::io::{Surface, WriteOptions};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::convert::{json, surface_in, surface_out};
 use crate::job::{RunOptions, budget, run};
 
-fn up_axis(up: Option<&str>) -> PyResult<Option<asperity_io::UpAxis>> {
+fn up_axis(up: Option<&str>) -> PyResult<Option<asperity_engine::io::UpAxis>> {
     up.map(|u| u.parse().map_err(pyo3::exceptions::PyValueError::new_err))
         .transpose()
 }
@@ -23,10 +23,10 @@ pub fn load<'py>(py: Python<'py>, path: PathBuf, up: Option<&str>) -> PyResult<B
     let up = up_axis(up)?;
     let s = run(py, &RunOptions::quiet(None), move |_, _| {
         let s = asperity_engine::files::load(&path, &budget())?;
-        let made_with = asperity_io::read_params(&path)?;
+        let made_with = asperity_engine::io::read_params(&path)?;
         Ok((
             match up {
-                Some(up) => asperity_io::reorient(s, &path, up)?,
+                Some(up) => asperity_engine::io::reorient(s, &path, up)?,
                 None => s,
             },
             made_with,
@@ -80,7 +80,7 @@ pub fn save(
             }
             _ => {}
         }
-        Ok(asperity_io::write(&path, &s, &opts)?)
+        Ok(asperity_engine::io::write(&path, &s, &opts)?)
     })
 }
 

@@ -16,7 +16,7 @@ use std::sync::mpsc::{RecvTimeoutError, channel};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use asperity_core::{CoreError, MemoryBudget, Progress, TimeBudget};
+use asperity_engine::core::{CoreError, MemoryBudget, Progress, TimeBudget};
 use asperity_engine::{EngineError, ErrorKind};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -45,7 +45,7 @@ pub fn budget() -> MemoryBudget {
 /// The time budget in force for `threads` threads.
 pub fn time_budget(threads: usize) -> TimeBudget {
     match MAX_TIME_S.load(Ordering::Relaxed) {
-        0 => TimeBudget::new(asperity_core::time_budget::DEFAULT_LIMIT, threads),
+        0 => TimeBudget::new(asperity_engine::core::time_budget::DEFAULT_LIMIT, threads),
         u64::MAX => TimeBudget::unlimited(),
         s => TimeBudget::new(Duration::from_secs(s), threads),
     }

@@ -26,7 +26,7 @@ use pyo3::prelude::*;
 
 /// `text` with parameters named as keywords (`max_memory=`).
 pub(crate) fn spelled(text: &str) -> String {
-    asperity_core::wording::spell(text, asperity_core::wording::Spelling::Python)
+    asperity_engine::core::wording::spell(text, asperity_engine::core::wording::Spelling::Python)
 }
 
 /// Each of `texts` with parameters named as keywords.

@@ -14,7 +14,7 @@ use crate::job::{RunOptions, budget, run};
 fn surface<'py>(
     py: Python<'py>,
     points: Vec<[f64; 3]>,
-    params: asperity_levelset::ReconstructParams,
+    params: asperity_engine::methods::levelset::ReconstructParams,
     opts: &RunOptions,
     out: &Bound<'py, PyDict>,
 ) -> PyResult<()> {
@@ -67,7 +67,10 @@ fn pipeline<'py>(
     let out = PyDict::new(py);
     out.set_item(
         "points",
-        points_out(py, &asperity_core::PointSet::new(grown.points.clone()))?,
+        points_out(
+            py,
+            &asperity_engine::core::PointSet::new(grown.points.clone()),
+        )?,
     )?;
     out.set_item("warnings", crate::spelled_all(grown.warnings))?;
     out.set_item("grown", json(&grown.facts)?)?;

@@ -40,9 +40,10 @@ pub fn encode_png<'py>(
     params: Option<&str>,
 ) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
     let img = crate::convert::image_in(image, "image")?;
-    let text = crate::io::params_value(params)?.map(|v| asperity_io::metadata::params_text(&v));
-    let bytes =
-        asperity_io::png_io::encode_rgba_with(&img, text.as_deref()).map_err(crate::value_error)?;
+    let text =
+        crate::io::params_value(params)?.map(|v| asperity_engine::io::metadata::params_text(&v));
+    let bytes = asperity_engine::io::png_io::encode_rgba_with(&img, text.as_deref())
+        .map_err(crate::value_error)?;
     Ok(pyo3::types::PyBytes::new(py, &bytes))
 }
 
@@ -57,11 +58,11 @@ pub fn save_png(
     params: Option<&str>,
 ) -> PyResult<()> {
     let img = crate::convert::image_in(image, "image")?;
-    let opts = asperity_io::WriteOptions {
+    let opts = asperity_engine::io::WriteOptions {
         params: crate::io::params_value(params)?,
         ..Default::default()
     };
     crate::job::run(py, &crate::job::RunOptions::quiet(None), move |_, _| {
-        Ok(asperity_io::write_png_with(&path, &img, &opts)?)
+        Ok(asperity_engine::io::write_png_with(&path, &img, &opts)?)
     })
 }

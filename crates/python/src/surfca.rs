@@ -38,7 +38,12 @@ pub fn surface_ca<'py>(
     let at = site_points
         .map(|p| rows::<3>(&p, "site_points"))
         .transpose()?
-        .map(|p| (asperity_core::PointSet::new(p), "site_points".to_string()));
+        .map(|p| {
+            (
+                asperity_engine::core::PointSet::new(p),
+                "site_points".to_string(),
+            )
+        });
     let inputs = SurfaceCaInputs {
         mesh: base,
         name,

@@ -1,5 +1,5 @@
 //! Every writer read back by Python's reference readers: numpy, plyfile, trimesh,
-//! Pillow and OpenEXR (`tests/python/check_formats.py`).
+//! Pillow and OpenEXR (`python/tests/reference/check_formats.py`).
 //!
 //! The interpreter: `asperity_fixtures::python`.
 
@@ -95,7 +95,7 @@ fn python_reference_readers_accept_every_writer() {
         "params": params,
     });
     std::fs::write(d.join("manifest.json"), manifest.to_string()).unwrap();
-    let script = workspace().join("tests/python/check_formats.py");
+    let script = workspace().join("python/tests/reference/check_formats.py");
     let out = Command::new(python())
         .arg(&script)
         .arg(d)
