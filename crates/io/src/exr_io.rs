@@ -6,7 +6,7 @@
 //! `asperity.dx`, `asperity.dy`, `asperity.x0`, `asperity.y0` (one text
 //! attribute `asperity.geometry`), units into `asperity.units` (`xy=um z=nm`,
 //! when the field has any), the parameters it was made with into the standard
-//! `comments` attribute ([`crate::metadata`]). Reading accepts
+//! `comments` attribute (one line of JSON). Reading accepts
 //! the first layer's `Y`, `Z`, `R` or only channel, in any sample type.
 
 use std::io::{Cursor, Seek, Write};
@@ -36,7 +36,7 @@ pub(crate) fn write_height<W: Write + Seek>(
         AttributeValue::Text(Text::from(geometry.as_str())),
     );
     // The parameters in the standard `comments` attribute (ASCII:
-    // crate::metadata escapes the rest, as EXR's text wants).
+    // the metadata module escapes the rest, as EXR's text wants).
     attrs.comments = params.map(Text::from);
     let layer = Layer::new(
         (h.nx(), h.ny()),
@@ -75,19 +75,14 @@ pub(crate) fn header_pixels<R: std::io::Read + Seek>(r: R) -> FResult<u128> {
         .unwrap_or(0))
 }
 
-/// Text attribute `key` of the first layer (its header only is read).
-pub(crate) fn text_attribute(bytes: &[u8], key: &str) -> FResult<Option<String>> {
+/// The first layer's standard `comments` attribute (its header only is read).
+pub(crate) fn comments(bytes: &[u8]) -> FResult<Option<String>> {
     let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false)
         .map_err(|e| FormatError::Malformed(e.to_string()))?;
-    Ok(meta.headers.first().and_then(|h| {
-        if key == crate::metadata::EXR_KEY {
-            return h.own_attributes.comments.as_ref().map(Text::to_string);
-        }
-        match h.own_attributes.other.get(&Text::from(key)) {
-            Some(AttributeValue::Text(t)) => Some(t.to_string()),
-            _ => None,
-        }
-    }))
+    Ok(meta
+        .headers
+        .first()
+        .and_then(|h| h.own_attributes.comments.as_ref().map(Text::to_string)))
 }
 
 /// Reads a height field from the first layer of an EXR file.

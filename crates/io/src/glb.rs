@@ -206,7 +206,7 @@ pub fn encode(m: &TriMesh) -> std::io::Result<Vec<u8>> {
 }
 
 /// Writes `m` as a single-mesh, single-node `.glb`; `params` (the parameters
-/// it was made with, see [`crate::metadata`]) go into `asset.extras`.
+/// it was made with, one line of JSON) go into `asset.extras`.
 pub(crate) fn write_mesh(
     w: &mut dyn Write,
     m: &TriMesh,

@@ -23,6 +23,9 @@ use crate::error::{FResult, FormatError, malformed};
 
 const MAGIC: &[u8] = b"Gwyddion Simple Field 1.0\n";
 
+/// The header field that holds the parameters a field was made with.
+pub(crate) const PARAMS_FIELD: &str = "AsperityParams";
+
 /// Writes a GSF file.
 pub(crate) fn write_height(
     w: &mut dyn Write,
@@ -58,7 +61,7 @@ pub(crate) fn write_height(
         env!("CARGO_PKG_VERSION")
     );
     if let Some(p) = params {
-        head += &format!("{} = {p}\n", crate::metadata::GSF_KEY);
+        head += &format!("{PARAMS_FIELD} = {p}\n");
     }
     let pad = 4 - head.len() % 4; // 1..=4 NULs, as Gwyddion's reader expects
     w.write_all(head.as_bytes())?;

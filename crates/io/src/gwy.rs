@@ -91,6 +91,9 @@ fn si_unit(unit: LengthUnit) -> std::io::Result<Vec<u8>> {
     object("GwySIUnit", &c)
 }
 
+/// The `/0/meta` string that holds the parameters a field was made with.
+pub(crate) const PARAMS_KEY: &str = "asperity params";
+
 /// Writes a `.gwy` file with one channel.
 pub(crate) fn write_height(
     w: &mut dyn Write,
@@ -124,7 +127,7 @@ pub(crate) fn write_height(
         &format!("asperity {}", env!("CARGO_PKG_VERSION")),
     );
     if let Some(p) = params {
-        put::string(&mut meta, crate::metadata::GWY_KEY, p);
+        put::string(&mut meta, PARAMS_KEY, p);
     }
     let mut container = Vec::new();
     put::object(&mut container, "/0/data", &object("GwyDataField", &field)?);

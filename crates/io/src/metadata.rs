@@ -28,18 +28,10 @@ use std::path::Path;
 use serde_json::Value;
 
 use crate::error::{FResult, FormatError};
-use crate::{Format, IoError};
+use crate::{Format, IoError, exr_io, glb, gsf, gwy, png_io, x3p};
 
 /// The PLY comment's and the OBJ comment's keyword.
 pub(crate) const KEYWORD: &str = "asperity-params";
-/// The PNG `tEXt` keyword.
-pub(crate) const PNG_KEY: &str = "asperity:params";
-/// The EXR attribute (its standard `comments`).
-pub(crate) const EXR_KEY: &str = "comments";
-/// The GSF header field.
-pub(crate) const GSF_KEY: &str = "AsperityParams";
-/// The `.gwy` metadata key (under `/0/meta`).
-pub(crate) const GWY_KEY: &str = "asperity params";
 /// The CSV comment's prefix.
 pub(crate) const CSV_PREFIX: &str = "# asperity params: ";
 
@@ -118,12 +110,12 @@ pub(crate) fn params_from_bytes(bytes: &[u8], f: Format) -> FResult<Option<Value
             &format!("# {KEYWORD} "),
         ),
         Format::Csv => header_line(std::str::from_utf8(bytes).unwrap_or_default(), CSV_PREFIX),
-        Format::Gsf => crate::gsf::header_field(bytes, GSF_KEY)?,
-        Format::Png => crate::png_io::text_chunk(bytes, PNG_KEY)?,
-        Format::Exr => crate::exr_io::text_attribute(bytes, EXR_KEY)?,
-        Format::Gwy => crate::gwy::meta_string(bytes, GWY_KEY)?,
-        Format::X3p => crate::x3p::comment(bytes)?,
-        Format::Glb => return crate::glb::params(bytes),
+        Format::Gsf => gsf::header_field(bytes, gsf::PARAMS_FIELD)?,
+        Format::Png => png_io::text_chunk(bytes, png_io::PARAMS_KEY)?,
+        Format::Exr => exr_io::comments(bytes)?,
+        Format::Gwy => gwy::meta_string(bytes, gwy::PARAMS_KEY)?,
+        Format::X3p => x3p::comment(bytes)?,
+        Format::Glb => return glb::params(bytes),
         Format::Npy | Format::Stl | Format::Xyz => None,
     };
     text.map(|t| parse(&t)).transpose()

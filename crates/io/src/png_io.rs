@@ -18,13 +18,16 @@ use asperity_core::{HeightField, LengthUnit, RgbaImage, Units};
 
 use crate::error::{FResult, FormatError, malformed};
 
+/// The `tEXt` keyword of the parameters an image or field was made with.
+pub(crate) const PARAMS_KEY: &str = "asperity:params";
+
 /// Encodes an RGBA8 image as PNG bytes.
 pub fn encode_rgba(img: &RgbaImage) -> Result<Vec<u8>, png::EncodingError> {
     encode_rgba_with(img, None)
 }
 
 /// Encodes an RGBA8 image as PNG bytes, with the parameters it was made with
-/// (see [`crate::metadata`]) in a `tEXt` chunk.
+/// (one line of JSON, the `metadata` module's) in a `tEXt` chunk.
 pub fn encode_rgba_with(
     img: &RgbaImage,
     params: Option<&str>,
@@ -34,7 +37,7 @@ pub fn encode_rgba_with(
     enc.set_color(png::ColorType::Rgba);
     enc.set_depth(png::BitDepth::Eight);
     if let Some(p) = params {
-        enc.add_text_chunk(crate::metadata::PNG_KEY.into(), p.into())?;
+        enc.add_text_chunk(PARAMS_KEY.into(), p.into())?;
     }
     let mut w = enc.write_header()?;
     w.write_image_data(img.pixels())?;
@@ -121,7 +124,7 @@ pub(crate) fn write_height(
             .map_err(std::io::Error::other)?;
     }
     if let Some(p) = params {
-        enc.add_text_chunk(crate::metadata::PNG_KEY.into(), p.into())
+        enc.add_text_chunk(PARAMS_KEY.into(), p.into())
             .map_err(std::io::Error::other)?;
     }
     let mut out = enc.write_header().map_err(std::io::Error::other)?;
