@@ -2,7 +2,7 @@
 
 Growth (:func:`rd`, :func:`rdsr`, :func:`bd`, :func:`dla`), level-set
 reconstruction (:func:`reconstruct`, :func:`dla_terrain`, :func:`rdsr_sphere`),
-cellular-automaton height fields (:func:`ca_run`, :func:`facet`,
+cellular-automaton height fields (:func:`ca_run`, :func:`ca_gallery`, :func:`facet`,
 :func:`interpolate`), subdivision surfaces (:func:`subdiv`), projected IFS
 (:func:`ifs_surface`, :func:`ifs_dcf`, :func:`ifs_sdcf`, :func:`ifs_curvature`…),
 cellular automata on meshes (:func:`surface_ca`), analysis (:func:`analyze`,
@@ -14,7 +14,8 @@ Every function runs the same Rust engine as the ``asperity`` CLI.
 """
 
 from . import _asperity
-from .api import (Result, analyze, bd, ca_rule, ca_run, dla, dla_terrain, facet, fbm,
+from .api import (Result, analyze, bd, ca_gallery, ca_rule, ca_run, dla, dla_terrain, facet,
+                  fbm,
                   fractal_dimensions, hurst, ifs_curvature, ifs_curve, ifs_dcf, ifs_model,
                   ifs_presets, ifs_sdcf, ifs_surface, interpolate, load, psd, rd, rdsr, rdsr_sphere,
                   reconstruct, render, save, save_image, set_limits, subdiv, surface_ca)
@@ -26,7 +27,7 @@ __version__ = _asperity.__version__
 
 __all__ = [
     "HeightField", "Mesh", "PointSet", "Result", "MemoryLimitError", "TimeLimitError",
-    "analyze", "bd", "ca_rule", "ca_run", "dla", "dla_terrain", "facet", "fbm",
+    "analyze", "bd", "ca_gallery", "ca_rule", "ca_run", "dla", "dla_terrain", "facet", "fbm",
     "fractal_dimensions", "hurst", "ifs_curvature", "ifs_curve", "ifs_dcf", "ifs_model",
     "ifs_presets", "ifs_sdcf", "ifs_surface", "interpolate", "load", "psd", "rd", "rdsr",
     "rdsr_sphere", "reconstruct", "render", "save", "save_image", "set_limits", "subdiv", "surface_ca", "sweep",

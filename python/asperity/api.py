@@ -193,6 +193,16 @@ ca_rule = Job(
 ).function()
 
 
+ca_gallery = Job(
+    "ca gallery", _asperity.ca_gallery, lambda d: d["image"], name="ca_gallery", result="np.ndarray",
+    summary="A picture of CA height fields, one row per rule and one column per initial "
+            "condition (peridier Figures 3–5): the CLI's ``ca gallery``.",
+    returns="Returns the picture as an (H, W, 4) uint8 array (with ``params``; "
+            ":func:`save_image` writes it with them).",
+    progress=False,
+).function()
+
+
 def _polyline(p):
     return None if p is None else np.ascontiguousarray(p, dtype=np.float64)
 

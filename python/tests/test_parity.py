@@ -93,6 +93,11 @@ JOBS = {
         "size": _maybe(0.4, lambda rng, d: [int(rng.integers(4, 33)), int(rng.integers(4, 33))]),
         "decay": _maybe(0.7, _between(0.3, 1.0)), "weights": lambda rng, d: None,
         "values": lambda rng, d: None}),
+    "ca gallery": (["ca", "gallery"], "ca_gallery", [], "png", {
+        "rules": _one_of(["8"], ["450", "8"], ["B3/S23"]), "states": _ints(2, 3),
+        "inits": _one_of(["seed"], ["seed", "random:0.3"], ["random:0.5@3"]), "steps": _ints(0, 6),
+        "size": lambda rng, d: [int(rng.integers(4, 17)), int(rng.integers(4, 17))],
+        "tile": lambda rng, d: [int(rng.integers(8, 48)), int(rng.integers(8, 48))]}),
     "ca rule": (["ca", "rule"], "ca_rule", [], "report", {
         "rule": _one_of(450, 8, 480, "B3/S23", 70000), "states": _ints(2, 4)}),
     # the draped curves go into the CLI's PLY beside the mesh, not into Python's
@@ -320,3 +325,11 @@ def test_a_2d_dla_lattice_is_the_same_from_both(cli, tmp):
     assert (tmp / "c.ply").read_bytes() == (tmp / "p.ply").read_bytes()
     assert rep["measurements"]["lattice"] == r.measurements["lattice"] == [64, 1, 64]
     assert rep["params"] == r.params and r.params["size"] == [64, 1, 64]
+
+
+def test_every_job_with_parameters_is_drawn():
+    """Every engine job is in JOBS, but those without parameters to draw:
+    ``interpolate`` and ``info`` (none), ``convert`` (file options, compared
+    byte for byte in test_cli_parity.test_render_and_load_save)."""
+    untested = set(_asperity.jobs()) - set(JOBS)
+    assert untested == {"interpolate", "info", "convert"}, untested

@@ -1,8 +1,9 @@
-//! `asperity.ca_run`, `ca_rule`, `facet`, `interpolate`: peridier's
+//! `asperity.ca_run`, `ca_rule`, `ca_gallery`, `facet`, `interpolate`: peridier's
 //! cellular-automaton height fields (`asperity_engine::ca`).
 
 use asperity_engine::ca::{
-    CaRuleParams, CaRunParams, FacetParams, facets, rule_measurements, run_job,
+    CaGalleryParams, CaRuleParams, CaRunParams, FacetParams, facets, gallery_image,
+    rule_measurements, run_job,
 };
 use asperity_engine::methods::ca::facets::interpolate_many;
 use numpy::{PyArray1, PyArrayMethods};
@@ -87,6 +88,27 @@ pub fn facet<'py>(
     Ok(out)
 }
 
+/// A picture of CA height fields, one row per rule and one column per
+/// initial condition (`ca gallery`): a dict with `image` (H, W, 4) and
+/// `params`.
+#[pyfunction]
+#[pyo3(signature = (params, threads = None))]
+pub fn ca_gallery<'py>(
+    py: Python<'py>,
+    params: &str,
+    threads: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (p, seed): (CaGalleryParams, u64) = crate::params::from_json(py, params)?;
+    let (p, img) = run(py, &RunOptions::quiet(threads), move |_, time| {
+        let img = gallery_image(&p, seed, &budget(), time)?;
+        Ok((p, img))
+    })?;
+    let out = PyDict::new(py);
+    out.set_item("image", crate::convert::image_out(py, &img)?)?;
+    out.set_item("params", crate::params::record(&p, seed))?;
+    Ok(out)
+}
+
 /// Heights on the facets at (N, 2) points; NaN outside the field.
 #[pyfunction]
 pub fn interpolate<'py>(
@@ -107,6 +129,7 @@ pub fn interpolate<'py>(
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(ca_run, m)?)?;
     m.add_function(wrap_pyfunction!(ca_rule, m)?)?;
+    m.add_function(wrap_pyfunction!(ca_gallery, m)?)?;
     m.add_function(wrap_pyfunction!(facet, m)?)?;
     m.add_function(wrap_pyfunction!(interpolate, m)?)?;
     Ok(())
