@@ -1,7 +1,7 @@
 """The engine's defaults for the add-on's properties (issue #36): the add-on
 types none of its own. ``blender/build.py`` writes ``engine_defaults.json``
 into the zip from the asperity package it bundles (every job's fields with
-their defaults, the IFS presets); without that file (the add-on run from the
+their defaults, the IFS presets, the subdivision example scenes); without that file (the add-on run from the
 source folder) they come from the package itself.
 
 ``default(job, field)`` is a property's default; ``FIELDS`` records which
@@ -23,7 +23,8 @@ def snapshot(asp) -> dict:
         desc = json.loads(asp._asperity.describe(job))
         jobs[job] = {f["name"]: f["default"] for f in desc["fields"]}
     return {"seed": asp._asperity.DEFAULT_SEED, "jobs": jobs,
-            "ifs_presets": [p["name"] for p in asp.ifs_presets()]}
+            "ifs_presets": [p["name"] for p in asp.ifs_presets()],
+            "subdiv_examples": json.loads(asp._asperity.subdiv_examples())}
 
 
 def _load() -> dict:
@@ -57,6 +58,11 @@ def follow(op: str, prop: str, job: str, field: str):
     """``default(job, field)``, recorded as property ``prop`` of operator ``op``."""
     FIELDS[(op, prop)] = (job, field)
     return default(job, field)
+
+
+def subdiv_examples() -> list:
+    """The engine's example scenes: name, description, levels, seed, size, spacing."""
+    return list(_data()["subdiv_examples"])
 
 
 def ifs_presets() -> list:

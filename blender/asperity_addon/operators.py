@@ -124,17 +124,17 @@ class ASPERITY_OT_add_subdivision(AsperityOperator, bpy.types.Operator):
     bl_idname = "mesh.asperity_subdivision"
     bl_label = "Rough Surface: Subdivision"
 
-    kind: EnumProperty(name="Kind", items=[(k, k.title(), scenes.DESCRIPTION[k]) for k in scenes.KINDS])
+    kind: EnumProperty(name="Kind", items=scenes.kinds())
     levels: IntProperty(name="Levels", default=follow("mesh.asperity_subdivision", "levels", "subdiv", "levels"),
                         min=1, max=7)
-    size: FloatProperty(name="Size", description="The detail's main size (amplitude, radius, length or height)",
-                        default=0.0, min=0.0, soft_max=3.0)
-    spacing: FloatProperty(name="Spacing", description="Distance between placed features, relative", default=0.0,
-                           min=0.0, soft_max=2.0)
+    size: FloatProperty(name="Size", description="The detail's main size (amplitude, radius, length or height; "
+                        "0: the example's)", default=0.0, min=0.0, soft_max=3.0)
+    spacing: FloatProperty(name="Spacing", description="Distance between placed features, relative (0: the "
+                           "example's)", default=0.0, min=0.0, soft_max=2.0)
     seed: IntProperty(name="Seed", default=follow("mesh.asperity_subdivision", "seed", "subdiv", "seed"), min=0)
 
     def job(self, asp, context):
-        text = scenes.scene(self.kind, self.levels, self.seed, self.size or None, self.spacing or None)
+        text = scenes.scene(asp, self.kind, self.levels, self.seed, self.size or None, self.spacing or None)
         return lambda progress: asp.subdiv(scene=text, seed=self.seed, progress=progress)
 
     def finish(self, context, result):

@@ -18,7 +18,8 @@ from .api import (Result, analyze, bd, ca_gallery, ca_rule, ca_run, dla, dla_ter
                   fbm,
                   fractal_dimensions, hurst, ifs_curvature, ifs_curve, ifs_dcf, ifs_model,
                   ifs_presets, ifs_sdcf, ifs_surface, interpolate, load, psd, rd, rdsr, rdsr_sphere,
-                  reconstruct, render, save, save_image, set_limits, subdiv, surface_ca)
+                  reconstruct, render, save, save_image, set_limits, subdiv, subdiv_examples,
+                  surface_ca)
 from .errors import MemoryLimitError, TimeLimitError
 from .sweep import sweep
 from .types import HeightField, Mesh, PointSet
@@ -30,5 +31,5 @@ __all__ = [
     "analyze", "bd", "ca_gallery", "ca_rule", "ca_run", "dla", "dla_terrain", "facet", "fbm",
     "fractal_dimensions", "hurst", "ifs_curvature", "ifs_curve", "ifs_dcf", "ifs_model",
     "ifs_presets", "ifs_sdcf", "ifs_surface", "interpolate", "load", "psd", "rd", "rdsr",
-    "rdsr_sphere", "reconstruct", "render", "save", "save_image", "set_limits", "subdiv", "surface_ca", "sweep",
+    "rdsr_sphere", "reconstruct", "render", "save", "save_image", "set_limits", "subdiv", "subdiv_examples", "surface_ca", "sweep",
 ]

@@ -230,13 +230,15 @@ def interpolate(heights: HeightField, points) -> np.ndarray:
 
 
 def _scene(fields: dict) -> dict:
-    """``scene`` may be a scene file (a path, or a string ending in .toml) or
-    its TOML text: the text goes to the engine as ``scene_text``."""
+    """``scene`` may be a scene file (a path, or a string ending in .toml), a
+    built-in example (``"example:rock"``, see :func:`subdiv_examples`) or its
+    TOML text: the text goes to the engine as ``scene_text``."""
     scene = fields.get("scene")
     if scene is None or isinstance(scene, Path):
         return fields
     text = str(scene)
-    if "\n" not in text and len(text) < 4096 and Path(text).suffix == ".toml":
+    one_line = "\n" not in text and len(text) < 4096
+    if one_line and (Path(text).suffix == ".toml" or text.startswith("example:")):
         return fields
     fields = dict(fields, scene_text=text)
     del fields["scene"]
@@ -249,7 +251,8 @@ subdiv = Job(
                      euler_characteristic=d["euler_characteristic"], details=d["details"]),
     name="subdiv",
     summary="A multiresolution Catmull–Clark surface with procedural detail (velho-perlin): the "
-            "CLI's ``subdiv … --triangles``. ``scene`` may also be a scene's TOML text.",
+            "CLI's ``subdiv … --triangles``. ``scene`` may also be a built-in example "
+            "(``\"example:rock\"``, :func:`subdiv_examples`) or a scene's TOML text.",
     inputs=[("export_details", False, "also return the detail file's text as ``details``.")],
     returns="Returns a :class:`Result` with ``mesh`` (triangles), ``levels`` ((vertices, faces) "
             "per level), ``euler_characteristic`` and ``details``.",
@@ -258,6 +261,14 @@ subdiv = Job(
 
 
 # ---------------------------------------------------------------- projected IFS
+
+
+def subdiv_examples() -> list:
+    """The built-in example scenes (velho-perlin Figs. 3–5, 7, 9), which
+    ``subdiv("example:NAME")`` runs: a list of dicts with ``name``,
+    ``description``, ``levels``, ``seed``, the main detail's ``size`` (its
+    ``field`` and ``value``) and ``spacing``."""
+    return json.loads(_asperity.subdiv_examples())
 
 
 def _ifs_fields(fields: dict) -> dict:

@@ -257,3 +257,13 @@ def test_render_and_load_save(cli, tmp):
     for ext in ["npy", "gsf", "exr", "gwy", "x3p"]:
         back = asperity.load(tmp / f"p.{ext}")
         np.testing.assert_allclose(back.heights, h.heights, rtol=1e-6)
+
+
+def test_built_in_example_scenes(cli, tmp):
+    """``example:NAME`` is the same scene from the CLI and Python, and
+    ``subdiv_examples`` lists what the engine has."""
+    names = [e["name"] for e in asperity.subdiv_examples()]
+    assert names == ["rock", "berry", "tentacle", "mushroom", "spur"]
+    cli("--seed", 4, "subdiv", "example:tentacle", "--triangles", "-o", tmp / "c.ply")
+    asperity.subdiv("example:tentacle", seed=4).mesh.save(tmp / "p.ply")
+    same_bytes(tmp / "c.ply", tmp / "p.ply")

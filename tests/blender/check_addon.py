@@ -111,9 +111,12 @@ def run(name, op, **params):
 
 
 # ---- generators against the CLI
-for kind in scenes.KINDS:
+kinds = [k for k, _, _ in scenes.kinds()]
+check("the subdivision kinds are the engine's example scenes",
+      kinds == [e["name"] for e in asp.subdiv_examples()] and len(kinds) >= 5, str(kinds))
+for kind in kinds:
     obj = run(f"subdivision {kind}", bpy.ops.mesh.asperity_subdivision, kind=kind, levels=3, seed=3)
-    (TMP / f"{kind}.toml").write_text(scenes.scene(kind, 3, 3))
+    (TMP / f"{kind}.toml").write_text(scenes.scene(asp, kind, 3, 3))
     cli("--seed", 3, "subdiv", TMP / f"{kind}.toml", "--triangles", "-o", TMP / f"{kind}.ply")
     if obj:
         check(f"subdivision {kind}: the CLI's counts", counts(obj) == cli_counts(TMP / f"{kind}.ply"),

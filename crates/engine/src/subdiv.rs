@@ -11,6 +11,7 @@ use asperity_subdiv::blend::{painted_alpha, parse_alpha_map};
 use asperity_subdiv::catmull_clark::{Boundary, Creased};
 use asperity_subdiv::detail_file::DetailFile;
 use asperity_subdiv::evaluate::{Captured, Composed, Inputs, evaluate};
+use asperity_subdiv::examples::{EXAMPLES, Example, example};
 use asperity_subdiv::multires::analyze_captured;
 use asperity_subdiv::scene::{Scene, crease_from_spec, feature_from_spec, parse};
 
@@ -47,7 +48,9 @@ impl From<BoundaryRule> for Boundary {
 #[serde(default)]
 pub struct SubdivParams {
     /// A scene file (TOML) describing base, levels, seed, details, edits, blends and shading
-    /// (see crates/subdiv/scenes); the shape parameters below then cannot be given.
+    /// (see crates/subdiv/scenes), or a built-in example: example:rock, example:berry,
+    /// example:tentacle, example:mushroom, example:spur; the shape parameters below then cannot
+    /// be given.
     #[arg(value_name = "SCENE")]
     pub scene: Option<PathBuf>,
     /// A scene's TOML text instead of its file (its relative paths: against the scene file's
@@ -109,6 +112,57 @@ impl Default for SubdivParams {
     }
 }
 
+/// The built-in example scene `name` (`asperity_subdiv::examples`).
+///
+/// # Errors
+/// An unknown name, with the names there are.
+fn built_in(name: &str) -> Result<&'static Example> {
+    example(name).ok_or_else(|| {
+        let names: Vec<&str> = EXAMPLES.iter().map(|e| e.name).collect();
+        invalid(format!(
+            "no example scene {name:?} (there are {})",
+            names.join(", ")
+        ))
+    })
+}
+
+/// The built-in example scenes as the front ends list them: name,
+/// description, levels, seed, the main detail's size (field and value) and
+/// spacing (the Blender add-on's knobs).
+pub fn examples() -> serde_json::Value {
+    EXAMPLES
+        .iter()
+        .map(|e| {
+            let (levels, seed) = e.levels_and_seed();
+            serde_json::json!({
+                "name": e.name,
+                "description": e.description(),
+                "levels": levels,
+                "seed": seed,
+                "size": e.size().map(|(field, value)| serde_json::json!({"field": field, "value": value})),
+                "spacing": e.spacing(),
+            })
+        })
+        .collect()
+}
+
+/// The text of example `name` with its levels, seed and main detail's size
+/// and spacing set where given ([`Example::with`]).
+///
+/// # Errors
+/// An unknown example, or a knob it does not have.
+pub fn example_text(
+    name: &str,
+    levels: Option<usize>,
+    seed: Option<u64>,
+    size: Option<f64>,
+    spacing: Option<f64>,
+) -> Result<String> {
+    built_in(name)?
+        .with(levels, seed, size, spacing)
+        .map_err(invalid)
+}
+
 impl JobParams for SubdivParams {
     const JOB: &'static str = "subdiv";
 }
@@ -124,9 +178,15 @@ impl SubdivParams {
                 path: path.clone().unwrap_or_else(|| PathBuf::from("scene.toml")),
                 text: text.clone(),
             },
-            (Some(path), None) => Source::Scene {
-                path: path.clone(),
-                text: read_text(path)?,
+            (Some(path), None) => match path.to_str().and_then(|p| p.strip_prefix("example:")) {
+                Some(name) => Source::Scene {
+                    path: PathBuf::from(built_in(name)?.file),
+                    text: built_in(name)?.text.to_owned(),
+                },
+                None => Source::Scene {
+                    path: path.clone(),
+                    text: read_text(path)?,
+                },
             },
             (None, None) => Source::Options(Options {
                 base: self.base.clone(),

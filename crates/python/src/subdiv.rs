@@ -43,8 +43,32 @@ pub fn subdiv<'py>(
     Ok(out)
 }
 
+/// The built-in example scenes (JSON text): name, description, levels,
+/// seed, the main detail's size and spacing.
+#[pyfunction]
+pub fn subdiv_examples() -> PyResult<String> {
+    crate::convert::json(&asperity_engine::subdiv::examples())
+}
+
+/// The TOML text of example `name` with its knobs set where given.
+#[pyfunction]
+#[pyo3(signature = (name, levels = None, seed = None, size = None, spacing = None))]
+pub fn subdiv_example(
+    py: Python<'_>,
+    name: &str,
+    levels: Option<usize>,
+    seed: Option<u64>,
+    size: Option<f64>,
+    spacing: Option<f64>,
+) -> PyResult<String> {
+    asperity_engine::subdiv::example_text(name, levels, seed, size, spacing)
+        .map_err(|e| crate::job::to_py(py, e))
+}
+
 /// Adds this module's functions.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(subdiv, m)?)?;
+    m.add_function(wrap_pyfunction!(subdiv_examples, m)?)?;
+    m.add_function(wrap_pyfunction!(subdiv_example, m)?)?;
     Ok(())
 }

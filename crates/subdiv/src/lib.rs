@@ -31,6 +31,7 @@ pub mod compose;
 pub mod detail;
 pub mod detail_file;
 pub mod evaluate;
+pub mod examples;
 pub mod multires;
 pub mod scalar;
 pub mod scene;
