@@ -16,6 +16,14 @@ ending in `_s`, `_seconds`, `per_s`, `per_second`) and the run folder's own path
 before hashing; nothing else is. `--manifest BIN` prints one binary's hashes instead.
 Exit status 0 when the two agree, 1 when they differ. `--allow REGEX` (repeatable) names
 outputs expected to differ (a deliberate change): they are listed but do not fail the run.
+
+`--mask-params` also masks the parameter records of issue #36 (`asperity_io::metadata`), to
+compare a binary from before it with one from after: the `params`, `params_overridden` and
+`made_with` keys of JSON; the PLY, OBJ and CSV comment lines; the GSF header field (the
+header's padding recomputed); PNG's `asperity:params` chunk; glTF's `asset.extras`; x3p's
+`Record2` (and the checksum of `main.xml`). EXR and `.gwy` hold theirs inside binary headers
+whose offsets and sizes shift, so those files are compared as their heights and geometry:
+converted to GSF by the second binary, then masked.
 """
 import argparse
 import hashlib
@@ -26,7 +34,9 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import struct
 import time
+import zipfile
 
 # (label, argv after the binary). Inputs first, then the README's commands in README order.
 SETUP = [
@@ -109,13 +119,100 @@ def strip_timings(value):
     return value
 
 
-def normalise(data: bytes, workdir: str) -> bytes:
-    """Masks the run folder's path and, in JSON, every timing."""
+PARAM_KEYS = {"params", "params_overridden", "made_with"}
+# Set by --mask-params: the binary that decodes EXR and .gwy files for masking.
+MASK = {"decoder": None}
+
+
+def strip_params(value):
+    """Removes the parameter records from a JSON value."""
+    if isinstance(value, dict):
+        return {k: strip_params(v) for k, v in value.items() if k not in PARAM_KEYS}
+    if isinstance(value, list):
+        return [strip_params(v) for v in value]
+    return value
+
+
+def mask_gsf(data: bytes) -> bytes:
+    """A GSF file without its `AsperityParams` field, its NUL padding redone."""
+    nul = data.index(b"\0")
+    head, body = data[:nul], data[nul + 4 - nul % 4:]
+    head = re.sub(rb"AsperityParams = [^\n]*\n", b"", head)
+    return head + b"\0" * (4 - len(head) % 4) + body
+
+
+def mask_png(data: bytes) -> bytes:
+    """A PNG without its `asperity:params` tEXt chunk."""
+    out, at = [data[:8]], 8
+    while at < len(data):
+        (length,) = struct.unpack(">I", data[at:at + 4])
+        chunk = data[at:at + 12 + length]
+        if not (chunk[4:8] == b"tEXt" and chunk[8:].startswith(b"asperity:params\0")):
+            out.append(chunk)
+        at += 12 + length
+    return b"".join(out)
+
+
+def mask_glb(data: bytes) -> bytes:
+    """A glTF binary as its JSON (without `asset.extras`, keys sorted) and binary chunk."""
+    (length,) = struct.unpack("<I", data[12:16])
+    doc = json.loads(data[20:20 + length])
+    doc.get("asset", {}).pop("extras", None)
+    return json.dumps(doc, sort_keys=True).encode() + data[20 + length:]
+
+
+def mask_x3p(data: bytes) -> bytes:
+    """An x3p archive as its main.xml without `Record2` and its data."""
+    import io
+
+    with zipfile.ZipFile(io.BytesIO(data)) as z:
+        main = re.sub(rb"\s*<Record2>.*?</Record2>", b"", z.read("main.xml"), flags=re.S)
+        return main + b"".join(z.read(n) for n in sorted(z.namelist())
+                               if n not in ("main.xml", "md5checksum.hex"))
+
+
+def mask_decoded(path: str) -> bytes:
+    """An EXR or .gwy file as the GSF the decoding binary converts it to."""
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, "decoded.gsf")
+        subprocess.run([MASK["decoder"], "convert", path, out, "--quiet"], check=True,
+                       capture_output=True)
+        with open(out, "rb") as f:
+            return mask_gsf(f.read())
+
+
+def mask_params(data: bytes, path: str) -> bytes:
+    """`data` (of file `path`, None for stdout) without its parameter records."""
+    ext = os.path.splitext(path or "")[1].lower()
+    try:
+        if ext == ".gsf":
+            return mask_gsf(data)
+        if ext == ".png":
+            return mask_png(data)
+        if ext == ".glb":
+            return mask_glb(data)
+        if ext == ".x3p":
+            return mask_x3p(data)
+        if ext in (".exr", ".gwy"):
+            return mask_decoded(path)
+    except (ValueError, KeyError, struct.error, zipfile.BadZipFile, subprocess.CalledProcessError):
+        return data
+    return re.sub(rb"(comment asperity-params|# asperity-params|# asperity params:) [^\n]*\n", b"",
+                  data)
+
+
+def normalise(data: bytes, workdir: str, path: str = None) -> bytes:
+    """Masks the run folder's path and, in JSON, every timing (and with
+    --mask-params, the parameter records)."""
+    if MASK["decoder"]:
+        data = mask_params(data, path)
     data = data.replace(workdir.encode(), b"WORKDIR")
     try:
         doc = json.loads(data)
     except (ValueError, UnicodeDecodeError):
         return data
+    if MASK["decoder"]:
+        doc = strip_params(doc)
     return json.dumps(strip_timings(doc), sort_keys=True).encode()
 
 
@@ -151,8 +248,9 @@ def manifest(binary, workdir):
         after = snapshot(workdir)
         for rel, stamp in sorted(after.items()):
             if before.get(rel) != stamp:
-                with open(os.path.join(workdir, rel), "rb") as f:
-                    digest = hashlib.md5(normalise(f.read(), workdir)).hexdigest()
+                path = os.path.join(workdir, rel)
+                with open(path, "rb") as f:
+                    digest = hashlib.md5(normalise(f.read(), workdir, path)).hexdigest()
                 hashes[f"{label} | {rel}"] = digest
     return hashes
 
@@ -173,7 +271,11 @@ def main():
     ap.add_argument("--manifest", action="store_true", help="print one binary's hashes as JSON")
     ap.add_argument("--allow", action="append", default=[], metavar="REGEX",
                     help="outputs expected to differ (listed, not failed)")
+    ap.add_argument("--mask-params", action="store_true",
+                    help="mask the parameter records files and reports hold (#36)")
     a = ap.parse_args()
+    if a.mask_params:
+        MASK["decoder"] = os.path.abspath(a.after or a.before)
     if a.manifest or a.after is None:
         json.dump(run(a.before), sys.stdout, indent=1, sort_keys=True)
         print()

@@ -410,7 +410,7 @@ fn estimate_from(size: u64, pixels: Option<FResult<u128>>, _format: Format) -> F
 ///
 /// # Errors
 /// [`IoError`] naming `label`; [`IoError::Invalid`] with
-/// [`CoreError::MemoryLimit`] when the estimate exceeds `budget`.
+/// [`asperity_core::CoreError::MemoryLimit`] when the estimate exceeds `budget`.
 pub fn decode(
     label: &Path,
     format: Format,

@@ -7,7 +7,7 @@
 //! redistancing update, the time step, the wavefront's squared distances — so
 //! a bug in a kernel cancels out of every sparse-equals-dense test. This module
 //! shares none of them. It is written from the paper's equations and the
-//! module docs of [`crate::evolve`] and [`crate::distance`], one node at a
+//! module docs of [`mod@crate::evolve`] and [`crate::distance`], one node at a
 //! time, in grid order, every pass over whole grids with boolean masks for the
 //! tubes:
 //!
