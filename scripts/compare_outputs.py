@@ -19,7 +19,7 @@ outputs expected to differ (a deliberate change): they are listed but do not fai
 
 `--mask-params` also masks the parameter records of issue #36 (`asperity_io::metadata`), to
 compare a binary from before it with one from after: the `params`, `params_overridden` and
-`made_with` keys of JSON; the PLY, OBJ and CSV comment lines; the GSF header field (the
+`made_with` keys of JSON (and the `bytes` of the files a report lists); the PLY, OBJ and CSV comment lines; the GSF header field (the
 header's padding recomputed); PNG's `asperity:params` chunk; glTF's `asset.extras`; x3p's
 `Record2` (and the checksum of `main.xml`). EXR and `.gwy` hold theirs inside binary headers
 whose offsets and sizes shift, so those files are compared as their heights and geometry:
@@ -119,7 +119,8 @@ def strip_timings(value):
     return value
 
 
-PARAM_KEYS = {"params", "params_overridden", "made_with"}
+# (and the sizes of the files a report lists, which the records lengthen)
+PARAM_KEYS = {"params", "params_overridden", "made_with", "bytes"}
 # Set by --mask-params: the binary that decodes EXR and .gwy files for masking.
 MASK = {"decoder": None}
 
