@@ -62,8 +62,22 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
         .unwrap_or_default();
     // The surface's recipe: the parameters its file records, which a format
     // change keeps (a file without them gets none; the report has convert's).
+    // A conversion that changes the surface (another kind, a new spacing, a
+    // repair) keeps none: they would no longer make it.
+    let recipe = asperity_engine::io::read_params(&a.input).unwrap_or_default();
+    let changed = {
+        let p = &job.params;
+        p.as_kind.is_some() || p.spacing.is_some() || p.repair
+    };
+    if changed && recipe.is_some() {
+        run.note(format!(
+            "{} records no parameters: the conversion changed the surface that those of {} made",
+            out.display(),
+            a.input.display()
+        ));
+    }
     let opts = asperity_engine::io::WriteOptions {
-        params: asperity_engine::io::read_params(&a.input).unwrap_or_default(),
+        params: recipe.filter(|_| !changed),
         ..job.params.write_options(title, ctx.up)
     };
     asperity_engine::io::write(&out, &s, &opts)?;

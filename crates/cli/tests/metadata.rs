@@ -128,6 +128,11 @@ fn info_shows_the_record_and_convert_keeps_it() {
     assert_eq!(recorded(&dir.join("h.x3p")), Some(r["params"].clone()));
     report(dir, &["convert", "h.gsf", "h.ply"]);
     assert_eq!(recorded(&dir.join("h.ply")), Some(r["params"].clone()));
+    // A conversion that changes the surface keeps none: they would not make it.
+    report(dir, &["convert", "h.gsf", "h2.gsf", "--spacing", "0.5"]);
+    assert_eq!(recorded(&dir.join("h2.gsf")), None);
+    report(dir, &["convert", "h.gsf", "pts.ply", "--as", "points"]);
+    assert_eq!(recorded(&dir.join("pts.ply")), None);
     // Formats with no place for them, and files from elsewhere, have none.
     report(dir, &["convert", "h.gsf", "h.npy"]);
     assert_eq!(recorded(&dir.join("h.npy")), None);
