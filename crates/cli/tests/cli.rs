@@ -1633,11 +1633,9 @@ fn subdiv_as_documented() {
     assert_eq!(levels[1]["vertices"], 26);
     assert_eq!(levels[2]["faces"], 96);
     assert_eq!(v["measurements"]["euler_characteristic"], 2);
+    // (the surface itself, one behaviour a test: crates/engine/tests/subdiv.rs)
     let m = asperity_io::read_mesh(&dir.join("cc.ply")).unwrap();
     assert_eq!(m.n_faces(), 192);
-    // The corner vertex point (last vertex) of the [−1, 1]³ cube: 55/108 after two levels.
-    let c = m.positions()[m.n_vertices() - 1];
-    assert!(c.iter().all(|&x| (x - 55.0 / 108.0).abs() < 1e-12), "{c:?}");
     let run = |args: &[&str]| {
         let o = asperity(args, dir);
         assert!(o.status.success(), "{args:?}: {}", stderr(&o));
@@ -1674,32 +1672,6 @@ fn subdiv_as_documented() {
         "many.glb",
         "-q",
     ]);
-    // A surface of revolution from a profile file.
-    std::fs::write(
-        dir.join("vase.txt"),
-        "# r z\n0.3 0\n0.6 0.5\n0.25 1.2\n0.4 1.6\n",
-    )
-    .unwrap();
-    run(&[
-        "subdiv",
-        "--base",
-        "revolution:vase.txt",
-        "--levels",
-        "2",
-        "-o",
-        "vase.ply",
-        "-q",
-    ]);
-    let vase = asperity_io::read_mesh(&dir.join("vase.ply")).unwrap();
-    assert!(vase.is_watertight() && vase.euler_characteristic() == 2);
-    std::fs::write(dir.join("flat.txt"), "0 0\n0.5 1\n").unwrap();
-    assert_clean_failure(
-        &asperity(
-            &["subdiv", "--base", "revolution:flat.txt", "-o", "x.ply"],
-            dir,
-        ),
-        "r > 0",
-    );
     // Animation: θ runs over the frames.
     run(&[
         "subdiv",
@@ -1770,7 +1742,8 @@ fn subdiv_as_documented() {
         "c.ply",
         "-q",
     ]);
-    // Analysis of a fine mesh gives details that rebuild it.
+    // --analyze and --export-details reach the engine (which rebuilds the
+    // fine mesh: crates/engine/tests/subdiv.rs).
     run(&[
         "subdiv",
         "--base",
@@ -1785,14 +1758,8 @@ fn subdiv_as_documented() {
         "back.ply",
         "-q",
     ]);
-    let (fa, fb) = (
-        asperity_io::read_mesh(&dir.join("a.ply")).unwrap(),
-        asperity_io::read_mesh(&dir.join("back.ply")).unwrap(),
-    );
-    for (p, q) in fa.positions().iter().zip(fb.positions()) {
-        assert!((0..3).all(|k| (p[k] - q[k]).abs() < 1e-12), "{p:?} {q:?}");
-    }
-    assert!(dir.join("e.json").exists());
+    assert!(dir.join("back.ply").exists() && dir.join("e.json").exists());
+    let fa = asperity_io::read_mesh(&dir.join("a.ply")).unwrap();
     // A captured surface (a.ply) as a layer, blended with fresh rock: with the
     // plane far away (α = 0 everywhere) the result is the captured surface.
     for (offset, same) in [(100.0, true), (0.0, false)] {
