@@ -1138,16 +1138,13 @@ fn ifs_commands_as_documented() {
         "0.5,0.25",
         "--json",
     ]);
+    // (the values against closed forms: crates/engine/tests/ifs.rs)
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["control_points"].as_array().unwrap().len(), 4);
     let ops = v["operators"].as_array().unwrap();
     assert_eq!(ops.len(), 4);
     for o in ops {
-        assert_eq!(o["class"], "finite");
-        assert!(o["fixed_point"].is_array() && o["alpha"].is_array());
-        let g = o["gaussian"].as_array().unwrap();
-        assert!((g[0].as_f64().unwrap() - g[1].as_f64().unwrap()).abs() < 1e-12);
-        assert!(o["mean"].is_array());
+        assert!(o["fixed_point"].is_array() && o["alpha"].is_array() && o["mean"].is_array());
     }
     assert_eq!(v["at"][0]["quadrants"].as_array().unwrap().len(), 4);
 
@@ -1161,13 +1158,10 @@ fn ifs_commands_as_documented() {
         "--json",
     ]);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["operators"][0]["class"], "non-diagonalisable");
-    assert!(v["operators"][0]["curvature"].is_null());
-    let out = ok(&["ifs", "curvature", "--preset", "takagi-landsberg", "--json"]);
-    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    let r = v["operators"][0]["curvature"].as_array().unwrap();
-    assert!((r[0].as_f64().unwrap() + (6.0 - 4.0 * 2f64.sqrt())).abs() < 1e-9);
-    assert_eq!(v["control_points"][1], serde_json::json!([1.0, 0.0]));
+    assert_eq!(
+        v["operators"][0]["class"], "non-diagonalisable",
+        "--w reaches the model"
+    );
 
     // Presets as editable files, edited and moved.
     ok(&["ifs", "preset", "bezier-quadratic", "-o", "q.json"]);
@@ -1189,9 +1183,6 @@ fn ifs_commands_as_documented() {
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["model"], "mine");
     assert_eq!(v["control_points"][2], serde_json::json!([2.0, 2.0]));
-    // (0,0),(1,0),(2,2): κ(0) = 2·|ΔP₀ × ΔP₁|·(n−1)/n / |ΔP₀|³ = 1.
-    let k = v["operators"][0]["curvature"][0].as_f64().unwrap();
-    assert!((k - 1.0).abs() < 1e-12, "{k}");
     std::fs::write(dir.join("ctl.csv"), "x,y\n0,0\n1,0\n1,1\n").unwrap();
     let out = ok(&[
         "ifs",
@@ -1203,7 +1194,11 @@ fn ifs_commands_as_documented() {
         "--json",
     ]);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert!((v["operators"][0]["curvature"][0].as_f64().unwrap() - 0.5).abs() < 1e-12);
+    assert_eq!(
+        v["control_points"][2],
+        serde_json::json!([1.0, 1.0]),
+        "--control is read"
+    );
 
     // Curves, DCFs and SDCFs in their formats.
     ok(&[
