@@ -24,7 +24,8 @@ def snapshot(asp) -> dict:
         jobs[job] = {f["name"]: f["default"] for f in desc["fields"]}
     return {"seed": asp._asperity.DEFAULT_SEED, "jobs": jobs,
             "ifs_presets": [p["name"] for p in asp.ifs_presets()],
-            "subdiv_examples": json.loads(asp._asperity.subdiv_examples())}
+            "subdiv_examples": json.loads(asp._asperity.subdiv_examples()),
+            "rock": json.loads(asp._asperity.subdiv_rock_defaults())}
 
 
 def _load() -> dict:
@@ -58,6 +59,11 @@ def follow(op: str, prop: str, job: str, field: str):
     """``default(job, field)``, recorded as property ``prop`` of operator ``op``."""
     FIELDS[(op, prop)] = (job, field)
     return default(job, field)
+
+
+def rock(key: str) -> float:
+    """The engine's default of the rock detail's ``key`` (amplitude, decay)."""
+    return _data()["rock"][key]
 
 
 def subdiv_examples() -> list:

@@ -19,7 +19,7 @@ import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
 from . import build, engine, scenes
-from .defaults import default, follow, ifs_presets
+from .defaults import default, follow, ifs_presets, rock
 
 
 def _prefs(context):
@@ -379,9 +379,9 @@ class ASPERITY_OT_roughen(_OnMesh, AsperityOperator, bpy.types.Operator):
     bl_label = "Roughen (subdivision detail)"
 
     levels: IntProperty(name="Levels", default=follow("object.asperity_roughen", "levels", "subdiv", "levels"), min=1, max=6)
-    amplitude: FloatProperty(name="Amplitude", default=0.08, min=0.0, soft_max=1.0)
-    decay: FloatProperty(name="Decay", description="Amplitude ratio per level (1/f)", default=0.5, min=0.0,
-                         max=1.0)
+    amplitude: FloatProperty(name="Amplitude", default=rock("amplitude"), min=0.0, soft_max=1.0)
+    decay: FloatProperty(name="Decay", description="Amplitude ratio per level (1/f)", default=rock("decay"),
+                         min=0.0, max=1.0)
     seed: IntProperty(name="Seed", default=follow("object.asperity_roughen", "seed", "subdiv", "seed"), min=0)
 
     def job(self, asp, context):

@@ -91,6 +91,11 @@ for (op, prop), (job, field) in sorted(defaults.FIELDS.items()):
         wrong.append(f"{op}.{prop} = {have}, the engine's {job} {field} = {want}")
 check("the add-on's properties default to the engine's", len(defaults.FIELDS) >= 18 and not wrong,
       f"{len(defaults.FIELDS)} properties; {wrong}")
+roughen = bpy.ops.object.asperity_roughen.get_rna_type().properties
+want_rock = json.loads(asp._asperity.subdiv_rock_defaults())
+check("Roughen's rock defaults are the engine's",
+      all(abs(roughen[k].default - want_rock[k]) < 1e-6 for k in ("amplitude", "decay")),
+      f"{[roughen[k].default for k in ('amplitude', 'decay')]} vs {want_rock}")
 presets = [i.identifier for i in
            bpy.ops.mesh.asperity_ifs_surface.get_rna_type().properties["preset"].enum_items]
 check("the IFS presets are the engine's", bool(presets) and presets == [p["name"] for p in asp.ifs_presets()],

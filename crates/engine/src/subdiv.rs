@@ -146,6 +146,17 @@ pub fn examples() -> serde_json::Value {
         .collect()
 }
 
+/// The rock detail's defaults (`rock` with no key=value: amplitude and the
+/// 1/f decay), which the Blender add-on's Roughen shows.
+pub fn rock_defaults() -> serde_json::Value {
+    let rock = asperity_subdiv::detail::Rock::default();
+    let decay = match rock.law {
+        asperity_subdiv::detail::Law::Fractal { decay } => Some(decay),
+        _ => None,
+    };
+    serde_json::json!({"amplitude": rock.amplitude, "decay": decay})
+}
+
 /// The text of example `name` with its levels, seed and main detail's size
 /// and spacing set where given ([`Example::with`]).
 ///

@@ -50,6 +50,12 @@ pub fn subdiv_examples() -> PyResult<String> {
     crate::convert::json(&asperity_engine::subdiv::examples())
 }
 
+/// The rock detail's defaults (JSON text: amplitude, decay).
+#[pyfunction]
+pub fn subdiv_rock_defaults() -> PyResult<String> {
+    crate::convert::json(&asperity_engine::subdiv::rock_defaults())
+}
+
 /// The TOML text of example `name` with its knobs set where given.
 #[pyfunction]
 #[pyo3(signature = (name, levels = None, seed = None, size = None, spacing = None))]
@@ -70,5 +76,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(subdiv, m)?)?;
     m.add_function(wrap_pyfunction!(subdiv_examples, m)?)?;
     m.add_function(wrap_pyfunction!(subdiv_example, m)?)?;
+    m.add_function(wrap_pyfunction!(subdiv_rock_defaults, m)?)?;
     Ok(())
 }

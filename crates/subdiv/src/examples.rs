@@ -134,8 +134,6 @@ impl Example {
         if let Some(s) = seed {
             t.insert("seed".into(), Value::Integer(s as i64));
         }
-        let main_size = self.size().map(|(f, _)| f);
-        let has_spacing = self.spacing().is_some();
         let details = t.get_mut("detail").and_then(Value::as_array_mut);
         for d in details
             .into_iter()
@@ -158,34 +156,30 @@ impl Example {
         }
         let positive = |what: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
-                Ok(v)
+                Ok(Value::Float(v))
             } else {
                 Err(format!("{what} must be a positive number, got {v}"))
             }
         };
-        let main = t
+        let mut main = t
             .get_mut("detail")
             .and_then(Value::as_array_mut)
             .and_then(|a| a.last_mut())
             .and_then(Value::as_table_mut);
-        match (size, main_size, main) {
-            (Some(v), Some(field), Some(d)) => {
-                d.insert(field.into(), Value::Float(positive("size", v)?));
-            }
-            (Some(_), _, _) => return Err(format!("example {} has no detail size", self.name)),
-            _ => {}
+        if let Some(v) = size {
+            let field = main
+                .as_deref()
+                .and_then(|d| size_field(d.get("type")?.as_str()?));
+            match (main.as_deref_mut(), field) {
+                (Some(d), Some(field)) => d.insert(field.into(), positive("size", v)?),
+                _ => return Err(format!("example {} has no detail size", self.name)),
+            };
         }
         if let Some(v) = spacing {
-            if !has_spacing {
-                return Err(format!("example {} places no detail by spacing", self.name));
-            }
-            let d = t
-                .get_mut("detail")
-                .and_then(Value::as_array_mut)
-                .and_then(|a| a.last_mut())
-                .and_then(Value::as_table_mut)
-                .expect("a main detail with a spacing");
-            d.insert("spacing".into(), Value::Float(positive("spacing", v)?));
+            match main.filter(|d| d.contains_key("spacing")) {
+                Some(d) => d.insert("spacing".into(), positive("spacing", v)?),
+                None => return Err(format!("example {} places no detail by spacing", self.name)),
+            };
         }
         Ok(toml::to_string(&t).expect("a TOML table serialises"))
     }
