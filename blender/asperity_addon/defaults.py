@@ -25,7 +25,8 @@ def snapshot(asp) -> dict:
     return {"seed": asp._asperity.DEFAULT_SEED, "jobs": jobs,
             "ifs_presets": [p["name"] for p in asp.ifs_presets()],
             "subdiv_examples": json.loads(asp._asperity.subdiv_examples()),
-            "rock": json.loads(asp._asperity.subdiv_rock_defaults())}
+            "rock": json.loads(asp._asperity.subdiv_rock_defaults()),
+            "ca_terrain": json.loads(asp._asperity.ca_terrain_example())}
 
 
 def _load() -> dict:
@@ -64,6 +65,17 @@ def follow(op: str, prop: str, job: str, field: str):
 def rock(key: str) -> float:
     """The engine's default of the rock detail's ``key`` (amplitude, decay)."""
     return _data()["rock"][key]
+
+
+def ca_terrain() -> dict:
+    """The engine's example CA terrain run (``CaRunParams::terrain_example``):
+    rule, steps, density of its random start, cells a side."""
+    ex = _data()["ca_terrain"]
+    init = ex["init"]
+    return {"rule": int(ex["rule"]), "steps": ex["steps"],
+            "init": "random" if init.startswith("random") else "seed",
+            "density": float(init.split(":")[1].split("@")[0]) if init.startswith("random:") else 0.5,
+            "size": ex["size"][0]}
 
 
 def subdiv_examples() -> list:

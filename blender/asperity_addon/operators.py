@@ -19,7 +19,7 @@ import numpy as np
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty
 
 from . import build, engine, scenes
-from .defaults import default, follow, ifs_presets, rock
+from .defaults import ca_terrain, default, follow, ifs_presets, rock
 
 
 def _prefs(context):
@@ -147,12 +147,16 @@ class ASPERITY_OT_add_ca_terrain(AsperityOperator, bpy.types.Operator):
     bl_idname = "mesh.asperity_ca_terrain"
     bl_label = "Rough Surface: CA Terrain"
 
-    rule: IntProperty(name="Rule", description="Wolfram code (9-neighbour totalistic)", default=450, min=0)
-    steps: IntProperty(name="Steps", default=24, min=1, soft_max=500)
-    init: EnumProperty(name="Start", items=[("seed", "One cell", ""), ("random", "Random", "")], default="random")
-    density: FloatProperty(name="Density", default=0.3, min=0.0, max=1.0)
-    size: IntProperty(name="Cells", default=64, min=4, soft_max=1024)
-    height: FloatProperty(name="Height", description="Height of the whole run", default=0.25, min=0.0)
+    # The engine's example terrain (CaRunParams::terrain_example); the height is
+    # the add-on's own: the relief's scale in the scene, a quarter of its width.
+    rule: IntProperty(name="Rule", description="Wolfram code (9-neighbour totalistic)",
+                      default=ca_terrain()["rule"], min=0)
+    steps: IntProperty(name="Steps", default=ca_terrain()["steps"], min=1, soft_max=500)
+    init: EnumProperty(name="Start", items=[("seed", "One cell", ""), ("random", "Random", "")],
+                       default=ca_terrain()["init"])
+    density: FloatProperty(name="Density", default=ca_terrain()["density"], min=0.0, max=1.0)
+    size: IntProperty(name="Cells", default=ca_terrain()["size"], min=4, soft_max=1024)
+    height: FloatProperty(name="Height", description="Height of the whole run in the scene", default=0.25, min=0.0)
     seed: IntProperty(name="Seed", default=follow("mesh.asperity_ca_terrain", "seed", "ca run", "seed"), min=0)
 
     def job(self, asp, context):

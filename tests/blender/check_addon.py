@@ -96,6 +96,12 @@ want_rock = json.loads(asp._asperity.subdiv_rock_defaults())
 check("Roughen's rock defaults are the engine's",
       all(abs(roughen[k].default - want_rock[k]) < 1e-6 for k in ("amplitude", "decay")),
       f"{[roughen[k].default for k in ('amplitude', 'decay')]} vs {want_rock}")
+terrain = bpy.ops.mesh.asperity_ca_terrain.get_rna_type().properties
+ex = json.loads(asp._asperity.ca_terrain_example())
+have = (terrain["rule"].default, terrain["steps"].default, terrain["size"].default,
+        terrain["init"].default, round(terrain["density"].default, 6))
+want = (int(ex["rule"]), ex["steps"], ex["size"][0], "random", float(ex["init"].split(":")[1]))
+check("CA terrain's defaults are the engine's example run", have == want, f"{have} vs {want}")
 presets = [i.identifier for i in
            bpy.ops.mesh.asperity_ifs_surface.get_rna_type().properties["preset"].enum_items]
 check("the IFS presets are the engine's", bool(presets) and presets == [p["name"] for p in asp.ifs_presets()],

@@ -125,9 +125,16 @@ pub fn interpolate<'py>(
     Ok(PyArray1::from_vec(py, z))
 }
 
+/// The engine's example terrain run (JSON text of `ca run`'s parameters).
+#[pyfunction]
+pub fn ca_terrain_example() -> PyResult<String> {
+    crate::convert::json(&asperity_engine::ca::CaRunParams::terrain_example())
+}
+
 /// Adds this module's functions.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(ca_run, m)?)?;
+    m.add_function(wrap_pyfunction!(ca_terrain_example, m)?)?;
     m.add_function(wrap_pyfunction!(ca_rule, m)?)?;
     m.add_function(wrap_pyfunction!(ca_gallery, m)?)?;
     m.add_function(wrap_pyfunction!(facet, m)?)?;

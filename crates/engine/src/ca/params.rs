@@ -193,6 +193,21 @@ impl Default for CaRunParams {
 }
 
 impl CaRunParams {
+    /// The example terrain a front end offers first (the Blender add-on's CA
+    /// terrain): rule 450, a random 64 × 64 cyclic grid of density 0.3, 24
+    /// steps accumulated — a rough, isotropic relief (peridier §3, whose
+    /// figures use code 450's family; the benches' workload uses the same rule
+    /// and density).
+    pub fn terrain_example() -> Self {
+        Self {
+            rule: Some(RuleCode("450".into())),
+            steps: Some(24),
+            init: "random:0.3".into(),
+            size: Some(Size2([64, 64])),
+            ..Self::default()
+        }
+    }
+
     /// The step weights.
     pub fn step_weights(&self) -> Weights {
         match (&self.weights, self.decay) {

@@ -1,21 +1,136 @@
-//! The engine's jobs checked against outside truths: what every front end
-//! (CLI, gallery, Python, Blender) gets when it calls them.
+//! The reconstruction job's behaviour (kim-machiraju-thompson §5, Algorithm 1),
+//! tested here rather than through the CLI (issue #36): one behaviour per test,
+//! through `LevelSetParams` as every front end builds them, against the
+//! analytic sphere. The pipelines (DLA terrain, RDSR sphere) are in `jobs.rs`;
+//! the level set's numerics against an independent reference are in
+//! `asperity-levelset` (`tests/oracle.rs`).
 
 use std::f64::consts::PI;
 
-use asperity_core::{MemoryBudget, NoProgress, TimeBudget};
-use asperity_engine::ErrorKind;
-use asperity_engine::files::{builtin_mesh, load, load_mesh};
+use asperity_engine::core::{MemoryBudget, NoProgress, TimeBudget, TriMesh};
 use asperity_engine::growth::dla::Sides;
 use asperity_engine::reconstruct::{
-    DlaTerrainParams, Job, PIPELINE, RdsrSphereParams, dla_terrain, pieces, rdsr_sphere, surface,
+    DlaTerrainParams, Job, LevelSetParams, PIPELINE, RdsrSphereParams, dla_terrain, pieces,
+    rdsr_sphere, surface,
 };
-use asperity_engine::surfca::{App, Covered, OutputShape, cover, run_app};
 use asperity_levelset::{FlowChoice, ReconstructParams, Reconstruction};
-use asperity_surfca::CellSize;
-use asperity_surfca::corrosion::CorrosionParams;
+use serde_json::{Value, json};
 
-/// The surface `surface` reconstructs from `points` with `params`, unlimited.
+/// `n` points on the unit sphere (a Fibonacci lattice).
+fn unit_sphere(n: usize) -> Vec<[f64; 3]> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let s = (1.0 - z * z).sqrt();
+            let t = golden * i as f64;
+            [s * t.cos(), s * t.sin(), z]
+        })
+        .collect()
+}
+
+fn level_set(v: Value) -> LevelSetParams {
+    serde_json::from_value(v).expect("valid parameters")
+}
+
+fn run(
+    points: &[[f64; 3]],
+    p: &LevelSetParams,
+    save_every: Option<usize>,
+    budget: &MemoryBudget,
+) -> Result<(Reconstruction, Vec<(usize, TriMesh)>), String> {
+    let mut snapshots = Vec::new();
+    let rec = surface(
+        points,
+        &p.settings(Job::Reconstruct),
+        save_every,
+        (budget, &TimeBudget::unlimited()),
+        &NoProgress,
+        &mut |step, mesh| snapshots.push((step, mesh)),
+    )
+    .map_err(|e| e.to_string())?;
+    Ok((rec, snapshots))
+}
+
+fn radii(mesh: &TriMesh) -> Vec<f64> {
+    mesh.positions()
+        .iter()
+        .map(|p| p.iter().map(|x| x * x).sum::<f64>().sqrt())
+        .collect()
+}
+
+/// 4,000 points of the unit sphere at 32³: one closed genus-0 surface close
+/// to the sphere, and snapshots at steps 0, 10 and 20.
+#[test]
+fn points_of_a_sphere_give_the_sphere() {
+    let p = level_set(json!({
+        "resolution": 32, "offset": 0.2, "iterations": 20, "curvature": true
+    }));
+    let (rec, snapshots) =
+        run(&unit_sphere(4000), &p, Some(10), &MemoryBudget::unlimited()).unwrap();
+    let t = rec.mesh.topology();
+    assert!(t.is_watertight() && t.euler_characteristic == 2 && t.genus == Some(0));
+    assert_eq!(rec.evolution.steps.len(), 20);
+    let steps: Vec<usize> = snapshots.iter().map(|(s, _)| *s).collect();
+    assert_eq!(steps, [0, 10, 20]);
+    let r = radii(&rec.mesh);
+    let h = rec.grid.spacing;
+    // The front stops at the arrest distance δ from the samples (about 0.75 ×
+    // their spacing, here ≈ 0.9h), so it sits a little outside between them.
+    let mut off: Vec<f64> = r.iter().map(|r| (r - 1.0).abs() / h).collect();
+    off.sort_by(f64::total_cmp);
+    let (p95, worst) = (off[off.len() * 95 / 100], off[off.len() - 1]);
+    assert!(
+        p95 < 1.0 && worst < 3.0,
+        "vertices off the sphere: p95 {p95}h, max {worst}h"
+    );
+    // The mean curvature written with `curvature` is present, one value a
+    // vertex. Its values are not asserted: on this sphere its median is ≈ 5
+    // where H = 1/r ≈ 1, because φ after 2 redistancing passes a step is not
+    // a distance function across the stencil (|∇φ| ≈ 0.7 one cell inside,
+    // ≈ 1.5 outside) — a defect noted for the level-set issue (#40), not
+    // hidden here.
+    let curvature = rec.mesh.scalar("mean_curvature").expect("asked for");
+    assert_eq!(curvature.len(), rec.mesh.n_vertices());
+}
+
+/// ε in grid cells, as the paper gives it (#22): "3h" is 3 × the spacing; a
+/// length in another unit is refused naming the form.
+#[test]
+fn an_offset_in_cells_is_a_multiple_of_the_spacing() {
+    let p = level_set(json!({"resolution": 32, "offset": "3h", "iterations": 5}));
+    let (rec, _) = run(&unit_sphere(2000), &p, None, &MemoryBudget::unlimited()).unwrap();
+    assert!((rec.offset - 3.0 * rec.grid.spacing).abs() < 1e-12);
+    let e = serde_json::from_value::<LevelSetParams>(json!({"offset": "3x"})).unwrap_err();
+    assert!(e.to_string().contains("3h (grid cells)"), "{e}");
+}
+
+#[test]
+fn points_without_extent_or_finite_coordinates_are_refused() {
+    let p = level_set(json!({}));
+    let budget = MemoryBudget::unlimited();
+    let e = run(&[[1.0, 1.0, 1.0]; 3], &p, None, &budget).unwrap_err();
+    assert!(e.contains("identical"), "{e}");
+    let e = run(&[[0.0; 3], [1.0, f64::NAN, 0.0]], &p, None, &budget).unwrap_err();
+    assert!(e.contains("finite"), "{e}");
+    let e = run(&[], &p, None, &budget).unwrap_err();
+    assert!(!e.is_empty());
+}
+
+#[test]
+fn a_grid_over_the_memory_budget_is_refused_with_the_estimate() {
+    let p = level_set(json!({"resolution": 400}));
+    let e = run(&unit_sphere(100), &p, None, &MemoryBudget::new(1 << 20)).unwrap_err();
+    assert!(e.contains("memory limit"), "{e}");
+}
+
+#[test]
+fn save_every_zero_is_refused() {
+    let p = level_set(json!({"resolution": 16}));
+    let e = run(&unit_sphere(100), &p, Some(0), &MemoryBudget::unlimited()).unwrap_err();
+    assert!(e.contains("save_every"), "{e}");
+}
+
 fn reconstructed(points: &[[f64; 3]], params: &ReconstructParams) -> Reconstruction {
     surface(
         points,
@@ -26,96 +141,6 @@ fn reconstructed(points: &[[f64; 3]], params: &ReconstructParams) -> Reconstruct
         &mut |_, _| {},
     )
     .unwrap()
-}
-
-/// A built-in mesh covered with about `cells` cells.
-fn covered(name: &str, cells: usize) -> Covered {
-    let mesh = builtin_mesh(name).unwrap();
-    cover(
-        mesh,
-        name,
-        false,
-        CellSize::Count(cells),
-        &MemoryBudget::unlimited(),
-    )
-    .unwrap()
-}
-
-fn nearest_cell(centres: &[[f64; 3]], p: [f64; 3]) -> usize {
-    let d2 = |c: &[f64; 3]| (0..3).map(|i| (c[i] - p[i]).powi(2)).sum::<f64>();
-    (0..centres.len())
-        .min_by(|&a, &b| d2(&centres[a]).total_cmp(&d2(&centres[b])))
-        .expect("cells exist")
-}
-
-/// Two antipodal sites split a sphere into hemispheres (the exact spherical
-/// Voronoi diagram): each label holds half of the area, and the cells' areas
-/// sum to the mesh's.
-#[test]
-fn voronoi_of_antipodal_sites_is_two_hemispheres() {
-    let cov = covered("sphere", 40_000);
-    let sites = vec![
-        nearest_cell(&cov.cells.centre, [0.0, 0.0, 1.0]),
-        nearest_cell(&cov.cells.centre, [0.0, 0.0, -1.0]),
-    ];
-    let app = App::voronoi(sites, None, 100_000).unwrap();
-    let run = run_app(&cov, app, 7, &TimeBudget::unlimited(), |_, _| {}).unwrap();
-    assert!(run.warnings().is_empty(), "{:?}", run.warnings());
-
-    let labels = run.labels(&cov).unwrap();
-    let label = labels.attribute("label").unwrap();
-    let area = labels.attribute("area").unwrap();
-    let total: f64 = area.iter().sum();
-    let mesh_area = cov.mesh.area();
-    assert!(
-        (total - mesh_area).abs() < 1e-9 * mesh_area,
-        "{total} vs {mesh_area}"
-    );
-    let north: f64 = (0..area.len())
-        .filter(|&c| label[c] == 0.0)
-        .map(|c| area[c])
-        .sum();
-    assert!(
-        (north / total - 0.5).abs() < 0.03,
-        "north share {}",
-        north / total
-    );
-    // Below the equator every cell belongs to the south site, except along the
-    // ragged boundary the grid draws.
-    let wrong = (0..area.len())
-        .filter(|&c| label[c] == 0.0 && labels.positions()[c][2] < -0.15)
-        .count();
-    assert_eq!(wrong, 0);
-}
-
-/// Labels are a Voronoi output: the other applications refuse them, and a
-/// displacement needs a field.
-#[test]
-fn outputs_an_application_cannot_give_are_refused() {
-    let budget = MemoryBudget::unlimited();
-    let cov = covered("cube", 5_000);
-    let app = App::corrosion(CorrosionParams::default(), 5).unwrap();
-    let run = run_app(&cov, app, 3, &TimeBudget::unlimited(), |_, _| {}).unwrap();
-    let e = run.labels(&cov).unwrap_err();
-    assert_eq!(e.kind(), ErrorKind::Invalid);
-    assert!(e.to_string().contains("voronoi"), "{e}");
-
-    let sites = vec![0];
-    let voronoi = run_app(
-        &cov,
-        App::voronoi(sites, None, 1000).unwrap(),
-        3,
-        &TimeBudget::unlimited(),
-        |_, _| {},
-    )
-    .unwrap();
-    let shape = OutputShape {
-        displace: Some(1.0),
-        ..OutputShape::default()
-    };
-    let e = voronoi.mesh(&cov, shape, &budget).unwrap_err();
-    assert_eq!(e.kind(), ErrorKind::Invalid);
-    assert!(App::voronoi(vec![0], Some(1.5), 10).is_err());
 }
 
 /// The paper's Fig. 8 pipeline on a small ball: RDSR on a sphere, then the
@@ -179,36 +204,6 @@ fn rdsr_sphere_pipeline_gives_a_closed_sphere_around_the_deposit() {
     let ball = |r: f64| 4.0 / 3.0 * PI * r.powi(3);
     let v = m.signed_volume();
     assert!(v > ball(radius) && v < ball(outer + 3.0), "volume {v}");
-}
-
-/// Files are refused by kind: a missing file is the system's, an oversized
-/// one the budget's, an unknown built-in the caller's.
-#[test]
-fn files_are_refused_with_the_right_kind() {
-    let dir = tempfile::tempdir().unwrap();
-    let missing = dir.path().join("missing.ply");
-    let e = load(&missing, &MemoryBudget::unlimited()).unwrap_err();
-    assert_eq!(e.kind(), ErrorKind::Os);
-    assert!(e.to_string().contains("missing.ply"), "{e}");
-
-    let npy = dir.path().join("h.npy");
-    let h = asperity_core::HeightField::filled([64, 64], 0.0);
-    asperity_io::write(
-        &npy,
-        &asperity_io::Surface::Height(h),
-        &asperity_io::WriteOptions::default(),
-    )
-    .unwrap();
-    let e = load(&npy, &MemoryBudget::new(1024)).unwrap_err();
-    assert_eq!(e.kind(), ErrorKind::Memory);
-    assert!(load(&npy, &MemoryBudget::unlimited()).is_ok());
-
-    let e = load_mesh("builtin:teapot", &MemoryBudget::unlimited()).unwrap_err();
-    assert_eq!(e.kind(), ErrorKind::Invalid);
-    assert!(
-        e.to_string().contains("sphere"),
-        "names the known ones: {e}"
-    );
 }
 
 /// Fig. 8 in paper mode: RDSR on a ball of radius 20 with 10 monolayers gives
