@@ -414,20 +414,14 @@ fn ca_commands() {
         128 + 6 * 121
     );
     assert!(d.path().join("steps/step_005.png").exists());
+    // The states file holds the run's steps as written (what they are is
+    // tested in the engine: crates/engine/tests/engine/ca.rs).
     let h = asperity_io::read_height(&d.path().join("h.npy")).unwrap();
-    // Every height is the sum of that cell over the 6 stored steps.
     let states = std::fs::read(d.path().join("s.npy")).unwrap();
-    for (i, j) in [(5, 5), (4, 5), (0, 0), (3, 7)] {
-        let sum: u32 = (0..6)
-            .map(|t| states[128 + t * 121 + j * 11 + i] as u32)
-            .sum();
-        assert_eq!(*h.get(i, j), sum as f64, "cell ({i}, {j})");
-    }
-    // Step 1 from the seed is the 3×3 block (every cell sees sum 1, and rule 450 keeps sum 1).
-    assert_eq!(
-        states[128 + 121 + 4 * 11 + 4..128 + 121 + 4 * 11 + 7],
-        [1, 1, 1]
-    );
+    let sum: u32 = (0..6)
+        .map(|t| states[128 + t * 121 + 5 * 11 + 5] as u32)
+        .sum();
+    assert_eq!(*h.get(5, 5), sum as f64);
     // Cyclic random run through a bit-sliced width, then facets with a circle and interpolation.
     let o = asperity(
         &[
@@ -595,23 +589,16 @@ fn analyze_and_generate() {
         "{}",
         v["elapsed_s"]
     );
+    // The report's fields (their values are tested in the engine:
+    // crates/engine/tests/engine/analyze.rs) and the flags' values in `params`.
     let m = &v["measurements"];
     for k in [
         "Sa", "Sq", "Sp", "Sv", "Sz", "Ssk", "Sku", "Sdq", "Sdr", "hurst",
     ] {
         assert!(m[k].is_number(), "{k} missing");
     }
-    assert!((m["Sq"].as_f64().unwrap() - 0.5).abs() < 1e-9);
-    assert!(
-        (m["hurst"].as_f64().unwrap() - 0.7).abs() < 0.05,
-        "{}",
-        m["hurst"]
-    );
     assert!(m["fractal_dimension"]["psd"]["D"].is_number());
-    assert_eq!(
-        m["psd"]["q"].as_array().unwrap().len(),
-        m["psd"]["C"].as_array().unwrap().len()
-    );
+    assert_eq!(v["params"]["level"], "mean");
     // PNG plots: decodable images of the right size, with content.
     let o = asperity(&["analyze", "f.npy", "--plot", "plots", "-q"], d.path());
     assert!(o.status.success(), "{}", stderr(&o));
@@ -624,31 +611,19 @@ fn analyze_and_generate() {
             "{name}"
         );
     }
-    // Meshes: topology and Gauss–Bonnet.
-    let o = asperity(&["demo", "--quick", "--out", "g"], d.path());
-    assert!(o.status.success());
+    // A mesh: its plots and report (values tested in the engine).
+    let torus = asperity_engine::core::shapes::torus(1.0, 0.35, 48, 24);
+    asperity_io::write_mesh(&d.path().join("torus.ply"), &torus, &Default::default()).unwrap();
     let o = asperity(
-        &["analyze", "g/torus.ply", "--plot", "mplots", "-q"],
+        &["analyze", "torus.ply", "--plot", "mplots", "-q"],
         d.path(),
     );
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(d.path().join("mplots/curvature_mean.png").exists());
     assert!(d.path().join("mplots/curvature_gaussian.png").exists());
-    let o = asperity(&["--json", "analyze", "g/torus.ply"], d.path());
+    let o = asperity(&["--json", "analyze", "torus.ply"], d.path());
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["measurements"]["genus"], 1);
-    assert!(
-        v["measurements"]["curvature"]["total_gaussian"]
-            .as_f64()
-            .unwrap()
-            .abs()
-            < 1e-9
-    );
-    let box_d = v["measurements"]["fractal_dimension"]["box_counting"]["D"]
-        .as_f64()
-        .unwrap();
-    assert!((box_d - 2.0).abs() < 0.15, "torus box-counting D = {box_d}");
-    assert!(!stderr(&o).contains("covering dimension"), "{}", stderr(&o));
     // The mesh of a height field: box counting is not 3 − H, and the report says so (#21).
     let o = asperity(&["convert", "f.npy", "f.ply"], d.path());
     assert!(o.status.success(), "{}", stderr(&o));
@@ -667,15 +642,12 @@ fn analyze_and_generate() {
         "1,1,1,1\n1,1,1,1\n1,1,1,1\n1,1,1,1\n",
     )
     .unwrap();
-    // A constant field is analysed, not refused: zeros where defined, null
-    // where not, and a warning.
+    // A job's warning reaches stderr, the report stdout.
     let o = asperity(&["--json", "analyze", "flat.csv"], d.path());
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("constant (z = 1)"), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let m = &v["measurements"];
-    assert_eq!((m["Sa"].as_f64(), m["Sq"].as_f64()), (Some(0.0), Some(0.0)));
-    assert!(m["Ssk"].is_null() && m["Sku"].is_null() && m["hurst"].is_null());
+    assert_eq!(v["measurements"]["Sq"].as_f64(), Some(0.0));
     fails(
         d.path(),
         &["analyze", "f.npy", "--fit-window", "5,1"],
@@ -698,6 +670,9 @@ fn analyze_and_generate() {
     );
 }
 
+/// The growth commands' wiring: flags to parameters, the report's fields, the
+/// outputs and the messages. What the jobs compute is tested in the engine
+/// (`crates/engine/tests/engine/growth.rs`).
 #[test]
 fn growth_commands_as_documented() {
     let dir = tempfile::tempdir().unwrap();
@@ -713,22 +688,12 @@ fn growth_commands_as_documented() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let m = &v["measurements"];
-    let series = m["width_series"].as_array().unwrap();
-    assert!(series.len() > 10);
-    assert!(
-        series
-            .iter()
-            .all(|p| p["t"].as_f64().unwrap() > 0.0 && p["w"].as_f64().unwrap() > 0.0)
-    );
-    let beta = m["beta"].as_f64().unwrap();
-    assert!(beta > 0.0 && beta < 0.5, "β = {beta}");
+    assert!(m["width_series"].as_array().unwrap().len() > 10);
+    assert!(m["beta"].as_f64().is_some(), "{m}");
+    assert_eq!(v["params"]["size"], 64);
+    assert_eq!(v["params"]["layers"], 200.0);
     let h = asperity_io::read_height(&d.join("h.npy")).unwrap();
     assert_eq!(h.dims(), [64, 64]);
-    assert!(
-        (h.mean() - 200.0).abs() < 1e-9,
-        "mass: mean height {}",
-        h.mean()
-    );
     // 1+1D gives a 1-D array.
     let o = asperity(
         &[
@@ -739,7 +704,7 @@ fn growth_commands_as_documented() {
     assert!(o.status.success(), "{}", stderr(&o));
     let bytes = std::fs::read(d.join("r.npy")).unwrap();
     assert!(String::from_utf8_lossy(&bytes[..128]).contains("'shape': (100,)"));
-    // DLA on a plane and on a sphere substrate, with the documented flags.
+    // DLA's lattice size as NXxNYxNZ, the cluster as a point set.
     let o = asperity(
         &[
             "growth",
@@ -761,9 +726,10 @@ fn growth_commands_as_documented() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["measurements"]["particles"], 3000);
-    assert!(v["measurements"]["radius_of_gyration"].as_f64().unwrap() > 1.0);
+    assert_eq!(v["params"]["size"], serde_json::json!([32, 32, 64]));
     let p = asperity_io::read_points(&d.join("pts.ply")).unwrap();
     assert_eq!(p.len(), 32 * 32 + 3000);
+    // A curved deposit needs a point-set output.
     let o = asperity(
         &[
             "growth",
@@ -780,6 +746,14 @@ fn growth_commands_as_documented() {
         d,
     );
     assert!(o.status.success(), "{}", stderr(&o));
+    assert_clean_failure(
+        &asperity(
+            &["growth", "rdsr", "--substrate", "sphere", "-o", "s.npy"],
+            d,
+        ),
+        "point set",
+    );
+    // --plot writes the job's plots.
     let o = asperity(
         &[
             "growth",
@@ -790,15 +764,12 @@ fn growth_commands_as_documented() {
             "plots",
             "-o",
             "c.xyz",
-            "--json",
         ],
         d,
     );
     assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert!(v["measurements"]["fractal_dimension"].as_f64().unwrap() > 1.8);
     assert!(d.join("plots/gyration.svg").exists());
-    // Around a ball R_g(n) measures the seed (it gave D = 6.4, #22): no D, a warning.
+    // The job's warnings reach stderr.
     let o = asperity(
         &[
             "growth",
@@ -809,72 +780,49 @@ fn growth_commands_as_documented() {
             "2000",
             "-o",
             "s.xyz",
-            "--json",
         ],
         d,
     );
     assert!(o.status.success(), "{}", stderr(&o));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert!(v["measurements"]["fractal_dimension"].is_null(), "{v}");
     assert!(
         stderr(&o).contains("not reported for a seed of"),
         "{}",
         stderr(&o)
     );
-    // Bad input: clear one-line errors.
-    assert_clean_failure(
-        &asperity(&["growth", "dla", "--stick", "0", "-o", "x.ply"], d),
-        "(0, 1]",
-    );
+    // Bad input: one-line errors in the CLI's spelling, and no output left.
+    let o = asperity(&["growth", "dla", "--stick", "0", "-o", "x.ply"], d);
+    assert_clean_failure(&o, "(0, 1]");
+    assert!(stderr(&o).contains("--stick"), "{}", stderr(&o));
     assert_clean_failure(
         &asperity(&["growth", "dla", "--size", "0x4x4", "-o", "x.ply"], d),
         "zero",
     );
-    assert_clean_failure(
-        &asperity(
-            &[
-                "growth",
-                "dla",
-                "--size",
-                "8x8x8",
-                "--particles",
-                "1000",
-                "-o",
-                "x.ply",
-            ],
-            d,
-        ),
-        "do not fit",
+    let o = asperity(
+        &[
+            "growth",
+            "rd",
+            "--size",
+            "4096",
+            "--layers",
+            "10",
+            "--points",
+            "p.ply",
+            "--max-memory",
+            "1M",
+            "-o",
+            "x.npy",
+        ],
+        d,
     );
-    assert_clean_failure(
-        &asperity(
-            &[
-                "growth",
-                "rd",
-                "--size",
-                "4096",
-                "--layers",
-                "10",
-                "--points",
-                "p.ply",
-                "--max-memory",
-                "1M",
-                "-o",
-                "x.npy",
-            ],
-            d,
-        ),
-        "memory",
-    );
-    assert_clean_failure(
-        &asperity(&["growth", "rd", "--size", "0", "-o", "x.npy"], d),
-        "size",
-    );
+    assert_clean_failure(&o, "memory");
+    assert!(stderr(&o).contains("--max-memory"), "{}", stderr(&o));
     assert!(!d.join("x.ply").exists() && !d.join("x.npy").exists());
 }
 
-/// The level-set contract: `reconstruct … --json` with grid, spacing, per-stage
-/// timings and counts; the two pipelines as written; clear errors on bad points.
+/// The level-set commands' wiring: `reconstruct … --json` with grid, spacing,
+/// per-stage timings and counts, snapshots named by step; the two pipelines
+/// and their flags; clear errors on bad files. What the surfaces are is
+/// tested in the engine (`crates/engine/tests/engine/reconstruct.rs`).
 #[test]
 fn reconstruct_and_pipelines_as_documented() {
     let d = tempfile::tempdir().unwrap();
@@ -925,10 +873,14 @@ fn reconstruct_and_pipelines_as_documented() {
             "timings_s.{stage}"
         );
     }
-    assert!(m["vertices"].as_u64().unwrap() > 100);
-    assert!(m["triangles"].as_u64().unwrap() > 100);
-    assert_eq!(m["euler_characteristic"], 2);
-    assert_eq!(m["watertight"], true);
+    for fact in [
+        "vertices",
+        "triangles",
+        "euler_characteristic",
+        "watertight",
+    ] {
+        assert!(!m[fact].is_null(), "{fact}");
+    }
     assert_eq!(m["iterations"], 20);
     for step in [
         "mesh_step0000.ply",
@@ -989,9 +941,8 @@ fn reconstruct_and_pipelines_as_documented() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(v["measurements"]["watertight"], true);
-    assert_eq!(v["measurements"]["pieces"], 1);
     assert_eq!(v["measurements"]["sides"], "walls");
+    assert_eq!(v["params"]["particles"], 800);
     assert!(d.path().join("terrain.glb").exists());
     // Paper mode: the paper's settings (ε = 3h, 30 steps); periodic sides are
     // cut by the bounded reconstruction, and a warning says so.
@@ -1048,8 +999,8 @@ fn reconstruct_and_pipelines_as_documented() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(v["measurements"]["watertight"], true);
-    assert_eq!(v["measurements"]["components"], 1);
+    assert_eq!(v["params"]["radius"], 8.0);
+    assert!(d.path().join("sphere.glb").exists());
 
     // Bad input: empty file, NaN, identical points, memory, a non-mesh output.
     std::fs::write(d.path().join("nan.xyz"), "0 0 0\n1 nan 0\n").unwrap();
@@ -1138,7 +1089,7 @@ fn ifs_commands_as_documented() {
         "0.5,0.25",
         "--json",
     ]);
-    // (the values against closed forms: crates/engine/tests/ifs.rs)
+    // (the values against closed forms: crates/engine/tests/engine/ifs.rs)
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["control_points"].as_array().unwrap().len(), 4);
     let ops = v["operators"].as_array().unwrap();
@@ -1395,15 +1346,6 @@ fn surface_ca_as_documented() {
     assert!(text.contains("property int label") && text.contains("property double area"));
     let pts = asperity_io::read_points(&dir.join("labels.ply")).unwrap();
     assert_eq!(pts.len(), cells);
-    let labels = pts.attribute("label").unwrap();
-    assert!(
-        labels
-            .iter()
-            .all(|&l| (0.0..5.0).contains(&l) && l.fract() == 0.0)
-    );
-    let area: f64 = pts.attribute("area").unwrap().iter().sum();
-    let sphere = asperity_engine::core::shapes::icosphere(3, 1.0).area();
-    assert!((area - sphere).abs() < 1e-9 * sphere, "{area} vs {sphere}");
     let csv = std::fs::read_to_string(dir.join("steps.csv")).unwrap();
     assert_eq!(csv.lines().count(), steps + 1);
     assert!(dir.join("steps.png").exists());
@@ -1448,11 +1390,11 @@ fn surface_ca_as_documented() {
         ),
         "max-attacked",
     );
-    // Chosen corrosion sites (#22): with no random seeding, corrosion spreads
-    // only from the given point; without it nothing corrodes.
+    // --site-points and --seed-rate reach the job (what they do is tested in
+    // the engine: crates/engine/tests/engine/surfca.rs).
     std::fs::write(dir.join("site.xyz"), "0.3 0.2 5\n").unwrap();
-    let corroded = |extra: &[&str]| {
-        let mut args = vec![
+    let o = asperity(
+        &[
             "surface-ca",
             "builtin:cube",
             "--app",
@@ -1463,18 +1405,18 @@ fn surface_ca_as_documented() {
             "40",
             "--seed-rate",
             "0",
+            "--site-points",
+            "site.xyz",
             "-o",
             "site.ply",
             "--json",
-        ];
-        args.extend_from_slice(extra);
-        let o = asperity(&args, dir);
-        assert!(o.status.success(), "{}", stderr(&o));
-        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-        v["measurements"]["corroded"].as_u64().unwrap()
-    };
-    assert_eq!(corroded(&[]), 0);
-    assert!(corroded(&["--site-points", "site.xyz"]) > 0);
+        ],
+        dir,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["params"]["seed_rate"], 0.0);
+    assert!(v["measurements"]["corroded"].as_u64().unwrap() > 0);
     // The corrosion mesh carries both layers: render --patina lights each, then mixes.
     let o = asperity(
         &[
@@ -1555,9 +1497,7 @@ fn surface_ca_as_documented() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let sites = v["measurements"]["sites"].as_array().unwrap();
-    assert_eq!(sites.len(), 3);
-    assert!(sites[0][2].as_f64().unwrap() > 0.95, "{}", sites[0]);
+    assert_eq!(v["measurements"]["sites"].as_array().unwrap().len(), 3);
     assert_clean_failure(
         &asperity(
             &[
@@ -1628,7 +1568,7 @@ fn subdiv_as_documented() {
     assert_eq!(levels[1]["vertices"], 26);
     assert_eq!(levels[2]["faces"], 96);
     assert_eq!(v["measurements"]["euler_characteristic"], 2);
-    // (the surface itself, one behaviour a test: crates/engine/tests/subdiv.rs)
+    // (the surface itself, one behaviour a test: crates/engine/tests/engine/subdiv.rs)
     let m = asperity_io::read_mesh(&dir.join("cc.ply")).unwrap();
     assert_eq!(m.n_faces(), 192);
     let run = |args: &[&str]| {
@@ -1738,7 +1678,7 @@ fn subdiv_as_documented() {
         "-q",
     ]);
     // --analyze and --export-details reach the engine (which rebuilds the
-    // fine mesh: crates/engine/tests/subdiv.rs).
+    // fine mesh: crates/engine/tests/engine/subdiv.rs).
     run(&[
         "subdiv",
         "--base",

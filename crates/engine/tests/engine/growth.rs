@@ -164,13 +164,10 @@ fn a_deposit_over_the_memory_budget_is_refused_with_the_estimate() {
         (&budget, &TimeBudget::unlimited()),
         &NoProgress,
     )
-    .err()
-    .expect("refused");
+    .unwrap_err();
     assert!(e.to_string().contains("memory"), "{e}");
     let p: RdParams = params(json!({"size": 0}));
     let (m, t) = unlimited();
-    let e = deposit(&p, None, false, 7, (&m, &t), &NoProgress)
-        .err()
-        .expect("refused");
+    let e = deposit(&p, None, false, 7, (&m, &t), &NoProgress).unwrap_err();
     assert!(e.to_string().contains("size"), "{e}");
 }

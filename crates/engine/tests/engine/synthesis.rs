@@ -11,7 +11,6 @@ fn params(size: usize) -> FbmParams {
         hurst: 0.6,
         rms: 2.5,
         spacing: 0.5,
-        ..FbmParams::DEFAULT
     }
 }
 
