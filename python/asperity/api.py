@@ -51,7 +51,8 @@ def _parse(text: str) -> dict:
 
 
 def set_limits(max_memory: Optional[int] = None, max_time: Optional[float] = None) -> None:
-    """Sets the memory budget (bytes; default half of RAM) and the time limit
+    """Sets the memory budget (bytes; default the least of half of RAM and the
+    headroom under the process's memory cgroup and ``ulimit -v``/``-d``) and the time limit
     (seconds; default one day; ``float('inf')`` for none) every job checks its
     estimate against before it starts, as the CLI's ``--max-memory`` and
     ``--max-time``."""

@@ -77,7 +77,8 @@ pub struct Global {
     /// No progress bars or informational messages (errors still print).
     #[arg(short, long, global = true)]
     pub quiet: bool,
-    /// Refuse allocations estimated above this size, e.g. 512M, 4G (default: half of RAM).
+    /// Refuse allocations estimated above this size, e.g. 512M, 4G (default: the least of half of
+    /// RAM and the headroom under the memory cgroup and ulimit -v/-d; --json says which).
     #[arg(long, global = true, value_name = "SIZE", value_parser = parse_memory)]
     pub max_memory: Option<u64>,
     /// Refuse runs that even a fast machine could not finish within this time, e.g. 30m,

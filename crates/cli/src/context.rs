@@ -247,10 +247,9 @@ pub struct Run<'a> {
 
 impl<'a> Run<'a> {
     pub fn new(ctx: &'a Context, command: &'static str) -> Self {
-        Self {
-            ctx,
-            report: Report::new(command, ctx.seed, ctx.threads),
-        }
+        let mut report = Report::new(command, ctx.seed, ctx.threads);
+        report.budget(&ctx.budget);
+        Self { ctx, report }
     }
 
     /// Writer options with `--up` and the parameters recorded by

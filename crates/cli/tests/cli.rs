@@ -2324,6 +2324,65 @@ fn dash_o_dash_writes_one_file_to_stdout_on_success_only() {
     assert!(frames.stdout.is_empty());
 }
 
+/// A 20000 × 20000 16-bit PNG of zeros (3.5 MB compressed, 800 MB of pixels),
+/// written a row at a time.
+fn big_png(path: &Path) {
+    use std::io::Write as _;
+    let n = 20_000;
+    let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    let mut encoder = png::Encoder::new(file, n, n);
+    encoder.set_color(png::ColorType::Grayscale);
+    encoder.set_depth(png::BitDepth::Sixteen);
+    encoder.set_compression(png::Compression::Fast);
+    let mut writer = encoder.write_header().unwrap();
+    let mut rows = writer.stream_writer().unwrap();
+    let row = vec![0u8; 2 * n as usize];
+    for _ in 0..n {
+        rows.write_all(&row).unwrap();
+    }
+    rows.finish().unwrap();
+}
+
+/// Under `ulimit -v 8G` and no --max-memory, the budget follows the
+/// address-space limit: a 20000² height field is refused with the estimate
+/// and the limit that applied, instead of an abort on a failed allocation
+/// (#37); the JSON report says which limit set the budget.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_address_space_limit_sets_the_budget() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    big_png(&dir.join("big.png"));
+    let exe = env!("CARGO_BIN_EXE_asperity");
+    for args in ["facet big.png -o big.ply", "render big.png -o shaded.png"] {
+        let o = Command::new("sh")
+            .arg("-c")
+            .arg(format!("ulimit -v 8388608 && exec '{exe}' {args}"))
+            .current_dir(dir)
+            .output()
+            .unwrap();
+        assert_clean_failure(&o, "ulimit -v");
+        assert!(stderr(&o).contains("--max-memory"), "{}", stderr(&o));
+    }
+    assert!(!dir.join("big.ply").exists() && !dir.join("shaded.png").exists());
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 8388608 && exec '{exe}' --json generate fbm --size 32 -o f.npy"
+        ))
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(
+        v["memory_budget"]["from"], "rlimit_as",
+        "{}",
+        v["memory_budget"]
+    );
+    assert!(v["memory_budget"]["bytes"].as_u64().unwrap() < 8 << 30);
+}
+
 #[test]
 fn runs_of_years_are_refused_before_any_work() {
     let d = tempfile::tempdir().unwrap();
@@ -2333,6 +2392,23 @@ fn runs_of_years_are_refused_before_any_work() {
         dir,
         &["growth", "rdsr", "--runs", "1000000000", "-o", "h.npy"],
         "the deposition would take at least",
+    );
+    // Without a time limit, the ensemble's memory is estimated before any run.
+    fails(
+        dir,
+        &[
+            "growth",
+            "rdsr",
+            "--runs",
+            "1000000000",
+            "--max-memory",
+            "1G",
+            "--max-time",
+            "none",
+            "-o",
+            "h.npy",
+        ],
+        "width series of 1000000000 runs",
     );
     fails(
         dir,

@@ -68,7 +68,7 @@ pub enum CoreError {
     Empty(&'static str),
     /// An allocation would exceed the memory budget.
     #[error(
-        "{what} would need about {} but the memory limit is {} (raise it with {})",
+        "{what} would need about {} but the memory limit is {} ({from}; raise it with {})",
         crate::memory::format_bytes(*needed),
         crate::memory::format_bytes(*limit),
         crate::wording::param("max_memory")
@@ -80,6 +80,8 @@ pub enum CoreError {
         needed: u64,
         /// The budget in bytes.
         limit: u64,
+        /// Where the budget came from ([`crate::memory::LimitSource::describe`]).
+        from: &'static str,
     },
     /// A run would take longer than the time budget.
     #[error(

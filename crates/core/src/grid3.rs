@@ -50,6 +50,7 @@ impl<T: Clone> Grid3<T> {
             what,
             needed: u64::MAX,
             limit: budget.limit(),
+            from: budget.source().describe(),
         })?;
         Ok(Self {
             dims,
@@ -219,7 +220,8 @@ mod tests {
             CoreError::MemoryLimit {
                 what: "a 1024×1024×1024 grid".into(),
                 needed: 8 << 30,
-                limit: 1 << 30
+                limit: 1 << 30,
+                from: "as given"
             }
         );
         assert!(err.to_string().contains("8.00 GiB"));

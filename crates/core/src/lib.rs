@@ -65,6 +65,7 @@ pub mod poly_mesh;
 pub mod progress;
 pub mod rng;
 pub mod shapes;
+pub mod system_memory;
 pub mod time_budget;
 pub mod tri_mesh;
 pub mod units;

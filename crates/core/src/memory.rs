@@ -2,38 +2,71 @@
 //!
 //! Every algorithm that allocates a grid or buffer whose size the user controls
 //! calls [`MemoryBudget::check`] with its estimate first. The CLI's
-//! `--max-memory` sets the limit; the default is half of physical RAM.
+//! `--max-memory` (Python's `max_memory=`) sets the limit; the default,
+//! [`MemoryBudget::from_system`], is the least of half of physical RAM and the
+//! headroom the process really has — under its memory cgroup (a container, a
+//! Slurm job, a Dask worker) and under its address-space and data-size limits
+//! (`ulimit -v`, `ulimit -d`) — so a job too big for them is refused with its
+//! estimate instead of being killed (see [`crate::system_memory`]).
 
 use crate::CoreError;
+pub use crate::system_memory::LimitSource;
 
-/// An upper bound on the bytes one operation may allocate.
+/// An upper bound on the bytes one operation may allocate, and where it came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MemoryBudget {
     limit: u64,
+    source: LimitSource,
 }
 
 /// Physical RAM assumed when `/proc/meminfo` cannot be read (8 GiB).
-const FALLBACK_RAM: u64 = 8 << 30;
+pub(crate) const FALLBACK_RAM: u64 = 8 << 30;
 
 impl MemoryBudget {
-    /// A budget of `limit` bytes.
+    /// A budget of `limit` bytes, as given by the user.
     pub const fn new(limit: u64) -> Self {
-        Self { limit }
+        Self {
+            limit,
+            source: LimitSource::Given,
+        }
+    }
+
+    /// A budget of `limit` bytes set by `source`.
+    pub const fn with_source(limit: u64, source: LimitSource) -> Self {
+        Self { limit, source }
     }
 
     /// No limit at all (tests, trusted callers).
     pub const fn unlimited() -> Self {
-        Self { limit: u64::MAX }
+        Self {
+            limit: u64::MAX,
+            source: LimitSource::Unlimited,
+        }
     }
 
     /// Half of physical RAM (read from `/proc/meminfo`; 8 GiB assumed if unreadable).
     pub fn half_of_ram() -> Self {
-        Self::new(physical_ram().unwrap_or(FALLBACK_RAM) / 2)
+        Self::with_source(
+            physical_ram().unwrap_or(FALLBACK_RAM) / 2,
+            LimitSource::HalfOfRam,
+        )
+    }
+
+    /// The least of half of physical RAM and the headroom under this
+    /// process's memory cgroup and resource limits, read now
+    /// ([`crate::system_memory::SystemMemory::budget`]).
+    pub fn from_system() -> Self {
+        crate::system_memory::SystemMemory::real().budget()
     }
 
     /// The limit in bytes.
     pub const fn limit(&self) -> u64 {
         self.limit
+    }
+
+    /// Where the limit came from.
+    pub const fn source(&self) -> LimitSource {
+        self.source
     }
 
     /// `Ok` if `bytes` fit in the budget, else [`CoreError::MemoryLimit`] naming `what`.
@@ -46,6 +79,7 @@ impl MemoryBudget {
                 what: what.into(),
                 needed: bytes,
                 limit: self.limit,
+                from: self.source.describe(),
             });
         }
         Ok(())
@@ -63,8 +97,9 @@ impl MemoryBudget {
 }
 
 impl Default for MemoryBudget {
+    /// [`MemoryBudget::from_system`].
     fn default() -> Self {
-        Self::half_of_ram()
+        Self::from_system()
     }
 }
 

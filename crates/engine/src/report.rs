@@ -45,6 +45,10 @@ pub struct Report {
     /// Parameters given as flags over those of a `--params` file.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub params_overridden: Vec<String>,
+    /// The memory budget the job ran under and which limit set it
+    /// (`{"bytes": …, "from": "cgroup"}`; see [`asperity_core::system_memory`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub memory_budget: Option<Value>,
     #[serde(skip)]
     started: Option<Instant>,
 }
@@ -63,6 +67,7 @@ impl Report {
             warnings: Vec::new(),
             params: None,
             params_overridden: Vec::new(),
+            memory_budget: None,
             started: Some(Instant::now()),
         }
     }
@@ -78,6 +83,14 @@ impl Report {
             format,
             bytes,
         });
+    }
+
+    /// Records the memory budget the job runs under.
+    pub fn budget(&mut self, budget: &asperity_core::MemoryBudget) {
+        self.memory_budget = Some(serde_json::json!({
+            "bytes": budget.limit(),
+            "from": budget.source().name(),
+        }));
     }
 
     /// Records a measurement.

@@ -308,34 +308,44 @@ pub fn deposit_ensemble(
         return Err(bad("the number of runs must be at least 1"));
     }
     params.validate(budget)?;
-    // Each run holds its own heights concurrently.
-    budget.check_elements(
-        (params.lattice.columns() as u128) * 4 * rayon::current_num_threads().min(runs) as u128,
-        1,
-        "heights of the parallel runs",
-    )?;
     let total = params.depositions();
     let schedule = geometric_schedule(
         params.lattice.columns() as u64,
         total,
         params.samples_per_decade,
     );
+    // Each thread's run holds its own heights, and every run's series is kept
+    // for the average and its standard error: both estimated before any run.
+    let lattices =
+        (params.lattice.columns() as u128) * 4 * rayon::current_num_threads().min(runs) as u128;
+    let series = runs as u128 * (schedule.len() as u128 * 4 * 8 + 128);
+    budget.check_elements(
+        lattices + series,
+        1,
+        &format!("the heights of the parallel runs and the width series of {runs} runs"),
+    )?;
     progress.start(
         total * runs as u64,
         &format!("{} × {runs} runs", params.model.name()),
     );
-    let mut results: Vec<Deposit> = (0..runs as u64)
+    // Only the first run's deposit is kept; the others give their series and
+    // drop their heights as they finish, so memory is the runs' series plus
+    // one lattice per thread, not one lattice per run.
+    let mut results: Vec<(Option<Deposit>, WidthSeries)> = (0..runs as u64)
         .into_par_iter()
         .map(|r| {
             let mut p = params.clone();
             p.keep_particles = params.keep_particles && r == 0;
-            let d = deposit_on_schedule(&p, seed, r, &schedule, &asperity_core::NoProgress);
+            let mut d = deposit_on_schedule(&p, seed, r, &schedule, &asperity_core::NoProgress);
             progress.advance(total);
-            d
+            let series = std::mem::take(&mut d.series);
+            (if r == 0 { Some(d) } else { None }, series)
         })
         .collect();
     progress.finish();
-    let series: Vec<WidthSeries> = results.iter().map(|d| d.series.clone()).collect();
+    let mut first = results[0].0.take().expect("run 0 keeps its deposit");
+    let series: Vec<WidthSeries> = results.into_iter().map(|(_, s)| s).collect();
+    first.series = series[0].clone();
     let avg = WidthSeries::average(&series);
-    Ok((results.swap_remove(0), avg))
+    Ok((first, avg))
 }

@@ -25,7 +25,8 @@ use pyo3::prelude::*;
 static MAX_MEMORY: AtomicU64 = AtomicU64::new(0);
 static MAX_TIME_S: AtomicU64 = AtomicU64::new(0);
 
-/// Sets the memory budget in bytes (0: half of RAM, as the CLI) and the time
+/// Sets the memory budget in bytes (0: the system's, as the CLI: the least
+/// of half of RAM and the headroom under the memory cgroup and rlimits) and the time
 /// limit in seconds (0: one day, as the CLI; `u64::MAX`: none).
 #[pyfunction]
 #[pyo3(signature = (max_memory = 0, max_time = 0))]
