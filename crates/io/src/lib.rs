@@ -23,6 +23,7 @@
 //! fields written to a point format give their vertices / samples.
 
 pub mod atomic;
+pub mod decimal;
 mod error;
 pub mod exr_io;
 pub mod glb;

@@ -212,10 +212,24 @@ pub(crate) fn write_mesh(
 pub(crate) fn write_faces(
     w: &mut dyn Write,
     m: &TriMesh,
-    (offsets, verts): (&[u32], &[u32]),
+    faces: (&[u32], &[u32]),
     mtl: Option<&str>,
     y_up: bool,
     params: Option<&str>,
+) -> std::io::Result<()> {
+    write_faces_mapped(w, m, faces, (mtl, params), y_up, |v| v)
+}
+
+/// As [`write_faces`] for `m` in asperity's frame: `to_file` takes each
+/// position and normal into the file's frame as it is written (no copy of
+/// the mesh); `y_up` says so in the header.
+pub(crate) fn write_faces_mapped(
+    w: &mut dyn Write,
+    m: &TriMesh,
+    (offsets, verts): (&[u32], &[u32]),
+    (mtl, params): (Option<&str>, Option<&str>),
+    y_up: bool,
+    to_file: impl Fn([f64; 3]) -> [f64; 3] + Sync,
 ) -> std::io::Result<()> {
     let n_faces = offsets.len().saturating_sub(1);
     writeln!(w, "# written by asperity {}", env!("CARGO_PKG_VERSION"))?;
@@ -230,50 +244,65 @@ pub(crate) fn write_faces(
         writeln!(w, "mtllib {lib}")?;
     }
     writeln!(w, "o surface")?;
-    for (i, &p) in m.positions().iter().enumerate() {
-        match m.colors() {
-            Some(c) => {
-                let c = c[i];
-                let f = |v: u8| v as f64 / 255.0;
-                writeln!(
-                    w,
-                    "v {} {} {} {:.6} {:.6} {:.6}",
-                    p[0],
-                    p[1],
-                    p[2],
-                    f(c[0]),
-                    f(c[1]),
-                    f(c[2])
-                )?
-            }
-            None => writeln!(w, "v {} {} {}", p[0], p[1], p[2])?,
+    use crate::decimal::{push_f64, push_u64, write_records};
+    let floats = |text: &mut Vec<u8>, tag: &[u8], values: &[f64]| {
+        text.extend_from_slice(tag);
+        for &v in values {
+            text.push(b' ');
+            push_f64(text, v);
         }
-    }
-    for t in m.uvs().unwrap_or(&[]) {
-        writeln!(w, "vt {} {}", t[0], t[1])?;
-    }
-    for &n in m.normals().unwrap_or(&[]) {
-        writeln!(w, "vn {} {} {}", n[0], n[1], n[2])?;
-    }
+    };
+    let (positions, colors) = (m.positions(), m.colors());
+    write_records(w, positions.len(), |i, text| {
+        floats(text, b"v", &to_file(positions[i]));
+        if let Some(c) = colors {
+            // Colours keep their fixed six decimals (`{:.6}`).
+            for v in &c[i][..3] {
+                text.extend_from_slice(format!(" {:.6}", f64::from(*v) / 255.0).as_bytes());
+            }
+        }
+        text.push(b'\n');
+    })?;
+    let uvs = m.uvs().unwrap_or(&[]);
+    write_records(w, uvs.len(), |i, text| {
+        floats(text, b"vt", &uvs[i]);
+        text.push(b'\n');
+    })?;
+    let normals = m.normals().unwrap_or(&[]);
+    write_records(w, normals.len(), |i, text| {
+        floats(text, b"vn", &to_file(normals[i]));
+        text.push(b'\n');
+    })?;
     if mtl.is_some() {
         writeln!(w, "usemtl surface")?;
     }
     let (has_uv, has_n) = (m.uvs().is_some(), m.normals().is_some());
-    let mut line = String::new();
-    for f in 0..n_faces {
-        line.clear();
-        line.push('f');
+    write_records(w, n_faces, |f, text| {
+        text.push(b'f');
         for &v in &verts[offsets[f] as usize..offsets[f + 1] as usize] {
-            let a = v + 1;
+            let a = u64::from(v) + 1;
+            text.push(b' ');
+            push_u64(text, a);
             match (has_uv, has_n) {
-                (true, true) => line += &format!(" {a}/{a}/{a}"),
-                (true, false) => line += &format!(" {a}/{a}"),
-                (false, true) => line += &format!(" {a}//{a}"),
-                (false, false) => line += &format!(" {a}"),
+                (true, true) => {
+                    for _ in 0..2 {
+                        text.push(b'/');
+                        push_u64(text, a);
+                    }
+                }
+                (true, false) => {
+                    text.push(b'/');
+                    push_u64(text, a);
+                }
+                (false, true) => {
+                    text.extend_from_slice(b"//");
+                    push_u64(text, a);
+                }
+                (false, false) => {}
             }
         }
-        writeln!(w, "{line}")?;
-    }
+        text.push(b'\n');
+    })?;
     Ok(())
 }
 

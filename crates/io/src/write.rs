@@ -61,13 +61,14 @@ pub fn write_poly_mesh(
             .map_err(os)
         }),
         Format::Obj if poly.n_faces() > 0 && attrs.texture().is_none() => write_atomic(path, |w| {
-            obj::write_faces(
+            let y_up = up == UpAxis::Y;
+            obj::write_faces_mapped(
                 w,
-                &up::mesh_in_file_frame(attrs, up),
+                attrs,
                 (poly.face_offsets(), poly.face_vertices()),
-                None,
-                up == UpAxis::Y,
-                params,
+                (None, params),
+                y_up,
+                |v| if y_up { up::to_y_up(v) } else { v },
             )
             .map_err(os)
         }),
