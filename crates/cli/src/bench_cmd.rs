@@ -1,7 +1,8 @@
 //! `asperity bench`: the workloads the issues name (`asperity_engine::workloads`),
 //! timed end to end. Each builds its input once (untimed), runs once to warm
 //! up, then `--repeat` timed runs; the minimum and median are reported with
-//! throughput.
+//! throughput. With `--threads-scaling`, each at 1, 2, 4, … threads (a rayon
+//! pool of that size), with the speed-up and the parallel efficiency.
 
 use std::time::Instant;
 
@@ -30,6 +31,49 @@ fn time(
     Ok((times[times.len() / 2], times[0], times.len()))
 }
 
+/// The thread counts of a scaling run: 1, 2, 4, … below `max`, then `max`.
+fn thread_counts(max: usize) -> Vec<usize> {
+    let mut counts: Vec<usize> = (0..).map(|k| 1 << k).take_while(|&t| t < max).collect();
+    counts.push(max.max(1));
+    counts
+}
+
+/// Times `w` in a pool of each thread count of [`thread_counts`] and prints
+/// the speed-up over one thread and the efficiency.
+fn threads_scaling(
+    ctx: &Context,
+    w: &mut asperity_engine::workloads::Workload,
+    repeat: u32,
+) -> anyhow::Result<Value> {
+    let mut rows = Vec::new();
+    let mut one = None;
+    for threads in thread_counts(ctx.threads) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()?;
+        let (median, min, runs) = pool.install(|| time(w, repeat))?;
+        let base = *one.get_or_insert(median);
+        let speedup = base / median;
+        let efficiency = speedup / threads as f64;
+        if !ctx.json {
+            outln!(
+                "{:<36} {threads:>3} threads  median {:>9.3} ms  speed-up {speedup:>5.2}×  efficiency {:>4.0} %",
+                w.name,
+                median * 1e3,
+                efficiency * 100.0
+            );
+        }
+        rows.push(
+            json!({"threads": threads, "median_s": median, "min_s": min, "runs": runs,
+            "speedup": speedup, "efficiency": efficiency}),
+        );
+    }
+    Ok(
+        json!({"name": w.name, "what": w.what, "elements": w.elements, "unit": w.unit,
+        "threads_scaling": rows}),
+    )
+}
+
 pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
     if let Some(method) = &a.scaling {
         return match a.scaling_point {
@@ -45,6 +89,10 @@ pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
             continue;
         }
         let mut w = make()?;
+        if a.threads_scaling {
+            results.push(threads_scaling(ctx, &mut w, a.repeat)?);
+            continue;
+        }
         let (median, min, runs) = time(&mut w, a.repeat)?;
         let rate = w.elements as f64 / median;
         let verdict = w.target_s.map(|t| {

@@ -537,6 +537,10 @@ pub struct BenchArgs {
     /// One point of a --scaling series (the size), run by the series' parent process.
     #[arg(long, hide = true, requires = "scaling")]
     pub scaling_point: Option<u64>,
+    /// Each workload at 1, 2, 4, … threads up to --threads (default: every core), with the
+    /// speed-up over one thread and the parallel efficiency (speed-up / threads).
+    #[arg(long, conflicts_with = "scaling")]
+    pub threads_scaling: bool,
 }
 
 /// `asperity info`

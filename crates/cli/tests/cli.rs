@@ -377,6 +377,40 @@ fn bench_runs_every_workload() {
         assert!(m["time_slope"].as_f64().is_some(), "{m}");
     }
     fails(d.path(), &["bench", "--scaling", "nope"], "no such method");
+    // --threads-scaling: 1, 2, 4 threads up to --threads, the speed-up over one.
+    let o = asperity(
+        &[
+            "--json",
+            "--threads",
+            "5",
+            "bench",
+            "--threads-scaling",
+            "--quick",
+            "--repeat",
+            "1",
+            "core/fourier",
+        ],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for w in v["measurements"]["workloads"].as_array().unwrap() {
+        let rows = w["threads_scaling"].as_array().unwrap();
+        let threads: Vec<u64> = rows
+            .iter()
+            .map(|r| r["threads"].as_u64().unwrap())
+            .collect();
+        assert_eq!(threads, [1, 2, 4, 5], "{w}");
+        assert_eq!(rows[0]["speedup"], 1.0);
+        for r in rows {
+            let (s, e) = (
+                r["speedup"].as_f64().unwrap(),
+                r["efficiency"].as_f64().unwrap(),
+            );
+            let t = r["threads"].as_f64().unwrap();
+            assert!(s > 0.0 && (e - s / t).abs() < 1e-12, "{r}");
+        }
+    }
 }
 
 #[test]

@@ -20,7 +20,7 @@ pub(crate) use levelset::rdsr_sphere_cloud;
 use levelset::*;
 
 /// The measured work of a workload.
-pub type Job = Box<dyn FnMut() -> Result<()>>;
+pub type Job = Box<dyn FnMut() -> Result<()> + Send>;
 
 /// A workload, its input built.
 pub struct Workload {
