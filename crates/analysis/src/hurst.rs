@@ -175,6 +175,23 @@ fn model_estimate(
     })
 }
 
+/// Which Hurst estimators a report runs: every one, or one a user needs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Which {
+    /// The PSD fit, the profile PSDs, the structure function and the variable
+    /// bandwidth method.
+    #[default]
+    All,
+    /// The PSD fit alone (2-D, or the profile's for a profile).
+    Psd,
+    /// The PSD fit and the profile PSDs along x and y.
+    PsdProfiles,
+    /// The PSD fit and the structure function.
+    StructureFunction,
+    /// The PSD fit and the variable bandwidth method.
+    VariableBandwidth,
+}
+
 /// Every estimator on the levelled field `h` (not windowed; the profile PSDs
 /// window themselves), the 2-D PSD fit `psd` and its PSD giving the range.
 pub fn estimate_all(
@@ -183,6 +200,19 @@ pub fn estimate_all(
     psd: &RadialPsd,
     psd_fit: &Result<Hurst, AnalysisError>,
 ) -> Vec<(&'static str, Result<Estimate, AnalysisError>)> {
+    estimate(h, s, psd, psd_fit, Which::All)
+}
+
+/// The PSD fit and the estimators `which` names, in [`estimate_all`]'s order;
+/// the real-space and profile estimators run at once on every core.
+pub fn estimate(
+    h: &HeightField,
+    s: Setup,
+    psd: &RadialPsd,
+    psd_fit: &Result<Hurst, AnalysisError>,
+    which: Which,
+) -> Vec<(&'static str, Result<Estimate, AnalysisError>)> {
+    use rayon::prelude::*;
     let mut out = Vec::new();
     let psd_method = if psd.dim == 1 {
         "psd_profile"
@@ -209,15 +239,36 @@ pub fn estimate_all(
         }
     };
     let [l_min, l_max] = wavelengths(range);
+    type Run<'a> = Box<dyn Fn() -> Result<Estimate, AnalysisError> + Sync + 'a>;
+    let mut runs: Vec<(&'static str, Which, Run)> = Vec::new();
     if h.ny() > 1 {
-        out.push(("psd_x", profile_psd(h, s, false, range)));
-        out.push(("psd_y", profile_psd(h, s, true, range)));
+        runs.push((
+            "psd_x",
+            Which::PsdProfiles,
+            Box::new(move || profile_psd(h, s, false, range)),
+        ));
+        runs.push((
+            "psd_y",
+            Which::PsdProfiles,
+            Box::new(move || profile_psd(h, s, true, range)),
+        ));
     }
-    out.push((
+    runs.push((
         "structure_function",
-        structure_function(h, s, [l_min / 2.0, l_max / 2.0]),
+        Which::StructureFunction,
+        Box::new(move || structure_function(h, s, [l_min / 2.0, l_max / 2.0])),
     ));
-    out.push(("variable_bandwidth", variable_bandwidth(h, [l_min, l_max])));
+    runs.push((
+        "variable_bandwidth",
+        Which::VariableBandwidth,
+        Box::new(move || variable_bandwidth(h, [l_min, l_max])),
+    ));
+    let done: Vec<_> = runs
+        .par_iter()
+        .filter(|(_, kind, _)| which == Which::All || which == *kind)
+        .map(|(name, _, run)| (*name, run()))
+        .collect();
+    out.extend(done);
     out
 }
 

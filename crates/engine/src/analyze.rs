@@ -39,6 +39,35 @@ choice! {
     }
 }
 
+choice! {
+    /// Which Hurst estimators run (the report's `hurst` is always the PSD fit's).
+    pub enum HurstChoice {
+        /// Every estimator, and the model-based fractal dimensions (triangulation,
+        /// partitioning).
+        All = "all",
+        /// The PSD fit alone: no other estimator, no model-based dimension.
+        Psd = "psd",
+        /// The PSD fit and the profile PSDs along x and y.
+        PsdProfiles = "psd-profiles",
+        /// The PSD fit and the structure function.
+        StructureFunction = "structure-function",
+        /// The PSD fit and the variable bandwidth method.
+        VariableBandwidth = "variable-bandwidth",
+    }
+}
+
+impl HurstChoice {
+    fn which(self) -> hurst::Which {
+        match self {
+            HurstChoice::All => hurst::Which::All,
+            HurstChoice::Psd => hurst::Which::Psd,
+            HurstChoice::PsdProfiles => hurst::Which::PsdProfiles,
+            HurstChoice::StructureFunction => hurst::Which::StructureFunction,
+            HurstChoice::VariableBandwidth => hurst::Which::VariableBandwidth,
+        }
+    }
+}
+
 /// Whether data are periodic: decided from the data (`auto`), or given
 /// (`yes`/`no`; in JSON also `true`/`false`/`null`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, JsonSchema, clap::ValueEnum)]
@@ -120,6 +149,10 @@ pub struct AnalyzeParams {
     /// use the matching wavelengths.
     #[arg(long, value_name = "QMIN,QMAX")]
     pub fit_window: Option<FitWindow>,
+    /// Which Hurst estimators run: all (every estimator and the model-based fractal
+    /// dimensions), or the PSD fit alone or with one other — a user who needs one pays for one.
+    #[arg(long, value_enum, default_value_t = Self::default().hurst)]
+    pub hurst: HurstChoice,
 }
 
 impl Default for AnalyzeParams {
@@ -130,6 +163,7 @@ impl Default for AnalyzeParams {
             window: "hann".into(),
             bins: 40,
             fit_window: None,
+            hurst: HurstChoice::All,
         }
     }
 }
@@ -155,6 +189,7 @@ impl AnalyzeParams {
             fit_window: self.fit_window.map(|w| w.0),
             periodic: self.periodic.given(),
             window: self.window.clone(),
+            estimators: self.hurst.which(),
             plots,
         }
     }
@@ -177,6 +212,9 @@ pub struct AnalyzeOptions {
     pub periodic: Option<bool>,
     /// Window of non-periodic data: hann (default), `kaiser[:β]`, blackman-harris, none.
     pub window: String,
+    /// The Hurst estimators to run (all by default; with another choice the
+    /// model-based fractal dimensions are left out too).
+    pub estimators: hurst::Which,
     /// Also make the plots.
     pub plots: bool,
 }
@@ -189,6 +227,7 @@ impl Default for AnalyzeOptions {
             fit_window: None,
             periodic: None,
             window: "hann".into(),
+            estimators: hurst::Which::All,
             plots: false,
         }
     }
@@ -363,8 +402,6 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     let p = prepare(h, o)?;
     let lv = &p.levelled;
     let profile = h.ny() == 1;
-    let mut warnings = Vec::new();
-    let mut facts = parameters(h, &p)?;
     let w = (p.window != Window::None).then(|| {
         if profile {
             p.window.profile(h.nx())
@@ -374,44 +411,68 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
                 .radial(h.dims(), [h.nx() as f64 * dx, h.ny() as f64 * dy])
         }
     });
-    let r = psd::radial_psd_windowed(lv, o.bins, w.as_deref())?;
+    // The parameters and the spectrum at once, then every estimate that
+    // needs the spectrum's fit range beside the ones that do not: each part
+    // on its own, so the report is the same whatever the thread count.
+    let (facts, r) = rayon::join(
+        || parameters(h, &p),
+        || psd::radial_psd_windowed(lv, o.bins, w.as_deref()),
+    );
+    let (mut facts, r) = (facts?, r?);
     // Estimates that need more data than a field may have: null and a warning,
     // never a refusal of everything else.
     let psd_fit = psd::hurst(&r, o.fit_window);
     let hu = psd_fit.as_ref().ok();
-    facts.set("hurst", hu.map(|hu| hu.hurst));
-    facts.set(
-        "hurst_estimates",
-        estimates_json(&p, &r, &psd_fit, &mut warnings),
+    let models = o.estimators == hurst::Which::All && !profile;
+    let ((estimates, dimensions), (spatial, scale)) = rayon::join(
+        || {
+            rayon::join(
+                || {
+                    let mut warnings = Vec::new();
+                    let e = estimates_json(&p, &r, &psd_fit, o.estimators, &mut warnings);
+                    (e, warnings)
+                },
+                || models.then(|| model_dimensions(lv, p.periodic)),
+            )
+        },
+        || {
+            rayon::join(
+                || (!profile).then(|| correlation::spatial(lv)),
+                || hurst::scale_dependent(lv, p.periodic),
+            )
+        },
     );
+    let (estimates, mut warnings) = estimates;
+    facts.set("hurst", hu.map(|hu| hu.hurst));
+    facts.set("hurst_estimates", estimates);
     let psd_dimension = hu.map(|hu| {
         json!({"D": hu.fractal_dimension, "fit_range": hu.fit.range, "r2": hu.fit.r2, "points": hu.fit.points, "stderr": hu.stderr})
     });
     if profile {
         facts.set("fractal_dimension", json!({"psd": psd_dimension}));
     } else {
-        let triangulation = dimension_json(
-            fractal::triangulation(lv, p.periodic),
-            "fractal dimension (triangulation)",
-            &mut warnings,
-        );
-        let partitioning = dimension_json(
-            fractal::partitioning(lv),
-            "fractal dimension (partitioning)",
-            &mut warnings,
-        );
-        facts.set(
-            "fractal_dimension",
-            json!({"psd": psd_dimension, "triangulation": triangulation, "partitioning": partitioning}),
-        );
-        let sp = correlation::spatial(lv)
+        let mut d = json!({"psd": psd_dimension});
+        if let Some((triangulation, partitioning)) = dimensions {
+            d["triangulation"] = dimension_json(
+                triangulation,
+                "fractal dimension (triangulation)",
+                &mut warnings,
+            );
+            d["partitioning"] = dimension_json(
+                partitioning,
+                "fractal dimension (partitioning)",
+                &mut warnings,
+            );
+        }
+        facts.set("fractal_dimension", d);
+        let sp = spatial
+            .expect("a height field has a spatial correlation")
             .map_err(|e| warnings.push(format!("Sal and Str not estimated: {e}")))
             .ok();
         facts.set("Sal", sp.as_ref().map(|s| s.Sal));
         facts.set("Str", sp.as_ref().map(|s| s.Str));
         facts.set("Str_capped", sp.as_ref().map(|s| s.capped));
     }
-    let scale = hurst::scale_dependent(lv, p.periodic);
     facts.set("scale_dependent", &scale);
     facts.set("psd", psd_json(&r, p.window, profile));
     let plots = if o.plots {
@@ -424,6 +485,21 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
         plots,
         warnings,
     })
+}
+
+/// The model-based fractal dimensions (triangulation, partitioning) at once.
+#[allow(clippy::type_complexity)]
+fn model_dimensions(
+    lv: &HeightField,
+    periodic: bool,
+) -> (
+    std::result::Result<fractal::ModelDimension, AnalysisError>,
+    std::result::Result<fractal::ModelDimension, AnalysisError>,
+) {
+    rayon::join(
+        || fractal::triangulation(lv, periodic),
+        || fractal::partitioning(lv),
+    )
 }
 
 /// The report of a constant field z = `c`: every height, slope and area
@@ -507,13 +583,14 @@ fn estimates_json(
     p: &Prepared,
     r: &psd::RadialPsd,
     psd_fit: &std::result::Result<psd::Hurst, AnalysisError>,
+    which: hurst::Which,
     warnings: &mut Vec<String>,
 ) -> Value {
     let setup = hurst::Setup {
         periodic: p.periodic,
         window: p.window,
     };
-    let estimates = hurst::estimate_all(&p.levelled, setup, r, psd_fit);
+    let estimates = hurst::estimate(&p.levelled, setup, r, psd_fit, which);
     let mut all = serde_json::Map::new();
     for (name, e) in &estimates {
         all.insert(

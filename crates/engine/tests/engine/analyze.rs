@@ -99,3 +99,46 @@ fn a_reversed_fit_window_is_refused_naming_its_form() {
         .map_or_else(|e| e.to_string(), |r| r.unwrap_err().to_string());
     assert!(e.contains("QMIN,QMAX") || e.contains("fit_window"), "{e}");
 }
+
+/// `hurst = "psd"` runs the PSD fit alone: the same H as every estimator's
+/// report, no other estimate and no model-based dimension; `all` has them.
+#[test]
+fn one_estimator_is_paid_for_alone() {
+    let s = fbm_surface();
+    let (all, _) = report(&s, json!({}));
+    let (psd, _) = report(&s, json!({"hurst": "psd"}));
+    assert_eq!(psd["hurst"], all["hurst"]);
+    let names = |m: &Value| -> Vec<String> {
+        m["hurst_estimates"]
+            .as_object()
+            .unwrap()
+            .keys()
+            .cloned()
+            .collect()
+    };
+    assert_eq!(names(&psd), ["psd_2d"]);
+    assert_eq!(names(&all).len(), 5, "{:?}", names(&all));
+    assert!(psd["fractal_dimension"]["triangulation"].is_null());
+    assert!(all["fractal_dimension"]["triangulation"].is_object());
+    let (sf, _) = report(&s, json!({"hurst": "structure-function"}));
+    assert_eq!(names(&sf), ["psd_2d", "structure_function"]);
+    assert_eq!(
+        sf["hurst_estimates"]["structure_function"],
+        all["hurst_estimates"]["structure_function"]
+    );
+}
+
+/// The estimates run at once on every core, each on its own: the report is
+/// the same on one thread and on three.
+#[test]
+fn the_report_is_the_same_at_any_thread_count() {
+    let s = fbm_surface();
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| report(&s, json!({})))
+    };
+    assert_eq!(on(1), on(3));
+}
