@@ -380,6 +380,10 @@ pub struct DlaArgs {
     /// Write plots (SVG and PNG): R_g(n), and the density profile ρ(z) in plane modes.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
+    /// Concurrent walks (default: one a core). More than the cores measures the concurrency
+    /// a larger machine would see (--json: walkers); the cluster is the same for any number.
+    #[arg(long, value_name = "N")]
+    pub walkers: Option<usize>,
     #[command(flatten)]
     pub params_file: ParamsFile,
 }

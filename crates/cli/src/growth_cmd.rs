@@ -88,6 +88,7 @@ fn grow_dla(ctx: &Context, a: &DlaArgs) -> anyhow::Result<()> {
             (Some(path), SeedShape::Image) => Some(load_height(path, &ctx.budget)?),
             _ => None,
         },
+        walkers: a.walkers,
     };
     let mut run = Run::new(ctx, "growth dla");
     let r = dla::grow(p, inputs, job.seed, &ctx.budget, &ctx.time, &ctx.bar())?;

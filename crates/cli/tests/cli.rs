@@ -803,6 +803,33 @@ fn growth_commands_as_documented() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(d.join("plots/gyration.svg").exists());
+    // --walkers: the same cluster, the concurrency reported, not recorded.
+    let o = asperity(
+        &[
+            "--json",
+            "growth",
+            "dla",
+            "--particles",
+            "2000",
+            "--walkers",
+            "5",
+            "-o",
+            "c5.xyz",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["measurements"]["walkers"]["walkers"], 5);
+    assert!(v["params"].get("walkers").is_none(), "{}", v["params"]);
+    assert_eq!(
+        std::fs::read(d.join("c.xyz")).unwrap(),
+        std::fs::read(d.join("c5.xyz")).unwrap()
+    );
+    assert_clean_failure(
+        &asperity(&["growth", "dla", "--walkers", "0", "-o", "x.xyz"], d),
+        "--walkers must be at least 1",
+    );
     // The job's warnings reach stderr.
     let o = asperity(
         &[

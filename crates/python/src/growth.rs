@@ -99,6 +99,7 @@ pub fn dla<'py>(
             (Some(i), SeedShape::Image) => Some(height_in(i)?),
             _ => None,
         },
+        walkers: None,
     };
     let opts = RunOptions { threads, progress };
     let r = run(py, &opts, move |w, time| {

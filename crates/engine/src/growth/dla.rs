@@ -6,7 +6,9 @@ use asperity_analysis::scaling::{
     radius_of_gyration,
 };
 use asperity_core::{HeightField, MemoryBudget, Progress, TimeBudget, TriMesh};
-use asperity_growth::dla::{DlaCluster, DlaParams as Simulation, Sides as GrowthSides, dla};
+use asperity_growth::dla::{
+    DlaCluster, DlaParams as Simulation, Sides as GrowthSides, dla, dla_with_walkers,
+};
 use asperity_growth::seeds::{LatticeFrame, SeedSpec};
 use clap::Args;
 use schemars::JsonSchema;
@@ -131,13 +133,18 @@ impl JobParams for DlaParams {
     }
 }
 
-/// The inputs a DLA seed may need beside its parameters.
+/// What a DLA run takes beside its parameters: the seed's inputs, and how
+/// many walks run at once (none of which the cluster depends on).
 #[derive(Clone, Debug, Default)]
 pub struct SeedInputs {
     /// The seed mesh (`seed_shape` mesh).
     pub mesh: Option<TriMesh>,
     /// The seed-density image (`seed_shape` image).
     pub image: Option<HeightField>,
+    /// Concurrent walkers (default: one a core of the current pool). More
+    /// than the cores measure the concurrency a larger machine would see; the
+    /// cluster is the same for any number.
+    pub walkers: Option<usize>,
 }
 
 impl DlaParams {
@@ -228,6 +235,13 @@ pub fn grow(
 ) -> Result<DlaRun> {
     crate::params::validate(p)?;
     crate::estimate::check(time, &crate::estimate::dla(p.particles as f64))?;
+    if inputs.walkers == Some(0) {
+        return Err(EngineError::Invalid(format!(
+            "{} must be at least 1",
+            asperity_core::wording::param("walkers")
+        )));
+    }
+    let walkers = inputs.walkers;
     let spec = p.seed_spec(inputs)?;
     let size = match &p.size {
         Some(s) => s.resolve(p.dim)?,
@@ -248,7 +262,10 @@ pub fn grow(
         size: Some(LatticeSize::new(&size)?),
         ..p.clone()
     };
-    let cluster = dla(&params, seed, 0, budget, progress)?;
+    let cluster = match walkers {
+        Some(w) => dla_with_walkers(&params, seed, 0, budget, progress, w)?,
+        None => dla(&params, seed, 0, budget, progress)?,
+    };
     let parts = particle_points(&cluster);
     let radius_of_gyration = if parts.is_empty() {
         0.0
@@ -368,6 +385,7 @@ impl DlaRun {
         m.set("fractal_dimension_method", self.dimension.method);
         m.set("dimension_details", &self.dimension.details);
         m.set("walk", c.stats);
+        m.set("walkers", c.concurrency);
         m.set("stopped_early", &c.stopped);
         m
     }

@@ -313,6 +313,24 @@ pub struct DlaCluster {
     /// changed, and were walked again ([`speculative`]). The cluster does not
     /// depend on it; it varies with the threads' timing (0 with one walker).
     pub rewalks: u64,
+    /// How the concurrent walks went (timing-dependent, like `rewalks`).
+    pub concurrency: Concurrency,
+}
+
+/// How the walkers of a run shared the work ([`speculative`]): none of it
+/// changes the cluster.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Concurrency {
+    /// Concurrent walkers (1: the plain sequential loop).
+    pub walkers: usize,
+    /// Walks in flight (claimed, not yet committed) on average over the commits.
+    pub mean_in_flight: f64,
+    /// Share of the particles whose walk was done again.
+    pub redone_fraction: f64,
+    /// Seconds the walkers spent waiting for the ledger's lock, summed over them.
+    pub ledger_wait_s: f64,
+    /// Seconds the walkers spent waiting to be within the window, summed over them.
+    pub window_wait_s: f64,
 }
 
 impl DlaCluster {
@@ -406,6 +424,7 @@ pub fn dla_with_walkers(
     let streams = rng.next_u64();
     let growth = Growth::new(&setup, &lat, streams, progress, Ledger::new(cells, seeds));
     let ledger = growth.run(walkers);
+    let concurrency = ledger.concurrency(walkers);
     Ok(DlaCluster {
         dim: params.dim,
         size,
@@ -416,5 +435,6 @@ pub fn dla_with_walkers(
         capped_at: ledger.end.capped_at,
         stats: ledger.stats,
         rewalks: ledger.rewalks,
+        concurrency,
     })
 }
