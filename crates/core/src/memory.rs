@@ -10,7 +10,51 @@
 //! estimate instead of being killed (see [`crate::system_memory`]).
 
 use crate::CoreError;
-pub use crate::system_memory::LimitSource;
+
+/// Where a memory budget's limit came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LimitSource {
+    /// Given by the user (`--max-memory`, `max_memory=`).
+    Given,
+    /// No limit (tests, trusted callers).
+    Unlimited,
+    /// Half of physical RAM.
+    HalfOfRam,
+    /// The memory cgroup's limit less its current use.
+    Cgroup,
+    /// The address-space limit (`RLIMIT_AS`, `ulimit -v`) less the process's size.
+    AddressSpace,
+    /// The data-segment limit (`RLIMIT_DATA`, `ulimit -d`) less the process's data.
+    DataSize,
+}
+
+impl LimitSource {
+    /// How a message names it.
+    pub const fn describe(self) -> &'static str {
+        match self {
+            LimitSource::Given => "as given",
+            LimitSource::Unlimited => "no limit",
+            LimitSource::HalfOfRam => "half of the RAM",
+            LimitSource::Cgroup => "this process's memory cgroup limit, less what the cgroup uses",
+            LimitSource::AddressSpace => {
+                "the address-space limit of ulimit -v, less what the process maps"
+            }
+            LimitSource::DataSize => "the data-size limit of ulimit -d, less the process's data",
+        }
+    }
+
+    /// A short name for reports (`cgroup`, `rlimit_as`, …).
+    pub const fn name(self) -> &'static str {
+        match self {
+            LimitSource::Given => "given",
+            LimitSource::Unlimited => "unlimited",
+            LimitSource::HalfOfRam => "half_of_ram",
+            LimitSource::Cgroup => "cgroup",
+            LimitSource::AddressSpace => "rlimit_as",
+            LimitSource::DataSize => "rlimit_data",
+        }
+    }
+}
 
 /// An upper bound on the bytes one operation may allocate, and where it came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,13 +96,6 @@ impl MemoryBudget {
         )
     }
 
-    /// The least of half of physical RAM and the headroom under this
-    /// process's memory cgroup and resource limits, read now
-    /// ([`crate::system_memory::SystemMemory::budget`]).
-    pub fn from_system() -> Self {
-        crate::system_memory::SystemMemory::real().budget()
-    }
-
     /// The limit in bytes.
     pub const fn limit(&self) -> u64 {
         self.limit
@@ -93,13 +130,6 @@ impl MemoryBudget {
         let bytes = count.saturating_mul(elem_bytes as u128);
         let bytes = u64::try_from(bytes).unwrap_or(u64::MAX);
         self.check(bytes, what)
-    }
-}
-
-impl Default for MemoryBudget {
-    /// [`MemoryBudget::from_system`].
-    fn default() -> Self {
-        Self::from_system()
     }
 }
 

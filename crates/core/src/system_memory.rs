@@ -17,50 +17,22 @@
 
 use std::path::{Path, PathBuf};
 
-/// Where a memory budget's limit came from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LimitSource {
-    /// Given by the user (`--max-memory`, `max_memory=`).
-    Given,
-    /// No limit (tests, trusted callers).
-    Unlimited,
-    /// Half of physical RAM.
-    HalfOfRam,
-    /// The memory cgroup's limit less its current use.
-    Cgroup,
-    /// The address-space limit (`RLIMIT_AS`, `ulimit -v`) less the process's size.
-    AddressSpace,
-    /// The data-segment limit (`RLIMIT_DATA`, `ulimit -d`) less the process's data.
-    DataSize,
+use crate::MemoryBudget;
+use crate::memory::{FALLBACK_RAM, LimitSource};
+
+impl MemoryBudget {
+    /// The least of half of physical RAM and the headroom under this
+    /// process's memory cgroup and resource limits, read now
+    /// ([`SystemMemory::budget`]).
+    pub fn from_system() -> Self {
+        SystemMemory::real().budget()
+    }
 }
 
-impl LimitSource {
-    /// How a message names it.
-    pub const fn describe(self) -> &'static str {
-        match self {
-            LimitSource::Given => "as given",
-            LimitSource::Unlimited => "no limit",
-            LimitSource::HalfOfRam => "half of the RAM",
-            LimitSource::Cgroup => "the headroom under this process's memory cgroup",
-            LimitSource::AddressSpace => {
-                "the headroom under the address-space limit (ulimit -v, RLIMIT_AS)"
-            }
-            LimitSource::DataSize => {
-                "the headroom under the data-size limit (ulimit -d, RLIMIT_DATA)"
-            }
-        }
-    }
-
-    /// A short name for reports (`cgroup`, `rlimit_as`, …).
-    pub const fn name(self) -> &'static str {
-        match self {
-            LimitSource::Given => "given",
-            LimitSource::Unlimited => "unlimited",
-            LimitSource::HalfOfRam => "half_of_ram",
-            LimitSource::Cgroup => "cgroup",
-            LimitSource::AddressSpace => "rlimit_as",
-            LimitSource::DataSize => "rlimit_data",
-        }
+impl Default for MemoryBudget {
+    /// [`MemoryBudget::from_system`].
+    fn default() -> Self {
+        Self::from_system()
     }
 }
 
@@ -198,8 +170,8 @@ impl SystemMemory {
 
     /// The least of half of RAM (8 GiB assumed unreadable), the cgroup's
     /// headroom and the resource limits' headroom, with its source.
-    pub fn budget(&self) -> crate::MemoryBudget {
-        let ram = self.physical_ram().unwrap_or(crate::memory::FALLBACK_RAM);
+    pub fn budget(&self) -> MemoryBudget {
+        let ram = self.physical_ram().unwrap_or(FALLBACK_RAM);
         let mut best = (ram / 2, LimitSource::HalfOfRam);
         let cgroup = (LimitSource::Cgroup, self.cgroup_headroom());
         for (source, headroom) in std::iter::once(cgroup).chain(self.rlimit_headroom()) {
@@ -209,7 +181,7 @@ impl SystemMemory {
                 best = (h, source);
             }
         }
-        crate::MemoryBudget::with_source(best.0, best.1)
+        MemoryBudget::with_source(best.0, best.1)
     }
 }
 

@@ -1,0 +1,223 @@
+//! The parameters of `analyze` (one definition for every front end, issue
+//! #36) and the options the report is computed with.
+
+use asperity_analysis::hurst;
+use clap::Args;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+use crate::params::{JobParams, Window as FitWindow, choice};
+
+choice! {
+    /// The reference surface removed before the analysis (the F-operator).
+    pub enum Level {
+        /// The mean for periodic data, the mean-slope plane for periodic data with a tilt, the
+        /// least-squares plane otherwise.
+        Auto = "auto",
+        /// Nothing removed.
+        Keep = "none",
+        /// The mean height.
+        Mean = "mean",
+        /// The mean-gradient plane (keeps periodic data periodic).
+        Slope = "slope",
+        /// The least-squares plane.
+        Plane = "plane",
+        /// The least-squares quadratic.
+        Quadratic = "quadratic",
+    }
+}
+
+choice! {
+    /// Which Hurst estimators run (the report's `hurst` is always the PSD fit's).
+    pub enum HurstChoice {
+        /// Every estimator, and the model-based fractal dimensions (triangulation,
+        /// partitioning).
+        All = "all",
+        /// The PSD fit alone: no other estimator, no model-based dimension.
+        Psd = "psd",
+        /// The PSD fit and the profile PSDs along x and y.
+        PsdProfiles = "psd-profiles",
+        /// The PSD fit and the structure function.
+        StructureFunction = "structure-function",
+        /// The PSD fit and the variable bandwidth method.
+        VariableBandwidth = "variable-bandwidth",
+    }
+}
+
+impl HurstChoice {
+    fn which(self) -> hurst::Which {
+        match self {
+            HurstChoice::All => hurst::Which::All,
+            HurstChoice::Psd => hurst::Which::Psd,
+            HurstChoice::PsdProfiles => hurst::Which::PsdProfiles,
+            HurstChoice::StructureFunction => hurst::Which::StructureFunction,
+            HurstChoice::VariableBandwidth => hurst::Which::VariableBandwidth,
+        }
+    }
+}
+
+/// Whether data are periodic: decided from the data (`auto`), or given
+/// (`yes`/`no`; in JSON also `true`/`false`/`null`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, JsonSchema, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Periodic {
+    /// Decide from the data: opposite edges that join as smoothly as neighbouring samples.
+    Auto,
+    /// Periodic: no window, pairs wrap around.
+    Yes,
+    /// Not periodic: windowed spectra.
+    No,
+}
+
+impl Periodic {
+    /// `None` for auto, else whether periodic.
+    pub fn given(self) -> Option<bool> {
+        match self {
+            Periodic::Auto => None,
+            Periodic::Yes => Some(true),
+            Periodic::No => Some(false),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Periodic {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = Periodic;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("auto, yes or no (or true, false, null)")
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> std::result::Result<Periodic, E> {
+                Ok(if v { Periodic::Yes } else { Periodic::No })
+            }
+            fn visit_unit<E: serde::de::Error>(self) -> std::result::Result<Periodic, E> {
+                Ok(Periodic::Auto)
+            }
+            fn visit_none<E: serde::de::Error>(self) -> std::result::Result<Periodic, E> {
+                Ok(Periodic::Auto)
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<Periodic, E> {
+                match v {
+                    "auto" => Ok(Periodic::Auto),
+                    "yes" => Ok(Periodic::Yes),
+                    "no" => Ok(Periodic::No),
+                    _ => Err(E::unknown_variant(v, &["auto", "yes", "no"])),
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// `analyze`: roughness numbers of a height field (ISO 25178 parameters,
+/// profiles, PSD, five Hurst estimators, fractal dimensions), a mesh
+/// (topology, curvature) or a point set, in the conventions of Jacobs, Junge &
+/// Pastewka (2017).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, JsonSchema, Args)]
+#[serde(default)]
+pub struct AnalyzeParams {
+    /// Reference surface removed first (the F-operator).
+    #[arg(long, value_enum, default_value_t = Self::default().level)]
+    pub level: Level,
+    /// Periodic data (a surface generated on a torus): auto decides from the data — opposite
+    /// edges that join as smoothly as neighbouring samples mean periodic; measured data and
+    /// crops are not. Non-periodic data get a window before every FFT.
+    #[arg(long, value_enum, default_value_t = Self::default().periodic)]
+    pub periodic: Periodic,
+    /// Window of non-periodic data: hann, kaiser (β 8.6), kaiser:BETA, blackman-harris, none.
+    #[arg(long, default_value_t = Self::default().window)]
+    pub window: String,
+    /// Log-spaced bins of the radially averaged PSD.
+    #[schemars(range(min = 2))]
+    #[arg(long, default_value_t = Self::default().bins)]
+    pub bins: usize,
+    /// Hurst fit window QMIN,QMAX in rad/length (default: picked from the PSD, leaving out a
+    /// long-wavelength roll-off and a short-wavelength noise floor); the real-space estimators
+    /// use the matching wavelengths.
+    #[arg(long, value_name = "QMIN,QMAX")]
+    pub fit_window: Option<FitWindow>,
+    /// Which Hurst estimators run: all (every estimator and the model-based fractal
+    /// dimensions), or the PSD fit alone or with one other — a user who needs one pays for one.
+    #[arg(long, value_enum, default_value_t = Self::default().hurst)]
+    pub hurst: HurstChoice,
+}
+
+impl Default for AnalyzeParams {
+    fn default() -> Self {
+        Self {
+            level: Level::Auto,
+            periodic: Periodic::Auto,
+            window: "hann".into(),
+            bins: 40,
+            fit_window: None,
+            hurst: HurstChoice::All,
+        }
+    }
+}
+
+impl JobParams for AnalyzeParams {
+    const JOB: &'static str = "analyze";
+    const SEEDED: bool = false;
+
+    fn check(&self) -> Result<()> {
+        if let Some(w) = &self.fit_window {
+            w.check("fit_window", "QMIN,QMAX")?;
+        }
+        Ok(())
+    }
+}
+
+impl AnalyzeParams {
+    /// The analysis options of these parameters; `plots`: make the plots too.
+    pub fn options(&self, plots: bool) -> AnalyzeOptions {
+        AnalyzeOptions {
+            level: self.level.name().to_owned(),
+            bins: self.bins,
+            fit_window: self.fit_window.map(|w| w.0),
+            periodic: self.periodic.given(),
+            window: self.window.clone(),
+            estimators: self.hurst.which(),
+            plots,
+        }
+    }
+}
+
+/// How a height field is analysed, named and defaulted like `asperity analyze`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnalyzeOptions {
+    /// Reference surface removed first: auto, none, mean, slope, plane,
+    /// quadratic. Default auto: the mean for periodic data, the mean-slope plane
+    /// for periodic data with a tilt, the least-squares plane otherwise.
+    pub level: String,
+    /// Log-spaced bins of the radial PSD. Default 40.
+    pub bins: usize,
+    /// Hurst fit window [q_min, q_max] in rad/length (default: chosen from the
+    /// PSD, see `asperity_analysis::psd::auto_range`).
+    pub fit_window: Option<[f64; 2]>,
+    /// Periodic data or not; `None` decides from the data (the edge-jump test of
+    /// `asperity_analysis::window::edge_ratio`).
+    pub periodic: Option<bool>,
+    /// Window of non-periodic data: hann (default), `kaiser[:β]`, blackman-harris, none.
+    pub window: String,
+    /// The Hurst estimators to run (all by default; with another choice the
+    /// model-based fractal dimensions are left out too).
+    pub estimators: hurst::Which,
+    /// Also make the plots.
+    pub plots: bool,
+}
+
+impl Default for AnalyzeOptions {
+    fn default() -> Self {
+        Self {
+            level: "auto".into(),
+            bins: 40,
+            fit_window: None,
+            periodic: None,
+            window: "hann".into(),
+            estimators: hurst::Which::All,
+            plots: false,
+        }
+    }
+}
