@@ -228,7 +228,7 @@ fn memory_limit_refuses_with_the_estimate() {
     );
     assert_clean_failure(
         &o,
-        "but the memory limit is 16.00 KiB (raise it with --max-memory)",
+        "but the memory limit is 16.00 KiB (as given; raise it with --max-memory)",
     );
     std::fs::write(d.path().join("big.xyz"), "1 2 3\n".repeat(1000)).unwrap();
     fails(
