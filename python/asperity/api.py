@@ -113,7 +113,10 @@ dla = Job(
     inputs=[("mesh", None, "a closed :class:`Mesh` seed for ``seed_shape='mesh'``, voxelised at "
                            "``resolution`` cells along its longest axis."),
             ("image", None, "a :class:`HeightField` whose bright columns seed a plane deposit "
-                            "(``seed_shape='image'``), with probability up to ``seed_density``.")],
+                            "(``seed_shape='image'``), with probability up to ``seed_density``."),
+            ("walkers", None, "concurrent walks (default: one a core; more measure what a bigger "
+                              "machine would see, in ``measurements['walkers']``); the cluster is the "
+                              "same for any number.")],
     returns="Returns a :class:`Result` with ``points`` (a :class:`PointSet`, seeds first, in "
             "deposition order), ``warnings``, ``measurements`` (R_g, D, ρ(z) as the CLI's JSON), "
             "``radius_of_gyration`` and ``dimension``.",

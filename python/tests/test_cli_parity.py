@@ -58,6 +58,17 @@ def test_dla(cli, tmp, shape):
     assert strip_timing(r.measurements) == strip_timing(rep["measurements"])
 
 
+def test_dla_walkers(cli, tmp):
+    """``walkers=`` is the CLI's ``--walkers``: the same cluster, the concurrency reported."""
+    one = asperity.dla(particles=600, seed=3)
+    many = asperity.dla(particles=600, seed=3, walkers=6)
+    assert np.array_equal(one.points.points, many.points.points)
+    assert many.measurements["walkers"]["walkers"] == 6
+    assert "walkers" not in many.params
+    with pytest.raises(ValueError, match="walkers= must be at least 1"):
+        asperity.dla(particles=10, walkers=0)
+
+
 def test_dla_seeded_by_mesh_and_image_arrays(cli, tmp):
     """Seeds from arrays equal the CLI's seeds from the same data in files."""
     cube = asperity.subdiv(base="cube", levels=1)

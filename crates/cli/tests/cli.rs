@@ -889,13 +889,8 @@ fn reconstruct_and_pipelines_as_documented() {
     let d = tempfile::tempdir().unwrap();
     // Points on a sphere of radius 1 as an ASCII XYZ file.
     let mut text = String::new();
-    let n = 4000;
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    for i in 0..n {
-        let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-        let s = (1.0 - z * z).sqrt();
-        let t = golden * i as f64;
-        text.push_str(&format!("{} {} {}\n", s * t.cos(), s * t.sin(), z));
+    for [x, y, z] in asperity_engine::core::shapes::fibonacci_sphere(4000) {
+        text.push_str(&format!("{x} {y} {z}\n"));
     }
     std::fs::write(d.path().join("pts.xyz"), text).unwrap();
     let o = asperity(

@@ -2,6 +2,20 @@
 
 use crate::{PolyMesh, TriMesh};
 
+/// `n` points spread evenly over the unit sphere: a Fibonacci lattice (z in
+/// `n` even steps, longitude advanced by the golden angle π(3 − √5)).
+pub fn fibonacci_sphere(n: usize) -> Vec<[f64; 3]> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let s = (1.0 - z * z).sqrt();
+            let t = golden * i as f64;
+            [s * t.cos(), s * t.sin(), z]
+        })
+        .collect()
+}
+
 /// An icosphere of `radius` around the origin: the icosahedron with every
 /// triangle split in four `level` times and the vertices pushed onto the sphere
 /// (no poles, near-uniform faces, outward orientation). 20·4^level triangles.

@@ -25,6 +25,7 @@ use std::io::Write;
 
 use asperity_core::{PolyMesh, TriMesh};
 
+use crate::UpAxis;
 use crate::error::{FResult, FormatError};
 use crate::up::{Y_UP_LINE, written_y_up};
 
@@ -194,43 +195,33 @@ pub(crate) fn read_poly(bytes: &[u8]) -> FResult<PolyMesh> {
     Ok(PolyMesh::new(c.positions, &c.faces)?)
 }
 
-/// Writes `m`; `mtl` names the material library to reference (when textured).
+/// Writes `m` (in asperity's z-up frame) for a file whose up axis is `up`;
+/// `mtl` names the material library to reference (when textured).
 pub(crate) fn write_mesh(
     w: &mut dyn Write,
     m: &TriMesh,
     mtl: Option<&str>,
-    y_up: bool,
+    up: UpAxis,
     params: Option<&str>,
 ) -> std::io::Result<()> {
     let flat = m.triangles().as_flattened();
     let offsets: Vec<u32> = (0..=m.n_faces() as u32).map(|f| 3 * f).collect();
-    write_faces(w, m, (&offsets, flat), mtl, y_up, params)
+    write_faces(w, m, (&offsets, flat), (mtl, params), up)
 }
 
 /// Writes polygons (CSR: `offsets` into `verts`) with the per-vertex data of
-/// `m` (same vertices).
+/// `m` (same vertices, in asperity's frame): positions and normals are turned
+/// to the file's `up` as they are printed (no copy of the mesh), and a y-up
+/// file says so in its header.
 pub(crate) fn write_faces(
-    w: &mut dyn Write,
-    m: &TriMesh,
-    faces: (&[u32], &[u32]),
-    mtl: Option<&str>,
-    y_up: bool,
-    params: Option<&str>,
-) -> std::io::Result<()> {
-    write_faces_mapped(w, m, faces, (mtl, params), y_up, |v| v)
-}
-
-/// As [`write_faces`] for `m` in asperity's frame: `to_file` takes each
-/// position and normal into the file's frame as it is written (no copy of
-/// the mesh); `y_up` says so in the header.
-pub(crate) fn write_faces_mapped(
     w: &mut dyn Write,
     m: &TriMesh,
     (offsets, verts): (&[u32], &[u32]),
     (mtl, params): (Option<&str>, Option<&str>),
-    y_up: bool,
-    to_file: impl Fn([f64; 3]) -> [f64; 3] + Sync,
+    up: UpAxis,
 ) -> std::io::Result<()> {
+    let y_up = up == UpAxis::Y;
+    let to_file = |v: [f64; 3]| if y_up { crate::up::to_y_up(v) } else { v };
     let n_faces = offsets.len().saturating_sub(1);
     writeln!(w, "# written by asperity {}", env!("CARGO_PKG_VERSION"))?;
     if let Some(p) = params {
@@ -356,9 +347,7 @@ mod tests {
         .unwrap()
         .with_computed_normals();
         let mut text = Vec::new();
-        // what lib.rs hands the writer for an OBJ: the mesh in the y-up frame
-        let file_frame = m.clone().map_vectors(crate::up::to_y_up);
-        write_mesh(&mut text, &file_frame, None, true, None).unwrap();
+        write_mesh(&mut text, &m, None, UpAxis::Y, None).unwrap();
         let s = String::from_utf8(text.clone()).unwrap();
         // in the file the height is along y, as Blender's OBJ import expects
         let ys: Vec<f64> = s

@@ -7,8 +7,8 @@ use std::path::Path;
 use asperity_core::{CoreError, HeightField, PointSet, PolyMesh, RgbaImage, TriMesh};
 
 use crate::{
-    Format, IoError, NpyDtype, Surface, UpAxis, WriteOptions, exr_io, glb, gsf, gwy, npy, obj, ply,
-    png_io, stl, text, up, write_atomic, wrong, x3p,
+    Format, IoError, NpyDtype, Surface, WriteOptions, exr_io, glb, gsf, gwy, npy, obj, ply, png_io,
+    stl, text, up, write_atomic, wrong, x3p,
 };
 
 /// Writes the polygons of `poly` (quads, n-gons, kept as they are) with the
@@ -61,14 +61,12 @@ pub fn write_poly_mesh(
             .map_err(os)
         }),
         Format::Obj if poly.n_faces() > 0 && attrs.texture().is_none() => write_atomic(path, |w| {
-            let y_up = up == UpAxis::Y;
-            obj::write_faces_mapped(
+            obj::write_faces(
                 w,
                 attrs,
                 (poly.face_offsets(), poly.face_vertices()),
                 (None, params),
-                y_up,
-                |v| if y_up { up::to_y_up(v) } else { v },
+                up,
             )
             .map_err(os)
         }),
@@ -108,7 +106,7 @@ pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<()
                 None => None,
             };
             write_atomic(path, |w| {
-                obj::write_mesh(w, &in_file(), mtl.as_deref(), up == UpAxis::Y, params).map_err(os)
+                obj::write_mesh(w, mesh, mtl.as_deref(), up, params).map_err(os)
             })
         }
         Format::Xyz | Format::Npy => {
@@ -334,15 +332,15 @@ pub fn write_mesh_with_polylines(
     }
     let os = |e| IoError::os(path, e);
     let up = up::written_up(f, opts.up);
-    let m = up::mesh_in_file_frame(&m, up);
     let params = opts.params_text();
     let params = params.as_deref();
     match f {
         Format::Ply => write_atomic(path, |w| {
+            let m = up::mesh_in_file_frame(&m, up);
             ply::write_mesh_edges(w, &m, &edges, opts.ply_encoding, params).map_err(os)
         }),
         _ => write_atomic(path, |w| {
-            obj::write_mesh(w, &m, None, up == UpAxis::Y, params)
+            obj::write_mesh(w, &m, None, up, params)
                 .and_then(|()| obj::write_lines(w, lines, mesh.n_vertices()))
                 .map_err(os)
         }),

@@ -6,14 +6,9 @@ use asperity_levelset::{Length, ReconstructParams, Reconstruction, Sizing, recon
 
 /// Fibonacci points on a sphere of radius `r` about `c`.
 fn sphere(n: usize, r: f64, c: [f64; 3]) -> Vec<[f64; 3]> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let s = (1.0 - z * z).sqrt();
-            let t = golden * i as f64;
-            [c[0] + r * s * t.cos(), c[1] + r * s * t.sin(), c[2] + r * z]
-        })
+    asperity_core::shapes::fibonacci_sphere(n)
+        .into_iter()
+        .map(|p| std::array::from_fn(|a| c[a] + r * p[a]))
         .collect()
 }
 

@@ -80,12 +80,14 @@ fn deposit_job<'py, P: DepositJob>(
 /// a dict with `points`, `title`, `warnings`, `measurements` and `params`
 /// (JSON texts).
 #[pyfunction]
-#[pyo3(signature = (params, mesh, image, threads, progress))]
+#[pyo3(signature = (params, mesh, image, walkers, threads, progress))]
+#[allow(clippy::too_many_arguments)]
 pub fn dla<'py>(
     py: Python<'py>,
     params: &str,
     mesh: Option<Bound<'py, PyAny>>,
     image: Option<Bound<'py, PyAny>>,
+    walkers: Option<usize>,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -99,7 +101,7 @@ pub fn dla<'py>(
             (Some(i), SeedShape::Image) => Some(height_in(i)?),
             _ => None,
         },
-        walkers: None,
+        walkers,
     };
     let opts = RunOptions { threads, progress };
     let r = run(py, &opts, move |w, time| {

@@ -1,13 +1,13 @@
 //! The reconstruction job's behaviour (kim-machiraju-thompson §5, Algorithm 1),
 //! tested here rather than through the CLI (issue #36): one behaviour per test,
 //! through `LevelSetParams` as every front end builds them, against the
-//! analytic sphere. The pipelines (DLA terrain, RDSR sphere) are in `jobs.rs`;
-//! the level set's numerics against an independent reference are in
-//! `asperity-levelset` (`tests/oracle.rs`).
+//! analytic sphere, and the two pipelines (DLA terrain, RDSR sphere) against
+//! the paper's grids. The level set's numerics against an independent
+//! reference are in `asperity-levelset` (`tests/oracle.rs`).
 
 use std::f64::consts::PI;
 
-use asperity_engine::core::{MemoryBudget, NoProgress, TimeBudget, TriMesh};
+use asperity_engine::core::{MemoryBudget, NoProgress, TimeBudget, TriMesh, shapes};
 use asperity_engine::growth::dla::Sides;
 use asperity_engine::reconstruct::{
     DlaTerrainParams, Job, LevelSetParams, PIPELINE, RdsrSphereParams, dla_terrain, pieces,
@@ -15,19 +15,6 @@ use asperity_engine::reconstruct::{
 };
 use asperity_levelset::{FlowChoice, ReconstructParams, Reconstruction};
 use serde_json::{Value, json};
-
-/// `n` points on the unit sphere (a Fibonacci lattice).
-fn unit_sphere(n: usize) -> Vec<[f64; 3]> {
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    (0..n)
-        .map(|i| {
-            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let s = (1.0 - z * z).sqrt();
-            let t = golden * i as f64;
-            [s * t.cos(), s * t.sin(), z]
-        })
-        .collect()
-}
 
 fn level_set(v: Value) -> LevelSetParams {
     serde_json::from_value(v).expect("valid parameters")
@@ -66,8 +53,13 @@ fn points_of_a_sphere_give_the_sphere() {
     let p = level_set(json!({
         "resolution": 32, "offset": 0.2, "iterations": 20, "curvature": true
     }));
-    let (rec, snapshots) =
-        run(&unit_sphere(4000), &p, Some(10), &MemoryBudget::unlimited()).unwrap();
+    let (rec, snapshots) = run(
+        &shapes::fibonacci_sphere(4000),
+        &p,
+        Some(10),
+        &MemoryBudget::unlimited(),
+    )
+    .unwrap();
     let t = rec.mesh.topology();
     assert!(t.is_watertight() && t.euler_characteristic == 2 && t.genus == Some(0));
     assert_eq!(rec.evolution.steps.len(), 20);
@@ -99,7 +91,13 @@ fn points_of_a_sphere_give_the_sphere() {
 #[test]
 fn an_offset_in_cells_is_a_multiple_of_the_spacing() {
     let p = level_set(json!({"resolution": 32, "offset": "3h", "iterations": 5}));
-    let (rec, _) = run(&unit_sphere(2000), &p, None, &MemoryBudget::unlimited()).unwrap();
+    let (rec, _) = run(
+        &shapes::fibonacci_sphere(2000),
+        &p,
+        None,
+        &MemoryBudget::unlimited(),
+    )
+    .unwrap();
     assert!((rec.offset - 3.0 * rec.grid.spacing).abs() < 1e-12);
     let e = serde_json::from_value::<LevelSetParams>(json!({"offset": "3x"})).unwrap_err();
     assert!(e.to_string().contains("3h (grid cells)"), "{e}");
@@ -120,14 +118,26 @@ fn points_without_extent_or_finite_coordinates_are_refused() {
 #[test]
 fn a_grid_over_the_memory_budget_is_refused_with_the_estimate() {
     let p = level_set(json!({"resolution": 400}));
-    let e = run(&unit_sphere(100), &p, None, &MemoryBudget::new(1 << 20)).unwrap_err();
+    let e = run(
+        &shapes::fibonacci_sphere(100),
+        &p,
+        None,
+        &MemoryBudget::new(1 << 20),
+    )
+    .unwrap_err();
     assert!(e.contains("memory limit"), "{e}");
 }
 
 #[test]
 fn save_every_zero_is_refused() {
     let p = level_set(json!({"resolution": 16}));
-    let e = run(&unit_sphere(100), &p, Some(0), &MemoryBudget::unlimited()).unwrap_err();
+    let e = run(
+        &shapes::fibonacci_sphere(100),
+        &p,
+        Some(0),
+        &MemoryBudget::unlimited(),
+    )
+    .unwrap_err();
     assert!(e.contains("save_every"), "{e}");
 }
 
@@ -293,15 +303,9 @@ fn dla_terrain_is_one_piece_with_arches() {
 fn paper_mode_keeps_a_dense_sphere_within_one_and_a_half_cells() {
     let radius = 10.0;
     // A Fibonacci sphere with samples ~0.11 apart, denser than h = 20/128 ≈ 0.16.
-    let n = 100_000;
-    let golden = PI * (3.0 - 5f64.sqrt());
-    let points: Vec<[f64; 3]> = (0..n)
-        .map(|i| {
-            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let s = (1.0 - z * z).sqrt();
-            let t = golden * i as f64;
-            [radius * s * t.cos(), radius * s * t.sin(), radius * z]
-        })
+    let points: Vec<[f64; 3]> = shapes::fibonacci_sphere(100_000)
+        .into_iter()
+        .map(|p| p.map(|x| radius * x))
         .collect();
     let worst = |m: &asperity_core::TriMesh| {
         m.positions()
