@@ -36,17 +36,18 @@ impl Rule for VoronoiRule {
         if own != UNLABELLED {
             return own;
         }
-        let mut sides = [0u32; 8];
-        let mut n_sides = 0;
-        for (n, k) in view.cells.neighbours(cell) {
-            let l = view.states[n];
-            if l != UNLABELLED && is_side(k) {
-                sides[n_sides] = l;
-                n_sides += 1;
-            }
-        }
+        // A labelled side neighbour at random: count them, draw one, find it
+        // (a cell at a vertex where many triangles meet can have many).
+        let labelled_sides = || {
+            view.cells
+                .neighbours(cell)
+                .filter(|&(n, k)| is_side(k) && view.states[n] != UNLABELLED)
+                .map(|(n, _)| view.states[n])
+        };
+        let n_sides = labelled_sides().count();
         if n_sides > 0 {
-            return sides[rng.below(n_sides)];
+            let pick = rng.below(n_sides);
+            return labelled_sides().nth(pick).expect("pick is below the count");
         }
         for (n, _) in view.cells.neighbours(cell) {
             let l = view.states[n];

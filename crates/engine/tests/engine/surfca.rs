@@ -53,6 +53,25 @@ fn voronoi_labels_every_cell_with_one_of_its_sites() {
     assert_eq!(changed.as_array().unwrap().len() as u64, r.stats.steps);
 }
 
+/// A coarse grid on the cube's 192 triangles gives cells at a corner more
+/// than eight labelled side neighbours (found by the CLI/Python parity
+/// property test: the rule kept them in an array of eight and panicked).
+#[test]
+fn voronoi_covers_coarse_cells_where_many_triangles_meet() {
+    let inputs = SurfaceCaInputs {
+        mesh: builtin_mesh("cube").unwrap(),
+        name: "builtin:cube".into(),
+        at: None,
+    };
+    let (m, t) = (MemoryBudget::unlimited(), TimeBudget::unlimited());
+    let p = params(json!({"sites": 4, "cells": 996}));
+    let (cov, r) = run_job(&p, inputs, 327, (&m, &t), &NoProgress, |_, _, _| {}).unwrap();
+    let labels = r.labels(&cov).unwrap();
+    let label = labels.attribute("label").unwrap();
+    assert_eq!(label.len(), cov.cells.len());
+    assert!(label.iter().all(|l| (0.0..4.0).contains(l)), "{label:?}");
+}
+
 /// Sites given as points start at the cells nearest them: the first site of
 /// (0, 0, 1) on the unit sphere is a cell at the north pole.
 #[test]
