@@ -16,6 +16,7 @@ import json
 import os
 import re
 import subprocess
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -290,7 +291,9 @@ def compare(job, tmp, rep, r, kind):
 def test_cli_and_python_agree(job, tmp_path, inputs):
     words, name, lead, job_kind, _ = JOBS[job]
     files, objects = inputs
-    rng = np.random.default_rng(abs(hash(job)) % (2 ** 32))
+    # A seed of the job's name that is the same in every process (Python's
+    # str hash is salted per process, which made the draws differ run to run).
+    rng = np.random.default_rng(zlib.crc32(job.encode()))
     ok = failed = 0
     for attempt in range(4 * SETS):
         if ok >= SETS:
