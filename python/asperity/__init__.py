@@ -17,7 +17,8 @@ from . import _asperity
 from .api import (Result, analyze, bd, ca_gallery, ca_rule, ca_run, dla, dla_terrain, facet,
                   fbm,
                   fractal_dimensions, hurst, ifs_curvature, ifs_curve, ifs_dcf, ifs_model,
-                  ifs_presets, ifs_sdcf, ifs_surface, interpolate, load, psd, rd, rdsr, rdsr_sphere,
+                  ifs_presets, ifs_sdcf, ifs_surface, interpolate, load, memory_budget, psd, rd,
+                  rdsr, rdsr_sphere,
                   reconstruct, render, save, save_image, set_limits, subdiv, subdiv_examples,
                   surface_ca)
 from .errors import MemoryLimitError, TimeLimitError
@@ -30,6 +31,6 @@ __all__ = [
     "HeightField", "Mesh", "PointSet", "Result", "MemoryLimitError", "TimeLimitError",
     "analyze", "bd", "ca_gallery", "ca_rule", "ca_run", "dla", "dla_terrain", "facet", "fbm",
     "fractal_dimensions", "hurst", "ifs_curvature", "ifs_curve", "ifs_dcf", "ifs_model",
-    "ifs_presets", "ifs_sdcf", "ifs_surface", "interpolate", "load", "psd", "rd", "rdsr",
+    "ifs_presets", "ifs_sdcf", "ifs_surface", "interpolate", "load", "memory_budget", "psd", "rd", "rdsr",
     "rdsr_sphere", "reconstruct", "render", "save", "save_image", "set_limits", "subdiv", "subdiv_examples", "surface_ca", "sweep",
 ]

@@ -60,6 +60,17 @@ def set_limits(max_memory: Optional[int] = None, max_time: Optional[float] = Non
     _asperity.set_limits(int(max_memory or 0), mt)
 
 
+def memory_budget() -> dict:
+    """The memory budget every job checks its estimate against, as the CLI's
+    ``--json`` reports it: ``{"bytes": N, "from": WHERE}``, where WHERE names
+    the limit that applied: ``"given"`` (``set_limits(max_memory=...)``),
+    ``"half_of_ram"``, ``"cgroup"`` (the process's memory cgroup, less what it
+    uses), ``"rlimit_as"`` or ``"rlimit_data"`` (``ulimit -v``/``-d``, less the
+    process's size)."""
+    limit, source = _asperity.memory_budget()
+    return {"bytes": limit, "from": source}
+
+
 # ---------------------------------------------------------------- growth
 
 

@@ -111,6 +111,22 @@ def test_memory_refusal_has_its_estimate():
     assert asperity.fbm(size=16).heights.shape == (16, 16)
 
 
+def test_memory_budget_says_where_it_came_from(cli, tmp):
+    """The budget a job runs under, as the CLI's --json report gives it: the
+    system's by default (the same from both), "given" after set_limits."""
+    system = asperity.memory_budget()
+    assert system["from"] in {"half_of_ram", "cgroup", "rlimit_as", "rlimit_data"}
+    report = cli("generate", "fbm", "--size", 8, "-o", tmp / "f.npy")
+    assert report["memory_budget"]["from"] == system["from"]
+    assert abs(report["memory_budget"]["bytes"] - system["bytes"]) <= max(system["bytes"] // 10, 1 << 20)
+    asperity.set_limits(max_memory=3 << 20)
+    try:
+        assert asperity.memory_budget() == {"bytes": 3 << 20, "from": "given"}
+    finally:
+        asperity.set_limits()
+    assert asperity.memory_budget()["from"] == system["from"]
+
+
 def test_time_refusal():
     with pytest.raises(asperity.TimeLimitError):
         asperity.ca_run(450, 10**9, size=(4096, 4096), init="random:0.5")

@@ -35,6 +35,14 @@ pub fn set_limits(max_memory: u64, max_time: u64) {
     MAX_TIME_S.store(max_time, Ordering::Relaxed);
 }
 
+/// The memory budget in force, in bytes, and where it came from, as the CLI
+/// report's `memory_budget` names it ("given", "half_of_ram", "cgroup", …).
+#[pyfunction]
+pub fn memory_budget() -> (u64, &'static str) {
+    let b = budget();
+    (b.limit(), b.source().name())
+}
+
 /// The memory budget in force.
 pub fn budget() -> MemoryBudget {
     match MAX_MEMORY.load(Ordering::Relaxed) {

@@ -48,6 +48,7 @@ fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(params::describe, m)?)?;
     m.add_function(wrap_pyfunction!(params::jobs, m)?)?;
     m.add_function(wrap_pyfunction!(job::set_limits, m)?)?;
+    m.add_function(wrap_pyfunction!(job::memory_budget, m)?)?;
     m.add_function(wrap_pyfunction!(growth::deposit, m)?)?;
     m.add_function(wrap_pyfunction!(growth::dla, m)?)?;
     m.add_function(wrap_pyfunction!(reconstruct::reconstruct, m)?)?;
