@@ -28,6 +28,7 @@ use asperity_core::HeightField;
 use serde::Serialize;
 
 use crate::AnalysisError;
+use crate::lines::{LINES_PER_TASK, fold_lines, fold_range};
 
 /// Areal parameters of a levelled height field.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -77,22 +78,50 @@ pub struct Profile {
     pub Rdq: f64,
 }
 
-/// Height moments: (Sa, Sq, Sp, Sv, Ssk, Sku) of already-levelled values.
-fn moments(z: impl Iterator<Item = f64> + Clone) -> (f64, f64, f64, f64, f64, f64) {
-    let n = z.clone().count() as f64;
-    let (mut a, mut q2, mut q3, mut q4) = (0.0, 0.0, 0.0, 0.0);
-    let (mut hi, mut lo) = (f64::NEG_INFINITY, f64::INFINITY);
-    for v in z {
-        a += v.abs();
+/// Σ|z|, Σz², Σz³, Σz⁴, max and min of `z`.
+fn moment_sums(z: &[f64]) -> [f64; 6] {
+    let mut s = [0.0, 0.0, 0.0, 0.0, f64::NEG_INFINITY, f64::INFINITY];
+    for &v in z {
         let v2 = v * v;
-        q2 += v2;
-        q3 += v2 * v;
-        q4 += v2 * v2;
-        hi = hi.max(v);
-        lo = lo.min(v);
+        s[0] += v.abs();
+        s[1] += v2;
+        s[2] += v2 * v;
+        s[3] += v2 * v2;
+        s[4] = s[4].max(v);
+        s[5] = s[5].min(v);
     }
+    s
+}
+
+/// Height moments (Sa, Sq, Sp, Sv, Ssk, Sku) of `n` already-levelled values
+/// from their [`moment_sums`].
+fn moments([a, q2, q3, q4, hi, lo]: [f64; 6], n: usize) -> (f64, f64, f64, f64, f64, f64) {
+    let n = n as f64;
     let sq = (q2 / n).sqrt();
     (a / n, sq, hi, -lo, q3 / n / sq.powi(3), q4 / n / sq.powi(4))
+}
+
+/// [`moment_sums`] of a whole field: per task of a fixed size, then in order.
+fn field_moment_sums(z: &[f64]) -> [f64; 6] {
+    let parts = fold_range(
+        z.len(),
+        1 << 16,
+        || [0.0; 6],
+        |s, r| *s = moment_sums(&z[r]),
+    );
+    parts.iter().fold(
+        [0.0, 0.0, 0.0, 0.0, f64::NEG_INFINITY, f64::INFINITY],
+        |t, p| {
+            [
+                t[0] + p[0],
+                t[1] + p[1],
+                t[2] + p[2],
+                t[3] + p[3],
+                t[4].max(p[4]),
+                t[5].min(p[5]),
+            ]
+        },
+    )
 }
 
 /// Refuses NaN, constant fields and grids under `min` samples a side.
@@ -133,22 +162,36 @@ pub(crate) fn triangle_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
 /// [`AnalysisError::BadInput`] for NaN, constant or smaller-than-3×3 fields.
 pub fn areal(h: &HeightField, periodic: bool) -> Result<Areal, AnalysisError> {
     check(h, [3, 3])?;
-    let (sa, sq, sp, sv, ssk, sku) = moments(h.data().iter().copied());
+    let (sa, sq, sp, sv, ssk, sku) = moments(field_moment_sums(h.data()), h.data().len());
     let [nx, ny] = h.dims();
     let [dx, dy] = h.spacing();
     let (mx, my) = if periodic { (nx, ny) } else { (nx - 1, ny - 1) };
-    let (mut g2, mut area) = (0.0, 0.0);
-    for j in 0..my {
-        let (row, next) = (h.row(j), h.row((j + 1) % ny));
-        for i in 0..mx {
-            let gx = (row[(i + 1) % nx] - row[i]) / dx;
-            let gy = (next[i] - row[i]) / dy;
-            let g = gx * gx + gy * gy;
-            g2 += g;
-            // √(1 + g) − 1 without cancellation for small slopes.
-            area += g / ((1.0 + g).sqrt() + 1.0);
-        }
-    }
+    // Σ|∇z|² and Σ(√(1 + |∇z|²) − 1), per task of rows, then in order.
+    let parts = fold_range(
+        my,
+        LINES_PER_TASK,
+        || [0.0; 2],
+        |s, rows| {
+            for j in rows {
+                let (row, next) = (h.row(j), h.row((j + 1) % ny));
+                let mut add = |i: usize, right: f64| {
+                    let gx = (right - row[i]) / dx;
+                    let gy = (next[i] - row[i]) / dy;
+                    let g = gx * gx + gy * gy;
+                    s[0] += g;
+                    // √(1 + g) − 1 without cancellation for small slopes.
+                    s[1] += g / ((1.0 + g).sqrt() + 1.0);
+                };
+                (0..nx - 1).for_each(|i| add(i, row[i + 1]));
+                if mx == nx {
+                    add(nx - 1, row[0]);
+                }
+            }
+        },
+    );
+    let [g2, area] = parts
+        .iter()
+        .fold([0.0, 0.0], |t, p| [t[0] + p[0], t[1] + p[1]]);
     let nodes = (mx * my) as f64;
     Ok(Areal {
         Sa: sa,
@@ -171,32 +214,34 @@ pub fn areal(h: &HeightField, periodic: bool) -> Result<Areal, AnalysisError> {
 /// As [`areal`].
 pub fn profile(h: &HeightField, along_y: bool, periodic: bool) -> Result<Profile, AnalysisError> {
     check(h, if along_y { [1, 3] } else { [3, 1] })?;
-    let [nx, ny] = h.dims();
     let step = h.spacing()[usize::from(along_y)];
-    let profiles: Vec<Vec<f64>> = if along_y {
-        (0..nx)
-            .map(|i| (0..ny).map(|j| *h.get(i, j)).collect())
-            .collect()
-    } else {
-        (0..ny).map(|j| h.row(j).to_vec()).collect()
-    };
-    let mut acc = [0.0f64; 8];
-    let mut counted = 0.0;
-    for p in &profiles {
-        let mean = p.iter().sum::<f64>() / p.len() as f64;
-        let (ra, rq, rp, rv, rsk, rku) = moments(p.iter().map(|v| v - mean));
-        if rq == 0.0 {
-            continue; // a flat profile has no shape parameters
-        }
-        let wrap = periodic.then(|| p[0] - p[p.len() - 1]);
-        let diffs: Vec<f64> = p.windows(2).map(|w| w[1] - w[0]).chain(wrap).collect();
-        let rdq =
-            (diffs.iter().map(|d| d * d).sum::<f64>() / diffs.len().max(1) as f64).sqrt() / step;
-        for (a, v) in acc.iter_mut().zip([ra, rq, rp, rv, rp + rv, rsk, rku, rdq]) {
-            *a += v;
-        }
-        counted += 1.0;
-    }
+    // Per task of profiles: the sums of (Ra, Rq, Rp, Rv, Rz, Rsk, Rku, Rdq)
+    // and how many profiles were not flat; then the tasks in order.
+    let parts = fold_lines(
+        h,
+        along_y,
+        || ([0.0f64; 8], 0.0),
+        |(acc, counted), p| {
+            let mean = p.iter().sum::<f64>() / p.len() as f64;
+            let centred: Vec<f64> = p.iter().map(|v| v - mean).collect();
+            let (ra, rq, rp, rv, rsk, rku) = moments(moment_sums(&centred), centred.len());
+            if rq == 0.0 {
+                return; // a flat profile has no shape parameters
+            }
+            let wrap = if periodic { p[0] - p[p.len() - 1] } else { 0.0 };
+            let steps = p.len() - 1 + usize::from(periodic);
+            let squares = p.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum::<f64>() + wrap * wrap;
+            let rdq = (squares / steps.max(1) as f64).sqrt() / step;
+            for (a, v) in acc.iter_mut().zip([ra, rq, rp, rv, rp + rv, rsk, rku, rdq]) {
+                *a += v;
+            }
+            *counted += 1.0;
+        },
+    );
+    let (acc, counted) = parts.iter().fold(([0.0f64; 8], 0.0), |(mut t, c), (p, n)| {
+        t.iter_mut().zip(p).for_each(|(t, p)| *t += p);
+        (t, c + n)
+    });
     if counted == 0.0 {
         return Err(AnalysisError::BadInput("every profile is flat".into()));
     }

@@ -15,7 +15,7 @@
 use asperity_core::HeightField;
 use rustfft::num_complex::Complex;
 
-use crate::psd::fft2;
+use crate::spectrum::{self, PowerSpectrum};
 use serde::Serialize;
 
 use crate::AnalysisError;
@@ -27,24 +27,26 @@ use crate::AnalysisError;
 /// [`AnalysisError::BadInput`] for NaN or constant fields.
 pub fn acf(h: &HeightField) -> Result<Vec<f64>, AnalysisError> {
     h.validate()?;
-    let [nx, ny] = h.dims();
-    let mean = h.mean();
-    let mut d: Vec<Complex<f64>> = h
-        .data()
-        .iter()
-        .map(|&v| Complex::new(v - mean, 0.0))
-        .collect();
-    fft2(&mut d, nx, ny, false);
-    d.iter_mut()
-        .for_each(|c| *c = Complex::new(c.norm_sqr(), 0.0));
-    fft2(&mut d, nx, ny, true);
-    let r0 = d[0].re;
+    acf_from_spectrum(&PowerSpectrum::of(h, None))
+}
+
+/// [`acf`] of the field whose spectrum is `s` (its mean, the zero mode, left out).
+///
+/// # Errors
+/// [`AnalysisError::BadInput`] for a constant field.
+pub fn acf_from_spectrum(s: &PowerSpectrum) -> Result<Vec<f64>, AnalysisError> {
+    let [nx, ny] = s.dims;
+    // Wiener–Khinchin: the autocorrelation is the inverse transform of |Z|².
+    let mut power: Vec<Complex<f64>> = s.power.iter().map(|&p| Complex::new(p, 0.0)).collect();
+    power[0] = Complex::new(0.0, 0.0);
+    let r = spectrum::inverse(power, nx, ny);
+    let r0 = r[0];
     if r0.abs() < 1e-300 {
         return Err(AnalysisError::BadInput(
             "the height field is constant: its autocorrelation is undefined".into(),
         ));
     }
-    Ok(d.iter().map(|c| c.re / r0).collect())
+    Ok(r.iter().map(|c| c / r0).collect())
 }
 
 /// Sal and Str.
@@ -64,9 +66,18 @@ pub struct Spatial {
 /// # Errors
 /// As [`acf`].
 pub fn spatial(h: &HeightField) -> Result<Spatial, AnalysisError> {
-    let r = acf(h)?;
-    let [nx, ny] = h.dims();
-    let [dx, dy] = h.spacing();
+    h.validate()?;
+    spatial_from_spectrum(&PowerSpectrum::of(h, None))
+}
+
+/// [`spatial`] of the field whose (unwindowed) spectrum is `s`.
+///
+/// # Errors
+/// As [`acf_from_spectrum`].
+pub fn spatial_from_spectrum(s: &PowerSpectrum) -> Result<Spatial, AnalysisError> {
+    let r = acf_from_spectrum(s)?;
+    let [nx, ny] = s.dims;
+    let [dx, dy] = s.spacing;
     let at = |x: f64, y: f64| {
         // Bilinear lookup of the periodic ACF at lag (x, y) in samples.
         let (fx, fy) = (x.floor(), y.floor());

@@ -13,6 +13,7 @@
 //! terms (`'curvature'`). On a profile (one row) the y terms are left out.
 
 use asperity_core::HeightField;
+use rayon::prelude::*;
 
 use crate::AnalysisError;
 
@@ -82,16 +83,21 @@ pub fn level(h: &HeightField, how: Level) -> Result<HeightField, AnalysisError> 
     h.validate()?;
     let [nx, ny] = h.dims();
     let profile = ny == 1;
-    let basis: fn(f64, f64) -> Vec<f64> = match (how, profile) {
+    let basis: fn(f64, f64) -> Basis = match (how, profile) {
         (Level::None, _) => return Ok(h.clone()),
         (Level::Slope, _) => return Ok(slope_levelled(h)),
-        (Level::Mean, _) => |_, _| vec![1.0],
-        (Level::Plane, false) => |x, y| vec![1.0, x, y],
-        (Level::Quadratic, false) => |x, y| vec![1.0, x, y, x * x, x * y, y * y],
-        (Level::Plane, true) => |x, _| vec![1.0, x],
-        (Level::Quadratic, true) => |x, _| vec![1.0, x, x * x],
+        (Level::Mean, _) => |_, _| [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        (Level::Plane, false) => |x, y| [1.0, x, y, 0.0, 0.0, 0.0],
+        (Level::Quadratic, false) => |x, y| [1.0, x, y, x * x, x * y, y * y],
+        (Level::Plane, true) => |x, _| [1.0, x, 0.0, 0.0, 0.0, 0.0],
+        (Level::Quadratic, true) => |x, _| [1.0, x, x * x, 0.0, 0.0, 0.0],
     };
-    let m = basis(0.0, 0.0).len();
+    let m = match (how, profile) {
+        (Level::Mean, _) => 1,
+        (Level::Plane, false) | (Level::Quadratic, true) => 3,
+        (Level::Plane, true) => 2,
+        _ => 6,
+    };
     let too_small = if profile {
         nx < m + 1
     } else {
@@ -102,36 +108,62 @@ pub fn level(h: &HeightField, how: Level) -> Result<HeightField, AnalysisError> 
             "a {nx}×{ny} grid is too small for {how:?} levelling"
         )));
     }
-    // Normal equations in centred, scaled coordinates (well conditioned).
+    // Normal equations in centred, scaled coordinates (well conditioned),
+    // summed in blocks of rows of a fixed size, then the blocks in order, so
+    // the result is the same at any thread count.
     let (cx, cy) = ((nx - 1) as f64 / 2.0, (ny - 1) as f64 / 2.0);
     let coord = |i: usize, j: usize| ((i as f64 - cx) / cx.max(1.0), (j as f64 - cy) / cy.max(1.0));
+    let partial: Vec<([[f64; 6]; 6], [f64; 6])> = (0..ny.div_ceil(ROWS_PER_TASK))
+        .into_par_iter()
+        .map(|block| {
+            let (mut ata, mut atz) = ([[0.0; 6]; 6], [0.0; 6]);
+            for j in block * ROWS_PER_TASK..((block + 1) * ROWS_PER_TASK).min(ny) {
+                for (i, &z) in h.row(j).iter().enumerate() {
+                    let (x, y) = coord(i, j);
+                    let f = basis(x, y);
+                    for r in 0..m {
+                        atz[r] += f[r] * z;
+                        for c in 0..m {
+                            ata[r][c] += f[r] * f[c];
+                        }
+                    }
+                }
+            }
+            (ata, atz)
+        })
+        .collect();
     let mut ata = vec![vec![0.0; m]; m];
     let mut atz = vec![0.0; m];
-    for j in 0..ny {
-        for i in 0..nx {
-            let (x, y) = coord(i, j);
-            let f = basis(x, y);
-            let z = *h.get(i, j);
-            for r in 0..m {
-                atz[r] += f[r] * z;
-                for c in 0..m {
-                    ata[r][c] += f[r] * f[c];
-                }
+    for (a, z) in &partial {
+        for r in 0..m {
+            atz[r] += z[r];
+            for c in 0..m {
+                ata[r][c] += a[r][c];
             }
         }
     }
     let coef = solve(ata, atz)
         .ok_or_else(|| AnalysisError::BadInput("levelling system is singular".into()))?;
     let mut out = h.clone();
-    for j in 0..ny {
-        for i in 0..nx {
-            let (x, y) = coord(i, j);
-            let fit: f64 = basis(x, y).iter().zip(&coef).map(|(f, c)| f * c).sum();
-            *out.get_mut(i, j) -= fit;
-        }
-    }
+    out.data_mut()
+        .par_chunks_mut(nx)
+        .enumerate()
+        .for_each(|(j, row)| {
+            for (i, z) in row.iter_mut().enumerate() {
+                let (x, y) = coord(i, j);
+                let f = basis(x, y);
+                *z -= (0..m).map(|r| f[r] * coef[r]).sum::<f64>();
+            }
+        });
     Ok(out)
 }
+
+/// The values of a levelling's basis functions at a point (unused ones 0).
+type Basis = [f64; 6];
+
+/// Rows a task of [`level`] sums: fixed, so that the sums do not depend on
+/// the thread count.
+const ROWS_PER_TASK: usize = 32;
 
 /// The mean slopes of `h` by forward differences, each over the region where
 /// both directions have a forward neighbour (SurfaceTopography's non-periodic
@@ -158,16 +190,20 @@ pub fn mean_slopes(h: &HeightField) -> [f64; 2] {
 
 /// `h` minus the plane of its mean slopes ([`mean_slopes`]) and its mean.
 fn slope_levelled(h: &HeightField) -> HeightField {
-    let ny = h.ny();
+    let nx = h.nx();
     let [sx, sy] = mean_slopes(h);
     let mut out = h.clone();
-    for j in 0..ny {
-        for (i, z) in out.row_mut(j).iter_mut().enumerate() {
-            *z -= sx * i as f64 + sy * j as f64;
-        }
-    }
+    out.data_mut()
+        .par_chunks_mut(nx)
+        .enumerate()
+        .for_each(|(j, row)| {
+            for (i, z) in row.iter_mut().enumerate() {
+                *z -= sx * i as f64 + sy * j as f64;
+            }
+        });
     let mean = out.mean();
-    out.map(|z| z - mean)
+    out.data_mut().par_iter_mut().for_each(|z| *z -= mean);
+    out
 }
 
 #[cfg(test)]

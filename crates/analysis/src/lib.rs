@@ -4,6 +4,7 @@
 //! | --- | --- | --- |
 //! | [`level`] | levelling: mean, least-squares plane, quadratic | ISO 25178-2 (F-operator) |
 //! | [`areal`] | Sa, Sq, Sp, Sv, Sz, Ssk, Sku, Sdq, Sdr; profile Ra, Rq, … | ISO 25178-2, ISO 4287 |
+//! | [`spectrum`] | the half spectrum of a real field (real-to-complex 2-D FFT), shared by the PSD and the ACF | Hermitian symmetry |
 //! | [`psd`] | 2-D PSD, radially averaged log-binned 1-D PSD, Hurst exponent | SurfaceTopography conventions |
 //! | [`correlation`] | ACF, HHCF, Sal, Str | ISO 25178-2 |
 //! | [`fractal`] | triangulation and partitioning dimensions | Clarke 1986; variance method |
@@ -20,10 +21,12 @@ pub mod correlation;
 pub mod fractal;
 pub mod hurst;
 pub mod level;
+mod lines;
 pub mod mesh;
 pub mod model;
 pub mod psd;
 pub mod scaling;
+pub mod spectrum;
 pub mod statistics;
 pub mod synthesis;
 pub mod window;

@@ -30,6 +30,8 @@
 //! twenty-five times wider. Sums are made over fixed blocks of rows and added in
 //! block order, so the result does not depend on the thread count.
 
+use std::sync::{Arc, Mutex, PoisonError};
+
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -51,6 +53,13 @@ pub trait Kernel: Sync {
     fn scales(&self) -> usize;
     /// K_s for every scale s at mode (kx, ky), FFT indices in 0..nx, 0..ny.
     fn eval(&self, kx: usize, ky: usize, out: &mut [f64]);
+    /// The non-zero K_s at mode (kx, ky) as (s, K_s) in increasing s, pushed
+    /// onto `nonzero` (empty on entry), for a kernel that is zero at most
+    /// scales of most modes; `false` where the kernel does not list them and
+    /// [`Kernel::eval`] is to be used.
+    fn eval_sparse(&self, _kx: usize, _ky: usize, _nonzero: &mut Vec<(usize, f64)>) -> bool {
+        false
+    }
     /// Whether K is the same at (±kx, ±ky): the sums then run over a quarter
     /// of the modes, each counted with its mirror images.
     fn mirror_symmetric(&self) -> bool {
@@ -113,6 +122,64 @@ impl ModeGrid {
     }
 }
 
+/// ln |q| and the fine and coarse rings of the modes 0 ≤ k_x ≤ nx/2,
+/// 0 ≤ k_y ≤ ny/2 of a grid — every other mode is a mirror image with the
+/// same |q| — computed once a grid and shared by every kernel summed on it
+/// (the logarithm is most of the cost of a sum).
+struct ModeTable {
+    grid: ModeGrid,
+    /// Stored modes per axis: nx/2 + 1, ny/2 + 1.
+    half: [usize; 2],
+    /// Per stored mode, k_x fastest: ln |q|, and the fine and coarse ring
+    /// (`None` outside the model's band).
+    modes: Vec<(f64, Option<(u32, u32)>)>,
+}
+
+impl ModeTable {
+    fn new(grid: &ModeGrid, l: &Layout) -> Self {
+        let half = [grid.n[0] / 2 + 1, grid.n[1] / 2 + 1];
+        let modes = (0..half[0] * half[1])
+            .into_par_iter()
+            .map(|k| {
+                let q = grid.q(k % half[0], k / half[0]);
+                if q <= 0.0 || q > l.q_hi * (1.0 + 1e-12) {
+                    return (0.0, None);
+                }
+                let lq = q.ln();
+                let x = (lq - l.ln_q_lo).max(0.0);
+                let fine = ((x / FINE) as usize).min(l.fine - 1) as u32;
+                let coarse = ((x / COARSE) as usize).min(l.coarse - 1) as u32;
+                (lq, Some((fine, coarse)))
+            })
+            .collect();
+        Self {
+            grid: *grid,
+            half,
+            modes,
+        }
+    }
+
+    /// The table of `grid`: the last one made if it was for this grid (one
+    /// table, tens of megabytes for a 4096² grid, stays held between calls).
+    fn of(grid: &ModeGrid, l: &Layout) -> Arc<Self> {
+        static LAST: Mutex<Option<Arc<ModeTable>>> = Mutex::new(None);
+        let mut last = LAST.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(t) = last.as_ref().filter(|t| t.grid == *grid) {
+            return Arc::clone(t);
+        }
+        let t = Arc::new(Self::new(grid, l));
+        *last = Some(Arc::clone(&t));
+        t
+    }
+
+    /// ln |q| and the rings of mode (kx, ky), any FFT indices.
+    fn get(&self, kx: usize, ky: usize) -> (f64, Option<(u32, u32)>) {
+        let [nx, ny] = self.grid.n;
+        let (fx, fy) = (kx.min(nx - kx), ky.min(ny - ky));
+        self.modes[fx + self.half[0] * fy]
+    }
+}
+
 /// A kernel summed over rings of |q| (see the module docs).
 #[derive(Clone, Debug)]
 pub struct Compressed {
@@ -128,7 +195,9 @@ pub struct Compressed {
     kk: Vec<f64>,
 }
 
-/// Partial sums of one block of rows.
+/// Partial sums of one block of rows, ring-major (`k` at `r * scales + s`,
+/// `kk` at `(r * scales + s) * scales + t`) so that one mode's products are
+/// contiguous; [`Compressed`] stores them scale-major.
 struct Partial {
     count: Vec<f64>,
     sum_ln: Vec<f64>,
@@ -212,43 +281,52 @@ impl Partial {
     /// The sums over rows `ky_range` of the visited modes.
     fn of_rows(
         kernel: &dyn Kernel,
-        grid: &ModeGrid,
+        table: &ModeTable,
         l: &Layout,
         ky_range: std::ops::Range<usize>,
     ) -> Self {
-        let (s, fine, coarse) = (l.scales, l.fine, l.coarse);
-        let [nx, ny] = grid.n;
+        let s = l.scales;
+        let [nx, ny] = table.grid.n;
         let mut p = Self::zeros(l);
         let mut ks = vec![0.0; s];
         let mut nonzero: Vec<(usize, f64)> = Vec::with_capacity(s);
         for ky in ky_range {
             let wy = l.images(ky, ny);
             for kx in 0..l.cols {
-                let q = grid.q(kx, ky);
-                if q <= 0.0 || q > l.q_hi * (1.0 + 1e-12) {
+                let (lq, Some((rf, rc))) = table.get(kx, ky) else {
                     continue;
-                }
+                };
+                let (rf, rc) = (rf as usize, rc as usize);
                 let w = wy * l.images(kx, nx);
-                let lq = q.ln();
-                let x = (lq - l.ln_q_lo).max(0.0);
-                let (rf, rc) = (
-                    ((x / FINE) as usize).min(fine - 1),
-                    ((x / COARSE) as usize).min(coarse - 1),
-                );
-                kernel.eval(kx, ky, &mut ks);
+                nonzero.clear();
+                let listed = kernel.eval_sparse(kx, ky, &mut nonzero);
+                if !listed {
+                    kernel.eval(kx, ky, &mut ks);
+                    nonzero.extend(ks.iter().copied().enumerate().filter(|(_, k)| *k != 0.0));
+                }
                 p.count[rf] += w;
                 p.sum_ln[rf] += w * lq;
                 p.count_c[rc] += w;
                 p.sum_ln_c[rc] += w * lq;
                 // Sparse kernels (a profile PSD touches a few modes per scale)
                 // cost only their non-zero products.
-                nonzero.clear();
-                nonzero.extend(ks.iter().copied().enumerate().filter(|(_, k)| *k != 0.0));
-                for (i, &(a, ka)) in nonzero.iter().enumerate() {
-                    p.k[a * fine + rf] += w * ka;
-                    let row = &mut p.kk[a * s * coarse..];
-                    for &(b, kb) in &nonzero[i..] {
-                        row[b * coarse + rc] += w * ka * kb;
+                let (k, kk) = (&mut p.k[rf * s..], &mut p.kk[rc * s * s..]);
+                if !listed && nonzero.len() == s {
+                    // Dense: contiguous rows the compiler vectorises.
+                    for a in 0..s {
+                        let wa = w * ks[a];
+                        k[a] += wa;
+                        let row = &mut kk[a * s..(a + 1) * s];
+                        for b in a..s {
+                            row[b] += wa * ks[b];
+                        }
+                    }
+                } else {
+                    for (i, &(a, ka)) in nonzero.iter().enumerate() {
+                        k[a] += w * ka;
+                        for &(b, kb) in &nonzero[i..] {
+                            kk[a * s + b] += w * ka * kb;
+                        }
                     }
                 }
             }
@@ -261,6 +339,7 @@ impl Compressed {
     /// Sums `kernel` over the modes of `grid` (see the module docs).
     pub fn new(kernel: &dyn Kernel, grid: &ModeGrid) -> Self {
         let l = Layout::new(kernel, grid);
+        let table = ModeTable::of(grid, &l);
         let (s, coarse) = (l.scales, l.coarse);
         let rows_per_task = l.rows.div_ceil(TASKS).max(1);
         let blocks: Vec<usize> = (0..l.rows.div_ceil(rows_per_task)).collect();
@@ -268,7 +347,7 @@ impl Compressed {
             .par_iter()
             .map(|&b| {
                 let rows = b * rows_per_task..((b + 1) * rows_per_task).min(l.rows);
-                Partial::of_rows(kernel, grid, &l, rows)
+                Partial::of_rows(kernel, &table, &l, rows)
             })
             .collect();
         // Added in block order: the same sums at any thread count.
@@ -276,11 +355,20 @@ impl Compressed {
         for p in &partials {
             total.add(p);
         }
-        // Symmetric covariance: fill the lower triangle.
-        for a in 0..s {
-            for b in 0..a {
-                for r in 0..coarse {
-                    total.kk[(a * s + b) * coarse + r] = total.kk[(b * s + a) * coarse + r];
+        // Scale-major, and the symmetric covariance's lower triangle filled.
+        let fine = l.fine;
+        let mut k = vec![0.0; s * fine];
+        for r in 0..fine {
+            for a in 0..s {
+                k[a * fine + r] = total.k[r * s + a];
+            }
+        }
+        let mut kk = vec![0.0; s * s * coarse];
+        for r in 0..coarse {
+            for a in 0..s {
+                for b in 0..s {
+                    let (lo, hi) = (a.min(b), a.max(b));
+                    kk[(a * s + b) * coarse + r] = total.kk[(r * s + lo) * s + hi];
                 }
             }
         }
@@ -294,9 +382,9 @@ impl Compressed {
             scales: s,
             dim: grid.dim(),
             ln_q: mean(&total.sum_ln, &total.count),
-            k: total.k,
+            k,
             ln_qc: mean(&total.sum_ln_c, &total.count_c),
-            kk: total.kk,
+            kk,
         }
     }
 

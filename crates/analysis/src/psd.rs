@@ -37,6 +37,8 @@ use rustfft::{FftPlanner, num_complex::Complex};
 use serde::Serialize;
 
 use crate::AnalysisError;
+use crate::lines::fold_range;
+use crate::spectrum::PowerSpectrum;
 
 /// In-place 2-D FFT (rows, then columns) of an `nx × ny` grid, x fastest.
 /// Rows are transformed in parallel; columns through a blocked transpose, so
@@ -114,25 +116,35 @@ pub struct RadialPsd {
 /// The PSD C(q) on the FFT grid of `h` multiplied by `window` (`None`: as it
 /// is), x fastest, zero frequency at index 0; a profile's 1-D PSD when ny = 1.
 pub fn psd_grid(h: &HeightField, window: Option<&[f64]>) -> Vec<f64> {
-    let [nx, ny] = h.dims();
-    let [dx, dy] = h.spacing();
-    let mut data: Vec<Complex<f64>> = match window {
-        Some(w) => h
-            .data()
-            .iter()
-            .zip(w)
-            .map(|(&v, &w)| Complex::new(v * w, 0.0))
-            .collect(),
-        None => h.data().iter().map(|&v| Complex::new(v, 0.0)).collect(),
-    };
-    fft2(&mut data, nx, ny, false);
+    let s = PowerSpectrum::of(h, window);
+    let [nx, ny] = s.dims;
+    let (half, scale) = (s.half_width(), normalisation(&s));
+    // The modes k_x > nx/2 are the mirror images (−k) of stored ones.
+    (0..nx * ny)
+        .map(|k| {
+            let (kx, ky) = (k % nx, k / nx);
+            let stored = if kx < half {
+                kx + half * ky
+            } else {
+                (nx - kx) + half * ((ny - ky) % ny)
+            };
+            scale * s.power[stored]
+        })
+        .collect()
+}
+
+/// The factor from |Z|² to C(q): the area over (nx·ny)² (the length over nx²
+/// for a profile).
+fn normalisation(s: &PowerSpectrum) -> f64 {
+    let [nx, ny] = s.dims;
+    let [dx, dy] = s.spacing;
     let n = (nx * ny) as f64;
     let area = if ny == 1 {
         nx as f64 * dx
     } else {
         nx as f64 * dx * ny as f64 * dy
     };
-    data.iter().map(|c| area / (n * n) * c.norm_sqr()).collect()
+    area / (n * n)
 }
 
 /// Radial average of [`psd_2d`] over `bins` log-spaced bins in [2π/L, π/dx].
@@ -156,15 +168,34 @@ pub fn radial_psd_windowed(
     window: Option<&[f64]>,
 ) -> Result<RadialPsd, AnalysisError> {
     h.validate()?;
-    let [nx, ny] = h.dims();
-    let profile = ny == 1;
-    if nx < 4 || (!profile && ny < 4) || bins == 0 {
+    check_size(h.dims(), bins)?;
+    radial_from_spectrum(&PowerSpectrum::of(h, window), bins)
+}
+
+/// Refuses grids under 4 samples a side (a profile under 4) and 0 bins.
+fn check_size([nx, ny]: [usize; 2], bins: usize) -> Result<(), AnalysisError> {
+    if nx < 4 || (ny != 1 && ny < 4) || bins == 0 {
         return Err(AnalysisError::BadInput(format!(
             "need at least 4×4 samples (or a profile of 4) and one bin for a PSD, got {nx}×{ny}"
         )));
     }
-    let c2 = psd_grid(h, window);
-    let [dx, dy] = h.spacing();
+    Ok(())
+}
+
+/// Rows of the spectrum a task of the radial average bins: fixed, so that the
+/// sums do not depend on the thread count.
+const ROWS_PER_TASK: usize = 32;
+
+/// The radial average of a field's spectrum `s` (see [`radial_psd`]).
+///
+/// # Errors
+/// As [`radial_psd`] for the sizes.
+pub fn radial_from_spectrum(s: &PowerSpectrum, bins: usize) -> Result<RadialPsd, AnalysisError> {
+    check_size(s.dims, bins)?;
+    let [nx, ny] = s.dims;
+    let profile = ny == 1;
+    let (half, scale) = (s.half_width(), normalisation(s));
+    let [dx, dy] = s.spacing;
     let (lx, ly) = (nx as f64 * dx, ny as f64 * dy);
     let long = if profile { lx } else { lx.max(ly) };
     let q_min = std::f64::consts::TAU / long;
@@ -172,8 +203,6 @@ pub fn radial_psd_windowed(
     let edges: Vec<f64> = (0..=bins)
         .map(|k| q_min * (q_max / q_min).powf(k as f64 / bins as f64))
         .collect();
-    let mut acc = vec![[0.0f64; 4]; bins];
-    let mut cnt = vec![0usize; bins];
     let wrap = |k: usize, n: usize| {
         if k <= n / 2 {
             k as f64
@@ -181,32 +210,54 @@ pub fn radial_psd_windowed(
             k as f64 - n as f64
         }
     };
-    for j in 0..ny {
-        for i in 0..nx {
-            let qx = std::f64::consts::TAU * wrap(i, nx) / lx;
+    // Per bin: Σq, ΣC, Σln q, Σln C and the modes, each stored mode counted
+    // with its multiplicity (k_x and −k_x have the same |q| and C).
+    let bin_rows = |acc: &mut (Vec<[f64; 4]>, Vec<usize>), rows: std::ops::Range<usize>| {
+        for j in rows {
             let qy = if profile {
                 0.0
             } else {
                 std::f64::consts::TAU * wrap(j, ny) / ly
             };
-            let q = (qx * qx + qy * qy).sqrt();
-            if q < edges[0] * (1.0 - 1e-12) || q > edges[bins] * (1.0 + 1e-12) {
-                continue;
+            // |q| grows with k_x along a row: the bin only moves up.
+            let mut b = 0;
+            for kx in 0..half {
+                let qx = std::f64::consts::TAU * kx as f64 / lx;
+                let q = (qx * qx + qy * qy).sqrt();
+                if q < edges[0] * (1.0 - 1e-12) || q > edges[bins] * (1.0 + 1e-12) {
+                    continue;
+                }
+                // Log-spaced edges fall on lattice wavevectors (q₀·2, q₀·√2…):
+                // a mode within 1e-9 below an edge counts as on it, so rounding
+                // never decides its bin. Bins are [lo, hi), the last one closed.
+                while b < edges.len() && edges[b] <= q * (1.0 + EDGE_TOLERANCE) {
+                    b += 1;
+                }
+                let bin = b.saturating_sub(1).min(bins - 1);
+                let c = scale * s.power[kx + half * j];
+                let m = s.multiplicity(kx);
+                let a = &mut acc.0[bin];
+                let w = m as f64;
+                a[0] += w * q;
+                a[1] += w * c;
+                a[2] += w * q.ln();
+                a[3] += w * if c > 0.0 { c.ln() } else { f64::NAN };
+                acc.1[bin] += m;
             }
-            // Log-spaced edges fall on lattice wavevectors (q₀·2, q₀·√2…):
-            // a mode within 1e-9 below an edge counts as on it, so rounding
-            // never decides its bin. Bins are [lo, hi), the last one closed.
-            let b = edges
-                .partition_point(|&e| e <= q * (1.0 + EDGE_TOLERANCE))
-                .saturating_sub(1)
-                .min(bins - 1);
-            let c = c2[i + nx * j];
-            let a = &mut acc[b];
-            a[0] += q;
-            a[1] += c;
-            a[2] += q.ln();
-            a[3] += if c > 0.0 { c.ln() } else { f64::NAN };
-            cnt[b] += 1;
+        }
+    };
+    let parts = fold_range(
+        ny,
+        ROWS_PER_TASK,
+        || (vec![[0.0f64; 4]; bins], vec![0usize; bins]),
+        bin_rows,
+    );
+    let mut acc = vec![[0.0f64; 4]; bins];
+    let mut cnt = vec![0usize; bins];
+    for (a, c) in parts {
+        for b in 0..bins {
+            (0..4).for_each(|k| acc[b][k] += a[b][k]);
+            cnt[b] += c[b];
         }
     }
     let mut out = RadialPsd {

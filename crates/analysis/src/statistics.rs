@@ -24,10 +24,13 @@
 
 use rayon::prelude::*;
 use std::f64::consts::TAU;
+use std::sync::OnceLock;
 
 use asperity_core::HeightField;
+use realfft::RealFftPlanner;
 use rustfft::{FftPlanner, num_complex::Complex};
 
+use crate::lines::fold_lines;
 use crate::model::Kernel;
 use crate::window::Window;
 
@@ -107,51 +110,78 @@ impl StructureFunction {
     /// Measured S(τ): the x part plus, for areas, the y part.
     pub fn measure(&self, h: &HeightField) -> Vec<f64> {
         let [nx, ny] = self.n;
-        // One lag per task; each lag's sum runs in a fixed order.
-        self.lags
-            .par_iter()
-            .zip(&self.lags_y)
-            .map(|(&t, &ty)| {
-                let sx = along(h, t, nx, ny, self.periodic, false);
-                if ny > 1 {
-                    sx + along(h, ty, nx, ny, self.periodic, true)
-                } else {
-                    sx
+        // Pairs a line at lag t, or None where the lag has none.
+        let pairs = |n: usize, t: usize| {
+            (t > 0 && (self.periodic || t < n)).then(|| if self.periodic { n } else { n - t })
+        };
+        let x = lag_sums(h, false, &self.lags, self.periodic);
+        let y = (ny > 1).then(|| lag_sums(h, true, &self.lags_y, self.periodic));
+        (0..self.lags.len())
+            .map(|s| {
+                let Some(px) = pairs(nx, self.lags[s]) else {
+                    return f64::NAN;
+                };
+                let sx = x[s] / (px * ny) as f64;
+                match &y {
+                    None => sx,
+                    Some(y) => pairs(ny, self.lags_y[s])
+                        .map_or(f64::NAN, |py| sx + y[s] / (py * nx) as f64),
                 }
             })
             .collect()
     }
 }
 
-/// Mean square difference at lag `t` along x (or y), wrapping if periodic.
-/// Both directions walk rows (contiguous memory): along y, row b against row
-/// b + t.
-fn along(h: &HeightField, t: usize, nx: usize, ny: usize, periodic: bool, y: bool) -> f64 {
-    let n = if y { ny } else { nx };
-    if t == 0 || (!periodic && t >= n) {
-        return f64::NAN;
-    }
-    let t = t % n;
-    let sq = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(p, q)| (q - p) * (q - p)).sum::<f64>();
-    let (mut s, mut c) = (0.0, 0usize);
-    if y {
-        let end = if periodic { ny } else { ny - t };
-        for b in 0..end {
-            s += sq(h.row(b), h.row((b + t) % ny));
-        }
-        c += end * nx;
-    } else {
-        for b in 0..ny {
-            let r = h.row(b);
-            s += sq(&r[..nx - t], &r[t..]);
-            if periodic {
-                // The wrapped pairs: z[a + t − n] − z[a] for a ≥ n − t.
-                s += sq(&r[nx - t..], &r[..t]);
+/// Σ (z(x + τ) − z(x))² over every line of `h` along x (or, with `along_y`,
+/// along y) for each lag τ of `lags`, the pairs wrapping if `periodic` (a lag
+/// of 0, or without wrapping one of the line's length or more, sums to 0).
+/// Each line is read once for all lags while it sits in cache.
+fn lag_sums(h: &HeightField, along_y: bool, lags: &[usize], periodic: bool) -> Vec<f64> {
+    let n = if along_y { h.ny() } else { h.nx() };
+    let partial = fold_lines(
+        h,
+        along_y,
+        || vec![0.0; lags.len()],
+        |sums, z| {
+            for (sum, &t) in sums.iter_mut().zip(lags) {
+                if t == 0 || (!periodic && t >= n) {
+                    continue;
+                }
+                let t = t % n;
+                *sum += squared_differences(&z[..n - t], &z[t..]);
+                if periodic {
+                    // The wrapped pairs: z[a + t − n] − z[a] for a ≥ n − t.
+                    *sum += squared_differences(&z[n - t..], &z[..t]);
+                }
             }
-        }
-        c += ny * if periodic { nx } else { nx - t };
+        },
+    );
+    let mut total = vec![0.0; lags.len()];
+    for p in partial {
+        total.iter_mut().zip(p).for_each(|(t, v)| *t += v);
     }
-    s / c as f64
+    total
+}
+
+/// Σ (b − a)² over pairs, in eight independent lanes (so the compiler keeps
+/// them in vector registers) added in a fixed order.
+fn squared_differences(a: &[f64], b: &[f64]) -> f64 {
+    const LANES: usize = 8;
+    let mut lanes = [0.0f64; LANES];
+    let (ca, cb) = (a.chunks_exact(LANES), b.chunks_exact(LANES));
+    let tail: f64 = ca
+        .remainder()
+        .iter()
+        .zip(cb.remainder())
+        .map(|(p, q)| (q - p) * (q - p))
+        .sum();
+    for (p, q) in ca.zip(cb) {
+        for k in 0..LANES {
+            let d = q[k] - p[k];
+            lanes[k] += d * d;
+        }
+    }
+    lanes.iter().sum::<f64>() + tail
 }
 
 impl Kernel for StructureFunction {
@@ -189,36 +219,40 @@ pub struct BoxVariance {
     sides_y: Vec<usize>,
     n: [usize; 2],
     reference: BoxReference,
-    /// |D₀|² and |D₁|² per axis: `[scale][k]`.
-    d_x: Vec<(Vec<f64>, Vec<f64>)>,
-    d_y: Vec<(Vec<f64>, Vec<f64>)>,
+    /// |D₀|² and |D₁|² per axis, `([scale][k] along x, along y)`: made on
+    /// the first use of the kernel, which the measurement does not need.
+    projections: OnceLock<Projections>,
 }
 
-/// |D₀(k)|² and |D₁(k)|² of a box of `l` samples on an axis of `n`.
+/// |D₀|² and |D₁|² per scale and wavenumber along x, then along y.
+type Projections = (Vec<(Vec<f64>, Vec<f64>)>, Vec<(Vec<f64>, Vec<f64>)>);
+
+/// |D₀(k)|² and |D₁(k)|² of a box of `l` samples on an axis of `n`, in closed
+/// form: with θ = 2πk/n and c = (l − 1)/2, Σₓ e^{iθ(x − c)} is the Dirichlet
+/// kernel D(θ) = sin(lθ/2)/sin(θ/2), so |D₀|² = D²/l², and Σₓ (x − c) e^{iθx}
+/// has the modulus |D′(θ)|, so |D₁|² = D′²/(l Σₓ(x − c)²).
 fn projections(l: usize, n: usize) -> (Vec<f64>, Vec<f64>) {
-    let xc: Vec<f64> = (0..l).map(|x| x as f64 - (l - 1) as f64 / 2.0).collect();
-    let xx: f64 = xc.iter().map(|x| x * x).sum();
-    let mut d0 = Vec::with_capacity(n);
-    let mut d1 = Vec::with_capacity(n);
-    for k in 0..n {
-        let th = TAU * k as f64 / n as f64;
-        let (mut c0, mut s0, mut c1, mut s1) = (0.0, 0.0, 0.0, 0.0);
-        for (x, xcv) in xc.iter().enumerate() {
-            let (s, c) = (th * x as f64).sin_cos();
-            c0 += c;
-            s0 += s;
-            c1 += xcv * c;
-            s1 += xcv * s;
-        }
-        let l = l as f64;
-        d0.push((c0 * c0 + s0 * s0) / (l * l));
-        d1.push(if xx > 0.0 {
-            (c1 * c1 + s1 * s1) / (l * xx)
-        } else {
-            0.0
-        });
-    }
-    (d0, d1)
+    let lf = l as f64;
+    // Σ (x − c)² over the box.
+    let xx = lf * (lf * lf - 1.0) / 12.0;
+    (0..n)
+        .map(|k| {
+            if k == 0 {
+                return (1.0, 0.0);
+            }
+            let half = TAU * k as f64 / n as f64 / 2.0;
+            let (s, c) = half.sin_cos();
+            let (sl, cl) = (lf * half).sin_cos();
+            let d = sl / s;
+            let d_prime = (0.5 * lf * cl * s - 0.5 * sl * c) / (s * s);
+            let d1 = if xx > 0.0 {
+                d_prime * d_prime / (lf * xx)
+            } else {
+                0.0
+            };
+            (d * d / (lf * lf), d1)
+        })
+        .unzip()
 }
 
 impl BoxVariance {
@@ -228,12 +262,7 @@ impl BoxVariance {
         let [nx, ny] = h.dims();
         let sides_y = same_length_along_y(h, &sides, 2);
         Self {
-            d_x: sides.iter().map(|&l| projections(l, nx)).collect(),
-            d_y: if ny > 1 {
-                sides_y.iter().map(|&l| projections(l, ny)).collect()
-            } else {
-                Vec::new()
-            },
+            projections: OnceLock::new(),
             sides,
             sides_y,
             n: [nx, ny],
@@ -244,8 +273,9 @@ impl BoxVariance {
     /// Measured mean residual variance per box side.
     pub fn measure(&self, h: &HeightField) -> Vec<f64> {
         let [nx, ny] = self.n;
+        // One side per task: each covers about the whole field.
         self.sides
-            .iter()
+            .par_iter()
             .zip(&self.sides_y)
             .map(|(&lx, &ly)| {
                 let ly = if ny == 1 { 1 } else { ly };
@@ -265,6 +295,31 @@ impl BoxVariance {
     }
 }
 
+/// Σ z, Σ i·z and Σ z² of a row segment (i from 0), in four independent lanes
+/// added in a fixed order.
+fn row_moments(z: &[f64]) -> [f64; 3] {
+    const LANES: usize = 4;
+    let (mut s, mut si, mut s2) = ([0.0f64; LANES], [0.0f64; LANES], [0.0f64; LANES]);
+    let chunks = z.chunks_exact(LANES);
+    let rest = chunks.remainder();
+    let mut i = [0.0, 1.0, 2.0, 3.0];
+    for c in chunks {
+        for k in 0..LANES {
+            s[k] += c[k];
+            si[k] += i[k] * c[k];
+            s2[k] += c[k] * c[k];
+            i[k] += LANES as f64;
+        }
+    }
+    let mut out = [s.iter().sum(), si.iter().sum(), s2.iter().sum::<f64>()];
+    for (k, &v) in rest.iter().enumerate() {
+        out[0] += v;
+        out[1] += (z.len() - rest.len() + k) as f64 * v;
+        out[2] += v * v;
+    }
+    out
+}
+
 /// Mean square residual of one box after its mean or plane.
 fn box_residual(
     h: &HeightField,
@@ -275,12 +330,11 @@ fn box_residual(
     let (cx, cy) = ((lx - 1) as f64 / 2.0, (ly - 1) as f64 / 2.0);
     let (mut s, mut sx, mut sy, mut s2) = (0.0, 0.0, 0.0, 0.0);
     for j in 0..ly {
-        for (i, &z) in h.row(j0 + j)[i0..i0 + lx].iter().enumerate() {
-            s += z;
-            sx += z * (i as f64 - cx);
-            sy += z * (j as f64 - cy);
-            s2 += z * z;
-        }
+        let [sum, first_moment, squares] = row_moments(&h.row(j0 + j)[i0..i0 + lx]);
+        s += sum;
+        sx += first_moment - cx * sum;
+        sy += sum * (j as f64 - cy);
+        s2 += squares;
     }
     let n = (lx * ly) as f64;
     let mut res = s2 - s * s / n;
@@ -306,10 +360,21 @@ impl Kernel for BoxVariance {
         true
     }
     fn eval(&self, kx: usize, ky: usize, out: &mut [f64]) {
+        let [nx, ny] = self.n;
+        let (d_x, d_y) = self.projections.get_or_init(|| {
+            let axis =
+                |sides: &[usize], n: usize| sides.iter().map(|&l| projections(l, n)).collect();
+            let along_y = if ny > 1 {
+                axis(&self.sides_y, ny)
+            } else {
+                Vec::new()
+            };
+            (axis(&self.sides, nx), along_y)
+        });
         for (s, o) in out.iter_mut().enumerate() {
-            let (u, v) = (self.d_x[s].0[kx], self.d_x[s].1[kx]);
-            let (uy, vy) = if self.n[1] > 1 {
-                (self.d_y[s].0[ky], self.d_y[s].1[ky])
+            let (u, v) = (d_x[s].0[kx], d_x[s].1[kx]);
+            let (uy, vy) = if ny > 1 {
+                (d_y[s].0[ky], d_y[s].1[ky])
             } else {
                 (1.0, 0.0)
             };
@@ -396,22 +461,29 @@ impl ProfileSpectrum {
         } else {
             self.window.profile(n)
         };
-        let fft = FftPlanner::new().plan_fft_forward(n);
+        // Σ |Z(k)|² over the lines, per task of lines, then in order.
+        let fft = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+        let parts = fold_lines(
+            h,
+            self.along_y,
+            || {
+                let (line, spectrum) = (fft.make_input_vec(), fft.make_output_vec());
+                (vec![0.0; n / 2 + 1], line, spectrum, fft.make_scratch_vec())
+            },
+            |(acc, line, spectrum, scratch), z| {
+                line.iter_mut()
+                    .zip(z.iter().zip(&w))
+                    .for_each(|(l, (z, w))| *l = z * w);
+                fft.process_with_scratch(line, spectrum, scratch)
+                    .expect("buffers sized by the plan");
+                acc.iter_mut()
+                    .zip(spectrum.iter())
+                    .for_each(|(a, c)| *a += c.norm_sqr());
+            },
+        );
         let mut acc = vec![0.0; n / 2 + 1];
-        let mut line = vec![Complex::new(0.0, 0.0); n];
-        for b in 0..m {
-            for (a, c) in line.iter_mut().enumerate() {
-                let z = if self.along_y {
-                    *h.get(b, a)
-                } else {
-                    *h.get(a, b)
-                };
-                *c = Complex::new(z * w[a], 0.0);
-            }
-            fft.process(&mut line);
-            for (k, v) in acc.iter_mut().enumerate() {
-                *v += line[k].norm_sqr();
-            }
+        for (p, ..) in parts {
+            acc.iter_mut().zip(p).for_each(|(a, p)| *a += p);
         }
         acc.iter().map(|v| v / m as f64).collect()
     }
@@ -426,6 +498,23 @@ impl ProfileSpectrum {
 impl Kernel for ProfileSpectrum {
     fn scales(&self) -> usize {
         self.indices.len()
+    }
+    fn eval_sparse(&self, kx: usize, ky: usize, nonzero: &mut Vec<(usize, f64)>) -> bool {
+        if self.taps.len() >= self.indices.len() {
+            return false;
+        }
+        // As `eval`'s sparse branch, listing only the scales a tap reaches.
+        let k_mode = if self.along_y { ky } else { kx };
+        let n = self.n_axis;
+        for &(d, v) in &self.taps {
+            if let Some(s) = self.scale_of[(k_mode % n + d) % n]
+                && v != 0.0
+            {
+                nonzero.push((s, v));
+            }
+        }
+        nonzero.sort_unstable_by_key(|&(s, _)| s);
+        true
     }
     fn eval(&self, kx: usize, ky: usize, out: &mut [f64]) {
         let k_mode = if self.along_y { ky } else { kx };
@@ -569,6 +658,40 @@ mod tests {
             },
         );
         assert!(c.expected(0.5).iter().all(|e| *e > 0.0));
+    }
+
+    #[test]
+    fn box_projections_in_closed_form_are_the_sums() {
+        for (l, n) in [(1, 8), (2, 8), (4, 64), (7, 50), (64, 256), (300, 1024)] {
+            let (d0, d1) = projections(l, n);
+            let c = (l - 1) as f64 / 2.0;
+            let xx: f64 = (0..l).map(|x| (x as f64 - c).powi(2)).sum();
+            for k in 0..n {
+                let th = TAU * k as f64 / n as f64;
+                let (mut s0, mut s1) = (Complex::new(0.0, 0.0), Complex::new(0.0, 0.0));
+                for x in 0..l {
+                    let e = Complex::from_polar(1.0, th * x as f64);
+                    s0 += e;
+                    s1 += e * (x as f64 - c);
+                }
+                let e0 = s0.norm_sqr() / (l * l) as f64;
+                let e1 = if xx > 0.0 {
+                    s1.norm_sqr() / (l as f64 * xx)
+                } else {
+                    0.0
+                };
+                assert!(
+                    (d0[k] - e0).abs() < 1e-9,
+                    "l {l} n {n} k {k}: D0 {} vs {e0}",
+                    d0[k]
+                );
+                assert!(
+                    (d1[k] - e1).abs() < 1e-9,
+                    "l {l} n {n} k {k}: D1 {} vs {e1}",
+                    d1[k]
+                );
+            }
+        }
     }
 
     #[test]

@@ -3,6 +3,7 @@
 //! height field; topology and curvature of a mesh; cluster dimensions of a
 //! point set — each with the plots that show them.
 
+use asperity_analysis::spectrum::PowerSpectrum;
 use asperity_analysis::window::{self, Window};
 use asperity_analysis::{
     AnalysisError, areal, correlation, fractal, hurst, level, mesh, psd, scaling,
@@ -201,11 +202,9 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     // The parameters and the spectrum at once, then every estimate that
     // needs the spectrum's fit range beside the ones that do not: each part
     // on its own, so the report is the same whatever the thread count.
-    let (facts, r) = rayon::join(
-        || parameters(h, &p),
-        || psd::radial_psd_windowed(lv, o.bins, w.as_deref()),
-    );
-    let (mut facts, r) = (facts?, r?);
+    let (facts, spectrum) =
+        rayon::join(|| parameters(h, &p), || PowerSpectrum::of(lv, w.as_deref()));
+    let (mut facts, r) = (facts?, psd::radial_from_spectrum(&spectrum, o.bins)?);
     // Estimates that need more data than a field may have: null and a warning,
     // never a refusal of everything else.
     let psd_fit = psd::hurst(&r, o.fit_window);
@@ -224,7 +223,13 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
         },
         || {
             rayon::join(
-                || (!profile).then(|| correlation::spatial(lv)),
+                || {
+                    // Without a window the PSD's spectrum is the ACF's too.
+                    (!profile).then(|| match w {
+                        None => correlation::spatial_from_spectrum(&spectrum),
+                        Some(_) => correlation::spatial(lv),
+                    })
+                },
                 || hurst::scale_dependent(lv, p.periodic),
             )
         },
