@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -20,6 +20,25 @@ if command -v gwyddion >/dev/null; then gwyddion --convert-to-gwy="$S/gwy/gwyddi
 if python3 -c "import x3pio" 2>/dev/null; then
   python3 -c "import sys, numpy as np, x3pio; x3pio.write(sys.argv[1], np.arange(20.).reshape(4, 5) * 1e-9, x_scale=1e-6, y_scale=1e-6, z_type=x3pio.DataType.INT16)" "$S/x3p/x3pio_int16.x3p"
 fi
+# SDF: asperity's text file, the standard's example, a binary int16 file;
+# Digital Surf: a 4 × 3 int16 surface with a non-measured point.
+q --xy-unit um --z-unit nm convert "$T/h.npy" "$S/sdf/asperity.sdf"
+cp tests/data/surfacetopography/sdf-1.sdf "$S/sdf/"
+python3 - "$S" <<'PY'
+import struct, sys
+s = sys.argv[1]
+head = b"bISO-1.0" + b"asperity".ljust(10, b"\0") + b"0" * 24 + struct.pack("<HHddddbbb", 3, 2, 1e-6, 1e-6, 1e-9, 1e-9, 0, 5, 0)
+open(f"{s}/sdf/binary_int16.sdf", "wb").write(head + struct.pack("<6h", 1, -2, 3, -32768 + 1, 5, 6))
+h = bytearray(512)
+h[0:12] = b"DIGITAL SURF"
+struct.pack_into("<HHHH", h, 12, 1, 1, 1, 1)
+struct.pack_into("<H", h, 86, 1)
+struct.pack_into("<Hiiiii", h, 98, 16, -5, 40, 4, 3, 12)
+struct.pack_into("<fff", h, 120, 0.5, 0.5, 0.01)
+for k, unit in enumerate([b"um", b"um", b"nm"]):
+    h[180 + 16 * k:180 + 16 * k + 2] = unit
+open(f"{s}/sur/s4x3.sur", "wb").write(bytes(h) + struct.pack("<12h", *range(-5, 7)))
+PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32
 cp "$T/h.npy" "$S/npy/h8_f64.npy"
 python3 - "$S/npy" <<'PY'

@@ -10,6 +10,9 @@
 //!   (`python/tests/reference/check_gwyddion.py`, read back with `gwyfile`);
 //! - `.x3p` both ways with SurfaceTopography and x3pio
 //!   (`python/tests/reference/check_x3p.py`);
+//! - instrument files (`.sdf`, `.sur`: SurfaceTopography's own examples) read
+//!   as SurfaceTopography reads them, and `.sdf` written for it
+//!   (`python/tests/reference/check_instruments.py`);
 //! - Blender (Debian's `blender`, headless) imports the demo's `.glb`, `.obj`,
 //!   `.ply` and `.stl` upright, with the planet's colours equal in `.glb`, `.obj`
 //!   and `.ply` and the cup's image texture (`tests/blender/check_import.py`);
@@ -165,6 +168,21 @@ fn x3p_round_trips_through_surface_topography_and_x3pio() {
         ],
     );
     assert_eq!(checks, 17, "every check ran");
+}
+
+#[test]
+fn instrument_files_read_as_surface_topography_reads_them() {
+    let work = tempfile::tempdir().unwrap();
+    let checks = run_checks(
+        &python(),
+        &[
+            script("python/tests/reference/check_instruments.py").as_os_str(),
+            env!("CARGO_BIN_EXE_asperity").as_ref(),
+            script("tests/data/surfacetopography").as_os_str(),
+            work.path().as_os_str(),
+        ],
+    );
+    assert_eq!(checks, 21, "every check ran");
 }
 
 #[test]

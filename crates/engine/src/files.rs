@@ -148,7 +148,7 @@ pub fn numbered(out: &Path, tag: &str, k: u64, width: usize) -> PathBuf {
 /// # Errors
 /// [`IoError::UnknownFormat`].
 pub fn is_points_path(path: &Path) -> Result<bool> {
-    let f = Format::from_path(path)?;
+    let f = Format::of_file(path)?;
     Ok(matches!(f, Format::Ply | Format::Xyz | Format::Csv))
 }
 

@@ -54,6 +54,17 @@ pub enum IoError {
         /// What was asked for ("a height field", …).
         kind: &'static str,
     },
+    /// A valid file holding something asperity cannot represent yet
+    /// (unmeasured points, compression, a series of surfaces).
+    #[error("{}: {format} file that asperity cannot read yet: {message}", path.display())]
+    Unsupported {
+        /// The file.
+        path: PathBuf,
+        /// Format name.
+        format: &'static str,
+        /// What it holds.
+        message: String,
+    },
 }
 
 impl IoError {
@@ -79,6 +90,7 @@ impl IoError {
 pub(crate) enum FormatError {
     Io(std::io::Error),
     Malformed(String),
+    Unsupported(String),
     Invalid(CoreError),
 }
 
@@ -108,6 +120,11 @@ impl FormatError {
                 format,
                 message,
             },
+            FormatError::Unsupported(message) => IoError::Unsupported {
+                path,
+                format,
+                message,
+            },
             FormatError::Invalid(source) => IoError::Invalid { path, source },
         }
     }
@@ -116,6 +133,11 @@ impl FormatError {
 /// Shorthand for a malformed-file error.
 pub(crate) fn malformed<T>(msg: impl Into<String>) -> Result<T, FormatError> {
     Err(FormatError::Malformed(msg.into()))
+}
+
+/// Shorthand for a valid file asperity cannot represent yet.
+pub(crate) fn unsupported<T>(msg: impl Into<String>) -> Result<T, FormatError> {
+    Err(FormatError::Unsupported(msg.into()))
 }
 
 pub(crate) type FResult<T> = Result<T, FormatError>;

@@ -34,8 +34,10 @@ pub mod npy;
 pub mod obj;
 pub mod ply;
 pub mod png_io;
+pub mod sdf;
 pub mod staging;
 pub mod stl;
+pub mod sur;
 pub mod text;
 pub mod up;
 mod write;
@@ -86,6 +88,10 @@ pub enum Format {
     Gwy,
     /// ISO 25178-72 x3p.
     X3p,
+    /// ISO 25178-71 surface data file.
+    Sdf,
+    /// Digital Surf (MountainsMap) surface.
+    Sur,
 }
 
 /// What a format can do with one kind of data.
@@ -132,7 +138,7 @@ pub struct FormatInfo {
     pub notes: &'static str,
 }
 
-use Access::{None as No, ReadWrite as RW, Write as W};
+use Access::{None as No, Read as R, ReadWrite as RW, Write as W};
 
 /// Every format, in the order `asperity formats` lists them.
 pub const FORMATS: &[FormatInfo] = &[
@@ -244,9 +250,68 @@ pub const FORMATS: &[FormatInfo] = &[
         height: RW,
         notes: "zip of main.xml + f64 data with MD5 checksums; always metres; surfaces and profiles read (int16/32, f32, f64), not point clouds",
     },
+    FormatInfo {
+        format: Format::Sdf,
+        name: "ISO 25178-71 SDF (.sdf)",
+        extensions: &["sdf"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "text (aISO) and binary (bISO) read, int16/int32/f64; text written, f64 in metres; files with unmeasured (BAD) points refused",
+    },
+    FormatInfo {
+        format: Format::Sur,
+        name: "Digital Surf / MountainsMap (.sur)",
+        extensions: &["sur"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "one surface of int16/int32 samples times the header's scale, in the file's units (Å, pm as nm); series and multi-channel files refused",
+    },
 ];
 
 impl Format {
+    /// The format of the file at `path`: by its extension, or, where the
+    /// extension names none (instruments' own or none at all), by the magic
+    /// its content starts with (SDF, Digital Surf, npy, PNG, EXR, GSF, .gwy,
+    /// PLY).
+    ///
+    /// # Errors
+    /// [`IoError::UnknownFormat`] when neither tells (or the file cannot be
+    /// opened to look).
+    pub fn of_file(path: &Path) -> Result<Format, IoError> {
+        let by_name = Format::from_path(path);
+        if by_name.is_ok() {
+            return by_name;
+        }
+        let mut head = [0u8; 32];
+        // A file that cannot be opened keeps the message about its name.
+        let n = std::fs::File::open(path)
+            .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
+            .unwrap_or(0);
+        Format::from_content(&head[..n]).ok_or_else(|| by_name.unwrap_err())
+    }
+
+    /// The format whose magic `bytes` start with, if one does.
+    pub fn from_content(bytes: &[u8]) -> Option<Format> {
+        const MAGICS: [(&[u8], Format); 8] = [
+            (b"aISO-1.0", Format::Sdf),
+            (b"bISO-1.0", Format::Sdf),
+            (b"DIGITAL SURF", Format::Sur),
+            (b"\x93NUMPY", Format::Npy),
+            (b"\x89PNG\r\n\x1a\n", Format::Png),
+            (b"\x76\x2f\x31\x01", Format::Exr),
+            (b"Gwyddion Simple Field", Format::Gsf),
+            (b"GWYP", Format::Gwy),
+        ];
+        let ply = bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n");
+        MAGICS
+            .iter()
+            .find(|(m, _)| bytes.starts_with(m))
+            .map(|&(_, f)| f)
+            .or(ply.then_some(Format::Ply))
+    }
+
     /// The format named by `path`'s extension (case-insensitive).
     ///
     /// # Errors
@@ -366,7 +431,7 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
     let size = std::fs::metadata(path)
         .map_err(|e| IoError::os(path, e))?
         .len();
-    let format = Format::from_path(path)?;
+    let format = Format::of_file(path)?;
     let open = || {
         std::fs::File::open(path)
             .map(std::io::BufReader::new)
@@ -434,7 +499,7 @@ pub fn decode(
 /// # Errors
 /// [`IoError`] naming the file and what is wrong.
 pub fn read(path: &Path) -> Result<Surface, IoError> {
-    let f = Format::from_path(path)?;
+    let f = Format::of_file(path)?;
     if f == Format::Glb {
         return Err(IoError::WrongKind {
             path: path.to_path_buf(),
@@ -469,9 +534,14 @@ fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
                 Surface::Height(npy_height(a)?)
             }
         }
-        Format::Png | Format::Exr | Format::Gsf | Format::Csv | Format::Gwy | Format::X3p => {
-            Surface::Height(read_height_bytes(bytes, f)?)
-        }
+        Format::Png
+        | Format::Exr
+        | Format::Gsf
+        | Format::Csv
+        | Format::Gwy
+        | Format::X3p
+        | Format::Sdf
+        | Format::Sur => Surface::Height(read_height_bytes(bytes, f)?),
     })
 }
 
@@ -506,6 +576,8 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
         Format::Csv => text::read_csv(bytes)?,
         Format::Gwy => gwy::read_height(bytes)?,
         Format::X3p => x3p::read_height(bytes)?,
+        Format::Sdf => sdf::read_height(bytes)?,
+        Format::Sur => sur::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     h.validate()?;
@@ -518,7 +590,7 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
 /// # Errors
 /// [`IoError`].
 pub fn read_height(path: &Path) -> Result<HeightField, IoError> {
-    let f = Format::from_path(path)?;
+    let f = Format::of_file(path)?;
     if !f.info().height.can_read() {
         return Err(wrong(path, f, "a height field"));
     }

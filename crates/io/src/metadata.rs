@@ -28,7 +28,7 @@ use std::path::Path;
 use serde_json::Value;
 
 use crate::error::{FResult, FormatError};
-use crate::{Format, IoError, exr_io, glb, gsf, gwy, png_io, x3p};
+use crate::{Format, IoError, exr_io, glb, gsf, gwy, png_io, sdf, x3p};
 
 /// The PLY comment's and the OBJ comment's keyword.
 pub(crate) const KEYWORD: &str = "asperity-params";
@@ -78,7 +78,7 @@ fn parse(text: &str) -> FResult<Value> {
 /// [`IoError`] when the file cannot be read or is not of its format, or its
 /// record is not a JSON object.
 pub fn read_params(path: &Path) -> Result<Option<Value>, IoError> {
-    let f = Format::from_path(path)?;
+    let f = Format::of_file(path)?;
     let os = |e| IoError::os(path, e);
     // Text headers come first: a huge mesh need not be read for them.
     let bytes = if matches!(
@@ -115,6 +115,8 @@ pub(crate) fn params_from_bytes(bytes: &[u8], f: Format) -> FResult<Option<Value
         Format::Exr => exr_io::comments(bytes)?,
         Format::Gwy => gwy::meta_string(bytes, gwy::PARAMS_KEY)?,
         Format::X3p => x3p::comment(bytes)?,
+        Format::Sdf => sdf::params(bytes),
+        Format::Sur => None,
         Format::Glb => return glb::params(bytes),
         Format::Npy | Format::Stl | Format::Xyz => None,
     };

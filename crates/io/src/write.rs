@@ -8,7 +8,7 @@ use asperity_core::{CoreError, HeightField, PointSet, PolyMesh, RgbaImage, TriMe
 
 use crate::{
     Format, IoError, NpyDtype, Surface, WriteOptions, exr_io, glb, gsf, gwy, npy, obj, ply, png_io,
-    stl, text, up, write_atomic, wrong, x3p,
+    sdf, stl, text, up, write_atomic, wrong, x3p,
 };
 
 /// Writes the polygons of `poly` (quads, n-gons, kept as they are) with the
@@ -182,6 +182,8 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
         Format::Csv => write_atomic(path, |w| text::write_csv(w, h, p).map_err(os)),
         Format::Gwy => write_atomic(path, |w| gwy::write_height(w, h, title, p).map_err(os)),
         Format::X3p => write_atomic(path, |w| x3p::write_height(w, h, p).map_err(os)),
+        Format::Sdf => write_atomic(path, |w| sdf::write_height(w, h, p).map_err(os)),
+        Format::Sur => Err(wrong(path, f, "a height field")),
         Format::Ply | Format::Obj | Format::Stl | Format::Glb => {
             let mesh = h
                 .to_trimesh(opts.diagonal)
@@ -395,10 +397,11 @@ pub fn lost_data(s: &Surface, format: Format) -> Vec<String> {
         if format == Format::Npy {
             lost.push("spacing and origin (npy has no metadata)".into());
         }
-        if format == Format::X3p && h.units().is_none() {
-            lost.push(
-                "unitlessness (x3p lengths are metres: the numbers are written as metres)".into(),
-            );
+        if matches!(format, Format::X3p | Format::Sdf) && h.units().is_none() {
+            lost.push(format!(
+                "unitlessness ({} lengths are metres: the numbers are written as metres)",
+                if format == Format::X3p { "x3p" } else { "SDF" }
+            ));
         }
     }
     lost

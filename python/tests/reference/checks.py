@@ -14,9 +14,12 @@ def check(what, ok, detail=""):
         failures.append(what)
 
 
-def run(*args):
-    """Runs a command; its stdout. A failure ends the script with its stderr."""
+def run(*args, check=True):
+    """Runs a command; its stdout. A failure ends the script with its stderr
+    (with ``check=False``: the finished process, whatever its status)."""
     p = subprocess.run([str(a) for a in args], capture_output=True, text=True)
+    if not check:
+        return p
     if p.returncode != 0:
         sys.exit(f"{' '.join(map(str, args))} failed: {p.stderr}")
     return p.stdout

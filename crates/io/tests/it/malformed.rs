@@ -59,7 +59,9 @@ fn nan_in_height_fields_is_refused_on_read_and_write() {
     );
     let mut h = height();
     *h.get_mut(2, 3) = f64::NAN;
-    for ext in ["npy", "png", "exr", "gsf", "gwy", "x3p", "csv", "ply"] {
+    for ext in [
+        "npy", "png", "exr", "gsf", "gwy", "x3p", "sdf", "csv", "ply",
+    ] {
         let target = dir.path().join(format!("out.{ext}"));
         let m = message(asperity_io::write_height(
             &target,
@@ -189,4 +191,37 @@ fn empty_meshes_and_point_sets() {
     assert!(message(asperity_io::read_mesh(&p)).contains("has no faces"));
     let p = write(dir.path(), "nofaces.obj", b"v 0 0 0\n");
     assert!(message(asperity_io::read_mesh(&p)).contains("has no faces"));
+}
+
+/// Every prefix of a valid SDF and Digital Surf file that ends before its
+/// data does is refused with a message (truncation), never read short.
+#[test]
+fn truncated_instrument_files_are_refused() {
+    let seeds = asperity_fixtures::workspace().join("fuzz/seeds");
+    for (dir, name) in [
+        ("sdf", "sdf-1.sdf"),
+        ("sdf", "binary_int16.sdf"),
+        ("sur", "s4x3.sur"),
+    ] {
+        let whole = std::fs::read(seeds.join(dir).join(name)).unwrap();
+        // A text SDF's data ends at its second `*` line; the trailer after it
+        // is optional.
+        let data_end = if whole.starts_with(b"aISO") {
+            let stars: Vec<usize> = whole
+                .windows(3)
+                .enumerate()
+                .filter(|(_, w)| w == b"\n*\n")
+                .map(|(k, _)| k)
+                .collect();
+            stars[1] + 2
+        } else {
+            whole.len()
+        };
+        let tmp = tempfile::tempdir().unwrap();
+        for cut in 0..data_end {
+            let p = write(tmp.path(), &format!("cut.{dir}"), &whole[..cut]);
+            let m = message(asperity_io::read_height(&p));
+            assert!(m.contains("cut."), "{name} cut at {cut}: {m}");
+        }
+    }
 }

@@ -369,3 +369,52 @@ fn every_height_writer_gives_the_same_bytes_twice() {
         assert!(bytes.windows(2).all(|w| w[0] == w[1]), "{ext}");
     }
 }
+
+/// SDF keeps every f64 exactly, in metres, with its parameters.
+#[test]
+fn sdf_keeps_heights_exactly_in_metres() {
+    let h = height();
+    let params = serde_json::json!({"job": "test", "seed": 3});
+    let opts = WriteOptions {
+        params: Some(params.clone()),
+        ..Default::default()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("h.sdf");
+    asperity_io::write_height(&path, &h, &opts).unwrap();
+    let back = asperity_io::read_height(&path).unwrap();
+    let (fx, fz) = h.units().metre_factors();
+    assert_eq!(back.dims(), h.dims());
+    assert_eq!(back.spacing(), h.spacing().map(|d| d * fx));
+    for (b, z) in back.data().iter().zip(h.data()) {
+        assert_eq!(*b, z * fz);
+    }
+    assert_eq!(
+        asperity_io::metadata::read_params(&path).unwrap().unwrap()["seed"],
+        3
+    );
+}
+
+/// A file whose extension names no format is read by the magic it starts with
+/// (instruments' own extensions, or none).
+#[test]
+fn unknown_extensions_are_read_by_their_content() {
+    let h = height();
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["sdf", "npy", "gsf", "png"] {
+        let named = dir.path().join(format!("h.{ext}"));
+        asperity_io::write_height(&named, &h, &WriteOptions::default()).unwrap();
+        let odd = dir.path().join(format!("{ext}-data.instrument"));
+        std::fs::rename(&named, &odd).unwrap();
+        let back = asperity_io::read_height(&odd).unwrap();
+        assert_eq!(back.dims(), h.dims(), "{ext}");
+        assert!(
+            matches!(asperity_io::read(&odd), Ok(Surface::Height(_))),
+            "{ext}"
+        );
+    }
+    let text = dir.path().join("notes.instrument");
+    std::fs::write(&text, "not a surface").unwrap();
+    let e = asperity_io::read_height(&text).unwrap_err().to_string();
+    assert!(e.contains("unknown file type"), "{e}");
+}

@@ -1,0 +1,411 @@
+//! ISO 25178-71 Surface Data File (`.sdf`), the standard's exchange format for
+//! areal height data (after the SDF of the EU "SURFSTAND" project, Blunt &
+//! Jiang 2003), read in both its variants and written in the text one.
+//!
+//! A file is a header, a data section and an optional trailer:
+//! - text (`aISO-1.0`): `Key = Value` lines, a line `*`, the heights as numbers
+//!   separated by white space (a profile after the other), a line `*`, free
+//!   text (often `<Tag> … </Tag>` lines) and a final `*`;
+//! - binary (`bISO-1.0`): an 81-byte little-endian record (the magic, three
+//!   text fields of 10, 12 and 12 bytes, NumPoints and NumProfiles as u16,
+//!   Xscale, Yscale, Zscale and Zresolution as f64, then Compression, DataType
+//!   and CheckType as one byte each), then the samples.
+//!
+//! NumPoints samples make a profile along x, NumProfiles profiles run along y;
+//! Xscale and Yscale are the spacings in metres, and a stored value times
+//! Zscale is a height in metres. DataType 5, 6 and 7 are int16, int32 and
+//! f64; other types and any compression are refused. Points marked `BAD` (or
+//! the type's minimum, or NaN) were not measured: asperity cannot carry
+//! missing points yet and refuses such files, saying how many there are.
+//!
+//! Written: text, DataType 7, Zscale 1, every length in metres (unitless data
+//! is written as metres, as for x3p), dates fixed to zero so that the same
+//! input gives the same bytes, and the parameters in the trailer as an
+//! `<AsperityParams>` line.
+
+use std::io::Write;
+
+use asperity_core::{HeightField, LengthUnit, Units};
+
+use crate::error::{FResult, FormatError, malformed};
+
+const TEXT_MAGIC: &[u8] = b"aISO-1.0";
+const BINARY_MAGIC: &[u8] = b"bISO-1.0";
+/// Bytes of the binary header.
+const BINARY_HEADER: usize = 81;
+
+/// The header fields asperity uses.
+#[derive(Debug)]
+struct Header {
+    points: usize,
+    profiles: usize,
+    x_scale: f64,
+    y_scale: f64,
+    z_scale: f64,
+    data_type: u8,
+    compression: u8,
+}
+
+impl Header {
+    fn check(&self) -> FResult<()> {
+        if self.points == 0 || self.profiles == 0 {
+            return malformed(format!(
+                "NumPoints × NumProfiles is {} × {}: no data",
+                self.points, self.profiles
+            ));
+        }
+        for (name, v) in [("Xscale", self.x_scale), ("Yscale", self.y_scale)] {
+            if !(v.is_finite() && v > 0.0) {
+                return malformed(format!("{name} = {v} is not a positive spacing"));
+            }
+        }
+        if !(self.z_scale.is_finite() && self.z_scale != 0.0) {
+            return malformed(format!("Zscale = {} is not a finite scale", self.z_scale));
+        }
+        if self.compression != 0 {
+            return Err(FormatError::Unsupported(format!(
+                "compressed SDF data (Compression = {}) is not supported",
+                self.compression
+            )));
+        }
+        if !matches!(self.data_type, 5..=7) {
+            return Err(FormatError::Unsupported(format!(
+                "SDF DataType {} is not supported (5 int16, 6 int32, 7 double)",
+                self.data_type
+            )));
+        }
+        Ok(())
+    }
+
+    /// The field of `values` (stored numbers), refusing unmeasured points.
+    fn field(&self, values: Vec<f64>, missing: usize) -> FResult<HeightField> {
+        if missing > 0 {
+            return Err(FormatError::Unsupported(format!(
+                "{missing} of {} points are marked as not measured (BAD); asperity cannot carry missing points yet",
+                values.len()
+            )));
+        }
+        let data = values.into_iter().map(|v| v * self.z_scale).collect();
+        let h = HeightField::from_vec([self.points, self.profiles], data)?
+            .with_spacing([self.x_scale, self.y_scale])?
+            .with_units(Units {
+                xy: LengthUnit::M,
+                z: LengthUnit::M,
+            });
+        Ok(h)
+    }
+}
+
+/// Reads an SDF file of either variant.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    if bytes.starts_with(TEXT_MAGIC) {
+        read_text(bytes)
+    } else if bytes.starts_with(BINARY_MAGIC) {
+        read_binary(bytes)
+    } else {
+        malformed("missing the SDF magic `aISO-1.0` or `bISO-1.0`")
+    }
+}
+
+/// The text between the magic and the first line that is `*`, and the rest.
+fn split_section(text: &str) -> Option<(&str, &str)> {
+    let mut at = 0;
+    for line in text.split_inclusive('\n') {
+        if line.trim() == "*" {
+            return Some((&text[..at], &text[at + line.len()..]));
+        }
+        at += line.len();
+    }
+    None
+}
+
+fn read_text(bytes: &[u8]) -> FResult<HeightField> {
+    let text = std::str::from_utf8(&bytes[TEXT_MAGIC.len()..])
+        .map_err(|_| FormatError::Malformed("the text SDF is not ASCII/UTF-8".into()))?;
+    let (head, rest) = split_section(text)
+        .ok_or_else(|| FormatError::Malformed("no `*` line ends the header".into()))?;
+    let mut keys = std::collections::HashMap::new();
+    for line in head.lines().filter(|l| !l.trim().is_empty()) {
+        let (k, v) = line
+            .split_once('=')
+            .ok_or_else(|| FormatError::Malformed(format!("header line {line:?} has no '='")))?;
+        keys.insert(k.trim().to_owned(), v.trim().to_owned());
+    }
+    let get = |k: &str| -> FResult<&String> {
+        keys.get(k)
+            .ok_or_else(|| FormatError::Malformed(format!("the header has no {k}")))
+    };
+    let int = |k: &str| -> FResult<usize> {
+        let v = get(k)?;
+        v.parse()
+            .map_err(|_| FormatError::Malformed(format!("{k} = {v:?} is not a whole number")))
+    };
+    let real = |k: &str| -> FResult<f64> {
+        let v = get(k)?;
+        v.parse()
+            .map_err(|_| FormatError::Malformed(format!("{k} = {v:?} is not a number")))
+    };
+    let small = |k: &str| -> FResult<u8> {
+        match keys.get(k) {
+            None => Ok(0),
+            Some(v) => v
+                .parse()
+                .map_err(|_| FormatError::Malformed(format!("{k} = {v:?} is not a small number"))),
+        }
+    };
+    let h = Header {
+        points: int("NumPoints")?,
+        profiles: int("NumProfiles")?,
+        x_scale: real("Xscale")?,
+        y_scale: real("Yscale")?,
+        z_scale: real("Zscale")?,
+        data_type: small("DataType")?,
+        compression: small("Compression")?,
+    };
+    h.check()?;
+    // The data must end with its `*` line: without it a cut inside the last
+    // number would still read as a number.
+    let (data, _trailer) = split_section(rest).ok_or_else(|| {
+        FormatError::Malformed("the data section does not end with a `*` line (truncated?)".into())
+    })?;
+    let n = h
+        .points
+        .checked_mul(h.profiles)
+        .ok_or_else(|| FormatError::Malformed("NumPoints × NumProfiles is too large".into()))?;
+    // Each number takes at least two bytes: a larger count cannot be there.
+    if n > data.len() / 2 + 1 {
+        return malformed(format!(
+            "{} × {} points declared but the data section has {} bytes (truncated?)",
+            h.points,
+            h.profiles,
+            data.len()
+        ));
+    }
+    let mut values = Vec::with_capacity(n);
+    let mut missing = 0;
+    for token in data.split_ascii_whitespace() {
+        if values.len() == n {
+            return malformed(format!(
+                "more than the {} × {} values the header declares",
+                h.points, h.profiles
+            ));
+        }
+        if token.eq_ignore_ascii_case("BAD") {
+            missing += 1;
+            values.push(f64::NAN);
+            continue;
+        }
+        let v: f64 = token
+            .parse()
+            .map_err(|_| FormatError::Malformed(format!("{token:?} is not a number")))?;
+        if !v.is_finite() {
+            missing += 1;
+        }
+        values.push(v);
+    }
+    if values.len() != n {
+        return malformed(format!(
+            "{} values where the header declares {} × {} (truncated?)",
+            values.len(),
+            h.points,
+            h.profiles
+        ));
+    }
+    h.field(values, missing)
+}
+
+fn read_binary(bytes: &[u8]) -> FResult<HeightField> {
+    let head = bytes.get(..BINARY_HEADER).ok_or_else(|| {
+        FormatError::Malformed(format!(
+            "a binary SDF header has {BINARY_HEADER} bytes, the file {}",
+            bytes.len()
+        ))
+    })?;
+    let u16_at = |o: usize| u16::from_le_bytes([head[o], head[o + 1]]) as usize;
+    let f64_at = |o: usize| f64::from_le_bytes(head[o..o + 8].try_into().expect("8 bytes"));
+    // magic 8, ManufacID 10, CreateDate 12, ModDate 12: the numbers from 42.
+    let h = Header {
+        points: u16_at(42),
+        profiles: u16_at(44),
+        x_scale: f64_at(46),
+        y_scale: f64_at(54),
+        z_scale: f64_at(62),
+        compression: head[78],
+        data_type: head[79],
+    };
+    h.check()?;
+    let size = match h.data_type {
+        5 => 2,
+        6 => 4,
+        _ => 8,
+    };
+    let n = h.points * h.profiles;
+    let body = &bytes[BINARY_HEADER..];
+    if body.len() < n * size {
+        return malformed(format!(
+            "{} × {} samples of {size} bytes need {} bytes after the header, the file has {} (truncated?)",
+            h.points,
+            h.profiles,
+            n * size,
+            body.len()
+        ));
+    }
+    let mut missing = 0;
+    let values = body[..n * size]
+        .chunks_exact(size)
+        .map(|c| {
+            let (v, bad) = match size {
+                2 => {
+                    let v = i16::from_le_bytes([c[0], c[1]]);
+                    (f64::from(v), v == i16::MIN)
+                }
+                4 => {
+                    let v = i32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+                    (f64::from(v), v == i32::MIN)
+                }
+                _ => {
+                    let v = f64::from_le_bytes(c.try_into().expect("8 bytes"));
+                    (v, !v.is_finite())
+                }
+            };
+            missing += usize::from(bad);
+            v
+        })
+        .collect();
+    h.field(values, missing)
+}
+
+/// The `<AsperityParams>` line of a text SDF's trailer, if any.
+pub(crate) fn params(bytes: &[u8]) -> Option<String> {
+    let text = std::str::from_utf8(bytes).ok()?;
+    let start = text.find("<AsperityParams>")? + "<AsperityParams>".len();
+    let end = start + text[start..].find("</AsperityParams>")?;
+    Some(text[start..end].to_owned())
+}
+
+/// Writes a text SDF (see the module docs).
+pub(crate) fn write_height(
+    w: &mut dyn Write,
+    h: &HeightField,
+    params: Option<&str>,
+) -> std::io::Result<()> {
+    let (fx, fz) = h.units().metre_factors();
+    let [dx, dy] = h.spacing().map(|v| v * fx);
+    let mut out = String::from("aISO-1.0\n");
+    out += "ManufacID = asperity\nCreateDate = 000000000000\nModDate = 000000000000\n";
+    out += &format!("NumPoints = {}\nNumProfiles = {}\n", h.nx(), h.ny());
+    out += &format!("Xscale = {dx:E}\nYscale = {dy:E}\nZscale = 1.0E0\n");
+    out += "Zresolution = -1.0E0\nCompression = 0\nDataType = 7\nCheckType = 0\n*\n";
+    w.write_all(out.as_bytes())?;
+    let mut line = String::new();
+    for j in 0..h.ny() {
+        line.clear();
+        for (i, &z) in h.row(j).iter().enumerate() {
+            if i > 0 {
+                line.push(' ');
+            }
+            // `{:E}` is the shortest text that reads back as the same f64.
+            line += &format!("{:E}", z * fz);
+        }
+        line.push('\n');
+        w.write_all(line.as_bytes())?;
+    }
+    w.write_all(b"*\n")?;
+    if let Some(p) = params {
+        // A `*` line inside the parameters would end the trailer early.
+        let p = p.replace('\n', " ");
+        w.write_all(format!("<AsperityParams>{p}</AsperityParams>\n").as_bytes())?;
+    }
+    w.write_all(b"*\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn err(r: FResult<HeightField>) -> String {
+        match r {
+            Ok(_) => panic!("accepted"),
+            Err(e) => format!("{e:?}"),
+        }
+    }
+
+    const EXAMPLE: &str = "aISO-1.0\nManufacID = ISOTC213\nCreateDate = 040120100853\n\
+        ModDate = 050320101353\nNumPoints = 3\nNumProfiles = 2\nXscale = 1.0E-6\n\
+        Yscale = 2.0E-6\nZscale = 1.0E-6\nZresolution = 1.0E-9\nCompression = 0\n\
+        DataType = 7\nCheckType = 0\n*\n1.0 0.5 0.25\n-1 0 2\n*\n<A> x </A>\n*\n";
+
+    #[test]
+    fn text_file_in_metres() {
+        let h = read_height(EXAMPLE.as_bytes()).unwrap();
+        assert_eq!(h.dims(), [3, 2]);
+        assert_eq!(h.spacing(), [1e-6, 2e-6]);
+        assert_eq!(h.units().xy, LengthUnit::M);
+        assert_eq!(h.row(0), &[1e-6, 0.5e-6, 0.25e-6]);
+        assert_eq!(h.row(1), &[-1e-6, 0.0, 2e-6]);
+    }
+
+    #[test]
+    fn binary_file_of_int16_with_its_scale() {
+        let mut b = BINARY_MAGIC.to_vec();
+        b.extend([0u8; 34]);
+        b.extend(2u16.to_le_bytes());
+        b.extend(2u16.to_le_bytes());
+        for v in [0.5e-6f64, 0.25e-6, 1e-9, 1e-10] {
+            b.extend(v.to_le_bytes());
+        }
+        b.extend([0u8, 5, 0]);
+        assert_eq!(b.len(), BINARY_HEADER);
+        for v in [1i16, -2, 300, 4] {
+            b.extend(v.to_le_bytes());
+        }
+        let h = read_height(&b).unwrap();
+        assert_eq!(h.dims(), [2, 2]);
+        assert_eq!(h.spacing(), [0.5e-6, 0.25e-6]);
+        assert_eq!(h.data(), &[1e-9, -2e-9, 300.0 * 1e-9, 4e-9]);
+        b.truncate(b.len() - 1);
+        assert!(err(read_height(&b)).contains("truncated"));
+    }
+
+    #[test]
+    fn unmeasured_points_and_bad_headers_are_refused_by_name() {
+        let bad = EXAMPLE.replace("0.5 0.25", "BAD 0.25");
+        let e = err(read_height(bad.as_bytes()));
+        assert!(
+            e.contains("1 of 6 points") && e.contains("not measured"),
+            "{e}"
+        );
+        let short = EXAMPLE.replace("-1 0 2", "-1 0");
+        let e = err(read_height(short.as_bytes()));
+        assert!(e.contains("5 values") && e.contains("3 × 2"), "{e}");
+        let packed = EXAMPLE.replace("Compression = 0", "Compression = 1");
+        assert!(err(read_height(packed.as_bytes())).contains("compressed"));
+        let kind = EXAMPLE.replace("DataType = 7", "DataType = 3");
+        assert!(err(read_height(kind.as_bytes())).contains("DataType 3"));
+        let huge = EXAMPLE.replace("NumPoints = 3", "NumPoints = 4000000000");
+        assert!(err(read_height(huge.as_bytes())).contains("truncated"));
+        assert!(read_height(b"aISO-1.0\nNumPoints = 3\n").is_err());
+    }
+
+    #[test]
+    fn written_text_reads_back_exactly() {
+        let h = HeightField::from_vec([3, 2], vec![1.5, -2.25e-3, 1.0 / 3.0, 0.0, 7e9, -1e-300])
+            .unwrap()
+            .with_spacing([0.1, 0.2])
+            .unwrap()
+            .with_units(Units {
+                xy: LengthUnit::Um,
+                z: LengthUnit::Nm,
+            });
+        let mut out = Vec::new();
+        write_height(&mut out, &h, Some("{\"seed\": 3}")).unwrap();
+        let back = read_height(&out).unwrap();
+        assert_eq!(back.dims(), [3, 2]);
+        let (fx, fz) = h.units().metre_factors();
+        for (b, z) in back.data().iter().zip(h.data()) {
+            assert_eq!(*b, z * fz);
+        }
+        assert_eq!(back.spacing(), [0.1 * fx, 0.2 * fx]);
+        assert_eq!(params(&out).as_deref(), Some("{\"seed\": 3}"));
+    }
+}

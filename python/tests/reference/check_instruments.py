@@ -1,0 +1,109 @@
+"""Instrument files read by asperity and by SurfaceTopography (issue #38): the
+example files of SurfaceTopography's own test suite (tests/data/surfacetopography,
+MIT licence) and files asperity writes.
+
+For each file, asperity's shape, physical size, units and heights against
+SurfaceTopography's reader, both brought to metres. asperity cannot carry
+unmeasured points yet: the Digital Surf examples have some, so asperity's
+refusal must name SurfaceTopography's count, and a copy with the
+special-points flag cleared (the markers read as heights by both) is compared
+point by point. SurfaceTopography's arrays
+are indexed (x, y); asperity's .npy is (row = y, column = x): ST's heights()
+is compared transposed. Heights agree to the file's precision (1e-12 of the
+largest height: the file's numbers, scaled in f64 the same way; f32 scale
+factors are widened exactly by both). Then `analyze --level mean` gives Sq
+within 1e-9 relative of ST's `rms_height_from_area` (which removes the mean
+and nothing else).
+
+Finally asperity writes an .sdf, and SurfaceTopography reads the same size,
+spacing and heights.
+
+Usage: python check_instruments.py ASPERITY_BINARY DATA_DIR WORKDIR
+"""
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+from SurfaceTopography import read_topography
+from SurfaceTopography.Support.UnitConversion import get_unit_conversion_factor
+
+from checks import check, finish, info, run
+
+BIN, DATA, WORK = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
+WORK.mkdir(parents=True, exist_ok=True)
+METRES = {"m": 1.0, "mm": 1e-3, "µm": 1e-6, "nm": 1e-9, "": 1.0}
+
+
+def close(a, b, rel):
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return a.shape == b.shape and np.max(np.abs(a - b)) <= rel * np.max(np.abs(b))
+
+
+def all_points(name):
+    """A copy of a Digital Surf file with its special-points flag (header byte
+    86) cleared: its markers of unmeasured points become ordinary heights, so
+    that every point can be compared."""
+    data = bytearray((DATA / name).read_bytes())
+    data[86:88] = b"\0\0"
+    out = WORK / name.replace(".sur", "-all-points.sur")
+    out.write_bytes(bytes(data))
+    return out
+
+
+def compare(path, label):
+    t = read_topography(str(path))
+    st_m = get_unit_conversion_factor(t.unit, "m")
+    check(f"{label}: no point masked by SurfaceTopography", np.ma.count_masked(t.heights()) == 0)
+    ours = info(BIN, path)
+    fxy, fz = METRES[ours["units"]["xy"]], METRES[ours["units"]["z"]]
+    check(f"{label}: size (ST's (x, y) = asperity's (nx, ny))",
+          tuple(t.nb_grid_pts) == (ours["nx"], ours["ny"]), f"{t.nb_grid_pts} {ours['nx']}×{ours['ny']}")
+    # ST's physical size is n × spacing (asperity's extent is (n − 1) × spacing).
+    size = np.array([ours["nx"], ours["ny"]]) * np.array(ours["spacing"]) * fxy
+    check(f"{label}: physical size in metres", close(size, np.array(t.physical_sizes) * st_m, 1e-9),
+          f"{size} vs {np.array(t.physical_sizes) * st_m}")
+    out = WORK / (path.name + ".npy")
+    run(BIN, "--quiet", "convert", path, out)
+    z = np.load(out) * fz
+    st_z = np.asarray(t.heights()).T * st_m
+    check(f"{label}: heights in metres", close(z, st_z, 1e-12),
+          f"max |Δ| {np.max(np.abs(z - st_z)) if z.shape == st_z.shape else 'shape'}")
+    rep = json.loads(run(BIN, "--quiet", "--json", "analyze", path, "--level", "mean", "--hurst", "psd"))
+    sq = rep["measurements"]["Sq"] * fz
+    st_sq = t.rms_height_from_area() * st_m
+    check(f"{label}: Sq (mean removed, as ST's rms_height_from_area)", abs(sq - st_sq) <= 1e-9 * abs(st_sq),
+          f"{sq} vs {st_sq}")
+
+
+compare(DATA / "sdf-1.sdf", "sdf-1.sdf (text SDF)")
+for name in ["sur-2.sur", "sur-3.sur"]:
+    # The instrument's files have unmeasured points: refused, with ST's count.
+    masked = np.ma.count_masked(read_topography(str(DATA / name)).heights())
+    p = run(BIN, "--quiet", "info", DATA / name, check=False)
+    check(f"{name}: refused, naming SurfaceTopography's {masked} unmeasured points",
+          p.returncode != 0 and f"{masked} of" in p.stderr and "not measured" in p.stderr, p.stderr.strip())
+    compare(all_points(name), f"{name} (every point)")
+
+# asperity writes, SurfaceTopography reads.
+nx, ny, dx, dy = 24, 18, 0.5, 0.25  # µm
+rng = np.random.default_rng(5)
+z = np.cumsum(rng.normal(size=(ny, nx)), axis=1) * 7.0  # nm
+csv = WORK / "field.csv"
+with open(csv, "w") as f:
+    f.write(f"# asperity height field: nx={nx} ny={ny} dx={dx} dy={dy} x0=0 y0=0\n")
+    for row in z:
+        f.write(",".join(repr(float(v)) for v in row) + "\n")
+sdf = WORK / "asperity.sdf"
+run(BIN, "--quiet", "--xy-unit", "µm", "--z-unit", "nm", "convert", csv, sdf)
+t = read_topography(str(sdf))
+st_m = get_unit_conversion_factor(t.unit, "m")
+check("written .sdf: SurfaceTopography's size", tuple(t.nb_grid_pts) == (nx, ny), str(t.nb_grid_pts))
+check("written .sdf: physical size", close(np.array(t.physical_sizes) * st_m, [nx * dx * 1e-6, ny * dy * 1e-6], 1e-12),
+      str(t.physical_sizes))
+check("written .sdf: heights", close(t.heights().T * st_m, z * 1e-9, 1e-15))
+back = info(BIN, sdf)
+check("written .sdf: read back by asperity in metres", back["units"] == {"xy": "m", "z": "m"}
+      and close(back["spacing"], [dx * 1e-6, dy * 1e-6], 1e-15), str(back["spacing"]))
+
+finish()
