@@ -203,7 +203,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: RW,
-        notes: "height range and spacing in tEXt chunks (asperity's and Gwyddion's Gwy:: keys); 8-bit/RGB PNGs read as [0, 1]",
+        notes: "height range and spacing in tEXt chunks (asperity's and Gwyddion's Gwy:: keys); Gwyddion's exports read with their Gwy:: keys; PNGs with neither read as [0, 1]",
     },
     FormatInfo {
         format: Format::Exr,

@@ -8,9 +8,12 @@
 //! (z_max − z_min)/131070. The same facts go into Gwyddion's own keys
 //! (`Gwy::XReal`, `Gwy::YReal`, `Gwy::XOffset`, `Gwy::YOffset`, `Gwy::ZMin`,
 //! `Gwy::ZMax`, `Gwy::XYUnit`, `Gwy::ZUnit`, `Gwy::Title`), so Gwyddion opens
-//! the map with its sizes and heights (crates/cli/tests/real_programs.rs). Any other
-//! PNG (8-bit, RGB, palette) is read as heights in [0, 1] from its Rec. 709
-//! luminance.
+//! the map with its sizes and heights (crates/cli/tests/real_programs.rs). A PNG
+//! with Gwyddion's keys only (one Gwyddion exported) is read with them: the
+//! heights between `Gwy::ZMin` and `Gwy::ZMax`, the spacing from `Gwy::XReal`,
+//! the first sample at the pixel centre after `Gwy::XOffset`, the units from
+//! `Gwy::XYUnit`/`Gwy::ZUnit`. Any other PNG (8-bit, RGB, palette) is read as
+//! heights in [0, 1] from its Rec. 709 luminance.
 
 use std::io::{Cursor, Write};
 
@@ -208,8 +211,17 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             }),
         }
     };
-    let (lo, hi) = match (get("z_min")?, get("z_max")?) {
-        (Some(lo), Some(hi)) => (lo, hi),
+    // Gwyddion's keys, for a PNG Gwyddion exported (no asperity: keys).
+    let gwy = |key: &str| -> FResult<Option<f64>> {
+        match text.iter().find(|(k, _)| k == &format!("Gwy::{key}")) {
+            None => Ok(None),
+            Some((_, v)) => v.trim().parse().map(Some).map_err(|_| {
+                FormatError::Malformed(format!("tEXt Gwy::{key} = {v:?} is not a number"))
+            }),
+        }
+    };
+    let (lo, hi) = match (get("z_min")?, get("z_max")?, gwy("ZMin")?, gwy("ZMax")?) {
+        (Some(lo), Some(hi), ..) | (None, None, Some(lo), Some(hi)) => (lo, hi),
         _ => (0.0, 1.0),
     };
     if !(lo.is_finite() && hi.is_finite()) {
@@ -233,8 +245,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             )),
         }
     };
-    let spacing = pair("dx", "dy")?;
-    let origin = pair("x0", "y0")?;
+    let (mut spacing, mut origin) = (pair("dx", "dy")?, pair("x0", "y0")?);
+    let ours = spacing.is_some() || get("z_min")?.is_some();
+    if let (false, Some(xr), Some(yr)) = (ours, gwy("XReal")?, gwy("YReal")?) {
+        // Gwyddion's extent covers whole pixels and its offset is the first
+        // pixel's edge (as in GSF): samples sit at the pixels' centres.
+        let d = [xr / nx as f64, yr / ny as f64];
+        let edge = [
+            gwy("XOffset")?.unwrap_or(0.0),
+            gwy("YOffset")?.unwrap_or(0.0),
+        ];
+        spacing = Some(d);
+        origin = Some([edge[0] + 0.5 * d[0], edge[1] + 0.5 * d[1]]);
+    }
     let unit = |key: &str| -> FResult<LengthUnit> {
         match text.iter().find(|(k, _)| k == &format!("asperity:{key}")) {
             None => Ok(LengthUnit::None),
@@ -242,11 +265,103 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
                 .map_err(|e| FormatError::Malformed(format!("tEXt asperity:{key}: {e}"))),
         }
     };
-    let units = Units {
-        xy: unit("xy_unit")?,
-        z: unit("z_unit")?,
+    // Gwyddion writes base units ("m"); a unit that is not a length (V, A…)
+    // leaves the numbers unitless.
+    let gwy_unit = |key: &str| {
+        text.iter()
+            .find(|(k, _)| k == &format!("Gwy::{key}"))
+            .and_then(|(_, v)| LengthUnit::parse(v).ok())
+            .unwrap_or_default()
+    };
+    let units = if ours {
+        Units {
+            xy: unit("xy_unit")?,
+            z: unit("z_unit")?,
+        }
+    } else {
+        Units {
+            xy: gwy_unit("XYUnit"),
+            z: gwy_unit("ZUnit"),
+        }
     };
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_geometry(spacing, origin)?
         .with_units(units))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 16-bit PNG as Gwyddion exports it: only `Gwy::` keys, metres.
+    fn gwyddion_png(keys: &[(&str, &str)], samples: &[u16], [nx, ny]: [u32; 2]) -> Vec<u8> {
+        let mut out = Vec::new();
+        let mut enc = png::Encoder::new(&mut out, nx, ny);
+        enc.set_color(png::ColorType::Grayscale);
+        enc.set_depth(png::BitDepth::Sixteen);
+        for (k, v) in keys {
+            enc.add_text_chunk(format!("Gwy::{k}"), (*v).to_string())
+                .unwrap();
+        }
+        let mut w = enc.write_header().unwrap();
+        let data: Vec<u8> = samples.iter().flat_map(|s| s.to_be_bytes()).collect();
+        w.write_image_data(&data).unwrap();
+        w.finish().unwrap();
+        out
+    }
+
+    #[test]
+    fn gwyddion_keys_alone_give_heights_geometry_and_units() {
+        let keys = [
+            ("XReal", "3e-6"),
+            ("YReal", "4e-6"),
+            ("XOffset", "1e-6"),
+            ("YOffset", "-2e-6"),
+            ("ZMin", "-1e-8"),
+            ("ZMax", "5.5535e-8"),
+            ("XYUnit", "m"),
+            ("ZUnit", "m"),
+        ];
+        let png = gwyddion_png(&keys, &[0, 65535, 32768, 1, 2, 3], [3, 2]);
+        let h = read_height(&png).unwrap();
+        assert_eq!(h.dims(), [3, 2]);
+        assert_eq!(h.spacing(), [1e-6, 2e-6]);
+        assert_eq!(h.origin(), [1.5e-6, -1e-6]);
+        assert_eq!(h.units().xy, LengthUnit::M);
+        assert_eq!(h.units().z, LengthUnit::M);
+        let step = 6.5535e-8 / 65535.0;
+        for (z, s) in h.data().iter().zip([0.0, 65535.0, 32768.0, 1.0, 2.0, 3.0]) {
+            assert!((z - (-1e-8 + s * step)).abs() < 1e-20, "{z}");
+        }
+        // A unit that is not a length keeps the numbers, unitless.
+        let volts = gwyddion_png(
+            &[("ZMin", "0"), ("ZMax", "2"), ("ZUnit", "V")],
+            &[0, 65535],
+            [2, 1],
+        );
+        let v = read_height(&volts).unwrap();
+        assert_eq!(v.units().z, LengthUnit::None);
+        assert_eq!(v.data(), &[0.0, 2.0]);
+        // Without any key: [0, 1] as before.
+        let bare = read_height(&gwyddion_png(&[], &[0, 65535], [2, 1])).unwrap();
+        assert_eq!(bare.data(), &[0.0, 1.0]);
+    }
+
+    #[test]
+    fn our_keys_win_over_gwyddions() {
+        let h = HeightField::from_vec([2, 2], vec![1.0, 2.0, 3.0, 5.0])
+            .unwrap()
+            .with_spacing([0.5, 0.25])
+            .unwrap()
+            .with_units(Units {
+                xy: LengthUnit::Um,
+                z: LengthUnit::Nm,
+            });
+        let mut out = Vec::new();
+        write_height(&mut out, &h, "t", None).unwrap();
+        let back = read_height(&out).unwrap();
+        assert_eq!(back.spacing(), [0.5, 0.25]);
+        assert_eq!(back.units(), h.units());
+        assert!((back.data()[3] - 5.0).abs() < 1e-4);
+    }
 }
