@@ -98,6 +98,10 @@ pub struct Global {
     /// always y-up.
     #[arg(long, global = true, value_name = "AXIS", value_parser = ["y", "z"])]
     pub up: Option<String>,
+    /// Up axis of the mesh and point files written, apart from the files read (which keep
+    /// --up): `--up z --up-out y` reads z-up files and writes y-up ones. Default: --up.
+    #[arg(long, global = true, value_name = "AXIS", value_parser = ["y", "z"])]
+    pub up_out: Option<String>,
 }
 
 /// `--max-time`: a duration, or none for no limit.

@@ -31,8 +31,11 @@ pub struct Context {
     pub format: Option<String>,
     /// `--xy-unit`, `--z-unit`: units given to height fields written.
     pub units: (Option<LengthUnit>, Option<LengthUnit>),
-    /// `--up`: the up axis of mesh and point files read and written.
+    /// `--up`: the up axis of mesh and point files read (and written, unless
+    /// `--up-out`).
     pub up: Option<UpAxis>,
+    /// `--up-out`: the up axis of mesh and point files written.
+    pub up_out: Option<UpAxis>,
     /// The arguments given on the command line (clap ids: field names), so
     /// that flags win over a `--params` file.
     pub explicit: BTreeSet<String>,
@@ -57,6 +60,12 @@ impl Context {
                 .context("starting the thread pool")?;
         }
         let threads = rayon::current_num_threads();
+        let axis = |a: &Option<String>| -> anyhow::Result<Option<UpAxis>> {
+            a.as_deref()
+                .map(str::parse)
+                .transpose()
+                .map_err(anyhow::Error::msg)
+        };
         let time = match g.max_time {
             Some(MaxTime(None)) => TimeBudget::unlimited(),
             Some(MaxTime(Some(limit))) => TimeBudget::new(limit, threads),
@@ -72,12 +81,8 @@ impl Context {
             budget: g.max_memory.map(MemoryBudget::new).unwrap_or_default(),
             threads,
             units: (g.xy_unit, g.z_unit),
-            up: g
-                .up
-                .as_deref()
-                .map(str::parse)
-                .transpose()
-                .map_err(anyhow::Error::msg)?,
+            up: axis(&g.up)?,
+            up_out: axis(&g.up_out)?,
             explicit,
         })
     }
@@ -229,10 +234,15 @@ impl Context {
         })
     }
 
-    /// Writer options with `--up`.
+    /// The up axis of files written: `--up-out`, else `--up`.
+    pub fn written_up(&self) -> Option<UpAxis> {
+        self.up_out.or(self.up)
+    }
+
+    /// Writer options with `--up-out` (or `--up`).
     pub fn write_options(&self) -> WriteOptions {
         WriteOptions {
-            up: self.up,
+            up: self.written_up(),
             ..WriteOptions::default()
         }
     }

@@ -78,7 +78,7 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
     }
     let opts = asperity_engine::io::WriteOptions {
         params: recipe.filter(|_| !changed),
-        ..job.params.write_options(title, ctx.up)
+        ..job.params.write_options(title, ctx.written_up())
     };
     asperity_engine::io::write(&out, &s, &opts)?;
     bar.finish();

@@ -163,7 +163,8 @@ fn convert_height_fields_and_meshes() {
 }
 
 /// `--up`: OBJ is y-up by default and read back unchanged; `--up z` takes its
-/// coordinates as they are; `--up y` turns PLY (and the others) on both sides.
+/// coordinates as they are; `--up y` turns PLY (and the others) on both sides;
+/// `--up-out` sets the written side alone.
 #[test]
 fn up_axis_on_read_and_write() {
     let d = tempfile::tempdir().unwrap();
@@ -212,6 +213,16 @@ fn up_axis_on_read_and_write() {
             .contains("# up: y")
     );
     fails(d.path(), &["--up", "x", "info", "h.obj"], "--up");
+    // --up-out: read z-up (the PLY as it is), write y-up; reading it back y-up
+    // gives the field upright again, read as it is it lies.
+    let o = asperity(
+        &["--up", "z", "--up-out", "y", "convert", "z.obj", "out.ply"],
+        d.path(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(bounds(&["--up", "y", "out.ply"]), upright);
+    assert_eq!(bounds(&["out.ply"]), lying);
+    fails(d.path(), &["--up-out", "w", "info", "h.obj"], "--up-out");
 }
 
 #[test]
