@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -21,7 +21,7 @@ if python3 -c "import x3pio" 2>/dev/null; then
   python3 -c "import sys, numpy as np, x3pio; x3pio.write(sys.argv[1], np.arange(20.).reshape(4, 5) * 1e-9, x_scale=1e-6, y_scale=1e-6, z_type=x3pio.DataType.INT16)" "$S/x3p/x3pio_int16.x3p"
 fi
 # SDF: asperity's text file, the standard's example, a binary int16 file;
-# Digital Surf: a 4 × 3 int16 surface with a non-measured point.
+# Digital Surf: a 4 × 3 int16 surface with the special-points flag; TrueMap 3 × 2.
 q --xy-unit um --z-unit nm convert "$T/h.npy" "$S/sdf/asperity.sdf"
 cp tests/data/surfacetopography/sdf-1.sdf "$S/sdf/"
 python3 - "$S" <<'PY'
@@ -38,6 +38,8 @@ struct.pack_into("<fff", h, 120, 0.5, 0.5, 0.01)
 for k, unit in enumerate([b"um", b"um", b"nm"]):
     h[180 + 16 * k:180 + 16 * k + 2] = unit
 open(f"{s}/sur/s4x3.sur", "wb").write(bytes(h) + struct.pack("<12h", *range(-5, 7)))
+t = b"Binary TrueMap Data File v2.0\r\n\0" + b"Created by TrueMap v6\r\n\0"
+open(f"{s}/tmd/t3x2.tmd", "wb").write(t + struct.pack("<IIffff", 3, 2, 1.5, 0.5, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32
 cp "$T/h.npy" "$S/npy/h8_f64.npy"

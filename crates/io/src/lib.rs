@@ -39,6 +39,7 @@ pub mod staging;
 pub mod stl;
 pub mod sur;
 pub mod text;
+pub mod tmd;
 pub mod up;
 mod write;
 pub mod x3p;
@@ -92,6 +93,8 @@ pub enum Format {
     Sdf,
     /// Digital Surf (MountainsMap) surface.
     Sur,
+    /// TrueMap surface.
+    Tmd,
 }
 
 /// What a format can do with one kind of data.
@@ -266,7 +269,16 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: R,
-        notes: "one surface of int16/int32 samples times the header's scale, in the file's units (Å, pm as nm); series and multi-channel files refused",
+        notes: "one surface of int16/int32 samples times the header's scale, in the file's units (Å, pm as nm); series, multi-channel files and unmeasured points refused",
+    },
+    FormatInfo {
+        format: Format::Tmd,
+        name: "TrueMap (.tmd)",
+        extensions: &["tmd"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "version 2: f32 heights, lengths and offsets in millimetres",
     },
 ];
 
@@ -274,7 +286,7 @@ impl Format {
     /// The format of the file at `path`: by its extension, or, where the
     /// extension names none (instruments' own or none at all), by the magic
     /// its content starts with (SDF, Digital Surf, npy, PNG, EXR, GSF, .gwy,
-    /// PLY).
+    /// PLY, TrueMap).
     ///
     /// # Errors
     /// [`IoError::UnknownFormat`] when neither tells (or the file cannot be
@@ -294,7 +306,8 @@ impl Format {
 
     /// The format whose magic `bytes` start with, if one does.
     pub fn from_content(bytes: &[u8]) -> Option<Format> {
-        const MAGICS: [(&[u8], Format); 8] = [
+        const MAGICS: [(&[u8], Format); 9] = [
+            (tmd::MAGIC, Format::Tmd),
             (b"aISO-1.0", Format::Sdf),
             (b"bISO-1.0", Format::Sdf),
             (b"DIGITAL SURF", Format::Sur),
@@ -541,7 +554,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
         | Format::Gwy
         | Format::X3p
         | Format::Sdf
-        | Format::Sur => Surface::Height(read_height_bytes(bytes, f)?),
+        | Format::Sur
+        | Format::Tmd => Surface::Height(read_height_bytes(bytes, f)?),
     })
 }
 
@@ -578,6 +592,7 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
         Format::X3p => x3p::read_height(bytes)?,
         Format::Sdf => sdf::read_height(bytes)?,
         Format::Sur => sur::read_height(bytes)?,
+        Format::Tmd => tmd::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     h.validate()?;

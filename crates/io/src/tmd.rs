@@ -1,0 +1,129 @@
+//! TrueMap `.tmd` (TrueGage's TrueMap, version 2), read.
+//!
+//! The file is the line `Binary TrueMap Data File v2.0` (CR LF, NUL), a
+//! NUL-terminated comment, then a little-endian header — points along x and
+//! along y (u32), the field's length along x and y and its offsets (f32) —
+//! and the heights as f32, x fastest. Lengths, offsets and heights are in
+//! millimetres (Gwyddion's `rmitmd.c`; SurfaceTopography reads them so). The
+//! comment's length varies in Gwyddion's reading; the files seen have 24 bytes.
+
+use asperity_core::{HeightField, LengthUnit, Units};
+
+use crate::error::{FResult, FormatError, malformed};
+
+pub(crate) const MAGIC: &[u8] = b"Binary TrueMap Data File v2.0";
+
+/// Reads a TrueMap file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    if !bytes.starts_with(MAGIC) {
+        return malformed("missing the `Binary TrueMap Data File v2.0` line");
+    }
+    let nul = |from: usize| {
+        bytes[from..]
+            .iter()
+            .position(|&b| b == 0)
+            .map(|k| from + k + 1)
+            .ok_or_else(|| {
+                FormatError::Malformed("a header line is not NUL-terminated (truncated?)".into())
+            })
+    };
+    let header = nul(nul(MAGIC.len())?)?;
+    let head = bytes.get(header..header + 24).ok_or_else(|| {
+        FormatError::Malformed("the file ends inside its header (truncated?)".into())
+    })?;
+    let u32_at =
+        |o: usize| u32::from_le_bytes(head[o..o + 4].try_into().expect("4 bytes")) as usize;
+    let f32_at = |o: usize| {
+        f64::from(f32::from_le_bytes(
+            head[o..o + 4].try_into().expect("4 bytes"),
+        ))
+    };
+    let (nx, ny) = (u32_at(0), u32_at(4));
+    let (lx, ly, x0, y0) = (f32_at(8), f32_at(12), f32_at(16), f32_at(20));
+    if nx == 0 || ny == 0 {
+        return malformed(format!("{nx} × {ny} points: no data"));
+    }
+    for (name, v) in [("x length", lx), ("y length", ly)] {
+        if !(v.is_finite() && v > 0.0) {
+            return malformed(format!("the {name} {v} is not a positive length"));
+        }
+    }
+    if !(x0.is_finite() && y0.is_finite()) {
+        return malformed("the offsets are not finite");
+    }
+    let body = &bytes[header + 24..];
+    let need = nx
+        .checked_mul(ny)
+        .and_then(|n| n.checked_mul(4))
+        .ok_or_else(|| FormatError::Malformed("the point count is too large".into()))?;
+    if body.len() < need {
+        return malformed(format!(
+            "{nx} × {ny} f32 heights need {need} bytes, the file has {} after its header (truncated?)",
+            body.len()
+        ));
+    }
+    let data = body[..need]
+        .chunks_exact(4)
+        .map(|c| f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])))
+        .collect();
+    let mm = Units {
+        xy: LengthUnit::Mm,
+        z: LengthUnit::Mm,
+    };
+    Ok(HeightField::from_vec([nx, ny], data)?
+        .with_geometry(Some([lx / nx as f64, ly / ny as f64]), Some([x0, y0]))?
+        .with_units(mm))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn file(comment: &[u8], values: &[f32]) -> Vec<u8> {
+        let mut b = MAGIC.to_vec();
+        b.extend(b"\r\n\0");
+        b.extend(comment);
+        b.push(0);
+        b.extend(3u32.to_le_bytes());
+        b.extend(2u32.to_le_bytes());
+        for v in [1.5f32, 0.5, 0.25, -1.0] {
+            b.extend(v.to_le_bytes());
+        }
+        for v in values {
+            b.extend(v.to_le_bytes());
+        }
+        b
+    }
+
+    #[test]
+    fn heights_and_geometry_in_millimetres() {
+        for comment in [
+            &b"Created by TrueMap v6\r\n"[..],
+            b"",
+            b"a longer comment than usual",
+        ] {
+            let h = read_height(&file(comment, &[1.0, 2.0, 3.0, 4.0, 5.0, 6.5])).unwrap();
+            assert_eq!(h.dims(), [3, 2]);
+            assert_eq!(h.spacing(), [0.5, 0.25]);
+            assert_eq!(h.origin(), [0.25, -1.0]);
+            assert_eq!(h.units().z, LengthUnit::Mm);
+            assert_eq!(h.data(), &[1.0, 2.0, 3.0, 4.0, 5.0, 6.5]);
+        }
+    }
+
+    #[test]
+    fn truncated_and_damaged_files_are_refused() {
+        let good = file(b"c", &[0.0; 6]);
+        for cut in 0..good.len() {
+            assert!(read_height(&good[..cut]).is_err(), "cut at {cut}");
+        }
+        let mut zero = good.clone();
+        let at = MAGIC.len() + 3 + 2;
+        zero[at..at + 4].copy_from_slice(&0u32.to_le_bytes());
+        assert!(read_height(&zero).is_err());
+        let mut huge = good;
+        huge[at..at + 4].copy_from_slice(&u32::MAX.to_le_bytes());
+        huge[at + 4..at + 8].copy_from_slice(&u32::MAX.to_le_bytes());
+        assert!(read_height(&huge).is_err());
+    }
+}
