@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,bcr,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -39,6 +39,8 @@ for k, unit in enumerate([b"um", b"um", b"nm"]):
     h[180 + 16 * k:180 + 16 * k + 2] = unit
 open(f"{s}/sur/s4x3.sur", "wb").write(bytes(h) + struct.pack("<12h", *range(-5, 7)))
 t = b"Binary TrueMap Data File v2.0\r\n\0" + b"Created by TrueMap v6\r\n\0"
+b = "fileformat = bcrf_unicode\nheadersize = 2048\nxpixels = 3\nypixels = 2\nxlength = 3\nylength = 2\nzunit = um\n"
+open(f"{s}/bcr/b3x2.bcrf", "wb").write(b.encode("utf-16-le").ljust(4096, b"\0") + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 open(f"{s}/tmd/t3x2.tmd", "wb").write(t + struct.pack("<IIffff", 3, 2, 1.5, 0.5, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32

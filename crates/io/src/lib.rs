@@ -23,6 +23,7 @@
 //! fields written to a point format give their vertices / samples.
 
 pub mod atomic;
+pub mod bcr;
 pub mod decimal;
 mod error;
 pub mod exr_io;
@@ -95,6 +96,8 @@ pub enum Format {
     Sur,
     /// TrueMap surface.
     Tmd,
+    /// BCR-STM / BCRF scanning-probe image.
+    Bcr,
 }
 
 /// What a format can do with one kind of data.
@@ -280,13 +283,22 @@ pub const FORMATS: &[FormatInfo] = &[
         height: R,
         notes: "version 2: f32 heights, lengths and offsets in millimetres",
     },
+    FormatInfo {
+        format: Format::Bcr,
+        name: "BCR-STM / BCRF (.bcr, .bcrf)",
+        extensions: &["bcr", "bcrf"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "Latin-1 or UTF-16 header; int16 (× bit2nm) or f32, either byte order; the header's units (nm by default); void points refused",
+    },
 ];
 
 impl Format {
     /// The format of the file at `path`: by its extension, or, where the
     /// extension names none (instruments' own or none at all), by the magic
     /// its content starts with (SDF, Digital Surf, npy, PNG, EXR, GSF, .gwy,
-    /// PLY, TrueMap).
+    /// PLY, TrueMap, BCR).
     ///
     /// # Errors
     /// [`IoError::UnknownFormat`] when neither tells (or the file cannot be
@@ -296,7 +308,7 @@ impl Format {
         if by_name.is_ok() {
             return by_name;
         }
-        let mut head = [0u8; 32];
+        let mut head = [0u8; 64];
         // A file that cannot be opened keeps the message about its name.
         let n = std::fs::File::open(path)
             .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
@@ -318,6 +330,9 @@ impl Format {
             (b"GWYP", Format::Gwy),
         ];
         let ply = bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n");
+        if bcr::sniff(bytes) {
+            return Some(Format::Bcr);
+        }
         MAGICS
             .iter()
             .find(|(m, _)| bytes.starts_with(m))
@@ -555,7 +570,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
         | Format::X3p
         | Format::Sdf
         | Format::Sur
-        | Format::Tmd => Surface::Height(read_height_bytes(bytes, f)?),
+        | Format::Tmd
+        | Format::Bcr => Surface::Height(read_height_bytes(bytes, f)?),
     })
 }
 
@@ -593,6 +609,7 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
         Format::Sdf => sdf::read_height(bytes)?,
         Format::Sur => sur::read_height(bytes)?,
         Format::Tmd => tmd::read_height(bytes)?,
+        Format::Bcr => bcr::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     h.validate()?;

@@ -193,7 +193,7 @@ fn empty_meshes_and_point_sets() {
     assert!(message(asperity_io::read_mesh(&p)).contains("has no faces"));
 }
 
-/// Every prefix of a valid SDF and Digital Surf file that ends before its
+/// Every prefix of a valid SDF, Digital Surf, TrueMap and BCR file that ends before its
 /// data does is refused with a message (truncation), never read short.
 #[test]
 fn truncated_instrument_files_are_refused() {
@@ -202,6 +202,8 @@ fn truncated_instrument_files_are_refused() {
         ("sdf", "sdf-1.sdf"),
         ("sdf", "binary_int16.sdf"),
         ("sur", "s4x3.sur"),
+        ("tmd", "t3x2.tmd"),
+        ("bcr", "b3x2.bcrf"),
     ] {
         let whole = std::fs::read(seeds.join(dir).join(name)).unwrap();
         // A text SDF's data ends at its second `*` line; the trailer after it

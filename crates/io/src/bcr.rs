@@ -1,0 +1,244 @@
+//! BCR-STM and BCRF (`.bcr`, `.bcrf`), the interchange files of scanning
+//! probe microscopes (Image Metrology's SPIP and others), read.
+//!
+//! A text header of `headersize` characters (2048 by default) in Latin-1 or
+//! UTF-16 (`fileformat = bcrstm|bcrf`, or `…_unicode`), `key = value` lines
+//! with `%` or `#` comments, then ypixels rows of xpixels samples: int16 for
+//! BCR-STM (times `bit2nm`), f32 for BCRF, little-endian unless `intelmode = 0`.
+//! `xlength` and `ylength` are the field's size in `xunit`/`yunit`; heights
+//! are in `zunit`; every unit is nm when the header names none. Void points
+//! (32767 in BCR-STM; above 1.7e38 or NaN in BCRF) were not measured:
+//! asperity cannot carry missing points yet and refuses such files with their
+//! count.
+
+use std::collections::HashMap;
+
+use asperity_core::{HeightField, LengthUnit, Units};
+
+use crate::error::{FResult, FormatError, malformed, unsupported};
+
+const MAGIC: &str = "fileformat = bcr";
+/// The header's size when it does not say.
+const DEFAULT_HEADER: usize = 2048;
+
+/// Whether `bytes` start like a BCR file (Latin-1 or UTF-16, with or without
+/// a byte-order mark).
+pub(crate) fn sniff(bytes: &[u8]) -> bool {
+    let utf16: Vec<u8> = MAGIC.bytes().flat_map(|b| [b, 0]).collect();
+    bytes.starts_with(MAGIC.as_bytes())
+        || bytes.starts_with(&utf16)
+        || bytes.get(2..).is_some_and(|b| b.starts_with(&utf16)) && bytes.starts_with(&[0xFF, 0xFE])
+}
+
+/// The header text of `chars` characters and the bytes per character.
+fn header_text(bytes: &[u8], chars: usize) -> FResult<(String, usize)> {
+    if bytes.starts_with(MAGIC.as_bytes()) {
+        let end = chars.min(bytes.len());
+        return Ok((bytes[..end].iter().map(|&b| char::from(b)).collect(), 1));
+    }
+    let end = (2 * chars).min(bytes.len() & !1);
+    let units: Vec<u16> = bytes[..end]
+        .chunks_exact(2)
+        .map(|c| u16::from_le_bytes([c[0], c[1]]))
+        .collect();
+    let text = String::from_utf16_lossy(&units);
+    Ok((text.trim_start_matches('\u{feff}').to_owned(), 2))
+}
+
+/// The header's `key = value` pairs.
+fn keys(text: &str) -> HashMap<String, String> {
+    text.lines()
+        .map(|l| l.trim_matches(|c: char| c.is_whitespace() || c == '\0'))
+        .filter(|l| !l.starts_with('%') && !l.starts_with('#'))
+        .filter_map(|l| l.split_once('='))
+        .map(|(k, v)| (k.trim().to_ascii_lowercase(), v.trim().to_owned()))
+        .collect()
+}
+
+/// A unit of the header (nm when absent; `um` and `µm` alike).
+fn unit(keys: &HashMap<String, String>, key: &str) -> FResult<LengthUnit> {
+    match keys.get(key) {
+        None => Ok(LengthUnit::Nm),
+        Some(u) => LengthUnit::parse(u)
+            .ok()
+            .filter(|u| *u != LengthUnit::None)
+            .ok_or_else(|| {
+                FormatError::Unsupported(format!(
+                    "{key} = {u:?} is not a length unit (a BCR file of other data than heights)"
+                ))
+            }),
+    }
+}
+
+/// Reads a BCR-STM or BCRF file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    if !sniff(bytes) {
+        return malformed("missing the `fileformat = bcr…` line");
+    }
+    let (probe, width) = header_text(bytes, DEFAULT_HEADER)?;
+    let chars =
+        match keys(&probe).get("headersize") {
+            None => DEFAULT_HEADER,
+            Some(v) => v.parse().ok().filter(|&n: &usize| n > 0).ok_or_else(|| {
+                FormatError::Malformed(format!("headersize = {v:?} is not a size"))
+            })?,
+        };
+    let (text, _) = header_text(bytes, chars)?;
+    let k = keys(&text);
+    let get = |key: &str| {
+        k.get(key)
+            .ok_or_else(|| FormatError::Malformed(format!("the header has no {key}")))
+    };
+    let format = get("fileformat")?.as_str();
+    let stm = match format {
+        "bcrstm" | "bcrstm_unicode" => true,
+        "bcrf" | "bcrf_unicode" => false,
+        other => return malformed(format!("unknown fileformat {other:?}")),
+    };
+    let count = |key: &str| -> FResult<usize> {
+        let v = get(key)?;
+        v.parse()
+            .ok()
+            .filter(|&n: &usize| n > 0)
+            .ok_or_else(|| FormatError::Malformed(format!("{key} = {v:?} is not a positive count")))
+    };
+    let real = |key: &str, default: Option<f64>| -> FResult<f64> {
+        match (k.get(key), default) {
+            (None, Some(d)) => Ok(d),
+            (None, None) => malformed(format!("the header has no {key}")),
+            (Some(v), _) => v
+                .parse()
+                .map_err(|_| FormatError::Malformed(format!("{key} = {v:?} is not a number"))),
+        }
+    };
+    let (nx, ny) = (count("xpixels")?, count("ypixels")?);
+    let (lx, ly) = (real("xlength", None)?, real("ylength", None)?);
+    for (key, v) in [("xlength", lx), ("ylength", ly)] {
+        if !(v.is_finite() && v > 0.0) {
+            return malformed(format!("{key} = {v} is not a positive length"));
+        }
+    }
+    let (ux, uy, uz) = (unit(&k, "xunit")?, unit(&k, "yunit")?, unit(&k, "zunit")?);
+    if ux != uy {
+        return malformed("x and y units differ");
+    }
+    let little = real("intelmode", Some(1.0))? != 0.0;
+    let scale = if stm { real("bit2nm", Some(1.0))? } else { 1.0 };
+    let size = if stm { 2 } else { 4 };
+    let start = chars * width;
+    let need = nx
+        .checked_mul(ny)
+        .and_then(|n| n.checked_mul(size))
+        .ok_or_else(|| FormatError::Malformed("xpixels × ypixels is too large".into()))?;
+    let body = bytes.get(start..).unwrap_or(&[]);
+    if body.len() < need {
+        return malformed(format!(
+            "{nx} × {ny} samples of {size} bytes need {need} bytes after the {start}-byte header, the file has {} (truncated?)",
+            body.len()
+        ));
+    }
+    let mut void = 0;
+    let data: Vec<f64> = body[..need]
+        .chunks_exact(size)
+        .map(|c| {
+            let (v, bad) = if stm {
+                let raw = if little {
+                    i16::from_le_bytes([c[0], c[1]])
+                } else {
+                    i16::from_be_bytes([c[0], c[1]])
+                };
+                (f64::from(raw), raw == i16::MAX)
+            } else {
+                let b = [c[0], c[1], c[2], c[3]];
+                let raw = if little {
+                    f32::from_le_bytes(b)
+                } else {
+                    f32::from_be_bytes(b)
+                };
+                (f64::from(raw), raw.is_nan() || raw > 1.7e38)
+            };
+            void += usize::from(bad);
+            v * scale
+        })
+        .collect();
+    if void > 0 {
+        return unsupported(format!(
+            "{void} of {} points are void (not measured); asperity cannot carry missing points yet",
+            nx * ny
+        ));
+    }
+    Ok(HeightField::from_vec([nx, ny], data)?
+        .with_spacing([lx / nx as f64, ly / ny as f64])?
+        .with_units(Units { xy: ux, z: uz }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn file(header: &str, utf16: bool, body: &[u8]) -> Vec<u8> {
+        let mut h: Vec<u8> = if utf16 {
+            header.encode_utf16().flat_map(u16::to_le_bytes).collect()
+        } else {
+            header.bytes().collect()
+        };
+        let width = if utf16 { 2 } else { 1 };
+        h.resize(DEFAULT_HEADER * width, if utf16 { 0 } else { b' ' });
+        h.extend(body);
+        h
+    }
+
+    fn err(r: FResult<HeightField>) -> String {
+        match r {
+            Ok(_) => panic!("accepted"),
+            Err(e) => format!("{e:?}"),
+        }
+    }
+
+    #[test]
+    fn bcrf_in_both_encodings_and_bcrstm_with_its_scale() {
+        let body: Vec<u8> = [1.0f32, 2.0, 3.0, 4.5, 5.0, 6.0]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        for (utf16, format) in [(false, "bcrf"), (true, "bcrf_unicode")] {
+            let head = format!(
+                "fileformat = {format}\n%comment\nheadersize = 2048\nxpixels = 3\nypixels = 2\n\
+                 xlength = 1.5\nylength = 2\nxunit = um\nyunit = um\nzunit = nm\n"
+            );
+            let h = read_height(&file(&head, utf16, &body)).unwrap();
+            assert_eq!(h.dims(), [3, 2]);
+            assert_eq!(h.spacing(), [0.5, 1.0]);
+            assert_eq!(
+                h.units(),
+                Units {
+                    xy: LengthUnit::Um,
+                    z: LengthUnit::Nm
+                }
+            );
+            assert_eq!(h.data(), &[1.0, 2.0, 3.0, 4.5, 5.0, 6.0]);
+        }
+        let stm = "fileformat = bcrstm\nxpixels = 2\nypixels = 1\nxlength = 4\nylength = 2\n\
+                   bit2nm = 0.5\nintelmode = 0\n";
+        let body: Vec<u8> = [10i16, -4].iter().flat_map(|v| v.to_be_bytes()).collect();
+        let h = read_height(&file(stm, false, &body)).unwrap();
+        assert_eq!(h.data(), &[5.0, -2.0]);
+        assert_eq!(h.units().z, LengthUnit::Nm);
+    }
+
+    #[test]
+    fn void_points_truncation_and_odd_units_are_refused() {
+        let head = "fileformat = bcrf\nxpixels = 2\nypixels = 1\nxlength = 1\nylength = 1\n";
+        let void: Vec<u8> = [1.0f32, 3e38]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        assert!(err(read_height(&file(head, false, &void))).contains("1 of 2 points are void"));
+        assert!(err(read_height(&file(head, false, &void[..7]))).contains("truncated"));
+        let volts = format!("{head}zunit = V\n");
+        assert!(err(read_height(&file(&volts, false, &void))).contains("not a length unit"));
+        let huge = head.replace("xpixels = 2", "xpixels = 99999999999");
+        assert!(err(read_height(&file(&huge, false, &void))).contains("truncated"));
+        assert!(read_height(b"fileformat = bcrf").is_err());
+    }
+}
