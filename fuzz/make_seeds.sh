@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,bcr,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,bcr,metropro,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -41,6 +41,16 @@ open(f"{s}/sur/s4x3.sur", "wb").write(bytes(h) + struct.pack("<12h", *range(-5, 
 t = b"Binary TrueMap Data File v2.0\r\n\0" + b"Created by TrueMap v6\r\n\0"
 b = "fileformat = bcrf_unicode\nheadersize = 2048\nxpixels = 3\nypixels = 2\nxlength = 3\nylength = 2\nzunit = um\n"
 open(f"{s}/bcr/b3x2.bcrf", "wb").write(b.encode("utf-16-le").ljust(4096, b"\0") + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
+m = bytearray(834)
+m[0:4] = b"\x88\x1b\x03\x6f"
+struct.pack_into(">I", m, 6, 834)
+struct.pack_into(">HHH", m, 52, 1, 1, 2)
+struct.pack_into(">HH", m, 68, 3, 2)
+struct.pack_into(">ff", m, 164, 0.5, 6.4e-7)
+struct.pack_into(">f", m, 176, 1.0)
+struct.pack_into(">f", m, 184, 1e-6)
+struct.pack_into(">h", m, 218, 1)
+open(f"{s}/metropro/m3x2.dat", "wb").write(bytes(m) + b"\0" * 4 + struct.pack(">6i", 0, 1, 2, -3, 4, 5))
 open(f"{s}/tmd/t3x2.tmd", "wb").write(t + struct.pack("<IIffff", 3, 2, 1.5, 0.5, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32

@@ -31,6 +31,7 @@ pub mod glb;
 pub mod gsf;
 pub mod gwy;
 pub mod metadata;
+pub mod metropro;
 pub mod npy;
 pub mod obj;
 pub mod ply;
@@ -98,6 +99,8 @@ pub enum Format {
     Tmd,
     /// BCR-STM / BCRF scanning-probe image.
     Bcr,
+    /// Zygo MetroPro interferometer data.
+    MetroPro,
 }
 
 /// What a format can do with one kind of data.
@@ -292,13 +295,22 @@ pub const FORMATS: &[FormatInfo] = &[
         height: R,
         notes: "Latin-1 or UTF-16 header; int16 (× bit2nm) or f32, either byte order; the header's units (nm by default); void points refused",
     },
+    FormatInfo {
+        format: Format::MetroPro,
+        name: "Zygo MetroPro (.dat)",
+        extensions: &["dat"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "header formats 1-3; phase × S × O × λ / R in metres, pixels from the lateral resolution; invalid phases refused",
+    },
 ];
 
 impl Format {
     /// The format of the file at `path`: by its extension, or, where the
     /// extension names none (instruments' own or none at all), by the magic
     /// its content starts with (SDF, Digital Surf, npy, PNG, EXR, GSF, .gwy,
-    /// PLY, TrueMap, BCR).
+    /// PLY, TrueMap, BCR, MetroPro).
     ///
     /// # Errors
     /// [`IoError::UnknownFormat`] when neither tells (or the file cannot be
@@ -332,6 +344,9 @@ impl Format {
         let ply = bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n");
         if bcr::sniff(bytes) {
             return Some(Format::Bcr);
+        }
+        if metropro::MAGICS.iter().any(|m| bytes.starts_with(m)) {
+            return Some(Format::MetroPro);
         }
         MAGICS
             .iter()
@@ -571,7 +586,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
         | Format::Sdf
         | Format::Sur
         | Format::Tmd
-        | Format::Bcr => Surface::Height(read_height_bytes(bytes, f)?),
+        | Format::Bcr
+        | Format::MetroPro => Surface::Height(read_height_bytes(bytes, f)?),
     })
 }
 
@@ -610,6 +626,7 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
         Format::Sur => sur::read_height(bytes)?,
         Format::Tmd => tmd::read_height(bytes)?,
         Format::Bcr => bcr::read_height(bytes)?,
+        Format::MetroPro => metropro::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     h.validate()?;

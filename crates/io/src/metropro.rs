@@ -1,0 +1,176 @@
+//! Zygo MetroPro `.dat` (the binary files of Zygo's interferometers), read.
+//!
+//! A big-endian header (834 bytes for header formats 1 and 2, 4096 for 3;
+//! the magic `88 1B 03 6F/70/71` says which), the intensity frames, then the
+//! phase: `cn_org_height` rows of `cn_org_width` int32. Offsets in the header,
+//! from the format's published description (as Gwyddion's `metropro.c` and
+//! SurfaceTopography read it): header size (6), intensity width, height,
+//! buckets and byte count (52, 54, 56, 60), phase width, height and byte count
+//! (68, 70, 72), the interferometric scale factor S, wavelength λ and
+//! obliquity factor O (164, 168, 176; f32), the lateral resolution (184; f32,
+//! metres a pixel, 0 when not calibrated), the phase resolution (218) and the
+//! sign (232). A height is phase × S × O × λ / R metres, R = 4096, 32768 or
+//! 131072 for phase resolution 0, 1, 2, negated when the sign is set. Phases
+//! of 2147483640 and above mark points not measured: asperity cannot carry
+//! missing points yet and refuses such files with their count.
+
+use asperity_core::{HeightField, LengthUnit, Units};
+
+use crate::error::{FResult, FormatError, malformed, unsupported};
+
+/// The magics of header formats 1, 2 and 3.
+pub(crate) const MAGICS: [&[u8]; 3] = [
+    b"\x88\x1b\x03\x6f",
+    b"\x88\x1b\x03\x70",
+    b"\x88\x1b\x03\x71",
+];
+/// Phases at or above this mark invalid points.
+const INVALID: i32 = 2_147_483_640;
+
+/// Reads a MetroPro file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    let format = MAGICS
+        .iter()
+        .position(|m| bytes.starts_with(m))
+        .ok_or_else(|| FormatError::Malformed("missing the MetroPro magic".into()))?;
+    let expected = if format == 2 { 4096 } else { 834 };
+    let head = bytes.get(..expected).ok_or_else(|| {
+        FormatError::Malformed(format!(
+            "the header has {expected} bytes, the file {} (truncated?)",
+            bytes.len()
+        ))
+    })?;
+    let u16_at = |o: usize| usize::from(u16::from_be_bytes([head[o], head[o + 1]]));
+    let i16_at = |o: usize| i16::from_be_bytes([head[o], head[o + 1]]);
+    let u32_at =
+        |o: usize| u32::from_be_bytes(head[o..o + 4].try_into().expect("4 bytes")) as usize;
+    let f32_at = |o: usize| {
+        f64::from(f32::from_be_bytes(
+            head[o..o + 4].try_into().expect("4 bytes"),
+        ))
+    };
+    if u32_at(6) != expected {
+        return unsupported(format!(
+            "a header of {} bytes (header format {} has {expected})",
+            u32_at(6),
+            format + 1
+        ));
+    }
+    let intensity = 2 * u16_at(56) * u16_at(52) * u16_at(54);
+    let (nx, ny) = (u16_at(68), u16_at(70));
+    if nx == 0 || ny == 0 {
+        return malformed(format!("{nx} × {ny} phase points: no height data"));
+    }
+    let phase_res = match i16_at(218) {
+        0 => 4096.0,
+        1 => 32768.0,
+        2 => 131072.0,
+        r => return malformed(format!("phase resolution {r} is not 0, 1 or 2")),
+    };
+    let (s, lambda, o, lateral) = (f32_at(164), f32_at(168), f32_at(176), f32_at(184));
+    let sign = if i16_at(232) != 0 { -1.0 } else { 1.0 };
+    let scale = sign * s * o * lambda / phase_res;
+    if !scale.is_finite() {
+        return malformed("the height scale (S × O × λ) is not finite");
+    }
+    let start = expected + intensity;
+    let need = 4 * nx * ny;
+    let body = bytes.get(start..).unwrap_or(&[]);
+    if body.len() < need {
+        return malformed(format!(
+            "{nx} × {ny} phases need {need} bytes after the header and {intensity} bytes of intensity, the file has {} (truncated?)",
+            body.len()
+        ));
+    }
+    let phases: Vec<i32> = body[..need]
+        .chunks_exact(4)
+        .map(|c| i32::from_be_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    let invalid = phases.iter().filter(|&&p| p >= INVALID).count();
+    if invalid > 0 {
+        return unsupported(format!(
+            "{invalid} of {} points were not measured (invalid phase); asperity cannot carry missing points yet",
+            nx * ny
+        ));
+    }
+    let data = phases.iter().map(|&p| f64::from(p) * scale).collect();
+    // Without a lateral calibration the pixels are the unit.
+    let (spacing, xy) = if lateral.is_finite() && lateral > 0.0 {
+        (lateral, LengthUnit::M)
+    } else {
+        (1.0, LengthUnit::None)
+    };
+    Ok(HeightField::from_vec([nx, ny], data)?
+        .with_spacing([spacing, spacing])?
+        .with_units(Units {
+            xy,
+            z: LengthUnit::M,
+        }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn file(phases: &[i32], lateral: f32, sign: i16) -> Vec<u8> {
+        let mut h = vec![0u8; 834];
+        h[..4].copy_from_slice(MAGICS[0]);
+        h[6..10].copy_from_slice(&834u32.to_be_bytes());
+        // a 1 × 1 intensity frame of 2 buckets: 4 bytes
+        h[52..54].copy_from_slice(&1u16.to_be_bytes());
+        h[54..56].copy_from_slice(&1u16.to_be_bytes());
+        h[56..58].copy_from_slice(&2u16.to_be_bytes());
+        h[68..70].copy_from_slice(&3u16.to_be_bytes());
+        h[70..72].copy_from_slice(&2u16.to_be_bytes());
+        h[164..168].copy_from_slice(&0.5f32.to_be_bytes());
+        h[168..172].copy_from_slice(&6.4e-7f32.to_be_bytes());
+        h[176..180].copy_from_slice(&1.0f32.to_be_bytes());
+        h[184..188].copy_from_slice(&lateral.to_be_bytes());
+        h[218..220].copy_from_slice(&1i16.to_be_bytes());
+        h[232..234].copy_from_slice(&sign.to_be_bytes());
+        h.extend([9u8; 4]);
+        for p in phases {
+            h.extend(p.to_be_bytes());
+        }
+        h
+    }
+
+    #[test]
+    fn phases_times_the_scale_in_metres() {
+        let scale = 0.5 * 1.0 * f64::from(6.4e-7f32) / 32768.0;
+        let h = read_height(&file(&[0, 1, 2, -3, 4, 32768], 2e-6, 0)).unwrap();
+        assert_eq!(h.dims(), [3, 2]);
+        assert_eq!(h.spacing(), [f64::from(2e-6f32); 2]);
+        assert_eq!(
+            h.units(),
+            Units {
+                xy: LengthUnit::M,
+                z: LengthUnit::M
+            }
+        );
+        assert_eq!(h.data()[5], 32768.0 * scale);
+        assert_eq!(h.data()[3], -3.0 * scale);
+        let flipped = read_height(&file(&[0, 1, 2, -3, 4, 32768], 0.0, 1)).unwrap();
+        assert_eq!(flipped.data()[5], -32768.0 * scale);
+        assert_eq!(flipped.units().xy, LengthUnit::None);
+    }
+
+    #[test]
+    fn invalid_phases_truncation_and_odd_headers_are_refused() {
+        let err = |b: &[u8]| match read_height(b) {
+            Ok(_) => panic!("accepted"),
+            Err(e) => format!("{e:?}"),
+        };
+        let good = file(&[0; 6], 1e-6, 0);
+        assert!(err(&file(&[0, INVALID, 0, 0, 0, i32::MAX], 1e-6, 0)).contains("2 of 6 points"));
+        for cut in 0..good.len() {
+            assert!(read_height(&good[..cut]).is_err(), "cut at {cut}");
+        }
+        let mut odd = good.clone();
+        odd[6..10].copy_from_slice(&900u32.to_be_bytes());
+        assert!(err(&odd).contains("header of 900 bytes"));
+        let mut res = good;
+        res[218..220].copy_from_slice(&7i16.to_be_bytes());
+        assert!(err(&res).contains("phase resolution 7"));
+    }
+}
