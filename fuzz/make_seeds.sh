@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,bcr,metropro,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,bcr,metropro,al3d,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -51,6 +51,15 @@ struct.pack_into(">f", m, 176, 1.0)
 struct.pack_into(">f", m, 184, 1e-6)
 struct.pack_into(">h", m, 218, 1)
 open(f"{s}/metropro/m3x2.dat", "wb").write(bytes(m) + b"\0" * 4 + struct.pack(">6i", 0, 1, 2, -3, 4, 5))
+def tag(k, v):
+    return k.encode().ljust(20, b"\0") + v.encode().ljust(30, b"\0") + b"\r\n"
+a = b"AliconaImaging\0\r\n"
+off = len(a) + 8 * 52 + 256
+tags = [("Version", "1"), ("TagCount", "6"), ("Cols", "3"), ("Rows", "2"), ("PixelSizeXMeter", "5e-7"),
+        ("PixelSizeYMeter", "5e-7"), ("DepthImageOffset", str(off)), ("InvalidPixelValue", "3e15")]
+a += b"".join(tag(k, v) for k, v in tags) + b"\0" * 256
+a += (struct.pack("<3f", 1e-6, 2e-6, 3e-6) + b"\0" * 4) * 2
+open(f"{s}/al3d/a3x2.al3d", "wb").write(a)
 open(f"{s}/tmd/t3x2.tmd", "wb").write(t + struct.pack("<IIffff", 3, 2, 1.5, 0.5, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32

@@ -22,6 +22,7 @@
 //! Height fields written to a mesh format are triangulated; meshes and height
 //! fields written to a point format give their vertices / samples.
 
+pub mod al3d;
 pub mod atomic;
 pub mod bcr;
 pub mod decimal;
@@ -101,6 +102,8 @@ pub enum Format {
     Bcr,
     /// Zygo MetroPro interferometer data.
     MetroPro,
+    /// Alicona Imaging depth image.
+    Al3d,
 }
 
 /// What a format can do with one kind of data.
@@ -304,13 +307,22 @@ pub const FORMATS: &[FormatInfo] = &[
         height: R,
         notes: "header formats 1-3; phase × S × O × λ / R in metres, pixels from the lateral resolution; invalid phases refused",
     },
+    FormatInfo {
+        format: Format::Al3d,
+        name: "Alicona Imaging (.al3d)",
+        extensions: &["al3d"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the depth image: f32 in metres, pixel sizes from the tags; invalid points refused",
+    },
 ];
 
 impl Format {
     /// The format of the file at `path`: by its extension, or, where the
     /// extension names none (instruments' own or none at all), by the magic
     /// its content starts with (SDF, Digital Surf, npy, PNG, EXR, GSF, .gwy,
-    /// PLY, TrueMap, BCR, MetroPro).
+    /// PLY, TrueMap, BCR, MetroPro, Alicona).
     ///
     /// # Errors
     /// [`IoError::UnknownFormat`] when neither tells (or the file cannot be
@@ -330,7 +342,8 @@ impl Format {
 
     /// The format whose magic `bytes` start with, if one does.
     pub fn from_content(bytes: &[u8]) -> Option<Format> {
-        const MAGICS: [(&[u8], Format); 9] = [
+        const MAGICS: [(&[u8], Format); 10] = [
+            (al3d::MAGIC, Format::Al3d),
             (tmd::MAGIC, Format::Tmd),
             (b"aISO-1.0", Format::Sdf),
             (b"bISO-1.0", Format::Sdf),
@@ -587,7 +600,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
         | Format::Sur
         | Format::Tmd
         | Format::Bcr
-        | Format::MetroPro => Surface::Height(read_height_bytes(bytes, f)?),
+        | Format::MetroPro
+        | Format::Al3d => Surface::Height(read_height_bytes(bytes, f)?),
     })
 }
 
@@ -627,6 +641,7 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
         Format::Tmd => tmd::read_height(bytes)?,
         Format::Bcr => bcr::read_height(bytes)?,
         Format::MetroPro => metropro::read_height(bytes)?,
+        Format::Al3d => al3d::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     h.validate()?;
