@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,bcr,metropro,al3d,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -60,6 +60,13 @@ tags = [("Version", "1"), ("TagCount", "6"), ("Cols", "3"), ("Rows", "2"), ("Pix
 a += b"".join(tag(k, v) for k, v in tags) + b"\0" * 256
 a += (struct.pack("<3f", 1e-6, 2e-6, 3e-6) + b"\0" * 4) * 2
 open(f"{s}/al3d/a3x2.al3d", "wb").write(a)
+w = ("[Control]\n    X Amplitude: 600 nm\n\n[General Info]\n    Image Data Type: short\n"
+     "    Number of columns: 3\n    Number of rows: 2\n    Z Amplitude: 10 nm\n\n"
+     "[Miscellaneous]\n    Maximum: 5\n    Minimum: 0\n\n[Header end]\n").encode()
+lead = lambda n: f"WSxM file copyright UAM\r\nSxM Image file\r\nImage header size: {n}\r\n".encode()
+n = len(lead(0)) + len(w)
+n = len(lead(n)) + len(w)
+open(f"{s}/wsxm/w3x2.top", "wb").write(lead(n) + w + struct.pack("<6h", 0, 1, 2, 3, 4, 5))
 open(f"{s}/tmd/t3x2.tmd", "wb").write(t + struct.pack("<IIffff", 3, 2, 1.5, 0.5, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32

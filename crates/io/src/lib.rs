@@ -45,6 +45,7 @@ pub mod text;
 pub mod tmd;
 pub mod up;
 mod write;
+pub mod wsxm;
 pub mod x3p;
 
 use std::path::Path;
@@ -104,6 +105,8 @@ pub enum Format {
     MetroPro,
     /// Alicona Imaging depth image.
     Al3d,
+    /// WSxM scanning-probe image.
+    Wsxm,
 }
 
 /// What a format can do with one kind of data.
@@ -316,13 +319,22 @@ pub const FORMATS: &[FormatInfo] = &[
         height: R,
         notes: "the depth image: f32 in metres, pixel sizes from the tags; invalid points refused",
     },
+    FormatInfo {
+        format: Format::Wsxm,
+        name: "WSxM image (.stp, .top, .tom, .cur)",
+        extensions: &["stp", "top", "tom", "cur"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "int16 scaled to the Z amplitude, or f32/f64 heights; sizes from the X/Y amplitudes; stored from the last sample",
+    },
 ];
 
 impl Format {
     /// The format of the file at `path`: by its extension, or, where the
     /// extension names none (instruments' own or none at all), by the magic
     /// its content starts with (SDF, Digital Surf, npy, PNG, EXR, GSF, .gwy,
-    /// PLY, TrueMap, BCR, MetroPro, Alicona).
+    /// PLY, TrueMap, BCR, MetroPro, Alicona, WSxM).
     ///
     /// # Errors
     /// [`IoError::UnknownFormat`] when neither tells (or the file cannot be
@@ -342,7 +354,8 @@ impl Format {
 
     /// The format whose magic `bytes` start with, if one does.
     pub fn from_content(bytes: &[u8]) -> Option<Format> {
-        const MAGICS: [(&[u8], Format); 10] = [
+        const MAGICS: [(&[u8], Format); 11] = [
+            (wsxm::MAGIC, Format::Wsxm),
             (al3d::MAGIC, Format::Al3d),
             (tmd::MAGIC, Format::Tmd),
             (b"aISO-1.0", Format::Sdf),
@@ -601,7 +614,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
         | Format::Tmd
         | Format::Bcr
         | Format::MetroPro
-        | Format::Al3d => Surface::Height(read_height_bytes(bytes, f)?),
+        | Format::Al3d
+        | Format::Wsxm => Surface::Height(read_height_bytes(bytes, f)?),
     })
 }
 
@@ -642,6 +656,7 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
         Format::Bcr => bcr::read_height(bytes)?,
         Format::MetroPro => metropro::read_height(bytes)?,
         Format::Al3d => al3d::read_height(bytes)?,
+        Format::Wsxm => wsxm::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     h.validate()?;

@@ -116,7 +116,12 @@ pub(crate) fn params_from_bytes(bytes: &[u8], f: Format) -> FResult<Option<Value
         Format::Gwy => gwy::meta_string(bytes, gwy::PARAMS_KEY)?,
         Format::X3p => x3p::comment(bytes)?,
         Format::Sdf => sdf::params(bytes),
-        Format::Sur | Format::Tmd | Format::Bcr | Format::MetroPro | Format::Al3d => None,
+        Format::Sur
+        | Format::Tmd
+        | Format::Bcr
+        | Format::MetroPro
+        | Format::Al3d
+        | Format::Wsxm => None,
         Format::Glb => return glb::params(bytes),
         Format::Npy | Format::Stl | Format::Xyz => None,
     };

@@ -32,7 +32,8 @@ const MAGIC: &[u8] = b"DIGITAL SURF";
 const HEADER: usize = 512;
 
 /// A unit name: its length unit and the factor to it (Å and pm to nm), or
-/// unitless for anything else (NUL- and space-padded Latin-1 text).
+/// unitless for anything else (NUL- and space-padded text, Latin-1 unless
+/// UTF-8).
 fn unit(field: &[u8]) -> (LengthUnit, f64) {
     let field = &field[..field.iter().position(|&b| b == 0).unwrap_or(field.len())];
     // Latin-1 (µ is 0xB5) unless the bytes are UTF-8.
@@ -40,6 +41,12 @@ fn unit(field: &[u8]) -> (LengthUnit, f64) {
         |_| field.iter().map(|&b| char::from(b)).collect(),
         str::to_owned,
     );
+    length_unit(&text)
+}
+
+/// A length unit's name — m, mm, µm (um), nm, Å, pm — as asperity's unit and
+/// the factor to it; anything else (V, A…) unitless with the numbers kept.
+pub(crate) fn length_unit(text: &str) -> (LengthUnit, f64) {
     match text.trim() {
         "Å" | "A°" | "Angstrom" => (LengthUnit::Nm, 0.1),
         "pm" => (LengthUnit::Nm, 1e-3),

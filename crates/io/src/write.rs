@@ -183,9 +183,12 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
         Format::Gwy => write_atomic(path, |w| gwy::write_height(w, h, title, p).map_err(os)),
         Format::X3p => write_atomic(path, |w| x3p::write_height(w, h, p).map_err(os)),
         Format::Sdf => write_atomic(path, |w| sdf::write_height(w, h, p).map_err(os)),
-        Format::Sur | Format::Tmd | Format::Bcr | Format::MetroPro | Format::Al3d => {
-            Err(wrong(path, f, "a height field"))
-        }
+        Format::Sur
+        | Format::Tmd
+        | Format::Bcr
+        | Format::MetroPro
+        | Format::Al3d
+        | Format::Wsxm => Err(wrong(path, f, "a height field")),
         Format::Ply | Format::Obj | Format::Stl | Format::Glb => {
             let mesh = h
                 .to_trimesh(opts.diagonal)

@@ -1,6 +1,6 @@
 """Instrument files read by asperity and by SurfaceTopography (issue #38): the
 example files of SurfaceTopography's own test suite (tests/data/surfacetopography,
-MIT licence: .sdf, .sur, .tmd, .bcrf, MetroPro .dat, .al3d, .x3p) and files asperity writes.
+MIT licence: .sdf, .sur, .tmd, .bcrf, MetroPro .dat, .al3d, WSxM, .x3p) and files asperity writes.
 
 For each file, asperity's shape, physical size, units and heights against
 SurfaceTopography's reader, both brought to metres. asperity cannot carry
@@ -81,6 +81,8 @@ compare(DATA / "tmd-1.tmd", "tmd-1.tmd (TrueMap)")
 compare(DATA / "bcrf-1.bcrf", "bcrf-1.bcrf (BCRF, UTF-16 header)")
 compare(DATA / "metropro-1.dat", "metropro-1.dat (Zygo MetroPro)")
 compare(DATA / "al3d-1.al3d", "al3d-1.al3d (Alicona)")
+compare(DATA / "stp-1.stp", "stp-1.stp (WSxM, double)")
+compare(DATA / "top-1.top", "top-1.top (WSxM, int16)")
 compare(DATA / "x3p-2.x3p", "x3p-2.x3p (an instrument's x3p)")
 for name in ["sur-2.sur", "sur-3.sur"]:
     # The instrument's files have unmeasured points: refused, with ST's count.

@@ -193,8 +193,8 @@ fn empty_meshes_and_point_sets() {
     assert!(message(asperity_io::read_mesh(&p)).contains("has no faces"));
 }
 
-/// Every prefix of a valid SDF, Digital Surf, TrueMap, BCR, MetroPro and Alicona
-/// file that ends before its data does is refused with a message (truncation),
+/// Every prefix of a valid SDF, Digital Surf, TrueMap, BCR, MetroPro, Alicona and
+/// WSxM file that ends before its data does is refused with a message (truncation),
 /// never read short.
 #[test]
 fn truncated_instrument_files_are_refused() {
@@ -207,6 +207,7 @@ fn truncated_instrument_files_are_refused() {
         ("bcr", "b3x2.bcrf"),
         ("metropro", "m3x2.dat"),
         ("al3d", "a3x2.al3d"),
+        ("wsxm", "w3x2.top"),
     ] {
         let whole = std::fs::read(seeds.join(dir).join(name)).unwrap();
         // A text SDF's data ends at its second `*` line; the trailer after it
