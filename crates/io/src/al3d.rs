@@ -113,7 +113,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     }
     if missing > 0 {
         return unsupported(format!(
-            "{missing} of {} points were not measured (invalid depth); asperity cannot carry missing points yet",
+            "{missing} of {} points were not measured (invalid depth), and missing points are not supported yet",
             nx * ny
         ));
     }

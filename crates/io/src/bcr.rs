@@ -163,7 +163,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .collect();
     if void > 0 {
         return unsupported(format!(
-            "{void} of {} points are void (not measured); asperity cannot carry missing points yet",
+            "{void} of {} points are void (not measured), and missing points are not supported yet",
             nx * ny
         ));
     }

@@ -89,7 +89,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let invalid = phases.iter().filter(|&&p| p >= INVALID).count();
     if invalid > 0 {
         return unsupported(format!(
-            "{invalid} of {} points were not measured (invalid phase); asperity cannot carry missing points yet",
+            "{invalid} of {} points were not measured (invalid phase), and missing points are not supported yet",
             nx * ny
         ));
     }

@@ -81,7 +81,7 @@ impl Header {
     fn field(&self, values: Vec<f64>, missing: usize) -> FResult<HeightField> {
         if missing > 0 {
             return Err(FormatError::Unsupported(format!(
-                "{missing} of {} points are marked as not measured (BAD); asperity cannot carry missing points yet",
+                "{missing} of {} points are marked as not measured (BAD), and missing points are not supported yet",
                 values.len()
             )));
         }

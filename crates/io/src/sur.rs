@@ -142,7 +142,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         let missing = raw.iter().filter(|&&v| i64::from(v) == marker).count();
         if missing > 0 {
             return unsupported(format!(
-                "{missing} of {n} points were not measured (marked zmin − 2); asperity cannot carry missing points yet"
+                "{missing} of {n} points were not measured (marked zmin − 2), and missing points are not supported yet"
             ));
         }
     }
