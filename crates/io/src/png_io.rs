@@ -168,18 +168,122 @@ pub(crate) fn text_chunk(bytes: &[u8], key: &str) -> FResult<Option<String>> {
         .map(|t| t.text.clone()))
 }
 
+/// A PNG's `tEXt` chunks.
+struct TextKeys(Vec<(String, String)>);
+
+impl TextKeys {
+    fn text(&self, key: &str) -> Option<&str> {
+        self.0
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_str())
+    }
+
+    fn number(&self, key: &str) -> FResult<Option<f64>> {
+        self.text(key)
+            .map(|v| {
+                v.trim().parse().map_err(|_| {
+                    FormatError::Malformed(format!("tEXt {key} = {v:?} is not a number"))
+                })
+            })
+            .transpose()
+    }
+}
+
+/// What a height map's keys say.
+struct Geometry {
+    range: (f64, f64),
+    spacing: Option<[f64; 2]>,
+    origin: Option<[f64; 2]>,
+    units: Units,
+}
+
+/// asperity's keys; else Gwyddion's (a PNG Gwyddion exported); else the
+/// range [0, 1] and no geometry.
+fn geometry(keys: &TextKeys, nx: usize, ny: usize) -> FResult<Geometry> {
+    let ours = |k: &str| keys.number(&format!("asperity:{k}"));
+    let gwy = |k: &str| keys.number(&format!("Gwy::{k}"));
+    // Both of a pair, or neither: half a pair is a damaged file, not a default.
+    let pair = |a: &str, b: &str| -> FResult<Option<[f64; 2]>> {
+        match (ours(a)?, ours(b)?) {
+            (Some(x), Some(y)) => Ok(Some([x, y])),
+            (None, None) => Ok(None),
+            _ => malformed(format!(
+                "tEXt has one of asperity:{a} and asperity:{b} but not both"
+            )),
+        }
+    };
+    let range = pair("z_min", "z_max")?;
+    let (spacing, origin) = (pair("dx", "dy")?, pair("x0", "y0")?);
+    if range.is_some() || spacing.is_some() {
+        let unit = |k: &str| -> FResult<LengthUnit> {
+            keys.text(&format!("asperity:{k}"))
+                .map_or(Ok(LengthUnit::None), |v| {
+                    LengthUnit::parse(v)
+                        .map_err(|e| FormatError::Malformed(format!("tEXt asperity:{k}: {e}")))
+                })
+        };
+        let [lo, hi] = range.unwrap_or([0.0, 1.0]);
+        let units = Units {
+            xy: unit("xy_unit")?,
+            z: unit("z_unit")?,
+        };
+        return Ok(Geometry {
+            range: (lo, hi),
+            spacing,
+            origin,
+            units,
+        });
+    }
+    let range = match (gwy("ZMin")?, gwy("ZMax")?) {
+        (Some(lo), Some(hi)) => (lo, hi),
+        _ => (0.0, 1.0),
+    };
+    let (mut spacing, mut origin) = (None, None);
+    if let (Some(xr), Some(yr)) = (gwy("XReal")?, gwy("YReal")?) {
+        // Gwyddion's extent covers whole pixels and its offset is the first
+        // pixel's edge (as in GSF): samples sit at the pixels' centres.
+        let d = [xr / nx as f64, yr / ny as f64];
+        let edge = [
+            gwy("XOffset")?.unwrap_or(0.0),
+            gwy("YOffset")?.unwrap_or(0.0),
+        ];
+        spacing = Some(d);
+        origin = Some([edge[0] + 0.5 * d[0], edge[1] + 0.5 * d[1]]);
+    }
+    // Gwyddion writes base units ("m"); a unit that is not a length (V, A…)
+    // leaves the numbers unitless.
+    let unit = |k: &str| {
+        keys.text(&format!("Gwy::{k}"))
+            .and_then(|v| LengthUnit::parse(v).ok())
+            .unwrap_or_default()
+    };
+    let units = Units {
+        xy: unit("XYUnit"),
+        z: unit("ZUnit"),
+    };
+    Ok(Geometry {
+        range,
+        spacing,
+        origin,
+        units,
+    })
+}
+
 /// Reads any PNG as a height field (see the module docs).
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let err = decoding_error;
     let mut dec = png::Decoder::new(Cursor::new(bytes));
     dec.set_transformations(png::Transformations::EXPAND);
     let mut reader = dec.read_info().map_err(err)?;
-    let text: Vec<(String, String)> = reader
-        .info()
-        .uncompressed_latin1_text
-        .iter()
-        .map(|t| (t.keyword.clone(), t.text.clone()))
-        .collect();
+    let keys = TextKeys(
+        reader
+            .info()
+            .uncompressed_latin1_text
+            .iter()
+            .map(|t| (t.keyword.clone(), t.text.clone()))
+            .collect(),
+    );
     let size = reader
         .output_buffer_size()
         .ok_or_else(|| FormatError::Malformed("image too large".into()))?;
@@ -203,27 +307,8 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             _ => 0.2126 * sample(b) + 0.7152 * sample(b + 1) + 0.0722 * sample(b + 2),
         }
     };
-    let get = |key: &str| -> FResult<Option<f64>> {
-        match text.iter().find(|(k, _)| k == &format!("asperity:{key}")) {
-            None => Ok(None),
-            Some((_, v)) => v.trim().parse().map(Some).map_err(|_| {
-                FormatError::Malformed(format!("tEXt asperity:{key} = {v:?} is not a number"))
-            }),
-        }
-    };
-    // Gwyddion's keys, for a PNG Gwyddion exported (no asperity: keys).
-    let gwy = |key: &str| -> FResult<Option<f64>> {
-        match text.iter().find(|(k, _)| k == &format!("Gwy::{key}")) {
-            None => Ok(None),
-            Some((_, v)) => v.trim().parse().map(Some).map_err(|_| {
-                FormatError::Malformed(format!("tEXt Gwy::{key} = {v:?} is not a number"))
-            }),
-        }
-    };
-    let (lo, hi) = match (get("z_min")?, get("z_max")?, gwy("ZMin")?, gwy("ZMax")?) {
-        (Some(lo), Some(hi), ..) | (None, None, Some(lo), Some(hi)) => (lo, hi),
-        _ => (0.0, 1.0),
-    };
+    let g = geometry(&keys, nx, ny)?;
+    let (lo, hi) = g.range;
     if !(lo.is_finite() && hi.is_finite()) {
         return malformed("recorded height range is not finite");
     }
@@ -235,58 +320,9 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let data = (0..nx * ny)
         .map(|p| lo + lum(p) / max * (hi - lo))
         .collect();
-    // Both of a pair, or neither: half a pair is a damaged file, not a default.
-    let pair = |a: &str, b: &str| -> FResult<Option<[f64; 2]>> {
-        match (get(a)?, get(b)?) {
-            (Some(x), Some(y)) => Ok(Some([x, y])),
-            (None, None) => Ok(None),
-            _ => malformed(format!(
-                "tEXt has one of asperity:{a} and asperity:{b} but not both"
-            )),
-        }
-    };
-    let (mut spacing, mut origin) = (pair("dx", "dy")?, pair("x0", "y0")?);
-    let ours = spacing.is_some() || get("z_min")?.is_some();
-    if let (false, Some(xr), Some(yr)) = (ours, gwy("XReal")?, gwy("YReal")?) {
-        // Gwyddion's extent covers whole pixels and its offset is the first
-        // pixel's edge (as in GSF): samples sit at the pixels' centres.
-        let d = [xr / nx as f64, yr / ny as f64];
-        let edge = [
-            gwy("XOffset")?.unwrap_or(0.0),
-            gwy("YOffset")?.unwrap_or(0.0),
-        ];
-        spacing = Some(d);
-        origin = Some([edge[0] + 0.5 * d[0], edge[1] + 0.5 * d[1]]);
-    }
-    let unit = |key: &str| -> FResult<LengthUnit> {
-        match text.iter().find(|(k, _)| k == &format!("asperity:{key}")) {
-            None => Ok(LengthUnit::None),
-            Some((_, v)) => LengthUnit::parse(v)
-                .map_err(|e| FormatError::Malformed(format!("tEXt asperity:{key}: {e}"))),
-        }
-    };
-    // Gwyddion writes base units ("m"); a unit that is not a length (V, A…)
-    // leaves the numbers unitless.
-    let gwy_unit = |key: &str| {
-        text.iter()
-            .find(|(k, _)| k == &format!("Gwy::{key}"))
-            .and_then(|(_, v)| LengthUnit::parse(v).ok())
-            .unwrap_or_default()
-    };
-    let units = if ours {
-        Units {
-            xy: unit("xy_unit")?,
-            z: unit("z_unit")?,
-        }
-    } else {
-        Units {
-            xy: gwy_unit("XYUnit"),
-            z: gwy_unit("ZUnit"),
-        }
-    };
     Ok(HeightField::from_vec([nx, ny], data)?
-        .with_geometry(spacing, origin)?
-        .with_units(units))
+        .with_geometry(g.spacing, g.origin)?
+        .with_units(g.units))
 }
 
 #[cfg(test)]

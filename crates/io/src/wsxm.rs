@@ -44,27 +44,21 @@ fn amplitude(v: &str) -> FResult<(f64, &str)> {
     Ok((num, unit.trim()))
 }
 
-/// Reads a WSxM image.
-pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
-    if !bytes.starts_with(MAGIC) {
-        return malformed("missing the `WSxM file copyright` line");
-    }
-    let latin1 = |b: &[u8]| -> String { b.iter().map(|&c| char::from(c)).collect() };
-    let text = latin1(&bytes[..bytes.len().min(1 << 20)]);
-    let mut lines = text.lines();
-    let (_, kind, size) = (lines.next(), lines.next(), lines.next());
-    if kind.map(str::trim) != Some("SxM Image file") {
-        return malformed("the second line is not `SxM Image file` (not an image)");
-    }
-    let size: usize = size
-        .and_then(|l| l.trim().strip_prefix("Image header size:"))
-        .and_then(|n| n.trim().parse().ok())
-        .ok_or_else(|| FormatError::Malformed("no `Image header size:` line".into()))?;
-    let head = latin1(&bytes[..size.min(bytes.len())]);
-    if !head.contains("[Header end]") {
-        return malformed("the header has no `[Header end]` within its size (truncated?)");
-    }
-    let h = header(&head);
+/// What the header says about the samples.
+struct Layout {
+    nx: usize,
+    ny: usize,
+    /// Bytes a sample.
+    size_of: usize,
+    /// Height per stored unit, in `units.z`.
+    scale: f64,
+    /// The field's size, in `units.xy`.
+    extent: [f64; 2],
+    units: Units,
+}
+
+/// The samples' layout from the header's values.
+fn layout(h: &HashMap<String, String>) -> FResult<Layout> {
     let get = |k: &str| {
         h.get(k)
             .ok_or_else(|| FormatError::Malformed(format!("the header has no {k}")))
@@ -76,10 +70,6 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             .filter(|&n: &usize| n > 0)
             .ok_or_else(|| FormatError::Malformed(format!("{k} = {v:?} is not a positive count")))
     };
-    let (nx, ny) = (
-        count("General Info/Number of columns")?,
-        count("General Info/Number of rows")?,
-    );
     let kind = h
         .get("General Info/Image Data Type")
         .map_or("short", String::as_str);
@@ -104,24 +94,59 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let (yu, fy) = length_unit(y_unit);
     // y in x's unit.
     let to_x = yu.metres().unwrap_or(1.0) / xu.metres().unwrap_or(1.0);
-    let (lx, ly) = (x_amp * fx, y_amp * fy * to_x);
-    for (k, v) in [("X Amplitude", lx), ("Y Amplitude", ly)] {
+    let extent = [x_amp * fx, y_amp * fy * to_x];
+    for (k, v) in ["X Amplitude", "Y Amplitude"].into_iter().zip(extent) {
         if !(v.is_finite() && v > 0.0) {
             return malformed(format!("{k} {v} is not a positive length"));
         }
     }
-    let scale = if size_of == 2 {
-        let range = h
-            .get("Miscellaneous/Maximum")
-            .zip(h.get("Miscellaneous/Minimum"))
-            .and_then(|(a, b)| Some(a.parse::<f64>().ok()? - b.parse::<f64>().ok()?));
-        match range {
-            Some(r) if r > 0.0 => z_amp / r,
-            _ => 1.0,
-        }
-    } else {
-        1.0
-    } * fz;
+    // Integers span the Z amplitude over Minimum…Maximum.
+    let range = h
+        .get("Miscellaneous/Maximum")
+        .zip(h.get("Miscellaneous/Minimum"))
+        .and_then(|(a, b)| Some(a.parse::<f64>().ok()? - b.parse::<f64>().ok()?));
+    let per_unit = match range {
+        Some(r) if size_of == 2 && r > 0.0 => z_amp / r,
+        _ => 1.0,
+    };
+    Ok(Layout {
+        nx: count("General Info/Number of columns")?,
+        ny: count("General Info/Number of rows")?,
+        size_of,
+        scale: per_unit * fz,
+        extent,
+        units: Units { xy: xu, z: zu },
+    })
+}
+
+/// Reads a WSxM image.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    if !bytes.starts_with(MAGIC) {
+        return malformed("missing the `WSxM file copyright` line");
+    }
+    let latin1 = |b: &[u8]| -> String { b.iter().map(|&c| char::from(c)).collect() };
+    let text = latin1(&bytes[..bytes.len().min(1 << 20)]);
+    let mut lines = text.lines();
+    let (_, kind, size) = (lines.next(), lines.next(), lines.next());
+    if kind.map(str::trim) != Some("SxM Image file") {
+        return malformed("the second line is not `SxM Image file` (not an image)");
+    }
+    let size: usize = size
+        .and_then(|l| l.trim().strip_prefix("Image header size:"))
+        .and_then(|n| n.trim().parse().ok())
+        .ok_or_else(|| FormatError::Malformed("no `Image header size:` line".into()))?;
+    let head = latin1(&bytes[..size.min(bytes.len())]);
+    if !head.contains("[Header end]") {
+        return malformed("the header has no `[Header end]` within its size (truncated?)");
+    }
+    let Layout {
+        nx,
+        ny,
+        size_of,
+        scale,
+        extent,
+        units,
+    } = layout(&header(&head))?;
     let need = nx
         .checked_mul(ny)
         .and_then(|n| n.checked_mul(size_of))
@@ -144,13 +169,14 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
                 }
         })
         .collect();
+    // Stored from the last sample.
     data.reverse();
     if data.iter().any(|z| !z.is_finite()) {
         return malformed("a sample is not finite");
     }
     Ok(HeightField::from_vec([nx, ny], data)?
-        .with_spacing([lx / nx as f64, ly / ny as f64])?
-        .with_units(Units { xy: xu, z: zu }))
+        .with_spacing([extent[0] / nx as f64, extent[1] / ny as f64])?
+        .with_units(units))
 }
 
 #[cfg(test)]
