@@ -92,6 +92,17 @@ for name in ["sur-2.sur", "sur-3.sur"]:
           p.returncode != 0 and f"{masked} of" in p.stderr and "not measured" in p.stderr, p.stderr.strip())
     compare(all_points(name), f"{name} (every point)")
 
+# Files SurfaceTopography refuses, asperity refuses too, naming the problem.
+for name, problem in [("wrongnpyfile.npy", "magic"), ("nonsense_txt_file.txt", "is not a number")]:
+    try:
+        read_topography(str(DATA / name))
+        st_refuses = False
+    except Exception:
+        st_refuses = True
+    p = run(BIN, "--quiet", "info", DATA / name, check=False)
+    check(f"{name}: refused by both, asperity naming the problem",
+          st_refuses and p.returncode != 0 and problem in p.stderr, p.stderr.strip())
+
 # asperity writes, SurfaceTopography reads.
 nx, ny, dx, dy = 24, 18, 0.5, 0.25  # µm
 rng = np.random.default_rng(5)
