@@ -125,7 +125,7 @@ dla = Job(
                            "``resolution`` cells along its longest axis."),
             ("image", None, "a :class:`HeightField` whose bright columns seed a plane deposit "
                             "(``seed_shape='image'``), with probability up to ``seed_density``."),
-            ("walkers", None, "concurrent walks (default: one a core; more measure what a bigger "
+            ("walkers", None, "concurrent walks (default: one a core, at most 4; more measure what a bigger "
                               "machine would see, in ``measurements['walkers']``); the cluster is the "
                               "same for any number.")],
     returns="Returns a :class:`Result` with ``points`` (a :class:`PointSet`, seeds first, in "

@@ -384,7 +384,8 @@ pub struct DlaArgs {
     /// Write plots (SVG and PNG): R_g(n), and the density profile ρ(z) in plane modes.
     #[arg(long, value_name = "DIR")]
     pub plot: Option<PathBuf>,
-    /// Concurrent walks (default: one a core). More than the cores measures the concurrency
+    /// Concurrent walks (default: one a core, at most 4, past which they mostly wait on each
+    /// other). More than the cores measures the concurrency
     /// a larger machine would see (--json: walkers); the cluster is the same for any number.
     #[arg(long, value_name = "N")]
     pub walkers: Option<usize>,

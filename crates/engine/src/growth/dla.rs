@@ -141,7 +141,8 @@ pub struct SeedInputs {
     pub mesh: Option<TriMesh>,
     /// The seed-density image (`seed_shape` image).
     pub image: Option<HeightField>,
-    /// Concurrent walkers (default: one a core of the current pool). More
+    /// Concurrent walkers (default: one a core of the current pool, at most
+    /// `DEFAULT_WALKERS_MAX`). More
     /// than the cores measure the concurrency a larger machine would see; the
     /// cluster is the same for any number.
     pub walkers: Option<usize>,

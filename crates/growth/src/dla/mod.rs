@@ -362,9 +362,18 @@ fn coarse_shift(size: [usize; 3], periodic: bool) -> u32 {
 const DIRS3: [[i32; 3]; 6] = crate::occupancy::FACE_NEIGHBOURS;
 const DIRS2: [[i32; 3]; 4] = [[-1, 0, 0], [1, 0, 0], [0, 0, -1], [0, 0, 1]];
 
+/// The most walkers [`dla`] starts by default. Measured on a 16-core Xeon
+/// (10⁶ particles, point seed, whole process; BENCHMARKS.md, 2026-11-28
+/// "16 cores"): 1 walker 22.6 s, 2: 13.2 s, 4: 10.9 s, 8: 12.7 s, 16: 21.4 s.
+/// Past four the commits, made one at a time under the ledger's lock, are
+/// the bottleneck and the walkers mostly wait (16 walkers: 175 s of lock
+/// waits summed over them). `--walkers` still asks for more.
+pub const DEFAULT_WALKERS_MAX: usize = 4;
+
 /// Grows a DLA cluster with the generator of run `run` under `seed`, with
-/// walkers on every thread of the current pool, at most one a core (the
-/// cluster does not depend on their number, see [`dla_with_walkers`]).
+/// walkers on every thread of the current pool, at most one a core and at
+/// most [`DEFAULT_WALKERS_MAX`] (the cluster does not depend on their number,
+/// see [`dla_with_walkers`]).
 ///
 /// # Errors
 /// Invalid parameters, capacity or memory (see [`DlaParams::validate`]).
@@ -378,7 +387,9 @@ pub fn dla(
     // More walkers than cores only wait for each other (a walk preempted
     // midway holds back the commits); the cluster is the same either way.
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let walkers = rayon::current_num_threads().min(cores);
+    let walkers = rayon::current_num_threads()
+        .min(cores)
+        .min(DEFAULT_WALKERS_MAX);
     dla_with_walkers(params, seed, run, budget, progress, walkers)
 }
 
