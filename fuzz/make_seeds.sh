@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -67,6 +67,12 @@ lead = lambda n: f"WSxM file copyright UAM\r\nSxM Image file\r\nImage header siz
 n = len(lead(0)) + len(w)
 n = len(lead(n)) + len(w)
 open(f"{s}/wsxm/w3x2.top", "wb").write(lead(n) + w + struct.pack("<6h", 0, 1, 2, 3, 4, 5))
+p = bytearray(500)
+struct.pack_into("<II", p, 388, 2, 3)
+struct.pack_into("<ff", p, 404, 0.5, 0.25)
+struct.pack_into("<I", p, 428, 3)
+p[489] = 1
+open(f"{s}/plu/p3x2.plu", "wb").write(bytes(p) + struct.pack("<II", 2, 3) + struct.pack("<6f", 1, 2, 3, 1000001, 5, 6) + b"\0" * 8)
 open(f"{s}/tmd/t3x2.tmd", "wb").write(t + struct.pack("<IIffff", 3, 2, 1.5, 0.5, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32

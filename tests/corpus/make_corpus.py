@@ -157,7 +157,9 @@ NPY_BAD = {
     "npy_object": npy("|O", "(2, 2)", b"\0" * 64),
     "npy_three_dims": npy("<f8", "(2, 2, 2)", b"\0" * 64),
     "npy_empty_shape": npy("<f8", "(0, 0)", b""),
-    "npy_nan": npy("<f8", "(1, 2)", struct.pack("<2d", 1.0, float("nan"))),
+    # NaN is a missing point (issue #38); infinity is never a height.
+    "npy_inf": npy("<f8", "(1, 2)", struct.pack("<2d", 1.0, float("inf"))),
+    "npy_all_missing": npy("<f8", "(2, 2)", struct.pack("<4d", *[float("nan")] * 4)),
     "npy_bad_version": npy("<f8", "(1, 1)", b"\0" * 8, version=b"\x09\x00"),
     "npy_header_past_end": b"\x93NUMPY\x01\x00\xff\xff{'descr': '<f8'",
     "npy_no_shape": b"\x93NUMPY\x01\x00" + struct.pack("<H", 46) + b"{'descr': '<f8', 'fortran_order': False, }   \n",
@@ -167,7 +169,7 @@ NPY_BAD = {
 for name, data in NPY_BAD.items():
     f = file(name + ".npy", data)
     case(name + "_analyze", ["analyze", f], output="out.txt")
-for name in ["npy_truncated", "npy_huge_shape", "npy_nan"]:
+for name in ["npy_truncated", "npy_huge_shape", "npy_inf", "npy_all_missing"]:
     case(name + "_render", ["render", name + ".npy", "-o", "out.png"], output="out.png")
     case(name + "_facet", ["facet", name + ".npy", "-o", "out.ply"])
 
@@ -228,7 +230,7 @@ GSF_BAD = {
     "gsf_zero_yreal": gsf([("XRes", "2"), ("YRes", "2"), ("YReal", "0")], struct.pack("<4f", 0, 1, 2, 3)),
     "gsf_truncated": gsf([("XRes", "4"), ("YRes", "4")], struct.pack("<4f", 0, 1, 2, 3)),
     "gsf_huge": gsf([("XRes", "100000"), ("YRes", "100000")], struct.pack("<4f", 0, 1, 2, 3)),
-    "gsf_nan": gsf([("XRes", "2"), ("YRes", "1")], struct.pack("<2f", 0, float("nan"))),
+    "gsf_inf": gsf([("XRes", "2"), ("YRes", "1")], struct.pack("<2f", 0, float("inf"))),
     "gsf_words": gsf([("XRes", "two"), ("YRes", "2")]),
     "gsf_no_padding": gsf([("XRes", "1"), ("YRes", "1")], b"", pad=False),
 }
@@ -239,7 +241,7 @@ for name, data in GSF_BAD.items():
 CSV_BAD = {
     "csv_ragged": "1,2,3\n4,5\n",
     "csv_word": "1,2\n3,x\n",
-    "csv_nan": "1,2\n3,nan\n",
+    "csv_inf": "1,2\n3,inf\n",
     "csv_empty": "",
     "csv_only_comments": "# nothing here\n",
     "csv_bad_geometry": "# asperity dx=-1 dy=1 x0=0 y0=0\n1,2\n3,4\n",

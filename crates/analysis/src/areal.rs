@@ -101,6 +101,51 @@ fn moments([a, q2, q3, q4, hi, lo]: [f64; 6], n: usize) -> (f64, f64, f64, f64, 
     (a / n, sq, hi, -lo, q3 / n / sq.powi(3), q4 / n / sq.powi(4))
 }
 
+/// The height parameters of a field with missing points, over its measured
+/// points alone (the amplitude parameters of ISO 25178-2 §4.1 are means over
+/// the evaluation area, which here is the measured part; SurfaceTopography's
+/// `rms_height_from_area` of a masked topography is the same Sq).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[allow(non_snake_case)]
+pub struct MeasuredHeights {
+    /// Arithmetic mean height.
+    pub Sa: f64,
+    /// Root-mean-square height.
+    pub Sq: f64,
+    /// Maximum peak height.
+    pub Sp: f64,
+    /// Maximum pit depth (positive).
+    pub Sv: f64,
+    /// Maximum height Sp + Sv.
+    pub Sz: f64,
+    /// Skewness.
+    pub Ssk: f64,
+    /// Kurtosis.
+    pub Sku: f64,
+    /// Measured points.
+    pub points: usize,
+}
+
+/// [`MeasuredHeights`] of an already-levelled field, its NaN heights left out.
+///
+/// # Errors
+/// [`AnalysisError::Core`] for an infinite height or no measured point.
+pub fn measured_heights(h: &HeightField) -> Result<MeasuredHeights, AnalysisError> {
+    h.validate_measured()?;
+    let z = h.measured_values();
+    let (sa, sq, sp, sv, ssk, sku) = moments(field_moment_sums(&z), z.len());
+    Ok(MeasuredHeights {
+        Sa: sa,
+        Sq: sq,
+        Sp: sp,
+        Sv: sv,
+        Sz: sp + sv,
+        Ssk: ssk,
+        Sku: sku,
+        points: z.len(),
+    })
+}
+
 /// [`moment_sums`] of a whole field: per task of a fixed size, then in order.
 fn field_moment_sums(z: &[f64]) -> [f64; 6] {
     let parts = fold_range(

@@ -77,14 +77,26 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
 
 /// The field minus the chosen reference surface.
 ///
+/// Missing points (NaN heights, see [`crate::fill`]) take no part in the
+/// least-squares fit and stay missing: the reference is fitted to the
+/// measured points alone.
+///
 /// # Errors
-/// [`AnalysisError::BadInput`] for NaN heights or a grid too small to fit the surface.
+/// [`AnalysisError::BadInput`] for a grid too small to fit the surface, or
+/// slope levelling (which reads the edges) of a field with missing points;
+/// [`AnalysisError::Core`] for an infinite height or no measured point.
 pub fn level(h: &HeightField, how: Level) -> Result<HeightField, AnalysisError> {
-    h.validate()?;
+    h.validate_measured()?;
     let [nx, ny] = h.dims();
     let profile = ny == 1;
     let basis: fn(f64, f64) -> Basis = match (how, profile) {
         (Level::None, _) => return Ok(h.clone()),
+        (Level::Slope, _) if h.has_missing() => {
+            return Err(AnalysisError::BadInput(format!(
+                "slope levelling reads the edges, and {} points are missing: use plane levelling",
+                h.missing_count()
+            )));
+        }
         (Level::Slope, _) => return Ok(slope_levelled(h)),
         (Level::Mean, _) => |_, _| [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
         (Level::Plane, false) => |x, y| [1.0, x, y, 0.0, 0.0, 0.0],
@@ -119,6 +131,9 @@ pub fn level(h: &HeightField, how: Level) -> Result<HeightField, AnalysisError> 
             let (mut ata, mut atz) = ([[0.0; 6]; 6], [0.0; 6]);
             for j in block * ROWS_PER_TASK..((block + 1) * ROWS_PER_TASK).min(ny) {
                 for (i, &z) in h.row(j).iter().enumerate() {
+                    if z.is_nan() {
+                        continue;
+                    }
                     let (x, y) = coord(i, j);
                     let f = basis(x, y);
                     for r in 0..m {

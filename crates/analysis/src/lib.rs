@@ -7,6 +7,7 @@
 //! | [`spectrum`] | the half spectrum of a real field (real-to-complex 2-D FFT), shared by the PSD and the ACF | Hermitian symmetry |
 //! | [`psd`] | 2-D PSD, radially averaged log-binned 1-D PSD, Hurst exponent | SurfaceTopography conventions |
 //! | [`correlation`] | ACF, HHCF, Sal, Str | ISO 25178-2 |
+//! | [`fill`] | missing points filled (harmonic: the discrete Laplace equation; or the mean) | SurfaceTopography `interpolate_undefined_data` |
 //! | [`fractal`] | triangulation and partitioning dimensions | Clarke 1986; variance method |
 //! | [`scaling`] | β (plain, intrinsic width), α, cluster dimensions (R_g, mass–radius) | kim-machiraju-thompson §4 |
 //! | [`synthesis`] | self-affine surfaces by FFT Fourier filtering (`asperity generate fbm`) | kim-machiraju-thompson §2 (fractal methods) |
@@ -18,6 +19,7 @@
 
 pub mod areal;
 pub mod correlation;
+pub mod fill;
 pub mod fractal;
 pub mod hurst;
 pub mod level;

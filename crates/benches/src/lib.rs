@@ -18,6 +18,6 @@ pub fn surface(n: usize) -> HeightField {
 pub fn surface_mesh(n: usize) -> TriMesh {
     let h = surface(n);
     benchmark_mesh(n, &MemoryBudget::unlimited())
-        .and_then(|m| m.with_scalar("height", h.data().to_vec()))
+        .and_then(|m| m.with_scalar("height", h.measured_values()))
         .expect("valid mesh")
 }

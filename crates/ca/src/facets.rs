@@ -35,7 +35,7 @@ use crate::CaError;
 pub fn facet_mesh(h: &HeightField, flat: bool) -> Result<TriMesh, CaError> {
     let shared = h
         .to_trimesh(Diagonal::Alternating)?
-        .with_scalar("height", h.data().to_vec())?;
+        .with_scalar("height", h.measured_values())?;
     if !flat {
         return Ok(shared);
     }
@@ -59,8 +59,8 @@ pub fn facet_mesh(h: &HeightField, flat: bool) -> Result<TriMesh, CaError> {
         .with_scalar("height", z)?)
 }
 
-/// z at physical (x, y) on the facets, `None` outside the grid or for a grid
-/// smaller than 2×2.
+/// z at physical (x, y) on the facets, `None` outside the grid, on a facet
+/// with a missing corner (a NaN height), or for a grid smaller than 2×2.
 pub fn interpolate(h: &HeightField, x: f64, y: f64) -> Option<f64> {
     let [nx, ny] = h.dims();
     if nx < 2 || ny < 2 || !x.is_finite() || !y.is_finite() {
@@ -90,7 +90,7 @@ pub fn interpolate(h: &HeightField, x: f64, y: f64) -> Option<f64> {
     let z = |a: usize, b: usize| *h.get(a, b);
     let (z1, z2, z3, z4) = (z(i, j), z(i + 1, j), z(i + 1, j + 1), z(i, j + 1));
     // The table's formulas, written as barycentric sums so nodes come out exactly.
-    Some(if (i + j).is_multiple_of(2) {
+    let z = if (i + j).is_multiple_of(2) {
         if v <= u {
             (1.0 - u) * z1 + (u - v) * z2 + v * z3
         } else {
@@ -100,7 +100,8 @@ pub fn interpolate(h: &HeightField, x: f64, y: f64) -> Option<f64> {
         (1.0 - u - v) * z1 + u * z2 + v * z4
     } else {
         (1.0 - v) * z2 + (u + v - 1.0) * z3 + (1.0 - u) * z4
-    })
+    };
+    (!z.is_nan()).then_some(z)
 }
 
 /// [`interpolate`] over many points, in parallel.

@@ -65,8 +65,11 @@ fn text_report(facts: &serde_json::Map<String, Value>) -> anyhow::Result<()> {
                 "non-periodic"
             },
             p["source"].as_str().unwrap_or("?"),
-            facts["levelling"].as_str().unwrap_or("?"),
-            facts["window"].as_str().unwrap_or("?"),
+            facts
+                .get("levelling")
+                .and_then(Value::as_str)
+                .unwrap_or("?"),
+            facts.get("window").and_then(Value::as_str).unwrap_or("?"),
         );
     }
     if let Some(Value::Object(est)) = facts.get("hurst_estimates") {

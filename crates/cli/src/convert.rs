@@ -43,6 +43,16 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
         ));
         run.report.measure("repair", r);
     }
+    if let Some(f) = &done.filled {
+        run.note(format!(
+            "filled {} missing points ({} iterations)",
+            f.missing, f.iterations
+        ));
+        run.report.measure(
+            "filled",
+            serde_json::json!({"points": f.missing, "iterations": f.iterations, "residual": f.residual}),
+        );
+    }
     let info = out_format.info();
     if !fits(&s, out_format) {
         bail!(
@@ -67,7 +77,7 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
     let recipe = asperity_engine::io::read_params(&a.input).unwrap_or_default();
     let changed = {
         let p = &job.params;
-        p.as_kind.is_some() || p.spacing.is_some() || p.repair
+        p.as_kind.is_some() || p.spacing.is_some() || p.repair || done.filled.is_some()
     };
     if changed && recipe.is_some() {
         run.note(format!(

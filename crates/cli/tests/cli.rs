@@ -102,12 +102,20 @@ fn malformed_inputs_through_the_cli() {
     std::fs::write(d.path().join("t.ply"), b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n").unwrap();
     fails(d.path(), &["convert", "t.ply", "t.obj"], "truncated");
     assert!(!d.path().join("t.obj").exists());
-    std::fs::write(d.path().join("n.csv"), b"1,2\nnan,4\n").unwrap();
+    std::fs::write(d.path().join("n.csv"), b"1,2\ninf,4\n").unwrap();
     fails(
         d.path(),
         &["convert", "n.csv", "n.npy"],
         "height 2 is not finite",
     );
+    // NaN is a missing point: carried by .npy, refused by PNG with the count.
+    std::fs::write(d.path().join("m.csv"), b"1,2\nnan,4\n").unwrap();
+    fails(
+        d.path(),
+        &["convert", "m.csv", "m.png"],
+        "1 of 4 points were not measured",
+    );
+    assert!(!d.path().join("m.png").exists());
     std::fs::write(
         d.path().join("b.obj"),
         b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 5\n",

@@ -153,7 +153,7 @@ fn gwyddion_reads_our_height_fields_and_we_read_its_gwy() {
             demo().as_os_str(),
         ],
     );
-    assert_eq!(checks, 91, "every check ran");
+    assert_eq!(checks, 97, "every check ran");
 }
 
 #[test]
@@ -182,7 +182,7 @@ fn instrument_files_read_as_surface_topography_reads_them() {
             work.path().as_os_str(),
         ],
     );
-    assert_eq!(checks, 58, "every check ran");
+    assert_eq!(checks, 90, "every check ran");
 }
 
 #[test]

@@ -40,6 +40,22 @@ pub enum CoreError {
         /// The value itself.
         value: f64,
     },
+    /// A height field has unmeasured points (NaN heights) where a step needs a
+    /// height at every point.
+    #[error(
+        "{missing} of {total} points were not measured (missing heights); {what} needs a height \
+         at every point: fill them first (`asperity convert --fill harmonic`) \
+         or keep them in a format that carries them (.npy, .x3p, .gwy, \
+         .gsf, .exr)"
+    )]
+    MissingPoints {
+        /// Unmeasured points.
+        missing: usize,
+        /// All points.
+        total: usize,
+        /// The step that needs them ("a mesh", "the PSD", …).
+        what: String,
+    },
     /// A per-vertex (or per-point) array has the wrong length.
     #[error("{what} has {got} entries but there are {expected} vertices")]
     LengthMismatch {

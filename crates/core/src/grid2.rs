@@ -281,20 +281,80 @@ impl<T> Grid2<T> {
     }
 }
 
+/// Unmeasured points.
+///
+/// An instrument leaves some points unmeasured (shadowed slopes, dropouts,
+/// points outside a circular aperture). A [`HeightField`] carries them as NaN
+/// heights: the mask is `is_nan()`, as in numpy (`np.isnan`), x3p (ISO
+/// 5436-2 float data) and Gwyddion's import of NaNs as a mask. ±∞ is never a
+/// height. Readers accept missing points ([`HeightField::validate_measured`]);
+/// every step that needs a height at every point calls
+/// [`HeightField::validate`], which refuses them with their count, so a NaN
+/// cannot flow silently into a mesh or a spectrum.
 impl HeightField {
-    /// The first non-finite height, as an error.
+    /// Every height finite: no missing point and no infinity.
     ///
     /// # Errors
-    /// [`CoreError::NonFinite`] naming the sample.
+    /// [`CoreError::MissingPoints`] with the count where heights are NaN;
+    /// [`CoreError::NonFinite`] for an infinite height.
     pub fn validate(&self) -> crate::Result<()> {
-        match self.data.iter().position(|v| !v.is_finite()) {
-            None => Ok(()),
-            Some(k) => Err(CoreError::NonFinite {
+        self.validate_for("this step")
+    }
+
+    /// [`HeightField::validate`], naming the step that needs every point in
+    /// the error (`"a mesh"`, `"the PSD"`, …).
+    ///
+    /// # Errors
+    /// As [`HeightField::validate`].
+    pub fn validate_for(&self, what: &str) -> crate::Result<()> {
+        self.validate_measured()?;
+        match self.missing_count() {
+            0 => Ok(()),
+            missing => Err(CoreError::MissingPoints {
+                missing,
+                total: self.data.len(),
+                what: what.to_string(),
+            }),
+        }
+    }
+
+    /// No infinite height and at least one measured point; missing points
+    /// (NaN) are allowed.
+    ///
+    /// # Errors
+    /// [`CoreError::NonFinite`] for an infinite height;
+    /// [`CoreError::MissingPoints`] when no point was measured.
+    pub fn validate_measured(&self) -> crate::Result<()> {
+        if let Some(k) = self.data.iter().position(|v| v.is_infinite()) {
+            return Err(CoreError::NonFinite {
                 what: "height",
                 index: k,
                 value: self.data[k],
-            }),
+            });
         }
+        if self.data.iter().all(|v| v.is_nan()) {
+            return Err(CoreError::MissingPoints {
+                missing: self.data.len(),
+                total: self.data.len(),
+                what: "a height field".into(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The number of missing (NaN) heights.
+    pub fn missing_count(&self) -> usize {
+        self.data.iter().filter(|v| v.is_nan()).count()
+    }
+
+    /// Whether any height is missing.
+    pub fn has_missing(&self) -> bool {
+        self.data.iter().any(|v| v.is_nan())
+    }
+
+    /// The measured points: true where a height is known (x fastest).
+    pub fn measured_mask(&self) -> Grid2<bool> {
+        self.map(|v| !v.is_nan())
     }
 
     /// (min, max) of the heights (NaNs ignored; `(+∞, −∞)` if all are NaN).
@@ -333,26 +393,42 @@ impl HeightField {
     /// Triangulates the height field: one vertex per sample, two triangles per cell,
     /// split as `diagonal` says, counter-clockwise seen from +z, with UVs in [0, 1]².
     ///
+    /// Missing points (NaN heights) leave holes: they have no vertex, and a
+    /// triangle with a missing corner is left out. The vertices are then the
+    /// measured samples in order (x fastest), so per-vertex values are
+    /// [`HeightField::measured_values`].
+    ///
     /// # Errors
-    /// [`CoreError::NonFinite`] for a NaN height, [`CoreError::Empty`] if the grid
-    /// has fewer than 2 samples along an axis.
+    /// [`CoreError::NonFinite`] for an infinite height, [`CoreError::Empty`] if
+    /// the grid has fewer than 2 samples along an axis or no measured cell.
     pub fn to_trimesh(&self, diagonal: Diagonal) -> crate::Result<TriMesh> {
-        self.validate()?;
+        self.validate_measured()?;
         let [nx, ny] = self.dims;
         if nx < 2 || ny < 2 {
             return Err(CoreError::Empty("height field with fewer than 2×2 samples"));
         }
-        let positions: Vec<[f64; 3]> = (0..ny)
-            .flat_map(|j| (0..nx).map(move |i| (i, j)))
-            .map(|(i, j)| self.point(i, j))
-            .collect();
-        let uvs = (0..ny)
-            .flat_map(|j| {
-                (0..nx).map(move |i| [i as f64 / (nx - 1) as f64, j as f64 / (ny - 1) as f64])
-            })
-            .collect();
+        // Vertex number of each sample; u32::MAX for a missing one.
+        let mut vertex = vec![u32::MAX; nx * ny];
+        let mut positions = Vec::with_capacity(nx * ny);
+        let mut uvs = Vec::with_capacity(nx * ny);
+        for j in 0..ny {
+            for i in 0..nx {
+                let k = i + nx * j;
+                if self.data[k].is_nan() {
+                    continue;
+                }
+                vertex[k] = positions.len() as u32;
+                positions.push(self.point(i, j));
+                uvs.push([i as f64 / (nx - 1) as f64, j as f64 / (ny - 1) as f64]);
+            }
+        }
         let mut triangles = Vec::with_capacity(2 * (nx - 1) * (ny - 1));
-        let id = |i: usize, j: usize| (i + nx * j) as u32;
+        let id = |i: usize, j: usize| vertex[i + nx * j];
+        let mut push = |t: [u32; 3]| {
+            if !t.contains(&u32::MAX) {
+                triangles.push(t);
+            }
+        };
         for j in 0..ny - 1 {
             for i in 0..nx - 1 {
                 let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
@@ -362,26 +438,39 @@ impl HeightField {
                     Diagonal::Alternating => (i + j) % 2 == 0,
                 };
                 if along_ac {
-                    triangles.push([a, b, c]);
-                    triangles.push([a, c, d]);
+                    push([a, b, c]);
+                    push([a, c, d]);
                 } else {
-                    triangles.push([a, b, d]);
-                    triangles.push([b, c, d]);
+                    push([a, b, d]);
+                    push([b, c, d]);
                 }
             }
+        }
+        if triangles.is_empty() {
+            return Err(CoreError::Empty(
+                "height field without a cell whose corners were all measured",
+            ));
         }
         TriMesh::new(positions, triangles)?.with_uvs(uvs)
     }
 
-    /// One point per sample at (x, y, z), with the height also as attribute `"height"`.
+    /// The measured heights in order (x fastest): one per vertex of
+    /// [`HeightField::to_trimesh`] and per point of [`HeightField::to_point_set`].
+    pub fn measured_values(&self) -> Vec<f64> {
+        self.data.iter().copied().filter(|v| !v.is_nan()).collect()
+    }
+
+    /// One point per measured sample at (x, y, z), with the height also as
+    /// attribute `"height"` (missing points have none).
     pub fn to_point_set(&self) -> PointSet {
         let [nx, ny] = self.dims;
         let positions = (0..ny)
             .flat_map(|j| (0..nx).map(move |i| (i, j)))
             .map(|(i, j)| self.point(i, j))
+            .filter(|p| !p[2].is_nan())
             .collect();
         let mut ps = PointSet::new(positions);
-        ps.add_attribute("height", self.data.clone())
+        ps.add_attribute("height", self.measured_values())
             .expect("one height per point");
         ps
     }
@@ -442,9 +531,15 @@ mod tests {
         *h.get_mut(1, 1) = f64::NAN;
         assert!(matches!(
             h.validate(),
+            Err(CoreError::MissingPoints { missing: 1, .. })
+        ));
+        // Every cell of a 2×2 field has that corner: no triangle is left.
+        assert!(h.to_trimesh(Diagonal::Forward).is_err());
+        *h.get_mut(1, 1) = f64::NEG_INFINITY;
+        assert!(matches!(
+            h.validate(),
             Err(CoreError::NonFinite { index: 3, .. })
         ));
-        assert!(h.to_trimesh(Diagonal::Forward).is_err());
         let budget = MemoryBudget::new(1000);
         assert!(matches!(
             HeightField::try_filled([100, 100], 0.0, &budget),
@@ -488,5 +583,75 @@ mod tests {
         assert_eq!(p.len(), 6);
         assert_eq!(p.positions()[5], [2.0, 1.0, 12.0]);
         assert_eq!(p.attribute("height").unwrap()[5], 12.0);
+    }
+
+    /// A 4×3 ramp with sample (1, 1) missing.
+    fn holed() -> HeightField {
+        let mut h = ramp(4, 3);
+        *h.get_mut(1, 1) = f64::NAN;
+        h
+    }
+
+    #[test]
+    fn missing_points_are_counted_and_refused_where_every_point_is_needed() {
+        let h = holed();
+        assert_eq!(h.missing_count(), 1);
+        assert!(h.has_missing() && !ramp(4, 3).has_missing());
+        assert!(h.validate_measured().is_ok());
+        let e = h.validate_for("a spectrum").unwrap_err();
+        assert!(
+            matches!(
+                e,
+                CoreError::MissingPoints {
+                    missing: 1,
+                    total: 12,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(
+            e.to_string().contains("1 of 12 points were not measured"),
+            "{e}"
+        );
+        assert!(
+            e.to_string()
+                .contains("a spectrum needs a height at every point"),
+            "{e}"
+        );
+        let mut inf = ramp(2, 2);
+        *inf.get_mut(0, 0) = f64::INFINITY;
+        assert!(matches!(
+            inf.validate_measured(),
+            Err(CoreError::NonFinite { .. })
+        ));
+        let none = HeightField::from_vec([2, 1], vec![f64::NAN; 2]).unwrap();
+        assert!(none.validate_measured().is_err());
+        assert_eq!(h.measured_mask().data().iter().filter(|m| !**m).count(), 1);
+    }
+
+    #[test]
+    fn a_missing_point_leaves_a_hole_in_the_mesh_and_no_point() {
+        let h = holed();
+        let complete = ramp(4, 3).to_trimesh(Diagonal::Forward).unwrap();
+        let m = h.to_trimesh(Diagonal::Forward).unwrap();
+        // (1, 1) is a corner of the 6 triangles around it (forward diagonals).
+        assert_eq!(complete.n_faces(), 12);
+        assert_eq!(m.n_faces(), 6);
+        assert_eq!(m.positions().len(), 11);
+        assert!(
+            m.positions()
+                .iter()
+                .all(|p| p.iter().all(|v| v.is_finite()))
+        );
+        assert_eq!(h.measured_values().len(), 11);
+        let p = h.to_point_set();
+        assert_eq!(p.len(), 11);
+        assert_eq!(p.attribute("height").unwrap().len(), 11);
+        // A field whose every cell has a missing corner has no mesh.
+        let mut sparse = ramp(2, 2);
+        *sparse.get_mut(0, 0) = f64::NAN;
+        *sparse.get_mut(1, 1) = f64::NAN;
+        assert!(sparse.to_trimesh(Diagonal::Forward).is_err());
     }
 }

@@ -41,15 +41,19 @@ fn mesh_facts(m: &TriMesh) -> serde_json::Value {
 }
 
 fn height_facts(h: &HeightField) -> serde_json::Value {
+    // Statistics of the measured points; missing ones (NaN) are counted.
     let (lo, hi) = h.min_max();
-    let mean = h.mean();
-    let rms = (h.data().iter().map(|z| (z - mean).powi(2)).sum::<f64>() / h.len() as f64).sqrt();
+    let measured = h.measured_values();
+    let n = measured.len().max(1) as f64;
+    let mean = measured.iter().sum::<f64>() / n;
+    let rms = (measured.iter().map(|z| (z - mean).powi(2)).sum::<f64>() / n).sqrt();
     json!({
         "kind": "height field",
         "nx": h.nx(), "ny": h.ny(),
         "spacing": h.spacing(), "origin": h.origin(), "extent": h.extent(),
         "units": crate::analyze::units_json(h),
         "min": lo, "max": hi, "mean": mean, "rms_deviation": rms,
+        "missing_points": h.len() - measured.len(),
     })
 }
 

@@ -260,6 +260,12 @@ pub struct ConvertParams {
     /// separate fans meet, so subdiv and surface-ca accept the mesh.
     #[arg(long)]
     pub repair: bool,
+    /// Height fields with missing (unmeasured) points: fill them (harmonic: the smoothest
+    /// surface through the measured points; mean: the mean measured height) or refuse the
+    /// field. By default they are kept: NaN in .npy, .x3p, .exr, .gsf and .csv, Gwyddion's
+    /// mask in .gwy, holes in meshes; PNG and SDF refuse them.
+    #[arg(long, value_enum, value_name = "HOW")]
+    pub fill: Option<crate::analyze::FillChoice>,
 }
 
 impl Default for ConvertParams {
@@ -271,6 +277,7 @@ impl Default for ConvertParams {
             diagonal: DiagonalName::Forward,
             spacing: None,
             repair: false,
+            fill: None,
         }
     }
 }
@@ -285,6 +292,8 @@ impl JobParams for ConvertParams {
 pub struct Converted {
     /// The repair's changes, when one was asked for.
     pub repair: Option<asperity_core::mesh_check::RepairReport>,
+    /// The missing points filled, when `--fill` filled some.
+    pub filled: Option<asperity_analysis::fill::Filled>,
 }
 
 impl ConvertParams {
@@ -297,6 +306,21 @@ impl ConvertParams {
     pub fn apply(&self, mut s: Surface, name: &str) -> Result<(Surface, Converted)> {
         crate::params::validate(self)?;
         let mut done = Converted::default();
+        if let (Some(how), Surface::Height(h)) = (self.fill, &mut s)
+            && h.has_missing()
+        {
+            let Some(fill) = how.fill() else {
+                return Err(asperity_core::CoreError::MissingPoints {
+                    missing: h.missing_count(),
+                    total: h.len(),
+                    what: format!("convert {}", asperity_core::wording::param("fill")),
+                }
+                .into());
+            };
+            let (filled, report) = asperity_analysis::fill::fill_missing(h, fill)?;
+            *h = filled;
+            done.filled = Some(report);
+        }
         if let Some(k) = self.as_kind {
             s = to_kind(s, k, self.diagonal.into())?;
         }
@@ -350,7 +374,7 @@ fn to_kind(s: Surface, kind: KindName, diag: Diagonal) -> Result<Surface> {
     Ok(match (s, kind) {
         (Surface::Height(h), KindName::Mesh) => Surface::Mesh(
             h.to_trimesh(diag)?
-                .with_scalar("height", h.data().to_vec())?,
+                .with_scalar("height", h.measured_values())?,
         ),
         (Surface::Height(h), KindName::Points) => Surface::Points(h.to_point_set()),
         (Surface::Mesh(m), KindName::Points) => {

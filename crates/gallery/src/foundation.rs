@@ -100,7 +100,7 @@ fn mesh_formats(env: &Env, h: &HeightField) -> Result<Item> {
         .to_trimesh(Diagonal::Alternating)?
         .with_computed_normals()
         .with_colors(colors)?
-        .with_scalar("height", h.data().to_vec())?
+        .with_scalar("height", h.measured_values())?
         .with_texture(img);
     let mut files = Vec::new();
     for ext in ["ply", "obj", "glb", "stl"] {

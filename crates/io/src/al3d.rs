@@ -8,14 +8,13 @@
 //! `DepthImageOffset` and `InvalidPixelValue` locate and scale the depth
 //! image: Rows rows of f32 heights in metres, each row padded to a multiple of
 //! 8 bytes. Points that are NaN or equal (to 1.5e-7 relative) to the invalid
-//! value were not measured: asperity cannot carry missing points yet and
-//! refuses such files with their count.
+//! value were not measured: they are read as missing points (NaN).
 
 use std::collections::HashMap;
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
-use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::error::{FResult, FormatError, malformed};
 
 pub(crate) const MAGIC: &[u8] = b"AliconaImaging\0\r\n";
 /// Bytes of a tag: key, value, CR LF.
@@ -100,22 +99,15 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             body.len()
         ));
     }
-    let mut missing = 0;
+    // An invalid depth is a point not measured: a missing point (NaN).
     let mut data = Vec::with_capacity(nx * ny);
     for row in body[..need].chunks_exact(stride) {
         for c in row[..4 * nx].chunks_exact(4) {
             let v = f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]]));
-            let bad = v.is_nan()
+            let bad = !v.is_finite()
                 || invalid.is_some_and(|i| i.is_finite() && (v - i).abs() < 1.5e-7 * i.abs());
-            missing += usize::from(bad);
-            data.push(v);
+            data.push(if bad { f64::NAN } else { v });
         }
-    }
-    if missing > 0 {
-        return unsupported(format!(
-            "{missing} of {} points were not measured (invalid depth), and missing points are not supported yet",
-            nx * ny
-        ));
     }
     let metres = Units {
         xy: LengthUnit::M,
@@ -175,12 +167,12 @@ mod tests {
     }
 
     #[test]
-    fn invalid_points_and_truncation_are_refused() {
+    fn invalid_points_are_missing_and_truncation_is_refused() {
         let bad = file([1e-6, 3e15, 3e-6, f32::NAN, 5e-6, 6e-6]);
-        match read_height(&bad) {
-            Ok(_) => panic!("accepted"),
-            Err(e) => assert!(format!("{e:?}").contains("2 of 6 points"), "{e:?}"),
-        }
+        let h = read_height(&bad).unwrap();
+        assert_eq!(h.missing_count(), 2);
+        assert!(h.data()[1].is_nan() && h.data()[3].is_nan());
+        assert_eq!(h.data()[2], f64::from(3e-6f32));
         let good = file([0.0; 6]);
         for cut in 0..good.len() {
             assert!(read_height(&good[..cut]).is_err(), "cut at {cut}");

@@ -7,15 +7,14 @@
 //! BCR-STM (times `bit2nm`), f32 for BCRF, little-endian unless `intelmode = 0`.
 //! `xlength` and `ylength` are the field's size in `xunit`/`yunit`; heights
 //! are in `zunit`; every unit is nm when the header names none. Void points
-//! (32767 in BCR-STM; above 1.7e38 or NaN in BCRF) were not measured:
-//! asperity cannot carry missing points yet and refuses such files with their
-//! count.
+//! (32767 in BCR-STM; above 1.7e38 or NaN in BCRF) were not measured: they
+//! are read as missing points (NaN).
 
 use std::collections::HashMap;
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
-use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::error::{FResult, FormatError, malformed};
 
 const MAGIC: &str = "fileformat = bcr";
 /// The header's size when it does not say.
@@ -137,7 +136,6 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             body.len()
         ));
     }
-    let mut void = 0;
     let data: Vec<f64> = body[..need]
         .chunks_exact(size)
         .map(|c| {
@@ -157,16 +155,10 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
                 };
                 (f64::from(raw), raw.is_nan() || raw > 1.7e38)
             };
-            void += usize::from(bad);
-            v * scale
+            // A void point was not measured: a missing point (NaN).
+            if bad { f64::NAN } else { v * scale }
         })
         .collect();
-    if void > 0 {
-        return unsupported(format!(
-            "{void} of {} points are void (not measured), and missing points are not supported yet",
-            nx * ny
-        ));
-    }
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_spacing([lx / nx as f64, ly / ny as f64])?
         .with_units(Units { xy: ux, z: uz }))
@@ -227,13 +219,15 @@ mod tests {
     }
 
     #[test]
-    fn void_points_truncation_and_odd_units_are_refused() {
+    fn void_points_are_missing_and_truncation_and_odd_units_are_refused() {
         let head = "fileformat = bcrf\nxpixels = 2\nypixels = 1\nxlength = 1\nylength = 1\n";
         let void: Vec<u8> = [1.0f32, 3e38]
             .iter()
             .flat_map(|v| v.to_le_bytes())
             .collect();
-        assert!(err(read_height(&file(head, false, &void))).contains("1 of 2 points are void"));
+        let holed = read_height(&file(head, false, &void)).unwrap();
+        assert_eq!(holed.missing_count(), 1, "a void point is missing");
+        assert!(holed.data()[1].is_nan());
         assert!(err(read_height(&file(head, false, &void[..7]))).contains("truncated"));
         let volts = format!("{head}zunit = V\n");
         assert!(err(read_height(&file(&volts, false, &void))).contains("not a length unit"));

@@ -110,16 +110,35 @@ pub(crate) fn write_height(
         i32::try_from(n)
             .map_err(|_| std::io::Error::other(".gwy holds at most 2³¹ − 1 samples a side"))
     };
-    let mut field = Vec::with_capacity(h.data().len() * 8 + 256);
-    put::int(&mut field, "xres", res(nx)?);
-    put::int(&mut field, "yres", res(ny)?);
-    put::double(&mut field, "xreal", nx as f64 * dx);
-    put::double(&mut field, "yreal", ny as f64 * dy);
-    put::double(&mut field, "xoff", x0 - 0.5 * dx);
-    put::double(&mut field, "yoff", y0 - 0.5 * dy);
-    put::object(&mut field, "si_unit_xy", &si_unit(units.xy)?);
-    put::object(&mut field, "si_unit_z", &si_unit(units.z)?);
-    put::doubles(&mut field, "data", h.data().iter().map(|z| z * fz));
+    // A data field of the file's geometry holding `values`.
+    let data_field = |values: &[f64]| -> std::io::Result<Vec<u8>> {
+        let mut field = Vec::with_capacity(h.data().len() * 8 + 256);
+        put::int(&mut field, "xres", res(nx)?);
+        put::int(&mut field, "yres", res(ny)?);
+        put::double(&mut field, "xreal", nx as f64 * dx);
+        put::double(&mut field, "yreal", ny as f64 * dy);
+        put::double(&mut field, "xoff", x0 - 0.5 * dx);
+        put::double(&mut field, "yoff", y0 - 0.5 * dy);
+        put::object(&mut field, "si_unit_xy", &si_unit(units.xy)?);
+        put::object(&mut field, "si_unit_z", &si_unit(units.z)?);
+        put::doubles(&mut field, "data", values.iter().copied());
+        Ok(field)
+    };
+    // Missing points as Gwyddion's importers leave them: the mean measured
+    // height in the data, 1 in the channel's mask.
+    let missing = h.has_missing();
+    let fill = if missing {
+        let values = h.measured_values();
+        values.iter().sum::<f64>() / values.len() as f64
+    } else {
+        0.0
+    };
+    let values: Vec<f64> = h
+        .data()
+        .iter()
+        .map(|&z| if z.is_nan() { fill } else { z } * fz)
+        .collect();
+    let field = data_field(&values)?;
     let mut meta = Vec::new();
     put::string(
         &mut meta,
@@ -131,6 +150,15 @@ pub(crate) fn write_height(
     }
     let mut container = Vec::new();
     put::object(&mut container, "/0/data", &object("GwyDataField", &field)?);
+    if missing {
+        let bits: Vec<f64> = h
+            .data()
+            .iter()
+            .map(|z| f64::from(u8::from(z.is_nan())))
+            .collect();
+        let mask = data_field(&bits)?;
+        put::object(&mut container, "/0/mask", &object("GwyDataField", &mask)?);
+    }
     put::string(&mut container, "/0/data/title", title);
     put::object(&mut container, "/0/meta", &object("GwyContainer", &meta)?);
     w.write_all(MAGIC)?;
@@ -326,13 +354,13 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             _ => None,
         })
         .min_by_key(|(n, _)| *n)
-        .map(|(_, o)| o)
         .ok_or_else(|| {
             FormatError::Malformed(
                 "holds no image channel (GwyDataField); graphs, spectra and volume data are not height fields"
                     .into(),
             )
         })?;
+    let (number, field) = field;
     let res = |name: &str| match field.get(name) {
         Some(Value::Int(n)) if *n > 0 => Ok(*n as usize),
         other => malformed(format!(
@@ -352,10 +380,24 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             raw.len() / 8,
         ));
     }
-    let data = raw
+    let mut data: Vec<f64> = raw
         .chunks_exact(8)
         .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
         .collect();
+    // The channel's mask (`/N/mask`, 1 where set) marks points left out:
+    // Gwyddion's importers mark unmeasured points so, and asperity writes
+    // them so. Masked points are read as missing (NaN).
+    let mask_key = format!("/{number}/mask");
+    if let Some((_, Value::Object(m))) = top.components.iter().find(|(k, _)| *k == mask_key)
+        && let Some(Value::Doubles(bits)) = m.get("data")
+        && bits.len() == raw.len()
+    {
+        for (z, c) in data.iter_mut().zip(bits.chunks_exact(8)) {
+            if f64::from_le_bytes(c.try_into().expect("8 bytes")) > 0.5 {
+                *z = f64::NAN;
+            }
+        }
+    }
     let (dx, dy) = (
         field.double("xreal", nx as f64)? / nx as f64,
         field.double("yreal", ny as f64)? / ny as f64,

@@ -35,6 +35,7 @@ pub mod metadata;
 pub mod metropro;
 pub mod npy;
 pub mod obj;
+pub mod plu;
 pub mod ply;
 pub mod png_io;
 pub mod sdf;
@@ -107,6 +108,8 @@ pub enum Format {
     Al3d,
     /// WSxM scanning-probe image.
     Wsxm,
+    /// Sensofar confocal/interferometric topography.
+    Plu,
 }
 
 /// What a format can do with one kind of data.
@@ -209,7 +212,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: RW,
         height: RW,
-        notes: "height (ny, nx) <f8 (or <f4); points (N, 3) <f8; reads any float/int dtype",
+        notes: "height (ny, nx) <f8 (or <f4), missing points NaN; points (N, 3) <f8; reads any float/int dtype",
     },
     FormatInfo {
         format: Format::Png,
@@ -218,7 +221,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: RW,
-        notes: "height range and spacing in tEXt chunks (asperity's and Gwyddion's Gwy:: keys); Gwyddion's exports read with their Gwy:: keys; PNGs with neither read as [0, 1]",
+        notes: "height range and spacing in tEXt chunks (asperity's and Gwyddion's Gwy:: keys); Gwyddion's exports read with their Gwy:: keys; PNGs with neither read as [0, 1]; no missing points",
     },
     FormatInfo {
         format: Format::Exr,
@@ -227,7 +230,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: RW,
-        notes: "channel Y; spacing/origin as header attributes",
+        notes: "channel Y; spacing/origin as header attributes; missing points NaN",
     },
     FormatInfo {
         format: Format::Gsf,
@@ -236,7 +239,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: RW,
-        notes: "float32; XReal/XOffset follow Gwyddion's pixel convention; unitless",
+        notes: "float32; XReal/XOffset follow Gwyddion's pixel convention; unitless; missing points NaN (Gwyddion masks them)",
     },
     FormatInfo {
         format: Format::Csv,
@@ -245,7 +248,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: RW,
-        notes: "one row per line, geometry in a # comment line",
+        notes: "one row per line, geometry in a # comment line; missing points NaN",
     },
     FormatInfo {
         format: Format::Gwy,
@@ -254,7 +257,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: RW,
-        notes: "GwyContainer with one GwyDataField (the first channel is read); f64; base units (metres) or unitless",
+        notes: "GwyContainer with one GwyDataField (the first channel is read); f64; base units (metres) or unitless; missing points as the channel's mask",
     },
     FormatInfo {
         format: Format::X3p,
@@ -263,7 +266,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: RW,
-        notes: "zip of main.xml + f64 data with MD5 checksums; always metres; surfaces and profiles read (int16/32, f32, f64), not point clouds",
+        notes: "zip of main.xml + f64 data with MD5 checksums; always metres; surfaces and profiles read (int16/32, f32, f64), not point clouds; missing points NaN (read: NaN or valid.bin)",
     },
     FormatInfo {
         format: Format::Sdf,
@@ -272,7 +275,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: RW,
-        notes: "text (aISO) and binary (bISO) read, int16/int32/f64; text written, f64 in metres; files with unmeasured (BAD) points refused",
+        notes: "text (aISO) and binary (bISO) read, int16/int32/f64; text written, f64 in metres; unmeasured (BAD) points read as missing, a field with missing points not written",
     },
     FormatInfo {
         format: Format::Sur,
@@ -281,7 +284,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: R,
-        notes: "one surface of int16/int32 samples times the header's scale, in the file's units (Å, pm as nm); series, multi-channel files and unmeasured points refused",
+        notes: "one surface of int16/int32 samples times the header's scale, in the file's units (Å, pm as nm); unmeasured points (zmin − 2) read as missing; series and multi-channel files refused",
     },
     FormatInfo {
         format: Format::Tmd,
@@ -299,7 +302,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: R,
-        notes: "Latin-1 or UTF-16 header; int16 (× bit2nm) or f32, either byte order; the header's units (nm by default); void points refused",
+        notes: "Latin-1 or UTF-16 header; int16 (× bit2nm) or f32, either byte order; the header's units (nm by default); void points read as missing",
     },
     FormatInfo {
         format: Format::MetroPro,
@@ -308,7 +311,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: R,
-        notes: "header formats 1-3; phase × S × O × λ / R in metres, pixels from the lateral resolution; invalid phases refused",
+        notes: "header formats 1-3; phase × S × O × λ / R in metres, pixels from the lateral resolution; invalid phases read as missing",
     },
     FormatInfo {
         format: Format::Al3d,
@@ -317,7 +320,7 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: R,
-        notes: "the depth image: f32 in metres, pixel sizes from the tags; invalid points refused",
+        notes: "the depth image: f32 in metres, pixel sizes from the tags; invalid points read as missing",
     },
     FormatInfo {
         format: Format::Wsxm,
@@ -326,7 +329,16 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: R,
-        notes: "int16 scaled to the Z amplitude, or f32/f64 heights; sizes from the X/Y amplitudes; stored from the last sample",
+        notes: "int16 scaled to the Z amplitude, or f32/f64 heights; sizes from the X/Y amplitudes; stored from the last sample; NaN read as missing",
+    },
+    FormatInfo {
+        format: Format::Plu,
+        name: "Sensofar (.plu, .apx)",
+        extensions: &["plu", "apx"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the first layer's f32 heights in µm, pixel sizes from the calibration; undefined points (1000001) read as missing; profiles refused",
     },
 ];
 
@@ -615,7 +627,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
         | Format::Bcr
         | Format::MetroPro
         | Format::Al3d
-        | Format::Wsxm => Surface::Height(read_height_bytes(bytes, f)?),
+        | Format::Wsxm
+        | Format::Plu => Surface::Height(read_height_bytes(bytes, f)?),
     })
 }
 
@@ -657,14 +670,18 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
         Format::MetroPro => metropro::read_height(bytes)?,
         Format::Al3d => al3d::read_height(bytes)?,
         Format::Wsxm => wsxm::read_height(bytes)?,
+        Format::Plu => plu::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
-    h.validate()?;
+    // Missing points (NaN) are carried; ±∞ and a field with no measured
+    // point are refused.
+    h.validate_measured()?;
     Ok(h)
 }
 
-/// Reads a height field (`.npy`, `.png`, `.exr`, `.gsf`, `.csv`); NaN or infinite
-/// heights are an error.
+/// Reads a height field in any format that holds one. Unmeasured points
+/// become NaN heights (missing points, see `asperity_core::HeightField`);
+/// infinite heights are an error.
 ///
 /// # Errors
 /// [`IoError`].

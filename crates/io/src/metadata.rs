@@ -121,7 +121,8 @@ pub(crate) fn params_from_bytes(bytes: &[u8], f: Format) -> FResult<Option<Value
         | Format::Bcr
         | Format::MetroPro
         | Format::Al3d
-        | Format::Wsxm => None,
+        | Format::Wsxm
+        | Format::Plu => None,
         Format::Glb => return glb::params(bytes),
         Format::Npy | Format::Stl | Format::Xyz => None,
     };

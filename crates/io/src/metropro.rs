@@ -11,8 +11,8 @@
 //! metres a pixel, 0 when not calibrated), the phase resolution (218) and the
 //! sign (232). A height is phase × S × O × λ / R metres, R = 4096, 32768 or
 //! 131072 for phase resolution 0, 1, 2, negated when the sign is set. Phases
-//! of 2147483640 and above mark points not measured: asperity cannot carry
-//! missing points yet and refuses such files with their count.
+//! of 2147483640 and above mark points not measured: they are read as
+//! missing points (NaN).
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
@@ -86,14 +86,17 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .chunks_exact(4)
         .map(|c| i32::from_be_bytes([c[0], c[1], c[2], c[3]]))
         .collect();
-    let invalid = phases.iter().filter(|&&p| p >= INVALID).count();
-    if invalid > 0 {
-        return unsupported(format!(
-            "{invalid} of {} points were not measured (invalid phase), and missing points are not supported yet",
-            nx * ny
-        ));
-    }
-    let data = phases.iter().map(|&p| f64::from(p) * scale).collect();
+    // An invalid phase is a point not measured: a missing point (NaN).
+    let data = phases
+        .iter()
+        .map(|&p| {
+            if p >= INVALID {
+                f64::NAN
+            } else {
+                f64::from(p) * scale
+            }
+        })
+        .collect();
     // Without a lateral calibration the pixels are the unit.
     let (spacing, xy) = if lateral.is_finite() && lateral > 0.0 {
         (lateral, LengthUnit::M)
@@ -162,7 +165,9 @@ mod tests {
             Err(e) => format!("{e:?}"),
         };
         let good = file(&[0; 6], 1e-6, 0);
-        assert!(err(&file(&[0, INVALID, 0, 0, 0, i32::MAX], 1e-6, 0)).contains("2 of 6 points"));
+        let holed = read_height(&file(&[0, INVALID, 0, 0, 0, i32::MAX], 1e-6, 0)).unwrap();
+        assert_eq!(holed.missing_count(), 2);
+        assert!(holed.data()[1].is_nan() && holed.data()[5].is_nan());
         for cut in 0..good.len() {
             assert!(read_height(&good[..cut]).is_err(), "cut at {cut}");
         }

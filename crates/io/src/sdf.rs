@@ -15,8 +15,8 @@
 //! Xscale and Yscale are the spacings in metres, and a stored value times
 //! Zscale is a height in metres. DataType 5, 6 and 7 are int16, int32 and
 //! f64; other types and any compression are refused. Points marked `BAD` (or
-//! the type's minimum, or NaN) were not measured: asperity cannot carry
-//! missing points yet and refuses such files, saying how many there are.
+//! the type's minimum, or NaN) were not measured: they are read as missing
+//! points (NaN).
 //!
 //! Written: text, DataType 7, Zscale 1, every length in metres (unitless data
 //! is written as metres, as for x3p), dates fixed to zero so that the same
@@ -77,14 +77,8 @@ impl Header {
         Ok(())
     }
 
-    /// The field of `values` (stored numbers), refusing unmeasured points.
-    fn field(&self, values: Vec<f64>, missing: usize) -> FResult<HeightField> {
-        if missing > 0 {
-            return Err(FormatError::Unsupported(format!(
-                "{missing} of {} points are marked as not measured (BAD), and missing points are not supported yet",
-                values.len()
-            )));
-        }
+    /// The field of `values` (stored numbers; NaN where not measured).
+    fn field(&self, values: Vec<f64>) -> FResult<HeightField> {
         let data = values.into_iter().map(|v| v * self.z_scale).collect();
         let h = HeightField::from_vec([self.points, self.profiles], data)?
             .with_spacing([self.x_scale, self.y_scale])?
@@ -182,7 +176,6 @@ fn read_text(bytes: &[u8]) -> FResult<HeightField> {
         ));
     }
     let mut values = Vec::with_capacity(n);
-    let mut missing = 0;
     for token in data.split_ascii_whitespace() {
         if values.len() == n {
             return malformed(format!(
@@ -191,17 +184,13 @@ fn read_text(bytes: &[u8]) -> FResult<HeightField> {
             ));
         }
         if token.eq_ignore_ascii_case("BAD") {
-            missing += 1;
             values.push(f64::NAN);
             continue;
         }
         let v: f64 = token
             .parse()
             .map_err(|_| FormatError::Malformed(format!("{token:?} is not a number")))?;
-        if !v.is_finite() {
-            missing += 1;
-        }
-        values.push(v);
+        values.push(if v.is_finite() { v } else { f64::NAN });
     }
     if values.len() != n {
         return malformed(format!(
@@ -211,7 +200,7 @@ fn read_text(bytes: &[u8]) -> FResult<HeightField> {
             h.profiles
         ));
     }
-    h.field(values, missing)
+    h.field(values)
 }
 
 fn read_binary(bytes: &[u8]) -> FResult<HeightField> {
@@ -250,7 +239,6 @@ fn read_binary(bytes: &[u8]) -> FResult<HeightField> {
             body.len()
         ));
     }
-    let mut missing = 0;
     let values = body[..n * size]
         .chunks_exact(size)
         .map(|c| {
@@ -268,11 +256,10 @@ fn read_binary(bytes: &[u8]) -> FResult<HeightField> {
                     (v, !v.is_finite())
                 }
             };
-            missing += usize::from(bad);
-            v
+            if bad { f64::NAN } else { v }
         })
         .collect();
-    h.field(values, missing)
+    h.field(values)
 }
 
 /// The `<AsperityParams>` line of a text SDF's trailer, if any.
@@ -368,13 +355,10 @@ mod tests {
     }
 
     #[test]
-    fn unmeasured_points_and_bad_headers_are_refused_by_name() {
+    fn unmeasured_points_are_missing_and_bad_headers_are_refused_by_name() {
         let bad = EXAMPLE.replace("0.5 0.25", "BAD 0.25");
-        let e = err(read_height(bad.as_bytes()));
-        assert!(
-            e.contains("1 of 6 points") && e.contains("not measured"),
-            "{e}"
-        );
+        let holed = read_height(bad.as_bytes()).unwrap();
+        assert_eq!(holed.missing_count(), 1, "BAD is a missing point");
         let short = EXAMPLE.replace("-1 0 2", "-1 0");
         let e = err(read_height(short.as_bytes()));
         assert!(e.contains("5 values") && e.contains("3 × 2"), "{e}");

@@ -20,8 +20,7 @@
 //! numbers without a unit. Files of several objects (series, multi-channel)
 //! are refused: only the first surface is described by the header. With the
 //! special-points flag set, the value zmin − 2 marks a point not measured:
-//! asperity cannot carry missing points yet and refuses a file that has any,
-//! saying how many.
+//! it is read as a missing point (NaN, see `asperity_core::HeightField`).
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
@@ -136,18 +135,17 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             }
         })
         .collect();
-    // With the special-points flag, zmin − 2 marks a point not measured.
-    if u16_at(86) == 1 {
-        let marker = i64::from(i32_at(100)) - 2;
-        let missing = raw.iter().filter(|&&v| i64::from(v) == marker).count();
-        if missing > 0 {
-            return unsupported(format!(
-                "{missing} of {n} points were not measured (marked zmin − 2), and missing points are not supported yet"
-            ));
-        }
-    }
+    // With the special-points flag, zmin − 2 marks a point not measured:
+    // it becomes a missing point (NaN).
+    let marker = (u16_at(86) == 1).then(|| i64::from(i32_at(100)) - 2);
     let scale = dz * fz;
-    let data = raw.iter().map(|&v| f64::from(v) * scale).collect();
+    let data = raw
+        .iter()
+        .map(|&v| match marker {
+            Some(m) if i64::from(v) == m => f64::NAN,
+            _ => f64::from(v) * scale,
+        })
+        .collect();
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_spacing([dx * fx, dy * fy])?
         .with_units(Units { xy, z: uz }))
@@ -230,8 +228,8 @@ mod tests {
         b[86] = 1;
         b[100..104].copy_from_slice(&2i32.to_le_bytes());
         b[HEADER + 3..HEADER + 5].copy_from_slice(&0i16.to_le_bytes());
-        let e = err(read_height(&b));
-        assert!(e.contains("6 of 6 points were not measured"), "{e}");
+        let holed = read_height(&b).unwrap();
+        assert_eq!(holed.missing_count(), 6, "zmin − 2 marks missing points");
         b[86] = 0;
         assert!(
             read_height(&b).is_ok(),

@@ -163,11 +163,26 @@ pub fn write_points(path: &Path, points: &PointSet, opts: &WriteOptions) -> Resu
 
 /// Writes a height field; mesh formats get its triangulation, point formats its samples.
 ///
+/// Missing points (NaN heights) are carried where the format can: NaN in
+/// `.npy`, `.x3p` (ISO 5436-2's invalid float), `.exr`, `.gsf` and `.csv`
+/// (Gwyddion masks NaNs on import; numpy reads them), Gwyddion's mask of
+/// unmeasured points in `.gwy`, holes in meshes, no point in point files.
+/// PNG and SDF cannot hold them and refuse the field with the count.
+///
 /// # Errors
-/// [`IoError`]; [`IoError::Invalid`] for NaN or infinite heights.
+/// [`IoError`]; [`IoError::Invalid`] for infinite heights, or missing points
+/// in a format that cannot hold them.
 pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result<(), IoError> {
     let f = Format::from_path(path)?;
-    h.validate().map_err(|e| IoError::invalid(path, e))?;
+    h.validate_measured()
+        .map_err(|e| IoError::invalid(path, e))?;
+    if matches!(f, Format::Png | Format::Sdf) {
+        h.validate_for(&format!(
+            "{} (it has no missing-point marker)",
+            f.info().name
+        ))
+        .map_err(|e| IoError::invalid(path, e))?;
+    }
     let os = |e| IoError::os(path, e);
     let params = opts.params_text();
     let p = params.as_deref();
@@ -188,13 +203,14 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
         | Format::Bcr
         | Format::MetroPro
         | Format::Al3d
-        | Format::Wsxm => Err(wrong(path, f, "a height field")),
+        | Format::Wsxm
+        | Format::Plu => Err(wrong(path, f, "a height field")),
         Format::Ply | Format::Obj | Format::Stl | Format::Glb => {
             let mesh = h
                 .to_trimesh(opts.diagonal)
                 .map_err(|e| IoError::invalid(path, e))?;
             let mesh = mesh
-                .with_scalar("height", h.data().to_vec())
+                .with_scalar("height", h.measured_values())
                 .map_err(|e| IoError::invalid(path, e))?;
             write_mesh(path, &mesh, opts)
         }
@@ -390,6 +406,16 @@ pub fn lost_data(s: &Surface, format: Format) -> Vec<String> {
         }
     }
     if let Surface::Height(h) = s {
+        if h.has_missing() {
+            let n = h.missing_count();
+            match format {
+                Format::Ply | Format::Obj | Format::Stl | Format::Glb => {
+                    lost.push(format!("{n} missing points (holes in the mesh)"));
+                }
+                Format::Xyz => lost.push(format!("{n} missing points (no point written)")),
+                _ => {}
+            }
+        }
         if !h.units().is_none() && format == Format::Npy {
             lost.push("units (npy has no metadata)".into());
         }

@@ -259,7 +259,12 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .chunks_exact(size)
         .map(|c| l.z.offset + value(c) * l.z.increment)
         .collect();
-    let mut unmeasured = data.iter().filter(|z| !z.is_finite()).count();
+    // Invalid points (NaN in float data, or cleared in the valid-points
+    // bitmap) are missing points (NaN).
+    let mut data = data;
+    data.iter_mut()
+        .filter(|z| !z.is_finite())
+        .for_each(|z| *z = f64::NAN);
     if let Some(link) = &l.valid_link {
         let bits = member(&mut zip, link, n.div_ceil(8) as u64)?;
         if bits.len() != n.div_ceil(8) {
@@ -269,13 +274,11 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
                 n.div_ceil(8)
             ));
         }
-        unmeasured = unmeasured.max((0..n).filter(|&i| bits[i / 8] >> (i % 8) & 1 == 0).count());
-    }
-    if unmeasured > 0 {
-        return malformed(format!(
-            "{unmeasured} of {n} points were not measured; asperity needs a height at every point \
-             (fill them first, e.g. in Gwyddion: Data Process › Correct Data › Remove Data Under Mask)"
-        ));
+        for (i, z) in data.iter_mut().enumerate() {
+            if bits[i / 8] >> (i % 8) & 1 == 0 {
+                *z = f64::NAN;
+            }
+        }
     }
     Ok(HeightField::from_vec([l.nx, l.ny], data)?
         .with_spacing([l.x.increment, l.y.increment])?
@@ -575,9 +578,9 @@ mod tests {
     }
 
     #[test]
-    fn unmeasured_points_are_refused() {
+    fn unmeasured_points_are_missing() {
         let valid = [0b0011_1011u8]; // point 2 not measured
-        let m = error(&with_main(
+        let h = read_height(&with_main(
             |s| {
                 s.replace(
                     "</PointDataLink>",
@@ -585,7 +588,9 @@ mod tests {
                 )
             },
             &[("bindata/valid.bin", &valid)],
-        ));
-        assert!(m.contains("1 of 6 points were not measured"), "{m}");
+        ))
+        .unwrap();
+        assert_eq!(h.missing_count(), 1);
+        assert!(h.data()[2].is_nan());
     }
 }

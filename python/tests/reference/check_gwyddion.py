@@ -15,6 +15,10 @@ x3p and .gwy: float64).
 Then asperity reads each .gwy that Gwyddion wrote: the heights equal gwyfile's
 reading exactly, and size, spacing, origin and units match the DataField.
 
+Missing points (issue #38): a field with a hole, written as .gsf and .x3p
+(NaN) and .gwy (a mask), is opened by Gwyddion with those points and only
+those in the channel's mask, and its measured heights unchanged.
+
 With a demo gallery folder as a third argument, Gwyddion also converts the
 demo's sample height field as .gsf, 16-bit .png and .x3p: size, extent, units
 and heights as asperity reads the same file.
@@ -125,6 +129,30 @@ def check_demo(demo):
               f"{np.max(np.abs(data - ours)) / span:.2e} of the range")
 
 
+def check_missing_points():
+    """Gwyddion masks the points asperity writes as missing."""
+    nx, ny = 9, 7
+    z = np.add.outer(np.arange(ny) * 0.5, np.arange(nx) * 0.25)
+    hole = np.zeros((ny, nx), bool)
+    hole[2:4, 3:6] = True
+    hole[6, 0] = True
+    src = WORK / "holed.npy"
+    np.save(src, np.where(hole, np.nan, z))
+    for ext in ("gsf", "x3p", "gwy"):
+        out, gwy = WORK / f"holed.{ext}", WORK / f"holed_{ext}.gwy"
+        run(BIN, "--quiet", "convert", src, out)
+        run("gwyddion", f"--convert-to-gwy={gwy}", out)
+        g = gwyfile.load(str(gwy))
+        mask = g.get("/0/mask")
+        masked = np.zeros((ny, nx), bool) if mask is None else np.asarray(mask.data) > 0.5
+        check(f"missing points in .{ext}: Gwyddion masks those {hole.sum()} points", np.array_equal(masked, hole),
+              f"{int(masked.sum())} masked")
+        data = np.asarray(g["/0/data"].data)
+        check(f"missing points in .{ext}: the measured heights", np.allclose(data[~hole], z[~hole], rtol=0, atol=1e-6),
+              f"{np.max(np.abs(data[~hole] - z[~hole])):.2e}")
+
+
+check_missing_points()
 if len(sys.argv) > 3:
     check_demo(Path(sys.argv[3]))
 finish()

@@ -3,11 +3,13 @@ example files of SurfaceTopography's own test suite (tests/data/surfacetopograph
 MIT licence: .sdf, .sur, .tmd, .bcrf, MetroPro .dat, .al3d, WSxM, .x3p) and files asperity writes.
 
 For each file, asperity's shape, physical size, units and heights against
-SurfaceTopography's reader, both brought to metres. asperity cannot carry
-unmeasured points yet: the Digital Surf examples have some, so asperity's
-refusal must name SurfaceTopography's count, and a copy with the
-special-points flag cleared (the markers read as heights by both) is compared
-point by point. SurfaceTopography's arrays
+SurfaceTopography's reader, both brought to metres. Unmeasured points are
+NaN in asperity's .npy and masked in SurfaceTopography's heights(): the two
+masks must be the same points. The Digital Surf examples have such points; a
+copy with the special-points flag cleared (the markers read as heights by
+both) is compared point by point too, and sur-2's missing points are carried
+through .npy, .x3p, .gwy and .gsf and refused by PNG with their count.
+SurfaceTopography's arrays
 are indexed (x, y); asperity's .npy is (row = y, column = x): ST's heights()
 is compared transposed. Heights agree to the file's precision (1e-12 of the
 largest height: the file's numbers, scaled in f64 the same way; f32 scale
@@ -54,8 +56,10 @@ def all_points(name):
 def compare(path, label):
     t = read_topography(str(path))
     st_m = get_unit_conversion_factor(t.unit, "m")
-    check(f"{label}: no point masked by SurfaceTopography", np.ma.count_masked(t.heights()) == 0)
     ours = info(BIN, path)
+    st_mask = np.ma.getmaskarray(t.heights()).T
+    check(f"{label}: missing points ({int(st_mask.sum())}) counted as ST masks them",
+          ours["missing_points"] == int(st_mask.sum()), f"{ours['missing_points']} vs {int(st_mask.sum())}")
     fxy, fz = METRES[ours["units"]["xy"]], METRES[ours["units"]["z"]]
     check(f"{label}: size (ST's (x, y) = asperity's (nx, ny))",
           tuple(t.nb_grid_pts) == (ours["nx"], ours["ny"]), f"{t.nb_grid_pts} {ours['nx']}×{ours['ny']}")
@@ -66,9 +70,12 @@ def compare(path, label):
     out = WORK / (path.name + ".npy")
     run(BIN, "--quiet", "convert", path, out)
     z = np.load(out) * fz
-    st_z = np.asarray(t.heights()).T * st_m
-    check(f"{label}: heights in metres", close(z, st_z, 1e-12),
-          f"max |Δ| {np.max(np.abs(z - st_z)) if z.shape == st_z.shape else 'shape'}")
+    st_z = np.ma.getdata(t.heights()).T * st_m
+    same_shape = z.shape == st_z.shape
+    check(f"{label}: missing points where ST masks them", same_shape and np.array_equal(np.isnan(z), st_mask))
+    measured = ~st_mask if same_shape else slice(None)
+    check(f"{label}: heights in metres", same_shape and close(z[measured], st_z[measured], 1e-12),
+          f"max |Δ| {np.max(np.abs(z[measured] - st_z[measured])) if same_shape else 'shape'}")
     rep = json.loads(run(BIN, "--quiet", "--json", "analyze", path, "--level", "mean", "--hurst", "psd"))
     sq = rep["measurements"]["Sq"] * fz
     st_sq = t.rms_height_from_area() * st_m
@@ -84,13 +91,25 @@ compare(DATA / "al3d-1.al3d", "al3d-1.al3d (Alicona)")
 compare(DATA / "stp-1.stp", "stp-1.stp (WSxM, double)")
 compare(DATA / "top-1.top", "top-1.top (WSxM, int16)")
 compare(DATA / "x3p-2.x3p", "x3p-2.x3p (an instrument's x3p)")
+compare(DATA / "plu-1.plu", "plu-1.plu (Sensofar)")
 for name in ["sur-2.sur", "sur-3.sur"]:
-    # The instrument's files have unmeasured points: refused, with ST's count.
-    masked = np.ma.count_masked(read_topography(str(DATA / name)).heights())
-    p = run(BIN, "--quiet", "info", DATA / name, check=False)
-    check(f"{name}: refused, naming SurfaceTopography's {masked} unmeasured points",
-          p.returncode != 0 and f"{masked} of" in p.stderr and "not measured" in p.stderr, p.stderr.strip())
+    # The instrument's files have unmeasured points: carried as ST masks them.
+    compare(DATA / name, f"{name} (with its unmeasured points)")
     compare(all_points(name), f"{name} (every point)")
+
+# Missing points carried by the formats that hold them, refused by one that cannot.
+masked = np.ma.count_masked(read_topography(str(DATA / "sur-2.sur")).heights())
+for ext in ["npy", "x3p", "gwy", "gsf"]:
+    copy = WORK / f"sur-2-copy.{ext}"
+    run(BIN, "--quiet", "convert", DATA / "sur-2.sur", copy)
+    check(f"sur-2 → .{ext} → asperity: {masked} missing points kept",
+          info(BIN, copy)["missing_points"] == masked, str(info(BIN, copy)["missing_points"]))
+p = run(BIN, "--quiet", "convert", DATA / "sur-2.sur", WORK / "sur-2.png", check=False)
+check(f"sur-2 → .png refused, naming the {masked} missing points",
+      p.returncode != 0 and f"{masked} of" in p.stderr and "not measured" in p.stderr, p.stderr.strip())
+t = read_topography(str(WORK / "sur-2-copy.x3p"))
+check("sur-2 → .x3p → SurfaceTopography: the same points masked",
+      np.ma.count_masked(t.heights()) == masked, str(np.ma.count_masked(t.heights())))
 
 # Files SurfaceTopography refuses, asperity refuses too, naming the problem.
 for name, problem in [("wrongnpyfile.npy", "magic"), ("nonsense_txt_file.txt", "is not a number")]:

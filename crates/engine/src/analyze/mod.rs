@@ -6,7 +6,7 @@
 use asperity_analysis::spectrum::PowerSpectrum;
 use asperity_analysis::window::{self, Window};
 use asperity_analysis::{
-    AnalysisError, areal, correlation, fractal, hurst, level, mesh, psd, scaling,
+    AnalysisError, areal, correlation, fill, fractal, hurst, level, mesh, psd, scaling,
 };
 use asperity_core::{HeightField, PointSet, TriMesh};
 use asperity_io::Surface;
@@ -19,7 +19,7 @@ use crate::report::Measurements;
 
 mod params;
 
-pub use params::{AnalyzeOptions, AnalyzeParams, HurstChoice, Level, Periodic};
+pub use params::{AnalyzeOptions, AnalyzeParams, FillChoice, HurstChoice, Level, Periodic};
 
 /// A report and its plots.
 #[derive(Clone, Debug, Default)]
@@ -182,7 +182,10 @@ fn prepare(h: &HeightField, o: &AnalyzeOptions) -> Result<Prepared> {
 
 /// The report on a height field (or a profile, when it has one row).
 fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
-    h.validate()?;
+    h.validate_measured()?;
+    if h.has_missing() {
+        return holed(h, o);
+    }
     let (lo, hi) = h.min_max();
     if lo == hi {
         return Ok(constant(h, lo));
@@ -277,6 +280,85 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
         plots,
         warnings,
     })
+}
+
+/// The report on a field with missing points: levelled over its measured
+/// points (a plane unless asked otherwise: measured data are not periodic),
+/// its height parameters over the measured points alone, everything else on
+/// the levelled field with its holes filled (`o.fill`).
+fn holed(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
+    let missing = h.missing_count();
+    let Some(how) = o.fill else {
+        return Err(asperity_core::CoreError::MissingPoints {
+            missing,
+            total: h.len(),
+            what: "analyze --fill refuse".into(),
+        }
+        .into());
+    };
+    let (level_how, _) = parse_options(o)?;
+    let level_how = level_how.unwrap_or(level::Level::Plane);
+    let periodic = o.periodic.unwrap_or(false);
+    let levelled = level::level(h, level_how)?;
+    let heights = areal::measured_heights(&levelled)?;
+    let (filled, report) = fill::fill_missing(&levelled, how)?;
+    let inner = AnalyzeOptions {
+        level: "none".into(),
+        periodic: Some(periodic),
+        ..o.clone()
+    };
+    let mut a = height(&filled, &inner)?;
+    let profile = h.ny() == 1;
+    let prefix = if profile { "R" } else { "S" };
+    let values = [
+        ("a", heights.Sa),
+        ("q", heights.Sq),
+        ("p", heights.Sp),
+        ("v", heights.Sv),
+        ("z", heights.Sz),
+        ("sk", heights.Ssk),
+        ("ku", heights.Sku),
+    ];
+    if profile {
+        let mut p = a.facts.get("profile_x").cloned().unwrap_or(Value::Null);
+        for (k, v) in values {
+            p[format!("{prefix}{k}")] = json!(v);
+        }
+        a.facts.set("profile_x", p);
+    } else {
+        for (k, v) in values {
+            a.facts.set(&format!("{prefix}{k}"), v);
+        }
+    }
+    if a.facts.get("periodic").is_some() {
+        // Not for a constant field's report, which has no mode.
+        a.facts.set("levelling", level_how);
+        let source = if o.periodic.is_some() {
+            "option"
+        } else {
+            "missing points"
+        };
+        a.facts.set(
+            "periodic",
+            json!({"value": periodic, "source": source, "edge_ratio": null}),
+        );
+    }
+    let fraction = missing as f64 / h.len() as f64;
+    a.facts.set(
+        "missing",
+        json!({"count": missing, "total": h.len(), "fraction": fraction,
+            "fill": how.name(), "fill_iterations": report.iterations,
+            "heights_over": "measured points (Sa, Sq, Sp, Sv, Sz, Ssk, Sku)",
+            "filled_for": "slopes, Sdr, profiles, spectra, correlations, Hurst estimators, dimensions"}),
+    );
+    a.warnings.push(format!(
+        "{missing} of {} points ({:.2} %) were not measured: the height parameters are over the \
+         measured points, everything else on the field with them filled ({} fill)",
+        h.len(),
+        100.0 * fraction,
+        how.name()
+    ));
+    Ok(a)
 }
 
 /// The model-based fractal dimensions (triangulation, partitioning) at once.

@@ -57,6 +57,31 @@ impl HurstChoice {
     }
 }
 
+choice! {
+    /// What `analyze` does with missing (unmeasured) points.
+    pub enum FillChoice {
+        /// Fill them by the discrete Laplace equation through the measured points (the
+        /// smoothest surface, adding no roughness of its own), as SurfaceTopography's
+        /// interpolate_undefined_data.
+        Harmonic = "harmonic",
+        /// Fill them with the mean measured height.
+        Mean = "mean",
+        /// Refuse a field with missing points.
+        Refuse = "refuse",
+    }
+}
+
+impl FillChoice {
+    /// The fill, or `None` to refuse.
+    pub fn fill(self) -> Option<asperity_analysis::fill::Fill> {
+        match self {
+            FillChoice::Harmonic => Some(asperity_analysis::fill::Fill::Harmonic),
+            FillChoice::Mean => Some(asperity_analysis::fill::Fill::Mean),
+            FillChoice::Refuse => None,
+        }
+    }
+}
+
 /// Whether data are periodic: decided from the data (`auto`), or given
 /// (`yes`/`no`; in JSON also `true`/`false`/`null`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, JsonSchema, clap::ValueEnum)]
@@ -142,6 +167,11 @@ pub struct AnalyzeParams {
     /// dimensions), or the PSD fit alone or with one other — a user who needs one pays for one.
     #[arg(long, value_enum, default_value_t = Self::default().hurst)]
     pub hurst: HurstChoice,
+    /// Missing (unmeasured) points of measured data: Sa, Sq, Sp, Sv, Sz, Ssk and Sku are
+    /// computed over the measured points; the spectra, correlations and estimators on the
+    /// field with its holes filled this way (the report's `missing` says how many).
+    #[arg(long, value_enum, default_value_t = Self::default().fill)]
+    pub fill: FillChoice,
 }
 
 impl Default for AnalyzeParams {
@@ -153,6 +183,7 @@ impl Default for AnalyzeParams {
             bins: 40,
             fit_window: None,
             hurst: HurstChoice::All,
+            fill: FillChoice::Harmonic,
         }
     }
 }
@@ -179,6 +210,7 @@ impl AnalyzeParams {
             periodic: self.periodic.given(),
             window: self.window.clone(),
             estimators: self.hurst.which(),
+            fill: self.fill.fill(),
             plots,
         }
     }
@@ -204,20 +236,16 @@ pub struct AnalyzeOptions {
     /// The Hurst estimators to run (all by default; with another choice the
     /// model-based fractal dimensions are left out too).
     pub estimators: hurst::Which,
+    /// How missing points are filled (harmonic by default); `None` refuses
+    /// a field with missing points.
+    pub fill: Option<asperity_analysis::fill::Fill>,
     /// Also make the plots.
     pub plots: bool,
 }
 
 impl Default for AnalyzeOptions {
+    /// [`AnalyzeParams`]' defaults, without plots.
     fn default() -> Self {
-        Self {
-            level: "auto".into(),
-            bins: 40,
-            fit_window: None,
-            periodic: None,
-            window: "hann".into(),
-            estimators: hurst::Which::All,
-            plots: false,
-        }
+        AnalyzeParams::default().options(false)
     }
 }

@@ -376,7 +376,7 @@ pub fn facets(
     crate::params::validate(job)?;
     let mesh = if job.smooth {
         h.to_trimesh(Diagonal::Forward)?
-            .with_scalar("height", h.data().to_vec())?
+            .with_scalar("height", h.measured_values())?
     } else {
         facet_mesh(h, !job.shared)?
     };

@@ -142,3 +142,84 @@ fn the_report_is_the_same_at_any_thread_count() {
     };
     assert_eq!(on(1), on(3));
 }
+
+/// Missing points (issue #38): the height parameters over the measured points
+/// alone (computed here directly), the rest on the filled field; the Hurst
+/// exponent of an fBm survives a few percent of holes; `fill: refuse` refuses.
+#[test]
+fn missing_points_are_left_out_of_the_heights_and_filled_for_the_spectrum() {
+    let Surface::Height(full) = fbm_surface() else {
+        unreachable!()
+    };
+    let mut h = full.clone();
+    let nx = h.nx();
+    // A disc of radius 12 and every 37th sample: ~3 % missing.
+    for k in 0..h.len() {
+        let (i, j) = ((k % nx) as f64 - 80.0, (k / nx) as f64 - 100.0);
+        if i * i + j * j < 144.0 || k % 37 == 0 {
+            h.data_mut()[k] = f64::NAN;
+        }
+    }
+    let missing = h.missing_count();
+    let holed = Surface::Height(h.clone());
+    let (m, warnings) = report(&holed, json!({"level": "none"}));
+    assert_eq!(m["missing"]["count"], missing);
+    assert_eq!(m["missing"]["fill"], "harmonic");
+    let z = h.measured_values();
+    let n = z.len() as f64;
+    let sq = (z.iter().map(|v| v * v).sum::<f64>() / n).sqrt();
+    let sa = z.iter().map(|v| v.abs()).sum::<f64>() / n;
+    let hi = z.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    assert!(
+        (m["Sq"].as_f64().unwrap() - sq).abs() <= 1e-12 * sq,
+        "{}",
+        m["Sq"]
+    );
+    assert!(
+        (m["Sa"].as_f64().unwrap() - sa).abs() <= 1e-12 * sa,
+        "{}",
+        m["Sa"]
+    );
+    assert_eq!(m["Sp"].as_f64().unwrap(), hi);
+    assert_eq!(m["periodic"]["source"], "missing points");
+    assert!(warnings.iter().any(|w| w.contains("were not measured")));
+    let (whole, _) = report(&Surface::Height(full), json!({"level": "plane"}));
+    let (h_holed, h_full) = (
+        m["hurst"].as_f64().unwrap(),
+        whole["hurst"].as_f64().unwrap(),
+    );
+    assert!(
+        (h_holed - h_full).abs() < 0.05,
+        "H {h_holed} with holes, {h_full} without"
+    );
+    let p: AnalyzeParams = serde_json::from_value(json!({"fill": "refuse"})).unwrap();
+    let e = analyze(&holed, "test", &p.options(false)).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains(&format!("{missing} of {} points", h.len())),
+        "{e}"
+    );
+    // A constant field with a hole, and a profile with one: reports, no panic.
+    let flat = HeightField::from_vec(
+        [3, 3],
+        vec![1.0, 1.0, 1.0, 1.0, f64::NAN, 1.0, 1.0, 1.0, 1.0],
+    )
+    .unwrap();
+    let (c, _) = report(&Surface::Height(flat), json!({}));
+    assert_eq!(c["missing"]["count"], 1);
+    let profile: Vec<f64> = (0..64)
+        .map(|i| {
+            if i == 9 {
+                f64::NAN
+            } else {
+                (i as f64 * 0.3).sin()
+            }
+        })
+        .collect();
+    let (p, _) = report(
+        &Surface::Height(HeightField::from_vec([64, 1], profile).unwrap()),
+        json!({"level": "mean"}),
+    );
+    assert_eq!(p["kind"], "profile");
+    assert!(p["profile_x"]["Rq"].is_number());
+}

@@ -49,23 +49,57 @@ fn obj_with_bad_indices() {
 }
 
 #[test]
-fn nan_in_height_fields_is_refused_on_read_and_write() {
+fn missing_points_are_carried_where_a_format_can_and_infinity_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let p = write(dir.path(), "nan.csv", b"1,2,3\n4,nan,6\n");
+    let p = write(dir.path(), "inf.csv", b"1,2,3\n4,inf,6\n");
     let m = message(asperity_io::read_height(&p));
     assert!(
-        m.contains("nan.csv") && m.contains("height 4 is not finite"),
+        m.contains("inf.csv") && m.contains("height 4 is not finite"),
         "{m}"
     );
+    // NaN is a missing point: read as one.
+    let p = write(dir.path(), "nan.csv", b"1,2,3\n4,nan,6\n");
+    let h = asperity_io::read_height(&p).unwrap();
+    assert_eq!(h.missing_count(), 1);
+    assert!(h.get(1, 1).is_nan());
     let mut h = height();
     *h.get_mut(2, 3) = f64::NAN;
-    for ext in [
-        "npy", "png", "exr", "gsf", "gwy", "x3p", "sdf", "csv", "ply",
-    ] {
+    *h.get_mut(0, 0) = f64::NAN;
+    let k = [h.index(0, 0), h.index(2, 3)];
+    for ext in ["npy", "exr", "gsf", "gwy", "x3p", "csv"] {
+        let target = dir.path().join(format!("out.{ext}"));
+        asperity_io::write_height(&target, &h, &WriteOptions::default()).unwrap();
+        let back = asperity_io::read_height(&target).unwrap();
+        let missing: Vec<usize> = (0..back.len())
+            .filter(|&i| back.data()[i].is_nan())
+            .collect();
+        assert_eq!(missing, k, "{ext}: the same points missing");
+    }
+    // Meshes get holes; PNG and SDF cannot mark a point and refuse the field.
+    let ply = dir.path().join("out.ply");
+    asperity_io::write_height(&ply, &h, &WriteOptions::default()).unwrap();
+    let mesh = asperity_io::read_mesh(&ply).unwrap();
+    assert_eq!(mesh.positions().len(), h.len() - 2);
+    for ext in ["png", "sdf"] {
         let target = dir.path().join(format!("out.{ext}"));
         let m = message(asperity_io::write_height(
             &target,
             &h,
+            &WriteOptions::default(),
+        ));
+        assert!(
+            m.contains("2 of") && m.contains("not measured"),
+            "{ext}: {m}"
+        );
+        assert!(!target.exists(), "{ext}: nothing written");
+    }
+    let mut inf = height();
+    *inf.get_mut(1, 1) = f64::INFINITY;
+    for ext in ["npy", "png", "x3p", "ply"] {
+        let target = dir.path().join(format!("inf.{ext}"));
+        let m = message(asperity_io::write_height(
+            &target,
+            &inf,
             &WriteOptions::default(),
         ));
         assert!(m.contains("not finite"), "{ext}: {m}");

@@ -426,7 +426,7 @@ pub fn render_height(h: &HeightField, o: &RenderOptions) -> Result<RgbaImage, Re
     // The colour map shows true heights whatever the exaggeration.
     let m = scaled
         .to_trimesh(asperity_core::Diagonal::Forward)?
-        .with_scalar("height", h.data().to_vec())?;
+        .with_scalar("height", h.measured_values())?;
     let o = RenderOptions {
         scalar: o.scalar.clone().or_else(|| Some("height".into())),
         ..o.clone()

@@ -1,0 +1,173 @@
+//! Sensofar `.plu` (and `.apx`), the confocal and interferometric
+//! profilometers' topography files, read.
+//!
+//! Little-endian, no magic: a 128-byte date string, the time (u32) and a
+//! 256-byte comment; the calibration at byte 388 — rows (u32), columns (u32),
+//! a third count, a factor, then f32 µm per pixel along x and along y, the x
+//! and y offsets, µm per level and the z offset; the measurement
+//! configuration at 428 — type (u32, 3 for a topography; 1, a profile, is
+//! refused), algorithm, method, objective, area type — then 40 bytes of scan
+//! settings (their layout depends on the area type, their size does not); at
+//! 488 the second configuration: restore, the number of layers, version,
+//! hardware, images (u8 each), three reserved bytes and a u32. Then each
+//! layer: rows and columns (u32), the heights as f32 in µm (row by row, x
+//! fastest), its minimum and maximum (f32). A height of 1000001 marks a point
+//! not measured: it is read as a missing point (NaN). The first layer is the
+//! topography SurfaceTopography reads by default; later layers are ignored.
+//! Lengths are µm. Layout learnt from SurfaceTopography's `PLU.py` and checked
+//! on its example file.
+
+use asperity_core::{HeightField, LengthUnit, Units};
+
+use crate::error::{FResult, malformed, unsupported};
+
+/// Byte offsets of the header's parts.
+const CALIBRATION: usize = 388;
+const CONFIGURATION: usize = 428;
+const LAYERS: usize = 488;
+const FIRST_LAYER: usize = 500;
+
+/// A height marking a point not measured.
+const UNDEFINED: f32 = 1_000_001.0;
+
+/// Measurement types.
+const TOPOGRAPHY: u32 = 3;
+const PROFILE: u32 = 1;
+
+fn u32_at(bytes: &[u8], o: usize) -> u32 {
+    u32::from_le_bytes(bytes[o..o + 4].try_into().expect("4 bytes"))
+}
+
+fn f32_at(bytes: &[u8], o: usize) -> f64 {
+    f64::from(f32::from_le_bytes(
+        bytes[o..o + 4].try_into().expect("4 bytes"),
+    ))
+}
+
+/// Reads the first layer of a Sensofar file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    let Some(head) = bytes.get(..FIRST_LAYER + 8) else {
+        return malformed(format!(
+            "the header has {} bytes, the file {} (truncated?)",
+            FIRST_LAYER + 8,
+            bytes.len()
+        ));
+    };
+    match u32_at(head, CONFIGURATION) {
+        TOPOGRAPHY => {}
+        PROFILE => return unsupported("a Sensofar profile (measurement type 1) is not supported"),
+        t => return malformed(format!("measurement type {t} is not a topography (3)")),
+    }
+    let layers = head[LAYERS + 1];
+    if layers == 0 {
+        return malformed("the file declares no layer");
+    }
+    let (dx, dy) = (
+        f32_at(head, CALIBRATION + 16),
+        f32_at(head, CALIBRATION + 20),
+    );
+    for (name, v) in [("x", dx), ("y", dy)] {
+        if !(v.is_finite() && v > 0.0) {
+            return malformed(format!(
+                "the pixel size along {name}, {v} µm, is not positive"
+            ));
+        }
+    }
+    let (ny, nx) = (
+        u32_at(head, FIRST_LAYER) as usize,
+        u32_at(head, FIRST_LAYER + 4) as usize,
+    );
+    if nx == 0 || ny == 0 {
+        return malformed(format!("a layer of {nx} × {ny} points: no data"));
+    }
+    let need = nx
+        .checked_mul(ny)
+        .and_then(|n| n.checked_mul(4))
+        .filter(|&n| n <= bytes.len())
+        .ok_or_else(|| {
+            crate::error::FormatError::Malformed(format!(
+                "{nx} × {ny} f32 heights do not fit in the file's {} bytes (truncated?)",
+                bytes.len()
+            ))
+        })?;
+    let body = &bytes[FIRST_LAYER + 8..];
+    if body.len() < need {
+        return malformed(format!(
+            "{nx} × {ny} f32 heights need {need} bytes, the file has {} after the header (truncated?)",
+            body.len()
+        ));
+    }
+    let data = body[..need]
+        .chunks_exact(4)
+        .map(|c| {
+            let v = f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+            if v == UNDEFINED || v.is_nan() {
+                f64::NAN
+            } else {
+                f64::from(v)
+            }
+        })
+        .collect();
+    let um = Units {
+        xy: LengthUnit::Um,
+        z: LengthUnit::Um,
+    };
+    Ok(HeightField::from_vec([nx, ny], data)?
+        .with_spacing([dx, dy])?
+        .with_units(um))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file of `nx × ny` heights, pixel size 0.5 × 0.25 µm.
+    fn file(kind: u32, nx: u32, ny: u32, heights: &[f32]) -> Vec<u8> {
+        let mut b = vec![0u8; FIRST_LAYER];
+        b[CALIBRATION..CALIBRATION + 4].copy_from_slice(&ny.to_le_bytes());
+        b[CALIBRATION + 4..CALIBRATION + 8].copy_from_slice(&nx.to_le_bytes());
+        b[CALIBRATION + 16..CALIBRATION + 20].copy_from_slice(&0.5f32.to_le_bytes());
+        b[CALIBRATION + 20..CALIBRATION + 24].copy_from_slice(&0.25f32.to_le_bytes());
+        b[CONFIGURATION..CONFIGURATION + 4].copy_from_slice(&kind.to_le_bytes());
+        b[LAYERS + 1] = 1;
+        b.extend(ny.to_le_bytes());
+        b.extend(nx.to_le_bytes());
+        b.extend(heights.iter().flat_map(|v| v.to_le_bytes()));
+        b.extend([0u8; 8]);
+        b
+    }
+
+    fn err(r: FResult<HeightField>) -> String {
+        match r {
+            Ok(_) => panic!("accepted"),
+            Err(e) => format!("{e:?}"),
+        }
+    }
+
+    #[test]
+    fn reads_rows_of_micrometres_with_missing_points() {
+        let h = read_height(&file(3, 3, 2, &[1.0, 2.0, 3.0, 4.0, UNDEFINED, 6.0])).unwrap();
+        assert_eq!(h.dims(), [3, 2]);
+        assert_eq!(h.spacing(), [0.5, 0.25]);
+        assert_eq!(h.units().xy, LengthUnit::Um);
+        assert_eq!(*h.get(2, 0), 3.0);
+        assert_eq!(*h.get(0, 1), 4.0);
+        assert!(h.get(1, 1).is_nan());
+    }
+
+    #[test]
+    fn profiles_truncation_and_bad_headers_are_refused() {
+        let good = file(3, 3, 2, &[0.0; 6]);
+        for cut in 0..good.len() - 8 {
+            assert!(read_height(&good[..cut]).is_err(), "cut at {cut}");
+        }
+        assert!(err(read_height(&file(1, 3, 2, &[0.0; 6]))).contains("profile"));
+        assert!(err(read_height(&file(7, 3, 2, &[0.0; 6]))).contains("type 7"));
+        assert!(err(read_height(&file(3, 0, 2, &[]))).contains("no data"));
+        let huge = file(3, u32::MAX, u32::MAX, &[0.0; 6]);
+        assert!(err(read_height(&huge)).contains("do not fit"));
+        let mut flat = good.clone();
+        flat[CALIBRATION + 16..CALIBRATION + 20].copy_from_slice(&0f32.to_le_bytes());
+        assert!(err(read_height(&flat)).contains("not positive"));
+    }
+}
