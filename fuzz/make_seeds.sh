@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -73,6 +73,28 @@ struct.pack_into("<ff", p, 404, 0.5, 0.25)
 struct.pack_into("<I", p, 428, 3)
 p[489] = 1
 open(f"{s}/plu/p3x2.plu", "wb").write(bytes(p) + struct.pack("<II", 2, 3) + struct.pack("<6f", 1, 2, 3, 1000001, 5, 6) + b"\0" * 8)
+def opd_entry(name, n):
+    return name.encode().ljust(16, b"\0") + struct.pack("<hlH", 0, n, 0)
+raw = struct.pack("<HHH", 2, 3, 2) + struct.pack("<6h", 0, 1, 2, 3, 32767, 5)
+blocks = [("RAW DATA", raw), ("Wavelength", struct.pack("<f", 600)), ("Mult", struct.pack("<H", 2)),
+          ("Pixel_size", struct.pack("<f", 0.5)), ("Aspect", struct.pack("<f", 1))]
+o = b"\0\0" + opd_entry("Directory", 24 * (len(blocks) + 1))
+o += b"".join(opd_entry(n, len(b)) for n, b in blocks) + b"".join(b for _, b in blocks)
+open(f"{s}/opd/o2x3.opd", "wb").write(o)
+def frt_block(i, b):
+    return struct.pack("<HI", i, len(b)) + b
+f = b"FRTM_GLIDERV1.00" + struct.pack("<H", 4)
+f += frt_block(0x66, struct.pack("<3I", 3, 2, 32)) + frt_block(0x67, struct.pack("<5dI", 6e-6, 1e-6, 0, 0, 1, 0))
+f += frt_block(0x6C, struct.pack("<Id", 7, 1e-9)) + frt_block(0x0B, struct.pack("<6i", 0, 2, 1, -4, 5, 6))
+open(f"{s}/frt/f3x2.frt", "wb").write(f)
+image = ("\\*Ciao image list\r\n\\Data offset: {}\r\n\\Data length: 12\r\n\\Bytes/pixel: 2\r\n"
+         "\\Samps/line: 3\r\n\\Number of lines: 2\r\n\\Scan Size: 3 1 um\r\n"
+         "\\@2:Image Data: S [Height] \"Height\"\r\n\\@2:Z scale: V [Sens. Zsens] (0.005 V/LSB) 6.5536 V\r\n")
+d = ("\\*File list\r\n\\Version: 0x07200000\r\n\\*Scanner list\r\n\\@Sens. Zsens: V 20 nm/V\r\n"
+     + image.format(600) + "\\*File list end\r\n").encode().ljust(600, b"\0")
+open(f"{s}/di/d3x2.spm", "wb").write(d + struct.pack("<6h", 0, 1, 2, 3, 4, -5))
+import shutil
+shutil.copy("tests/data/surfacetopography/nc-1.nc", f"{s}/nc/nc-1.nc")
 open(f"{s}/tmd/t3x2.tmd", "wb").write(t + struct.pack("<IIffff", 3, 2, 1.5, 0.5, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32

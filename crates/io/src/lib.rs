@@ -26,15 +26,19 @@ pub mod al3d;
 pub mod atomic;
 pub mod bcr;
 pub mod decimal;
+pub mod di;
 mod error;
 pub mod exr_io;
+pub mod frt;
 pub mod glb;
 pub mod gsf;
 pub mod gwy;
 pub mod metadata;
 pub mod metropro;
+pub mod nc;
 pub mod npy;
 pub mod obj;
+pub mod opd;
 pub mod plu;
 pub mod ply;
 pub mod png_io;
@@ -110,6 +114,14 @@ pub enum Format {
     Wsxm,
     /// Sensofar confocal/interferometric topography.
     Plu,
+    /// Wyko (Bruker Vision) interferometer data.
+    Opd,
+    /// FRT MicroProf profilometer data.
+    Frt,
+    /// Bruker / Veeco / Digital Instruments Nanoscope scanning-probe data.
+    Di,
+    /// NetCDF-3 topographies in SurfaceTopography's layout.
+    Nc,
 }
 
 /// What a format can do with one kind of data.
@@ -340,6 +352,42 @@ pub const FORMATS: &[FormatInfo] = &[
         height: R,
         notes: "the first layer's f32 heights in µm, pixel sizes from the calibration; undefined points (1000001) read as missing; profiles refused",
     },
+    FormatInfo {
+        format: Format::Nc,
+        name: "NetCDF (.nc, SurfaceTopography's layout)",
+        extensions: &["nc"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "NetCDF-3 (classic, 64-bit offsets): the variable heights(x, y) or heights(x), sizes from the length of x and y, unit attribute; a mask variable and NaN read as missing",
+    },
+    FormatInfo {
+        format: Format::Di,
+        name: "Bruker Nanoscope (.spm, .di, .001)",
+        extensions: &["di", "spm", "001", "002", "003", "004", "005"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "version 4.3 and later: the first channel's int16/int32 counts × its Z scale × the soft scale (nm/V), from the last line; sizes from Scan Size; channels that are no height and force curves refused",
+    },
+    FormatInfo {
+        format: Format::Frt,
+        name: "FRT MicroProf (.frt)",
+        extensions: &["frt"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "versions 1.00 and 1.01: the topography's 16/32-bit counts × the height scale in metres, sizes in metres; a count of 1 read as missing",
+    },
+    FormatInfo {
+        format: Format::Opd,
+        name: "Wyko OPD (.opd)",
+        extensions: &["opd"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the first data block: int16 or f32 × wavelength / mult in nm, pixel size and aspect in mm; values at the type's limit read as missing",
+    },
 ];
 
 impl Format {
@@ -366,7 +414,10 @@ impl Format {
 
     /// The format whose magic `bytes` start with, if one does.
     pub fn from_content(bytes: &[u8]) -> Option<Format> {
-        const MAGICS: [(&[u8], Format); 11] = [
+        const MAGICS: [(&[u8], Format); 14] = [
+            (b"CDF\x01", Format::Nc),
+            (b"CDF\x02", Format::Nc),
+            (frt::MAGIC, Format::Frt),
             (wsxm::MAGIC, Format::Wsxm),
             (al3d::MAGIC, Format::Al3d),
             (tmd::MAGIC, Format::Tmd),
@@ -382,6 +433,12 @@ impl Format {
         let ply = bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n");
         if bcr::sniff(bytes) {
             return Some(Format::Bcr);
+        }
+        if di::sniff(bytes) {
+            return Some(Format::Di);
+        }
+        if bytes.get(2..11) == Some(b"Directory".as_slice()) {
+            return Some(Format::Opd);
         }
         if metropro::MAGICS.iter().any(|m| bytes.starts_with(m)) {
             return Some(Format::MetroPro);
@@ -628,7 +685,11 @@ fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
         | Format::MetroPro
         | Format::Al3d
         | Format::Wsxm
-        | Format::Plu => Surface::Height(read_height_bytes(bytes, f)?),
+        | Format::Plu
+        | Format::Opd
+        | Format::Frt
+        | Format::Di
+        | Format::Nc => Surface::Height(read_height_bytes(bytes, f)?),
     })
 }
 
@@ -671,6 +732,10 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
         Format::Al3d => al3d::read_height(bytes)?,
         Format::Wsxm => wsxm::read_height(bytes)?,
         Format::Plu => plu::read_height(bytes)?,
+        Format::Nc => nc::read_height(bytes)?,
+        Format::Di => di::read_height(bytes)?,
+        Format::Frt => frt::read_height(bytes)?,
+        Format::Opd => opd::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     // Missing points (NaN) are carried; ±∞ and a field with no measured

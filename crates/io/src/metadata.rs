@@ -122,7 +122,11 @@ pub(crate) fn params_from_bytes(bytes: &[u8], f: Format) -> FResult<Option<Value
         | Format::MetroPro
         | Format::Al3d
         | Format::Wsxm
-        | Format::Plu => None,
+        | Format::Plu
+        | Format::Nc
+        | Format::Di
+        | Format::Frt
+        | Format::Opd => None,
         Format::Glb => return glb::params(bytes),
         Format::Npy | Format::Stl | Format::Xyz => None,
     };

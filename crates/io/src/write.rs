@@ -204,7 +204,11 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
         | Format::MetroPro
         | Format::Al3d
         | Format::Wsxm
-        | Format::Plu => Err(wrong(path, f, "a height field")),
+        | Format::Plu
+        | Format::Nc
+        | Format::Di
+        | Format::Frt
+        | Format::Opd => Err(wrong(path, f, "a height field")),
         Format::Ply | Format::Obj | Format::Stl | Format::Glb => {
             let mesh = h
                 .to_trimesh(opts.diagonal)

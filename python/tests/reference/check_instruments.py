@@ -92,6 +92,10 @@ compare(DATA / "stp-1.stp", "stp-1.stp (WSxM, double)")
 compare(DATA / "top-1.top", "top-1.top (WSxM, int16)")
 compare(DATA / "x3p-2.x3p", "x3p-2.x3p (an instrument's x3p)")
 compare(DATA / "plu-1.plu", "plu-1.plu (Sensofar)")
+compare(DATA / "opd-1.opd", "opd-1.opd (Wyko, with unmeasured points)")
+compare(DATA / "frt-2.frt", "frt-2.frt (FRT MicroProf, with unmeasured points)")
+compare(DATA / "di-1.di", "di-1.di (Bruker Nanoscope, the first of four channels)")
+compare(DATA / "nc-1.nc", "nc-1.nc (NetCDF, SurfaceTopography's layout)")
 for name in ["sur-2.sur", "sur-3.sur"]:
     # The instrument's files have unmeasured points: carried as ST masks them.
     compare(DATA / name, f"{name} (with its unmeasured points)")

@@ -1,0 +1,212 @@
+//! FRT MicroProf `.frt` (optical profilometers), read.
+//!
+//! `FRTM_GLIDERV` and a four-character version (`1.00` or `1.01`), the number
+//! of blocks (u16), then blocks of an id (u16), a size (u32 in 1.00, u64 in
+//! 1.01) and that many bytes. Little-endian. Three blocks describe the
+//! topography: 0x66 — points along x and y and the bits per point (u32 each;
+//! 16, unsigned, or 32, signed); 0x67 — the field's physical sizes along x
+//! and y (f64, metres); 0x6c — the measuring range (u32) and the height scale
+//! (f64, metres per count). Block 0x0b holds the counts, row by row, x
+//! fastest, the first stored row being the image's last line (flipped, as
+//! Gwyddion's `microprof.c` and SurfaceTopography 1.27 read it); a count of 1
+//! marks a point not measured, read as a missing point (NaN). Other blocks
+//! (instrument settings, intensity, text) are skipped. Layout learnt from
+//! SurfaceTopography's `FRT.py` and checked on its example file.
+
+use asperity_core::{HeightField, LengthUnit, Units};
+
+use crate::error::{FResult, FormatError, malformed, unsupported};
+
+pub(crate) const MAGIC: &[u8] = b"FRTM_GLIDERV";
+
+/// The blocks by id (the first of each id).
+fn blocks(bytes: &[u8]) -> FResult<Vec<(u16, &[u8])>> {
+    let version = bytes.get(MAGIC.len()..MAGIC.len() + 4).ok_or_else(|| {
+        FormatError::Malformed("the file ends in its version (truncated?)".into())
+    })?;
+    let wide = match version {
+        b"1.00" => false,
+        b"1.01" => true,
+        v => {
+            return unsupported(format!(
+                "FRT version {:?} (1.00 and 1.01 are read)",
+                String::from_utf8_lossy(v)
+            ));
+        }
+    };
+    let mut at = MAGIC.len() + 4;
+    let count = bytes
+        .get(at..at + 2)
+        .map(|b| u16::from_le_bytes([b[0], b[1]]))
+        .ok_or_else(|| {
+            FormatError::Malformed("the file ends before its blocks (truncated?)".into())
+        })?;
+    at += 2;
+    let head = if wide { 10 } else { 6 };
+    let mut out = Vec::new();
+    for _ in 0..count {
+        let Some(h) = bytes.get(at..at + head) else {
+            break; // the last blocks may be absent, as SurfaceTopography allows
+        };
+        let id = u16::from_le_bytes([h[0], h[1]]);
+        let size = if wide {
+            u64::from_le_bytes(h[2..10].try_into().expect("8 bytes"))
+        } else {
+            u64::from(u32::from_le_bytes(h[2..6].try_into().expect("4 bytes")))
+        };
+        at += head;
+        let content = usize::try_from(size)
+            .ok()
+            .and_then(|n| at.checked_add(n))
+            .and_then(|end| bytes.get(at..end))
+            .ok_or_else(|| {
+                FormatError::Malformed(format!(
+                    "block 0x{id:04x} of {size} bytes runs past the file's end (truncated?)"
+                ))
+            })?;
+        at += content.len();
+        out.push((id, content));
+    }
+    Ok(out)
+}
+
+/// Reads the topography of an FRT file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    if !bytes.starts_with(MAGIC) {
+        return malformed("missing the `FRTM_GLIDERV` magic");
+    }
+    let blocks = blocks(bytes)?;
+    let block = |id: u16, least: usize| -> FResult<&[u8]> {
+        match blocks.iter().find(|(i, _)| *i == id) {
+            Some((_, b)) if b.len() >= least => Ok(b),
+            Some(_) => malformed(format!("block 0x{id:04x} is shorter than {least} bytes")),
+            None => malformed(format!(
+                "no block 0x{id:04x} (the topography needs 0x0066, 0x0067, 0x006c and 0x000b)"
+            )),
+        }
+    };
+    let u32_at = |b: &[u8], o: usize| u32::from_le_bytes(b[o..o + 4].try_into().expect("4 bytes"));
+    let f64_at = |b: &[u8], o: usize| f64::from_le_bytes(b[o..o + 8].try_into().expect("8 bytes"));
+    let size = block(0x66, 12)?;
+    let (nx, ny, bits) = (
+        u32_at(size, 0) as usize,
+        u32_at(size, 4) as usize,
+        u32_at(size, 8),
+    );
+    let extent = block(0x67, 16)?;
+    let (lx, ly) = (f64_at(extent, 0), f64_at(extent, 8));
+    let scale = f64_at(block(0x6c, 12)?, 4);
+    if nx == 0 || ny == 0 {
+        return malformed(format!("{nx} × {ny} points: no data"));
+    }
+    for (name, v) in [("x size", lx), ("y size", ly)] {
+        if !(v.is_finite() && v > 0.0) {
+            return malformed(format!("the {name} {v} m is not positive"));
+        }
+    }
+    if !scale.is_finite() {
+        return malformed("the height scale is not a number");
+    }
+    let width = match bits {
+        16 => 2,
+        32 => 4,
+        b => return malformed(format!("{b} bits a point (16 and 32 are read)")),
+    };
+    let data = block(0x0b, 0)?;
+    let need = nx.checked_mul(ny).and_then(|n| n.checked_mul(width));
+    if need != Some(data.len()) {
+        return malformed(format!(
+            "the data block holds {} bytes, {nx} × {ny} points of {bits} bits need {}",
+            data.len(),
+            need.map_or("more than fit in memory".into(), |n| n.to_string())
+        ));
+    }
+    // Rows stored from the last line up.
+    let heights = data
+        .chunks_exact(nx * width)
+        .rev()
+        .flat_map(|row| row.chunks_exact(width))
+        .map(|c| {
+            let count = if width == 2 {
+                i64::from(u16::from_le_bytes([c[0], c[1]]))
+            } else {
+                i64::from(i32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            };
+            if count == 1 {
+                f64::NAN
+            } else {
+                count as f64 * scale
+            }
+        })
+        .collect();
+    let metres = Units {
+        xy: LengthUnit::M,
+        z: LengthUnit::M,
+    };
+    Ok(HeightField::from_vec([nx, ny], heights)?
+        .with_spacing([lx / nx as f64, ly / ny as f64])?
+        .with_units(metres))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn block(id: u16, content: &[u8]) -> Vec<u8> {
+        let mut b = id.to_le_bytes().to_vec();
+        b.extend((content.len() as u32).to_le_bytes());
+        b.extend(content);
+        b
+    }
+
+    /// A version 1.00 file of 3 × 2 int32 counts, 6 µm × 1 µm, 1 nm a count.
+    fn file(counts: &[i32]) -> Vec<u8> {
+        let mut size = Vec::new();
+        for v in [3u32, 2, 32] {
+            size.extend(v.to_le_bytes());
+        }
+        let mut extent = Vec::new();
+        for v in [6e-6f64, 1e-6, 0.0, 0.0, 1.0] {
+            extent.extend(v.to_le_bytes());
+        }
+        extent.extend(0u32.to_le_bytes());
+        let mut range = 7u32.to_le_bytes().to_vec();
+        range.extend(1e-9f64.to_le_bytes());
+        let data: Vec<u8> = counts.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let mut out = MAGIC.to_vec();
+        out.extend(b"1.00");
+        out.extend(5u16.to_le_bytes());
+        out.extend(block(0x65, b"a comment\0"));
+        out.extend(block(0x66, &size));
+        out.extend(block(0x67, &extent));
+        out.extend(block(0x6c, &range));
+        out.extend(block(0x0b, &data));
+        out
+    }
+
+    #[test]
+    fn reads_counts_times_the_scale_with_missing_points() {
+        // Stored rows: (0, 2, 1) then (−4, 5, 6), the first the last line.
+        let h = read_height(&file(&[0, 2, 1, -4, 5, 6])).unwrap();
+        assert_eq!(h.dims(), [3, 2]);
+        assert_eq!(h.spacing(), [2e-6, 0.5e-6]);
+        assert_eq!(*h.get(1, 1), 2e-9);
+        assert!(h.get(2, 1).is_nan(), "a count of 1 is not measured");
+        assert_eq!(*h.get(0, 0), -4e-9);
+    }
+
+    #[test]
+    fn truncation_versions_and_missing_blocks_are_refused() {
+        let good = file(&[0; 6]);
+        for cut in 0..good.len() {
+            assert!(read_height(&good[..cut]).is_err(), "cut at {cut}");
+        }
+        let mut v = good.clone();
+        v[MAGIC.len() + 3] = b'9';
+        assert!(format!("{:?}", read_height(&v).unwrap_err()).contains("version"));
+        let mut no_data = good.clone();
+        let at = no_data.len() - 24 - 6;
+        no_data[at] = 0x0c;
+        assert!(format!("{:?}", read_height(&no_data).unwrap_err()).contains("0x000b"));
+    }
+}

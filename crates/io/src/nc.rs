@@ -1,0 +1,119 @@
+//! NetCDF (`.nc`) topographies in SurfaceTopography's layout, read.
+//!
+//! The container (NetCDF-3 classic and 64-bit offset) is parsed by the
+//! pure-Rust `netcdf-reader` crate (no libnetcdf, so the Python wheel stays
+//! portable). The layout on top of it is SurfaceTopography's own (its
+//! `NC.py` documents it): a variable `heights` — two-dimensional with
+//! dimensions `(x, y)` for a topography, one-dimensional `(x)` for a profile
+//! — whose first index is x, so row j of the field is `heights[:, j]`; the
+//! variables `x` and `y` carry the physical sizes as their attribute
+//! `length`, and `unit` (on `x`, else on `heights`) names the length unit;
+//! without a `length` the spacing is one sample, unitless. An optional
+//! variable `mask` (non-zero where a point is masked) marks points not
+//! measured, read as missing points (NaN), as are NaN heights.
+
+use asperity_core::{HeightField, LengthUnit, Units};
+use netcdf_reader::{NcAttrValue, NcFile, NcVariable};
+
+use crate::error::{FResult, FormatError, malformed};
+
+fn nc_error(e: netcdf_reader::Error) -> FormatError {
+    FormatError::Malformed(format!("not a readable NetCDF-3 file: {e}"))
+}
+
+fn attribute(var: Option<&NcVariable>, name: &str) -> Option<NcAttrValue> {
+    var?.attribute(name).map(|a| a.value.clone())
+}
+
+/// Reads the `heights` of a NetCDF file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    if !bytes.starts_with(b"CDF") {
+        return malformed("missing the NetCDF-3 magic `CDF` (NetCDF-4/HDF5 files are not read)");
+    }
+    let file = NcFile::from_bytes(bytes).map_err(nc_error)?;
+    let vars = file.variables().map_err(nc_error)?;
+    let find = |name: &str| vars.iter().find(|v| v.name() == name);
+    let Some(heights) = find("heights") else {
+        return malformed("no variable named `heights` (SurfaceTopography's layout)");
+    };
+    let shape = heights.shape();
+    let (nx, ny) = match shape.as_slice() {
+        [nx] => (*nx as usize, 1),
+        [nx, ny] => (*nx as usize, *ny as usize),
+        s => {
+            return malformed(format!(
+                "`heights` has {} dimensions (1 or 2 are read)",
+                s.len()
+            ));
+        }
+    };
+    if nx == 0 || ny == 0 {
+        return malformed(format!("`heights` is {nx} × {ny}: no data"));
+    }
+    let values = file.read_variable_as_f64("heights").map_err(nc_error)?;
+    let raw: Vec<f64> = values.iter().copied().collect();
+    if raw.len() != nx * ny {
+        return malformed(format!(
+            "`heights` holds {} values, its shape {nx} × {ny}",
+            raw.len()
+        ));
+    }
+    let mask: Option<Vec<f64>> = match find("mask") {
+        Some(_) => Some(
+            file.read_variable_as_f64("mask")
+                .map_err(nc_error)?
+                .iter()
+                .copied()
+                .collect(),
+        ),
+        None => None,
+    };
+    if mask.as_ref().is_some_and(|m| m.len() != raw.len()) {
+        return malformed("`mask` and `heights` differ in size");
+    }
+    // Stored x slowest: row j is heights[:, j].
+    let mut data = Vec::with_capacity(nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            let k = i * ny + j;
+            let masked = mask.as_ref().is_some_and(|m| m[k] != 0.0);
+            data.push(if masked { f64::NAN } else { raw[k] });
+        }
+    }
+    let unit = attribute(find("x"), "unit")
+        .or_else(|| attribute(Some(heights), "unit"))
+        .and_then(|v| v.as_string());
+    let length = |name: &str| attribute(find(name), "length").and_then(|v| v.as_f64());
+    let (lx, ly) = (length("x"), length("y"));
+    let spacing = match (lx, ly) {
+        (Some(lx), Some(ly)) if ny > 1 => [lx / nx as f64, ly / ny as f64],
+        (Some(lx), _) if ny == 1 => [lx / nx as f64, lx / nx as f64],
+        _ => [1.0, 1.0],
+    };
+    let xy = match unit.as_deref().map(str::trim) {
+        None => LengthUnit::None,
+        Some(u) => LengthUnit::parse(u)
+            .map_err(|_| FormatError::Malformed(format!("the unit {u:?} is not a length")))?,
+    };
+    Ok(HeightField::from_vec([nx, ny], data)?
+        .with_spacing(spacing)?
+        .with_units(Units { xy, z: xy }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn err(r: FResult<HeightField>) -> String {
+        match r {
+            Ok(_) => panic!("accepted"),
+            Err(e) => format!("{e:?}"),
+        }
+    }
+
+    #[test]
+    fn other_files_and_truncation_are_refused() {
+        assert!(err(read_height(b"\x89HDF\r\n\x1a\n")).contains("NetCDF-3"));
+        assert!(err(read_height(b"CDF\x01\0\0")).contains("NetCDF"));
+    }
+}
