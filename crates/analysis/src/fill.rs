@@ -4,7 +4,7 @@
 //! not see, dropouts of a stylus, the outside of a circular aperture. They
 //! arrive as NaN heights (see `asperity_core::HeightField::validate_measured`).
 //! The amplitude parameters are computed over the measured points alone
-//! ([`crate::areal::areal_measured`]); spectra, correlation functions and the
+//! ([`crate::areal::measured_heights`]); spectra, correlation functions and the
 //! fractal estimators need a value at every point of the grid, so their
 //! holes are filled first, as SurfaceTopography's `interpolate_undefined_data`
 //! and Gwyddion's "Remove data under mask" (Laplace) do:

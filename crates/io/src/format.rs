@@ -1,0 +1,415 @@
+//! The formats asperity reads and writes: what each holds, its extensions,
+//! and how a file's format is told (by extension, else by its first bytes).
+
+use std::path::Path;
+
+use crate::IoError;
+use crate::{al3d, bcr, di, frt, metropro, tmd, wsxm};
+
+/// The file formats asperity knows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    /// Stanford PLY.
+    Ply,
+    /// Wavefront OBJ.
+    Obj,
+    /// STL.
+    Stl,
+    /// glTF 2.0 binary.
+    Glb,
+    /// XYZ point text.
+    Xyz,
+    /// NumPy array.
+    Npy,
+    /// PNG image.
+    Png,
+    /// OpenEXR image.
+    Exr,
+    /// Gwyddion Simple Field.
+    Gsf,
+    /// Comma-separated grid.
+    Csv,
+    /// Gwyddion's native format.
+    Gwy,
+    /// ISO 25178-72 x3p.
+    X3p,
+    /// ISO 25178-71 surface data file.
+    Sdf,
+    /// Digital Surf (MountainsMap) surface.
+    Sur,
+    /// TrueMap surface.
+    Tmd,
+    /// BCR-STM / BCRF scanning-probe image.
+    Bcr,
+    /// Zygo MetroPro interferometer data.
+    MetroPro,
+    /// Alicona Imaging depth image.
+    Al3d,
+    /// WSxM scanning-probe image.
+    Wsxm,
+    /// Sensofar confocal/interferometric topography.
+    Plu,
+    /// Wyko (Bruker Vision) interferometer data.
+    Opd,
+    /// FRT MicroProf profilometer data.
+    Frt,
+    /// Bruker / Veeco / Digital Instruments Nanoscope scanning-probe data.
+    Di,
+    /// NetCDF-3 topographies in SurfaceTopography's layout.
+    Nc,
+}
+
+/// What a format can do with one kind of data.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Access {
+    /// Not supported.
+    None,
+    /// Read only.
+    Read,
+    /// Write only.
+    Write,
+    /// Read and write.
+    ReadWrite,
+}
+
+impl Access {
+    /// Can this be read?
+    pub fn can_read(self) -> bool {
+        matches!(self, Access::Read | Access::ReadWrite)
+    }
+    /// Can this be written?
+    pub fn can_write(self) -> bool {
+        matches!(self, Access::Write | Access::ReadWrite)
+    }
+}
+
+/// A row of the format table (`asperity formats`).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct FormatInfo {
+    /// The format.
+    pub format: Format,
+    /// Human name.
+    pub name: &'static str,
+    /// File extensions, lower case, without dots.
+    pub extensions: &'static [&'static str],
+    /// Triangle meshes.
+    pub mesh: Access,
+    /// Point sets.
+    pub points: Access,
+    /// Height fields.
+    pub height: Access,
+    /// What to know (precision, conventions).
+    pub notes: &'static str,
+}
+
+use Access::{None as No, Read as R, ReadWrite as RW, Write as W};
+
+/// Every format, in the order `asperity formats` lists them.
+pub const FORMATS: &[FormatInfo] = &[
+    FormatInfo {
+        format: Format::Ply,
+        name: "PLY (binary little-endian or ASCII)",
+        extensions: &["ply"],
+        mesh: RW,
+        points: RW,
+        height: No,
+        notes: "f64 positions; normals, RGBA colours, UVs (s, t) and named scalars",
+    },
+    FormatInfo {
+        format: Format::Obj,
+        name: "Wavefront OBJ",
+        extensions: &["obj"],
+        mesh: RW,
+        points: No,
+        height: No,
+        notes: "y-up (x, z, -y), read back unchanged; vertex colours (v x y z r g b), UVs, normals; texture as .mtl + .png; no scalars",
+    },
+    FormatInfo {
+        format: Format::Stl,
+        name: "STL (binary; ASCII also read)",
+        extensions: &["stl"],
+        mesh: RW,
+        points: No,
+        height: No,
+        notes: "f32 corners, welded on read; geometry only",
+    },
+    FormatInfo {
+        format: Format::Glb,
+        name: "glTF 2.0 binary",
+        extensions: &["glb"],
+        mesh: W,
+        points: No,
+        height: No,
+        notes: "y-up (x, z, -y); normals, linear COLOR_0, TEXCOORD_0 + embedded PNG texture (padded to powers of two), scalars as _NAME",
+    },
+    FormatInfo {
+        format: Format::Xyz,
+        name: "XYZ text",
+        extensions: &["xyz", "txt"],
+        mesh: No,
+        points: RW,
+        height: No,
+        notes: "x y z per line",
+    },
+    FormatInfo {
+        format: Format::Npy,
+        name: "NumPy .npy",
+        extensions: &["npy"],
+        mesh: No,
+        points: RW,
+        height: RW,
+        notes: "height (ny, nx) <f8 (or <f4), missing points NaN; points (N, 3) <f8; reads any float/int dtype",
+    },
+    FormatInfo {
+        format: Format::Png,
+        name: "PNG, 16-bit grayscale",
+        extensions: &["png"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "height range and spacing in tEXt chunks (asperity's and Gwyddion's Gwy:: keys); Gwyddion's exports read with their Gwy:: keys; PNGs with neither read as [0, 1]; no missing points",
+    },
+    FormatInfo {
+        format: Format::Exr,
+        name: "OpenEXR, float32",
+        extensions: &["exr"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "channel Y; spacing/origin as header attributes; missing points NaN",
+    },
+    FormatInfo {
+        format: Format::Gsf,
+        name: "Gwyddion Simple Field",
+        extensions: &["gsf"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "float32; XReal/XOffset follow Gwyddion's pixel convention; unitless; missing points NaN (Gwyddion masks them)",
+    },
+    FormatInfo {
+        format: Format::Csv,
+        name: "CSV grid",
+        extensions: &["csv"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "one row per line, geometry in a # comment line; missing points NaN",
+    },
+    FormatInfo {
+        format: Format::Gwy,
+        name: "Gwyddion native (.gwy)",
+        extensions: &["gwy"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "GwyContainer with one GwyDataField (the first channel is read); f64; base units (metres) or unitless; missing points as the channel's mask",
+    },
+    FormatInfo {
+        format: Format::X3p,
+        name: "ISO 25178-72 x3p",
+        extensions: &["x3p"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "zip of main.xml + f64 data with MD5 checksums; always metres; surfaces and profiles read (int16/32, f32, f64), not point clouds; missing points NaN (read: NaN or valid.bin)",
+    },
+    FormatInfo {
+        format: Format::Sdf,
+        name: "ISO 25178-71 SDF (.sdf)",
+        extensions: &["sdf"],
+        mesh: No,
+        points: No,
+        height: RW,
+        notes: "text (aISO) and binary (bISO) read, int16/int32/f64; text written, f64 in metres; unmeasured (BAD) points read as missing, a field with missing points not written",
+    },
+    FormatInfo {
+        format: Format::Sur,
+        name: "Digital Surf / MountainsMap (.sur)",
+        extensions: &["sur"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "one surface of int16/int32 samples times the header's scale, in the file's units (Å, pm as nm); unmeasured points (zmin − 2) read as missing; series and multi-channel files refused",
+    },
+    FormatInfo {
+        format: Format::Tmd,
+        name: "TrueMap (.tmd)",
+        extensions: &["tmd"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "version 2: f32 heights, lengths and offsets in millimetres",
+    },
+    FormatInfo {
+        format: Format::Bcr,
+        name: "BCR-STM / BCRF (.bcr, .bcrf)",
+        extensions: &["bcr", "bcrf"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "Latin-1 or UTF-16 header; int16 (× bit2nm) or f32, either byte order; the header's units (nm by default); void points read as missing",
+    },
+    FormatInfo {
+        format: Format::MetroPro,
+        name: "Zygo MetroPro (.dat)",
+        extensions: &["dat"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "header formats 1-3; phase × S × O × λ / R in metres, pixels from the lateral resolution; invalid phases read as missing",
+    },
+    FormatInfo {
+        format: Format::Al3d,
+        name: "Alicona Imaging (.al3d)",
+        extensions: &["al3d"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the depth image: f32 in metres, pixel sizes from the tags; invalid points read as missing",
+    },
+    FormatInfo {
+        format: Format::Wsxm,
+        name: "WSxM image (.stp, .top, .tom, .cur)",
+        extensions: &["stp", "top", "tom", "cur"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "int16 scaled to the Z amplitude, or f32/f64 heights; sizes from the X/Y amplitudes; stored from the last sample; NaN read as missing",
+    },
+    FormatInfo {
+        format: Format::Plu,
+        name: "Sensofar (.plu, .apx)",
+        extensions: &["plu", "apx"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the first layer's f32 heights in µm, pixel sizes from the calibration; undefined points (1000001) read as missing; profiles refused",
+    },
+    FormatInfo {
+        format: Format::Nc,
+        name: "NetCDF (.nc, SurfaceTopography's layout)",
+        extensions: &["nc"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "NetCDF-3 (classic, 64-bit offsets): the variable heights(x, y) or heights(x), sizes from the length of x and y, unit attribute; a mask variable and NaN read as missing",
+    },
+    FormatInfo {
+        format: Format::Di,
+        name: "Bruker Nanoscope (.spm, .di, .001)",
+        extensions: &["di", "spm", "001", "002", "003", "004", "005"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "version 4.3 and later: the first channel's int16/int32 counts × its Z scale × the soft scale (nm/V), from the last line; sizes from Scan Size; channels that are no height and force curves refused",
+    },
+    FormatInfo {
+        format: Format::Frt,
+        name: "FRT MicroProf (.frt)",
+        extensions: &["frt"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "versions 1.00 and 1.01: the topography's 16/32-bit counts × the height scale in metres, sizes in metres; a count of 1 read as missing",
+    },
+    FormatInfo {
+        format: Format::Opd,
+        name: "Wyko OPD (.opd)",
+        extensions: &["opd"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the first data block: int16 or f32 × wavelength / mult in nm, pixel size and aspect in mm; values at the type's limit read as missing",
+    },
+];
+
+impl Format {
+    /// The format of the file at `path`: by its extension, or, where the
+    /// extension names none (instruments' own or none at all), by the magic
+    /// its content starts with (SDF, Digital Surf, npy, PNG, EXR, GSF, .gwy,
+    /// PLY, TrueMap, BCR, MetroPro, Alicona, WSxM).
+    ///
+    /// # Errors
+    /// [`IoError::UnknownFormat`] when neither tells (or the file cannot be
+    /// opened to look).
+    pub fn of_file(path: &Path) -> Result<Format, IoError> {
+        let by_name = Format::from_path(path);
+        if by_name.is_ok() {
+            return by_name;
+        }
+        let mut head = [0u8; 64];
+        // A file that cannot be opened keeps the message about its name.
+        let n = std::fs::File::open(path)
+            .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
+            .unwrap_or(0);
+        Format::from_content(&head[..n]).ok_or_else(|| by_name.unwrap_err())
+    }
+
+    /// The format whose magic `bytes` start with, if one does.
+    pub fn from_content(bytes: &[u8]) -> Option<Format> {
+        const MAGICS: [(&[u8], Format); 14] = [
+            (b"CDF\x01", Format::Nc),
+            (b"CDF\x02", Format::Nc),
+            (frt::MAGIC, Format::Frt),
+            (wsxm::MAGIC, Format::Wsxm),
+            (al3d::MAGIC, Format::Al3d),
+            (tmd::MAGIC, Format::Tmd),
+            (b"aISO-1.0", Format::Sdf),
+            (b"bISO-1.0", Format::Sdf),
+            (b"DIGITAL SURF", Format::Sur),
+            (b"\x93NUMPY", Format::Npy),
+            (b"\x89PNG\r\n\x1a\n", Format::Png),
+            (b"\x76\x2f\x31\x01", Format::Exr),
+            (b"Gwyddion Simple Field", Format::Gsf),
+            (b"GWYP", Format::Gwy),
+        ];
+        let ply = bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n");
+        if bcr::sniff(bytes) {
+            return Some(Format::Bcr);
+        }
+        if di::sniff(bytes) {
+            return Some(Format::Di);
+        }
+        if bytes.get(2..11) == Some(b"Directory".as_slice()) {
+            return Some(Format::Opd);
+        }
+        if metropro::MAGICS.iter().any(|m| bytes.starts_with(m)) {
+            return Some(Format::MetroPro);
+        }
+        MAGICS
+            .iter()
+            .find(|(m, _)| bytes.starts_with(m))
+            .map(|&(_, f)| f)
+            .or(ply.then_some(Format::Ply))
+    }
+
+    /// The format named by `path`'s extension (case-insensitive).
+    ///
+    /// # Errors
+    /// [`IoError::UnknownFormat`].
+    pub fn from_path(path: &Path) -> Result<Format, IoError> {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        FORMATS
+            .iter()
+            .find(|f| f.extensions.contains(&ext.as_str()))
+            .map(|f| f.format)
+            .ok_or_else(|| IoError::UnknownFormat {
+                path: path.to_path_buf(),
+                ext,
+            })
+    }
+
+    /// This format's row of [`FORMATS`].
+    pub fn info(self) -> &'static FormatInfo {
+        FORMATS
+            .iter()
+            .find(|f| f.format == self)
+            .expect("every format has a row")
+    }
+}
