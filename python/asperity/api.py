@@ -440,13 +440,18 @@ fbm = Job(
 # ---------------------------------------------------------------- io and render
 
 
-def load(path: Union[str, Path], up: Optional[str] = None) -> Surface:
+def load(path: Union[str, Path], up: Optional[str] = None,
+         channel: Optional[Union[int, str]] = None) -> Surface:
     """Reads any file asperity reads (by content and extension): a
     :class:`Mesh`, :class:`HeightField` or :class:`PointSet`. Its ``title``
     is the file's stem, as ``asperity convert`` titles what it writes.
     ``up="y"`` reads a mesh or point file as y-up, ``up="z"`` as it is (the
-    CLI's ``--up``; by default asperity's own OBJ is turned back from y-up)."""
-    return _wrap(_asperity.load(str(path), up), Path(path).stem)
+    CLI's ``--up``; by default asperity's own OBJ is turned back from y-up).
+    ``channel`` picks a channel of a multi-channel file (Nanoscope images,
+    Sensofar layers) by number or name, as the CLI's ``--channel``; by
+    default the first height channel. Unmeasured points are NaN."""
+    ch = None if channel is None else str(channel)
+    return _wrap(_asperity.load(str(path), up, ch), Path(path).stem)
 
 
 def save(path: Union[str, Path], surface: Surface, title: Optional[str] = None,

@@ -102,6 +102,11 @@ pub struct Global {
     /// --up): `--up z --up-out y` reads z-up files and writes y-up ones. Default: --up.
     #[arg(long, global = true, value_name = "AXIS", value_parser = ["y", "z"])]
     pub up_out: Option<String>,
+    /// The channel of a multi-channel file read (Nanoscope images, Sensofar layers): its
+    /// number from 0 or its name (`asperity info FILE` lists them). Default: the first height
+    /// channel, as SurfaceTopography reads.
+    #[arg(long, global = true, value_name = "NAME|N")]
+    pub channel: Option<String>,
 }
 
 /// `--max-time`: a duration, or none for no limit.

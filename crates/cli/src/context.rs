@@ -36,6 +36,8 @@ pub struct Context {
     pub up: Option<UpAxis>,
     /// `--up-out`: the up axis of mesh and point files written.
     pub up_out: Option<UpAxis>,
+    /// `--channel`: the channel of multi-channel files read.
+    pub channel: Option<asperity_engine::io::Channel>,
     /// The arguments given on the command line (clap ids: field names), so
     /// that flags win over a `--params` file.
     pub explicit: BTreeSet<String>,
@@ -83,6 +85,10 @@ impl Context {
             units: (g.xy_unit, g.z_unit),
             up: axis(&g.up)?,
             up_out: axis(&g.up_out)?,
+            channel: g
+                .channel
+                .as_deref()
+                .map(asperity_engine::io::Channel::parse),
             explicit,
         })
     }
@@ -189,10 +195,13 @@ impl Context {
     /// `--xy-unit`/`--z-unit` give (for files that record none, such as .npy),
     /// a mesh or point set the up axis `--up` gives.
     pub fn load(&self, path: &Path) -> anyhow::Result<Surface> {
-        Ok(match asperity_engine::files::load(path, &self.budget)? {
-            Surface::Height(h) => Surface::Height(self.with_units(h)),
-            s => self.oriented(path, s)?,
-        })
+        let channel = self.channel.as_ref();
+        Ok(
+            match asperity_engine::files::load_channel(path, &self.budget, channel)? {
+                Surface::Height(h) => Surface::Height(self.with_units(h)),
+                s => self.oriented(path, s)?,
+            },
+        )
     }
 
     /// `s`, read from `path`, turned to the up axis `--up` gives (unchanged

@@ -105,7 +105,19 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
 }
 
 pub fn info(ctx: &Context, a: &InfoArgs) -> anyhow::Result<()> {
-    let facts = describe(&ctx.load(&a.input)?);
+    let mut facts = describe(&ctx.load(&a.input)?);
+    // A multi-channel file's channels, and which one was read.
+    if let Some(list) = asperity_engine::io::channels(&a.input)? {
+        let read = match &ctx.channel {
+            Some(asperity_engine::io::Channel::Index(n)) => list.iter().find(|c| c.index == *n),
+            Some(asperity_engine::io::Channel::Name(s)) => {
+                list.iter().find(|c| c.name.eq_ignore_ascii_case(s))
+            }
+            None => list.iter().find(|c| c.height).or(list.first()),
+        };
+        facts.set("channel", read.map(|c| c.index));
+        facts.set("channels", &list);
+    }
     // The parameters the file was made with, where it records them.
     let made_with = asperity_engine::io::read_params(&a.input)?;
     if ctx.json {

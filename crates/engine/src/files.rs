@@ -39,7 +39,20 @@ fn budgeted<T>(
 /// # Errors
 /// [`IoError`] naming the file; the memory budget.
 pub fn load(path: &Path, budget: &MemoryBudget) -> Result<Surface> {
-    budgeted(path, budget, asperity_io::read)
+    load_channel(path, budget, None)
+}
+
+/// [`load`] of the channel `choice` names in a multi-channel file
+/// (`asperity_io::channel`; `None`: the height channel).
+///
+/// # Errors
+/// As [`load`]; a channel the file does not have.
+pub fn load_channel(
+    path: &Path,
+    budget: &MemoryBudget,
+    choice: Option<&asperity_io::Channel>,
+) -> Result<Surface> {
+    budgeted(path, budget, |p| asperity_io::read_channel(p, choice))
 }
 
 /// A height field read under the budget ([`check_read`]).

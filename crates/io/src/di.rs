@@ -25,6 +25,7 @@
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
 
 /// The header's sections in order: lower-case name and lower-case keys.
@@ -120,7 +121,7 @@ fn length_unit(s: &str) -> Option<LengthUnit> {
 }
 
 /// One channel's layout and scale.
-struct Channel {
+struct Layout {
     name: String,
     offset: usize,
     size: usize,
@@ -130,20 +131,27 @@ struct Channel {
     xy: LengthUnit,
     /// Height of one count and its unit, for a height channel.
     scale: Option<(f64, LengthUnit)>,
+    /// One count in the Z scale's own unit (volts, degrees…), for others.
+    per_count: f64,
 }
 
 fn channel(
     keys: &[(String, String)],
     soft: &dyn Fn(&str) -> Option<String>,
     version: u32,
-) -> FResult<Channel> {
+) -> FResult<Layout> {
     let name = ["@2:image data", "@3:image data", "@4:image data"]
         .iter()
         .find_map(|k| get(keys, k))
         .map(|v| {
-            scaled_value(v)
-                .and_then(|(s, _, _)| s.map(str::to_string))
-                .unwrap_or_else(|| v.rsplit('"').nth(1).unwrap_or(v).to_string())
+            // `S [Name] "Label"`: the bracketed name, else the quoted label.
+            let rest = v.get(1..).unwrap_or_default().trim();
+            rest.strip_prefix('[')
+                .and_then(|r| r.split_once(']'))
+                .map(|(name, _)| name.trim())
+                .filter(|name| !name.is_empty())
+                .unwrap_or_else(|| v.rsplit('"').nth(1).unwrap_or(v))
+                .to_string()
         })
         .or_else(|| get(keys, "image data").map(str::to_string))
         .unwrap_or_else(|| "unnamed".into());
@@ -209,7 +217,7 @@ fn channel(
             (per.trim() == hard_unit).then_some(())?;
             Some((per_count * value, length_unit(length)?))
         });
-    Ok(Channel {
+    Ok(Layout {
         name,
         offset,
         size,
@@ -218,11 +226,12 @@ fn channel(
         extent: [sx, sy],
         xy,
         scale,
+        per_count,
     })
 }
 
-/// Reads the first channel of a Nanoscope file.
-pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+/// Every image section's layout, in order.
+fn layouts(bytes: &[u8]) -> FResult<Vec<Layout>> {
     let sections = parse_header(bytes)?;
     let global = |names: &[&str], key: &str| -> Option<String> {
         sections
@@ -252,21 +261,54 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         "ncafm image list",
         "image list",
     ];
-    let channels = sections
+    let layouts = sections
         .iter()
         .filter(|(n, _)| IMAGES.contains(&n.as_str()))
         .map(|(_, keys)| channel(keys, &soft, version))
         .collect::<FResult<Vec<_>>>()?;
-    let Some(c) = channels.first() else {
+    if layouts.is_empty() {
         return malformed("no image section (`\\*Ciao image list`)");
-    };
-    let Some((scale, z)) = c.scale else {
-        let names: Vec<&str> = channels.iter().map(|c| c.name.as_str()).collect();
-        return unsupported(format!(
-            "the first channel, {:?}, is not a height (its scale is not a length); the file's channels: {}",
-            c.name,
-            names.join(", ")
-        ));
+    }
+    Ok(layouts)
+}
+
+/// The file's channels: one per image section.
+pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
+    Ok(layouts(bytes)?
+        .into_iter()
+        .enumerate()
+        .map(|(index, l)| ChannelInfo {
+            index,
+            name: l.name,
+            height: l.scale.is_some(),
+        })
+        .collect())
+}
+
+/// Reads the channel `choice` names (by default the first height channel).
+/// A channel that is no height (phase, amplitude…) is read unitless, in its
+/// Z scale's own unit.
+pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
+    let layouts = layouts(bytes)?;
+    let list: Vec<ChannelInfo> = layouts
+        .iter()
+        .enumerate()
+        .map(|(index, l)| ChannelInfo {
+            index,
+            name: l.name.clone(),
+            height: l.scale.is_some(),
+        })
+        .collect();
+    let c = &layouts[pick(&list, choice)?];
+    let (scale, units) = match c.scale {
+        Some((scale, z)) => (scale, Units { xy: z, z }),
+        None => (
+            c.per_count,
+            Units {
+                xy: c.xy,
+                z: LengthUnit::None,
+            },
+        ),
     };
     let need = c.nx * c.ny * c.size;
     let data = c
@@ -293,7 +335,10 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         })
         .collect();
     // Lateral sizes in the heights' unit, as SurfaceTopography reports them.
-    let to_z = c.xy.metres().zip(z.metres()).map_or(1.0, |(a, b)| a / b);
+    let to_z =
+        c.xy.metres()
+            .zip(units.xy.metres())
+            .map_or(1.0, |(a, b)| a / b);
     let [sx, sy] = c.extent.map(|v| v * to_z);
     if !(sx.is_finite() && sx > 0.0 && sy.is_finite() && sy > 0.0) {
         return malformed(format!(
@@ -303,7 +348,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     }
     Ok(HeightField::from_vec([c.nx, c.ny], heights)?
         .with_spacing([sx / c.nx as f64, sy / c.ny as f64])?
-        .with_units(Units { xy: z, z }))
+        .with_units(units))
 }
 
 #[cfg(test)]
@@ -343,7 +388,7 @@ mod tests {
 
     #[test]
     fn reads_the_first_channel_in_nanometres_from_the_last_line() {
-        let h = read_height(&file(true, &[0, 1, 2, 3, 4, -5])).unwrap();
+        let h = read_channel(&file(true, &[0, 1, 2, 3, 4, -5]), None).unwrap();
         assert_eq!(h.dims(), [3, 2]);
         assert_eq!(
             h.units(),
@@ -368,17 +413,27 @@ mod tests {
     }
 
     #[test]
-    fn a_first_channel_that_is_no_height_and_truncation_are_refused() {
-        let e = read_height(&file(false, &[0; 6])).unwrap_err();
-        let e = format!("{e:?}");
-        assert!(
-            e.contains("Phase, Height") && e.contains("first channel"),
-            "{e}"
-        );
+    fn channels_are_listed_and_picked_and_truncation_is_refused() {
+        let f = file(false, &[0, 1, 2, 3, 4, 5]);
+        let names: Vec<(String, bool)> = channels(&f)
+            .unwrap()
+            .into_iter()
+            .map(|c| (c.name, c.height))
+            .collect();
+        assert_eq!(names, [("Phase".into(), false), ("Height".into(), true)]);
+        // By default the height: the second channel, whose data are the zeros after the first's.
+        let h = read_channel(&f, None).unwrap();
+        assert_eq!(h.units().z, LengthUnit::Nm);
+        assert!(h.data().iter().all(|z| *z == 0.0));
+        // The phase by name, unitless, in degrees: 360 / 65536 a count.
+        let p = read_channel(&f, Some(&Channel::parse("phase"))).unwrap();
+        assert_eq!(p.units().z, LengthUnit::None);
+        assert_eq!(*p.get(1, 1), 360.0 / 65536.0);
+        assert!(read_channel(&f, Some(&Channel::Index(2))).is_err());
         let good = file(true, &[0; 6]);
         for cut in 0..1012 {
-            assert!(read_height(&good[..cut]).is_err(), "cut at {cut}");
+            assert!(read_channel(&good[..cut], None).is_err(), "cut at {cut}");
         }
-        assert!(read_height(b"?*File list\r\n").is_err());
+        assert!(read_channel(b"?*File list\r\n", None).is_err());
     }
 }

@@ -54,8 +54,16 @@ pub enum IoError {
         /// What was asked for ("a height field", …).
         kind: &'static str,
     },
+    /// The channel asked for is not in the file (its channels are named).
+    #[error("{}: {message}", path.display())]
+    NoChannel {
+        /// The file.
+        path: PathBuf,
+        /// What was asked and what the file has.
+        message: String,
+    },
     /// A valid file holding something asperity cannot represent yet
-    /// (unmeasured points, compression, a series of surfaces).
+    /// (compression, a series of surfaces, a channel layout).
     #[error("{}: {format} file that asperity cannot read yet: {message}", path.display())]
     Unsupported {
         /// The file.
@@ -92,6 +100,7 @@ pub(crate) enum FormatError {
     Malformed(String),
     Unsupported(String),
     Invalid(CoreError),
+    NoChannel(String),
 }
 
 impl From<std::io::Error> for FormatError {
@@ -126,6 +135,7 @@ impl FormatError {
                 message,
             },
             FormatError::Invalid(source) => IoError::Invalid { path, source },
+            FormatError::NoChannel(message) => IoError::NoChannel { path, message },
         }
     }
 }

@@ -25,6 +25,7 @@
 pub mod al3d;
 pub mod atomic;
 pub mod bcr;
+pub mod channel;
 pub mod decimal;
 pub mod di;
 mod error;
@@ -59,6 +60,7 @@ use std::path::Path;
 use asperity_core::{Diagonal, HeightField, PointSet, PolyMesh, TriMesh};
 
 pub use atomic::write_atomic;
+pub use channel::{Channel, ChannelInfo};
 pub use error::IoError;
 use error::{FResult, FormatError};
 pub use format::{Access, FORMATS, Format, FormatInfo};
@@ -215,12 +217,47 @@ pub fn decode(
     bytes: &[u8],
     budget: &asperity_core::MemoryBudget,
 ) -> Result<Surface, IoError> {
+    decode_channel(label, format, bytes, budget, None)
+}
+
+/// [`decode`] of the channel `choice` names (see [`channel`]; `None`: the
+/// height channel SurfaceTopography would read).
+///
+/// # Errors
+/// As [`decode`]; a channel the file does not have, named with the file's
+/// channels.
+pub fn decode_channel(
+    label: &Path,
+    format: Format,
+    bytes: &[u8],
+    budget: &asperity_core::MemoryBudget,
+    choice: Option<&Channel>,
+) -> Result<Surface, IoError> {
     let at = |e: FormatError| e.at(label, format.info().name);
     let needed = estimate_bytes(bytes, format).map_err(at)?;
     budget
         .check(needed, format!("reading {}", label.display()))
         .map_err(|e| IoError::invalid(label, e))?;
-    surface_from_bytes(bytes, format).map_err(at)
+    surface_from_bytes(bytes, format, choice).map_err(at)
+}
+
+/// The channels of a multi-channel file (Nanoscope images, Sensofar
+/// layers); `None` for a format with one channel.
+///
+/// # Errors
+/// [`IoError`] naming the file.
+pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
+    let f = Format::of_file(path)?;
+    if !matches!(f, Format::Di | Format::Plu) {
+        return Ok(None);
+    }
+    let bytes = read_bytes(path)?;
+    match f {
+        Format::Di => di::channels(&bytes),
+        _ => plu::channels(&bytes),
+    }
+    .map(Some)
+    .map_err(|e| e.at(path, f.info().name))
 }
 
 /// Reads whatever `path` holds, deciding by extension and content: PLY with faces,
@@ -231,6 +268,15 @@ pub fn decode(
 /// # Errors
 /// [`IoError`] naming the file and what is wrong.
 pub fn read(path: &Path) -> Result<Surface, IoError> {
+    read_channel(path, None)
+}
+
+/// [`read`] of the channel `choice` names (see [`channel`]).
+///
+/// # Errors
+/// As [`read`]; a channel the file does not have, named with the file's
+/// channels.
+pub fn read_channel(path: &Path, choice: Option<&Channel>) -> Result<Surface, IoError> {
     let f = Format::of_file(path)?;
     if f == Format::Glb {
         return Err(IoError::WrongKind {
@@ -240,11 +286,14 @@ pub fn read(path: &Path) -> Result<Surface, IoError> {
         });
     }
     let bytes = read_bytes(path)?;
-    surface_from_bytes(&bytes, f).map_err(|e| e.at(path, f.info().name))
+    surface_from_bytes(&bytes, f, choice).map_err(|e| e.at(path, f.info().name))
 }
 
 /// The decoding half of [`read`].
-fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
+fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResult<Surface> {
+    if !matches!(f, Format::Di | Format::Plu) {
+        channel::only(choice)?;
+    }
     Ok(match f {
         Format::Ply => {
             let c = ply::parse(bytes)?;
@@ -283,7 +332,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format) -> FResult<Surface> {
         | Format::Opd
         | Format::Frt
         | Format::Di
-        | Format::Nc => Surface::Height(read_height_bytes(bytes, f)?),
+        | Format::Nc => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -309,7 +358,7 @@ fn npy_height(a: npy::NpyArray) -> FResult<HeightField> {
     }
 }
 
-fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
+fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResult<HeightField> {
     let h = match f {
         Format::Npy => npy_height(npy::read(bytes)?)?,
         Format::Png => png_io::read_height(bytes)?,
@@ -325,9 +374,9 @@ fn read_height_bytes(bytes: &[u8], f: Format) -> FResult<HeightField> {
         Format::MetroPro => metropro::read_height(bytes)?,
         Format::Al3d => al3d::read_height(bytes)?,
         Format::Wsxm => wsxm::read_height(bytes)?,
-        Format::Plu => plu::read_height(bytes)?,
+        Format::Plu => plu::read_channel(bytes, choice)?,
         Format::Nc => nc::read_height(bytes)?,
-        Format::Di => di::read_height(bytes)?,
+        Format::Di => di::read_channel(bytes, choice)?,
         Format::Frt => frt::read_height(bytes)?,
         Format::Opd => opd::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
@@ -350,7 +399,7 @@ pub fn read_height(path: &Path) -> Result<HeightField, IoError> {
         return Err(wrong(path, f, "a height field"));
     }
     let bytes = read_bytes(path)?;
-    read_height_bytes(&bytes, f).map_err(|e| e.at(path, f.info().name))
+    read_height_bytes(&bytes, f, None).map_err(|e| e.at(path, f.info().name))
 }
 
 /// Reads a triangle mesh (`.ply`, `.obj`, `.stl`); polygons are fan-triangulated.

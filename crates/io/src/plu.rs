@@ -19,7 +19,8 @@
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
-use crate::error::{FResult, malformed, unsupported};
+use crate::channel::{Channel, ChannelInfo, pick};
+use crate::error::{FResult, FormatError, malformed, unsupported};
 
 /// Byte offsets of the header's parts.
 const CALIBRATION: usize = 388;
@@ -44,12 +45,12 @@ fn f32_at(bytes: &[u8], o: usize) -> f64 {
     ))
 }
 
-/// Reads the first layer of a Sensofar file.
-pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
-    let Some(head) = bytes.get(..FIRST_LAYER + 8) else {
+/// The layers: (rows, columns, the offset of their heights), each checked
+/// against the file's length.
+fn layers(bytes: &[u8]) -> FResult<Vec<(usize, usize, usize)>> {
+    let Some(head) = bytes.get(..FIRST_LAYER) else {
         return malformed(format!(
-            "the header has {} bytes, the file {} (truncated?)",
-            FIRST_LAYER + 8,
+            "the header has {FIRST_LAYER} bytes, the file {} (truncated?)",
             bytes.len()
         ));
     };
@@ -58,13 +59,55 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         PROFILE => return unsupported("a Sensofar profile (measurement type 1) is not supported"),
         t => return malformed(format!("measurement type {t} is not a topography (3)")),
     }
-    let layers = head[LAYERS + 1];
-    if layers == 0 {
+    let count = head[LAYERS + 1];
+    if count == 0 {
         return malformed("the file declares no layer");
     }
+    let mut out = Vec::with_capacity(usize::from(count));
+    let mut at = FIRST_LAYER;
+    for k in 0..count {
+        let dims = bytes.get(at..at + 8).ok_or_else(|| {
+            FormatError::Malformed(format!("the file ends before layer {k} (truncated?)"))
+        })?;
+        let (ny, nx) = (u32_at(dims, 0) as usize, u32_at(dims, 4) as usize);
+        if nx == 0 || ny == 0 {
+            return malformed(format!("layer {k} of {nx} × {ny} points: no data"));
+        }
+        let end = nx
+            .checked_mul(ny)
+            .and_then(|n| n.checked_mul(4))
+            .and_then(|n| n.checked_add(at + 16))
+            .filter(|&end| end <= bytes.len())
+            .ok_or_else(|| {
+                FormatError::Malformed(format!(
+                    "layer {k}: {nx} × {ny} f32 heights and its range do not fit in the file's {} bytes (truncated?)",
+                    bytes.len()
+                ))
+            })?;
+        out.push((ny, nx, at + 8));
+        at = end;
+    }
+    Ok(out)
+}
+
+/// The file's layers as channels (`layer0`, `layer1`, …), all heights.
+pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
+    Ok((0..layers(bytes)?.len())
+        .map(|index| ChannelInfo {
+            index,
+            name: format!("layer{index}"),
+            height: true,
+        })
+        .collect())
+}
+
+/// Reads the layer `choice` names (by default the first).
+pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
+    let layers = layers(bytes)?;
+    let (ny, nx, start) = layers[pick(&channels(bytes)?, choice)?];
     let (dx, dy) = (
-        f32_at(head, CALIBRATION + 16),
-        f32_at(head, CALIBRATION + 20),
+        f32_at(bytes, CALIBRATION + 16),
+        f32_at(bytes, CALIBRATION + 20),
     );
     for (name, v) in [("x", dx), ("y", dy)] {
         if !(v.is_finite() && v > 0.0) {
@@ -73,30 +116,8 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             ));
         }
     }
-    let (ny, nx) = (
-        u32_at(head, FIRST_LAYER) as usize,
-        u32_at(head, FIRST_LAYER + 4) as usize,
-    );
-    if nx == 0 || ny == 0 {
-        return malformed(format!("a layer of {nx} × {ny} points: no data"));
-    }
-    let need = nx
-        .checked_mul(ny)
-        .and_then(|n| n.checked_mul(4))
-        .filter(|&n| n <= bytes.len())
-        .ok_or_else(|| {
-            crate::error::FormatError::Malformed(format!(
-                "{nx} × {ny} f32 heights do not fit in the file's {} bytes (truncated?)",
-                bytes.len()
-            ))
-        })?;
-    let body = &bytes[FIRST_LAYER + 8..];
-    if body.len() < need {
-        return malformed(format!(
-            "{nx} × {ny} f32 heights need {need} bytes, the file has {} after the header (truncated?)",
-            body.len()
-        ));
-    }
+    let need = nx * ny * 4;
+    let body = &bytes[start..];
     let data = body[..need]
         .chunks_exact(4)
         .map(|c| {
@@ -146,7 +167,7 @@ mod tests {
 
     #[test]
     fn reads_rows_of_micrometres_with_missing_points() {
-        let h = read_height(&file(3, 3, 2, &[1.0, 2.0, 3.0, 4.0, UNDEFINED, 6.0])).unwrap();
+        let h = read_channel(&file(3, 3, 2, &[1.0, 2.0, 3.0, 4.0, UNDEFINED, 6.0]), None).unwrap();
         assert_eq!(h.dims(), [3, 2]);
         assert_eq!(h.spacing(), [0.5, 0.25]);
         assert_eq!(h.units().xy, LengthUnit::Um);
@@ -158,16 +179,16 @@ mod tests {
     #[test]
     fn profiles_truncation_and_bad_headers_are_refused() {
         let good = file(3, 3, 2, &[0.0; 6]);
-        for cut in 0..good.len() - 8 {
-            assert!(read_height(&good[..cut]).is_err(), "cut at {cut}");
+        for cut in 0..good.len() {
+            assert!(read_channel(&good[..cut], None).is_err(), "cut at {cut}");
         }
-        assert!(err(read_height(&file(1, 3, 2, &[0.0; 6]))).contains("profile"));
-        assert!(err(read_height(&file(7, 3, 2, &[0.0; 6]))).contains("type 7"));
-        assert!(err(read_height(&file(3, 0, 2, &[]))).contains("no data"));
+        assert!(err(read_channel(&file(1, 3, 2, &[0.0; 6]), None)).contains("profile"));
+        assert!(err(read_channel(&file(7, 3, 2, &[0.0; 6]), None)).contains("type 7"));
+        assert!(err(read_channel(&file(3, 0, 2, &[]), None)).contains("no data"));
         let huge = file(3, u32::MAX, u32::MAX, &[0.0; 6]);
-        assert!(err(read_height(&huge)).contains("do not fit"));
+        assert!(err(read_channel(&huge, None)).contains("do not fit"));
         let mut flat = good.clone();
         flat[CALIBRATION + 16..CALIBRATION + 20].copy_from_slice(&0f32.to_le_bytes());
-        assert!(err(read_height(&flat)).contains("not positive"));
+        assert!(err(read_channel(&flat, None)).contains("not positive"));
     }
 }

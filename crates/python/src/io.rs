@@ -18,11 +18,17 @@ fn up_axis(up: Option<&str>) -> PyResult<Option<asperity_engine::io::UpAxis>> {
 /// Reads any file under the memory budget; a dict with its `kind`. `up`
 /// ("y" or "z") overrides the file's up axis, as the CLI's `--up`.
 #[pyfunction]
-#[pyo3(signature = (path, up = None))]
-pub fn load<'py>(py: Python<'py>, path: PathBuf, up: Option<&str>) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (path, up = None, channel = None))]
+pub fn load<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    up: Option<&str>,
+    channel: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
     let up = up_axis(up)?;
+    let channel = channel.map(asperity_engine::io::Channel::parse);
     let s = run(py, &RunOptions::quiet(None), move |_, _| {
-        let s = asperity_engine::files::load(&path, &budget())?;
+        let s = asperity_engine::files::load_channel(&path, &budget(), channel.as_ref())?;
         let made_with = asperity_engine::io::read_params(&path)?;
         Ok((
             match up {

@@ -101,6 +101,25 @@ for name in ["sur-2.sur", "sur-3.sur"]:
     compare(DATA / name, f"{name} (with its unmeasured points)")
     compare(all_points(name), f"{name} (every point)")
 
+# A multi-channel file: the channels ST lists, and a channel other than the default.
+from SurfaceTopography import open_topography  # noqa: E402
+
+reader = open_topography(str(DATA / "di-1.di"))
+ours = json.loads(run(BIN, "--quiet", "--json", "info", DATA / "di-1.di"))["measurements"]
+check("di-1.di: the channels ST lists, in order", [c["name"] for c in ours["channels"]]
+      == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+check("di-1.di: height channels as ST's (a length unit)", [c["height"] for c in ours["channels"]]
+      == [c.height_scale_factor is not None for c in reader.channels])
+second = WORK / "di-1-channel-1.npy"
+run(BIN, "--quiet", "--channel", "1", "convert", DATA / "di-1.di", second)
+t = reader.topography(channel_index=1)
+st_m = get_unit_conversion_factor(t.unit, "m")
+z = np.load(second) * METRES[ours["units"]["z"]]
+check("di-1.di --channel 1: heights as ST's channel 1", close(z, np.asarray(t.heights()).T * st_m, 1e-12))
+p = run(BIN, "--quiet", "--channel", "Current", "info", DATA / "di-1.di", check=False)
+check("di-1.di --channel Current: refused, naming the file's channels",
+      p.returncode != 0 and '3 "AmplitudeError"' in p.stderr, p.stderr.strip())
+
 # Missing points carried by the formats that hold them, refused by one that cannot.
 masked = np.ma.count_masked(read_topography(str(DATA / "sur-2.sur")).heights())
 for ext in ["npy", "x3p", "gwy", "gsf"]:
