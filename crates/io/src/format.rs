@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::IoError;
-use crate::{al3d, bcr, di, frt, metropro, tmd, wsxm};
+use crate::{al3d, bcr, di, frt, metropro, nid, tmd, wsxm};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -58,6 +58,8 @@ pub enum Format {
     Di,
     /// NetCDF-3 topographies in SurfaceTopography's layout.
     Nc,
+    /// Nanosurf easyScan scanning-probe data.
+    Nid,
 }
 
 /// What a format can do with one kind of data.
@@ -298,6 +300,15 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "NetCDF-3 (classic, 64-bit offsets): the variable heights(x, y) or heights(x), sizes from the length of x and y, unit attribute; a mask variable and NaN read as missing",
     },
     FormatInfo {
+        format: Format::Nid,
+        name: "Nanosurf (.nid, .ezd)",
+        extensions: &["nid", "ezd"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the data sets whose values are lengths (channels, as SurfaceTopography lists them): 8/16/32-bit raw × range / 2^bits + minimum, from the last line",
+    },
+    FormatInfo {
         format: Format::Di,
         name: "Bruker Nanoscope (.spm, .di, .001)",
         extensions: &["di", "spm", "001", "002", "003", "004", "005"],
@@ -350,7 +361,8 @@ impl Format {
 
     /// The format whose magic `bytes` start with, if one does.
     pub fn from_content(bytes: &[u8]) -> Option<Format> {
-        const MAGICS: [(&[u8], Format); 14] = [
+        const MAGICS: [(&[u8], Format); 15] = [
+            (nid::MAGIC, Format::Nid),
             (b"CDF\x01", Format::Nc),
             (b"CDF\x02", Format::Nc),
             (frt::MAGIC, Format::Frt),

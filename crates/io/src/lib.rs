@@ -38,6 +38,7 @@ pub mod gwy;
 pub mod metadata;
 pub mod metropro;
 pub mod nc;
+pub mod nid;
 pub mod npy;
 pub mod obj;
 pub mod opd;
@@ -248,12 +249,13 @@ pub fn decode_channel(
 /// [`IoError`] naming the file.
 pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
     let f = Format::of_file(path)?;
-    if !matches!(f, Format::Di | Format::Plu) {
+    if !matches!(f, Format::Di | Format::Plu | Format::Nid) {
         return Ok(None);
     }
     let bytes = read_bytes(path)?;
     match f {
         Format::Di => di::channels(&bytes),
+        Format::Nid => nid::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -291,7 +293,7 @@ pub fn read_channel(path: &Path, choice: Option<&Channel>) -> Result<Surface, Io
 
 /// The decoding half of [`read`].
 fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResult<Surface> {
-    if !matches!(f, Format::Di | Format::Plu) {
+    if !matches!(f, Format::Di | Format::Plu | Format::Nid) {
         channel::only(choice)?;
     }
     Ok(match f {
@@ -332,7 +334,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Opd
         | Format::Frt
         | Format::Di
-        | Format::Nc => Surface::Height(read_height_bytes(bytes, f, choice)?),
+        | Format::Nc
+        | Format::Nid => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -379,6 +382,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Di => di::read_channel(bytes, choice)?,
         Format::Frt => frt::read_height(bytes)?,
         Format::Opd => opd::read_height(bytes)?,
+        Format::Nid => nid::read_channel(bytes, choice)?,
         _ => unreachable!("caller checks the format"),
     };
     // Missing points (NaN) are carried; ±∞ and a field with no measured
