@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -100,6 +100,11 @@ nset = lambda n, u: (f"[{n}]\r\nPoints=3\r\nLines=2\r\nFrame=Scan forward\r\nDim
                      "Dim2Min=-32768e-9\r\nSaveMode=Binary\r\nSaveBits=16\r\nSaveSign=Signed\r\nSaveOrder=Intel\r\n")
 n = ("[DataSet]\r\nGroupCount=1\r\nGr0-Count=2\r\nGr0-Ch0=A\r\nGr0-Ch1=B\r\n" + nset("A", "N") + nset("B", "m") + "#!").encode()
 open(f"{s}/nid/n3x2.nid", "wb").write(n + bytes(12) + struct.pack("<6h", 0, 1, 2, 3, 4, -5))
+mline = lambda k, v: f"{k:<14}{v}\n"
+m = mline("fileType", "Image") + mline("xPixels", "3") + mline("yPixels", "2") + mline("xLength", "3e-6") + mline("yLength", "1e-6")
+for label, unit in [("Topography", "um"), ("Deflection", "V")]:
+    m += mline("bufferLabel", label) + mline("bufferRange", "32768") + mline("bufferUnit", unit)
+open(f"{s}/mi/m3x2.mi", "wb").write((m + mline("data", "BINARY")).encode() + struct.pack("<12h", *range(12)))
 open(f"{s}/tmd/t3x2.tmd", "wb").write(t + struct.pack("<IIffff", 3, 2, 1.5, 0.5, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::IoError;
-use crate::{al3d, bcr, di, frt, metropro, nid, tmd, wsxm};
+use crate::{al3d, bcr, di, frt, metropro, mi, nid, tmd, wsxm};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -60,6 +60,8 @@ pub enum Format {
     Nc,
     /// Nanosurf easyScan scanning-probe data.
     Nid,
+    /// Molecular Imaging / Agilent PicoView images.
+    Mi,
 }
 
 /// What a format can do with one kind of data.
@@ -309,6 +311,15 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "the data sets whose values are lengths (channels, as SurfaceTopography lists them): 8/16/32-bit raw × range / 2^bits + minimum, from the last line",
     },
     FormatInfo {
+        format: Format::Mi,
+        name: "Molecular Imaging (.mi)",
+        extensions: &["mi"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "PicoView images: every buffer a channel (heights where bufferUnit is a length; the first by default, as SurfaceTopography), int16/int32 × bufferRange / 2^15 or 2^31, from the last line; spectroscopy and text data refused",
+    },
+    FormatInfo {
         format: Format::Di,
         name: "Bruker Nanoscope (.spm, .di, .001)",
         extensions: &["di", "spm", "001", "002", "003", "004", "005"],
@@ -361,7 +372,8 @@ impl Format {
 
     /// The format whose magic `bytes` start with, if one does.
     pub fn from_content(bytes: &[u8]) -> Option<Format> {
-        const MAGICS: [(&[u8], Format); 15] = [
+        const MAGICS: [(&[u8], Format); 16] = [
+            (mi::MAGIC, Format::Mi),
             (nid::MAGIC, Format::Nid),
             (b"CDF\x01", Format::Nc),
             (b"CDF\x02", Format::Nc),

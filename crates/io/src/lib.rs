@@ -37,6 +37,7 @@ pub mod gsf;
 pub mod gwy;
 pub mod metadata;
 pub mod metropro;
+pub mod mi;
 pub mod nc;
 pub mod nid;
 pub mod npy;
@@ -249,13 +250,14 @@ pub fn decode_channel(
 /// [`IoError`] naming the file.
 pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
     let f = Format::of_file(path)?;
-    if !matches!(f, Format::Di | Format::Plu | Format::Nid) {
+    if !matches!(f, Format::Di | Format::Plu | Format::Nid | Format::Mi) {
         return Ok(None);
     }
     let bytes = read_bytes(path)?;
     match f {
         Format::Di => di::channels(&bytes),
         Format::Nid => nid::channels(&bytes),
+        Format::Mi => mi::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -293,7 +295,7 @@ pub fn read_channel(path: &Path, choice: Option<&Channel>) -> Result<Surface, Io
 
 /// The decoding half of [`read`].
 fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResult<Surface> {
-    if !matches!(f, Format::Di | Format::Plu | Format::Nid) {
+    if !matches!(f, Format::Di | Format::Plu | Format::Nid | Format::Mi) {
         channel::only(choice)?;
     }
     Ok(match f {
@@ -335,7 +337,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Frt
         | Format::Di
         | Format::Nc
-        | Format::Nid => Surface::Height(read_height_bytes(bytes, f, choice)?),
+        | Format::Nid
+        | Format::Mi => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -383,6 +386,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Frt => frt::read_height(bytes)?,
         Format::Opd => opd::read_height(bytes)?,
         Format::Nid => nid::read_channel(bytes, choice)?,
+        Format::Mi => mi::read_channel(bytes, choice)?,
         _ => unreachable!("caller checks the format"),
     };
     // Missing points (NaN) are carried; ±∞ and a field with no measured

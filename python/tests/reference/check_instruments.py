@@ -97,6 +97,7 @@ compare(DATA / "frt-2.frt", "frt-2.frt (FRT MicroProf, with unmeasured points)")
 compare(DATA / "di-1.di", "di-1.di (Bruker Nanoscope, the first of four channels)")
 compare(DATA / "nc-1.nc", "nc-1.nc (NetCDF, SurfaceTopography's layout)")
 compare(DATA / "nid-1.nid", "nid-1.nid (Nanosurf, the first of four height channels)")
+compare(DATA / "mi-1.mi", "mi-1.mi (Molecular Imaging, the first of four channels)")
 for name in ["sur-2.sur", "sur-3.sur"]:
     # The instrument's files have unmeasured points: carried as ST masks them.
     compare(DATA / name, f"{name} (with its unmeasured points)")
@@ -105,13 +106,15 @@ for name in ["sur-2.sur", "sur-3.sur"]:
 # A multi-channel file: the channels ST lists, and a channel other than the default.
 from SurfaceTopography import open_topography  # noqa: E402
 
-for name in ["nid-1.nid", "di-1.di"]:
+for name in ["nid-1.nid", "mi-1.mi", "di-1.di"]:
     reader = open_topography(str(DATA / name))
     ours = json.loads(run(BIN, "--quiet", "--json", "info", DATA / name))["measurements"]
     check(f"{name}: the channels ST lists, in order", [c["name"] for c in ours["channels"]]
           == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+    # ST's heights: a height channel whose data unit is one length (its DI
+    # reader gives a phase the unit pair (nm, None)).
     check(f"{name}: height channels as ST's (a length unit)", [c["height"] for c in ours["channels"]]
-          == [c.height_scale_factor is not None for c in reader.channels])
+          == [c.is_height_channel and isinstance(c.data_unit, str) for c in reader.channels])
 second = WORK / "di-1-channel-1.npy"
 run(BIN, "--quiet", "--channel", "1", "convert", DATA / "di-1.di", second)
 t = reader.topography(channel_index=1)
