@@ -62,6 +62,8 @@ pub enum Format {
     Nid,
     /// Molecular Imaging / Agilent PicoView images.
     Mi,
+    /// Igor Pro binary waves (Asylum Research AFMs).
+    Ibw,
 }
 
 /// What a format can do with one kind of data.
@@ -318,6 +320,15 @@ pub const FORMATS: &[FormatInfo] = &[
         points: No,
         height: R,
         notes: "PicoView images: every buffer a channel (heights where bufferUnit is a length; the first by default, as SurfaceTopography), int16/int32 × bufferRange / 2^15 or 2^31, from the last line; spectroscopy and text data refused",
+    },
+    FormatInfo {
+        format: Format::Ibw,
+        name: "Igor binary wave (.ibw)",
+        extensions: &["ibw"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "version 5, as Asylum Research AFMs write it: image stacks as channels (labels, else no name (k)), units from the Asylum note or the wave, lengths in the lateral unit, lines from the last; line scans as profiles; complex and 4-D waves refused",
     },
     FormatInfo {
         format: Format::Di,

@@ -35,6 +35,7 @@ pub mod frt;
 pub mod glb;
 pub mod gsf;
 pub mod gwy;
+pub mod ibw;
 pub mod metadata;
 pub mod metropro;
 pub mod mi;
@@ -250,7 +251,10 @@ pub fn decode_channel(
 /// [`IoError`] naming the file.
 pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
     let f = Format::of_file(path)?;
-    if !matches!(f, Format::Di | Format::Plu | Format::Nid | Format::Mi) {
+    if !matches!(
+        f,
+        Format::Di | Format::Plu | Format::Nid | Format::Mi | Format::Ibw
+    ) {
         return Ok(None);
     }
     let bytes = read_bytes(path)?;
@@ -258,6 +262,7 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::Di => di::channels(&bytes),
         Format::Nid => nid::channels(&bytes),
         Format::Mi => mi::channels(&bytes),
+        Format::Ibw => ibw::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -295,7 +300,10 @@ pub fn read_channel(path: &Path, choice: Option<&Channel>) -> Result<Surface, Io
 
 /// The decoding half of [`read`].
 fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResult<Surface> {
-    if !matches!(f, Format::Di | Format::Plu | Format::Nid | Format::Mi) {
+    if !matches!(
+        f,
+        Format::Di | Format::Plu | Format::Nid | Format::Mi | Format::Ibw
+    ) {
         channel::only(choice)?;
     }
     Ok(match f {
@@ -338,7 +346,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Di
         | Format::Nc
         | Format::Nid
-        | Format::Mi => Surface::Height(read_height_bytes(bytes, f, choice)?),
+        | Format::Mi
+        | Format::Ibw => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -387,6 +396,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Opd => opd::read_height(bytes)?,
         Format::Nid => nid::read_channel(bytes, choice)?,
         Format::Mi => mi::read_channel(bytes, choice)?,
+        Format::Ibw => ibw::read_channel(bytes, choice)?,
         _ => unreachable!("caller checks the format"),
     };
     // Missing points (NaN) are carried; ±∞ and a field with no measured

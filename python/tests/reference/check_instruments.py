@@ -34,7 +34,7 @@ from checks import check, finish, info, run
 
 BIN, DATA, WORK = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
 WORK.mkdir(parents=True, exist_ok=True)
-METRES = {"m": 1.0, "mm": 1e-3, "µm": 1e-6, "nm": 1e-9, "": 1.0}
+METRES = {"m": 1.0, "mm": 1e-3, "µm": 1e-6, "nm": 1e-9, "": 1.0, "none": 1.0}
 
 
 def close(a, b, rel):
@@ -55,7 +55,8 @@ def all_points(name):
 
 def compare(path, label):
     t = read_topography(str(path))
-    st_m = get_unit_conversion_factor(t.unit, "m")
+    # Unitless data (no unit in the file) compare as numbers.
+    st_m = 1.0 if t.unit is None else get_unit_conversion_factor(t.unit, "m")
     ours = info(BIN, path)
     st_mask = np.ma.getmaskarray(t.heights()).T
     check(f"{label}: missing points ({int(st_mask.sum())}) counted as ST masks them",
@@ -98,6 +99,8 @@ compare(DATA / "di-1.di", "di-1.di (Bruker Nanoscope, the first of four channels
 compare(DATA / "nc-1.nc", "nc-1.nc (NetCDF, SurfaceTopography's layout)")
 compare(DATA / "nid-1.nid", "nid-1.nid (Nanosurf, the first of four height channels)")
 compare(DATA / "mi-1.mi", "mi-1.mi (Molecular Imaging, the first of four channels)")
+compare(DATA / "spot_1-1000nm.ibw", "spot_1-1000nm.ibw (Igor wave, 8 Asylum channels)")
+compare(DATA / "10x10-one_channel_without_name.ibw", "10x10-one_channel_without_name.ibw (Igor wave, unitless)")
 for name in ["sur-2.sur", "sur-3.sur"]:
     # The instrument's files have unmeasured points: carried as ST masks them.
     compare(DATA / name, f"{name} (with its unmeasured points)")
@@ -106,7 +109,7 @@ for name in ["sur-2.sur", "sur-3.sur"]:
 # A multi-channel file: the channels ST lists, and a channel other than the default.
 from SurfaceTopography import open_topography  # noqa: E402
 
-for name in ["nid-1.nid", "mi-1.mi", "di-1.di"]:
+for name in ["nid-1.nid", "mi-1.mi", "di-1.di", "spot_1-1000nm.ibw", "10x10-one_channel_without_name.ibw"]:
     reader = open_topography(str(DATA / name))
     ours = json.loads(run(BIN, "--quiet", "--json", "info", DATA / name))["measurements"]
     check(f"{name}: the channels ST lists, in order", [c["name"] for c in ours["channels"]]
@@ -117,9 +120,9 @@ for name in ["nid-1.nid", "mi-1.mi", "di-1.di"]:
           == [c.is_height_channel and isinstance(c.data_unit, str) for c in reader.channels])
 second = WORK / "di-1-channel-1.npy"
 run(BIN, "--quiet", "--channel", "1", "convert", DATA / "di-1.di", second)
-t = reader.topography(channel_index=1)
+t = open_topography(str(DATA / "di-1.di")).topography(channel_index=1)
 st_m = get_unit_conversion_factor(t.unit, "m")
-z = np.load(second) * METRES[ours["units"]["z"]]
+z = np.load(second) * METRES[info(BIN, DATA / "di-1.di")["units"]["z"]]
 check("di-1.di --channel 1: heights as ST's channel 1", close(z, np.asarray(t.heights()).T * st_m, 1e-12))
 p = run(BIN, "--quiet", "--channel", "Current", "info", DATA / "di-1.di", check=False)
 check("di-1.di --channel Current: refused, naming the file's channels",

@@ -1,0 +1,392 @@
+//! Igor binary waves (`.ibw`, version 5), as Asylum Research AFMs write
+//! them, read.
+//!
+//! WaveMetrics' Technical Note 003 describes the file: a 64-byte `BinHeader5`
+//! (version 5 — its byte order tells the file's —, the sizes of the wave,
+//! formula, note, extended units, dimension units and dimension labels), a
+//! 320-byte `WaveHeader5` (at its offsets 12 the point count, 16 the number
+//! type, 68 the four dimension sizes, 84 their steps `sfA`, 148 the data
+//! units and 152 the dimension units, four characters each), the data, then
+//! the formula, the note, the extended units and the dimension labels (32
+//! bytes each, the first naming the dimension itself). The data are stored
+//! first dimension fastest: x, then y, then the channel.
+//!
+//! As SurfaceTopography reads them: a wave with a third dimension holds
+//! that many images (channels, named by the third dimension's labels, else
+//! `no name (k)`); a square two-dimensional wave is one image; another
+//! two-dimensional wave is as many line scans as its second dimension, and a
+//! one-dimensional wave one line scan (profiles, read with one row). Images
+//! are read with their lines from the last, as SurfaceTopography and
+//! Gwyddion show them. A channel's unit comes from the Asylum note
+//! (`NameUnit`, else the name's prefix — Height, ZSensor, Deflection and
+//! Amplitude are metres, Phase degrees, other signals volts…), else the
+//! wave's data units; a length is converted to the lateral unit. Channels in
+//! other units are read unitless. Complex and four-dimensional waves are
+//! refused.
+
+use asperity_core::{HeightField, LengthUnit, Units};
+
+use crate::channel::{Channel, ChannelInfo, pick};
+use crate::error::{FResult, FormatError, malformed, unsupported};
+
+const BIN_HEADER: usize = 64;
+const WAVE_HEADER: usize = 320;
+
+/// What a wave holds, as read from its headers.
+struct Wave {
+    little: bool,
+    kind: i16,
+    dims: [usize; 4],
+    steps: [f64; 2],
+    data_unit: String,
+    lateral_unit: String,
+    names: Vec<String>,
+    note: Vec<(String, String)>,
+    /// Images (true) or line scans.
+    images: bool,
+    channels: usize,
+}
+
+fn zero_padded(b: &[u8]) -> String {
+    let end = b.iter().position(|&c| c == 0).unwrap_or(b.len());
+    b[..end].iter().map(|&c| char::from(c)).collect()
+}
+
+fn wave(bytes: &[u8]) -> FResult<Wave> {
+    let head = bytes.get(..BIN_HEADER + WAVE_HEADER).ok_or_else(|| {
+        FormatError::Malformed("the file is shorter than the IBW headers (truncated?)".into())
+    })?;
+    let little = match (
+        i16::from_le_bytes([head[0], head[1]]),
+        i16::from_be_bytes([head[0], head[1]]),
+    ) {
+        (5, _) => true,
+        (_, 5) => false,
+        (v, _) => return unsupported(format!("Igor binary wave version {v} (version 5 is read)")),
+    };
+    let i32_at = |o: usize| {
+        let b: [u8; 4] = head[o..o + 4].try_into().expect("4 bytes");
+        if little {
+            i32::from_le_bytes(b)
+        } else {
+            i32::from_be_bytes(b)
+        }
+    };
+    let f64_at = |o: usize| {
+        let b: [u8; 8] = head[o..o + 8].try_into().expect("8 bytes");
+        if little {
+            f64::from_le_bytes(b)
+        } else {
+            f64::from_be_bytes(b)
+        }
+    };
+    let size = |o: usize| usize::try_from(i32_at(o)).unwrap_or(0);
+    let (wfm, formula, note_size, data_units) = (size(4), size(8), size(12), size(16));
+    let dim_units: usize = (0..4).map(|k| size(20 + 4 * k)).sum();
+    let labels: [usize; 4] = std::array::from_fn(|k| size(36 + 4 * k));
+    let w = BIN_HEADER;
+    let kind = {
+        let b = [head[w + 16], head[w + 17]];
+        if little {
+            i16::from_le_bytes(b)
+        } else {
+            i16::from_be_bytes(b)
+        }
+    };
+    if kind & 1 != 0 {
+        return unsupported("a wave of complex numbers");
+    }
+    let dims: [usize; 4] =
+        std::array::from_fn(|k| usize::try_from(i32_at(w + 68 + 4 * k)).unwrap_or(0));
+    if dims[3] != 0 {
+        return unsupported("a four-dimensional wave");
+    }
+    let steps = [f64_at(w + 84), f64_at(w + 92)];
+    let data_unit = zero_padded(&head[w + 148..w + 152]);
+    let lateral_unit = zero_padded(&head[w + 152..w + 156]);
+    // The blocks after the wave, in order.
+    let mut at = BIN_HEADER + wfm.max(WAVE_HEADER) + formula;
+    let block = |from: usize, n: usize| -> FResult<&[u8]> {
+        from.checked_add(n)
+            .and_then(|end| bytes.get(from..end))
+            .ok_or_else(|| {
+                FormatError::Malformed(
+                    "the file ends before the blocks its header declares (truncated?)".into(),
+                )
+            })
+    };
+    let note_text: String = block(at, note_size)?
+        .iter()
+        .map(|&c| char::from(c))
+        .collect();
+    at += note_size + data_units + dim_units;
+    let (images, channels, label_dim) = if dims[2] != 0 {
+        (true, dims[2], 2)
+    } else if dims[1] != 0 && dims[1] == dims[0] {
+        (true, 1, 2)
+    } else if dims[1] != 0 {
+        (false, dims[1], 1)
+    } else {
+        (false, 1, 1)
+    };
+    let mut names = Vec::new();
+    for (k, &n) in labels.iter().enumerate() {
+        let b = block(at, n)?;
+        if k == label_dim {
+            names = b
+                .chunks_exact(32)
+                .skip(1)
+                .map(zero_padded)
+                .take(channels)
+                .collect();
+        }
+        at += n;
+    }
+    let named = names.len();
+    names.extend((1..=channels - named.min(channels)).map(|k| format!("no name ({k})")));
+    let note = note_text
+        .lines()
+        .filter_map(|l| l.split_once(':'))
+        .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
+        .collect();
+    Ok(Wave {
+        little,
+        kind,
+        dims,
+        steps,
+        data_unit,
+        lateral_unit,
+        names,
+        note,
+        images,
+        channels,
+    })
+}
+
+/// A channel's data unit: the Asylum note's, else by its name, else the
+/// wave's.
+fn channel_unit(w: &Wave, index: usize) -> String {
+    let name = &w.names[index];
+    if w.note.is_empty() || name.starts_with("no name (") {
+        return w.data_unit.clone();
+    }
+    // The name without a trailing `Mod` + digits, then without Trace/Retrace.
+    let base = name
+        .trim_end_matches(|c: char| c.is_ascii_digit())
+        .strip_suffix("Mod")
+        .unwrap_or(name);
+    let base = base
+        .strip_suffix("Retrace")
+        .or_else(|| base.strip_suffix("Trace"))
+        .unwrap_or(base);
+    if let Some((_, u)) = w.note.iter().find(|(k, _)| *k == format!("{base}Unit")) {
+        return u.clone();
+    }
+    let base = base
+        .strip_prefix("DAC")
+        .or_else(|| base.strip_prefix("Nap"))
+        .unwrap_or(base);
+    const BY_PREFIX: [(&str, &str); 11] = [
+        ("Height", "m"),
+        ("ZSensor", "m"),
+        ("Deflection", "m"),
+        ("Amplitude", "m"),
+        ("Phase", "deg"),
+        ("Current", "A"),
+        ("Frequency", "Hz"),
+        ("Capacitance", "F"),
+        ("Potential", "V"),
+        ("Count", ""),
+        ("QFactor", ""),
+    ];
+    BY_PREFIX
+        .iter()
+        .find(|(p, _)| base.starts_with(p))
+        .map_or("V".into(), |(_, u)| (*u).to_string())
+}
+
+/// Igor's units are SI symbols: `A` is the ampere, not the ångström.
+fn length_unit(unit: &str) -> Option<LengthUnit> {
+    match unit {
+        "A" | "" => None,
+        "um" => Some(LengthUnit::Um),
+        u => LengthUnit::parse(u).ok().filter(|u| *u != LengthUnit::None),
+    }
+}
+
+/// The wave's channels.
+pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
+    let w = wave(bytes)?;
+    Ok((0..w.channels)
+        .map(|index| ChannelInfo {
+            index,
+            name: w.names[index].clone(),
+            height: length_unit(&channel_unit(&w, index)).is_some(),
+        })
+        .collect())
+}
+
+/// Reads the channel `choice` names (by default the first height channel).
+pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
+    let w = wave(bytes)?;
+    let list = channels(bytes)?;
+    let c = pick(&list, choice)?;
+    let size = match w.kind & !0x40 {
+        2 | 0x20 => 4,
+        4 => 8,
+        8 => 1,
+        0x10 => 2,
+        t => return unsupported(format!("number type 0x{t:x}")),
+    };
+    let unsigned = w.kind & 0x40 != 0;
+    let (nx, ny) = if w.images {
+        (w.dims[0], w.dims[1])
+    } else {
+        (w.dims[0], 1)
+    };
+    if nx == 0 || ny == 0 {
+        return malformed("an empty wave");
+    }
+    let per_channel = nx * ny;
+    let need = per_channel
+        .checked_mul(w.channels)
+        .and_then(|n| n.checked_mul(size))
+        .filter(|&n| BIN_HEADER + WAVE_HEADER + n <= bytes.len())
+        .ok_or_else(|| {
+            FormatError::Malformed("the wave's data run past the file's end (truncated?)".into())
+        })?;
+    let data = &bytes[BIN_HEADER + WAVE_HEADER..BIN_HEADER + WAVE_HEADER + need];
+    let value = |k: usize| -> f64 {
+        let b = &data[k * size..(k + 1) * size];
+        let mut a = [0u8; 8];
+        a[..size].copy_from_slice(b);
+        if !w.little {
+            a[..size].reverse();
+        }
+        match (w.kind & !0x40, unsigned) {
+            (2, _) => f64::from(f32::from_le_bytes(a[..4].try_into().expect("4"))),
+            (4, _) => f64::from_le_bytes(a),
+            (8, false) => f64::from(a[0] as i8),
+            (0x10, false) => f64::from(i16::from_le_bytes([a[0], a[1]])),
+            (0x20, false) => f64::from(i32::from_le_bytes(a[..4].try_into().expect("4"))),
+            (8, true) => f64::from(a[0]),
+            (0x10, true) => f64::from(u16::from_le_bytes([a[0], a[1]])),
+            _ => f64::from(u32::from_le_bytes(a[..4].try_into().expect("4"))),
+        }
+    };
+    let unit = channel_unit(&w, c);
+    let lateral = length_unit(&w.lateral_unit);
+    let (xy, z, factor) = match (length_unit(&unit), lateral) {
+        (Some(z), None) => (z, z, 1.0),
+        (Some(z), Some(l)) => (l, l, z.metres().zip(l.metres()).map_or(1.0, |(a, b)| a / b)),
+        (None, l) => (l.unwrap_or(LengthUnit::None), LengthUnit::None, 1.0),
+    };
+    // Images: lines from the last; a line scan's channel is a column.
+    let heights = (0..ny)
+        .flat_map(|j| {
+            let row = if w.images { ny - 1 - j } else { 0 };
+            (0..nx).map(move |i| (i, row))
+        })
+        .map(|(i, row)| {
+            let k = if w.images {
+                i + nx * (row + ny * c)
+            } else {
+                i + nx * c
+            };
+            value(k) * factor
+        })
+        .collect();
+    let [dx, dy] = w.steps;
+    if !(dx.is_finite() && dx > 0.0 && (!w.images || (dy.is_finite() && dy > 0.0))) {
+        return malformed(format!("the steps {dx} × {dy} are not positive"));
+    }
+    let dy = if w.images { dy } else { dx };
+    Ok(HeightField::from_vec([nx, ny], heights)?
+        .with_spacing([dx, dy])?
+        .with_units(Units { xy, z }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A little-endian f32 wave of `dims` with labels for dimension 2.
+    fn file(dims: [i32; 3], values: &[f32], labels: &[&str], note: &str) -> Vec<u8> {
+        let mut b = vec![0u8; BIN_HEADER + WAVE_HEADER];
+        b[0..2].copy_from_slice(&5i16.to_le_bytes());
+        let data = values.len() * 4;
+        let label_bytes = if labels.is_empty() {
+            0
+        } else {
+            32 * (labels.len() + 1)
+        };
+        for (o, v) in [(4, WAVE_HEADER + data), (12, note.len()), (44, label_bytes)] {
+            b[o..o + 4].copy_from_slice(&(v as i32).to_le_bytes());
+        }
+        let w = BIN_HEADER;
+        b[w + 12..w + 16].copy_from_slice(&(values.len() as i32).to_le_bytes());
+        b[w + 16..w + 18].copy_from_slice(&2i16.to_le_bytes());
+        for (k, d) in dims.iter().enumerate() {
+            b[w + 68 + 4 * k..w + 72 + 4 * k].copy_from_slice(&d.to_le_bytes());
+        }
+        b[w + 84..w + 92].copy_from_slice(&0.5f64.to_le_bytes());
+        b[w + 92..w + 100].copy_from_slice(&0.25f64.to_le_bytes());
+        b[w + 148] = b'm';
+        b[w + 152] = b'm';
+        b.extend(values.iter().flat_map(|v| v.to_le_bytes()));
+        b.extend(note.as_bytes());
+        if !labels.is_empty() {
+            b.extend([0u8; 32]);
+            for l in labels {
+                let mut c = [0u8; 32];
+                c[..l.len()].copy_from_slice(l.as_bytes());
+                b.extend(c);
+            }
+        }
+        b
+    }
+
+    #[test]
+    fn reads_the_channels_of_an_asylum_image_stack() {
+        // 2 × 2 images: height then phase, x fastest, the last line first.
+        let values = [1.0, 2.0, 3.0, 4.0, 10.0, 20.0, 30.0, 40.0];
+        let f = file(
+            [2, 2, 2],
+            &values,
+            &["HeightTrace", "PhaseTrace"],
+            "Date: 2020-01-01\r",
+        );
+        let list = channels(&f).unwrap();
+        assert_eq!(
+            list.iter()
+                .map(|c| (c.name.as_str(), c.height))
+                .collect::<Vec<_>>(),
+            [("HeightTrace", true), ("PhaseTrace", false)]
+        );
+        let h = read_channel(&f, None).unwrap();
+        assert_eq!(h.data(), &[3.0, 4.0, 1.0, 2.0]);
+        assert_eq!(h.spacing(), [0.5, 0.25]);
+        assert_eq!(
+            h.units(),
+            Units {
+                xy: LengthUnit::M,
+                z: LengthUnit::M
+            }
+        );
+        let p = read_channel(&f, Some(&Channel::parse("phasetrace"))).unwrap();
+        assert_eq!(p.data(), &[30.0, 40.0, 10.0, 20.0]);
+        assert_eq!(p.units().z, LengthUnit::None);
+    }
+
+    #[test]
+    fn a_wave_without_labels_and_truncation() {
+        let f = file([2, 2, 1], &[1.0, 2.0, 3.0, 4.0], &[], "");
+        assert_eq!(channels(&f).unwrap()[0].name, "no name (1)");
+        for cut in 0..f.len() {
+            assert!(read_channel(&f[..cut], None).is_err(), "cut at {cut}");
+        }
+        let profile = file([4, 0, 0], &[1.0, 2.0, 3.0, 4.0], &[], "");
+        let p = read_channel(&profile, None).unwrap();
+        assert_eq!(p.dims(), [4, 1]);
+    }
+}
