@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -106,6 +106,16 @@ m = mline("fileType", "Image") + mline("xPixels", "3") + mline("yPixels", "2") +
 for label, unit in [("Topography", "um"), ("Deflection", "V")]:
     m += mline("bufferLabel", label) + mline("bufferRange", "32768") + mline("bufferUnit", unit)
 open(f"{s}/mi/m3x2.mi", "wb").write((m + mline("data", "BINARY")).encode() + struct.pack("<12h", *range(12)))
+ph = bytearray(284)
+struct.pack_into("<II", ph, 100, 3, 2)
+struct.pack_into("<dd", ph, 140, 6.0, 1.0)
+struct.pack_into("<ddd", ph, 220, 2.0, 1.0, 1.0)
+pdata = struct.pack("<6h", 0, 1, 2, 3, 4, -5)
+pdir = 8 + 284 + len(pdata)
+pt = b"II*\0" + struct.pack("<I", pdir) + bytes(ph) + pdata + struct.pack("<H", 4)
+for tag, typ, cnt, val in [(50432, 4, 1, 0x0E031301), (50433, 4, 1, 0x1000001), (50434, 1, len(pdata), 292), (50435, 7, 284, 8)]:
+    pt += struct.pack("<HHII", tag, typ, cnt, val)
+open(f"{s}/park/p3x2.tiff", "wb").write(pt)
 open(f"{s}/tmd/t3x2.tmd", "wb").write(t + struct.pack("<IIffff", 3, 2, 1.5, 0.5, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32

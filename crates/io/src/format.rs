@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::IoError;
-use crate::{al3d, bcr, di, frt, metropro, mi, nid, tmd, wsxm};
+use crate::{al3d, bcr, di, frt, metropro, mi, nid, park, tmd, wsxm};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -64,6 +64,8 @@ pub enum Format {
     Mi,
     /// Igor Pro binary waves (Asylum Research AFMs).
     Ibw,
+    /// Park Systems AFM TIFF.
+    Park,
 }
 
 /// What a format can do with one kind of data.
@@ -331,6 +333,15 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "version 5, as Asylum Research AFMs write it: image stacks as channels (labels, else no name (k)), units from the Asylum note or the wave, lengths in the lateral unit, lines from the last; line scans as profiles; complex and 4-D waves refused",
     },
     FormatInfo {
+        format: Format::Park,
+        name: "Park Systems AFM TIFF (.tiff)",
+        extensions: &["tiff", "tif"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the first directory's Park tags: int16/int32/f32 data, (raw × scale + offset) × gain in µm, scan size in µm, lines from the last; other TIFFs and line profiles refused",
+    },
+    FormatInfo {
         format: Format::Di,
         name: "Bruker Nanoscope (.spm, .di, .001)",
         extensions: &["di", "spm", "001", "002", "003", "004", "005"],
@@ -404,6 +415,9 @@ impl Format {
         let ply = bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n");
         if bcr::sniff(bytes) {
             return Some(Format::Bcr);
+        }
+        if park::sniff(bytes) {
+            return Some(Format::Park);
         }
         if di::sniff(bytes) {
             return Some(Format::Di);

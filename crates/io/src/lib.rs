@@ -44,6 +44,7 @@ pub mod nid;
 pub mod npy;
 pub mod obj;
 pub mod opd;
+pub mod park;
 pub mod plu;
 pub mod ply;
 pub mod png_io;
@@ -347,7 +348,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Nc
         | Format::Nid
         | Format::Mi
-        | Format::Ibw => Surface::Height(read_height_bytes(bytes, f, choice)?),
+        | Format::Ibw
+        | Format::Park => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -397,6 +399,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Nid => nid::read_channel(bytes, choice)?,
         Format::Mi => mi::read_channel(bytes, choice)?,
         Format::Ibw => ibw::read_channel(bytes, choice)?,
+        Format::Park => park::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     // Missing points (NaN) are carried; ±∞ and a field with no measured

@@ -99,6 +99,7 @@ compare(DATA / "di-1.di", "di-1.di (Bruker Nanoscope, the first of four channels
 compare(DATA / "nc-1.nc", "nc-1.nc (NetCDF, SurfaceTopography's layout)")
 compare(DATA / "nid-1.nid", "nid-1.nid (Nanosurf, the first of four height channels)")
 compare(DATA / "mi-1.mi", "mi-1.mi (Molecular Imaging, the first of four channels)")
+compare(DATA / "example_ps.tiff", "example_ps.tiff (Park Systems)")
 compare(DATA / "spot_1-1000nm.ibw", "spot_1-1000nm.ibw (Igor wave, 8 Asylum channels)")
 compare(DATA / "10x10-one_channel_without_name.ibw", "10x10-one_channel_without_name.ibw (Igor wave, unitless)")
 for name in ["sur-2.sur", "sur-3.sur"]:
