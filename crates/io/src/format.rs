@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::IoError;
-use crate::{al3d, bcr, di, frt, metropro, mi, nid, park, tmd, wsxm};
+use crate::{al3d, bcr, di, frt, metropro, mi, nid, park, tmd, wsxm, xz};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -66,6 +66,10 @@ pub enum Format {
     Ibw,
     /// Park Systems AFM TIFF.
     Park,
+    /// `X;Y;valid` line scans (`.hfm`).
+    Hfm,
+    /// Bruker Dektak profilometer CSV exports (told from a CSV grid by content).
+    Dektak,
 }
 
 /// What a format can do with one kind of data.
@@ -342,6 +346,24 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "the first directory's Park tags: int16/int32/f32 data, (raw × scale + offset) × gain in µm, scan size in µm, lines from the last; other TIFFs and line profiles refused",
     },
     FormatInfo {
+        format: Format::Hfm,
+        name: "HFM line scan (.hfm)",
+        extensions: &["hfm"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "X;Y;valid rows: a uniformly sampled profile (one row), heights in x's unit, rows marked 0 missing; non-uniform scans refused",
+    },
+    FormatInfo {
+        format: Format::Dektak,
+        name: "Bruker Dektak CSV (.csv, told by content)",
+        extensions: &["csv"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the Scan Data block, units from the column titles: a uniformly sampled profile (one row); non-uniform scans refused with their steps",
+    },
+    FormatInfo {
         format: Format::Di,
         name: "Bruker Nanoscope (.spm, .di, .001)",
         extensions: &["di", "spm", "001", "002", "003", "004", "005"],
@@ -381,15 +403,20 @@ impl Format {
     /// opened to look).
     pub fn of_file(path: &Path) -> Result<Format, IoError> {
         let by_name = Format::from_path(path);
-        if by_name.is_ok() {
-            return by_name;
-        }
         let mut head = [0u8; 64];
-        // A file that cannot be opened keeps the message about its name.
-        let n = std::fs::File::open(path)
-            .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
-            .unwrap_or(0);
-        Format::from_content(&head[..n]).ok_or_else(|| by_name.unwrap_err())
+        let mut head = || {
+            // A file that cannot be opened keeps the message about its name.
+            let n = std::fs::File::open(path)
+                .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
+                .unwrap_or(0);
+            head[..n].to_vec()
+        };
+        match by_name {
+            // A Dektak export is a .csv of its own layout.
+            Ok(Format::Csv) if xz::is_dektak(&head()) => Ok(Format::Dektak),
+            Ok(f) => Ok(f),
+            Err(e) => Format::from_content(&head()).ok_or(e),
+        }
     }
 
     /// The format whose magic `bytes` start with, if one does.
@@ -415,6 +442,12 @@ impl Format {
         let ply = bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r\n");
         if bcr::sniff(bytes) {
             return Some(Format::Bcr);
+        }
+        if xz::is_hfm(bytes) {
+            return Some(Format::Hfm);
+        }
+        if xz::is_dektak(bytes) {
+            return Some(Format::Dektak);
         }
         if park::sniff(bytes) {
             return Some(Format::Park);

@@ -58,6 +58,7 @@ pub mod up;
 mod write;
 pub mod wsxm;
 pub mod x3p;
+pub mod xz;
 
 use std::path::Path;
 
@@ -349,7 +350,9 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Nid
         | Format::Mi
         | Format::Ibw
-        | Format::Park => Surface::Height(read_height_bytes(bytes, f, choice)?),
+        | Format::Park
+        | Format::Hfm
+        | Format::Dektak => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -400,6 +403,8 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Mi => mi::read_channel(bytes, choice)?,
         Format::Ibw => ibw::read_channel(bytes, choice)?,
         Format::Park => park::read_height(bytes)?,
+        Format::Hfm => xz::read_hfm(bytes)?,
+        Format::Dektak => xz::read_dektak(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     // Missing points (NaN) are carried; ±∞ and a field with no measured

@@ -123,6 +123,8 @@ pub(crate) fn params_from_bytes(bytes: &[u8], f: Format) -> FResult<Option<Value
         | Format::Al3d
         | Format::Wsxm
         | Format::Plu
+        | Format::Hfm
+        | Format::Dektak
         | Format::Park
         | Format::Ibw
         | Format::Mi

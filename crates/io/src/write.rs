@@ -205,6 +205,8 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
         | Format::Al3d
         | Format::Wsxm
         | Format::Plu
+        | Format::Hfm
+        | Format::Dektak
         | Format::Park
         | Format::Ibw
         | Format::Mi

@@ -84,6 +84,27 @@ def compare(path, label):
           f"{sq} vs {st_sq}")
 
 
+def compare_profile(path, label):
+    """A line scan: ST's UniformLineScan against asperity's one-row field."""
+    t = read_topography(str(path))
+    st_m = get_unit_conversion_factor(t.unit, "m")
+    ours = info(BIN, path)
+    fxy, fz = METRES[ours["units"]["xy"]], METRES[ours["units"]["z"]]
+    check(f"{label}: a profile of ST's length", t.dim == 1 and (ours["nx"], ours["ny"]) == (t.nb_grid_pts[0], 1),
+          f"{t.nb_grid_pts} {ours['nx']}×{ours['ny']}")
+    check(f"{label}: physical length in metres",
+          abs(ours["nx"] * ours["spacing"][0] * fxy - t.physical_sizes[0] * st_m) <= 1e-9 * t.physical_sizes[0] * st_m)
+    out = WORK / (path.name + ".npy")
+    run(BIN, "--quiet", "convert", path, out)
+    z = np.load(out)[0] * fz
+    check(f"{label}: heights in metres", close(z, np.asarray(t.heights()) * st_m, 1e-12))
+    rep = json.loads(run(BIN, "--quiet", "--json", "analyze", path, "--level", "mean", "--hurst", "psd"))
+    rq = rep["measurements"]["profile_x"]["Rq"] * fz
+    st_rq = t.rms_height_from_profile() * st_m
+    check(f"{label}: Rq (mean removed, as ST's rms_height_from_profile)", abs(rq - st_rq) <= 1e-9 * abs(st_rq),
+          f"{rq} vs {st_rq}")
+
+
 compare(DATA / "sdf-1.sdf", "sdf-1.sdf (text SDF)")
 compare(DATA / "tmd-1.tmd", "tmd-1.tmd (TrueMap)")
 compare(DATA / "bcrf-1.bcrf", "bcrf-1.bcrf (BCRF, UTF-16 header)")
@@ -100,6 +121,12 @@ compare(DATA / "nc-1.nc", "nc-1.nc (NetCDF, SurfaceTopography's layout)")
 compare(DATA / "nid-1.nid", "nid-1.nid (Nanosurf, the first of four height channels)")
 compare(DATA / "mi-1.mi", "mi-1.mi (Molecular Imaging, the first of four channels)")
 compare(DATA / "example_ps.tiff", "example_ps.tiff (Park Systems)")
+compare_profile(DATA / "hfm-1.hfm", "hfm-1.hfm (a uniform line scan)")
+# Dektak: ST reads a non-uniform line scan; asperity refuses it, naming it so.
+t = read_topography(str(DATA / "dektak-1.csv"))
+p = run(BIN, "--quiet", "info", DATA / "dektak-1.csv", check=False)
+check("dektak-1.csv: non-uniform for ST, refused by asperity as non-uniformly sampled",
+      not t.is_uniform and p.returncode != 0 and "non-uniformly sampled" in p.stderr, p.stderr.strip())
 compare(DATA / "spot_1-1000nm.ibw", "spot_1-1000nm.ibw (Igor wave, 8 Asylum channels)")
 compare(DATA / "10x10-one_channel_without_name.ibw", "10x10-one_channel_without_name.ibw (Igor wave, unitless)")
 for name in ["sur-2.sur", "sur-3.sur"]:
