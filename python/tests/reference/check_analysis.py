@@ -30,6 +30,8 @@ import numpy as np
 from SurfaceTopography import Topography, UniformLineScan
 from SurfaceTopography.Generation import fourier_synthesis
 
+from checks import binned
+
 BIN = sys.argv[1]
 WORK = Path(sys.argv[2])
 QUICK = len(sys.argv) > 3 and sys.argv[3] == "quick"
@@ -78,25 +80,6 @@ def analyze(path):
     if out.returncode != 0:
         raise SystemExit(f"asperity analyze {path} failed: {out.stderr}")
     return json.loads(out.stdout)
-
-
-def in_bin(q, lo, hi, last):
-    """asperity's bins are [lo, hi), the last one closed; a wavevector within
-    1e-9 (relative) below an edge counts as on it (psd::EDGE_TOLERANCE): log
-    edges fall on lattice wavevectors, and rounding must not decide."""
-    qt = q * (1 + 1e-9)
-    return (qt >= lo) & ((q <= hi * (1 + 1e-12)) if last else (qt < hi))
-
-
-def binned(q, c, edges):
-    """Bin means and counts of PSD values `c` at wavevectors `q` over asperity's bins."""
-    means, counts = [], []
-    q, c = q.ravel(), c.ravel()
-    for k, (lo, hi) in enumerate(edges):
-        sel = in_bin(q, lo, hi, k == len(edges) - 1)
-        counts.append(int(sel.sum()))
-        means.append(c[sel].mean() if sel.any() else np.nan)
-    return np.array(means), np.array(counts)
 
 
 def check_psd(case, m, topo, window):

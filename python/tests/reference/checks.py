@@ -5,6 +5,8 @@ import json
 import subprocess
 import sys
 
+import numpy as np
+
 failures = []
 
 
@@ -41,3 +43,22 @@ def write_csv_field(path, z, dx, dy, x0, y0):
 
 def finish():
     sys.exit(1 if failures else 0)
+
+
+def in_bin(q, lo, hi, last):
+    """asperity's bins are [lo, hi), the last one closed; a wavevector within
+    1e-9 (relative) below an edge counts as on it (psd::EDGE_TOLERANCE): log
+    edges fall on lattice wavevectors, and rounding must not decide."""
+    qt = q * (1 + 1e-9)
+    return (qt >= lo) & ((q <= hi * (1 + 1e-12)) if last else (qt < hi))
+
+
+def binned(q, c, edges):
+    """Bin means and counts of PSD values `c` at wavevectors `q` over asperity's bins."""
+    means, counts = [], []
+    q, c = q.ravel(), c.ravel()
+    for k, (lo, hi) in enumerate(edges):
+        sel = in_bin(q, lo, hi, k == len(edges) - 1)
+        counts.append(int(sel.sum()))
+        means.append(c[sel].mean() if sel.any() else np.nan)
+    return np.array(means), np.array(counts)
