@@ -120,15 +120,7 @@ fn wave(bytes: &[u8]) -> FResult<Wave> {
         .map(|&c| char::from(c))
         .collect();
     at += note_size + data_units + dim_units;
-    let (images, channels, label_dim) = if dims[2] != 0 {
-        (true, dims[2], 2)
-    } else if dims[1] != 0 && dims[1] == dims[0] {
-        (true, 1, 2)
-    } else if dims[1] != 0 {
-        (false, dims[1], 1)
-    } else {
-        (false, 1, 1)
-    };
+    let (images, channels, label_dim) = layout(dims);
     let mut names = Vec::new();
     for (k, &n) in labels.iter().enumerate() {
         let b = block(at, n)?;
@@ -161,6 +153,20 @@ fn wave(bytes: &[u8]) -> FResult<Wave> {
         images,
         channels,
     })
+}
+
+/// Images or line scans, how many channels, and the dimension labelling
+/// them (SurfaceTopography's reading of the dimension sizes).
+fn layout(dims: [usize; 4]) -> (bool, usize, usize) {
+    if dims[2] != 0 {
+        (true, dims[2], 2)
+    } else if dims[1] != 0 && dims[1] == dims[0] {
+        (true, 1, 2)
+    } else if dims[1] != 0 {
+        (false, dims[1], 1)
+    } else {
+        (false, 1, 1)
+    }
 }
 
 /// A channel's data unit: the Asylum note's, else by its name, else the
