@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,opdx,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -95,6 +95,7 @@ d = ("\\*File list\r\n\\Version: 0x07200000\r\n\\*Scanner list\r\n\\@Sens. Zsens
 open(f"{s}/di/d3x2.spm", "wb").write(d + struct.pack("<6h", 0, 1, 2, 3, 4, -5))
 import shutil
 shutil.copy("tests/data/surfacetopography/nc-1.nc", f"{s}/nc/nc-1.nc")
+shutil.copy("tests/data/surfacetopography/opdx-3.opdx", f"{s}/opdx/opdx-3.opdx")
 shutil.copy("tests/data/surfacetopography/10x10-one_channel_without_name.ibw", f"{s}/ibw/10x10.ibw")
 nset = lambda n, u: (f"[{n}]\r\nPoints=3\r\nLines=2\r\nFrame=Scan forward\r\nDim0Range=3e-6\r\nDim0Unit=m\r\n"
                      f"Dim1Range=1e-6\r\nDim1Unit=m\r\nDim2Name=Z\r\nDim2Unit={u}\r\nDim2Range=65536e-9\r\n"

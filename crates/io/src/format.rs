@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::IoError;
-use crate::{al3d, bcr, di, frt, metropro, mi, nid, park, tmd, wsxm, xz};
+use crate::{al3d, bcr, di, frt, metropro, mi, nid, opdx, park, tmd, wsxm, xz};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -70,6 +70,8 @@ pub enum Format {
     Hfm,
     /// Bruker Dektak profilometer CSV exports (told from a CSV grid by content).
     Dektak,
+    /// Bruker Dektak Vision64 data.
+    Opdx,
 }
 
 /// What a format can do with one kind of data.
@@ -364,6 +366,15 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "the Scan Data block, units from the column titles: a uniformly sampled profile (one row); non-uniform scans refused with their steps",
     },
     FormatInfo {
+        format: Format::Opdx,
+        name: "Bruker Dektak OPDx (.opdx)",
+        extensions: &["opdx"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "Vision64 item tree: a surface profile's height channel (f64 × DataScale, step Extent / (n − 1)) as a one-row profile, or the primary 2-D height channel (f32 matrix)",
+    },
+    FormatInfo {
         format: Format::Di,
         name: "Bruker Nanoscope (.spm, .di, .001)",
         extensions: &["di", "spm", "001", "002", "003", "004", "005"],
@@ -421,7 +432,8 @@ impl Format {
 
     /// The format whose magic `bytes` start with, if one does.
     pub fn from_content(bytes: &[u8]) -> Option<Format> {
-        const MAGICS: [(&[u8], Format); 16] = [
+        const MAGICS: [(&[u8], Format); 17] = [
+            (opdx::MAGIC, Format::Opdx),
             (mi::MAGIC, Format::Mi),
             (nid::MAGIC, Format::Nid),
             (b"CDF\x01", Format::Nc),

@@ -44,6 +44,7 @@ pub mod nid;
 pub mod npy;
 pub mod obj;
 pub mod opd;
+pub mod opdx;
 pub mod park;
 pub mod plu;
 pub mod ply;
@@ -352,7 +353,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Ibw
         | Format::Park
         | Format::Hfm
-        | Format::Dektak => Surface::Height(read_height_bytes(bytes, f, choice)?),
+        | Format::Dektak
+        | Format::Opdx => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -405,6 +407,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Park => park::read_height(bytes)?,
         Format::Hfm => xz::read_hfm(bytes)?,
         Format::Dektak => xz::read_dektak(bytes)?,
+        Format::Opdx => opdx::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     // Missing points (NaN) are carried; ±∞ and a field with no measured

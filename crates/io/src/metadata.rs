@@ -123,6 +123,7 @@ pub(crate) fn params_from_bytes(bytes: &[u8], f: Format) -> FResult<Option<Value
         | Format::Al3d
         | Format::Wsxm
         | Format::Plu
+        | Format::Opdx
         | Format::Hfm
         | Format::Dektak
         | Format::Park

@@ -205,6 +205,7 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
         | Format::Al3d
         | Format::Wsxm
         | Format::Plu
+        | Format::Opdx
         | Format::Hfm
         | Format::Dektak
         | Format::Park

@@ -147,6 +147,7 @@ compare(DATA / "nid-1.nid", "nid-1.nid (Nanosurf, the first of four height chann
 compare(DATA / "mi-1.mi", "mi-1.mi (Molecular Imaging, the first of four channels)")
 compare(DATA / "example_ps.tiff", "example_ps.tiff (Park Systems)")
 compare_profile(DATA / "hfm-1.hfm", "hfm-1.hfm (a uniform line scan)")
+compare_profile(DATA / "opdx-3.opdx", "opdx-3.opdx (a Dektak profile)")
 # Dektak: ST reads a non-uniform line scan; asperity refuses it, naming it so.
 t = read_topography(str(DATA / "dektak-1.csv"))
 p = run(BIN, "--quiet", "info", DATA / "dektak-1.csv", check=False)

@@ -1,0 +1,454 @@
+//! Bruker Dektak `.opdx` (Vision64, stylus profilometers), read.
+//!
+//! After the magic `VCA DATA\x01\0\0\x55`, a tree of named items, each a
+//! name (u32 length, UTF-8), a type byte and a value; little-endian. Lengths
+//! of variable items are a size byte (1, 2 or 4) and a length of that size.
+//! Containers (0x7D, and the raw-data wrappers 0x46, 0x47) hold items up to
+//! a terminator (0x7F) and a u16; the paths of the items (`/1D_Data/Raw/
+//! Array`) are their names joined. The values read here: integers and
+//! floats, strings (0x12), string lists (0x42), quantities (0x13: a value, a
+//! name and a unit symbol) and units (0x18), double arrays (0x40) and
+//! matrices (0x00, 0x45: rows, columns and f32 data); time stamps, type ids
+//! and position data are skipped by their lengths.
+//!
+//! A surface profile (`/MetaData/DataKind`, else the presence of `/1D_Data`)
+//! reads the first channel of `/MetaData/1D_Channels/Height`: `NumPoints`
+//! f64 values after a 5-byte prefix of its `Array`, times `DataScale` in the
+//! lateral unit; `Extent` is the distance from the first point to the last,
+//! so the step is Extent / (n − 1). A surface height reads the primary 2-D
+//! channel's `Matrix` (rows of x), `Dimension2Points` × `Dimension1Points`,
+//! the extents likewise. Layout learnt from SurfaceTopography's `OPDx.py` and
+//! checked on its example file.
+
+use std::collections::HashMap;
+
+use asperity_core::{HeightField, LengthUnit, Units};
+
+use crate::error::{FResult, FormatError, malformed, unsupported};
+
+pub(crate) const MAGIC: &[u8] = b"VCA DATA\x01\x00\x00\x55";
+
+/// A value of the tree, as far as the readers need it.
+#[derive(Clone, Debug)]
+enum Item {
+    Number(f64),
+    Text(String),
+    Texts(Vec<String>),
+    /// A value with a unit symbol.
+    Quantity(f64, String),
+    /// Bytes of a double array (start, length).
+    Doubles(usize, usize),
+    /// f32 data (start, length) of `columns` × `rows`.
+    Matrix(usize, usize, usize, usize),
+}
+
+struct Cursor<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+fn cut() -> FormatError {
+    FormatError::Malformed("the file ends inside an item (truncated?)".into())
+}
+
+impl<'a> Cursor<'a> {
+    fn take(&mut self, n: usize) -> FResult<&'a [u8]> {
+        let b = self
+            .at
+            .checked_add(n)
+            .and_then(|end| self.bytes.get(self.at..end))
+            .ok_or_else(cut)?;
+        self.at += n;
+        Ok(b)
+    }
+    fn u8(&mut self) -> FResult<u8> {
+        Ok(self.take(1)?[0])
+    }
+    fn u32(&mut self) -> FResult<u32> {
+        Ok(u32::from_le_bytes(
+            self.take(4)?.try_into().expect("4 bytes"),
+        ))
+    }
+    fn f64(&mut self) -> FResult<f64> {
+        Ok(f64::from_le_bytes(
+            self.take(8)?.try_into().expect("8 bytes"),
+        ))
+    }
+    fn name(&mut self) -> FResult<String> {
+        let n = self.u32()? as usize;
+        Ok(String::from_utf8_lossy(self.take(n)?).into_owned())
+    }
+    fn varlen(&mut self) -> FResult<usize> {
+        match self.u8()? {
+            1 => Ok(usize::from(self.u8()?)),
+            2 => Ok(usize::from(u16::from_le_bytes(
+                self.take(2)?.try_into().expect("2 bytes"),
+            ))),
+            4 => Ok(self.u32()? as usize),
+            k => malformed(format!("a length of {k} bytes")),
+        }
+    }
+    /// Skips a block of `varlen` bytes, returning (start, length).
+    fn block(&mut self) -> FResult<(usize, usize)> {
+        let n = self.varlen()?;
+        let start = self.at;
+        self.take(n)?;
+        Ok((start, n))
+    }
+}
+
+/// Reads the items of a container (or the file) into `manifest`, up to a
+/// terminator or the end of `bytes`.
+fn items(
+    c: &mut Cursor,
+    prefix: &str,
+    manifest: &mut HashMap<String, Item>,
+    depth: usize,
+) -> FResult<()> {
+    if depth > 64 {
+        return malformed("containers nested more than 64 deep");
+    }
+    while c.at < c.bytes.len() {
+        let path = format!("{prefix}/{}", c.name()?);
+        let kind = c.u8()?;
+        let scalar = |c: &mut Cursor, n: usize, f: fn(&[u8]) -> f64| -> FResult<Option<Item>> {
+            Ok(Some(Item::Number(f(c.take(n)?))))
+        };
+        let item = match kind {
+            0x7F => return Ok(()),
+            0x7D | 0x46 | 0x47 => {
+                let n = c.varlen()?;
+                let end =
+                    c.at.checked_add(n)
+                        .filter(|&e| e <= c.bytes.len())
+                        .ok_or_else(cut)?;
+                let mut inner = Cursor {
+                    bytes: &c.bytes[..end],
+                    at: c.at,
+                };
+                items(&mut inner, &path, manifest, depth + 1)?;
+                c.at = end;
+                None
+            }
+            0x7C | 0x0E => {
+                c.name()?;
+                c.block()?;
+                None
+            }
+            0x01 => scalar(c, 1, |b| f64::from(b[0]))?,
+            0x04 => scalar(c, 2, |b| f64::from(i16::from_le_bytes([b[0], b[1]])))?,
+            0x05 => scalar(c, 2, |b| f64::from(u16::from_le_bytes([b[0], b[1]])))?,
+            0x06 => scalar(c, 4, |b| {
+                f64::from(i32::from_le_bytes(b.try_into().expect("4")))
+            })?,
+            0x07 => scalar(c, 4, |b| {
+                f64::from(u32::from_le_bytes(b.try_into().expect("4")))
+            })?,
+            0x0A => scalar(c, 8, |b| {
+                i64::from_le_bytes(b.try_into().expect("8")) as f64
+            })?,
+            0x0B => scalar(c, 8, |b| {
+                u64::from_le_bytes(b.try_into().expect("8")) as f64
+            })?,
+            0x0C => scalar(c, 4, |b| {
+                f64::from(f32::from_le_bytes(b.try_into().expect("4")))
+            })?,
+            0x0D => scalar(c, 8, |b| f64::from_le_bytes(b.try_into().expect("8")))?,
+            0x12 => {
+                let n = c.varlen()?;
+                Some(Item::Text(String::from_utf8_lossy(c.take(n)?).into_owned()))
+            }
+            0x13 => {
+                let (start, n) = c.block()?;
+                let mut q = Cursor {
+                    bytes: &c.bytes[..start + n],
+                    at: start,
+                };
+                let value = q.f64()?;
+                q.name()?;
+                Some(Item::Quantity(value, q.name()?))
+            }
+            0x15 => {
+                c.take(9)?;
+                None
+            }
+            0x18 => {
+                let (start, n) = c.block()?;
+                let mut u = Cursor {
+                    bytes: &c.bytes[..start + n],
+                    at: start,
+                };
+                u.name()?;
+                let symbol = u.name()?;
+                Some(Item::Quantity(u.f64()?, symbol))
+            }
+            0x40 => {
+                c.name()?;
+                let (start, n) = c.block()?;
+                Some(Item::Doubles(start, n))
+            }
+            0x42 => {
+                c.name()?;
+                let (start, n) = c.block()?;
+                let mut l = Cursor {
+                    bytes: &c.bytes[..start + n],
+                    at: start,
+                };
+                let mut list = Vec::new();
+                while l.at < start + n {
+                    list.push(l.name()?);
+                }
+                Some(Item::Texts(list))
+            }
+            0x00 | 0x45 => {
+                c.name()?;
+                if kind == 0x00 {
+                    c.u32()?;
+                    c.name()?;
+                }
+                let n = c.varlen()?;
+                let (rows, columns) = (c.u32()? as usize, c.u32()? as usize);
+                let len = n.checked_sub(8).ok_or_else(|| {
+                    FormatError::Malformed("a matrix shorter than its size".into())
+                })?;
+                let start = c.at;
+                c.take(len)?;
+                Some(Item::Matrix(start, len, columns, rows))
+            }
+            k => return malformed(format!("item {path:?} of unknown type 0x{k:02x}")),
+        };
+        if let Some(item) = item {
+            manifest.insert(path, item);
+        }
+    }
+    Ok(())
+}
+
+/// `um`, `µm`, … as a length unit.
+fn unit(symbol: &str) -> FResult<LengthUnit> {
+    match symbol.trim() {
+        "um" | "µm" => Ok(LengthUnit::Um),
+        s => LengthUnit::parse(s)
+            .ok()
+            .filter(|u| *u != LengthUnit::None)
+            .ok_or_else(|| FormatError::Malformed(format!("the unit {s:?} is not a length"))),
+    }
+}
+
+/// Reads the height channel of an OPDx file (a profile or a map).
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    if !bytes.starts_with(MAGIC) {
+        return malformed("missing the `VCA DATA` magic");
+    }
+    let mut manifest = HashMap::new();
+    items(
+        &mut Cursor {
+            bytes,
+            at: MAGIC.len(),
+        },
+        "",
+        &mut manifest,
+        0,
+    )?;
+    let get = |k: &str| {
+        manifest
+            .get(k)
+            .ok_or_else(|| FormatError::Malformed(format!("no {k}")))
+    };
+    let number = |k: &str| match get(k)? {
+        Item::Number(v) => Ok(*v),
+        other => malformed(format!("{k} is {other:?}, not a number")),
+    };
+    let quantity = |k: &str| match get(k)? {
+        Item::Quantity(v, s) => Ok((*v, unit(s)?)),
+        other => malformed(format!("{k} is {other:?}, not a quantity")),
+    };
+    let first = |k: &str| match manifest.get(k) {
+        Some(Item::Texts(l)) => l.first().cloned(),
+        Some(Item::Text(t)) => Some(t.clone()),
+        _ => None,
+    };
+    let kind = match manifest.get("/MetaData/DataKind") {
+        Some(Item::Text(t)) => t.clone(),
+        _ => String::new(),
+    };
+    let has = |p: &str| manifest.keys().any(|k| k.starts_with(p));
+    let profile = kind == "Surface Profile"
+        || (kind != "Surface Height" && !has("/2D_Data/") && has("/1D_Data/"));
+    let (data, nx, ny, extent, xy, scale, zu, f64s) = if profile {
+        let name = first("/MetaData/1D_Channels/Height")
+            .ok_or_else(|| FormatError::Malformed("no 1-D height channel".into()))?;
+        let p = format!("/1D_Data/{name}");
+        let n = number(&format!("{p}/NumPoints"))? as usize;
+        let (ext, xy) = quantity(&format!("{p}/Extent"))?;
+        let (scale, zu) = quantity(&format!("{p}/DataScale"))?;
+        let Item::Doubles(start, len) = get(&format!("{p}/Array"))?.clone() else {
+            return malformed("the profile's Array is no double array");
+        };
+        let body = bytes
+            .get(start + 5.min(len)..start + len)
+            .unwrap_or_default();
+        (body, n, 1, [ext, ext], xy, scale, zu, true)
+    } else {
+        let name = first("/MetaData/PrimaryData2D")
+            .or_else(|| first("/MetaData/2D_Channels/Height"))
+            .ok_or_else(|| FormatError::Malformed("no 2-D height channel".into()))?;
+        let p = format!("/2D_Data/{name}");
+        let Item::Matrix(start, len, columns, rows) = get(&format!("{p}/Matrix"))?.clone() else {
+            return unsupported("a 2-D channel without a Matrix");
+        };
+        let (ey, uy) = quantity(&format!("{p}/Dimension1Extent"))?;
+        let (ex, xy) = quantity(&format!("{p}/Dimension2Extent"))?;
+        let to = uy.metres().zip(xy.metres()).map_or(1.0, |(a, b)| a / b);
+        let (scale, zu) = quantity(&format!("{p}/DataScale"))?;
+        (
+            &bytes[start..start + len],
+            columns,
+            rows,
+            [ex, ey * to],
+            xy,
+            scale,
+            zu,
+            false,
+        )
+    };
+    if nx < 2 || ny == 0 {
+        return malformed(format!("{nx} × {ny} points"));
+    }
+    let width = if f64s { 8 } else { 4 };
+    if data.len() < nx * ny * width {
+        return malformed(format!(
+            "{nx} × {ny} values need {} bytes, the data hold {}",
+            nx * ny * width,
+            data.len()
+        ));
+    }
+    let to = zu.metres().zip(xy.metres()).map_or(1.0, |(a, b)| a / b);
+    let heights = data
+        .chunks_exact(width)
+        .take(nx * ny)
+        .map(|c| {
+            let v = if f64s {
+                f64::from_le_bytes(c.try_into().expect("8 bytes"))
+            } else {
+                f64::from(f32::from_le_bytes(c.try_into().expect("4 bytes")))
+            };
+            v * scale * to
+        })
+        .collect();
+    // The extents run from the first point to the last.
+    let step = |e: f64, n: usize| if n > 1 { e / (n - 1) as f64 } else { e };
+    let (dx, dy) = (
+        step(extent[0], nx),
+        if profile {
+            step(extent[0], nx)
+        } else {
+            step(extent[1], ny)
+        },
+    );
+    if !(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0) {
+        return malformed(format!("the steps {dx} × {dy} are not positive"));
+    }
+    Ok(HeightField::from_vec([nx, ny], heights)?
+        .with_spacing([dx, dy])?
+        .with_units(Units { xy, z: xy }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn name(s: &str) -> Vec<u8> {
+        let mut b = (s.len() as u32).to_le_bytes().to_vec();
+        b.extend(s.as_bytes());
+        b
+    }
+
+    fn item(n: &str, kind: u8, body: &[u8]) -> Vec<u8> {
+        let mut b = name(n);
+        b.push(kind);
+        b.extend(body);
+        b
+    }
+
+    fn sized(body: &[u8]) -> Vec<u8> {
+        let mut b = vec![4u8];
+        b.extend((body.len() as u32).to_le_bytes());
+        b.extend(body);
+        b
+    }
+
+    fn container(n: &str, children: &[Vec<u8>]) -> Vec<u8> {
+        let mut inner: Vec<u8> = children.concat();
+        inner.extend(item("", 0x7F, &[]));
+        inner.extend([0, 0]);
+        item(n, 0x7D, &sized(&inner))
+    }
+
+    fn quantity(n: &str, v: f64, symbol: &str) -> Vec<u8> {
+        let mut q = v.to_le_bytes().to_vec();
+        q.extend(name("Length"));
+        q.extend(name(symbol));
+        item(n, 0x13, &sized(&q))
+    }
+
+    /// A profile of 3 points over 2 µm, heights in nm.
+    fn file(values: &[f64]) -> Vec<u8> {
+        let mut array = name("double[]");
+        let mut data = vec![0u8; 5];
+        data.extend(values.iter().flat_map(|v| v.to_le_bytes()));
+        array.extend(sized(&data));
+        let mut list = name("list");
+        list.extend(sized(&name("Raw")));
+        let mut f = MAGIC.to_vec();
+        f.extend(container(
+            "MetaData",
+            &[
+                item(
+                    "DataKind",
+                    0x12,
+                    &[&[1u8, 15][..], b"Surface Profile"].concat(),
+                ),
+                item(
+                    "1D_Channels",
+                    0x7D,
+                    &sized(
+                        &[item("Height", 0x42, &list), item("", 0x7F, &[]), vec![0, 0]].concat(),
+                    ),
+                ),
+            ],
+        ));
+        f.extend(container(
+            "1D_Data",
+            &[container(
+                "Raw",
+                &[
+                    item("NumPoints", 0x07, &3u32.to_le_bytes()),
+                    quantity("Extent", 2.0, "µm"),
+                    quantity("DataScale", 1.0, "nm"),
+                    item("Array", 0x40, &array),
+                ],
+            )],
+        ));
+        f
+    }
+
+    #[test]
+    fn reads_a_profile_scaled_to_the_lateral_unit() {
+        let h = read_height(&file(&[1000.0, 2000.0, -500.0])).unwrap();
+        assert_eq!(h.dims(), [3, 1]);
+        assert_eq!(h.spacing(), [1.0, 1.0]);
+        assert_eq!(h.units().z, LengthUnit::Um);
+        let z: Vec<f64> = h.data().iter().map(|v| (v * 1e6).round() / 1e6).collect();
+        assert_eq!(z, [1.0, 2.0, -0.5]);
+    }
+
+    #[test]
+    fn truncation_is_refused() {
+        let good = file(&[1.0, 2.0, 3.0]);
+        for cut in MAGIC.len() + 1..good.len() {
+            assert!(read_height(&good[..cut]).is_err(), "cut at {cut}");
+        }
+        assert!(read_height(b"VCA DATA").is_err());
+    }
+}
