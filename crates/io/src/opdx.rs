@@ -97,6 +97,27 @@ impl<'a> Cursor<'a> {
     }
 }
 
+/// A number item of type `kind` (booleans, integers, floats).
+fn number(c: &mut Cursor, kind: u8) -> FResult<f64> {
+    let b = c.take(match kind {
+        0x01 => 1,
+        0x04 | 0x05 => 2,
+        0x06 | 0x07 | 0x0C => 4,
+        _ => 8,
+    })?;
+    Ok(match kind {
+        0x01 => f64::from(b[0]),
+        0x04 => f64::from(i16::from_le_bytes([b[0], b[1]])),
+        0x05 => f64::from(u16::from_le_bytes([b[0], b[1]])),
+        0x06 => f64::from(i32::from_le_bytes(b.try_into().expect("4"))),
+        0x07 => f64::from(u32::from_le_bytes(b.try_into().expect("4"))),
+        0x0A => i64::from_le_bytes(b.try_into().expect("8")) as f64,
+        0x0B => u64::from_le_bytes(b.try_into().expect("8")) as f64,
+        0x0C => f64::from(f32::from_le_bytes(b.try_into().expect("4"))),
+        _ => f64::from_le_bytes(b.try_into().expect("8")),
+    })
+}
+
 /// Reads the items of a container (or the file) into `manifest`, up to a
 /// terminator or the end of `bytes`.
 fn items(
@@ -111,9 +132,6 @@ fn items(
     while c.at < c.bytes.len() {
         let path = format!("{prefix}/{}", c.name()?);
         let kind = c.u8()?;
-        let scalar = |c: &mut Cursor, n: usize, f: fn(&[u8]) -> f64| -> FResult<Option<Item>> {
-            Ok(Some(Item::Number(f(c.take(n)?))))
-        };
         let item = match kind {
             0x7F => return Ok(()),
             0x7D | 0x46 | 0x47 => {
@@ -135,25 +153,7 @@ fn items(
                 c.block()?;
                 None
             }
-            0x01 => scalar(c, 1, |b| f64::from(b[0]))?,
-            0x04 => scalar(c, 2, |b| f64::from(i16::from_le_bytes([b[0], b[1]])))?,
-            0x05 => scalar(c, 2, |b| f64::from(u16::from_le_bytes([b[0], b[1]])))?,
-            0x06 => scalar(c, 4, |b| {
-                f64::from(i32::from_le_bytes(b.try_into().expect("4")))
-            })?,
-            0x07 => scalar(c, 4, |b| {
-                f64::from(u32::from_le_bytes(b.try_into().expect("4")))
-            })?,
-            0x0A => scalar(c, 8, |b| {
-                i64::from_le_bytes(b.try_into().expect("8")) as f64
-            })?,
-            0x0B => scalar(c, 8, |b| {
-                u64::from_le_bytes(b.try_into().expect("8")) as f64
-            })?,
-            0x0C => scalar(c, 4, |b| {
-                f64::from(f32::from_le_bytes(b.try_into().expect("4")))
-            })?,
-            0x0D => scalar(c, 8, |b| f64::from_le_bytes(b.try_into().expect("8")))?,
+            0x01 | 0x04..=0x07 | 0x0A..=0x0D => Some(Item::Number(number(c, kind)?)),
             0x12 => {
                 let n = c.varlen()?;
                 Some(Item::Text(String::from_utf8_lossy(c.take(n)?).into_owned()))
@@ -235,87 +235,138 @@ fn unit(symbol: &str) -> FResult<LengthUnit> {
     }
 }
 
+/// The items read, by path.
+struct Manifest(HashMap<String, Item>);
+
+impl Manifest {
+    fn get(&self, k: &str) -> FResult<&Item> {
+        self.0
+            .get(k)
+            .ok_or_else(|| FormatError::Malformed(format!("no {k}")))
+    }
+    fn number(&self, k: &str) -> FResult<f64> {
+        match self.get(k)? {
+            Item::Number(v) => Ok(*v),
+            other => malformed(format!("{k} is {other:?}, not a number")),
+        }
+    }
+    fn quantity(&self, k: &str) -> FResult<(f64, LengthUnit)> {
+        match self.get(k)? {
+            Item::Quantity(v, s) => Ok((*v, unit(s)?)),
+            other => malformed(format!("{k} is {other:?}, not a quantity")),
+        }
+    }
+    /// A text, or the first of a list of texts.
+    fn first(&self, k: &str) -> Option<String> {
+        match self.0.get(k) {
+            Some(Item::Texts(l)) => l.first().cloned(),
+            Some(Item::Text(t)) => Some(t.clone()),
+            _ => None,
+        }
+    }
+    /// Whether the file holds a surface profile rather than a map.
+    fn is_profile(&self) -> bool {
+        let kind = self.first("/MetaData/DataKind").unwrap_or_default();
+        let has = |p: &str| self.0.keys().any(|k| k.starts_with(p));
+        kind == "Surface Profile"
+            || (kind != "Surface Height" && !has("/2D_Data/") && has("/1D_Data/"))
+    }
+}
+
+/// Where a channel's values are and how to scale them.
+struct Layout {
+    /// Byte range of the values.
+    start: usize,
+    end: usize,
+    nx: usize,
+    ny: usize,
+    /// Step along x and y, in `xy`.
+    steps: [f64; 2],
+    xy: LengthUnit,
+    /// DataScale and its unit.
+    scale: (f64, LengthUnit),
+    /// f64 values (profiles) or f32 (maps).
+    doubles: bool,
+}
+
+/// The extents run from the first point to the last.
+fn step(extent: f64, n: usize) -> f64 {
+    if n > 1 {
+        extent / (n - 1) as f64
+    } else {
+        extent
+    }
+}
+
+fn profile_layout(m: &Manifest) -> FResult<Layout> {
+    let name = m
+        .first("/MetaData/1D_Channels/Height")
+        .ok_or_else(|| FormatError::Malformed("no 1-D height channel".into()))?;
+    let p = format!("/1D_Data/{name}");
+    let nx = m.number(&format!("{p}/NumPoints"))? as usize;
+    let (extent, xy) = m.quantity(&format!("{p}/Extent"))?;
+    let Item::Doubles(start, len) = m.get(&format!("{p}/Array"))? else {
+        return malformed("the profile's Array is no double array");
+    };
+    Ok(Layout {
+        start: start + 5.min(*len),
+        end: start + len,
+        nx,
+        ny: 1,
+        steps: [step(extent, nx); 2],
+        xy,
+        scale: m.quantity(&format!("{p}/DataScale"))?,
+        doubles: true,
+    })
+}
+
+fn map_layout(m: &Manifest) -> FResult<Layout> {
+    let name = m
+        .first("/MetaData/PrimaryData2D")
+        .or_else(|| m.first("/MetaData/2D_Channels/Height"))
+        .ok_or_else(|| FormatError::Malformed("no 2-D height channel".into()))?;
+    let p = format!("/2D_Data/{name}");
+    let Item::Matrix(start, len, nx, ny) = m.get(&format!("{p}/Matrix"))? else {
+        return unsupported("a 2-D channel without a Matrix");
+    };
+    let (ey, uy) = m.quantity(&format!("{p}/Dimension1Extent"))?;
+    let (ex, xy) = m.quantity(&format!("{p}/Dimension2Extent"))?;
+    let to = uy.metres().zip(xy.metres()).map_or(1.0, |(a, b)| a / b);
+    Ok(Layout {
+        start: *start,
+        end: start + len,
+        nx: *nx,
+        ny: *ny,
+        steps: [step(ex, *nx), step(ey * to, *ny)],
+        xy,
+        scale: m.quantity(&format!("{p}/DataScale"))?,
+        doubles: false,
+    })
+}
+
 /// Reads the height channel of an OPDx file (a profile or a map).
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     if !bytes.starts_with(MAGIC) {
         return malformed("missing the `VCA DATA` magic");
     }
-    let mut manifest = HashMap::new();
-    items(
-        &mut Cursor {
-            bytes,
-            at: MAGIC.len(),
-        },
-        "",
-        &mut manifest,
-        0,
-    )?;
-    let get = |k: &str| {
-        manifest
-            .get(k)
-            .ok_or_else(|| FormatError::Malformed(format!("no {k}")))
+    let mut items_read = HashMap::new();
+    let mut c = Cursor {
+        bytes,
+        at: MAGIC.len(),
     };
-    let number = |k: &str| match get(k)? {
-        Item::Number(v) => Ok(*v),
-        other => malformed(format!("{k} is {other:?}, not a number")),
-    };
-    let quantity = |k: &str| match get(k)? {
-        Item::Quantity(v, s) => Ok((*v, unit(s)?)),
-        other => malformed(format!("{k} is {other:?}, not a quantity")),
-    };
-    let first = |k: &str| match manifest.get(k) {
-        Some(Item::Texts(l)) => l.first().cloned(),
-        Some(Item::Text(t)) => Some(t.clone()),
-        _ => None,
-    };
-    let kind = match manifest.get("/MetaData/DataKind") {
-        Some(Item::Text(t)) => t.clone(),
-        _ => String::new(),
-    };
-    let has = |p: &str| manifest.keys().any(|k| k.starts_with(p));
-    let profile = kind == "Surface Profile"
-        || (kind != "Surface Height" && !has("/2D_Data/") && has("/1D_Data/"));
-    let (data, nx, ny, extent, xy, scale, zu, f64s) = if profile {
-        let name = first("/MetaData/1D_Channels/Height")
-            .ok_or_else(|| FormatError::Malformed("no 1-D height channel".into()))?;
-        let p = format!("/1D_Data/{name}");
-        let n = number(&format!("{p}/NumPoints"))? as usize;
-        let (ext, xy) = quantity(&format!("{p}/Extent"))?;
-        let (scale, zu) = quantity(&format!("{p}/DataScale"))?;
-        let Item::Doubles(start, len) = get(&format!("{p}/Array"))?.clone() else {
-            return malformed("the profile's Array is no double array");
-        };
-        let body = bytes
-            .get(start + 5.min(len)..start + len)
-            .unwrap_or_default();
-        (body, n, 1, [ext, ext], xy, scale, zu, true)
+    items(&mut c, "", &mut items_read, 0)?;
+    let m = Manifest(items_read);
+    let l = if m.is_profile() {
+        profile_layout(&m)?
     } else {
-        let name = first("/MetaData/PrimaryData2D")
-            .or_else(|| first("/MetaData/2D_Channels/Height"))
-            .ok_or_else(|| FormatError::Malformed("no 2-D height channel".into()))?;
-        let p = format!("/2D_Data/{name}");
-        let Item::Matrix(start, len, columns, rows) = get(&format!("{p}/Matrix"))?.clone() else {
-            return unsupported("a 2-D channel without a Matrix");
-        };
-        let (ey, uy) = quantity(&format!("{p}/Dimension1Extent"))?;
-        let (ex, xy) = quantity(&format!("{p}/Dimension2Extent"))?;
-        let to = uy.metres().zip(xy.metres()).map_or(1.0, |(a, b)| a / b);
-        let (scale, zu) = quantity(&format!("{p}/DataScale"))?;
-        (
-            &bytes[start..start + len],
-            columns,
-            rows,
-            [ex, ey * to],
-            xy,
-            scale,
-            zu,
-            false,
-        )
+        map_layout(&m)?
     };
+    let (nx, ny) = (l.nx, l.ny);
     if nx < 2 || ny == 0 {
         return malformed(format!("{nx} × {ny} points"));
     }
-    let width = if f64s { 8 } else { 4 };
+    let width = if l.doubles { 8 } else { 4 };
+    let data = bytes.get(l.start..l.end).unwrap_or_default();
     if data.len() < nx * ny * width {
         return malformed(format!(
             "{nx} × {ny} values need {} bytes, the data hold {}",
@@ -323,12 +374,13 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             data.len()
         ));
     }
-    let to = zu.metres().zip(xy.metres()).map_or(1.0, |(a, b)| a / b);
+    let (scale, zu) = l.scale;
+    let to = zu.metres().zip(l.xy.metres()).map_or(1.0, |(a, b)| a / b);
     let heights = data
         .chunks_exact(width)
         .take(nx * ny)
         .map(|c| {
-            let v = if f64s {
+            let v = if l.doubles {
                 f64::from_le_bytes(c.try_into().expect("8 bytes"))
             } else {
                 f64::from(f32::from_le_bytes(c.try_into().expect("4 bytes")))
@@ -336,22 +388,13 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             v * scale * to
         })
         .collect();
-    // The extents run from the first point to the last.
-    let step = |e: f64, n: usize| if n > 1 { e / (n - 1) as f64 } else { e };
-    let (dx, dy) = (
-        step(extent[0], nx),
-        if profile {
-            step(extent[0], nx)
-        } else {
-            step(extent[1], ny)
-        },
-    );
+    let [dx, dy] = l.steps;
     if !(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0) {
         return malformed(format!("the steps {dx} × {dy} are not positive"));
     }
     Ok(HeightField::from_vec([nx, ny], heights)?
         .with_spacing([dx, dy])?
-        .with_units(Units { xy, z: xy }))
+        .with_units(Units { xy: l.xy, z: l.xy }))
 }
 
 #[cfg(test)]
