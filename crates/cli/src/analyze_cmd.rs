@@ -32,6 +32,10 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
     if ctx.json {
         run.report.measure("file", &name);
         run.measure(r.facts);
+        // The instrument's own metadata, carried into the report.
+        if let Some(m) = crate::convert::instrument_json(&a.input)? {
+            run.report.measure("instrument", m);
+        }
         return run.finish();
     }
     outln!("{name}");

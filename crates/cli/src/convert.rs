@@ -104,6 +104,22 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
     run.finish()
 }
 
+/// The instrument's metadata of `path` (see
+/// `asperity_io::instrument_metadata`) as a JSON object, if its format keeps
+/// any.
+pub fn instrument_json(path: &std::path::Path) -> anyhow::Result<Option<serde_json::Value>> {
+    Ok(
+        asperity_engine::io::instrument_metadata(path)?.map(|pairs| {
+            serde_json::Value::Object(
+                pairs
+                    .into_iter()
+                    .map(|(k, v)| (k, serde_json::Value::String(v)))
+                    .collect(),
+            )
+        }),
+    )
+}
+
 pub fn info(ctx: &Context, a: &InfoArgs) -> anyhow::Result<()> {
     let mut facts = describe(&ctx.load(&a.input)?);
     // A multi-channel file's channels, and which one was read.
@@ -125,6 +141,9 @@ pub fn info(ctx: &Context, a: &InfoArgs) -> anyhow::Result<()> {
         run.params(&asperity_engine::files::InfoParams {}, ctx.seed, Vec::new());
         run.report.measure("file", a.input.display().to_string());
         run.measure(facts);
+        if let Some(m) = instrument_json(&a.input)? {
+            run.report.measure("instrument", m);
+        }
         if let Some(p) = made_with {
             run.report.measure("made_with", p);
         }

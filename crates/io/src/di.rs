@@ -230,6 +230,16 @@ fn channel(
     })
 }
 
+/// The instrument's header outside the image sections (file, equipment,
+/// scanner and scan lists), as `section\\key` and value.
+pub(crate) fn metadata(bytes: &[u8]) -> FResult<Vec<(String, String)>> {
+    Ok(parse_header(bytes)?
+        .into_iter()
+        .filter(|(n, _)| !n.contains("image list"))
+        .flat_map(|(n, keys)| keys.into_iter().map(move |(k, v)| (format!("{n}\\{k}"), v)))
+        .collect())
+}
+
 /// Every image section's layout, in order.
 fn layouts(bytes: &[u8]) -> FResult<Vec<Layout>> {
     let sections = parse_header(bytes)?;

@@ -137,7 +137,7 @@ fn wave(bytes: &[u8]) -> FResult<Wave> {
     let named = names.len();
     names.extend((1..=channels - named.min(channels)).map(|k| format!("no name ({k})")));
     let note = note_text
-        .lines()
+        .split(['\r', '\n'])
         .filter_map(|l| l.split_once(':'))
         .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
         .collect();
@@ -218,6 +218,11 @@ fn length_unit(unit: &str) -> Option<LengthUnit> {
         "um" => Some(LengthUnit::Um),
         u => LengthUnit::parse(u).ok().filter(|u| *u != LengthUnit::None),
     }
+}
+
+/// The wave's note (`key: value` lines, as Asylum Research writes them).
+pub(crate) fn metadata(bytes: &[u8]) -> FResult<Vec<(String, String)>> {
+    Ok(wave(bytes)?.note)
 }
 
 /// The wave's channels.
@@ -360,7 +365,7 @@ mod tests {
             [2, 2, 2],
             &values,
             &["HeightTrace", "PhaseTrace"],
-            "Date: 2020-01-01\r",
+            "Date: 2020-01-01\rHeightUnit: nm\r",
         );
         let list = channels(&f).unwrap();
         assert_eq!(
@@ -369,8 +374,15 @@ mod tests {
                 .collect::<Vec<_>>(),
             [("HeightTrace", true), ("PhaseTrace", false)]
         );
+        // Heights in nm by the note (lines split at CR), in the lateral metres.
         let h = read_channel(&f, None).unwrap();
-        assert_eq!(h.data(), &[3.0, 4.0, 1.0, 2.0]);
+        let z: Vec<f64> = h
+            .data()
+            .iter()
+            .map(|v| (v * 1e9 * 1e6).round() / 1e6)
+            .collect();
+        assert_eq!(z, [3.0, 4.0, 1.0, 2.0]);
+        assert_eq!(metadata(&f).unwrap()[1], ("HeightUnit".into(), "nm".into()));
         assert_eq!(h.spacing(), [0.5, 0.25]);
         assert_eq!(
             h.units(),

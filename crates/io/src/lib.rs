@@ -247,6 +247,28 @@ pub fn decode_channel(
     surface_from_bytes(bytes, format, choice).map_err(at)
 }
 
+/// The instrument's metadata a file keeps beside its data (a Nanoscope or
+/// Nanosurf header, an MI header, an Asylum wave note), as key and value in
+/// the file's order; `None` for formats whose metadata asperity does not
+/// read (their sizes, units and missing points are in the height field).
+///
+/// # Errors
+/// [`IoError`] naming the file.
+pub fn instrument_metadata(path: &Path) -> Result<Option<Vec<(String, String)>>, IoError> {
+    let f = Format::of_file(path)?;
+    let read: fn(&[u8]) -> FResult<Vec<(String, String)>> = match f {
+        Format::Di => di::metadata,
+        Format::Nid => nid::metadata,
+        Format::Mi => mi::metadata,
+        Format::Ibw => ibw::metadata,
+        _ => return Ok(None),
+    };
+    let bytes = read_bytes(path)?;
+    read(&bytes)
+        .map(Some)
+        .map_err(|e| e.at(path, f.info().name))
+}
+
 /// The channels of a multi-channel file (Nanoscope images, Sensofar
 /// layers); `None` for a format with one channel.
 ///

@@ -68,6 +68,11 @@ fn header(bytes: &[u8]) -> FResult<Header> {
                     start: at,
                 });
             }
+            // After the first buffer, a key describes that buffer.
+            _ if !buffers.is_empty() => keys.push((
+                format!("buffer {}\\{key}", buffers.len() - 1),
+                value.to_string(),
+            )),
             _ => keys.push((key.to_string(), value.to_string())),
         }
     }
@@ -79,6 +84,12 @@ fn length_unit(unit: &str) -> Option<LengthUnit> {
         "um" | "µm" => Some(LengthUnit::Um),
         u => LengthUnit::parse(u).ok().filter(|u| *u != LengthUnit::None),
     }
+}
+
+/// The header's keys; a buffer's own keys (filter, direction, display
+/// range…) as `buffer N\\key`.
+pub(crate) fn metadata(bytes: &[u8]) -> FResult<Vec<(String, String)>> {
+    Ok(header(bytes)?.keys)
 }
 
 /// The channels: one per buffer, heights where the unit is a length.

@@ -149,6 +149,17 @@ fn layouts(bytes: &[u8]) -> FResult<(Vec<Layout>, usize)> {
     Ok((out, start))
 }
 
+/// The header's descriptive sections (not the data sets' layouts), as
+/// `section\\key` and value.
+pub(crate) fn metadata(bytes: &[u8]) -> FResult<Vec<(String, String)>> {
+    let (sections, _) = header(bytes)?;
+    Ok(sections
+        .into_iter()
+        .filter(|(n, _)| (n != "DataSet" && !n.starts_with("DataSet-")) || n == "DataSet-Info")
+        .flat_map(|(n, keys)| keys.into_iter().map(move |(k, v)| (format!("{n}\\{k}"), v)))
+        .collect())
+}
+
 /// The height channels, as SurfaceTopography lists them.
 pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
     Ok(layouts(bytes)?

@@ -182,6 +182,23 @@ p = run(BIN, "--quiet", "--channel", "Current", "info", DATA / "di-1.di", check=
 check("di-1.di --channel Current: refused, naming the file's channels",
       p.returncode != 0 and '3 "AmplitudeError"' in p.stderr, p.stderr.strip())
 
+# The instrument's metadata in `info --json`: ST's raw metadata, key for key
+# (the Asylum wave note; the MI header, into which ST merges the first
+# buffer's keys, which asperity keeps as `buffer 0\key`).
+for name in ["spot_1-1000nm.ibw", "mi-1.mi"]:
+    st_meta = open_topography(str(DATA / name)).channels[0].info["raw_metadata"]
+    ours = json.loads(run(BIN, "--quiet", "--json", "info", DATA / name))["measurements"]["instrument"]
+    ours = {**{k.removeprefix("buffer 0\\"): v for k, v in ours.items() if k.startswith("buffer 0\\")},
+            **{k: v for k, v in ours.items() if not k.startswith("buffer ")}}
+    shared = [k for k in st_meta if k in ours]
+    same = all(str(st_meta[k]) == ours[k] for k in shared)
+    check(f"{name}: instrument metadata as ST's raw metadata ({len(shared)} of {len(st_meta)} keys, same values)",
+          same and len(shared) >= len(st_meta) - 5, f"missing {sorted(set(st_meta) - set(ours))[:5]}")
+
+rep = json.loads(run(BIN, "--quiet", "--json", "analyze", DATA / "nid-1.nid", "--hurst", "psd"))["measurements"]
+check("nid-1.nid: analyze's report carries the instrument's metadata",
+      rep.get("instrument", {}).get("DataSet-Info\\Head type") is not None, str(list(rep.get("instrument", {}))[:3]))
+
 # Missing points carried by the formats that hold them, refused by one that cannot.
 masked = np.ma.count_masked(read_topography(str(DATA / "sur-2.sur")).heights())
 for ext in ["npy", "x3p", "gwy", "gsf"]:
