@@ -247,6 +247,9 @@ pub fn decode_channel(
     surface_from_bytes(bytes, format, choice).map_err(at)
 }
 
+/// An instrument's metadata: keys and values in the file's order.
+pub type Metadata = Vec<(String, String)>;
+
 /// The instrument's metadata a file keeps beside its data (a Nanoscope or
 /// Nanosurf header, an MI header, an Asylum wave note), as key and value in
 /// the file's order; `None` for formats whose metadata asperity does not
@@ -254,9 +257,9 @@ pub fn decode_channel(
 ///
 /// # Errors
 /// [`IoError`] naming the file.
-pub fn instrument_metadata(path: &Path) -> Result<Option<Vec<(String, String)>>, IoError> {
+pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
     let f = Format::of_file(path)?;
-    let read: fn(&[u8]) -> FResult<Vec<(String, String)>> = match f {
+    let read: fn(&[u8]) -> FResult<Metadata> = match f {
         Format::Di => di::metadata,
         Format::Nid => nid::metadata,
         Format::Mi => mi::metadata,
