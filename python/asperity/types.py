@@ -119,7 +119,14 @@ class HeightField(_Surface):
     """Heights on a regular grid: ``heights`` (ny, nx) float64, row j at
     y = origin[1] + j·spacing[1], column i at x = origin[0] + i·spacing[0].
     ``units`` = (xy, z), each "m", "mm", "µm", "nm" or "none" (the default):
-    the unit of the spacing and origin, and of the heights."""
+    the unit of the spacing and origin, and of the heights. Unmeasured points
+    are NaN. A field :func:`load` read from an instrument file also has
+    ``instrument`` (the instrument's header as a dict) and, for a
+    multi-channel file, ``channels`` (dicts with ``index``, ``name`` and
+    ``height``); both are None otherwise."""
+
+    instrument: Optional[dict] = None
+    channels: Optional[list] = None
 
     def __init__(self, heights, spacing: Sequence[float] = (1.0, 1.0),
                  origin: Sequence[float] = (0.0, 0.0), title: Optional[str] = None,
@@ -199,4 +206,8 @@ def _wrap(d: dict, title: Optional[str] = None):
         s = PointSet._from(d, title)
     if "params" in d:  # the record a file keeps
         s.params = json.loads(d["params"])
+    if "instrument" in d:  # the instrument's own header
+        s.instrument = dict(d["instrument"])
+    if "channels" in d:
+        s.channels = [dict(c) for c in d["channels"]]
     return s

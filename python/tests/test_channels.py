@@ -30,3 +30,12 @@ def test_a_channel_the_file_lacks_is_refused_with_its_channels():
     sur = DI.parent / "sur-2.sur"
     with pytest.raises(ValueError, match="holds one channel"):
         asperity.load(sur, channel=1)
+
+
+def test_a_loaded_field_lists_the_channels_and_keeps_the_instrument_header():
+    h = asperity.load(DI)
+    assert [c["name"] for c in h.channels] == ["Height", "Height", "Phase", "AmplitudeError"]
+    assert [c["height"] for c in h.channels] == [True, True, False, False]
+    assert h.instrument["file list\\version"] == "0x07200000"
+    plain = asperity.HeightField(np.zeros((2, 2)))
+    assert plain.channels is None and plain.instrument is None

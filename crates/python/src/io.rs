@@ -30,18 +30,38 @@ pub fn load<'py>(
     let s = run(py, &RunOptions::quiet(None), move |_, _| {
         let s = asperity_engine::files::load_channel(&path, &budget(), channel.as_ref())?;
         let made_with = asperity_engine::io::read_params(&path)?;
+        let instrument = asperity_engine::io::instrument_metadata(&path)?;
+        let channels = asperity_engine::io::channels(&path)?;
         Ok((
             match up {
                 Some(up) => asperity_engine::io::reorient(s, &path, up)?,
                 None => s,
             },
             made_with,
+            instrument,
+            channels,
         ))
     })?;
-    let (s, made_with) = s;
+    let (s, made_with, instrument, channels) = s;
     let d = surface_out(py, s)?;
     if let Some(p) = made_with {
         d.set_item("params", json(&p)?)?;
+    }
+    if let Some(pairs) = instrument {
+        d.set_item("instrument", pairs)?;
+    }
+    if let Some(list) = channels {
+        let list: Vec<Bound<'_, PyDict>> = list
+            .into_iter()
+            .map(|c| {
+                let e = PyDict::new(py);
+                e.set_item("index", c.index)?;
+                e.set_item("name", c.name)?;
+                e.set_item("height", c.height)?;
+                Ok(e)
+            })
+            .collect::<PyResult<_>>()?;
+        d.set_item("channels", list)?;
     }
     Ok(d)
 }
