@@ -262,7 +262,10 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
     let need = per_channel
         .checked_mul(w.channels)
         .and_then(|n| n.checked_mul(size))
-        .filter(|&n| BIN_HEADER + WAVE_HEADER + n <= bytes.len())
+        .filter(|&n| {
+            n.checked_add(BIN_HEADER + WAVE_HEADER)
+                .is_some_and(|end| end <= bytes.len())
+        })
         .ok_or_else(|| {
             FormatError::Malformed("the wave's data run past the file's end (truncated?)".into())
         })?;

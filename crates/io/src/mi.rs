@@ -137,7 +137,10 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
     }
     let index = pick(&channels(bytes)?, choice)?;
     let (name, buffer_range, unit) = &h.buffers[index];
-    let need = nx * ny * size;
+    let need = nx
+        .checked_mul(ny)
+        .and_then(|n| n.checked_mul(size))
+        .ok_or_else(|| FormatError::Malformed(format!("{nx} × {ny} pixels overflow")))?;
     // Every channel's data must be there (a shorter file is truncated).
     let all = need
         .checked_mul(h.buffers.len())

@@ -50,15 +50,25 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     if nx == 0 || ny == 0 {
         return malformed(format!("`heights` is {nx} × {ny}: no data"));
     }
+    // Every value takes a byte at least: a larger shape is a corrupt header
+    // (checked before the crate allocates for it).
+    let count = nx.checked_mul(ny).filter(|&n| n <= bytes.len());
+    let Some(count) = count else {
+        return malformed(format!(
+            "`heights` of {nx} × {ny} values cannot fit in the file's {} bytes",
+            bytes.len()
+        ));
+    };
     let values = file.read_variable_as_f64("heights").map_err(nc_error)?;
     let raw: Vec<f64> = values.iter().copied().collect();
-    if raw.len() != nx * ny {
+    if raw.len() != count {
         return malformed(format!(
             "`heights` holds {} values, its shape {nx} × {ny}",
             raw.len()
         ));
     }
     let mask: Option<Vec<f64>> = match find("mask") {
+        Some(m) if m.shape() != shape => return malformed("`mask` and `heights` differ in shape"),
         Some(_) => Some(
             file.read_variable_as_f64("mask")
                 .map_err(nc_error)?

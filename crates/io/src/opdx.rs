@@ -367,10 +367,10 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     }
     let width = if l.doubles { 8 } else { 4 };
     let data = bytes.get(l.start..l.end).unwrap_or_default();
-    if data.len() < nx * ny * width {
+    let need = nx.checked_mul(ny).and_then(|n| n.checked_mul(width));
+    if need.is_none_or(|n| data.len() < n) {
         return malformed(format!(
-            "{nx} × {ny} values need {} bytes, the data hold {}",
-            nx * ny * width,
+            "{nx} × {ny} values of {width} bytes do not fit in the data's {} bytes",
             data.len()
         ));
     }
