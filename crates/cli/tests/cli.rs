@@ -279,6 +279,17 @@ fn formats_lists_everything() {
     ] {
         assert!(exts.contains(&e), "{e}");
     }
+    // The README's format table names every extension `asperity formats` lists.
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md")).unwrap();
+    let rows: Vec<&str> = readme.lines().filter(|l| l.starts_with("| ")).collect();
+    for e in exts {
+        let cell = format!("`.{e}`");
+        assert!(
+            rows.iter().any(|r| r.contains(&cell)),
+            "the README's format table lacks {cell}"
+        );
+    }
 }
 
 #[test]
