@@ -101,6 +101,21 @@ fn wave(bytes: &[u8]) -> FResult<Wave> {
     if dims[3] != 0 {
         return unsupported("a four-dimensional wave");
     }
+    // Every point takes a byte at least: dimensions the file cannot hold are
+    // a corrupt header, refused before anything is sized by them.
+    let points = dims[..3]
+        .iter()
+        .filter(|&&n| n != 0)
+        .try_fold(1usize, |p, &n| p.checked_mul(n));
+    if points.is_none_or(|p| p > bytes.len()) {
+        return malformed(format!(
+            "dimensions {} × {} × {} cannot fit in the file's {} bytes",
+            dims[0],
+            dims[1],
+            dims[2],
+            bytes.len()
+        ));
+    }
     let steps = [f64_at(w + 84), f64_at(w + 92)];
     let data_unit = zero_padded(&head[w + 148..w + 152]);
     let lateral_unit = zero_padded(&head[w + 152..w + 156]);

@@ -88,9 +88,22 @@ fn layouts(bytes: &[u8]) -> FResult<(Vec<Layout>, usize)> {
     let count = |keys: &Section, key: &str| number(keys, key).map(|v| v.max(0.0) as usize);
     let mut out = Vec::new();
     let mut offset = 0usize;
-    for i in 0..count(top, "GroupCount")?.min(1 << 16) {
-        for j in 0..count(top, &format!("Gr{i}-Count"))?.min(1 << 16) {
-            let Some(keys) = get(top, &format!("Gr{i}-Ch{j}")).and_then(section) else {
+    // The data sets `Gr{i}-Ch{j}` in group and channel order, i below
+    // GroupCount and j below the group's count (found among the keys, so a
+    // corrupt count costs nothing).
+    let groups = count(top, "GroupCount")?;
+    let mut sets: Vec<(usize, usize, &str)> = top
+        .iter()
+        .filter_map(|(k, v)| {
+            let (i, j) = k.strip_prefix("Gr")?.split_once("-Ch")?;
+            Some((i.parse().ok()?, j.parse().ok()?, v.as_str()))
+        })
+        .filter(|&(i, j, _)| i < groups && count(top, &format!("Gr{i}-Count")).is_ok_and(|n| j < n))
+        .collect();
+    sets.sort_unstable();
+    {
+        for (_, _, name) in sets {
+            let Some(keys) = section(name) else {
                 continue;
             };
             if get(keys, "SaveMode") != Some("Binary") {
