@@ -27,6 +27,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::raster::from_last_line;
 
 /// The header's sections in order: lower-case name and lower-case keys.
 type Sections = Vec<(String, Vec<(String, String)>)>;
@@ -331,10 +332,7 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
                 c.name, c.offset
             ))
         })?;
-    let heights = data
-        .chunks_exact(c.nx * c.size)
-        .rev()
-        .flat_map(|row| row.chunks_exact(c.size))
+    let heights = from_last_line(data, c.nx, c.size)
         .map(|b| {
             let count = if c.size == 2 {
                 f64::from(i16::from_le_bytes([b[0], b[1]]))

@@ -16,6 +16,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::raster::from_last_line;
 
 pub(crate) const MAGIC: &[u8] = b"FRTM_GLIDERV";
 
@@ -122,10 +123,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         ));
     }
     // Rows stored from the last line up.
-    let heights = data
-        .chunks_exact(nx * width)
-        .rev()
-        .flat_map(|row| row.chunks_exact(width))
+    let heights = from_last_line(data, nx, width)
         .map(|c| {
             let count = if width == 2 {
                 i64::from(u16::from_le_bytes([c[0], c[1]]))

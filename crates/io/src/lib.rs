@@ -49,6 +49,7 @@ pub mod park;
 pub mod plu;
 pub mod ply;
 pub mod png_io;
+mod raster;
 pub mod sdf;
 pub mod staging;
 pub mod stl;

@@ -116,26 +116,10 @@ pub(crate) fn params_from_bytes(bytes: &[u8], f: Format) -> FResult<Option<Value
         Format::Gwy => gwy::meta_string(bytes, gwy::PARAMS_KEY)?,
         Format::X3p => x3p::comment(bytes)?,
         Format::Sdf => sdf::params(bytes),
-        Format::Sur
-        | Format::Tmd
-        | Format::Bcr
-        | Format::MetroPro
-        | Format::Al3d
-        | Format::Wsxm
-        | Format::Plu
-        | Format::Opdx
-        | Format::Hfm
-        | Format::Dektak
-        | Format::Park
-        | Format::Ibw
-        | Format::Mi
-        | Format::Nid
-        | Format::Nc
-        | Format::Di
-        | Format::Frt
-        | Format::Opd => None,
         Format::Glb => return glb::params(bytes),
-        Format::Npy | Format::Stl | Format::Xyz => None,
+        // Formats without a place for the parameters, and the instrument
+        // formats (read-only, made by no recipe).
+        _ => None,
     };
     text.map(|t| parse(&t)).transpose()
 }

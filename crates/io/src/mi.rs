@@ -17,6 +17,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::raster::from_last_line;
 
 pub(crate) const MAGIC: &[u8] = b"fileType";
 const KEY_WIDTH: usize = 14;
@@ -165,10 +166,7 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
     if !scale.is_finite() {
         return malformed(format!("channel {name:?} has no bufferRange"));
     }
-    let heights = data
-        .chunks_exact(nx * size)
-        .rev()
-        .flat_map(|row| row.chunks_exact(size))
+    let heights = from_last_line(data, nx, size)
         .map(|c| {
             let raw = if size == 2 {
                 f64::from(i16::from_le_bytes([c[0], c[1]]))

@@ -20,6 +20,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::raster::from_last_line;
 
 pub(crate) const MAGIC: &[u8] = b"[DataSet]\r\n";
 
@@ -224,10 +225,7 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             f64::from(raw)
         }
     };
-    let heights = data
-        .chunks_exact(l.nx * l.bytes)
-        .rev()
-        .flat_map(|row| row.chunks_exact(l.bytes))
+    let heights = from_last_line(data, l.nx, l.bytes)
         .map(|c| value(c) * l.scale + l.zero)
         .collect();
     let [sx, sy] = l.extent;

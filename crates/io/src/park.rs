@@ -18,6 +18,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::raster::from_last_line;
 
 const MAGIC: u32 = 0x0E03_1301;
 const TAG_MAGIC: u16 = 50432;
@@ -155,10 +156,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             data.len()
         ));
     };
-    let heights = data
-        .chunks_exact(nx * size)
-        .rev()
-        .flat_map(|row| row.chunks_exact(size))
+    let heights = from_last_line(data, nx, size)
         .map(|c| {
             let raw = match kind {
                 0 => f64::from(i16::from_le_bytes([c[0], c[1]])),

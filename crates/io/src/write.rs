@@ -198,24 +198,6 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
         Format::Gwy => write_atomic(path, |w| gwy::write_height(w, h, title, p).map_err(os)),
         Format::X3p => write_atomic(path, |w| x3p::write_height(w, h, p).map_err(os)),
         Format::Sdf => write_atomic(path, |w| sdf::write_height(w, h, p).map_err(os)),
-        Format::Sur
-        | Format::Tmd
-        | Format::Bcr
-        | Format::MetroPro
-        | Format::Al3d
-        | Format::Wsxm
-        | Format::Plu
-        | Format::Opdx
-        | Format::Hfm
-        | Format::Dektak
-        | Format::Park
-        | Format::Ibw
-        | Format::Mi
-        | Format::Nid
-        | Format::Nc
-        | Format::Di
-        | Format::Frt
-        | Format::Opd => Err(wrong(path, f, "a height field")),
         Format::Ply | Format::Obj | Format::Stl | Format::Glb => {
             let mesh = h
                 .to_trimesh(opts.diagonal)
@@ -226,6 +208,8 @@ pub fn write_height(path: &Path, h: &HeightField, opts: &WriteOptions) -> Result
             write_mesh(path, &mesh, opts)
         }
         Format::Xyz => write_points(path, &h.to_point_set(), opts),
+        // The instrument formats are read-only (`FormatInfo::height`).
+        _ => Err(wrong(path, f, "a height field")),
     }
 }
 
