@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,opdx,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,opdx,mnt,asc,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -96,6 +96,10 @@ open(f"{s}/di/d3x2.spm", "wb").write(d + struct.pack("<6h", 0, 1, 2, 3, 4, -5))
 import shutil
 shutil.copy("tests/data/surfacetopography/nc-1.nc", f"{s}/nc/nc-1.nc")
 shutil.copy("tests/data/surfacetopography/opdx-3.opdx", f"{s}/opdx/opdx-3.opdx")
+for name in ["gwyddion-export-german.txt", "xy-5.txt", "matrix-6.txt"]:
+    shutil.copy(f"tests/data/surfacetopography/{name}", f"{s}/asc/{name}")
+open(f"{s}/asc/pixel-size.txt", "w").write("h=2 w=4\npixel size=2e-07 m\nheight conversion factor (-> m)=1e-08\n"
+                                          "1 2 3 4\n5 6 7 8\n")
 shutil.copy("tests/data/surfacetopography/10x10-one_channel_without_name.ibw", f"{s}/ibw/10x10.ibw")
 nset = lambda n, u: (f"[{n}]\r\nPoints=3\r\nLines=2\r\nFrame=Scan forward\r\nDim0Range=3e-6\r\nDim0Unit=m\r\n"
                      f"Dim1Range=1e-6\r\nDim1Unit=m\r\nDim2Name=Z\r\nDim2Unit={u}\r\nDim2Range=65536e-9\r\n"
@@ -136,6 +140,9 @@ npy(d + "/i4.npy", "<i4", "(2, 2)", struct.pack("<4i", 1, -2, 3, 4))
 npy(d + "/points.npy", "<f8", "(2, 3)", struct.pack("<6d", 0, 0, 0, 1, 2, 3))
 npy(d + "/big_endian.npy", ">f8", "(1, 2)", struct.pack(">2d", 1.5, 2.5))
 PY
+# A MountainsMap document (an OLE compound file): written by the reader's own test.
+ASPERITY_MNT_SEED=$(realpath "$S/mnt")/m3x2.mnt cargo test -q -p asperity-io --lib \
+  mnt::tests::writes_the_fuzz_seed -- --ignored >/dev/null
 q convert "$T/h.npy" "$S/xyz/h8.xyz"
 q subdiv --base cube --levels 1 -o "$T/c.ply"
 q convert "$T/c.ply" "$S/ply/cube_binary.ply"

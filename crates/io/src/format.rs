@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::IoError;
-use crate::{al3d, bcr, di, frt, metropro, mi, nid, opdx, park, tmd, wsxm, xz};
+use crate::{al3d, asc, bcr, di, frt, metropro, mi, mnt, nid, opdx, park, tmd, wsxm, xz};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -72,6 +72,10 @@ pub enum Format {
     Dektak,
     /// Bruker Dektak Vision64 data.
     Opdx,
+    /// Digital Surf MountainsMap documents.
+    Mnt,
+    /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
+    Asc,
 }
 
 /// What a format can do with one kind of data.
@@ -401,13 +405,40 @@ pub const FORMATS: &[FormatInfo] = &[
         height: R,
         notes: "the first data block: int16 or f32 × wavelength / mult in nm, pixel size and aspect in mm; values at the type's limit read as missing",
     },
+    FormatInfo {
+        format: Format::Mnt,
+        name: "Digital Surf MountainsMap (.mnt)",
+        extensions: &["mnt"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the document's measured surfaces as channels (by name): int32/int16 counts × the height step + origin in the height axis's display unit, steps in the x axis's unit; the mask's unmeasured points read as missing; surface names, axes and the software's version and operators kept as metadata",
+    },
+    FormatInfo {
+        format: Format::Asc,
+        name: "Plain-text heights (.asc; .txt by content)",
+        extensions: &["asc"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "a matrix of heights (file rows are grid rows), Gwyddion's text export in any language (Width, Height, Value units), x-length/y-length/pixel size/height conversion factor headers; two columns x z a uniformly sampled profile (non-uniform refused), one column a profile; NaN missing; a .txt whose data are three columns without such a header is XYZ points",
+    },
 ];
+
+/// The first 64 KiB of a text file (enough for a header and data lines).
+fn text_head(path: &Path) -> Vec<u8> {
+    let mut head = Vec::new();
+    let _ = std::fs::File::open(path)
+        .and_then(|f| std::io::Read::read_to_end(&mut std::io::Read::take(f, 1 << 16), &mut head));
+    head
+}
 
 impl Format {
     /// The format of the file at `path`: by its extension, or, where the
     /// extension names none (instruments' own or none at all), by the magic
     /// its content starts with (SDF, Digital Surf, npy, PNG, EXR, GSF, .gwy,
-    /// PLY, TrueMap, BCR, MetroPro, Alicona, WSxM).
+    /// PLY, TrueMap, BCR, MetroPro, Alicona, WSxM, the instruments' formats
+    /// with a magic, and OLE compound files as Mountains documents).
     ///
     /// # Errors
     /// [`IoError::UnknownFormat`] when neither tells (or the file cannot be
@@ -422,9 +453,15 @@ impl Format {
                 .unwrap_or(0);
             head[..n].to_vec()
         };
+        let is_txt = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("txt"));
         match by_name {
             // A Dektak export is a .csv of its own layout.
             Ok(Format::Csv) if xz::is_dektak(&head()) => Ok(Format::Dektak),
+            // A .txt of heights (a matrix, a profile, Gwyddion's export)
+            // rather than `x y z` points.
+            Ok(Format::Xyz) if is_txt && asc::sniff(&text_head(path)) => Ok(Format::Asc),
             Ok(f) => Ok(f),
             Err(e) => Format::from_content(&head()).ok_or(e),
         }
@@ -463,6 +500,11 @@ impl Format {
         }
         if park::sniff(bytes) {
             return Some(Format::Park);
+        }
+        if bytes.starts_with(mnt::MAGIC) {
+            // Other OLE compound files are refused by the reader, which says
+            // the file is no Mountains document.
+            return Some(Format::Mnt);
         }
         if di::sniff(bytes) {
             return Some(Format::Di);

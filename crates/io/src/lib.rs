@@ -23,6 +23,7 @@
 //! fields written to a point format give their vertices / samples.
 
 pub mod al3d;
+pub mod asc;
 pub mod atomic;
 pub mod bcr;
 pub mod channel;
@@ -39,6 +40,7 @@ pub mod ibw;
 pub mod metadata;
 pub mod metropro;
 pub mod mi;
+pub mod mnt;
 pub mod nc;
 pub mod nid;
 pub mod npy;
@@ -161,7 +163,8 @@ pub(crate) fn wrong(path: &Path, f: Format, kind: &'static str) -> IoError {
 const READ_MEMORY_FACTOR: u64 = 8;
 
 /// An upper estimate of the memory that reading `path` needs, from its size and,
-/// for compressed images (PNG, OpenEXR), from the dimensions in their header —
+/// for compressed images (PNG, OpenEXR, x3p, Mountains documents), from the
+/// dimensions in their header —
 /// so a small file that decompresses to gigabytes (a "decompression bomb") is
 /// refused before anything is decoded. Reads only the header.
 ///
@@ -182,6 +185,7 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
         Format::Png => Some(png_io::header_pixels(open()?)),
         Format::Exr => Some(exr_io::header_pixels(open()?)),
         Format::X3p => Some(x3p::header_pixels(&read_bytes(path)?)),
+        Format::Mnt => Some(mnt::declared_points(&read_bytes(path)?)),
         _ => None,
     };
     estimate_from(size, pixels, format).map_err(|e| e.at(path, format.info().name))
@@ -194,6 +198,7 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
         Format::Png => Some(png_io::header_pixels(cursor())),
         Format::Exr => Some(exr_io::header_pixels(cursor())),
         Format::X3p => Some(x3p::header_pixels(bytes)),
+        Format::Mnt => Some(mnt::declared_points(bytes)),
         _ => None,
     };
     estimate_from(bytes.len() as u64, pixels, format)
@@ -265,6 +270,8 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Nid => nid::metadata,
         Format::Mi => mi::metadata,
         Format::Ibw => ibw::metadata,
+        Format::Mnt => mnt::metadata,
+        Format::Asc => asc::metadata,
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
@@ -282,7 +289,7 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
     let f = Format::of_file(path)?;
     if !matches!(
         f,
-        Format::Di | Format::Plu | Format::Nid | Format::Mi | Format::Ibw
+        Format::Di | Format::Plu | Format::Nid | Format::Mi | Format::Ibw | Format::Mnt
     ) {
         return Ok(None);
     }
@@ -292,6 +299,7 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::Nid => nid::channels(&bytes),
         Format::Mi => mi::channels(&bytes),
         Format::Ibw => ibw::channels(&bytes),
+        Format::Mnt => mnt::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -331,7 +339,7 @@ pub fn read_channel(path: &Path, choice: Option<&Channel>) -> Result<Surface, Io
 fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResult<Surface> {
     if !matches!(
         f,
-        Format::Di | Format::Plu | Format::Nid | Format::Mi | Format::Ibw
+        Format::Di | Format::Plu | Format::Nid | Format::Mi | Format::Ibw | Format::Mnt
     ) {
         channel::only(choice)?;
     }
@@ -380,7 +388,9 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Park
         | Format::Hfm
         | Format::Dektak
-        | Format::Opdx => Surface::Height(read_height_bytes(bytes, f, choice)?),
+        | Format::Opdx
+        | Format::Mnt
+        | Format::Asc => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -434,6 +444,8 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Hfm => xz::read_hfm(bytes)?,
         Format::Dektak => xz::read_dektak(bytes)?,
         Format::Opdx => opdx::read_height(bytes)?,
+        Format::Mnt => mnt::read_channel(bytes, choice)?,
+        Format::Asc => asc::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     // Missing points (NaN) are carried; ±∞ and a field with no measured

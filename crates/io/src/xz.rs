@@ -45,7 +45,7 @@ fn unit_in(text: &str) -> Option<LengthUnit> {
 }
 
 /// The profile of `x` and `z` (z already in x's unit), if uniform.
-fn profile(x: &[f64], z: Vec<f64>, unit: LengthUnit) -> FResult<HeightField> {
+pub(crate) fn profile(x: &[f64], z: Vec<f64>, unit: LengthUnit) -> FResult<HeightField> {
     let n = x.len();
     if n < 2 {
         return malformed(format!("{n} points: not a profile"));

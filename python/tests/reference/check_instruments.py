@@ -1,6 +1,7 @@
 """Instrument files read by asperity and by SurfaceTopography (issue #38): the
 example files of SurfaceTopography's own test suite (tests/data/surfacetopography,
-MIT licence: .sdf, .sur, .tmd, .bcrf, MetroPro .dat, .al3d, WSxM, .x3p) and files asperity writes.
+MIT licence: .sdf, .sur, .tmd, .bcrf, MetroPro .dat, .al3d, WSxM, .x3p, .mnt and the
+other instruments' files listed in its README) and files asperity writes.
 
 For each file, asperity's shape, physical size, units and heights against
 SurfaceTopography's reader, both brought to metres. Unmeasured points are
@@ -56,8 +57,8 @@ def all_points(name):
     return out
 
 
-def compare(path, label):
-    t = read_topography(str(path))
+def compare(path, label, **st_args):
+    t = read_topography(str(path), **st_args)
     # Unitless data (no unit in the file) compare as numbers.
     st_m = 1.0 if t.unit is None else get_unit_conversion_factor(t.unit, "m")
     ours = info(BIN, path)
@@ -80,6 +81,8 @@ def compare(path, label):
     measured = ~st_mask if same_shape else slice(None)
     check(f"{label}: heights in metres", same_shape and close(z[measured], st_z[measured], 1e-12),
           f"max |Δ| {np.max(np.abs(z[measured] - st_z[measured])) if same_shape else 'shape'}")
+    if min(ours["nx"], ours["ny"]) < 4:  # analyze needs 4 × 4 points (Gwyddion's 3 × 4 examples)
+        return
     rep = json.loads(run(BIN, "--quiet", "--json", "analyze", path, "--level", "mean", "--hurst", "psd"))
     sq = rep["measurements"]["Sq"] * fz
     st_sq = t.rms_height_from_area() * st_m
@@ -109,10 +112,10 @@ def check_psd(path, label, t, st_m, fxy, fz):
           f"worst bin off by {err:.2e}")
 
 
-def compare_profile(path, label):
+def compare_profile(path, label, **st_args):
     """A line scan: ST's UniformLineScan against asperity's one-row field."""
-    t = read_topography(str(path))
-    st_m = get_unit_conversion_factor(t.unit, "m")
+    t = read_topography(str(path), **st_args)
+    st_m = 1.0 if t.unit is None else get_unit_conversion_factor(t.unit, "m")
     ours = info(BIN, path)
     fxy, fz = METRES[ours["units"]["xy"]], METRES[ours["units"]["z"]]
     check(f"{label}: a profile of ST's length", t.dim == 1 and (ours["nx"], ours["ny"]) == (t.nb_grid_pts[0], 1),
@@ -122,7 +125,10 @@ def compare_profile(path, label):
     out = WORK / (path.name + ".npy")
     run(BIN, "--quiet", "convert", path, out)
     z = np.load(out)[0] * fz
-    check(f"{label}: heights in metres", close(z, np.asarray(t.heights()) * st_m, 1e-12))
+    st_z = np.ma.filled(np.ma.masked_invalid(t.heights()), np.nan) * st_m
+    gaps = np.isnan(st_z)
+    check(f"{label}: heights in metres ({gaps.sum()} missing where ST's are)",
+          np.array_equal(np.isnan(z), gaps) and close(z[~gaps], st_z[~gaps], 1e-12))
     rep = json.loads(run(BIN, "--quiet", "--json", "analyze", path, "--level", "mean", "--hurst", "psd"))
     rq = rep["measurements"]["profile_x"]["Rq"] * fz
     st_rq = t.rms_height_from_profile() * st_m
@@ -146,8 +152,26 @@ compare(DATA / "nc-1.nc", "nc-1.nc (NetCDF, SurfaceTopography's layout)")
 compare(DATA / "nid-1.nid", "nid-1.nid (Nanosurf, the first of four height channels)")
 compare(DATA / "mi-1.mi", "mi-1.mi (Molecular Imaging, the first of four channels)")
 compare(DATA / "example_ps.tiff", "example_ps.tiff (Park Systems)")
+compare(DATA / "mnt-1.mnt", "mnt-1.mnt (MountainsMap document)")
+compare(DATA / "mnt-2.mnt", "mnt-2.mnt (MountainsMap document, with unmeasured points)")
 compare_profile(DATA / "hfm-1.hfm", "hfm-1.hfm (a uniform line scan)")
 compare_profile(DATA / "opdx-3.opdx", "opdx-3.opdx (a Dektak profile)")
+# Plain text: matrices (Gwyddion's export in two languages, interferometers'
+# exports with a pixel size and a height conversion factor, bare matrices)
+# and profiles of one or two columns.
+for name in ["gwyddion-export-english.txt", "gwyddion-export-german.txt", "matrix-3.txt", "matrix-4.txt",
+             "matrix-6.txt", "txt_example.txt"]:
+    compare(DATA / name, f"{name} (plain-text matrix)")
+# A bare matrix: ST asks for its size; asperity's step is 1 (unitless).
+compare(DATA / "matrix-5.txt", "matrix-5.txt (a bare matrix, step 1)", physical_sizes=(10, 10))
+for name in ["xy-4.txt", "xy-5.txt", "opdx-3.txt"]:
+    compare_profile(DATA / name, f"{name} (plain-text profile)")
+compare_profile(DATA / "single_column.txt", "single_column.txt (one column, step 1)", physical_sizes=9)
+for name in ["xy-1.txt", "nonuniform.asc"]:
+    t = read_topography(str(DATA / name))
+    p = run(BIN, "--quiet", "info", DATA / name, check=False)
+    check(f"{name}: non-uniform for ST, refused by asperity as non-uniformly sampled",
+          not t.is_uniform and p.returncode != 0 and "non-uniformly sampled" in p.stderr, p.stderr.strip())
 # Dektak: ST reads a non-uniform line scan; asperity refuses it, naming it so.
 t = read_topography(str(DATA / "dektak-1.csv"))
 p = run(BIN, "--quiet", "info", DATA / "dektak-1.csv", check=False)
@@ -163,7 +187,8 @@ for name in ["sur-2.sur", "sur-3.sur"]:
 # A multi-channel file: the channels ST lists, and a channel other than the default.
 from SurfaceTopography import open_topography  # noqa: E402
 
-for name in ["nid-1.nid", "mi-1.mi", "di-1.di", "spot_1-1000nm.ibw", "10x10-one_channel_without_name.ibw"]:
+for name in ["nid-1.nid", "mi-1.mi", "di-1.di", "spot_1-1000nm.ibw", "10x10-one_channel_without_name.ibw",
+             "mnt-1.mnt"]:
     reader = open_topography(str(DATA / name))
     ours = json.loads(run(BIN, "--quiet", "--json", "info", DATA / name))["measurements"]
     check(f"{name}: the channels ST lists, in order", [c["name"] for c in ours["channels"]]
@@ -194,6 +219,19 @@ for name in ["spot_1-1000nm.ibw", "mi-1.mi"]:
     same = all(str(st_meta[k]) == ours[k] for k in shared)
     check(f"{name}: instrument metadata as ST's raw metadata ({len(shared)} of {len(st_meta)} keys, same values)",
           same and len(shared) >= len(st_meta) - 5, f"missing {sorted(set(st_meta) - set(ours))[:5]}")
+
+# A MountainsMap document: the software and the height axis, as ST's raw metadata.
+for name in ["mnt-1.mnt", "mnt-2.mnt"]:
+    st_meta = open_topography(str(DATA / name)).channels[0].info["raw_metadata"]
+    ours = json.loads(run(BIN, "--quiet", "--json", "info", DATA / name))["measurements"]["instrument"]
+    z = st_meta["axes"]["z"]
+    want = {"software version": st_meta["software"]["version"],
+            "operators": ", ".join(st_meta["software"]["operators"]),
+            "surface 0 name": st_meta["name"],
+            "surface 0 z step": f"{z['step']} {z['unit']}",
+            "surface 0 z counts": f"{z['min_count']} to {z['max_count']}"}
+    check(f"{name}: the software, its operators and the height axis as ST's raw metadata",
+          all(ours.get(k) == v for k, v in want.items()), str({k: ours.get(k) for k in want}))
 
 rep = json.loads(run(BIN, "--quiet", "--json", "analyze", DATA / "nid-1.nid", "--hurst", "psd"))["measurements"]
 check("nid-1.nid: analyze's report carries the instrument's metadata",
