@@ -316,7 +316,11 @@ impl<'a> Array<'a> {
             let start = usize::try_from(first)
                 .ok()
                 .and_then(|f| f.checked_mul(size))
-                .filter(|&s| n.checked_mul(size).and_then(|b| s.checked_add(b)) <= Some(total))
+                .filter(|&s| {
+                    n.checked_mul(size)
+                        .and_then(|b| s.checked_add(b))
+                        .is_some_and(|end| end <= total)
+                })
                 .ok_or_else(|| {
                     bad(format!(
                         "a block of the {what} (elements {first}+{n}) lies outside its {} elements",
@@ -448,7 +452,18 @@ fn surface<'a>(body: &Node<'a>) -> FResult<Surface<'a>> {
                 return malformed("the mask's size is not the grid's");
             }
             let array = m.node(5)?.ok_or_else(|| bad("the mask has no image"))?;
-            Some(Array::read(&array, CLASS_MASK_IMAGE, "mask")?)
+            let image = Array::read(&array, CLASS_MASK_IMAGE, "mask")?;
+            // The image is the grid with a one-pixel border; checked before
+            // anything is sized by its count.
+            if Some(image.count) != (nx + 2).checked_mul(ny + 2) {
+                return malformed(format!(
+                    "the mask image has {} points, the grid with its border {} × {}",
+                    image.count,
+                    nx + 2,
+                    ny + 2
+                ));
+            }
+            Some(image)
         }
         _ => None,
     };
@@ -526,9 +541,9 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
         _ => return malformed(format!("heights of {size} byte(s) each")),
     };
     if let Some(mask) = &s.mask {
-        let (image, _) = mask.decode("mask")?;
-        if image.len() != (nx + 2) * (ny + 2) {
-            return malformed("the mask image is not the grid with a one-pixel border");
+        let (image, size) = mask.decode("mask")?;
+        if size != 1 {
+            return malformed(format!("a mask of {size}-byte values"));
         }
         for (row, line) in data.chunks_exact_mut(nx).enumerate() {
             let marks = &image[(row + 1) * (nx + 2) + 1..][..nx];

@@ -148,6 +148,8 @@ compare(DATA / "plu-1.plu", "plu-1.plu (Sensofar)")
 compare(DATA / "opd-1.opd", "opd-1.opd (Wyko, with unmeasured points)")
 compare(DATA / "frt-2.frt", "frt-2.frt (FRT MicroProf, with unmeasured points)")
 compare(DATA / "di-1.di", "di-1.di (Bruker Nanoscope, the first of four channels)")
+compare(DATA / "di-3.di", "di-3.di (Bruker Nanoscope, ZSensor, the first of four channels)")
+compare(DATA / "frt-1.frt", "frt-1.frt (FRT MicroProf, 500 × 500)")
 compare(DATA / "nc-1.nc", "nc-1.nc (NetCDF, SurfaceTopography's layout)")
 compare(DATA / "nid-1.nid", "nid-1.nid (Nanosurf, the first of four height channels)")
 compare(DATA / "mi-1.mi", "mi-1.mi (Molecular Imaging, the first of four channels)")
@@ -187,8 +189,8 @@ for name in ["sur-2.sur", "sur-3.sur"]:
 # A multi-channel file: the channels ST lists, and a channel other than the default.
 from SurfaceTopography import open_topography  # noqa: E402
 
-for name in ["nid-1.nid", "mi-1.mi", "di-1.di", "spot_1-1000nm.ibw", "10x10-one_channel_without_name.ibw",
-             "mnt-1.mnt"]:
+for name in ["nid-1.nid", "mi-1.mi", "di-1.di", "di-3.di", "spot_1-1000nm.ibw",
+             "10x10-one_channel_without_name.ibw", "mnt-1.mnt"]:
     reader = open_topography(str(DATA / name))
     ours = json.loads(run(BIN, "--quiet", "--json", "info", DATA / name))["measurements"]
     check(f"{name}: the channels ST lists, in order", [c["name"] for c in ours["channels"]]
@@ -203,6 +205,11 @@ t = open_topography(str(DATA / "di-1.di")).topography(channel_index=1)
 st_m = get_unit_conversion_factor(t.unit, "m")
 z = np.load(second) * METRES[info(BIN, DATA / "di-1.di")["units"]["z"]]
 check("di-1.di --channel 1: heights as ST's channel 1", close(z, np.asarray(t.heights()).T * st_m, 1e-12))
+third = WORK / "di-3-channel-3.npy"
+run(BIN, "--quiet", "--channel", "Height", "convert", DATA / "di-3.di", third)
+t = open_topography(str(DATA / "di-3.di")).topography(channel_index=3)
+z = np.load(third) * METRES[info(BIN, DATA / "di-3.di")["units"]["z"]]
+check("di-3.di --channel Height: heights as ST's channel 3", close(z, np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
 p = run(BIN, "--quiet", "--channel", "Current", "info", DATA / "di-1.di", check=False)
 check("di-1.di --channel Current: refused, naming the file's channels",
       p.returncode != 0 and '3 "AmplitudeError"' in p.stderr, p.stderr.strip())
