@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,opdx,mnt,asc,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,opdx,mnt,asc,xlsx,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -143,6 +143,9 @@ PY
 # A MountainsMap document (an OLE compound file): written by the reader's own test.
 ASPERITY_MNT_SEED=$(realpath "$S/mnt")/m3x2.mnt cargo test -q -p asperity-io --lib \
   mnt::tests::writes_the_fuzz_seed -- --ignored >/dev/null
+# A Mitutoyo SurfTest workbook: written by the reader's own test.
+ASPERITY_XLSX_SEED=$(realpath "$S/xlsx")/profile4.xlsx cargo test -q -p asperity-io --lib \
+  mitutoyo::tests::writes_the_fuzz_seed -- --ignored >/dev/null
 q convert "$T/h.npy" "$S/xyz/h8.xyz"
 q subdiv --base cube --levels 1 -o "$T/c.ply"
 q convert "$T/c.ply" "$S/ply/cube_binary.ply"

@@ -76,6 +76,8 @@ pub enum Format {
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
     Asc,
+    /// Mitutoyo SurfTest Excel exports (profiles).
+    Mitutoyo,
 }
 
 /// What a format can do with one kind of data.
@@ -422,6 +424,15 @@ pub const FORMATS: &[FormatInfo] = &[
         points: No,
         height: R,
         notes: "a matrix of heights (file rows are grid rows), Gwyddion's text export in any language (Width, Height, Value units), x-length/y-length/pixel size/height conversion factor headers; two columns x z a uniformly sampled profile (non-uniform refused), one column a profile; NaN missing; a .txt whose data are three columns without such a header is XYZ points",
+    },
+    FormatInfo {
+        format: Format::Mitutoyo,
+        name: "Mitutoyo SurfTest (.xlsx)",
+        extensions: &["xlsx"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the DATA sheet's positions (E) and heights (F) as a uniformly sampled profile (non-uniform refused), heights in the first roughness parameter's unit, positions in the cut-off's; the tester's roughness parameters, date and cut-off kept as metadata",
     },
 ];
 

@@ -40,6 +40,7 @@ pub mod ibw;
 pub mod metadata;
 pub mod metropro;
 pub mod mi;
+pub mod mitutoyo;
 pub mod mnt;
 pub mod nc;
 pub mod nid;
@@ -181,37 +182,51 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
             .map(std::io::BufReader::new)
             .map_err(|e| IoError::os(path, e))
     };
-    let pixels = match format {
-        Format::Png => Some(png_io::header_pixels(open()?)),
-        Format::Exr => Some(exr_io::header_pixels(open()?)),
-        Format::X3p => Some(x3p::header_pixels(&read_bytes(path)?)),
-        Format::Mnt => Some(mnt::declared_points(&read_bytes(path)?)),
+    let decoded = match format {
+        Format::Png => Some(png_io::header_pixels(open()?).map(pixel_bytes)),
+        Format::Exr => Some(exr_io::header_pixels(open()?).map(pixel_bytes)),
+        Format::X3p | Format::Mnt | Format::Mitutoyo => {
+            Some(decoded_bytes(&read_bytes(path)?, format))
+        }
         _ => None,
     };
-    estimate_from(size, pixels, format).map_err(|e| e.at(path, format.info().name))
+    estimate_from(size, decoded).map_err(|e| e.at(path, format.info().name))
 }
 
 /// [`read_estimate`] for a file already in memory.
 fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
     let cursor = || std::io::Cursor::new(bytes);
-    let pixels = match format {
-        Format::Png => Some(png_io::header_pixels(cursor())),
-        Format::Exr => Some(exr_io::header_pixels(cursor())),
-        Format::X3p => Some(x3p::header_pixels(bytes)),
-        Format::Mnt => Some(mnt::declared_points(bytes)),
+    let decoded = match format {
+        Format::Png => Some(png_io::header_pixels(cursor()).map(pixel_bytes)),
+        Format::Exr => Some(exr_io::header_pixels(cursor()).map(pixel_bytes)),
+        Format::X3p | Format::Mnt | Format::Mitutoyo => Some(decoded_bytes(bytes, format)),
         _ => None,
     };
-    estimate_from(bytes.len() as u64, pixels, format)
+    estimate_from(bytes.len() as u64, decoded)
 }
 
-/// The larger of the size rule and the decoded pixels a header declares.
-fn estimate_from(size: u64, pixels: Option<FResult<u128>>, _format: Format) -> FResult<u64> {
+/// Decoded samples (up to four 16-bit or 32-bit channels) plus the f64 grid.
+fn pixel_bytes(pixels: u128) -> u128 {
+    pixels.saturating_mul(16 + 8)
+}
+
+/// What a compressed container decodes to, from the sizes it declares: the
+/// grid of an x3p or a Mountains document; twice an Excel workbook's
+/// inflated parts (the cells parsed from its XML).
+fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
+    match format {
+        Format::X3p => x3p::header_pixels(bytes).map(pixel_bytes),
+        Format::Mnt => mnt::declared_points(bytes).map(pixel_bytes),
+        _ => mitutoyo::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
+    }
+}
+
+/// The larger of the size rule and the decoded bytes a header declares.
+fn estimate_from(size: u64, decoded: Option<FResult<u128>>) -> FResult<u64> {
     let by_size = size.saturating_mul(READ_MEMORY_FACTOR);
-    let pixels = pixels.transpose()?;
-    // Decoded samples (up to four 16-bit or 32-bit channels) plus the f64 grid.
-    let decoded = pixels.map_or(0, |n: u128| {
-        u64::try_from(n.saturating_mul(16 + 8)).unwrap_or(u64::MAX)
-    });
+    let decoded = decoded
+        .transpose()?
+        .map_or(0, |n| u64::try_from(n).unwrap_or(u64::MAX));
     Ok(by_size.max(decoded))
 }
 
@@ -272,6 +287,7 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Ibw => ibw::metadata,
         Format::Mnt => mnt::metadata,
         Format::Asc => asc::metadata,
+        Format::Mitutoyo => mitutoyo::metadata,
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
@@ -390,7 +406,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Dektak
         | Format::Opdx
         | Format::Mnt
-        | Format::Asc => Surface::Height(read_height_bytes(bytes, f, choice)?),
+        | Format::Asc
+        | Format::Mitutoyo => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -446,6 +463,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,
+        Format::Mitutoyo => mitutoyo::read_height(bytes)?,
         _ => unreachable!("caller checks the format"),
     };
     // Missing points (NaN) are carried; ±∞ and a field with no measured

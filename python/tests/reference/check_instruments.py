@@ -31,7 +31,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
-from SurfaceTopography import read_topography
+from SurfaceTopography import open_topography, read_topography
 from SurfaceTopography.Support.UnitConversion import get_unit_conversion_factor
 
 from checks import binned, check, finish, info, run
@@ -174,6 +174,19 @@ for name in ["xy-1.txt", "nonuniform.asc"]:
     p = run(BIN, "--quiet", "info", DATA / name, check=False)
     check(f"{name}: non-uniform for ST, refused by asperity as non-uniformly sampled",
           not t.is_uniform and p.returncode != 0 and "non-uniformly sampled" in p.stderr, p.stderr.strip())
+# Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
+for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
+    compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
+    st_meta = open_topography(str(DATA / name)).channels[0].info["raw_metadata"]
+    ours = json.loads(run(BIN, "--quiet", "--json", "info", DATA / name))["measurements"]["instrument"]
+    want = {m["key"]: f"{m['value']:g} {m['unit']}".strip() for m in st_meta["roughness_metrics"]}
+    got = {k: " ".join([f"{float(v.split()[0]):g}"] + v.split()[1:]) for k, v in ours.items() if k in want}
+    check(f"{name}: the tester's {len(want)} roughness parameters as ST's raw metadata", got == want,
+          str(sorted(set(want.items()) ^ set(got.items()))[:4]))
+t = read_topography(str(DATA / "mitutoyo_nonuniform_mock.xlsx"))
+p = run(BIN, "--quiet", "info", DATA / "mitutoyo_nonuniform_mock.xlsx", check=False)
+check("mitutoyo_nonuniform_mock.xlsx: non-uniform for ST, refused by asperity as non-uniformly sampled",
+      not t.is_uniform and p.returncode != 0 and "non-uniformly sampled" in p.stderr, p.stderr.strip())
 # Dektak: ST reads a non-uniform line scan; asperity refuses it, naming it so.
 t = read_topography(str(DATA / "dektak-1.csv"))
 p = run(BIN, "--quiet", "info", DATA / "dektak-1.csv", check=False)
