@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::IoError;
-use crate::{al3d, asc, bcr, di, frt, metropro, mi, mnt, nid, opdx, park, tmd, wsxm, xz};
+use crate::{al3d, asc, bcr, di, frt, h5, metropro, mi, mnt, nid, opdx, park, tmd, wsxm, xz};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -78,6 +78,8 @@ pub enum Format {
     Asc,
     /// Mitutoyo SurfTest Excel exports (profiles).
     Mitutoyo,
+    /// HDF5 files (every 2-D numeric dataset a channel).
+    H5,
 }
 
 /// What a format can do with one kind of data.
@@ -434,6 +436,15 @@ pub const FORMATS: &[FormatInfo] = &[
         height: R,
         notes: "the DATA sheet's positions (E) and heights (F) as a uniformly sampled profile (non-uniform refused), heights in the first roughness parameter's unit, positions in the cut-off's; the tester's roughness parameters, date and cut-off kept as metadata",
     },
+    FormatInfo {
+        format: Format::H5,
+        name: "HDF5 (.h5, .hdf5)",
+        extensions: &["h5", "hdf5"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "every two-dimensional integer or float dataset a channel named by its path (first index x, second y, as SurfaceTopography reads it); no sizes or units in the file: step 1, unitless",
+    },
 ];
 
 /// The first 64 KiB of a text file (enough for a header and data lines).
@@ -480,8 +491,9 @@ impl Format {
 
     /// The format whose magic `bytes` start with, if one does.
     pub fn from_content(bytes: &[u8]) -> Option<Format> {
-        const MAGICS: [(&[u8], Format); 17] = [
+        const MAGICS: [(&[u8], Format); 18] = [
             (opdx::MAGIC, Format::Opdx),
+            (h5::MAGIC, Format::H5),
             (mi::MAGIC, Format::Mi),
             (nid::MAGIC, Format::Nid),
             (b"CDF\x01", Format::Nc),

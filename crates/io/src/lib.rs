@@ -36,6 +36,7 @@ pub mod frt;
 pub mod glb;
 pub mod gsf;
 pub mod gwy;
+pub mod h5;
 pub mod ibw;
 pub mod metadata;
 pub mod metropro;
@@ -199,7 +200,9 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(cursor()).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(cursor()).map(pixel_bytes)),
-        Format::X3p | Format::Mnt | Format::Mitutoyo => Some(decoded_bytes(bytes, format)),
+        Format::X3p | Format::Mnt | Format::Mitutoyo | Format::H5 => {
+            Some(decoded_bytes(bytes, format))
+        }
         _ => None,
     };
     estimate_from(bytes.len() as u64, decoded)
@@ -211,12 +214,13 @@ fn pixel_bytes(pixels: u128) -> u128 {
 }
 
 /// What a compressed container decodes to, from the sizes it declares: the
-/// grid of an x3p or a Mountains document; twice an Excel workbook's
+/// grid of an x3p, a Mountains document or the largest 2-D HDF5 dataset; twice an Excel workbook's
 /// inflated parts (the cells parsed from its XML).
 fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
     match format {
         Format::X3p => x3p::header_pixels(bytes).map(pixel_bytes),
         Format::Mnt => mnt::declared_points(bytes).map(pixel_bytes),
+        Format::H5 => h5::declared_points(bytes).map(pixel_bytes),
         _ => mitutoyo::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
     }
 }
@@ -305,7 +309,13 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
     let f = Format::of_file(path)?;
     if !matches!(
         f,
-        Format::Di | Format::Plu | Format::Nid | Format::Mi | Format::Ibw | Format::Mnt
+        Format::Di
+            | Format::Plu
+            | Format::Nid
+            | Format::Mi
+            | Format::Ibw
+            | Format::Mnt
+            | Format::H5
     ) {
         return Ok(None);
     }
@@ -316,6 +326,7 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::Mi => mi::channels(&bytes),
         Format::Ibw => ibw::channels(&bytes),
         Format::Mnt => mnt::channels(&bytes),
+        Format::H5 => h5::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -355,7 +366,13 @@ pub fn read_channel(path: &Path, choice: Option<&Channel>) -> Result<Surface, Io
 fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResult<Surface> {
     if !matches!(
         f,
-        Format::Di | Format::Plu | Format::Nid | Format::Mi | Format::Ibw | Format::Mnt
+        Format::Di
+            | Format::Plu
+            | Format::Nid
+            | Format::Mi
+            | Format::Ibw
+            | Format::Mnt
+            | Format::H5
     ) {
         channel::only(choice)?;
     }
@@ -407,7 +424,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Opdx
         | Format::Mnt
         | Format::Asc
-        | Format::Mitutoyo => Surface::Height(read_height_bytes(bytes, f, choice)?),
+        | Format::Mitutoyo
+        | Format::H5 => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -464,6 +482,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,
         Format::Mitutoyo => mitutoyo::read_height(bytes)?,
+        Format::H5 => h5::read_channel(bytes, choice)?,
         _ => unreachable!("caller checks the format"),
     };
     // Missing points (NaN) are carried; ±∞ and a field with no measured

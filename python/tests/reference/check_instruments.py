@@ -174,6 +174,15 @@ for name in ["xy-1.txt", "nonuniform.asc"]:
     p = run(BIN, "--quiet", "info", DATA / name, check=False)
     check(f"{name}: non-uniform for ST, refused by asperity as non-uniformly sampled",
           not t.is_uniform and p.returncode != 0 and "non-uniformly sampled" in p.stderr, p.stderr.strip())
+# HDF5: every 2-D dataset a channel (no sizes in the file: step 1, as ST given n × 1).
+compare(DATA / "multiple_data_sets.h5", "multiple_data_sets.h5 (HDF5, the first of two datasets)",
+        physical_sizes=(256, 256))
+h5_second = WORK / "h5-channel-1.npy"
+run(BIN, "--quiet", "--channel", "dataset2", "convert", DATA / "multiple_data_sets.h5", h5_second)
+t = open_topography(str(DATA / "multiple_data_sets.h5")).topography(channel_index=1, physical_sizes=(640, 480))
+z = np.load(h5_second)
+check("multiple_data_sets.h5 --channel dataset2: 640 × 480 (x first, as ST), heights as ST's",
+      z.shape == (480, 640) and close(z, np.asarray(t.heights()).T, 1e-15), str(z.shape))
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
@@ -203,15 +212,17 @@ for name in ["sur-2.sur", "sur-3.sur"]:
 from SurfaceTopography import open_topography  # noqa: E402
 
 for name in ["nid-1.nid", "mi-1.mi", "di-1.di", "di-3.di", "spot_1-1000nm.ibw",
-             "10x10-one_channel_without_name.ibw", "mnt-1.mnt"]:
+             "10x10-one_channel_without_name.ibw", "mnt-1.mnt", "multiple_data_sets.h5"]:
     reader = open_topography(str(DATA / name))
     ours = json.loads(run(BIN, "--quiet", "--json", "info", DATA / name))["measurements"]
     check(f"{name}: the channels ST lists, in order", [c["name"] for c in ours["channels"]]
           == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
     # ST's heights: a height channel whose data unit is one length (its DI
-    # reader gives a phase the unit pair (nm, None)).
-    check(f"{name}: height channels as ST's (a length unit)", [c["height"] for c in ours["channels"]]
-          == [c.is_height_channel and isinstance(c.data_unit, str) for c in reader.channels])
+    # reader gives a phase the unit pair (nm, None)); an HDF5 file has no
+    # units, and every dataset is a height to both.
+    st_heights = [c.is_height_channel and (isinstance(c.data_unit, str) or name.endswith(".h5"))
+                  for c in reader.channels]
+    check(f"{name}: height channels as ST's (a length unit)", [c["height"] for c in ours["channels"]] == st_heights)
 second = WORK / "di-1-channel-1.npy"
 run(BIN, "--quiet", "--channel", "1", "convert", DATA / "di-1.di", second)
 t = open_topography(str(DATA / "di-1.di")).topography(channel_index=1)
