@@ -1,6 +1,6 @@
 //! Height data as plain text — a matrix of heights, Gwyddion's text export,
-//! a profile of one or two columns — read (`.asc`, and `.txt` files told
-//! from XYZ point lists by their content).
+//! a profile of one or two columns, gridded `x y z` rows — read (`.asc`, and
+//! `.txt` files of numbers).
 //!
 //! The data are the lines of numbers (separated by spaces, tabs, commas or
 //! semicolons; `NaN` a missing point); the lines before them are a header of
@@ -24,8 +24,11 @@
 //! or more columns or the header gives a size; two columns are `x z`, a line
 //! scan read as a profile when uniformly sampled (SurfaceTopography's test,
 //! see [`crate::xz`]) and refused otherwise; one column is a profile of unit
-//! step. Three columns without such a header are `x y z` points (the XYZ
-//! format). Without sizes the step is 1 and the lengths unitless.
+//! step. Three columns without such a header are `x y z` rows: a height field
+//! where their x and y lie on a regular grid (in any order; steps the
+//! smallest gaps, nodes without a row missing points — SurfaceTopography
+//! asks for every node), `x y z` points otherwise. Without sizes the step is 1
+//! and the lengths unitless.
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
@@ -101,11 +104,6 @@ impl Header {
             || self.pixel.is_some()
             || self.dims.iter().any(Option::is_some)
             || self.channel.is_some()
-    }
-
-    /// Whether the header says anything asperity reads.
-    fn understood(&self) -> bool {
-        self.is_matrix() || self.units.iter().any(Option::is_some) || self.z_factor.is_some()
     }
 
     fn read(&mut self, line: &str) {
@@ -282,19 +280,104 @@ fn parse(text: &str) -> FResult<(Header, Table)> {
     Ok((header, Table { cols, values }))
 }
 
-/// Whether `head` (the start of a `.txt` file) is height data rather than an
-/// `x y z` point list: its data are not three columns, or its header gives
-/// a size or units.
+/// Whether `head` (the start of a `.txt` file) holds numbers this reader
+/// reads (anything else is left to the XYZ reader, whose message names the
+/// first line that is no point).
 pub(crate) fn sniff(head: &[u8]) -> bool {
-    let text = decode(head);
-    let mut header = Header::default();
-    for line in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
-        match numbers(line) {
-            Some(v) => return v.len() != 3 || header.understood(),
-            None => header.read(line),
-        }
+    decode(head)
+        .lines()
+        .map(str::trim)
+        .any(|l| numbers(l).is_some())
+}
+
+/// Reads the file: height data, or, for three columns that are not on a
+/// regular grid, `x y z` points.
+pub(crate) fn read(bytes: &[u8]) -> FResult<crate::Surface> {
+    let (header, table) = parse(&decode(bytes))?;
+    if table.cols == 3 && !header.is_matrix() && grid(&table).is_none() {
+        let points: Vec<[f64; 3]> = table
+            .values
+            .chunks_exact(3)
+            .map(|p| [p[0], p[1], p[2]])
+            .collect();
+        let points = asperity_core::PointSet::new(points);
+        points.validate()?;
+        return Ok(crate::Surface::Points(points));
     }
-    false
+    heights(&header, table).map(crate::Surface::Height)
+}
+
+/// Where `x y z` rows lie on a regular grid: the first x and y, the steps and
+/// the number of nodes along each. Steps are the smallest gaps between the
+/// distinct values; every value must sit on a node (to 1e-3 of a step); the
+/// grid may have at most twice as many nodes as there are rows (absent
+/// nodes are missing points), and no node two rows.
+struct Grid {
+    origin: [f64; 2],
+    step: [f64; 2],
+    nodes: [usize; 2],
+}
+
+fn axis(values: impl Iterator<Item = f64>) -> Option<(f64, f64, usize)> {
+    let mut v: Vec<f64> = values.collect();
+    if v.iter().any(|x| !x.is_finite()) {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    v.dedup();
+    let (first, last) = (*v.first()?, *v.last()?);
+    if v.len() == 1 {
+        return Some((first, 1.0, 1));
+    }
+    let step = v
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(f64::INFINITY, f64::min);
+    let on_node = |x: f64| {
+        let k = (x - first) / step;
+        (k - k.round()).abs() <= 1e-3
+    };
+    if !v.iter().all(|&x| on_node(x)) {
+        return None;
+    }
+    let nodes = ((last - first) / step).round() as usize + 1;
+    Some((first, step, nodes))
+}
+
+fn grid(table: &Table) -> Option<Grid> {
+    let (x0, dx, nx) = axis(table.column(0))?;
+    let (y0, dy, ny) = axis(table.column(1))?;
+    let rows = table.rows();
+    (nx.checked_mul(ny)? <= 2 * rows).then_some(Grid {
+        origin: [x0, y0],
+        step: [dx, dy],
+        nodes: [nx, ny],
+    })
+}
+
+/// The heights of `x y z` rows on their grid; nodes without a row, and
+/// `NaN` heights, are missing points.
+fn gridded(table: &Table, g: &Grid) -> FResult<HeightField> {
+    let [nx, ny] = g.nodes;
+    let mut data = vec![f64::NAN; nx * ny];
+    let mut filled = vec![false; nx * ny];
+    for (k, row) in table.values.chunks_exact(3).enumerate() {
+        let i = ((row[0] - g.origin[0]) / g.step[0]).round() as usize;
+        let j = ((row[1] - g.origin[1]) / g.step[1]).round() as usize;
+        let at = j * nx + i;
+        if std::mem::replace(&mut filled[at], true) {
+            return malformed(format!(
+                "row {}: the grid node ({}, {}) has a height already",
+                k + 1,
+                row[0],
+                row[1]
+            ));
+        }
+        data[at] = row[2];
+    }
+    Ok(HeightField::from_vec([nx, ny], data)?
+        .with_spacing(g.step)?
+        .with_origin(g.origin)?)
 }
 
 /// A unit's name as asperity's unit and the factor to it (unitless: 1).
@@ -314,9 +397,14 @@ fn convert(v: f64, from: (LengthUnit, f64), to: LengthUnit) -> f64 {
 /// Reads plain-text height data.
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let (header, table) = parse(&decode(bytes))?;
+    heights(&header, table)
+}
+
+/// The height field the header and the data make.
+fn heights(header: &Header, table: Table) -> FResult<HeightField> {
     let cols = table.cols;
     if header.is_matrix() || cols >= 4 {
-        return matrix(&header, table);
+        return matrix(header, table);
     }
     let z = unit_of(header.units[2].as_ref());
     match cols {
@@ -336,9 +424,12 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             let zu = if z.0 == LengthUnit::None { z.0 } else { x.0 };
             Ok(crate::xz::profile(&xs, zs, x.0)?.with_units(Units { xy: x.0, z: zu }))
         }
-        _ => malformed(
-            "three columns without a header that gives a size: `x y z` points (name the file .xyz to read them)",
-        ),
+        _ => match grid(&table) {
+            Some(g) => gridded(&table, &g),
+            None => malformed(
+                "three columns whose x and y are not on a regular grid: `x y z` points, not heights",
+            ),
+        },
     }
 }
 
@@ -455,7 +546,7 @@ mod tests {
     }
 
     #[test]
-    fn one_and_two_columns_are_profiles_and_three_are_points() {
+    fn one_and_two_columns_are_profiles() {
         let one = read_height(b"1\n2\n3\n4\n").unwrap();
         assert_eq!((one.dims(), one.spacing()), ([4, 1], [1.0, 1.0]));
         let two = read_height("mm µm\n0 1\n0.5 2\n1.0 NaN\n".as_bytes()).unwrap();
@@ -465,12 +556,35 @@ mod tests {
         assert!((*two.get(1, 0) - 2e-3).abs() < 1e-15);
         assert!(two.get(2, 0).is_nan());
         assert!(err(read_height(b"0 1\n1 2\n3 3\n")).contains("non-uniformly sampled"));
-        assert!(err(read_height(b"0 1 2\n1 2 3\n")).contains(".xyz"));
-        // What a .txt is: heights unless three columns without a header.
-        assert!(sniff(b"0 1\n1 2\n") && sniff(b"1 2 3 4\n") && sniff(GWYDDION.as_bytes()));
-        assert!(
-            !sniff(b"0 1 2\n1 2 3\n") && !sniff(b"# points\n0 1 2\n") && !sniff(b"words only\n")
+        // A .txt of numbers is this reader's; words alone are not.
+        assert!(sniff(b"0 1\n1 2\n") && sniff(b"# points\n0 1 2\n") && sniff(GWYDDION.as_bytes()));
+        assert!(!sniff(b"words only\n"));
+    }
+
+    #[test]
+    fn x_y_z_rows_on_a_grid_are_heights_with_absent_nodes_missing_and_others_points() {
+        // A 3 × 2 grid of step 0.5 × 2 from (1, 10), in any order, node
+        // (1.5, 12) absent and (2, 10) NaN.
+        let rows = "1.5 10 2\n1 10 1\n2 10 NaN\n1 12 4\n2 12 6\n";
+        let h = read_height(rows.as_bytes()).unwrap();
+        assert_eq!(
+            (h.dims(), h.spacing(), h.origin()),
+            ([3, 2], [0.5, 2.0], [1.0, 10.0])
         );
+        assert_eq!((*h.get(0, 0), *h.get(1, 0), *h.get(2, 1)), (1.0, 2.0, 6.0));
+        assert!(h.get(1, 1).is_nan() && h.get(2, 0).is_nan());
+        assert!(matches!(
+            read(rows.as_bytes()).unwrap(),
+            crate::Surface::Height(_)
+        ));
+        // Scattered points are points; a node given twice is refused.
+        let scattered = b"0 0 1\n0.3 0.7 2\n5 0.1 3\n";
+        assert!(matches!(
+            read(scattered).unwrap(),
+            crate::Surface::Points(_)
+        ));
+        assert!(err(read_height(scattered)).contains("not on a regular grid"));
+        assert!(err(read_height(b"0 0 1\n1 0 2\n0 0 3\n1 1 4\n")).contains("has a height already"));
     }
 
     #[test]

@@ -423,9 +423,9 @@ pub const FORMATS: &[FormatInfo] = &[
         name: "Plain-text heights (.asc; .txt by content)",
         extensions: &["asc"],
         mesh: No,
-        points: No,
+        points: R,
         height: R,
-        notes: "a matrix of heights (file rows are grid rows), Gwyddion's text export in any language (Width, Height, Value units), x-length/y-length/pixel size/height conversion factor headers; two columns x z a uniformly sampled profile (non-uniform refused), one column a profile; NaN missing; a .txt whose data are three columns without such a header is XYZ points",
+        notes: "a matrix of heights (file rows are grid rows), Gwyddion's text export in any language (Width, Height, Value units), x-length/y-length/pixel size/height conversion factor headers; two columns x z a uniformly sampled profile (non-uniform refused), one column a profile; three columns x y z on a regular grid a height field (absent nodes missing), otherwise points; NaN missing",
     },
     FormatInfo {
         format: Format::Mitutoyo,
@@ -481,8 +481,8 @@ impl Format {
         match by_name {
             // A Dektak export is a .csv of its own layout.
             Ok(Format::Csv) if xz::is_dektak(&head()) => Ok(Format::Dektak),
-            // A .txt of heights (a matrix, a profile, Gwyddion's export)
-            // rather than `x y z` points.
+            // A .txt of numbers: heights (a matrix, a profile, Gwyddion's
+            // export, gridded `x y z`) or, off a grid, `x y z` points.
             Ok(Format::Xyz) if is_txt && asc::sniff(&text_head(path)) => Ok(Format::Asc),
             Ok(f) => Ok(f),
             Err(e) => Format::from_content(&head()).ok_or(e),

@@ -389,6 +389,13 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         Format::Stl => Surface::Mesh(stl::read_mesh(bytes)?),
         Format::Glb => return error::malformed("glTF is write-only in asperity"),
         Format::Xyz => Surface::Points(text::read_xyz(bytes)?),
+        Format::Asc => match asc::read(bytes)? {
+            Surface::Height(h) => {
+                h.validate_measured()?;
+                Surface::Height(h)
+            }
+            other => other,
+        },
         Format::Npy => {
             let a = npy::read(bytes)?;
             if a.shape.len() == 2 && a.shape[1] == 3 && a.shape[0] != 3 {
@@ -423,7 +430,6 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Dektak
         | Format::Opdx
         | Format::Mnt
-        | Format::Asc
         | Format::Mitutoyo
         | Format::H5 => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })

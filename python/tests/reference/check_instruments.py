@@ -166,6 +166,9 @@ for name in ["gwyddion-export-english.txt", "gwyddion-export-german.txt", "matri
     compare(DATA / name, f"{name} (plain-text matrix)")
 # A bare matrix: ST asks for its size; asperity's step is 1 (unitless).
 compare(DATA / "matrix-5.txt", "matrix-5.txt (a bare matrix, step 1)", physical_sizes=(10, 10))
+# x y z rows on a grid (in two orders; xyz-2 with NaN heights, missing points to both).
+for name in ["xyz-1.txt", "xyz-1-different-order.txt", "xyz-2.txt"]:
+    compare(DATA / name, f"{name} (gridded x y z)")
 for name in ["xy-4.txt", "xy-5.txt", "opdx-3.txt"]:
     compare_profile(DATA / name, f"{name} (plain-text profile)")
 compare_profile(DATA / "single_column.txt", "single_column.txt (one column, step 1)", physical_sizes=9)
