@@ -21,6 +21,13 @@
 //!
 //! Height fields written to a mesh format are triangulated; meshes and height
 //! fields written to a point format give their vertices / samples.
+//!
+//! Instruments' formats are read (and `.sdf` written), one module each:
+//! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
+//! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV), [`opdx`], [`nc`], [`h5`],
+//! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
+//! `asperity formats`) lists every format with what it reads and keeps.
 
 pub mod al3d;
 pub mod asc;
