@@ -340,8 +340,13 @@ fn axis(values: impl Iterator<Item = f64>) -> Option<(f64, f64, usize)> {
     if !v.iter().all(|&x| on_node(x)) {
         return None;
     }
-    let nodes = ((last - first) / step).round() as usize + 1;
-    Some((first, step, nodes))
+    // Bounded before the conversion: the grid may hold at most twice the
+    // rows, which a file can only declare a few billion of.
+    let span = ((last - first) / step).round();
+    if span >= 1e12 {
+        return None;
+    }
+    Some((first, step, span as usize + 1))
 }
 
 fn grid(table: &Table) -> Option<Grid> {

@@ -63,8 +63,55 @@ fn text(v: &DataRef<'_>) -> Option<String> {
     }
 }
 
+/// Whether `r` is a cell reference or range Excel can write: up to three
+/// letters and seven digits a cell (`XFD1048576`), `$` anchors allowed.
+fn excel_reference(r: &str) -> bool {
+    r.split([':', ' ']).all(|cell| {
+        let cell = cell.replace('$', "");
+        let letters = cell.bytes().take_while(u8::is_ascii_alphabetic).count();
+        let digits = cell.len() - letters;
+        letters <= 3 && digits <= 7 && cell.bytes().skip(letters).all(|b| b.is_ascii_digit())
+    })
+}
+
+/// Refuses a workbook whose parts hold a cell reference longer than Excel's.
+/// calamine 0.38 parses references with unchecked u32 arithmetic, which
+/// overflows on such a reference (a panic where overflow checks are on,
+/// a wrong cell where not); found by fuzzing, so checked here first.
+fn check_references(bytes: &[u8]) -> FResult<()> {
+    let mut zip = zip::ZipArchive::new(Cursor::new(bytes))
+        .map_err(|e| bad(format!("not a readable Excel workbook: {e}")))?;
+    for k in 0..zip.len() {
+        let mut part = zip
+            .by_index(k)
+            .map_err(|e| bad(format!("part {k} of the workbook: {e}")))?;
+        if !part.name().is_ok_and(|n| n.ends_with(".xml")) {
+            continue;
+        }
+        let mut xml = Vec::new();
+        std::io::Read::read_to_end(&mut part, &mut xml)
+            .map_err(|e| bad(format!("part {k} of the workbook: {e}")))?;
+        let xml = String::from_utf8_lossy(&xml);
+        // The references calamine's cell reader parses: cells, rows and
+        // the sheet's dimension (charts' `r=` margins are no references).
+        for attr in ["<c r=\"", "<row r=\"", "<dimension ref=\""] {
+            for (at, _) in xml.match_indices(attr) {
+                let value = xml[at + attr.len()..].split('"').next().unwrap_or_default();
+                if !excel_reference(value) {
+                    return malformed(format!(
+                        "the cell reference {:.40?} is longer than Excel's (XFD1048576)",
+                        value
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Reads the cells asperity needs from the two sheets.
 fn sheets(bytes: &[u8]) -> FResult<Sheets> {
+    check_references(bytes)?;
     let mut book: Xlsx<_> = calamine::open_workbook_from_rs(Cursor::new(bytes))
         .map_err(|e| bad(format!("not a readable Excel workbook: {e}")))?;
     let mut out = Sheets {
@@ -364,6 +411,20 @@ mod tests {
         assert!(meta.contains(&("date".into(), "10-Oct-2022".into())));
         assert!(meta.contains(&("cut-off".into(), "0.08mm".into())));
         assert!(declared_bytes(&file).unwrap() > 1000);
+    }
+
+    #[test]
+    fn cell_references_longer_than_excels_are_refused_before_calamine_parses_them() {
+        assert!(
+            excel_reference("A1") && excel_reference("$XFD$1048576") && excel_reference("A1:C3 E5")
+        );
+        assert!(
+            !excel_reference("AAAAAAAA1")
+                && !excel_reference("A12345678")
+                && !excel_reference("A1x")
+        );
+        let long = workbook(&CERTIFICATE, &[("AAAAAAAAAAAAAAAAA1", "1")]);
+        assert!(err(read_height(&long)).contains("longer than Excel's"));
     }
 
     #[test]
