@@ -564,6 +564,21 @@ impl Format {
             })
     }
 
+    /// Whether files of this format can hold several channels (`--channel`
+    /// picks one; other formats accept only channel 0).
+    pub fn has_channels(self) -> bool {
+        matches!(
+            self,
+            Format::Di
+                | Format::Plu
+                | Format::Nid
+                | Format::Mi
+                | Format::Ibw
+                | Format::Mnt
+                | Format::H5
+        )
+    }
+
     /// This format's row of [`FORMATS`].
     pub fn info(self) -> &'static FormatInfo {
         FORMATS

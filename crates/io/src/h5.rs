@@ -80,17 +80,21 @@ fn datasets(file: &hdf5_reader::Hdf5File) -> FResult<Vec<(String, Dataset)>> {
 }
 
 /// The datasets as channels (every one counts as heights, unitless).
-pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
-    let file = open(bytes)?;
-    Ok(datasets(&file)?
-        .into_iter()
+fn channel_list(sets: &[(String, Dataset)]) -> Vec<ChannelInfo> {
+    sets.iter()
         .enumerate()
         .map(|(index, (name, _))| ChannelInfo {
             index,
-            name,
+            name: name.clone(),
             height: true,
         })
-        .collect())
+        .collect()
+}
+
+/// The file's 2-D datasets as channels.
+pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
+    let file = open(bytes)?;
+    Ok(channel_list(&datasets(&file)?))
 }
 
 /// The elements of the largest 2-D dataset (for the memory estimate).
@@ -107,16 +111,7 @@ pub(crate) fn declared_points(bytes: &[u8]) -> FResult<u128> {
 pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
     let file = open(bytes)?;
     let sets = datasets(&file)?;
-    let list: Vec<ChannelInfo> = sets
-        .iter()
-        .enumerate()
-        .map(|(index, (name, _))| ChannelInfo {
-            index,
-            name: name.clone(),
-            height: true,
-        })
-        .collect();
-    let (name, d) = &sets[pick(&list, choice)?];
+    let (name, d) = &sets[pick(&channel_list(&sets), choice)?];
     let (nx, ny) = (
         usize::try_from(d.shape()[0]).map_err(bad)?,
         usize::try_from(d.shape()[1]).map_err(bad)?,

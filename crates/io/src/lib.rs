@@ -314,16 +314,7 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
 /// [`IoError`] naming the file.
 pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
     let f = Format::of_file(path)?;
-    if !matches!(
-        f,
-        Format::Di
-            | Format::Plu
-            | Format::Nid
-            | Format::Mi
-            | Format::Ibw
-            | Format::Mnt
-            | Format::H5
-    ) {
+    if !f.has_channels() {
         return Ok(None);
     }
     let bytes = read_bytes(path)?;
@@ -371,16 +362,7 @@ pub fn read_channel(path: &Path, choice: Option<&Channel>) -> Result<Surface, Io
 
 /// The decoding half of [`read`].
 fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResult<Surface> {
-    if !matches!(
-        f,
-        Format::Di
-            | Format::Plu
-            | Format::Nid
-            | Format::Mi
-            | Format::Ibw
-            | Format::Mnt
-            | Format::H5
-    ) {
+    if !f.has_channels() {
         channel::only(choice)?;
     }
     Ok(match f {

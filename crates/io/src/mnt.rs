@@ -230,14 +230,9 @@ impl Scale {
     }
 }
 
-/// A unit's name as asperity's unit and the factor to it (`µm`, `nm`…).
-fn unit(text: &str) -> (LengthUnit, f64) {
-    length_unit(text)
-}
-
 /// The factor from `from` to `to` units (1 where either is no length).
 fn factor(from: &str, to: &str) -> f64 {
-    let ((fu, ff), (tu, tf)) = (unit(from), unit(to));
+    let ((fu, ff), (tu, tf)) = (length_unit(from), length_unit(to));
     match (fu.metres(), tu.metres()) {
         (Some(f), Some(t)) => f * ff / (t * tf),
         _ => 1.0,
@@ -482,25 +477,29 @@ fn surface<'a>(body: &Node<'a>) -> FResult<Surface<'a>> {
 
 /// Whether a surface's heights are lengths (not an intensity or a colour).
 fn is_height(s: &Surface<'_>) -> bool {
-    unit(&s.z.display).0 != LengthUnit::None
+    length_unit(&s.z.display).0 != LengthUnit::None
 }
 
-/// The document's measured surfaces as channels (by their names).
-pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
-    let s = streams(bytes)?;
-    Ok(surfaces(&s.contents)?
-        .iter()
+/// The surfaces as channels (by their names).
+fn channel_list(all: &[Surface<'_>]) -> Vec<ChannelInfo> {
+    all.iter()
         .enumerate()
         .map(|(index, s)| ChannelInfo {
             index,
             name: s.name.clone(),
             height: is_height(s),
         })
-        .collect())
+        .collect()
 }
 
-/// The points the chosen surface declares (for the memory estimate, before
-/// anything is inflated).
+/// The document's measured surfaces as channels.
+pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
+    let s = streams(bytes)?;
+    Ok(channel_list(&surfaces(&s.contents)?))
+}
+
+/// The points of the document's largest surface (for the memory estimate,
+/// before anything is inflated).
 pub(crate) fn declared_points(bytes: &[u8]) -> FResult<u128> {
     let s = streams(bytes)?;
     Ok(surfaces(&s.contents)?
@@ -515,19 +514,10 @@ pub(crate) fn declared_points(bytes: &[u8]) -> FResult<u128> {
 pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
     let streams = streams(bytes)?;
     let all = surfaces(&streams.contents)?;
-    let list: Vec<ChannelInfo> = all
-        .iter()
-        .enumerate()
-        .map(|(index, s)| ChannelInfo {
-            index,
-            name: s.name.clone(),
-            height: is_height(s),
-        })
-        .collect();
-    let s = &all[pick(&list, choice)?];
+    let s = &all[pick(&channel_list(&all), choice)?];
     let [nx, ny] = s.dims;
     let (counts, size) = s.heights.decode("heights")?;
-    let (z_unit, _) = unit(&s.z.display);
+    let (z_unit, _) = length_unit(&s.z.display);
     let step = s.z.step * factor(&s.z.unit, &s.z.display);
     let mut data: Vec<f64> = match size {
         2 => counts
@@ -554,7 +544,7 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             }
         }
     }
-    let (xy_unit, _) = unit(&s.x.unit);
+    let (xy_unit, _) = length_unit(&s.x.unit);
     let dx = s.x.step;
     let dy = s.y.step * factor(&s.y.unit, &s.x.unit);
     let origin = [
