@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -20,6 +20,17 @@ if command -v gwyddion >/dev/null; then gwyddion --convert-to-gwy="$S/gwy/gwyddi
 if python3 -c "import x3pio" 2>/dev/null; then
   python3 -c "import sys, numpy as np, x3pio; x3pio.write(sys.argv[1], np.arange(20.).reshape(4, 5) * 1e-9, x_scale=1e-6, y_scale=1e-6, z_type=x3pio.DataType.INT16)" "$S/x3p/x3pio_int16.x3p"
 fi
+# MATLAB files as scipy writes them (plain and compressed; a string and a
+# complex matrix beside the channels).
+if python3 -c "import scipy.io" 2>/dev/null; then
+  python3 -c "import sys, numpy as np, scipy.io
+v = {'z': np.arange(12.0).reshape(3, 4), 'n': np.arange(6, dtype=np.int16).reshape(2, 3), 's': 'text', 'c': np.ones((2, 2)) * (1 + 1j)}
+scipy.io.savemat(sys.argv[1] + '/plain.mat', v)
+scipy.io.savemat(sys.argv[1] + '/compressed.mat', v, do_compression=True)" "$S/mat"
+fi
+python3 -c "import sys, numpy as np
+np.savez(sys.argv[1] + '/savez.npz', z=np.arange(12.0).reshape(3, 4), v=np.arange(3))
+np.savez_compressed(sys.argv[1] + '/compressed.npz', z=np.arange(6, dtype=np.int16).reshape(2, 3))" "$S/npz"
 # SDF: asperity's text file, the standard's example, a binary int16 file;
 # Digital Surf: a 4 × 3 int16 surface with the special-points flag; TrueMap 3 × 2.
 q --xy-unit um --z-unit nm convert "$T/h.npy" "$S/sdf/asperity.sdf"
@@ -125,6 +136,14 @@ open(f"{s}/park/p3x2.tiff", "wb").write(pt)
 open(f"{s}/hfm/h3.hfm", "wb").write(b"X;Y;valid\r\n[mm];[um];[1/0]\r\n1.0;5;1\r\n1.5;6;0\r\n2.0;7;1\r\n")
 open(f"{s}/dektak/d3.csv", "wb").write(b"Scan Parameters\r\nLength,1.0 um\r\n\r\nScan Data\r\nLateral um,Raw Micrometer,\r\n"
                                       b"0.0,0.5,,\r\n0.5,0.25,,\r\n1.0,0.0,,\r\n")
+for name in ["csv-2.csv", "csv-3.csv"]:  # UTF-16 with an index column; UTF-8
+    shutil.copy(f"tests/data/surfacetopography/{name}", f"{s}/csv_line_scan/{name}")
+nh = bytearray(3468)  # a 3 × 2 µsurf area with one unmeasured point
+struct.pack_into("<IIiidd", nh, 0, 2, 1, 0, 65535, 1.0, 2.0)
+nh[32:41] = b"OM_MS_2.0"
+struct.pack_into("<IIdd", nh, 1368, 3, 2, 500.0, 250.0)
+struct.pack_into("<i", nh, 1416, 1)
+open(f"{s}/nms/n3x2.nms", "wb").write(bytes(nh) + struct.pack("<6H", 0, 1, 2, 3, 4, 65535) + bytes([9, 9, 9, 9, 0, 9]))
 open(f"{s}/tmd/t3x2.tmd", "wb").write(t + struct.pack("<IIffff", 3, 2, 1.5, 0.5, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, 4, 5, 6))
 PY
 q convert "$T/h.npy" "$S/npy/h8_f32.npy" --f32

@@ -121,6 +121,22 @@ fn length_unit(s: &str) -> Option<LengthUnit> {
     }
 }
 
+/// How many `per` one `hard` is, where `hard` is `per` or `per` with an
+/// SI prefix (a hard value in mV against a soft scale in nm/V: 1e-3).
+fn prefix_factor(hard: &str, per: &str) -> Option<f64> {
+    if hard == per {
+        return Some(1.0);
+    }
+    let prefix = hard.strip_suffix(per)?;
+    match prefix {
+        "m" => Some(1e-3),
+        "µ" | "u" => Some(1e-6),
+        "n" => Some(1e-9),
+        "k" => Some(1e3),
+        _ => None,
+    }
+}
+
 /// One channel's layout and scale.
 struct Layout {
     name: String,
@@ -215,8 +231,8 @@ fn channel(
         .and_then(|s| {
             let (_, value, unit) = scaled_value(&s)?;
             let (length, per) = unit.split_once('/')?;
-            (per.trim() == hard_unit).then_some(())?;
-            Some((per_count * value, length_unit(length)?))
+            let prefix = prefix_factor(hard_unit, per.trim())?;
+            Some((per_count * prefix * value, length_unit(length)?))
         });
     Ok(Layout {
         name,
@@ -418,6 +434,14 @@ mod tests {
             scaled_value("V [Sens. Zsens] (0.0050354 V/LSB) 2.910461 V"),
             Some((Some("Sens. Zsens"), 2.910461, "V"))
         );
+    }
+
+    #[test]
+    fn a_hard_value_in_millivolts_takes_a_soft_scale_per_volt() {
+        assert_eq!(prefix_factor("V", "V"), Some(1.0));
+        assert_eq!(prefix_factor("mV", "V"), Some(1e-3));
+        assert_eq!(prefix_factor("º", "V"), None);
+        assert_eq!(prefix_factor("xV", "V"), None);
     }
 
     #[test]

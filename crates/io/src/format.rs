@@ -4,7 +4,9 @@
 use std::path::Path;
 
 use crate::IoError;
-use crate::{al3d, asc, bcr, di, frt, h5, metropro, mi, mnt, nid, opdx, park, tmd, wsxm, xz};
+use crate::{
+    al3d, asc, bcr, di, frt, h5, mat, metropro, mi, mnt, nid, nms, opdx, park, tmd, wsxm, xz,
+};
 
 /// The file formats asperity knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -70,8 +72,17 @@ pub enum Format {
     Hfm,
     /// Bruker Dektak profilometer CSV exports (told from a CSV grid by content).
     Dektak,
+    /// Line scans as CSV with column titles (`x,z` or `index,x,z`; told
+    /// from a CSV grid by content).
+    CsvLineScan,
     /// Bruker Dektak Vision64 data.
     Opdx,
+    /// NanoFocus µsurf confocal microscope data.
+    Nms,
+    /// MATLAB workspace files (version 5 and 7.3).
+    Mat,
+    /// NumPy archives of arrays.
+    Npz,
     /// Digital Surf MountainsMap documents.
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
@@ -374,6 +385,42 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "the Scan Data block, units from the column titles: a uniformly sampled profile (one row); non-uniform scans refused with their steps",
     },
     FormatInfo {
+        format: Format::CsvLineScan,
+        name: "Line scan CSV (.csv with column titles, told by content)",
+        extensions: &["csv"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "a line of titles, then `x,z` or `index,x,z` rows (commas, semicolons or tabs; UTF-8 or UTF-16 with its BOM), units from the titles (`x in µm`): a uniformly sampled profile (one row); non-uniform scans refused with their steps",
+    },
+    FormatInfo {
+        format: Format::Nms,
+        name: "NanoFocus µsurf (.nms)",
+        extensions: &["nms"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "OM_MS_2.0 areas: u16 counts mapped onto the header's height range in µm, spacing in nm, points of intensity 0 missing; version, image name and date as metadata; profiles refused",
+    },
+    FormatInfo {
+        format: Format::Mat,
+        name: "MATLAB (.mat)",
+        extensions: &["mat"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "versions 5 (compressed or not, as scipy.io.savemat writes) and 7.3 (HDF5): every two-dimensional real numeric variable a channel by name, the matrix's rows along x (as SurfaceTopography reads it); no sizes or units in the file: step 1, unitless",
+    },
+    FormatInfo {
+        format: Format::Npz,
+        name: "NumPy archive (.npz)",
+        extensions: &["npz"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "numpy.savez / savez_compressed: every two-dimensional array a channel by name, each read as an .npy (shape (ny, nx); SurfaceTopography takes the first index along x); no sizes or units: step 1, unitless",
+    },
+    FormatInfo {
         format: Format::Opdx,
         name: "Bruker Dektak OPDx (.opdx)",
         extensions: &["opdx"],
@@ -481,6 +528,8 @@ impl Format {
         match by_name {
             // A Dektak export is a .csv of its own layout.
             Ok(Format::Csv) if xz::is_dektak(&head()) => Ok(Format::Dektak),
+            // A line scan exported with column titles (a CSV grid has none).
+            Ok(Format::Csv) if xz::is_titled_csv(&text_head(path)) => Ok(Format::CsvLineScan),
             // A .txt of numbers: heights (a matrix, a profile, Gwyddion's
             // export, gridded `x y z`) or, off a grid, `x y z` points.
             Ok(Format::Xyz) if is_txt && asc::sniff(&text_head(path)) => Ok(Format::Asc),
@@ -520,6 +569,12 @@ impl Format {
         }
         if xz::is_dektak(bytes) {
             return Some(Format::Dektak);
+        }
+        if bytes.starts_with(mat::MAGIC) {
+            return Some(Format::Mat);
+        }
+        if nms::sniff(bytes) {
+            return Some(Format::Nms);
         }
         if park::sniff(bytes) {
             return Some(Format::Park);
@@ -576,6 +631,8 @@ impl Format {
                 | Format::Ibw
                 | Format::Mnt
                 | Format::H5
+                | Format::Mat
+                | Format::Npz
         )
     }
 

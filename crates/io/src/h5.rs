@@ -109,19 +109,36 @@ pub(crate) fn declared_points(bytes: &[u8]) -> FResult<u128> {
 
 /// Reads the dataset `choice` names (by default the first).
 pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
+    read(bytes, choice, true)
+}
+
+/// [`read_channel`] with the dataset's first index along y (element
+/// `[j][i]` is column i of row j), as MATLAB 7.3 files store a matrix.
+pub(crate) fn read_channel_as_stored(
+    bytes: &[u8],
+    choice: Option<&Channel>,
+) -> FResult<HeightField> {
+    read(bytes, choice, false)
+}
+
+fn read(bytes: &[u8], choice: Option<&Channel>, x_first: bool) -> FResult<HeightField> {
     let file = open(bytes)?;
     let sets = datasets(&file)?;
     let (name, d) = &sets[pick(&channel_list(&sets), choice)?];
-    let (nx, ny) = (
+    let (a, b) = (
         usize::try_from(d.shape()[0]).map_err(bad)?,
         usize::try_from(d.shape()[1]).map_err(bad)?,
     );
+    let (nx, ny) = if x_first { (a, b) } else { (b, a) };
     let values = read_f64(d).map_err(|e| FormatError::Malformed(format!("dataset {name}: {e}")))?;
     if values.len() != nx * ny {
         return malformed(format!(
             "dataset {name}: {} values for {nx} × {ny}",
             values.len()
         ));
+    }
+    if !x_first {
+        return Ok(HeightField::from_vec([nx, ny], values)?);
     }
     // Element [i][j] (x = i) is stored at i·ny + j; asperity's rows are y.
     let mut data = vec![0.0; nx * ny];

@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV), [`opdx`], [`nc`], [`h5`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -45,6 +45,7 @@ pub mod gsf;
 pub mod gwy;
 pub mod h5;
 pub mod ibw;
+pub mod mat;
 pub mod metadata;
 pub mod metropro;
 pub mod mi;
@@ -52,7 +53,9 @@ pub mod mitutoyo;
 pub mod mnt;
 pub mod nc;
 pub mod nid;
+pub mod nms;
 pub mod npy;
+pub mod npz;
 pub mod obj;
 pub mod opd;
 pub mod opdx;
@@ -193,7 +196,7 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(open()?).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(open()?).map(pixel_bytes)),
-        Format::X3p | Format::Mnt | Format::Mitutoyo => {
+        Format::X3p | Format::Mnt | Format::Mitutoyo | Format::H5 | Format::Mat | Format::Npz => {
             Some(decoded_bytes(&read_bytes(path)?, format))
         }
         _ => None,
@@ -207,7 +210,7 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(cursor()).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(cursor()).map(pixel_bytes)),
-        Format::X3p | Format::Mnt | Format::Mitutoyo | Format::H5 => {
+        Format::X3p | Format::Mnt | Format::Mitutoyo | Format::H5 | Format::Mat | Format::Npz => {
             Some(decoded_bytes(bytes, format))
         }
         _ => None,
@@ -221,13 +224,17 @@ fn pixel_bytes(pixels: u128) -> u128 {
 }
 
 /// What a compressed container decodes to, from the sizes it declares: the
-/// grid of an x3p, a Mountains document or the largest 2-D HDF5 dataset; twice an Excel workbook's
+/// grid of an x3p, a Mountains document, the largest 2-D HDF5 dataset or
+/// every variable of a MAT file; twice a NumPy archive's members (each
+/// inflated, then converted); twice an Excel workbook's
 /// inflated parts (the cells parsed from its XML).
 fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
     match format {
         Format::X3p => x3p::header_pixels(bytes).map(pixel_bytes),
         Format::Mnt => mnt::declared_points(bytes).map(pixel_bytes),
         Format::H5 => h5::declared_points(bytes).map(pixel_bytes),
+        Format::Mat => mat::declared_points(bytes).map(pixel_bytes),
+        Format::Npz => npz::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
         _ => mitutoyo::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
     }
 }
@@ -299,6 +306,7 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Mnt => mnt::metadata,
         Format::Asc => asc::metadata,
         Format::Mitutoyo => mitutoyo::metadata,
+        Format::Nms => nms::metadata,
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
@@ -325,6 +333,8 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::Ibw => ibw::channels(&bytes),
         Format::Mnt => mnt::channels(&bytes),
         Format::H5 => h5::channels(&bytes),
+        Format::Mat => mat::channels(&bytes),
+        Format::Npz => npz::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -417,6 +427,10 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Park
         | Format::Hfm
         | Format::Dektak
+        | Format::CsvLineScan
+        | Format::Nms
+        | Format::Mat
+        | Format::Npz
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
@@ -473,6 +487,10 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Park => park::read_height(bytes)?,
         Format::Hfm => xz::read_hfm(bytes)?,
         Format::Dektak => xz::read_dektak(bytes)?,
+        Format::CsvLineScan => xz::read_titled_csv(bytes)?,
+        Format::Nms => nms::read_height(bytes)?,
+        Format::Mat => mat::read_channel(bytes, choice)?,
+        Format::Npz => npz::read_channel(bytes, choice)?,
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,

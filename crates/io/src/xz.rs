@@ -9,6 +9,13 @@
 //!   `Analytical Results` block, then `Scan Data`, the column titles
 //!   (`Lateral um,Raw Micrometer`: the units are found in them) and rows
 //!   `x,z`.
+//! - Titled CSV line scans (what spreadsheets and instrument software export,
+//!   SurfaceTopography's `csv-1…3`): a line of column titles, then rows `x,z`
+//!   or `index,x,z` (a first column counting 0, 1, 2… or 1, 2, 3… is the
+//!   index), separated by commas, semicolons or tabs; UTF-8, or UTF-16 with
+//!   its byte-order mark (Excel's "Unicode text"). Units from the titles
+//!   (`x in µm`, `X_(microns)`); heights whose title names none are taken in
+//!   x's unit, and a file naming neither is unitless.
 //!
 //! asperity analyses uniformly sampled profiles: a line scan whose steps
 //! differ from their mean by less than 1e-6 in x's unit (SurfaceTopography's
@@ -38,7 +45,9 @@ fn unit_in(text: &str) -> Option<LengthUnit> {
     words.into_iter().find_map(|w| match w {
         "m" | "meter" | "Meter" => Some(LengthUnit::M),
         "mm" | "Millimeter" | "millimeter" => Some(LengthUnit::Mm),
-        "um" | "µm" | "Micrometer" | "micrometer" | "Micron" | "micron" => Some(LengthUnit::Um),
+        "um" | "µm" | "Micrometer" | "micrometer" | "Micron" | "micron" | "microns" | "Microns" => {
+            Some(LengthUnit::Um)
+        }
         "nm" | "Nanometer" | "nanometer" => Some(LengthUnit::Nm),
         _ => None,
     })
@@ -74,7 +83,7 @@ pub(crate) fn profile(x: &[f64], z: Vec<f64>, unit: LengthUnit) -> FResult<Heigh
 /// row ends the data (an empty line).
 fn columns<'a>(
     rows: impl Iterator<Item = &'a str>,
-    sep: char,
+    sep: &[char],
     want: usize,
 ) -> FResult<Vec<Vec<f64>>> {
     let mut out = vec![Vec::new(); want];
@@ -123,7 +132,8 @@ pub(crate) fn read_hfm(bytes: &[u8]) -> FResult<HeightField> {
     ) else {
         return malformed("the second line names no length units (`[mm];[mm];[1/0]`)");
     };
-    let [x, z, valid] = <[Vec<f64>; 3]>::try_from(columns(lines, ';', 3)?).expect("three columns");
+    let [x, z, valid] =
+        <[Vec<f64>; 3]>::try_from(columns(lines, &[';'], 3)?).expect("three columns");
     let to = zu.metres().zip(xu.metres()).map_or(1.0, |(a, b)| a / b);
     let z = z
         .iter()
@@ -151,8 +161,89 @@ pub(crate) fn read_dektak(bytes: &[u8]) -> FResult<HeightField> {
     ) else {
         return malformed(format!("the column titles {titles:?} name no length units"));
     };
-    let [x, z] = <[Vec<f64>; 2]>::try_from(columns(lines, ',', 2)?).expect("two columns");
+    let [x, z] = <[Vec<f64>; 2]>::try_from(columns(lines, &[','], 2)?).expect("two columns");
     let to = zu.metres().zip(xu.metres()).map_or(1.0, |(a, b)| a / b);
+    profile(&x, z.iter().map(|z| z * to).collect(), xu)
+}
+
+/// The text of a titled CSV: UTF-16 (little or big endian) when it starts
+/// with that byte-order mark, UTF-8 otherwise (invalid bytes replaced).
+fn decoded(bytes: &[u8]) -> String {
+    let utf16 = |le: bool| {
+        let units: Vec<u16> = bytes[2..]
+            .chunks_exact(2)
+            .map(|c| {
+                let pair = [c[0], c[1]];
+                if le {
+                    u16::from_le_bytes(pair)
+                } else {
+                    u16::from_be_bytes(pair)
+                }
+            })
+            .collect();
+        String::from_utf16_lossy(&units)
+    };
+    match bytes {
+        [0xFF, 0xFE, ..] => utf16(true),
+        [0xFE, 0xFF, ..] => utf16(false),
+        [0xEF, 0xBB, 0xBF, rest @ ..] => String::from_utf8_lossy(rest).into_owned(),
+        _ => String::from_utf8_lossy(bytes).into_owned(),
+    }
+}
+
+/// The fields of a CSV line (commas, semicolons or tabs).
+fn fields(line: &str) -> Vec<&str> {
+    line.split([',', ';', '\t']).map(str::trim).collect()
+}
+
+/// Whether `head` (a file's first bytes) is a titled CSV line scan: a first
+/// line of two or three titles, not all numbers, and a second of numbers.
+pub(crate) fn is_titled_csv(head: &[u8]) -> bool {
+    let text = decoded(head);
+    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    let (Some(titles), Some(first_row)) = (lines.next(), lines.next()) else {
+        return false;
+    };
+    let titles = fields(titles);
+    let row = fields(first_row);
+    (2..=3).contains(&titles.len())
+        && titles.iter().any(|t| t.parse::<f64>().is_err())
+        && row.len() == titles.len()
+        && row.iter().all(|v| v.parse::<f64>().is_ok())
+}
+
+/// Reads a titled CSV line scan.
+pub(crate) fn read_titled_csv(bytes: &[u8]) -> FResult<HeightField> {
+    let text = decoded(bytes);
+    let mut lines = text.lines().skip_while(|l| l.trim().is_empty());
+    let titles = fields(lines.next().unwrap_or_default());
+    if !(2..=3).contains(&titles.len()) {
+        return malformed(format!(
+            "{} column titles; a line scan has `x,z` or `index,x,z`",
+            titles.len()
+        ));
+    }
+    let mut cols = columns(lines, &[',', ';', '\t'], titles.len())?;
+    if cols.len() == 3 {
+        let counts = |start: f64| {
+            cols[0]
+                .iter()
+                .enumerate()
+                .all(|(k, &v)| v == start + k as f64)
+        };
+        if !(counts(0.0) || counts(1.0)) {
+            return unsupported(
+                "three columns whose first is no index (0, 1, 2…): x y z points are read from .xyz or .txt",
+            );
+        }
+        cols.remove(0);
+    }
+    let (xt, zt) = (titles[titles.len() - 2], titles[titles.len() - 1]);
+    let [x, z] = <[Vec<f64>; 2]>::try_from(cols).expect("two columns");
+    let xu = unit_in(xt).unwrap_or(LengthUnit::None);
+    let to = unit_in(zt)
+        .and_then(|zu| zu.metres().zip(xu.metres()))
+        .map_or(1.0, |(a, b)| a / b);
     profile(&x, z.iter().map(|z| z * to).collect(), xu)
 }
 
@@ -185,5 +276,40 @@ mod tests {
         let e = format!("{:?}", read_dektak(rounded.as_bytes()).unwrap_err());
         assert!(e.contains("non-uniformly sampled"), "{e}");
         assert!(read_dektak(b"Scan Parameters\r\n").is_err());
+    }
+
+    #[test]
+    fn a_titled_csv_is_read_in_utf8_and_utf16_with_or_without_an_index() {
+        let plain = "x in µm;height in nm\n0.0;1\n0.5;2\n1.0;3\n";
+        assert!(is_titled_csv(plain.as_bytes()));
+        let h = read_titled_csv(plain.as_bytes()).unwrap();
+        assert_eq!(h.units().xy, LengthUnit::Um);
+        assert_eq!(h.spacing(), [0.5, 0.5]);
+        // Heights in nm, brought to x's µm.
+        assert!((h.data()[2] - 3e-3).abs() < 1e-15);
+        let indexed = "index,x in µm,y in µm\r\n0,1.0,5\r\n1,1.5,6\r\n2,2.0,7\r\n";
+        let mut utf16 = vec![0xFF, 0xFE];
+        utf16.extend(indexed.encode_utf16().flat_map(u16::to_le_bytes));
+        assert!(is_titled_csv(&utf16));
+        let h = read_titled_csv(&utf16).unwrap();
+        assert_eq!(h.data(), &[5.0, 6.0, 7.0]);
+        let mut be = vec![0xFE, 0xFF];
+        be.extend(indexed.encode_utf16().flat_map(u16::to_be_bytes));
+        assert_eq!(read_titled_csv(&be).unwrap().data(), &[5.0, 6.0, 7.0]);
+    }
+
+    #[test]
+    fn titled_csvs_that_are_no_profile_are_told_apart_or_refused() {
+        // A CSV grid (numbers from the first line) is no titled CSV.
+        assert!(!is_titled_csv(b"1,2,3\n4,5,6\n"));
+        assert!(!is_titled_csv(b"a,b,c,d\n1,2,3,4\n"));
+        let xyz = "x,y,z\n0.5,0,1\n1.5,0,2\n2.5,0,3\n";
+        let e = format!("{:?}", read_titled_csv(xyz.as_bytes()).unwrap_err());
+        assert!(e.contains("no index"), "{e}");
+        let rounded = "x (microns),z\n0.0386,1\n0.0772,2\n0.1159,3\n";
+        let e = format!("{:?}", read_titled_csv(rounded.as_bytes()).unwrap_err());
+        assert!(e.contains("non-uniformly sampled"), "{e}");
+        assert!(read_titled_csv(b"x,z\n").is_err());
+        assert!(read_titled_csv(b"\xff\xfe\x00").is_err());
     }
 }
