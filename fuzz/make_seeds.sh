@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -133,6 +133,22 @@ pt = b"II*\0" + struct.pack("<I", pdir) + bytes(ph) + pdata + struct.pack("<H", 
 for tag, typ, cnt, val in [(50432, 4, 1, 0x0E031301), (50433, 4, 1, 0x1000001), (50434, 1, len(pdata), 292), (50435, 7, 284, 8)]:
     pt += struct.pack("<HHII", tag, typ, cnt, val)
 open(f"{s}/park/p3x2.tiff", "wb").write(pt)
+def vk4():  # a 3 × 2 16-bit height image, 500 × 250 pm pixels, 10 pm a count
+    cond, image = 84, 84 + 320
+    b = bytearray(image)
+    b[:12] = b"VK4_\x01\x00\x00\x00\x00\x00\x00\x00"
+    struct.pack_into("<I", b, 36, image)
+    for f, v in [(1, 2026), (2, 11), (3, 28), (24, 50), (42, 500), (43, 250), (44, 10)]:
+        struct.pack_into("<I", b, cond + 4 * f, v)
+    return bytes(b + struct.pack("<7I", 3, 2, 16, 0, 12, 0, 0) + bytes(768) + struct.pack("<6H", 0, 1, 2, 3, 4, 65535))
+open(f"{s}/vk/v3x2.vk4", "wb").write(vk4())
+import io, zipfile
+vk6 = io.BytesIO(b"VK6")
+vk6.seek(3)
+with zipfile.ZipFile(vk6, "a") as z:
+    z.writestr("Vk4File", vk4())
+open(f"{s}/vk/v3x2.vk6", "wb").write(vk6.getvalue())
+open(f"{s}/hgt/t3.hgt", "wb").write(struct.pack(">9h", 100, -5, -32768, 8848, 0, 1, 2, 3, 4))
 open(f"{s}/hfm/h3.hfm", "wb").write(b"X;Y;valid\r\n[mm];[um];[1/0]\r\n1.0;5;1\r\n1.5;6;0\r\n2.0;7;1\r\n")
 open(f"{s}/dektak/d3.csv", "wb").write(b"Scan Parameters\r\nLength,1.0 um\r\n\r\nScan Data\r\nLateral um,Raw Micrometer,\r\n"
                                       b"0.0,0.5,,\r\n0.5,0.25,,\r\n1.0,0.0,,\r\n")

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use crate::IoError;
 use crate::{
-    al3d, asc, bcr, di, frt, h5, mat, metropro, mi, mnt, nid, nms, opdx, park, tmd, wsxm, xz,
+    al3d, asc, bcr, di, frt, h5, mat, metropro, mi, mnt, nid, nms, opdx, park, tmd, vk, wsxm, xz,
 };
 
 /// The file formats asperity knows.
@@ -83,6 +83,10 @@ pub enum Format {
     Mat,
     /// NumPy archives of arrays.
     Npz,
+    /// NASA SRTM elevation tiles.
+    Hgt,
+    /// Keyence VK confocal microscope data.
+    Vk,
     /// Digital Surf MountainsMap documents.
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
@@ -421,6 +425,24 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "numpy.savez / savez_compressed: every two-dimensional array a channel by name, each read as an .npy (shape (ny, nx); SurfaceTopography takes the first index along x); no sizes or units: step 1, unitless",
     },
     FormatInfo {
+        format: Format::Hgt,
+        name: "NASA SRTM elevation tile (.hgt)",
+        extensions: &["hgt"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "a square of big-endian int16 heights in metres, rows from the north; voids (-32768) read as missing; the step is an angle (1″ or 3″): read with step 1, unitless, the tile's size and resolution kept as metadata",
+    },
+    FormatInfo {
+        format: Format::Vk,
+        name: "Keyence VK (.vk3, .vk4, .vk6, .vk7)",
+        extensions: &["vk3", "vk4", "vk6", "vk7"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the height images as channels: 8/16/32-bit counts × the height scale, pixel lengths from the measurement conditions (pm, read in nm); .vk6/.vk7 as the .vk4 in their zip; date, lens and scales kept as metadata",
+    },
+    FormatInfo {
         format: Format::Opdx,
         name: "Bruker Dektak OPDx (.opdx)",
         extensions: &["opdx"],
@@ -573,6 +595,9 @@ impl Format {
         if bytes.starts_with(mat::MAGIC) {
             return Some(Format::Mat);
         }
+        if vk::sniff(bytes) {
+            return Some(Format::Vk);
+        }
         if nms::sniff(bytes) {
             return Some(Format::Nms);
         }
@@ -633,6 +658,7 @@ impl Format {
                 | Format::H5
                 | Format::Mat
                 | Format::Npz
+                | Format::Vk
         )
     }
 

@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -44,6 +44,7 @@ pub mod glb;
 pub mod gsf;
 pub mod gwy;
 pub mod h5;
+pub mod hgt;
 pub mod ibw;
 pub mod mat;
 pub mod metadata;
@@ -71,6 +72,7 @@ pub mod sur;
 pub mod text;
 pub mod tmd;
 pub mod up;
+pub mod vk;
 mod write;
 pub mod wsxm;
 pub mod x3p;
@@ -196,9 +198,13 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(open()?).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(open()?).map(pixel_bytes)),
-        Format::X3p | Format::Mnt | Format::Mitutoyo | Format::H5 | Format::Mat | Format::Npz => {
-            Some(decoded_bytes(&read_bytes(path)?, format))
-        }
+        Format::X3p
+        | Format::Mnt
+        | Format::Mitutoyo
+        | Format::H5
+        | Format::Mat
+        | Format::Npz
+        | Format::Vk => Some(decoded_bytes(&read_bytes(path)?, format)),
         _ => None,
     };
     estimate_from(size, decoded).map_err(|e| e.at(path, format.info().name))
@@ -210,9 +216,13 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(cursor()).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(cursor()).map(pixel_bytes)),
-        Format::X3p | Format::Mnt | Format::Mitutoyo | Format::H5 | Format::Mat | Format::Npz => {
-            Some(decoded_bytes(bytes, format))
-        }
+        Format::X3p
+        | Format::Mnt
+        | Format::Mitutoyo
+        | Format::H5
+        | Format::Mat
+        | Format::Npz
+        | Format::Vk => Some(decoded_bytes(bytes, format)),
         _ => None,
     };
     estimate_from(bytes.len() as u64, decoded)
@@ -235,6 +245,7 @@ fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
         Format::H5 => h5::declared_points(bytes).map(pixel_bytes),
         Format::Mat => mat::declared_points(bytes).map(pixel_bytes),
         Format::Npz => npz::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
+        Format::Vk => vk::declared_points(bytes).map(pixel_bytes),
         _ => mitutoyo::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
     }
 }
@@ -307,6 +318,8 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Asc => asc::metadata,
         Format::Mitutoyo => mitutoyo::metadata,
         Format::Nms => nms::metadata,
+        Format::Hgt => hgt::metadata,
+        Format::Vk => vk::metadata,
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
@@ -335,6 +348,7 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::H5 => h5::channels(&bytes),
         Format::Mat => mat::channels(&bytes),
         Format::Npz => npz::channels(&bytes),
+        Format::Vk => vk::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -431,6 +445,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Nms
         | Format::Mat
         | Format::Npz
+        | Format::Hgt
+        | Format::Vk
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
@@ -491,6 +507,8 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Nms => nms::read_height(bytes)?,
         Format::Mat => mat::read_channel(bytes, choice)?,
         Format::Npz => npz::read_channel(bytes, choice)?,
+        Format::Hgt => hgt::read_height(bytes)?,
+        Format::Vk => vk::read_channel(bytes, choice)?,
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,

@@ -267,6 +267,54 @@ for save in [np.savez, np.savez_compressed]:
         check(f"{npz.name} --channel {c.name}: numpy's array, as ST's heights() (first index y to asperity)",
               np.array_equal(z, np.load(npz)[c.name]) and np.array_equal(z, np.asarray(t.heights())), str(z.shape))
 
+# An SRTM tile (numpy writes big-endian int16, rows from the north, with voids):
+# ST's heights (x = west to east, given a size) transposed, its voids missing.
+hgt = WORK / "N46E013.hgt"
+tile = mat_rng.integers(-400, 4000, (121, 121)).astype(">i2")
+tile[5:9, 60:70] = -32768
+tile.tofile(hgt)
+compare(hgt, "N46E013.hgt (an SRTM tile with 40 voids, step 1)", physical_sizes=(121, 121))
+
+# Keyence VK: no instrument file is public; files built to the layout of ST's
+# VK.py and Gwyddion's keyence.c (a .vk4 with a 16-bit and a 32-bit height
+# image, and a .vk6: that .vk4 in a zip after the `VK6` magic).
+import struct  # noqa: E402
+import zipfile  # noqa: E402
+
+
+def vk4_bytes(nx, ny):
+    cond, images = 84, 84 + 400
+    body = bytearray(images)
+    body[:12] = b"VK4_\x01\x00\x00\x00\x00\x00\x00\x00"
+    counts = [mat_rng.integers(0, 2**16, (ny, nx)).astype("<u2"), mat_rng.integers(0, 2**31, (ny, nx)).astype("<u4")]
+    offsets = []
+    for c in counts:
+        offsets.append(len(body))
+        body += struct.pack("<7I", nx, ny, 8 * c.itemsize, 0, c.nbytes, 0, 0) + bytes(768) + c.tobytes()
+    struct.pack_into("<II", body, 36, *offsets)
+    for field, value in [(1, 2026), (2, 11), (3, 28), (24, 50), (42, 138_000), (43, 139_000), (44, 1)]:
+        struct.pack_into("<I", body, cond + 4 * field, value)
+    return bytes(body)
+
+
+vk4 = WORK / "keyence.vk4"
+vk4.write_bytes(vk4_bytes(40, 30))
+vk6 = WORK / "keyence.vk6"
+vk6.write_bytes(b"VK6")
+with zipfile.ZipFile(vk6, "a") as z:  # appended after the magic
+    z.writestr("Vk4File", vk4.read_bytes())
+for path in [vk4, vk6]:
+    compare(path, f"{path.name} (Keyence, built to ST's layout: 16-bit image, pm)")
+    reader = open_topography(str(path))
+    ours = json.loads(run(BIN, "--quiet", "--json", "info", path))["measurements"]
+    check(f"{path.name}: the height images as ST's channels", [c["name"] for c in ours["channels"]]
+          == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+    out = WORK / f"{path.name}-2.npy"
+    run(BIN, "--quiet", "--channel", "Height 2", "convert", path, out)
+    t = reader.topography(channel_index=1)
+    check(f"{path.name} --channel 'Height 2': the 32-bit image as ST's, in metres",
+          close(np.load(out) * 1e-9, np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
+
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
