@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -148,6 +148,14 @@ vk6.seek(3)
 with zipfile.ZipFile(vk6, "a") as z:
     z.writestr("Vk4File", vk4())
 open(f"{s}/vk/v3x2.vk6", "wb").write(vk6.getvalue())
+def mdt_frame(adc, xy, z, nx, ny, counts):  # a scanned frame, var_size 40
+    body = struct.pack("<ffhffhffh", 0.0, 0.5, xy, 0.0, 0.25, xy, 1.0, 2.0, z)
+    body += struct.pack("<BBHH", adc, 0, nx, ny) + bytes(4)
+    body += struct.pack("<4H", 0, nx, ny, 0) + struct.pack(f"<{len(counts)}h", *counts)
+    return struct.pack("<IH", 22 + len(body), 0) + bytes(14) + struct.pack("<H", 40) + body
+frames = [mdt_frame(0, -1, -1, 3, 2, [0, 1, 2, 3, 4, 5]), mdt_frame(1, -2, 0, 2, 1, [10, -10])]
+open(f"{s}/mdt/m3x2.mdt", "wb").write(b"\x01\xb0\x93\xff" + bytes(8) + struct.pack("<H", len(frames) - 1)
+                                     + bytes(19) + b"".join(frames))
 open(f"{s}/hgt/t3.hgt", "wb").write(struct.pack(">9h", 100, -5, -32768, 8848, 0, 1, 2, 3, 4))
 open(f"{s}/hfm/h3.hfm", "wb").write(b"X;Y;valid\r\n[mm];[um];[1/0]\r\n1.0;5;1\r\n1.5;6;0\r\n2.0;7;1\r\n")
 open(f"{s}/dektak/d3.csv", "wb").write(b"Scan Parameters\r\nLength,1.0 um\r\n\r\nScan Data\r\nLateral um,Raw Micrometer,\r\n"

@@ -5,7 +5,8 @@ use std::path::Path;
 
 use crate::IoError;
 use crate::{
-    al3d, asc, bcr, di, frt, h5, mat, metropro, mi, mnt, nid, nms, opdx, park, tmd, vk, wsxm, xz,
+    al3d, asc, bcr, di, frt, h5, mat, mdt, metropro, mi, mnt, nid, nms, opdx, park, tmd, vk, wsxm,
+    xz,
 };
 
 /// The file formats asperity knows.
@@ -87,6 +88,8 @@ pub enum Format {
     Hgt,
     /// Keyence VK confocal microscope data.
     Vk,
+    /// NT-MDT scanning-probe data.
+    Mdt,
     /// Digital Surf MountainsMap documents.
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
@@ -443,6 +446,15 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "the height images as channels: 8/16/32-bit counts × the height scale, pixel lengths from the measurement conditions (pm, read in nm); .vk6/.vk7 as the .vk4 in their zip; date, lens and scales kept as metadata",
     },
     FormatInfo {
+        format: Format::Mdt,
+        name: "NT-MDT (.mdt)",
+        extensions: &["mdt"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "scanned-data frames whose axes are lengths, as channels named by their signal (Height, DFL…): int16 counts × z step + offset, from the last line, heights in the lateral unit (cm read in m, Å in nm); spectroscopy, text and MDA frames skipped",
+    },
+    FormatInfo {
         format: Format::Opdx,
         name: "Bruker Dektak OPDx (.opdx)",
         extensions: &["opdx"],
@@ -595,6 +607,9 @@ impl Format {
         if bytes.starts_with(mat::MAGIC) {
             return Some(Format::Mat);
         }
+        if bytes.starts_with(mdt::MAGIC) {
+            return Some(Format::Mdt);
+        }
         if vk::sniff(bytes) {
             return Some(Format::Vk);
         }
@@ -659,6 +674,7 @@ impl Format {
                 | Format::Mat
                 | Format::Npz
                 | Format::Vk
+                | Format::Mdt
         )
     }
 

@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -47,6 +47,7 @@ pub mod h5;
 pub mod hgt;
 pub mod ibw;
 pub mod mat;
+pub mod mdt;
 pub mod metadata;
 pub mod metropro;
 pub mod mi;
@@ -349,6 +350,7 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::Mat => mat::channels(&bytes),
         Format::Npz => npz::channels(&bytes),
         Format::Vk => vk::channels(&bytes),
+        Format::Mdt => mdt::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -447,6 +449,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Npz
         | Format::Hgt
         | Format::Vk
+        | Format::Mdt
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
@@ -509,6 +512,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Npz => npz::read_channel(bytes, choice)?,
         Format::Hgt => hgt::read_height(bytes)?,
         Format::Vk => vk::read_channel(bytes, choice)?,
+        Format::Mdt => mdt::read_channel(bytes, choice)?,
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,

@@ -315,6 +315,39 @@ for path in [vk4, vk6]:
     check(f"{path.name} --channel 'Height 2': the 32-bit image as ST's, in metres",
           close(np.load(out) * 1e-9, np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
 
+# NT-MDT: built to the layout of ST's MDT.py and Gwyddion's nt-mdt.c (no
+# public instrument file): a Height frame in nm, a spectroscopy frame, a DFL
+# frame with µm steps and heights in Å, a phase frame (no length: no channel).
+
+
+def mdt_frame(adc, xy_unit, z_unit, counts, ftype=0, dots=0):
+    ny, nx = counts.shape
+    body = struct.pack("<ffhffhffh", 0.0, 0.5, xy_unit, 0.0, 0.25, xy_unit, -3.0, 0.125, z_unit)
+    body += struct.pack("<BBHH", adc, 0, nx, ny) + bytes(8)  # var_size 44
+    body += struct.pack("<4H", 0, nx, ny, dots) + bytes(14 + 16 * dots if dots else 0)
+    body += counts.astype("<i2").tobytes()
+    return struct.pack("<IH", 22 + len(body), ftype) + struct.pack(">H", 7) + struct.pack("<7H", 2026, 11, 28, 12, 0, 0, 44) + body
+
+
+frames = [mdt_frame(0, -1, -1, mat_rng.integers(-2000, 2000, (24, 32))),
+          mdt_frame(0, -1, -1, np.zeros((1, 1)), ftype=1),
+          mdt_frame(1, -2, 0, mat_rng.integers(-2000, 2000, (24, 32)), dots=2),
+          mdt_frame(11, -1, 5, np.zeros((24, 32)))]
+mdt = WORK / "ntmdt.mdt"
+mdt.write_bytes(b"\x01\xb0\x93\xff" + struct.pack("<I4sH18sB", 0, b"", len(frames) - 1, b"", 0) + b"".join(frames))
+compare(mdt, "ntmdt.mdt (NT-MDT, built to ST's layout: Height in nm)")
+reader = open_topography(str(mdt))
+ours = json.loads(run(BIN, "--quiet", "--json", "info", mdt))["measurements"]
+check("ntmdt.mdt: the scanned length frames as ST's channels", [c["name"] for c in ours["channels"]]
+      == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+out = WORK / "ntmdt-dfl.npy"
+run(BIN, "--quiet", "--channel", "DFL", "convert", mdt, out)
+t = reader.topography(channel_index=1)
+check("ntmdt.mdt --channel DFL (µm steps, Å heights, after spectroscopy dots): heights as ST's, in metres",
+      close(np.load(out) * METRES[json.loads(run(BIN, "--quiet", "--channel", "DFL", "--json", "info", mdt))
+                                  ["measurements"]["units"]["z"]],
+            np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
+
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
