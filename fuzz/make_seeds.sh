@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -156,6 +156,17 @@ def mdt_frame(adc, xy, z, nx, ny, counts):  # a scanned frame, var_size 40
 frames = [mdt_frame(0, -1, -1, 3, 2, [0, 1, 2, 3, 4, 5]), mdt_frame(1, -2, 0, 2, 1, [10, -10])]
 open(f"{s}/mdt/m3x2.mdt", "wb").write(b"\x01\xb0\x93\xff" + bytes(8) + struct.pack("<H", len(frames) - 1)
                                      + bytes(19) + b"".join(frames))
+# OmniSurf3D (3 × 2, one invalid point) and KLA Zeta (3 × 2 after a comment)
+open(f"{s}/os3d/o3x2.os3d", "wb").write(
+    b"OmniSurf3D" + struct.pack("<ii", 1, 0) + struct.pack("<I", 7) + b"probe 7" + struct.pack("<I", 10) + b"2026-11-28"
+    + struct.pack("<ii4d", 3, 2, 0.5, 0.25, 0.0, 0.0) + struct.pack("<6f", 1, 2, 3, -3.4e38, 5, 6))
+z = bytearray(205)
+z[:16] = b"Zeta-Instruments"
+struct.pack_into("<II", z, 85, 3, 2)
+struct.pack_into("<fff", z, 97, 0.5, 0.25, 0.01)
+struct.pack_into("<I", z, 117, 4)
+z[131:137] = b"recipe"
+open(f"{s}/zmg/z3x2.zmg", "wb").write(bytes(z) + b"note" + struct.pack("<6H", 0, 100, 200, 300, 400, 65535))
 open(f"{s}/hgt/t3.hgt", "wb").write(struct.pack(">9h", 100, -5, -32768, 8848, 0, 1, 2, 3, 4))
 open(f"{s}/hfm/h3.hfm", "wb").write(b"X;Y;valid\r\n[mm];[um];[1/0]\r\n1.0;5;1\r\n1.5;6;0\r\n2.0;7;1\r\n")
 open(f"{s}/dektak/d3.csv", "wb").write(b"Scan Parameters\r\nLength,1.0 um\r\n\r\nScan Data\r\nLateral um,Raw Micrometer,\r\n"

@@ -5,8 +5,8 @@ use std::path::Path;
 
 use crate::IoError;
 use crate::{
-    al3d, asc, bcr, di, frt, h5, mat, mdt, metropro, mi, mnt, nid, nms, opdx, park, tmd, vk, wsxm,
-    xz,
+    al3d, asc, bcr, di, frt, h5, mat, mdt, metropro, mi, mnt, nid, nms, opdx, os3d, park, tmd, vk,
+    wsxm, xz, zmg,
 };
 
 /// The file formats asperity knows.
@@ -90,6 +90,10 @@ pub enum Format {
     Vk,
     /// NT-MDT scanning-probe data.
     Mdt,
+    /// Digital Metrology OmniSurf3D data.
+    Os3d,
+    /// KLA Zeta optical profiler data.
+    Zmg,
     /// Digital Surf MountainsMap documents.
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
@@ -455,6 +459,24 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "scanned-data frames whose axes are lengths, as channels named by their signal (Height, DFL…): int16 counts × z step + offset, from the last line, heights in the lateral unit (cm read in m, Å in nm); spectroscopy, text and MDA frames skipped",
     },
     FormatInfo {
+        format: Format::Os3d,
+        name: "Digital Metrology OmniSurf3D (.os3d)",
+        extensions: &["os3d"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "f32 heights and f64 steps in µm; heights below -3e38 read as missing; version, identification and date kept as metadata",
+    },
+    FormatInfo {
+        format: Format::Zmg,
+        name: "KLA Zeta (.zmg)",
+        extensions: &["zmg"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "u16 counts × the z step, steps in µm; the recipe's name and the comment kept as metadata",
+    },
+    FormatInfo {
         format: Format::Opdx,
         name: "Bruker Dektak OPDx (.opdx)",
         extensions: &["opdx"],
@@ -606,6 +628,12 @@ impl Format {
         }
         if bytes.starts_with(mat::MAGIC) {
             return Some(Format::Mat);
+        }
+        if bytes.starts_with(os3d::MAGIC) {
+            return Some(Format::Os3d);
+        }
+        if bytes.starts_with(zmg::MAGIC) {
+            return Some(Format::Zmg);
         }
         if bytes.starts_with(mdt::MAGIC) {
             return Some(Format::Mdt);

@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -61,6 +61,7 @@ pub mod npz;
 pub mod obj;
 pub mod opd;
 pub mod opdx;
+pub mod os3d;
 pub mod park;
 pub mod plu;
 pub mod ply;
@@ -78,6 +79,7 @@ mod write;
 pub mod wsxm;
 pub mod x3p;
 pub mod xz;
+pub mod zmg;
 
 use std::path::Path;
 
@@ -321,6 +323,8 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Nms => nms::metadata,
         Format::Hgt => hgt::metadata,
         Format::Vk => vk::metadata,
+        Format::Os3d => os3d::metadata,
+        Format::Zmg => zmg::metadata,
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
@@ -450,6 +454,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Hgt
         | Format::Vk
         | Format::Mdt
+        | Format::Os3d
+        | Format::Zmg
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
@@ -513,6 +519,8 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Hgt => hgt::read_height(bytes)?,
         Format::Vk => vk::read_channel(bytes, choice)?,
         Format::Mdt => mdt::read_channel(bytes, choice)?,
+        Format::Os3d => os3d::read_height(bytes)?,
+        Format::Zmg => zmg::read_height(bytes)?,
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,

@@ -348,6 +348,24 @@ check("ntmdt.mdt --channel DFL (µm steps, Å heights, after spectroscopy dots):
                                   ["measurements"]["units"]["z"]],
             np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
 
+# OmniSurf3D (Digital Metrology's published layout) and KLA Zeta (Gwyddion's
+# zmgfile.c): files built to the layout, no instrument file being public.
+os3d_z = mat_rng.normal(size=(20, 28)).astype("<f4")
+os3d_z[3, 4:9] = -3.4e38
+os3d = WORK / "omnisurf.os3d"
+os3d.write_bytes(b"OmniSurf3D" + struct.pack("<ii", 1, 0) + struct.pack("<I", 7) + b"probe 7" + struct.pack("<I", 10)
+                 + b"2026-11-28" + struct.pack("<ii4d", 28, 20, 0.5, 0.25, 0.0, 0.0) + os3d_z.tobytes())
+compare(os3d, "omnisurf.os3d (OmniSurf3D, built to the published layout, 5 invalid points)")
+zmg = WORK / "zeta.zmg"
+zmg_head = bytearray(205)
+zmg_head[:16] = b"Zeta-Instruments"
+struct.pack_into("<II", zmg_head, 85, 28, 20)
+struct.pack_into("<fff", zmg_head, 97, 0.5, 0.25, 0.01)
+struct.pack_into("<I", zmg_head, 117, 9)
+zmg_head[131:137] = b"recipe"
+zmg.write_bytes(bytes(zmg_head) + b"a comment" + mat_rng.integers(0, 2**16, (20, 28)).astype("<u2").tobytes())
+compare(zmg, "zeta.zmg (KLA Zeta, built to Gwyddion's layout)")
+
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
