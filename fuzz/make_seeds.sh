@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -167,6 +167,14 @@ struct.pack_into("<fff", z, 97, 0.5, 0.25, 0.01)
 struct.pack_into("<I", z, 117, 4)
 z[131:137] = b"recipe"
 open(f"{s}/zmg/z3x2.zmg", "wb").write(bytes(z) + b"note" + struct.pack("<6H", 0, 100, 200, 300, 400, 65535))
+# Sensofar PLUX: index.xml and one 3 × 2 f32 layer with a NaN point
+import zipfile
+with zipfile.ZipFile(f"{s}/plux/p3x2.plux", "w") as z:
+    z.writestr("index.xml", "<xml><GENERAL><IMAGE_SIZE_X>3</IMAGE_SIZE_X><IMAGE_SIZE_Y>2</IMAGE_SIZE_Y>"
+               "<FOV_X>0.5</FOV_X><FOV_Y>0.25</FOV_Y><DATE>28/11/2026</DATE></GENERAL>"
+               "<LAYER_0><FILENAME_Z>LAYER_0.raw</FILENAME_Z></LAYER_0>"
+               "<INFO><ITEM_0><NAME>Device</NAME><VALUE>S neox</VALUE></ITEM_0></INFO></xml>")
+    z.writestr("LAYER_0.raw", struct.pack("<6f", 1, 2, 3, float("nan"), 5, 6))
 open(f"{s}/hgt/t3.hgt", "wb").write(struct.pack(">9h", 100, -5, -32768, 8848, 0, 1, 2, 3, 4))
 open(f"{s}/hfm/h3.hfm", "wb").write(b"X;Y;valid\r\n[mm];[um];[1/0]\r\n1.0;5;1\r\n1.5;6;0\r\n2.0;7;1\r\n")
 open(f"{s}/dektak/d3.csv", "wb").write(b"Scan Parameters\r\nLength,1.0 um\r\n\r\nScan Data\r\nLateral um,Raw Micrometer,\r\n"

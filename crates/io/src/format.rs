@@ -94,6 +94,8 @@ pub enum Format {
     Os3d,
     /// KLA Zeta optical profiler data.
     Zmg,
+    /// Sensofar PLUX archives.
+    Plux,
     /// Digital Surf MountainsMap documents.
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
@@ -477,6 +479,15 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "u16 counts × the z step, steps in µm; the recipe's name and the comment kept as metadata",
     },
     FormatInfo {
+        format: Format::Plux,
+        name: "Sensofar PLUX (.plux)",
+        extensions: &["plux"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the zip's layers as channels: f32 heights in µm, pixel size from index.xml, NaN read as missing; the date and the INFO items (device…) kept as metadata",
+    },
+    FormatInfo {
         format: Format::Opdx,
         name: "Bruker Dektak OPDx (.opdx)",
         extensions: &["opdx"],
@@ -703,6 +714,7 @@ impl Format {
                 | Format::Npz
                 | Format::Vk
                 | Format::Mdt
+                | Format::Plux
         )
     }
 

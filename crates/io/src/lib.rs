@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -64,6 +64,7 @@ pub mod opdx;
 pub mod os3d;
 pub mod park;
 pub mod plu;
+pub mod plux;
 pub mod ply;
 pub mod png_io;
 mod raster;
@@ -207,7 +208,8 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
         | Format::H5
         | Format::Mat
         | Format::Npz
-        | Format::Vk => Some(decoded_bytes(&read_bytes(path)?, format)),
+        | Format::Vk
+        | Format::Plux => Some(decoded_bytes(&read_bytes(path)?, format)),
         _ => None,
     };
     estimate_from(size, decoded).map_err(|e| e.at(path, format.info().name))
@@ -225,7 +227,8 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
         | Format::H5
         | Format::Mat
         | Format::Npz
-        | Format::Vk => Some(decoded_bytes(bytes, format)),
+        | Format::Vk
+        | Format::Plux => Some(decoded_bytes(bytes, format)),
         _ => None,
     };
     estimate_from(bytes.len() as u64, decoded)
@@ -249,6 +252,7 @@ fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
         Format::Mat => mat::declared_points(bytes).map(pixel_bytes),
         Format::Npz => npz::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
         Format::Vk => vk::declared_points(bytes).map(pixel_bytes),
+        Format::Plux => plux::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
         _ => mitutoyo::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
     }
 }
@@ -325,6 +329,7 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Vk => vk::metadata,
         Format::Os3d => os3d::metadata,
         Format::Zmg => zmg::metadata,
+        Format::Plux => plux::metadata,
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
@@ -355,6 +360,7 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::Npz => npz::channels(&bytes),
         Format::Vk => vk::channels(&bytes),
         Format::Mdt => mdt::channels(&bytes),
+        Format::Plux => plux::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -456,6 +462,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Mdt
         | Format::Os3d
         | Format::Zmg
+        | Format::Plux
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
@@ -521,6 +528,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Mdt => mdt::read_channel(bytes, choice)?,
         Format::Os3d => os3d::read_height(bytes)?,
         Format::Zmg => zmg::read_height(bytes)?,
+        Format::Plux => plux::read_channel(bytes, choice)?,
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,

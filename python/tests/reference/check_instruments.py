@@ -366,6 +366,26 @@ zmg_head[131:137] = b"recipe"
 zmg.write_bytes(bytes(zmg_head) + b"a comment" + mat_rng.integers(0, 2**16, (20, 28)).astype("<u2").tobytes())
 compare(zmg, "zeta.zmg (KLA Zeta, built to Gwyddion's layout)")
 
+# Sensofar PLUX: a zip built to ST's PLUX.py layout (no public instrument file):
+# index.xml, two f32 layers, NaN points.
+plux = WORK / "sensofar.plux"
+plux_layers = [mat_rng.normal(size=(20, 28)).astype("<f4"), mat_rng.normal(size=(20, 28)).astype("<f4")]
+plux_layers[0][2, 3:7] = np.nan
+with zipfile.ZipFile(plux, "w") as z:
+    z.writestr("index.xml", "<xml><GENERAL><IMAGE_SIZE_X>28</IMAGE_SIZE_X><IMAGE_SIZE_Y>20</IMAGE_SIZE_Y>"
+               "<FOV_X>0.69</FOV_X><FOV_Y>0.69</FOV_Y><DATE>28/11/2026 19:50:00</DATE></GENERAL>"
+               + "".join(f"<LAYER_{k}><FILENAME_Z>LAYER_{k}.raw</FILENAME_Z></LAYER_{k}>" for k in range(2))
+               + "<INFO><ITEM_0><NAME>Device</NAME><VALUE>S neox</VALUE></ITEM_0></INFO></xml>")
+    for k, layer in enumerate(plux_layers):
+        z.writestr(f"LAYER_{k}.raw", layer.tobytes())
+compare(plux, "sensofar.plux (Sensofar PLUX, built to ST's layout, 4 NaN points)")
+reader = open_topography(str(plux))
+ours = json.loads(run(BIN, "--quiet", "--json", "info", plux))["measurements"]
+check("sensofar.plux: the layers as ST's channels, the device as metadata",
+      [c["name"] for c in ours["channels"]] == [c.name for c in reader.channels]
+      and ours["instrument"].get("Device") == reader.channels[0].info["instrument"]["name"],
+      str([c["name"] for c in ours["channels"]]))
+
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
