@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,zon,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -175,6 +175,27 @@ with zipfile.ZipFile(f"{s}/plux/p3x2.plux", "w") as z:
                "<LAYER_0><FILENAME_Z>LAYER_0.raw</FILENAME_Z></LAYER_0>"
                "<INFO><ITEM_0><NAME>Device</NAME><VALUE>S neox</VALUE></ITEM_0></INFO></xml>")
     z.writestr("LAYER_0.raw", struct.pack("<6f", 1, 2, 3, float("nan"), 5, 6))
+# Keyence ZON: KPK0, and KPK1 where the zstandard package is installed
+import io
+def zon(magic, pack):  # 3 × 2 counts in 16-byte rows, one invalid point
+    members = {
+        "686613b8-27b5-4a29-8ffc-438c2780873e": b"<C><XYCalibration><MeterPerPixel>2e-6</MeterPerPixel></XYCalibration>"
+                                                b"<ZCalibration><MeterPerUnit>1e-8</MeterPerUnit></ZCalibration></C>",
+        "4cdb0c75-5706-48cc-a9a1-adf395d609ae": struct.pack("<4i", 3, 2, 4, 16) + struct.pack("<8i", 1, 2, 3, 0, 4, 5, 6, 0),
+        "9e7ca6dd-0e6a-4d7b-8986-f0a7b773c916": struct.pack("<4i", 3, 2, 1, 4) + bytes([0, 0, 0, 0, 0, 3, 0, 0]),
+    }
+    out = io.BytesIO(magic + struct.pack("<I", 3) + b"BMP")
+    out.seek(0, 2)
+    with zipfile.ZipFile(out, "a") as z:
+        for name, data in members.items():
+            z.writestr(name, pack(data))
+    return out.getvalue()
+open(f"{s}/zon/z3x2.zon", "wb").write(zon(b"KPK0", lambda d: d))
+try:
+    import zstandard
+    open(f"{s}/zon/z3x2-zstd.zon", "wb").write(zon(b"KPK1", zstandard.ZstdCompressor().compress))
+except ImportError:
+    pass
 open(f"{s}/hgt/t3.hgt", "wb").write(struct.pack(">9h", 100, -5, -32768, 8848, 0, 1, 2, 3, 4))
 open(f"{s}/hfm/h3.hfm", "wb").write(b"X;Y;valid\r\n[mm];[um];[1/0]\r\n1.0;5;1\r\n1.5;6;0\r\n2.0;7;1\r\n")
 open(f"{s}/dektak/d3.csv", "wb").write(b"Scan Parameters\r\nLength,1.0 um\r\n\r\nScan Data\r\nLateral um,Raw Micrometer,\r\n"

@@ -6,7 +6,7 @@ use std::path::Path;
 use crate::IoError;
 use crate::{
     al3d, asc, bcr, di, frt, h5, mat, mdt, metropro, mi, mnt, nid, nms, opdx, os3d, park, tmd, vk,
-    wsxm, xz, zmg,
+    wsxm, xz, zmg, zon,
 };
 
 /// The file formats asperity knows.
@@ -96,6 +96,8 @@ pub enum Format {
     Zmg,
     /// Sensofar PLUX archives.
     Plux,
+    /// Keyence ZON containers.
+    Zon,
     /// Digital Surf MountainsMap documents.
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
@@ -488,6 +490,15 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "the zip's layers as channels: f32 heights in µm, pixel size from index.xml, NaN read as missing; the date and the INFO items (device…) kept as metadata",
     },
     FormatInfo {
+        format: Format::Zon,
+        name: "Keyence ZON (.zon)",
+        extensions: &["zon"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "KPK0 and KPK1 (Zstandard members): int32 counts × metres per unit, metres per pixel from the calibration, points the validity mask marks read as missing; device, serial and date kept as metadata",
+    },
+    FormatInfo {
         format: Format::Opdx,
         name: "Bruker Dektak OPDx (.opdx)",
         extensions: &["opdx"],
@@ -639,6 +650,9 @@ impl Format {
         }
         if bytes.starts_with(mat::MAGIC) {
             return Some(Format::Mat);
+        }
+        if zon::MAGICS.iter().any(|m| bytes.starts_with(m)) {
+            return Some(Format::Zon);
         }
         if bytes.starts_with(os3d::MAGIC) {
             return Some(Format::Os3d);

@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -81,6 +81,7 @@ pub mod wsxm;
 pub mod x3p;
 pub mod xz;
 pub mod zmg;
+pub mod zon;
 
 use std::path::Path;
 
@@ -209,7 +210,8 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
         | Format::Mat
         | Format::Npz
         | Format::Vk
-        | Format::Plux => Some(decoded_bytes(&read_bytes(path)?, format)),
+        | Format::Plux
+        | Format::Zon => Some(decoded_bytes(&read_bytes(path)?, format)),
         _ => None,
     };
     estimate_from(size, decoded).map_err(|e| e.at(path, format.info().name))
@@ -228,7 +230,8 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
         | Format::Mat
         | Format::Npz
         | Format::Vk
-        | Format::Plux => Some(decoded_bytes(bytes, format)),
+        | Format::Plux
+        | Format::Zon => Some(decoded_bytes(bytes, format)),
         _ => None,
     };
     estimate_from(bytes.len() as u64, decoded)
@@ -253,6 +256,7 @@ fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
         Format::Npz => npz::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
         Format::Vk => vk::declared_points(bytes).map(pixel_bytes),
         Format::Plux => plux::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
+        Format::Zon => zon::declared_points(bytes).map(pixel_bytes),
         _ => mitutoyo::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
     }
 }
@@ -330,6 +334,7 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Os3d => os3d::metadata,
         Format::Zmg => zmg::metadata,
         Format::Plux => plux::metadata,
+        Format::Zon => zon::metadata,
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
@@ -463,6 +468,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Os3d
         | Format::Zmg
         | Format::Plux
+        | Format::Zon
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
@@ -529,6 +535,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Os3d => os3d::read_height(bytes)?,
         Format::Zmg => zmg::read_height(bytes)?,
         Format::Plux => plux::read_channel(bytes, choice)?,
+        Format::Zon => zon::read_height(bytes)?,
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,

@@ -386,6 +386,31 @@ check("sensofar.plux: the layers as ST's channels, the device as metadata",
       and ours["instrument"].get("Device") == reader.channels[0].info["instrument"]["name"],
       str([c["name"] for c in ours["channels"]]))
 
+# Keyence ZON: built to ST's ZON.py layout (no public instrument file), plain
+# (KPK0) and with Zstandard members (KPK1, compressed by the zstandard package).
+import zstandard  # noqa: E402
+
+zon_counts = mat_rng.integers(-50000, 50000, (20, 28)).astype("<i4")
+zon_valid = np.zeros((20, 28), "u1")
+zon_valid[4, 2:9] = 3
+pad = lambda a, width: np.hstack([a, np.zeros((a.shape[0], width - a.shape[1]), a.dtype)])  # noqa: E731
+zon_members = {
+    "686613b8-27b5-4a29-8ffc-438c2780873e": b"<C><XYCalibration><MeterPerPixel>2.5e-6</MeterPerPixel></XYCalibration>"
+                                            b"<ZCalibration><MeterPerUnit>1e-8</MeterPerUnit></ZCalibration></C>",
+    "cbc1d39b-215f-4d56-a20e-cf8e5f570755": b"<D><DeviceModelName>VR-6000</DeviceModelName>"
+                                            b"<DeviceSerialId>1234</DeviceSerialId></D>",
+    "1d35862b-3b48-4df2-9235-833ef590b043": b"<S><ScanDateTime>2026-11-28T19:55:00</ScanDateTime></S>",
+    "4cdb0c75-5706-48cc-a9a1-adf395d609ae": struct.pack("<4i", 28, 20, 4, 4 * 30) + pad(zon_counts, 30).tobytes(),
+    "9e7ca6dd-0e6a-4d7b-8986-f0a7b773c916": struct.pack("<4i", 28, 20, 1, 32) + pad(zon_valid, 32).tobytes(),
+}
+for magic in [b"KPK0", b"KPK1"]:
+    zon = WORK / f"keyence-{magic.decode()}.zon"
+    zon.write_bytes(magic + struct.pack("<I", 3) + b"BMP")
+    with zipfile.ZipFile(zon, "a") as z:
+        for name, data in zon_members.items():
+            z.writestr(name, zstandard.ZstdCompressor().compress(data) if magic == b"KPK1" else data)
+    compare(zon, f"{zon.name} (Keyence ZON, built to ST's layout, 7 invalid points)")
+
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
