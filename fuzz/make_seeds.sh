@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,zon,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,zon,lext,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -196,6 +196,25 @@ try:
     open(f"{s}/zon/z3x2-zstd.zon", "wb").write(zon(b"KPK1", zstandard.ZstdCompressor().compress))
 except ImportError:
     pass
+# Olympus LEXT: the HEIGHT page (3 × 2 u32), the measurement page and its EXIF directory
+measure = ("<TiffTagDescData><HeightInfo><HeightDataPerPixelX>125000</HeightDataPerPixelX>"
+    "<HeightDataPerPixelY>125000</HeightDataPerPixelY><HeightDataPerPixelZ>1000</HeightDataPerPixelZ>"
+    "<HeightDataUnitX>0</HeightDataUnitX><HeightDataUnitY>0</HeightDataUnitY>"
+    "<HeightDataUnitZ>0</HeightDataUnitZ></HeightInfo></TiffTagDescData>\0").encode()
+settings = ("<ExifTagDescData><ImageCommonSettingsInfo><MakerCalibrationValueX>4</MakerCalibrationValueX>"
+    "<MakerCalibrationValueY>2</MakerCalibrationValueY><MakerCalibrationValueZ>1</MakerCalibrationValueZ>"
+    "</ImageCommonSettingsInfo></ExifTagDescData>\0").encode()
+lx = bytearray(b"II*\0" + struct.pack("<I", 8))
+entry = lambda tag, kind, count, value: struct.pack("<HHII", tag, kind, count, value)
+page1, height_txt = 8 + 90, 8 + 90 + 30
+pixels, measure_at = height_txt + 7, height_txt + 7 + 24
+exif = measure_at + len(measure)
+lx += struct.pack("<H", 7) + entry(256, 4, 1, 3) + entry(257, 4, 1, 2) + entry(258, 3, 1, 32) + entry(270, 2, 7, height_txt)
+lx += entry(273, 4, 1, pixels) + entry(277, 3, 1, 1) + entry(279, 4, 1, 24) + struct.pack("<I", page1)
+lx += struct.pack("<H", 2) + entry(270, 2, len(measure), measure_at) + entry(34665, 4, 1, exif) + struct.pack("<I", 0)
+lx += b"HEIGHT\0" + struct.pack("<6I", 0, 1, 2, 3, 4, 5) + measure
+lx += struct.pack("<H", 1) + entry(41995, 2, len(settings), exif + 18) + struct.pack("<I", 0) + settings
+open(f"{s}/lext/l3x2.lext", "wb").write(bytes(lx))
 open(f"{s}/hgt/t3.hgt", "wb").write(struct.pack(">9h", 100, -5, -32768, 8848, 0, 1, 2, 3, 4))
 open(f"{s}/hfm/h3.hfm", "wb").write(b"X;Y;valid\r\n[mm];[um];[1/0]\r\n1.0;5;1\r\n1.5;6;0\r\n2.0;7;1\r\n")
 open(f"{s}/dektak/d3.csv", "wb").write(b"Scan Parameters\r\nLength,1.0 um\r\n\r\nScan Data\r\nLateral um,Raw Micrometer,\r\n"

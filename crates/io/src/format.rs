@@ -98,6 +98,8 @@ pub enum Format {
     Plux,
     /// Keyence ZON containers.
     Zon,
+    /// Olympus LEXT confocal microscope data.
+    Lext,
     /// Digital Surf MountainsMap documents.
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
@@ -497,6 +499,15 @@ pub const FORMATS: &[FormatInfo] = &[
         points: No,
         height: R,
         notes: "KPK0 and KPK1 (Zstandard members): int32 counts × metres per unit, metres per pixel from the calibration, points the validity mask marks read as missing; device, serial and date kept as metadata",
+    },
+    FormatInfo {
+        format: Format::Lext,
+        name: "Olympus LEXT (.lext)",
+        extensions: &["lext"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the TIFF's HEIGHT page (uncompressed) × 1e-12 × per-pixel Z × calibration Z in µm, pixel sizes from the measurement XML and the EXIF calibration; the measurement's HeightInfo kept as metadata",
     },
     FormatInfo {
         format: Format::Opdx,

@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -46,6 +46,7 @@ pub mod gwy;
 pub mod h5;
 pub mod hgt;
 pub mod ibw;
+pub mod lext;
 pub mod mat;
 pub mod mdt;
 pub mod metadata;
@@ -73,6 +74,7 @@ pub mod staging;
 pub mod stl;
 pub mod sur;
 pub mod text;
+mod tiff_dir;
 pub mod tmd;
 pub mod up;
 pub mod vk;
@@ -335,6 +337,7 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Zmg => zmg::metadata,
         Format::Plux => plux::metadata,
         Format::Zon => zon::metadata,
+        Format::Lext => lext::metadata,
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
@@ -469,6 +472,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Zmg
         | Format::Plux
         | Format::Zon
+        | Format::Lext
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
@@ -536,6 +540,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Zmg => zmg::read_height(bytes)?,
         Format::Plux => plux::read_channel(bytes, choice)?,
         Format::Zon => zon::read_height(bytes)?,
+        Format::Lext => lext::read_height(bytes)?,
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,

@@ -411,6 +411,62 @@ for magic in [b"KPK0", b"KPK1"]:
             z.writestr(name, zstandard.ZstdCompressor().compress(data) if magic == b"KPK1" else data)
     compare(zon, f"{zon.name} (Keyence ZON, built to ST's layout, 7 invalid points)")
 
+# Olympus LEXT: a TIFF built to ST's LEXT.py layout (no public instrument file):
+# a HEIGHT page of u32 counts, a measurement page (its own 8-bit image) with
+# the HeightInfo XML and an EXIF directory holding the calibration XML.
+
+
+def tiff_bytes(pages):
+    """A little-endian TIFF; each page a list of (tag, type, payload bytes,
+    count); the payloads are placed after all directories."""
+    type_size = {1: 1, 2: 1, 3: 2, 4: 4, 7: 1}
+    out, blobs, fixups = bytearray(b"II*\0" + struct.pack("<I", 8)), bytearray(), []
+    heads = []
+    at = 8
+    for page in pages:
+        heads.append(at)
+        at += 2 + 12 * len(page) + 4
+    blob_base = at
+    for k, page in enumerate(pages):
+        out += struct.pack("<H", len(page))
+        for tag, kind, payload, count in sorted(page, key=lambda e: e[0]):
+            if callable(payload):  # an offset to a directory, known now
+                payload = struct.pack("<I", payload(heads))
+            if len(payload) <= 4:
+                out += struct.pack("<HHI", tag, kind, count) + payload.ljust(4, b"\0")
+            else:
+                out += struct.pack("<HHII", tag, kind, count, blob_base + len(blobs))
+                blobs += payload + b"\0" * (len(payload) % 2)
+        out += struct.pack("<I", heads[k + 1] if k + 1 < len(pages) and k + 1 < len(pages) - 1 else 0)
+    return bytes(out + blobs)
+
+
+def lext_bytes(counts):
+    ny, nx = counts.shape
+    measure = (b"<TiffTagDescData><HeightInfo><HeightDataPerPixelX>125000</HeightDataPerPixelX>"
+               b"<HeightDataPerPixelY>125000</HeightDataPerPixelY><HeightDataPerPixelZ>1000</HeightDataPerPixelZ>"
+               b"<HeightDataUnitX>0</HeightDataUnitX><HeightDataUnitY>0</HeightDataUnitY>"
+               b"<HeightDataUnitZ>0</HeightDataUnitZ></HeightInfo></TiffTagDescData>\0")
+    settings = (b"<ExifTagDescData><ImageCommonSettingsInfo><MakerCalibrationValueX>4</MakerCalibrationValueX>"
+                b"<MakerCalibrationValueY>4</MakerCalibrationValueY><MakerCalibrationValueZ>1</MakerCalibrationValueZ>"
+                b"</ImageCommonSettingsInfo></ExifTagDescData>\0")
+    image = lambda data, bits, desc: [  # noqa: E731
+        (256, 4, struct.pack("<I", nx), 1), (257, 4, struct.pack("<I", ny), 1), (258, 3, struct.pack("<H", bits), 1),
+        (259, 3, struct.pack("<H", 1), 1), (262, 3, struct.pack("<H", 1), 1), (270, 2, desc, len(desc)),
+        (273, 4, data, 1), (277, 3, struct.pack("<H", 1), 1), (278, 4, struct.pack("<I", ny), 1),
+        (279, 4, struct.pack("<I", len(data)), 1)]
+    height = image(counts.astype("<u4").tobytes(), 32, b"HEIGHT\0")
+    colour = image(np.zeros((ny, nx), "u1").tobytes(), 8, measure) + [(34665, 4, lambda heads: heads[2], 1)]
+    exif = [(41995, 2, settings, len(settings))]
+    # Raster payloads sit among the blobs: their entries (273) get the blob
+    # offset, which is where the bytes go.
+    return tiff_bytes([height, colour, exif])
+
+
+lext = WORK / "olympus.lext"
+lext.write_bytes(lext_bytes(mat_rng.integers(0, 2**20, (20, 28))))
+compare(lext, "olympus.lext (Olympus LEXT, built to ST's layout)")
+
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
