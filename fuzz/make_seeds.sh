@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,zon,lext,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,zon,lext,jpk,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -27,6 +27,10 @@ if python3 -c "import scipy.io" 2>/dev/null; then
 v = {'z': np.arange(12.0).reshape(3, 4), 'n': np.arange(6, dtype=np.int16).reshape(2, 3), 's': 'text', 'c': np.ones((2, 2)) * (1 + 1j)}
 scipy.io.savemat(sys.argv[1] + '/plain.mat', v)
 scipy.io.savemat(sys.argv[1] + '/compressed.mat', v, do_compression=True)" "$S/mat"
+fi
+# JPK image scans (TIFF pages with JPK's private tags), where numpy is installed.
+if python3 -c "import numpy" 2>/dev/null; then
+  python3 fuzz/jpk_seed.py "$S/jpk" && cp "$S/jpk/r0.jpk" crates/io/tests/data/small.jpk
 fi
 python3 -c "import sys, numpy as np
 np.savez(sys.argv[1] + '/savez.npz', z=np.arange(12.0).reshape(3, 4), v=np.arange(3))

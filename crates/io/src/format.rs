@@ -100,6 +100,8 @@ pub enum Format {
     Zon,
     /// Olympus LEXT confocal microscope data.
     Lext,
+    /// JPK Instruments AFM image scans.
+    Jpk,
     /// Digital Surf MountainsMap documents.
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
@@ -510,6 +512,15 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "the TIFF's HEIGHT page (uncompressed) × 1e-12 × per-pixel Z × calibration Z in µm, pixel sizes from the measurement XML and the EXIF calibration; the measurement's HeightInfo kept as metadata",
     },
     FormatInfo {
+        format: Format::Jpk,
+        name: "JPK image scan (.jpk)",
+        extensions: &["jpk"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the TIFF pages whose default slot is a length, as channels by their names (retrace marked): raw × ScalingMultiply + ScalingOffset, grid lengths from the first page, lines from the last unless reflected",
+    },
+    FormatInfo {
         format: Format::Opdx,
         name: "Bruker Dektak OPDx (.opdx)",
         extensions: &["opdx"],
@@ -740,6 +751,7 @@ impl Format {
                 | Format::Vk
                 | Format::Mdt
                 | Format::Plux
+                | Format::Jpk
         )
     }
 

@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`], [`jpk`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -46,6 +46,7 @@ pub mod gwy;
 pub mod h5;
 pub mod hgt;
 pub mod ibw;
+pub mod jpk;
 pub mod lext;
 pub mod mat;
 pub mod mdt;
@@ -369,6 +370,7 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::Vk => vk::channels(&bytes),
         Format::Mdt => mdt::channels(&bytes),
         Format::Plux => plux::channels(&bytes),
+        Format::Jpk => jpk::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -473,6 +475,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Plux
         | Format::Zon
         | Format::Lext
+        | Format::Jpk
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
@@ -541,6 +544,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Plux => plux::read_channel(bytes, choice)?,
         Format::Zon => zon::read_height(bytes)?,
         Format::Lext => lext::read_height(bytes)?,
+        Format::Jpk => jpk::read_channel(bytes, choice)?,
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,

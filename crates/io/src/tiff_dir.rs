@@ -119,6 +119,21 @@ impl<'a> Tiff<'a> {
             _ => None,
         }
     }
+
+    /// The first number of an integer or floating-point entry, as f64.
+    pub(crate) fn real(&self, e: &Entry<'_>) -> Option<f64> {
+        match (e.kind, e.value.len()) {
+            (12, 8..) => {
+                let mut a: [u8; 8] = e.value[..8].try_into().expect("8 bytes");
+                if !self.little {
+                    a.reverse();
+                }
+                Some(f64::from_le_bytes(a))
+            }
+            (11, 4..) => Some(f64::from(f32::from_bits(self.u32(e.value)))),
+            _ => self.number(e).map(f64::from),
+        }
+    }
 }
 
 /// The text of an ASCII or UNDEFINED entry (Latin-1, up to its first NUL).
