@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,zon,lext,jpk,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,zon,lext,jpk,qep,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -219,6 +219,18 @@ lx += struct.pack("<H", 2) + entry(270, 2, len(measure), measure_at) + entry(346
 lx += b"HEIGHT\0" + struct.pack("<6I", 0, 1, 2, 3, 4, 5) + measure
 lx += struct.pack("<H", 1) + entry(41995, 2, len(settings), exif + 18) + struct.pack("<I", 0) + settings
 open(f"{s}/lext/l3x2.lext", "wb").write(bytes(lx))
+# Mahr MarWin QEP: a uniform measured profile with an invalid point, a non-uniform reference
+def prf(x, z, flags):  # a MarWin [p3dlin] member
+    head = bytearray(0xC4)
+    head[:8] = b"[p3dlin]"
+    struct.pack_into("<i", head, 0x14, len(x))
+    note = b">MachineName=MarSurf"
+    n = len(x)
+    return (bytes(head) + struct.pack("<ii", 1, len(note)) + note + b"[sellsg]" + b"[Trajec]" + bytes(41)
+            + struct.pack(f"<{n}d", *x) + bytes(8 * n) + struct.pack(f"<{n}d", *z) + struct.pack(f"<{n}f", *flags))
+with zipfile.ZipFile(f"{s}/qep/q3.qep", "w") as zf:
+    zf.writestr("Kontur1.prf", prf([0.0, 0.5, 1.0], [1.0, 2.0, 3.0], [0.0, 1.0, 0.0]))
+    zf.writestr("qe_contour_reference_profil_001.tmp", prf([0.0, 0.5, 2.0], [0.0] * 3, [0.0] * 3))
 open(f"{s}/hgt/t3.hgt", "wb").write(struct.pack(">9h", 100, -5, -32768, 8848, 0, 1, 2, 3, 4))
 open(f"{s}/hfm/h3.hfm", "wb").write(b"X;Y;valid\r\n[mm];[um];[1/0]\r\n1.0;5;1\r\n1.5;6;0\r\n2.0;7;1\r\n")
 open(f"{s}/dektak/d3.csv", "wb").write(b"Scan Parameters\r\nLength,1.0 um\r\n\r\nScan Data\r\nLateral um,Raw Micrometer,\r\n"

@@ -102,6 +102,8 @@ pub enum Format {
     Lext,
     /// JPK Instruments AFM image scans.
     Jpk,
+    /// Mahr MarWin profile archives.
+    Qep,
     /// Digital Surf MountainsMap documents.
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
@@ -521,6 +523,15 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "the TIFF pages whose default slot is a length, as channels by their names (retrace marked): raw × ScalingMultiply + ScalingOffset, grid lengths from the first page, lines from the last unless reflected",
     },
     FormatInfo {
+        format: Format::Qep,
+        name: "Mahr MarWin QEP (.qep)",
+        extensions: &["qep"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the measured and reference [p3dlin] profiles as channels: a uniformly sampled profile in mm (one row), invalid points missing; non-uniform scans refused with their steps; the >Key=Value entries kept as metadata",
+    },
+    FormatInfo {
         format: Format::Opdx,
         name: "Bruker Dektak OPDx (.opdx)",
         extensions: &["opdx"],
@@ -752,6 +763,7 @@ impl Format {
                 | Format::Mdt
                 | Format::Plux
                 | Format::Jpk
+                | Format::Qep
         )
     }
 

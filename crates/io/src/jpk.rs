@@ -185,7 +185,11 @@ mod tests {
 
     #[test]
     fn length_channels_are_read_from_their_last_line() {
-        let names: Vec<String> = channels(SMALL).unwrap().into_iter().map(|c| c.name).collect();
+        let names: Vec<String> = channels(SMALL)
+            .unwrap()
+            .into_iter()
+            .map(|c| c.name)
+            .collect();
         assert_eq!(names, ["Height (measured)", "Height (measured, retrace)"]);
         let h = read_channel(SMALL, None).unwrap();
         assert_eq!(h.dims(), [3, 2]);

@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`], [`jpk`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`], [`jpk`], [`qep`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -69,6 +69,7 @@ pub mod plu;
 pub mod plux;
 pub mod ply;
 pub mod png_io;
+pub mod qep;
 mod raster;
 pub mod sdf;
 pub mod staging;
@@ -214,7 +215,8 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
         | Format::Npz
         | Format::Vk
         | Format::Plux
-        | Format::Zon => Some(decoded_bytes(&read_bytes(path)?, format)),
+        | Format::Zon
+        | Format::Qep => Some(decoded_bytes(&read_bytes(path)?, format)),
         _ => None,
     };
     estimate_from(size, decoded).map_err(|e| e.at(path, format.info().name))
@@ -234,7 +236,8 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
         | Format::Npz
         | Format::Vk
         | Format::Plux
-        | Format::Zon => Some(decoded_bytes(bytes, format)),
+        | Format::Zon
+        | Format::Qep => Some(decoded_bytes(bytes, format)),
         _ => None,
     };
     estimate_from(bytes.len() as u64, decoded)
@@ -260,6 +263,7 @@ fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
         Format::Vk => vk::declared_points(bytes).map(pixel_bytes),
         Format::Plux => plux::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
         Format::Zon => zon::declared_points(bytes).map(pixel_bytes),
+        Format::Qep => qep::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
         _ => mitutoyo::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
     }
 }
@@ -339,6 +343,7 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Plux => plux::metadata,
         Format::Zon => zon::metadata,
         Format::Lext => lext::metadata,
+        Format::Qep => qep::metadata,
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
@@ -371,6 +376,7 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::Mdt => mdt::channels(&bytes),
         Format::Plux => plux::channels(&bytes),
         Format::Jpk => jpk::channels(&bytes),
+        Format::Qep => qep::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -476,6 +482,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Zon
         | Format::Lext
         | Format::Jpk
+        | Format::Qep
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
@@ -545,6 +552,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Zon => zon::read_height(bytes)?,
         Format::Lext => lext::read_height(bytes)?,
         Format::Jpk => jpk::read_channel(bytes, choice)?,
+        Format::Qep => qep::read_channel(bytes, choice)?,
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,

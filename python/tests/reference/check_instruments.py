@@ -509,6 +509,40 @@ for reflect in [0, 1]:
     check(f"{jpk.name}: the length channels as ST's (retrace named)", [c["name"] for c in ours["channels"]]
           == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
 
+# Mahr MarWin QEP: a zip built to ST's QEP.py layout (no public instrument
+# file): a uniform measured profile with invalid points and a non-uniform
+# reference (refused by asperity, as every non-uniform line scan).
+
+
+def prf_bytes(x, z, flags, meta):
+    n = len(x)
+    head = bytearray(0xC4)
+    head[:8] = b"[p3dlin]"
+    struct.pack_into("<i", head, 0x14, n)
+    strings = struct.pack("<i", len(meta)) + b"".join(struct.pack("<i", len(t)) + t.encode("latin-1") for t in meta)
+    trajec = b"[sellsg]" + bytes(16) + b"[Trajec]" + bytes(41)
+    return (bytes(head) + strings + trajec + np.asarray(x, "<f8").tobytes() + np.zeros(n, "<f8").tobytes()
+            + np.asarray(z, "<f8").tobytes() + np.asarray(flags, "<f4").tobytes())
+
+
+qep = WORK / "mahr.qep"
+qep_x = np.arange(400) * 0.0025
+qep_flags = np.zeros(400)
+qep_flags[100:104] = 1
+meta = [">DateTime=2026-11-28 20:10:00", ">MachineName=MarSurf", ">ProbeRadius=0.002", "a note"]
+with zipfile.ZipFile(qep, "w") as z:
+    z.writestr("Kontur1.prf", prf_bytes(qep_x, np.cumsum(mat_rng.normal(size=400)) * 1e-4, qep_flags, meta))
+    z.writestr("qe_contour_reference_profil_001.tmp", prf_bytes(qep_x ** 1.1, np.zeros(400), np.zeros(400), meta))
+compare_profile(qep, "mahr.qep (MarWin QEP, built to ST's layout, 4 invalid points)")
+ours = json.loads(run(BIN, "--quiet", "--json", "info", qep))["measurements"]
+check("mahr.qep: the profiles as ST's channels, its >Key=Value entries as metadata",
+      [c["name"] for c in ours["channels"]] == [c.name for c in open_topography(str(qep)).channels]
+      and ours["instrument"].get("MachineName") == "MarSurf", str(ours.get("instrument")))
+t = open_topography(str(qep)).topography(channel_index=1)
+p = run(BIN, "--quiet", "--channel", "reference", "info", qep, check=False)
+check("mahr.qep --channel reference: non-uniform for ST, refused by asperity as non-uniformly sampled",
+      not t.is_uniform and p.returncode != 0 and "non-uniformly sampled" in p.stderr, p.stderr.strip())
+
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
