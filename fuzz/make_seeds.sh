@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,zon,lext,jpk,qep,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,zmg,plux,zon,lext,jpk,qep,nmm,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -231,6 +231,16 @@ def prf(x, z, flags):  # a MarWin [p3dlin] member
 with zipfile.ZipFile(f"{s}/qep/q3.qep", "w") as zf:
     zf.writestr("Kontur1.prf", prf([0.0, 0.5, 1.0], [1.0, 2.0, 3.0], [0.0, 1.0, 0.0]))
     zf.writestr("qe_contour_reference_profil_001.tmp", prf([0.0, 0.5, 2.0], [0.0] * 3, [0.0] * 3))
+# SIOS NMM: a zip of the scan description and two lines
+dashes = "------------------------------------------\n"
+with zipfile.ZipFile(f"{s}/nmm/n3x2.zip", "w") as z:  # one scan, 2 lines × 3 points, µm field
+    z.writestr("s.dsc", f"{dashes}Scan procedure description file\nCreation time : 2026-11-28\n{dashes}"
+               "1 Scan field\nNumber of scans : 1\nNumber of lines : 2\nScan line length : 1 [µm]\n"
+               "Scan field width : 0.5 [µm]\nDistance beetween points : 0.5 [µm]\n"
+               f"Distance beetween lines : 0.5 [µm]\n{dashes}")
+    for i in (1, 2):
+        z.writestr(f"s_1_{i}.dsc", "head\n0 : d : Lx : 3 : x\n1 : d : -Lz+Az : 3 : z\n")
+        z.writestr(f"s_1_{i}.dat", "".join(f"{k * 5e-7} {(k + 3 * i) * 1e-9}\n" for k in range(3)))
 open(f"{s}/hgt/t3.hgt", "wb").write(struct.pack(">9h", 100, -5, -32768, 8848, 0, 1, 2, 3, 4))
 open(f"{s}/hfm/h3.hfm", "wb").write(b"X;Y;valid\r\n[mm];[um];[1/0]\r\n1.0;5;1\r\n1.5;6;0\r\n2.0;7;1\r\n")
 open(f"{s}/dektak/d3.csv", "wb").write(b"Scan Parameters\r\nLength,1.0 um\r\n\r\nScan Data\r\nLateral um,Raw Micrometer,\r\n"

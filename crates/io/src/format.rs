@@ -104,6 +104,8 @@ pub enum Format {
     Jpk,
     /// Mahr MarWin profile archives.
     Qep,
+    /// SIOS nanomeasuring machine scans, zipped.
+    Nmm,
     /// Digital Surf MountainsMap documents.
     Mnt,
     /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
@@ -532,6 +534,15 @@ pub const FORMATS: &[FormatInfo] = &[
         notes: "the measured and reference [p3dlin] profiles as channels: a uniformly sampled profile in mm (one row), invalid points missing; non-uniform scans refused with their steps; the >Key=Value entries kept as metadata",
     },
     FormatInfo {
+        format: Format::Nmm,
+        name: "SIOS nanomeasuring machine (.zip of .dsc/.dat)",
+        extensions: &["zip"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the scan procedure description's field (points, lines, spacing, unit) and each line's -Lz+Az column (m, brought to the field's unit); every scan a channel; the description's keys kept as metadata",
+    },
+    FormatInfo {
         format: Format::Opdx,
         name: "Bruker Dektak OPDx (.opdx)",
         extensions: &["opdx"],
@@ -764,6 +775,7 @@ impl Format {
                 | Format::Plux
                 | Format::Jpk
                 | Format::Qep
+                | Format::Nmm
         )
     }
 

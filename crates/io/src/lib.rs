@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`], [`jpk`], [`qep`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`], [`jpk`], [`qep`], [`nmm`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -57,6 +57,7 @@ pub mod mitutoyo;
 pub mod mnt;
 pub mod nc;
 pub mod nid;
+pub mod nmm;
 pub mod nms;
 pub mod npy;
 pub mod npz;
@@ -216,7 +217,8 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
         | Format::Vk
         | Format::Plux
         | Format::Zon
-        | Format::Qep => Some(decoded_bytes(&read_bytes(path)?, format)),
+        | Format::Qep
+        | Format::Nmm => Some(decoded_bytes(&read_bytes(path)?, format)),
         _ => None,
     };
     estimate_from(size, decoded).map_err(|e| e.at(path, format.info().name))
@@ -237,7 +239,8 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
         | Format::Vk
         | Format::Plux
         | Format::Zon
-        | Format::Qep => Some(decoded_bytes(bytes, format)),
+        | Format::Qep
+        | Format::Nmm => Some(decoded_bytes(bytes, format)),
         _ => None,
     };
     estimate_from(bytes.len() as u64, decoded)
@@ -263,7 +266,7 @@ fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
         Format::Vk => vk::declared_points(bytes).map(pixel_bytes),
         Format::Plux => plux::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
         Format::Zon => zon::declared_points(bytes).map(pixel_bytes),
-        Format::Qep => qep::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
+        Format::Qep | Format::Nmm => plux::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
         _ => mitutoyo::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
     }
 }
@@ -344,6 +347,7 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Zon => zon::metadata,
         Format::Lext => lext::metadata,
         Format::Qep => qep::metadata,
+        Format::Nmm => nmm::metadata,
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
@@ -377,6 +381,7 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::Plux => plux::channels(&bytes),
         Format::Jpk => jpk::channels(&bytes),
         Format::Qep => qep::channels(&bytes),
+        Format::Nmm => nmm::channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -483,6 +488,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Lext
         | Format::Jpk
         | Format::Qep
+        | Format::Nmm
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
@@ -553,6 +559,7 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Lext => lext::read_height(bytes)?,
         Format::Jpk => jpk::read_channel(bytes, choice)?,
         Format::Qep => qep::read_channel(bytes, choice)?,
+        Format::Nmm => nmm::read_channel(bytes, choice)?,
         Format::Opdx => opdx::read_height(bytes)?,
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,

@@ -162,11 +162,6 @@ pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
     Ok(infos(&open(bytes)?.1))
 }
 
-/// The bytes the archive's members declare (the memory estimate).
-pub(crate) fn declared_bytes(bytes: &[u8]) -> FResult<u128> {
-    crate::plux::declared_bytes(bytes)
-}
-
 /// Reads the profile `choice` names (default the measured one).
 pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
     let (mut zip, present) = open(bytes)?;

@@ -543,6 +543,44 @@ p = run(BIN, "--quiet", "--channel", "reference", "info", qep, check=False)
 check("mahr.qep --channel reference: non-uniform for ST, refused by asperity as non-uniformly sampled",
       not t.is_uniform and p.returncode != 0 and "non-uniformly sampled" in p.stderr, p.stderr.strip())
 
+# SIOS NMM: a zip built to ST's NMM.py layout (no public instrument file):
+# two scans of 6 lines × 11 points, µm field, heights (-Lz+Az) in m.
+
+
+def nmm_bytes(scans):
+    dashes = "------------------------------------------"
+    nlines, npts = scans[0].shape
+    dsc = (f"{dashes}\nScan procedure description file\nCreation time : 2026-11-28T20:15:00\n"
+           f"Operator : asperity\n{dashes}\n1 Scan field\nNumber of scans : {len(scans)}\n"
+           f"Number of lines : {nlines}\nScan line length : 5 [µm]\nScan field width : 2.5 [µm]\n"
+           f"Distance beetween points : 0.5 [µm]\nDistance beetween lines : 0.5 [µm]\n{dashes}\n")
+    cols = ["Lx", "Ly", "Lz", "Az", "-Lz+Az"]
+    out = WORK / "nmm-tmp.zip"
+    with zipfile.ZipFile(out, "w") as z:
+        z.writestr("scan.dsc", dsc)
+        for s_, heights in enumerate(scans):
+            for i, row in enumerate(heights):
+                stem = f"scan_{s_ + 1}_{i + 1}"
+                z.writestr(stem + ".dsc", "header\n" + "".join(
+                    f"{k} : 2026-11-28 : {c} : {npts} : column {c}\n" for k, c in enumerate(cols)))
+                table = np.column_stack([np.arange(npts) * 5e-7, np.full(npts, i * 5e-7), row * 0.5, row * 0.5, row])
+                z.writestr(stem + ".dat", "\n".join(" ".join(repr(float(v)) for v in r) for r in table) + "\n")
+    return out.read_bytes()
+
+
+nmm = WORK / "sios-nmm.zip"
+nmm.write_bytes(nmm_bytes([mat_rng.normal(size=(6, 11)) * 1e-8, mat_rng.normal(size=(6, 11)) * 1e-8]))
+compare(nmm, "sios-nmm.zip (SIOS NMM, built to ST's layout, 11 × 6 in µm)")
+reader = open_topography(str(nmm))
+ours = json.loads(run(BIN, "--quiet", "--json", "info", nmm))["measurements"]
+check("sios-nmm.zip: the scans as ST's channels", [c["name"] for c in ours["channels"]]
+      == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+out = WORK / "sios-nmm-2.npy"
+run(BIN, "--quiet", "--channel", "Scan 2", "convert", nmm, out)
+t = reader.topography(channel_index=1)
+check("sios-nmm.zip --channel 'Scan 2': heights as ST's, in metres",
+      close(np.load(out) * 1e-6, np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
+
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
