@@ -68,90 +68,89 @@ fn unit_of(u: &str) -> Option<LengthUnit> {
     }
 }
 
-fn scan(zip: &mut Archive<'_>) -> FResult<Scan> {
-    // The shortest stem among the files whose name starts with neither `.`
-    // nor `_` (macOS and editor debris), as SurfaceTopography picks it.
-    let prefix = zip
-        .file_names()
+/// The shortest stem among the files whose name starts with neither `.`
+/// nor `_` (macOS and editor debris), as SurfaceTopography picks it.
+fn prefix(zip: &Archive<'_>) -> FResult<String> {
+    zip.file_names()
         .filter_map(Result::ok)
         .filter(|n| !n.rsplit('/').next().unwrap_or("").starts_with(['.', '_']))
         .filter_map(|n| n.split_once('.').map(|(stem, _)| stem.to_owned()))
         .min_by_key(String::len)
-        .ok_or_else(|| FormatError::Malformed("no member with a file stem".into()))?;
-    if zip.index_for_name(&format!("{prefix}.dsc")).is_none() {
-        return malformed(format!(
-            "no scan procedure description {prefix}.dsc: asperity reads a .zip as SIOS NMM scans"
-        ));
-    }
-    let dsc = text(zip, &format!("{prefix}.dsc"))?;
+        .ok_or_else(|| FormatError::Malformed("no member with a file stem".into()))
+}
+
+/// The description's top-level `key : value` pairs and its `Scan field`
+/// section's.
+fn description(dsc: &str, name: &str) -> FResult<(Metadata, Metadata)> {
     let mut lines = dsc.lines().map(str::trim);
     if lines.next() != Some(DASHES) || lines.next() != Some("Scan procedure description file") {
-        return malformed(format!("{prefix}.dsc is no NMM scan procedure description"));
+        return malformed(format!("{name} is no NMM scan procedure description"));
     }
-    let mut meta = Vec::new();
-    let mut field = Vec::new();
-    let mut section = String::new();
-    let mut header = true;
-    for line in lines {
+    let (mut meta, mut field) = (Vec::new(), Vec::new());
+    let mut section: Option<String> = None; // None: still the top level
+    for line in lines.filter(|l| !l.is_empty()) {
         if line == DASHES {
-            header = false;
-            section.clear();
+            section = Some(String::new());
             continue;
         }
-        if line.is_empty() {
-            continue;
-        }
-        match line.split_once(':') {
-            Some((k, v)) if header || section == "Scan field" => {
-                let entry = (k.trim().to_owned(), v.trim().to_owned());
-                if header {
-                    meta.push(entry)
-                } else {
-                    field.push(entry)
-                }
+        match (line.split_once(':'), &section) {
+            (Some((k, v)), None) => meta.push((k.trim().to_owned(), v.trim().to_owned())),
+            (Some((k, v)), Some(s)) if s == "Scan field" => {
+                field.push((k.trim().to_owned(), v.trim().to_owned()));
             }
-            Some(_) => {}
-            None if !header => {
-                section = line
-                    .split_once(' ')
-                    .map_or("", |(_, name)| name)
-                    .trim()
-                    .to_owned();
+            (None, Some(_)) => {
+                let title = line.split_once(' ').map_or("", |(_, t)| t);
+                section = Some(title.trim().to_owned());
             }
-            None => {}
+            _ => {}
         }
     }
-    let get = |k: &str| -> FResult<&str> {
-        field
-            .iter()
-            .find(|(key, _)| key == k)
-            .map(|(_, v)| v.as_str())
-            .ok_or_else(|| FormatError::Malformed(format!("the Scan field section has no {k:?}")))
-    };
-    let count = |k: &str| -> FResult<usize> {
-        get(k)?
-            .parse()
-            .map_err(|_| FormatError::Malformed(format!("{k}: {:?} is no count", get(k))))
-    };
-    let length = |k: &str| -> FResult<(f64, String)> {
-        let v = get(k)?;
-        let (n, u) = v.split_once(' ').unwrap_or((v, ""));
-        let n: f64 = n
-            .parse()
-            .map_err(|_| FormatError::Malformed(format!("{k}: {v:?}")))?;
-        Ok((
-            n,
-            u.trim()
-                .trim_start_matches('[')
-                .trim_end_matches(']')
-                .to_owned(),
-        ))
-    };
-    let (scans, ny) = (count("Number of scans")?, count("Number of lines")?);
-    let (lx, ux) = length("Scan line length")?;
-    let (ly, uy) = length("Scan field width")?;
-    let (dx, udx) = length("Distance beetween points")?;
-    let (dy, udy) = length("Distance beetween lines")?;
+    Ok((meta, field))
+}
+
+/// A `Scan field` count.
+fn count(field: &Metadata, k: &str) -> FResult<usize> {
+    let v = field_value(field, k)?;
+    v.parse()
+        .map_err(|_| FormatError::Malformed(format!("{k}: {v:?} is no count")))
+}
+
+/// A `Scan field` length, `value [unit]`.
+fn length(field: &Metadata, k: &str) -> FResult<(f64, String)> {
+    let v = field_value(field, k)?;
+    let (n, u) = v.split_once(' ').unwrap_or((v, ""));
+    let n: f64 = n
+        .parse()
+        .map_err(|_| FormatError::Malformed(format!("{k}: {v:?}")))?;
+    let unit = u.trim().trim_start_matches('[').trim_end_matches(']');
+    Ok((n, unit.to_owned()))
+}
+
+fn field_value<'f>(field: &'f Metadata, k: &str) -> FResult<&'f str> {
+    field
+        .iter()
+        .find(|(key, _)| key == k)
+        .map(|(_, v)| v.as_str())
+        .ok_or_else(|| FormatError::Malformed(format!("the Scan field section has no {k:?}")))
+}
+
+fn scan(zip: &mut Archive<'_>) -> FResult<Scan> {
+    let prefix = prefix(zip)?;
+    let name = format!("{prefix}.dsc");
+    if zip.index_for_name(&name).is_none() {
+        return malformed(format!(
+            "no scan procedure description {name}: asperity reads a .zip as SIOS NMM scans"
+        ));
+    }
+    let (meta, field) = description(&text(zip, &name)?, &name)?;
+    let (scans, ny) = (
+        count(&field, "Number of scans")?,
+        count(&field, "Number of lines")?,
+    );
+    let (lx, ux) = length(&field, "Scan line length")?;
+    let (ly, uy) = length(&field, "Scan field width")?;
+    let (dx, udx) = length(&field, "Distance beetween points")?;
+    let (dy, udy) = length(&field, "Distance beetween lines")?;
     if [&uy, &udx, &udy].iter().any(|u| **u != ux) {
         return malformed(format!(
             "lengths in several units ({ux}, {uy}, {udx}, {udy})"
@@ -159,14 +158,21 @@ fn scan(zip: &mut Archive<'_>) -> FResult<Scan> {
     }
     let unit = unit_of(&ux)
         .ok_or_else(|| FormatError::Malformed(format!("the unit {ux:?} is no length")))?;
-    if !(lx > 0.0 && dx > 0.0 && dy > 0.0 && scans > 0 && ny > 1) {
+    let intervals = lx / dx;
+    if !(lx > 0.0
+        && dx > 0.0
+        && dy > 0.0
+        && intervals < 1e9
+        && (1..=1 << 20).contains(&scans)
+        && ny > 1)
+    {
         return malformed(format!(
-            "a scan field of {lx} × {ly} {ux}, steps {dx} and {dy}, {ny} lines"
+            "a scan field of {lx} × {ly} {ux}, steps {dx} and {dy}, {ny} lines, {scans} scans"
         ));
     }
-    let intervals = (lx / dx) as usize;
-    let uniform = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-6;
-    if !uniform(intervals as f64 * dx, lx) || !uniform((ny - 1) as f64 * dy, ly) {
+    let intervals = intervals as usize;
+    let even = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-6;
+    if !even(intervals as f64 * dx, lx) || !even((ny - 1) as f64 * dy, ly) {
         return malformed("the points do not divide the scan field evenly");
     }
     Ok(Scan {
