@@ -25,7 +25,7 @@
 //! Written here rather than with the `matfile` crate (alpha, it prints its
 //! errors to stderr and inflates compressed elements without bound): every
 //! inflation here is bounded by the size the element's own header declares,
-//! and the memory estimate ([`declared_points`]) counts every array's
+//! and the memory estimate (`declared_points`) counts every array's
 //! declared points before any data are read.
 
 use std::io::Read;

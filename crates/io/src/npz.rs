@@ -10,7 +10,7 @@
 //! No sizes or units are stored: the step is 1 and the numbers unitless.
 //!
 //! Every member is inflated to at most the size the archive's directory
-//! declares for it, and the memory estimate ([`declared_bytes`]) counts those
+//! declares for it, and the memory estimate (`declared_bytes`) counts those
 //! sizes before anything is inflated.
 
 use std::io::{Cursor, Read};
