@@ -336,12 +336,12 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             v.name
         ));
     };
-    let n = nx * ny;
-    if part.len() < n * size {
+    let n = nx * ny; // a channel's points do not overflow (`is_channel`)
+    if part.len() / size < n {
         return malformed(format!(
             "variable {:?}: {nx} × {ny} points need {} bytes, its data have {} (truncated?)",
             v.name,
-            n * size,
+            n.saturating_mul(size),
             part.len()
         ));
     }

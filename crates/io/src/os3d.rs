@@ -83,8 +83,11 @@ fn header(b: &[u8]) -> FResult<Header> {
 /// Reads an `.os3d` height field.
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let h = header(bytes)?;
-    let n = h.nx * h.ny;
-    let need = n * 4;
+    let need = h
+        .nx
+        .checked_mul(h.ny)
+        .and_then(|n| n.checked_mul(4))
+        .ok_or_else(|| FormatError::Malformed(format!("{} × {} points: too many", h.nx, h.ny)))?;
     let body = bytes_at(bytes, h.data, need).map_err(|_| {
         FormatError::Malformed(format!(
             "{} × {} f32 heights need {need} bytes after the header (truncated?)",

@@ -182,9 +182,16 @@ pub(crate) fn raster(tiff: &Tiff<'_>, page: &[Entry<'_>]) -> FResult<(usize, usi
         .checked_mul(h)
         .filter(|&n| n > 0)
         .ok_or_else(|| FormatError::Malformed(format!("a raster of {w} × {h} points")))?;
+    // An uncompressed raster is no larger than the file that holds it (a
+    // strip list naming the same bytes over and over is refused).
     let need = n
         .checked_mul(size)
-        .ok_or_else(|| FormatError::Malformed("too many points".into()))?;
+        .filter(|&need| need <= tiff.bytes.len())
+        .ok_or_else(|| {
+            FormatError::Malformed(format!(
+                "a raster of {w} × {h} points is larger than the file"
+            ))
+        })?;
     let values = |e: &Entry<'_>| -> Vec<usize> {
         let step = if e.kind == 3 { 2 } else { 4 };
         e.value
