@@ -42,16 +42,6 @@ struct ChannelPage {
     offset: f64,
 }
 
-fn length_unit(u: &str) -> Option<LengthUnit> {
-    match u {
-        "m" => Some(LengthUnit::M),
-        "mm" => Some(LengthUnit::Mm),
-        "um" | "µm" => Some(LengthUnit::Um),
-        "nm" => Some(LengthUnit::Nm),
-        _ => None,
-    }
-}
-
 /// The page's slot named `name`: (unit, scaling type, multiply, offset).
 fn slot(
     tiff: &Tiff<'_>,
@@ -92,7 +82,10 @@ fn scan<'a>(tiff: &Tiff<'a>) -> FResult<Scan<'a>> {
         let Some((unit, scaling, multiply, offset)) = slot(tiff, page, &default) else {
             continue;
         };
-        let Some(unit) = length_unit(&unit) else {
+        let Some(unit) = LengthUnit::parse(&unit)
+            .ok()
+            .filter(|u| *u != LengthUnit::None)
+        else {
             continue; // not a length: not a channel, as in ST
         };
         if scaling != "LinearScaling" {

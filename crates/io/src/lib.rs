@@ -208,17 +208,7 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(open()?).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(open()?).map(pixel_bytes)),
-        Format::X3p
-        | Format::Mnt
-        | Format::Mitutoyo
-        | Format::H5
-        | Format::Mat
-        | Format::Npz
-        | Format::Vk
-        | Format::Plux
-        | Format::Zon
-        | Format::Qep
-        | Format::Nmm => Some(decoded_bytes(&read_bytes(path)?, format)),
+        f if DECLARES_DECODED.contains(&f) => Some(decoded_bytes(&read_bytes(path)?, f)),
         _ => None,
     };
     estimate_from(size, decoded).map_err(|e| e.at(path, format.info().name))
@@ -230,17 +220,7 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(cursor()).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(cursor()).map(pixel_bytes)),
-        Format::X3p
-        | Format::Mnt
-        | Format::Mitutoyo
-        | Format::H5
-        | Format::Mat
-        | Format::Npz
-        | Format::Vk
-        | Format::Plux
-        | Format::Zon
-        | Format::Qep
-        | Format::Nmm => Some(decoded_bytes(bytes, format)),
+        f if DECLARES_DECODED.contains(&f) => Some(decoded_bytes(bytes, f)),
         _ => None,
     };
     estimate_from(bytes.len() as u64, decoded)
@@ -251,23 +231,50 @@ fn pixel_bytes(pixels: u128) -> u128 {
     pixels.saturating_mul(16 + 8)
 }
 
+/// The formats whose memory estimate is what they declare they decode to
+/// ([`decoded_bytes`]) rather than a multiple of the file's size.
+const DECLARES_DECODED: [Format; 11] = [
+    Format::X3p,
+    Format::Mnt,
+    Format::Mitutoyo,
+    Format::H5,
+    Format::Mat,
+    Format::Npz,
+    Format::Vk,
+    Format::Plux,
+    Format::Zon,
+    Format::Qep,
+    Format::Nmm,
+];
+
+/// The bytes a zip archive's members declare once inflated (from its
+/// central directory, before anything is inflated).
+fn zip_declared_bytes(bytes: &[u8]) -> FResult<u128> {
+    let bad = |e: zip::result::ZipError| {
+        FormatError::Malformed(format!("not a readable zip archive: {e}"))
+    };
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes)).map_err(bad)?;
+    let mut total = 0u128;
+    for k in 0..zip.len() {
+        total = total.saturating_add(u128::from(zip.by_index_raw(k).map_err(bad)?.size()));
+    }
+    Ok(total)
+}
+
 /// What a compressed container decodes to, from the sizes it declares: the
 /// grid of an x3p, a Mountains document, the largest 2-D HDF5 dataset or
-/// every variable of a MAT file; twice a NumPy archive's members (each
-/// inflated, then converted); twice an Excel workbook's
-/// inflated parts (the cells parsed from its XML).
+/// every variable of a MAT file, the images of a VK or ZON file; twice the
+/// inflated members of the zip-based formats (NumPy archives, PLUX, QEP,
+/// NMM, Excel workbooks: each member inflated, then parsed or converted).
 fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
     match format {
         Format::X3p => x3p::header_pixels(bytes).map(pixel_bytes),
         Format::Mnt => mnt::declared_points(bytes).map(pixel_bytes),
         Format::H5 => h5::declared_points(bytes).map(pixel_bytes),
         Format::Mat => mat::declared_points(bytes).map(pixel_bytes),
-        Format::Npz => npz::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
         Format::Vk => vk::declared_points(bytes).map(pixel_bytes),
-        Format::Plux => plux::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
         Format::Zon => zon::declared_points(bytes).map(pixel_bytes),
-        Format::Qep | Format::Nmm => plux::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
-        _ => mitutoyo::declared_bytes(bytes).map(|n| n.saturating_mul(2)),
+        _ => zip_declared_bytes(bytes).map(|n| n.saturating_mul(2)),
     }
 }
 

@@ -282,21 +282,6 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Vec<(String, String)>> {
     Ok(out)
 }
 
-/// The bytes the workbook's parts declare once inflated (from the zip's
-/// central directory, before anything is inflated), for the memory estimate.
-pub(crate) fn declared_bytes(bytes: &[u8]) -> FResult<u128> {
-    let mut zip = zip::ZipArchive::new(Cursor::new(bytes))
-        .map_err(|e| bad(format!("not a readable Excel workbook: {e}")))?;
-    let mut total = 0u128;
-    for k in 0..zip.len() {
-        let part = zip
-            .by_index_raw(k)
-            .map_err(|e| bad(format!("part {k} of the workbook: {e}")))?;
-        total = total.saturating_add(u128::from(part.size()));
-    }
-    Ok(total)
-}
-
 #[cfg(test)]
 mod tests {
     use std::io::Write;
@@ -410,7 +395,7 @@ mod tests {
         assert!(meta.contains(&("Rsk".into(), "-0.144".into())));
         assert!(meta.contains(&("date".into(), "10-Oct-2022".into())));
         assert!(meta.contains(&("cut-off".into(), "0.08mm".into())));
-        assert!(declared_bytes(&file).unwrap() > 1000);
+        assert!(crate::zip_declared_bytes(&file).unwrap() > 1000);
     }
 
     #[test]

@@ -58,16 +58,6 @@ struct Scan {
     meta: Metadata,
 }
 
-fn unit_of(u: &str) -> Option<LengthUnit> {
-    match u {
-        "m" => Some(LengthUnit::M),
-        "mm" => Some(LengthUnit::Mm),
-        "um" | "µm" => Some(LengthUnit::Um),
-        "nm" => Some(LengthUnit::Nm),
-        _ => None,
-    }
-}
-
 /// The shortest stem among the files whose name starts with neither `.`
 /// nor `_` (macOS and editor debris), as SurfaceTopography picks it.
 fn prefix(zip: &Archive<'_>) -> FResult<String> {
@@ -156,7 +146,9 @@ fn scan(zip: &mut Archive<'_>) -> FResult<Scan> {
             "lengths in several units ({ux}, {uy}, {udx}, {udy})"
         ));
     }
-    let unit = unit_of(&ux)
+    let unit = LengthUnit::parse(&ux)
+        .ok()
+        .filter(|u| *u != LengthUnit::None)
         .ok_or_else(|| FormatError::Malformed(format!("the unit {ux:?} is no length")))?;
     let intervals = lx / dx;
     if !(lx > 0.0

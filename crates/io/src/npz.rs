@@ -10,7 +10,7 @@
 //! No sizes or units are stored: the step is 1 and the numbers unitless.
 //!
 //! Every member is inflated to at most the size the archive's directory
-//! declares for it, and the memory estimate (`declared_bytes`) counts those
+//! declares for it, and the memory estimate counts those
 //! sizes before anything is inflated.
 
 use std::io::{Cursor, Read};
@@ -74,17 +74,6 @@ pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
             height: true,
         })
         .collect())
-}
-
-/// The bytes every member declares (inflated; the memory estimate).
-pub(crate) fn declared_bytes(bytes: &[u8]) -> FResult<u128> {
-    let mut zip = open(bytes)?;
-    let mut total = 0u128;
-    for k in 0..zip.len() {
-        let part = zip.by_index_raw(k).map_err(bad)?;
-        total = total.saturating_add(u128::from(part.size()));
-    }
-    Ok(total)
 }
 
 /// Reads the array `choice` names (default the first).
@@ -162,7 +151,7 @@ mod tests {
             assert_eq!((h.dims(), h.row(1)), ([3, 2], &[4.0, 5.0, 6.0][..]));
             let a = read_channel(&f, Some(&Channel::parse("a"))).unwrap();
             assert_eq!(a.data(), &[7.0, 8.0]);
-            assert!(declared_bytes(&f).unwrap() > 48);
+            assert!(crate::zip_declared_bytes(&f).unwrap() > 48);
         }
     }
 

@@ -135,16 +135,6 @@ pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
     Ok(infos(&open(bytes)?.1))
 }
 
-/// The bytes every member declares (inflated; the memory estimate).
-pub(crate) fn declared_bytes(bytes: &[u8]) -> FResult<u128> {
-    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(bad)?;
-    let mut total = 0u128;
-    for k in 0..zip.len() {
-        total = total.saturating_add(u128::from(zip.by_index_raw(k).map_err(bad)?.size()));
-    }
-    Ok(total)
-}
-
 /// Reads the layer `choice` names (default the first).
 pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
     let (mut zip, index) = open(bytes)?;
