@@ -114,6 +114,8 @@ pub enum Format {
     Mitutoyo,
     /// HDF5 files (every 2-D numeric dataset a channel).
     H5,
+    /// Zygo Mx `.datx` files (HDF5 in Zygo's layout).
+    Datx,
 }
 
 /// What a format can do with one kind of data.
@@ -612,7 +614,16 @@ pub const FORMATS: &[FormatInfo] = &[
         mesh: No,
         points: No,
         height: R,
-        notes: "every two-dimensional integer or float dataset a channel named by its path (first index x, second y, as SurfaceTopography reads it); no sizes or units in the file: step 1, unitless",
+        notes: "every two-dimensional integer or float dataset a channel named by its path (first index x, second y, as SurfaceTopography reads it); no sizes or units in the file: step 1, unitless; a Zygo .datx (the MetaData table) read as one",
+    },
+    FormatInfo {
+        format: Format::Datx,
+        name: "Zygo Mx (.datx)",
+        extensions: &["datx"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "HDF5: the surface the MetaData table leads to (Root, Measurement, Surface, Path), rows along y, in its Unit (nm, µm, mm, m; fringes refused), pixel sizes from the X and Y converters (LateralCat in Pixels); No Data and non-finite points read as missing; the MetaData tree, serial number and system type kept as metadata",
     },
 ];
 

@@ -150,7 +150,7 @@ fn read(bytes: &[u8], choice: Option<&Channel>, x_first: bool) -> FResult<Height
 }
 
 /// A dataset's numbers as f64, whatever their type.
-fn read_f64(d: &Dataset) -> Result<Vec<f64>, H5Error> {
+pub(crate) fn read_f64(d: &Dataset) -> Result<Vec<f64>, H5Error> {
     fn all<T: hdf5_reader::H5Type + Copy>(
         d: &Dataset,
         f: impl Fn(T) -> f64,

@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`], [`jpk`], [`qep`], [`nmm`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`datx`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`], [`jpk`], [`qep`], [`nmm`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -34,6 +34,7 @@ pub mod asc;
 pub mod atomic;
 pub mod bcr;
 pub mod channel;
+pub mod datx;
 pub mod decimal;
 pub mod di;
 mod error;
@@ -233,8 +234,9 @@ fn pixel_bytes(pixels: u128) -> u128 {
 
 /// The formats whose memory estimate is what they declare they decode to
 /// ([`decoded_bytes`]) rather than a multiple of the file's size.
-const DECLARES_DECODED: [Format; 11] = [
+const DECLARES_DECODED: [Format; 12] = [
     Format::X3p,
+    Format::Datx,
     Format::Mnt,
     Format::Mitutoyo,
     Format::H5,
@@ -271,6 +273,7 @@ fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
         Format::X3p => x3p::header_pixels(bytes).map(pixel_bytes),
         Format::Mnt => mnt::declared_points(bytes).map(pixel_bytes),
         Format::H5 => h5::declared_points(bytes).map(pixel_bytes),
+        Format::Datx => datx::declared_points(bytes).map(pixel_bytes),
         Format::Mat => mat::declared_points(bytes).map(pixel_bytes),
         Format::Vk => vk::declared_points(bytes).map(pixel_bytes),
         Format::Zon => zon::declared_points(bytes).map(pixel_bytes),
@@ -355,11 +358,20 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Lext => lext::metadata,
         Format::Qep => qep::metadata,
         Format::Nmm => nmm::metadata,
+        Format::Datx => datx::metadata,
+        // A .datx under another name is read as one.
+        Format::H5 => |b: &[u8]| {
+            if datx::sniff(b) {
+                datx::metadata(b)
+            } else {
+                Ok(Metadata::new())
+            }
+        },
         _ => return Ok(None),
     };
     let bytes = read_bytes(path)?;
     read(&bytes)
-        .map(Some)
+        .map(|m| (!m.is_empty()).then_some(m))
         .map_err(|e| e.at(path, f.info().name))
 }
 
@@ -499,6 +511,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Opdx
         | Format::Mnt
         | Format::Mitutoyo
+        | Format::Datx
         | Format::H5 => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
@@ -571,6 +584,9 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Mnt => mnt::read_channel(bytes, choice)?,
         Format::Asc => asc::read_height(bytes)?,
         Format::Mitutoyo => mitutoyo::read_height(bytes)?,
+        Format::Datx => datx::read_height(bytes)?,
+        // A .datx under another name (SurfaceTopography too tries DATX first).
+        Format::H5 if choice.is_none() && datx::sniff(bytes) => datx::read_height(bytes)?,
         Format::H5 => h5::read_channel(bytes, choice)?,
         _ => unreachable!("caller checks the format"),
     };

@@ -581,6 +581,42 @@ t = reader.topography(channel_index=1)
 check("sios-nmm.zip --channel 'Scan 2': heights as ST's, in metres",
       close(np.load(out) * 1e-6, np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
 
+# Zygo .datx: no instrument file is public in a repository asperity can
+# reach; files built with h5py to the layout ST and Gwyddion read
+# (datx_layout.py): variable-length strings with `No Data` points in nm, fixed
+# strings with NaN points in µm, one named .h5 (ST too tries DATX before
+# HDF5), and heights in fringes, which both refuse.
+from datx_layout import write_datx  # noqa: E402
+
+datx_z = mat_rng.normal(size=(48, 64)) * 35.0
+datx_z[7, 10:15] = np.finfo(np.float64).max
+datx = WORK / "zygo.datx"
+write_datx(datx, datx_z, 0.79e-6, 0.81e-6, no_data=np.finfo(np.float64).max, serial="87266", system_type="NewView 9000")
+compare(datx, "zygo.datx (Zygo Mx, built to the layout, 64 × 48 in nm, 5 No Data points)")
+st_instrument = read_topography(str(datx)).info["instrument"]
+ours = json.loads(run(BIN, "--quiet", "--json", "info", datx))["measurements"]["instrument"]
+check("zygo.datx: serial number and system type as ST's instrument info",
+      (ours.get("System Serial Number"), ours.get("System Type")) == (st_instrument["serial"], st_instrument["name"]),
+      str(ours))
+datx_f = mat_rng.normal(size=(40, 52)).astype(np.float32)
+datx_f[30:32, 2:4] = np.nan
+datx_fixed = WORK / "zygo-fixed-strings.datx"
+write_datx(datx_fixed, datx_f, 2.2e-6, 2.2e-6, unit="MicroMeters", fixed_strings=True)
+compare(datx_fixed, "zygo-fixed-strings.datx (fixed-length strings, f32 in µm, 4 NaN points)")
+renamed = WORK / "zygo-renamed.h5"
+write_datx(renamed, mat_rng.normal(size=(36, 44)) * 12.0, 0.4e-6, 0.4e-6, serial="78137")
+compare(renamed, "zygo-renamed.h5 (a .datx named .h5, no missing points: PSD compared)")
+fringes = WORK / "zygo-fringes.datx"
+write_datx(fringes, datx_z, 0.79e-6, 0.81e-6, unit="Fringes")
+try:
+    read_topography(str(fringes))
+    st_refuses = False
+except Exception:
+    st_refuses = True
+p = run(BIN, "--quiet", "info", fringes, check=False)
+check("zygo-fringes.datx: heights in fringes refused by both, naming the unit",
+      st_refuses and p.returncode != 0 and "Fringes" in p.stderr, p.stderr.strip())
+
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
