@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,datx,zmg,plux,zon,lext,jpk,qep,nmm,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,datx,oir,zmg,plux,zon,lext,jpk,qep,nmm,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -113,6 +113,11 @@ shutil.copy("tests/data/surfacetopography/nc-1.nc", f"{s}/nc/nc-1.nc")
 shutil.copy("tests/data/surfacetopography/opdx-3.opdx", f"{s}/opdx/opdx-3.opdx")
 shutil.copy("crates/io/tests/data/small.h5", f"{s}/h5/small.h5")  # written by h5py
 shutil.copy("crates/io/tests/data/small.datx", f"{s}/datx/small.datx")  # python/tests/reference/datx_layout.py
+shutil.copy("crates/io/tests/data/small.oir", f"{s}/oir/small.oir")  # python/tests/reference/oir_layout.py
+import zipfile
+with zipfile.ZipFile(f"{s}/oir/small.poir", "w", zipfile.ZIP_DEFLATED) as z:
+    z.writestr("manifest.xml", "<manifest/>")
+    z.write("crates/io/tests/data/small.oir", "first.oir")
 for name in ["gwyddion-export-german.txt", "xy-5.txt", "matrix-6.txt"]:
     shutil.copy(f"tests/data/surfacetopography/{name}", f"{s}/asc/{name}")
 open(f"{s}/asc/pixel-size.txt", "w").write("h=2 w=4\npixel size=2e-07 m\nheight conversion factor (-> m)=1e-08\n"

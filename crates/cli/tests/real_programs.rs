@@ -182,7 +182,7 @@ fn instrument_files_read_as_surface_topography_reads_them() {
             work.path().as_os_str(),
         ],
     );
-    assert_eq!(checks, 568, "every check ran");
+    assert_eq!(checks, 591, "every check ran");
 }
 
 #[test]

@@ -5,8 +5,8 @@ use std::path::Path;
 
 use crate::IoError;
 use crate::{
-    al3d, asc, bcr, di, frt, h5, mat, mdt, metropro, mi, mnt, nid, nms, opdx, os3d, park, tmd, vk,
-    wsxm, xz, zmg, zon,
+    al3d, asc, bcr, di, frt, h5, mat, mdt, metropro, mi, mnt, nid, nms, oir, opdx, os3d, park, tmd,
+    vk, wsxm, xz, zmg, zon,
 };
 
 /// The file formats asperity knows.
@@ -116,6 +116,10 @@ pub enum Format {
     H5,
     /// Zygo Mx `.datx` files (HDF5 in Zygo's layout).
     Datx,
+    /// Olympus laser-scanning microscope files.
+    Oir,
+    /// Packed Olympus files (a zip of `.oir`).
+    Poir,
 }
 
 /// What a format can do with one kind of data.
@@ -625,6 +629,24 @@ pub const FORMATS: &[FormatInfo] = &[
         height: R,
         notes: "HDF5: the surface the MetaData table leads to (Root, Measurement, Surface, Path), rows along y, in its Unit (nm, µm, mm, m; fringes refused), pixel sizes from the X and Y converters (LateralCat in Pixels); No Data and non-finite points read as missing; the MetaData tree, serial number and system type kept as metadata",
     },
+    FormatInfo {
+        format: Format::Oir,
+        name: "Olympus OIR (.oir)",
+        extensions: &["oir"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "the laser-scanning image's HEIGHT channels by their ids: u8/u16 counts × the pixel length in z × the z calibration, pixel lengths × the x/y calibration, lateral sizes in the z unit; rows along y; the microscope and creation date kept as metadata",
+    },
+    FormatInfo {
+        format: Format::Poir,
+        name: "Olympus packed OIR (.poir)",
+        extensions: &["poir"],
+        mesh: No,
+        points: No,
+        height: R,
+        notes: "a zip of .oir files: every member's height channels, numbered in order (members without a laser-scanning image skipped)",
+    },
 ];
 
 /// The first 64 KiB of a text file (enough for a header and data lines).
@@ -712,6 +734,9 @@ impl Format {
         if bytes.starts_with(os3d::MAGIC) {
             return Some(Format::Os3d);
         }
+        if bytes.starts_with(oir::MAGIC) {
+            return Some(Format::Oir);
+        }
         if bytes.starts_with(zmg::MAGIC) {
             return Some(Format::Zmg);
         }
@@ -787,6 +812,8 @@ impl Format {
                 | Format::Jpk
                 | Format::Qep
                 | Format::Nmm
+                | Format::Oir
+                | Format::Poir
         )
     }
 

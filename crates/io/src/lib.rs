@@ -25,7 +25,7 @@
 //! Instruments' formats are read (and `.sdf` written), one module each:
 //! [`sdf`], [`sur`], [`mnt`], [`tmd`], [`bcr`], [`metropro`], [`al3d`],
 //! [`wsxm`], [`plu`], [`opd`], [`frt`], [`di`], [`nid`], [`mi`], [`ibw`],
-//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`datx`], [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`], [`jpk`], [`qep`], [`nmm`],
+//! [`park`], [`xz`] (`.hfm`, Dektak CSV, titled CSV line scans), [`nms`], [`opdx`], [`nc`], [`h5`], [`datx`], [`oir`] (`.oir`, `.poir`), [`mat`], [`npz`], [`hgt`], [`vk`], [`mdt`], [`os3d`], [`zmg`], [`plux`], [`zon`], [`lext`], [`jpk`], [`qep`], [`nmm`],
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
@@ -63,6 +63,7 @@ pub mod nms;
 pub mod npy;
 pub mod npz;
 pub mod obj;
+pub mod oir;
 pub mod opd;
 pub mod opdx;
 pub mod os3d;
@@ -234,8 +235,9 @@ fn pixel_bytes(pixels: u128) -> u128 {
 
 /// The formats whose memory estimate is what they declare they decode to
 /// ([`decoded_bytes`]) rather than a multiple of the file's size.
-const DECLARES_DECODED: [Format; 12] = [
+const DECLARES_DECODED: [Format; 13] = [
     Format::X3p,
+    Format::Poir,
     Format::Datx,
     Format::Mnt,
     Format::Mitutoyo,
@@ -267,7 +269,8 @@ fn zip_declared_bytes(bytes: &[u8]) -> FResult<u128> {
 /// grid of an x3p, a Mountains document, the largest 2-D HDF5 dataset or
 /// every variable of a MAT file, the images of a VK or ZON file; twice the
 /// inflated members of the zip-based formats (NumPy archives, PLUX, QEP,
-/// NMM, Excel workbooks: each member inflated, then parsed or converted).
+/// NMM, packed OIR, Excel workbooks: each member inflated, then parsed or
+/// converted).
 fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
     match format {
         Format::X3p => x3p::header_pixels(bytes).map(pixel_bytes),
@@ -359,6 +362,8 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
         Format::Qep => qep::metadata,
         Format::Nmm => nmm::metadata,
         Format::Datx => datx::metadata,
+        Format::Oir => oir::metadata,
+        Format::Poir => oir::packed_metadata,
         // A .datx under another name is read as one.
         Format::H5 => |b: &[u8]| {
             if datx::sniff(b) {
@@ -401,6 +406,8 @@ pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
         Format::Jpk => jpk::channels(&bytes),
         Format::Qep => qep::channels(&bytes),
         Format::Nmm => nmm::channels(&bytes),
+        Format::Oir => oir::channels(&bytes),
+        Format::Poir => oir::packed_channels(&bytes),
         _ => plu::channels(&bytes),
     }
     .map(Some)
@@ -512,6 +519,8 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
         | Format::Mnt
         | Format::Mitutoyo
         | Format::Datx
+        | Format::Oir
+        | Format::Poir
         | Format::H5 => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
@@ -585,6 +594,8 @@ fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResu
         Format::Asc => asc::read_height(bytes)?,
         Format::Mitutoyo => mitutoyo::read_height(bytes)?,
         Format::Datx => datx::read_height(bytes)?,
+        Format::Oir => oir::read_channel(bytes, choice)?,
+        Format::Poir => oir::read_packed(bytes, choice)?,
         // A .datx under another name (SurfaceTopography too tries DATX first).
         Format::H5 if choice.is_none() && datx::sniff(bytes) => datx::read_height(bytes)?,
         Format::H5 => h5::read_channel(bytes, choice)?,

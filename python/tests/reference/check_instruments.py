@@ -617,6 +617,49 @@ p = run(BIN, "--quiet", "info", fringes, check=False)
 check("zygo-fringes.datx: heights in fringes refused by both, naming the unit",
       st_refuses and p.returncode != 0 and "Fringes" in p.stderr, p.stderr.strip())
 
+# Olympus .oir and .poir: no instrument file is public in a repository
+# asperity can reach; files built to ST's layout (oir_layout.py): two height
+# channels (u16 and u8) and an intensity channel, calibrated pixels, and a
+# .poir of two such files and a camera-only .oir, which both skip.
+from oir_layout import oir_bytes, poir_bytes  # noqa: E402
+
+um3 = ("MICRO_METER", "MICRO_METER", "MICRO_METER")
+oir_h = mat_rng.integers(0, 65535, (40, 56)).astype("<u2")
+oir_b = mat_rng.integers(0, 255, (40, 56)).astype("u1")
+oir_channels = [("a1b2-height", "HEIGHT", oir_h, (0.625, 0.625, 0.0125), um3),
+                ("a1b2-intensity", "INTENSITY", oir_h, (0.625, 0.625, 1.0), um3),
+                ("c3d4-height", "HEIGHT", oir_b, (0.625, 0.625, 0.5), um3)]
+oir = WORK / "olympus.oir"
+oir.write_bytes(oir_bytes(oir_channels, {"x": 1.0021, "y": 0.9997, "z": 1.0003}))
+compare(oir, "olympus.oir (Olympus OIR, built to ST's layout, 56 × 40 u16 heights, calibrated)")
+reader = open_topography(str(oir))
+ours = json.loads(run(BIN, "--quiet", "--json", "info", oir))["measurements"]
+check("olympus.oir: the HEIGHT channels as ST's, in order", [c["name"] for c in ours["channels"]]
+      == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+out = WORK / "olympus-c3d4.npy"
+run(BIN, "--quiet", "--channel", "c3d4-height", "convert", oir, out)
+t = reader.topography(channel_index=1)
+check("olympus.oir --channel c3d4-height: u8 heights as ST's, in metres",
+      close(np.load(out) * 1e-6, np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
+check("olympus.oir: the microscope as ST's instrument name",
+      ours["instrument"].get("Microscope") == t.info["instrument"]["name"], str(ours["instrument"]))
+poir = WORK / "olympus.poir"
+camera = oir_bytes(oir_channels[:2], {"x": 1.0}, lsm=False)
+second = oir_bytes([("e5f6-height", "HEIGHT", oir_h[::-1].copy(), (0.5, 0.5, 0.01), um3),
+                    ("e5f6-intensity", "INTENSITY", oir_h, (0.5, 0.5, 1.0), um3)], {"z": 1.0})
+poir_bytes(poir, [("camera.oir", camera), ("first.oir", oir.read_bytes()), ("second.oir", second)])
+compare(poir, "olympus.poir (packed OIR: a camera image skipped, then two files)", format="poir")
+reader = open_topography(str(poir), format="poir")
+ours = json.loads(run(BIN, "--quiet", "--json", "info", poir))["measurements"]
+check("olympus.poir: every member's height channels as ST's, in order", [c["name"] for c in ours["channels"]]
+      == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+for idx, c in enumerate(reader.channels):
+    out = WORK / f"olympus-poir-{idx}.npy"
+    run(BIN, "--quiet", "--channel", str(idx), "convert", poir, out)
+    t = reader.topography(channel_index=idx)
+    check(f"olympus.poir --channel {idx} ({c.name}): heights as ST's, in metres",
+          close(np.load(out) * 1e-6, np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
+
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
     compare_profile(DATA / name, f"{name} (Mitutoyo SurfTest)")
