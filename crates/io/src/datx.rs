@@ -44,6 +44,9 @@ use crate::error::{FResult, FormatError, malformed};
 /// How deep the `MetaData` tree and the `/Attributes` groups are followed.
 const MAX_DEPTH: usize = 16;
 
+/// The most bytes of `MetaData` table read (Zygo's hold a few hundred rows).
+const MAX_TABLE_BYTES: u64 = 16 << 20;
+
 /// The most numbers read from one variable-length sequence.
 const MAX_PARAMETERS: usize = 1 << 16;
 
@@ -362,6 +365,16 @@ fn table(file: &hdf5_reader::Hdf5File) -> FResult<Table> {
     if stride == 0 {
         return malformed("the `MetaData` table has empty rows");
     }
+    // The table is read before the memory estimate (it leads to the
+    // surface), so its declared size is bounded first.
+    let rows = d.shape().iter().try_fold(1u64, |a, &n| a.checked_mul(n));
+    let bytes = rows.and_then(|r| r.checked_mul(stride as u64));
+    if !bytes.is_some_and(|b| b <= MAX_TABLE_BYTES) {
+        return malformed(format!(
+            "the `MetaData` table declares {:?} rows of {stride} bytes (at most {MAX_TABLE_BYTES} bytes read)",
+            d.shape()
+        ));
+    }
     let raw = d.read_raw_bytes().map_err(bad)?;
     let mut out = Table::new();
     for row in raw.chunks_exact(stride) {
@@ -381,9 +394,11 @@ fn table(file: &hdf5_reader::Hdf5File) -> FResult<Table> {
 }
 
 /// The tree under `Root`, flattened to dotted keys in the table's order.
+/// Each node is expanded once (a node reached again, or past the depth
+/// limit, stays its `{uuid}`), so the output is at most the table's size.
 fn flatten(t: &Table) -> Metadata {
     fn walk(t: &Table, node: &str, prefix: &str, seen: &mut HashSet<String>, out: &mut Metadata) {
-        if prefix.matches('.').count() >= MAX_DEPTH || !seen.insert(node.to_owned()) {
+        if !seen.insert(node.to_owned()) {
             return;
         }
         for (link, dest) in t.get(node).map(Vec::as_slice).unwrap_or_default() {
@@ -392,13 +407,13 @@ fn flatten(t: &Table) -> Metadata {
             } else {
                 format!("{prefix}.{link}")
             };
-            if dest.starts_with('{') && dest.ends_with('}') && t.contains_key(dest) {
+            let deeper = prefix.matches('.').count() + 1 < MAX_DEPTH;
+            if dest.starts_with('{') && t.contains_key(dest) && deeper && !seen.contains(dest) {
                 walk(t, dest, &key, seen, out);
             } else {
                 out.push((key, dest.clone()));
             }
         }
-        seen.remove(node);
     }
     let mut out = Metadata::new();
     walk(t, "Root", "", &mut HashSet::new(), &mut out);
@@ -592,6 +607,27 @@ mod tests {
             Some("/Measurement/Surface")
         );
         assert_eq!(get("System Serial Number"), Some("4242"));
+    }
+
+    #[test]
+    fn metadata_loops_and_shared_nodes_are_expanded_once() {
+        let row = |a: &str, b: &str| (a.to_owned(), b.to_owned());
+        let mut t = Table::new();
+        t.insert("Root".into(), vec![row("A", "{a}"), row("B", "{a}")]);
+        t.insert(
+            "{a}".into(),
+            vec![row("Back", "Root"), row("Loop", "{a}"), row("K", "v")],
+        );
+        let m = flatten(&t);
+        assert_eq!(
+            m,
+            [
+                row("A.Back", "Root"),
+                row("A.Loop", "{a}"),
+                row("A.K", "v"),
+                row("B", "{a}")
+            ]
+        );
     }
 
     #[test]
