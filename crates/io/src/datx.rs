@@ -369,7 +369,7 @@ fn table(file: &hdf5_reader::Hdf5File) -> FResult<Table> {
     // surface), so its declared size is bounded first.
     let rows = d.shape().iter().try_fold(1u64, |a, &n| a.checked_mul(n));
     let bytes = rows.and_then(|r| r.checked_mul(stride as u64));
-    if !bytes.is_some_and(|b| b <= MAX_TABLE_BYTES) {
+    if bytes.is_none_or(|b| b > MAX_TABLE_BYTES) {
         return malformed(format!(
             "the `MetaData` table declares {:?} rows of {stride} bytes (at most {MAX_TABLE_BYTES} bytes read)",
             d.shape()

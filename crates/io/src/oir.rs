@@ -305,12 +305,12 @@ fn channels_of(properties: &str) -> FResult<(Vec<HeightChannel>, Metadata)> {
         image,
         &["acquisition", "microscopeConfiguration", "pixelCalibration"],
     );
-    let calibrate = |axis: &str| -> FResult<f64> {
-        match calibration.and_then(|c| text(c, &[axis])) {
-            Some(_) => number(calibration.expect("found"), &[axis], "a pixel calibration"),
-            None => Ok(1.0),
+    let mut calibrate = [1.0; 3];
+    for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
+        if let Some(c) = calibration.filter(|c| child(*c, axis).is_some()) {
+            calibrate[k] = number(c, &[axis], "a pixel calibration")?;
         }
-    };
+    }
     let mut out = Vec::new();
     let group = path(info, &["phase", "group"]);
     for c in group
@@ -318,53 +318,66 @@ fn channels_of(properties: &str) -> FResult<(Vec<HeightChannel>, Metadata)> {
         .flat_map(|g| g.children())
         .filter(|c| c.is_element() && c.tag_name().name() == "channel")
     {
-        let Some(definition) = child(c, "imageDefinition") else {
-            continue;
-        };
-        if text(definition, &["imageType"]).as_deref() != Some("HEIGHT") {
-            continue;
+        if let Some(h) = height_channel(c, [nx, ny], calibrate)? {
+            out.push(h);
         }
-        let id = c.attribute("id").unwrap_or_default().to_owned();
-        let depth = match text(definition, &["depth"]) {
-            Some(_) => number(definition, &["depth"], "a pixel depth")?,
-            None => ((number(definition, &["bitCounts"], "a bit count")? + 7.0) / 8.0).floor(),
-        };
-        if depth != 1.0 && depth != 2.0 {
-            return Err(FormatError::Unsupported(format!(
-                "channel {id}: heights of {depth} bytes a pixel (1 and 2 are read)"
-            )));
-        }
-        let units: Vec<(LengthUnit, f64)> = ["x", "y", "z"]
-            .iter()
-            .map(|a| {
-                let name = text(c, &["pixelUnit", a]).unwrap_or_default();
-                unit(&name).ok_or_else(|| {
-                    FormatError::Unsupported(format!(
-                        "channel {id}: pixel unit {name:?} along {a} is not a length"
-                    ))
-                })
-            })
-            .collect::<FResult<_>>()?;
-        let z_metres = units[2].1;
-        let length = |a: &str| number(c, &["length", a], &format!("a pixel length along {a}"));
-        let step = [
-            units[0].1 / z_metres * calibrate("x")? * length("x")?,
-            units[1].1 / z_metres * calibrate("y")? * length("y")?,
-        ];
-        if !step.iter().all(|s| s.is_finite() && *s > 0.0) {
-            return malformed(format!("channel {id}: pixel sizes {step:?}"));
-        }
-        out.push(HeightChannel {
-            id,
-            nx,
-            ny,
-            depth: depth as usize,
-            step,
-            z_per_count: calibrate("z")? * length("z")?,
-            unit: units[2].0,
-        });
     }
     Ok((out, meta))
+}
+
+/// A `channel` element of the properties, if its image holds heights.
+fn height_channel(
+    c: roxmltree::Node<'_, '_>,
+    [nx, ny]: [usize; 2],
+    calibrate: [f64; 3],
+) -> FResult<Option<HeightChannel>> {
+    let Some(definition) = child(c, "imageDefinition") else {
+        return Ok(None);
+    };
+    if text(definition, &["imageType"]).as_deref() != Some("HEIGHT") {
+        return Ok(None);
+    }
+    let id = c.attribute("id").unwrap_or_default().to_owned();
+    // `depth` is the bytes a pixel; `bitCounts` the significant bits.
+    let depth = match child(definition, "depth") {
+        Some(_) => number(definition, &["depth"], "a pixel depth")?,
+        None => ((number(definition, &["bitCounts"], "a bit count")? + 7.0) / 8.0).floor(),
+    };
+    if depth != 1.0 && depth != 2.0 {
+        return Err(FormatError::Unsupported(format!(
+            "channel {id}: heights of {depth} bytes a pixel (1 and 2 are read)"
+        )));
+    }
+    let units: Vec<(LengthUnit, f64)> = ["x", "y", "z"]
+        .iter()
+        .map(|a| {
+            let name = text(c, &["pixelUnit", a]).unwrap_or_default();
+            unit(&name).ok_or_else(|| {
+                FormatError::Unsupported(format!(
+                    "channel {id}: pixel unit {name:?} along {a} is not a length"
+                ))
+            })
+        })
+        .collect::<FResult<_>>()?;
+    let length = |a: &str| number(c, &["length", a], &format!("a pixel length along {a}"));
+    // Lateral lengths in the z unit, as SurfaceTopography keeps them.
+    let z_metres = units[2].1;
+    let step = [
+        units[0].1 / z_metres * calibrate[0] * length("x")?,
+        units[1].1 / z_metres * calibrate[1] * length("y")?,
+    ];
+    if !step.iter().all(|s| s.is_finite() && *s > 0.0) {
+        return malformed(format!("channel {id}: pixel sizes {step:?}"));
+    }
+    Ok(Some(HeightChannel {
+        id,
+        nx,
+        ny,
+        depth: depth as usize,
+        step,
+        z_per_count: calibrate[2] * length("z")?,
+        unit: units[2].0,
+    }))
 }
 
 /// The height channels of one `.oir` and its parsed chunks.
