@@ -96,7 +96,10 @@ fn number(t: &Datatype, b: &[u8]) -> Option<f64> {
         Some(w)
     };
     match t {
-        Datatype::FloatingPoint { size, byte_order } => {
+        Datatype::FloatingPoint {
+            size: size @ (4 | 8),
+            byte_order,
+        } => {
             let mut w = le(usize::from(*size))?;
             if *byte_order == BigEndian {
                 w[..usize::from(*size)].reverse();
