@@ -172,16 +172,25 @@ def test_keyboard_interrupt_stops_a_long_run_within_a_second():
 def test_two_threads_run_at_once():
     kw = dict(size=256, layers=400, threads=1)
     asperity.rd(size=16, layers=2)
-    t = time.perf_counter()
-    asperity.rd(**kw)
-    one = time.perf_counter() - t
-    workers = [threading.Thread(target=asperity.rd, kwargs=kw) for _ in range(2)]
-    t = time.perf_counter()
-    for w in workers:
-        w.start()
-    for w in workers:
-        w.join()
-    two = time.perf_counter() - t
+
+    def one_call():
+        t = time.perf_counter()
+        asperity.rd(**kw)
+        return time.perf_counter() - t
+
+    def two_calls():
+        workers = [threading.Thread(target=asperity.rd, kwargs=kw) for _ in range(2)]
+        t = time.perf_counter()
+        for w in workers:
+            w.start()
+        for w in workers:
+            w.join()
+        return time.perf_counter() - t
+
+    # The best of three of each, so that a moment's load on the machine
+    # does not decide: with the GIL held two calls take twice one.
+    one = min(one_call() for _ in range(3))
+    two = min(two_calls() for _ in range(3))
     assert two < 1.6 * one, f"two calls {two:.2f}s vs one {one:.2f}s: the GIL is held"
 
 
