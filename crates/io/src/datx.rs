@@ -243,15 +243,16 @@ struct Surface {
     no_data: Option<f64>,
 }
 
-/// A Zygo unit name as asperity's unit.
+/// A Zygo unit name (`NanoMeters`…) or a length symbol as asperity's unit.
 fn unit(name: &str) -> Option<LengthUnit> {
-    Some(match name.trim() {
-        "NanoMeters" | "nm" => LengthUnit::Nm,
-        "MicroMeters" | "um" | "µm" => LengthUnit::Um,
-        "MilliMeters" | "mm" => LengthUnit::Mm,
-        "Meters" | "m" => LengthUnit::M,
-        _ => return None,
-    })
+    let u = match name.trim() {
+        "NanoMeters" => LengthUnit::Nm,
+        "MicroMeters" => LengthUnit::Um,
+        "MilliMeters" => LengthUnit::Mm,
+        "Meters" => LengthUnit::M,
+        symbol => LengthUnit::parse(symbol).ok()?,
+    };
+    u.metres().map(|_| u)
 }
 
 /// The (Category, BaseUnit, Parameters) of a converter attribute, by name or,

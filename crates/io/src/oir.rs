@@ -230,13 +230,14 @@ struct HeightChannel {
 /// Olympus's unit names (and the symbols) as asperity's units, with the
 /// metres in one.
 fn unit(name: &str) -> Option<(LengthUnit, f64)> {
-    Some(match name.trim() {
-        "NANO_METER" | "nm" => (LengthUnit::Nm, 1e-9),
-        "MICRO_METER" | "um" | "µm" | "μm" => (LengthUnit::Um, 1e-6),
-        "MILLI_METER" | "mm" => (LengthUnit::Mm, 1e-3),
-        "METER" | "m" => (LengthUnit::M, 1.0),
-        _ => return None,
-    })
+    let u = match name.trim() {
+        "NANO_METER" => LengthUnit::Nm,
+        "MICRO_METER" => LengthUnit::Um,
+        "MILLI_METER" => LengthUnit::Mm,
+        "METER" => LengthUnit::M,
+        symbol => LengthUnit::parse(symbol).ok()?,
+    };
+    Some((u, u.metres()?))
 }
 
 fn child<'a, 'i>(node: roxmltree::Node<'a, 'i>, tag: &str) -> Option<roxmltree::Node<'a, 'i>> {
@@ -488,23 +489,21 @@ fn members(bytes: &[u8]) -> FResult<Vec<(String, Vec<u8>)>> {
     Ok(out)
 }
 
-/// A `.poir`'s height channels: every member's, in order (members with no
-/// laser-scanning image skipped).
-fn packed<T>(
-    bytes: &[u8],
-    mut each: impl FnMut(&str, &Parsed<'_>, &[HeightChannel], &Metadata) -> FResult<Option<T>>,
-) -> FResult<Option<T>> {
-    for (name, data) in members(bytes)? {
-        let (parsed, channels, meta) = match open(&data) {
-            Ok(o) => o,
-            Err(FormatError::Unsupported(_)) => continue,
-            Err(e) => return Err(within(&name, e)),
-        };
-        if let Some(found) = each(&name, &parsed, &channels, &meta)? {
-            return Ok(Some(found));
+/// One `.oir` opened: its chunks, height channels and metadata.
+type Opened<'a> = (Parsed<'a>, Vec<HeightChannel>, Metadata);
+
+/// The members with a laser-scanning image, opened, in order (the others
+/// skipped, as SurfaceTopography skips them).
+fn opened(members: &[(String, Vec<u8>)]) -> FResult<Vec<(&str, Opened<'_>)>> {
+    let mut out = Vec::new();
+    for (name, data) in members {
+        match open(data) {
+            Ok(o) => out.push((name.as_str(), o)),
+            Err(FormatError::Unsupported(_)) => {}
+            Err(e) => return Err(within(name, e)),
         }
     }
-    Ok(None)
+    Ok(out)
 }
 
 fn within(member: &str, e: FormatError) -> FormatError {
@@ -516,39 +515,34 @@ fn within(member: &str, e: FormatError) -> FormatError {
 
 /// A `.poir`'s height channels, numbered across its members.
 pub(crate) fn packed_channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
-    let mut list = Vec::new();
-    packed::<()>(bytes, |_, _, channels, _| {
-        for c in channels {
-            list.push(ChannelInfo {
-                index: list.len(),
-                name: c.id.clone(),
-                height: true,
-            });
-        }
-        Ok(None)
-    })?;
-    Ok(list)
+    let members = members(bytes)?;
+    let opened = opened(&members)?;
+    let all: Vec<&HeightChannel> = opened.iter().flat_map(|(_, (_, c, _))| c).collect();
+    Ok(infos(&all))
 }
 
 /// Reads the `.poir` channel `choice` names (by default the first).
 pub(crate) fn read_packed(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
-    let k = pick(&packed_channels(bytes)?, choice)?;
-    let mut seen = 0;
-    packed(bytes, |name, parsed, channels, _| {
-        if k < seen + channels.len() {
-            return height(parsed, &channels[k - seen])
-                .map(Some)
-                .map_err(|e| within(name, e));
-        }
-        seen += channels.len();
-        Ok(None)
-    })?
-    .ok_or_else(|| FormatError::Malformed("the channel vanished on a second reading".into()))
+    let members = members(bytes)?;
+    let opened = opened(&members)?;
+    let all: Vec<(&str, &Parsed<'_>, &HeightChannel)> = opened
+        .iter()
+        .flat_map(|(name, (parsed, channels, _))| channels.iter().map(move |c| (*name, parsed, c)))
+        .collect();
+    let k = pick(&infos(&all.iter().map(|a| a.2).collect::<Vec<_>>()), choice)?;
+    let (name, parsed, c) = all[k];
+    height(parsed, c).map_err(|e| within(name, e))
 }
 
-/// The first member's vendor, microscope and creation date.
+/// The first height member's vendor, microscope and creation date.
 pub(crate) fn packed_metadata(bytes: &[u8]) -> FResult<Metadata> {
-    Ok(packed(bytes, |_, _, _, meta| Ok(Some(meta.clone())))?.unwrap_or_default())
+    let members = members(bytes)?;
+    let opened = opened(&members)?;
+    Ok(opened
+        .into_iter()
+        .next()
+        .map(|(_, (_, _, meta))| meta)
+        .unwrap_or_default())
 }
 
 #[cfg(test)]

@@ -46,6 +46,22 @@ def close(a, b, rel):
     return a.shape == b.shape and np.max(np.abs(a - b)) <= rel * np.max(np.abs(b))
 
 
+def check_channels(path, label, reader):
+    """`asperity info`'s channels of `path` against ST's `reader`, by name and in
+    order (one check); asperity's measurements."""
+    ours = info(BIN, path)
+    names = [c["name"] for c in ours["channels"]]
+    check(label, names == [c.name for c in reader.channels], str(names))
+    return ours
+
+
+def same_heights(npy, t, metres_per_unit):
+    """asperity's heights (an .npy in units of `metres_per_unit`) equal ST's
+    topography `t`'s (transposed: ST indexes (x, y)), in metres."""
+    st = np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m")
+    return close(np.load(npy) * metres_per_unit, st, 1e-12)
+
+
 def all_points(name):
     """A copy of a Digital Surf file with its special-points flag (header byte
     86) cleared: its markers of unmeasured points become ordinary heights, so
@@ -255,10 +271,7 @@ for save in [np.savez, np.savez_compressed]:
     npz = WORK / f"{save.__name__}.npz"
     save(npz, first=mat_vars["heights"], line=np.arange(4.0), second=mat_vars["counts"])
     reader = open_topography(str(npz))
-    ours = json.loads(run(BIN, "--quiet", "--json", "info", npz))["measurements"]
-    check(f"{npz.name}: the 2-D arrays as ST's channels, in order",
-          [c["name"] for c in ours["channels"]] == [c.name for c in reader.channels],
-          str([c["name"] for c in ours["channels"]]))
+    check_channels(npz, f"{npz.name}: the 2-D arrays as ST's channels, in order", reader)
     for idx, c in enumerate(reader.channels):
         out = WORK / f"{npz.stem}-{c.name}.npy"
         run(BIN, "--quiet", "--channel", c.name, "convert", npz, out)
@@ -306,9 +319,7 @@ with zipfile.ZipFile(vk6, "a") as z:  # appended after the magic
 for path in [vk4, vk6]:
     compare(path, f"{path.name} (Keyence, built to ST's layout: 16-bit image, pm)")
     reader = open_topography(str(path))
-    ours = json.loads(run(BIN, "--quiet", "--json", "info", path))["measurements"]
-    check(f"{path.name}: the height images as ST's channels", [c["name"] for c in ours["channels"]]
-          == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+    check_channels(path, f"{path.name}: the height images as ST's channels", reader)
     out = WORK / f"{path.name}-2.npy"
     run(BIN, "--quiet", "--channel", "Height 2", "convert", path, out)
     t = reader.topography(channel_index=1)
@@ -337,9 +348,7 @@ mdt = WORK / "ntmdt.mdt"
 mdt.write_bytes(b"\x01\xb0\x93\xff" + struct.pack("<I4sH18sB", 0, b"", len(frames) - 1, b"", 0) + b"".join(frames))
 compare(mdt, "ntmdt.mdt (NT-MDT, built to ST's layout: Height in nm)")
 reader = open_topography(str(mdt))
-ours = json.loads(run(BIN, "--quiet", "--json", "info", mdt))["measurements"]
-check("ntmdt.mdt: the scanned length frames as ST's channels", [c["name"] for c in ours["channels"]]
-      == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+check_channels(mdt, "ntmdt.mdt: the scanned length frames as ST's channels", reader)
 out = WORK / "ntmdt-dfl.npy"
 run(BIN, "--quiet", "--channel", "DFL", "convert", mdt, out)
 t = reader.topography(channel_index=1)
@@ -505,9 +514,7 @@ for reflect in [0, 1]:
     jpk.write_bytes(jpk_bytes(mat_rng.integers(-2**20, 2**20, (20, 28)), reflect))
     compare(jpk, f"{jpk.name} (JPK, built to ST's layout, GridReflect {reflect})")
     reader = open_topography(str(jpk))
-    ours = json.loads(run(BIN, "--quiet", "--json", "info", jpk))["measurements"]
-    check(f"{jpk.name}: the length channels as ST's (retrace named)", [c["name"] for c in ours["channels"]]
-          == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+    check_channels(jpk, f"{jpk.name}: the length channels as ST's (retrace named)", reader)
 
 # Mahr MarWin QEP: a zip built to ST's QEP.py layout (no public instrument
 # file): a uniform measured profile with invalid points and a non-uniform
@@ -572,14 +579,12 @@ nmm = WORK / "sios-nmm.zip"
 nmm.write_bytes(nmm_bytes([mat_rng.normal(size=(6, 11)) * 1e-8, mat_rng.normal(size=(6, 11)) * 1e-8]))
 compare(nmm, "sios-nmm.zip (SIOS NMM, built to ST's layout, 11 × 6 in µm)")
 reader = open_topography(str(nmm))
-ours = json.loads(run(BIN, "--quiet", "--json", "info", nmm))["measurements"]
-check("sios-nmm.zip: the scans as ST's channels", [c["name"] for c in ours["channels"]]
-      == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+check_channels(nmm, "sios-nmm.zip: the scans as ST's channels", reader)
 out = WORK / "sios-nmm-2.npy"
 run(BIN, "--quiet", "--channel", "Scan 2", "convert", nmm, out)
 t = reader.topography(channel_index=1)
 check("sios-nmm.zip --channel 'Scan 2': heights as ST's, in metres",
-      close(np.load(out) * 1e-6, np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
+      same_heights(out, t, 1e-6))
 
 # Zygo .datx: no instrument file is public in a repository asperity can
 # reach; files built with h5py to the layout ST and Gwyddion read
@@ -633,14 +638,12 @@ oir = WORK / "olympus.oir"
 oir.write_bytes(oir_bytes(oir_channels, {"x": 1.0021, "y": 0.9997, "z": 1.0003}))
 compare(oir, "olympus.oir (Olympus OIR, built to ST's layout, 56 × 40 u16 heights, calibrated)")
 reader = open_topography(str(oir))
-ours = json.loads(run(BIN, "--quiet", "--json", "info", oir))["measurements"]
-check("olympus.oir: the HEIGHT channels as ST's, in order", [c["name"] for c in ours["channels"]]
-      == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+ours = check_channels(oir, "olympus.oir: the HEIGHT channels as ST's, in order", reader)
 out = WORK / "olympus-c3d4.npy"
 run(BIN, "--quiet", "--channel", "c3d4-height", "convert", oir, out)
 t = reader.topography(channel_index=1)
 check("olympus.oir --channel c3d4-height: u8 heights as ST's, in metres",
-      close(np.load(out) * 1e-6, np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
+      same_heights(out, t, 1e-6))
 check("olympus.oir: the microscope as ST's instrument name",
       ours["instrument"].get("Microscope") == t.info["instrument"]["name"], str(ours["instrument"]))
 poir = WORK / "olympus.poir"
@@ -650,15 +653,13 @@ second = oir_bytes([("e5f6-height", "HEIGHT", oir_h[::-1].copy(), (0.5, 0.5, 0.0
 poir_bytes(poir, [("camera.oir", camera), ("first.oir", oir.read_bytes()), ("second.oir", second)])
 compare(poir, "olympus.poir (packed OIR: a camera image skipped, then two files)", format="poir")
 reader = open_topography(str(poir), format="poir")
-ours = json.loads(run(BIN, "--quiet", "--json", "info", poir))["measurements"]
-check("olympus.poir: every member's height channels as ST's, in order", [c["name"] for c in ours["channels"]]
-      == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+check_channels(poir, "olympus.poir: every member's height channels as ST's, in order", reader)
 for idx, c in enumerate(reader.channels):
     out = WORK / f"olympus-poir-{idx}.npy"
     run(BIN, "--quiet", "--channel", str(idx), "convert", poir, out)
     t = reader.topography(channel_index=idx)
     check(f"olympus.poir --channel {idx} ({c.name}): heights as ST's, in metres",
-          close(np.load(out) * 1e-6, np.asarray(t.heights()).T * get_unit_conversion_factor(t.unit, "m"), 1e-12))
+          same_heights(out, t, 1e-6))
 
 # Mitutoyo SurfTest workbooks: the profile, and the tester's roughness parameters.
 for name in ["mitutoyo_mock.xlsx", "mitutoyo_2_mock.xlsx"]:
@@ -692,9 +693,7 @@ for name in ["nid-1.nid", "mi-1.mi", "di-1.di", "di-2.di", "di-3.di", "di-4.di",
              "spot_1-1000nm.ibw",
              "10x10-one_channel_without_name.ibw", "mnt-1.mnt", "multiple_data_sets.h5"]:
     reader = open_topography(str(DATA / name))
-    ours = json.loads(run(BIN, "--quiet", "--json", "info", DATA / name))["measurements"]
-    check(f"{name}: the channels ST lists, in order", [c["name"] for c in ours["channels"]]
-          == [c.name for c in reader.channels], str([c["name"] for c in ours["channels"]]))
+    ours = check_channels(DATA / name, f"{name}: the channels ST lists, in order", reader)
     # ST's heights: a height channel whose data unit is one length (its DI
     # reader gives a phase the unit pair (nm, None)); an HDF5 file has no
     # units, and every dataset is a height to both.
