@@ -1,14 +1,16 @@
 // The gallery in real headless Chromium (issue #24), opened from file:// as a
 // user would: no console errors, every image loaded, no horizontal overflow at
-// 1280 px and 390 px (a phone), and every "Turn in 3D" view loads its mesh and
-// paints pixels other than the background. Screenshots go to SHOTS.
+// 1280 px and 390 px (a phone), opening the page loads at most 5 MB (lazy
+// pictures, <model-viewer> only on the first "Turn in 3D"), and every "Turn in
+// 3D" view loads its mesh and paints pixels other than the background.
+// Screenshots go to SHOTS.
 //
 // Usage: node check_gallery.mjs GALLERY_DIR SHOTS_DIR [CHROMIUM]
 // Prints "ok   what" / "FAIL what" lines; exits 1 on any failure.
 import { chromium } from "playwright-core";
-import { mkdirSync } from "node:fs";
+import { mkdirSync, statSync } from "node:fs";
 import { resolve } from "node:path";
-import { pathToFileURL } from "node:url";
+import { fileURLToPath, pathToFileURL } from "node:url";
 
 const [gallery, shots, executable = "/usr/bin/chromium"] = process.argv.slice(2);
 mkdirSync(shots, { recursive: true });
@@ -29,7 +31,21 @@ for (const [label, width, height] of [["desktop", 1280, 900], ["phone", 390, 844
   const page = await browser.newPage({ viewport: { width, height } });
   page.on("console", (m) => { if (m.type() === "error") errors.push(`${label}: ${m.text()}`); });
   page.on("pageerror", (e) => errors.push(`${label}: ${e.message}`));
-  await page.goto(url, { waitUntil: "load" });
+  // what opening the page reads from disk, file by file (file:// has no
+  // transfer sizes, so each file's size on disk)
+  const opened = new Map();
+  const onRequest = (r) => {
+    if (!r.url().startsWith("file:")) return;
+    try { opened.set(r.url(), statSync(fileURLToPath(r.url())).size); } catch { opened.set(r.url(), 0); }
+  };
+  page.on("request", onRequest);
+  await page.goto(url, { waitUntil: "networkidle" });
+  page.off("request", onRequest);
+  const bytes = [...opened.values()].reduce((a, b) => a + b, 0);
+  const biggest = [...opened.entries()].sort((a, b) => b[1] - a[1]).slice(0, 3)
+    .map(([u, n]) => `${u.split("/").pop()} ${(n / 1e6).toFixed(2)} MB`);
+  check(`${label}: opening the page loads at most 5 MB`, bytes <= 5e6,
+    `${(bytes / 1e6).toFixed(2)} MB in ${opened.size} files; largest: ${biggest.join(", ")}`);
   // every image decoded (lazy ones scrolled to first)
   const images = await page.evaluate(async () => {
     const imgs = [...document.images];

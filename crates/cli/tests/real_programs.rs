@@ -85,6 +85,52 @@ fn npm_package(name: &str, module: &str) -> PathBuf {
     dir
 }
 
+/// The 3-D views' copies (quantized, meshopt-compressed) decoded by
+/// meshoptimizer's own JavaScript decoder are validator-clean, and the largest
+/// meshes were simplified to the view's budget.
+#[test]
+#[cfg_attr(not(has_node), ignore = "needs node: apt-get install nodejs npm")]
+fn every_view_copy_decodes_and_is_validator_clean() {
+    let node = require(&NODE);
+    let dir = npm_package("gltf", "meshoptimizer");
+    let mut views: Vec<PathBuf> = std::fs::read_dir(demo().join("viewer"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "js"))
+        .filter(|p| {
+            let name = p.file_name().unwrap().to_string_lossy();
+            ![
+                "asperity-viewer.js",
+                "model-viewer-umd.min.js",
+                "meshopt_decoder.js",
+            ]
+            .contains(&name.as_ref())
+        })
+        .collect();
+    views.sort();
+    assert!(views.len() >= 40, "{} view copies", views.len());
+    let v = Command::new(&node)
+        .arg(dir.join("validate_views.mjs"))
+        .args(&views)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&v.stdout);
+    eprintln!("{text}{}", String::from_utf8_lossy(&v.stderr));
+    assert!(v.status.success(), "a view copy failed (see above)");
+    let triangles = |line: &str| -> usize {
+        let t = line.split(" triangles").next().unwrap();
+        t.rsplit(' ').next().unwrap().parse().unwrap()
+    };
+    let counts: Vec<usize> = text
+        .lines()
+        .filter(|l| l.contains(" triangles"))
+        .map(triangles)
+        .collect();
+    assert_eq!(counts.len(), views.len());
+    let budget = asperity_gallery::viewer::compact::TRIANGLE_BUDGET;
+    assert!(counts.iter().all(|&n| n > 0 && n <= budget), "{counts:?}");
+}
+
 #[test]
 #[cfg_attr(not(has_node), ignore = "needs node: apt-get install nodejs npm")]
 fn every_demo_glb_is_validator_clean() {
@@ -264,7 +310,12 @@ fn gallery_works_in_headless_chromium() {
                 .to_string_lossy()
                 .into_owned();
             name.ends_with(".js")
-                && !["asperity-viewer.js", "model-viewer-umd.min.js"].contains(&name.as_str())
+                && ![
+                    "asperity-viewer.js",
+                    "model-viewer-umd.min.js",
+                    "meshopt_decoder.js",
+                ]
+                .contains(&name.as_str())
         })
         .count();
     let painted = stdout
@@ -275,7 +326,8 @@ fn gallery_works_in_headless_chromium() {
     assert_eq!(painted, models, "every 3-D view painted");
     assert_eq!(
         stdout.lines().filter(|l| l.starts_with("ok   ")).count(),
-        models + 6
+        models + 8,
+        "every view and the eight page checks (two of them: opening loads at most 5 MB)"
     );
     assert!(shots.join("gallery_phone.png").exists());
 }

@@ -2,10 +2,34 @@
 // <model-viewer> of the card's mesh (drag to turn, wheel or pinch to zoom).
 // The mesh comes from viewer/STEM.js, a script that calls asperityModel with the
 // .glb bytes in base64: pages opened from file:// may load scripts but not fetch
-// files. See crates/gallery/src/viewer.rs.
+// files. The copies are meshopt-compressed: <model-viewer> decodes them once
+// its meshoptDecoderLocation, a classic script, has loaded. <model-viewer>
+// itself (1 MB) is loaded on the first "Turn in 3D", so opening the page costs
+// only the pictures. See crates/gallery/src/viewer.rs.
 (function () {
   "use strict";
   var models = {}; // name -> blob: URL, or the callbacks waiting for it
+  var base = document.currentScript.src.replace(/[^/]*$/, ""); // the viewer folder
+  var viewerReady = null; // callbacks waiting for <model-viewer>, or null once loaded
+
+  // Loads <model-viewer> once; calls done when it is defined.
+  function withViewer(done, failed) {
+    if (window.customElements && customElements.get("model-viewer")) return done();
+    if (viewerReady) return viewerReady.push(done);
+    viewerReady = [done];
+    var script = document.createElement("script");
+    script.src = base + "model-viewer-umd.min.js";
+    script.onerror = failed;
+    script.onload = function () {
+      // the element's static setter loads the decoder script; the decoding is
+      // done by the copy bundled in <model-viewer> once it has loaded
+      customElements.get("model-viewer").meshoptDecoderLocation = base + "meshopt_decoder.js";
+      var waiting = viewerReady;
+      viewerReady = null;
+      waiting.forEach(function (f) { f(); });
+    };
+    document.head.appendChild(script);
+  }
 
   window.asperityModel = function (name, base64) {
     var text = atob(base64);
@@ -33,7 +57,9 @@
     var picture = box.querySelector("img");
     button.disabled = true;
     button.textContent = "loading…";
-    model(box.dataset.name, box.dataset.src, function (url) {
+    withViewer(function () { model(box.dataset.name, box.dataset.src, show, missing); }, missing);
+    function missing() { button.textContent = "3D data missing"; }
+    function show(url) {
       var viewer = document.createElement("model-viewer");
       viewer.setAttribute("src", url);
       viewer.setAttribute("alt", picture ? picture.alt : box.dataset.name);
@@ -52,9 +78,7 @@
         button.textContent = "3D view failed";
       });
       if (picture) box.replaceChild(viewer, picture); else box.appendChild(viewer);
-    }, function () {
-      button.textContent = "3D data missing";
-    });
+    }
   }
 
   document.addEventListener("click", function (event) {

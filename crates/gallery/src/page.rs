@@ -58,7 +58,7 @@ p,h2,h3{{overflow-wrap:anywhere}} @media (max-width:480px){{body{{margin:1rem au
     {
         let _ = write!(
             h,
-            "<script src=\"{0}/model-viewer-umd.min.js\"></script><script src=\"{0}/asperity-viewer.js\"></script>",
+            "<script src=\"{0}/asperity-viewer.js\"></script>",
             crate::viewer::DIR
         );
     }
@@ -70,7 +70,13 @@ p,h2,h3{{overflow-wrap:anywhere}} @media (max-width:480px){{body{{margin:1rem au
 fn card(h: &mut String, it: &Item) {
     let _ = write!(h, "<div class=\"card\"><h3>{}</h3>", esc(&it.title));
     let picture = |h: &mut String, img: &str| {
-        let _ = write!(h, "<img src=\"{}\" alt=\"{}\">", esc(img), esc(&it.title));
+        // lazy: the page loads the pictures in view, not all of them
+        let _ = write!(
+            h,
+            "<img src=\"{}\" alt=\"{}\" loading=\"lazy\">",
+            esc(img),
+            esc(&it.title)
+        );
     };
     match (&it.image, &it.model) {
         (img, Some(model)) => {

@@ -7,13 +7,27 @@
 //! modules from `file://`. For the same reason a page opened from disk cannot
 //! `fetch` a `.glb`, so each mesh is written as `viewer/STEM.js`, a script
 //! that hands the `.glb` bytes (base64) to `asperityModel`; the page's own
-//! script (`assets/asperity-viewer.js`) loads it when the card's "Turn in 3D"
-//! button is pressed and gives `<model-viewer>` a `blob:` URL of it. Nothing is
-//! loaded until asked, so the page stays light.
+//! script (`assets/asperity-viewer.js`) loads `<model-viewer>` and the model
+//! when a card's "Turn in 3D" button is pressed and gives `<model-viewer>` a
+//! `blob:` URL of it. Nothing is loaded until asked: opening the page costs its
+//! pictures in view (they load lazily), not the 1 MB viewer nor the meshes.
+//!
+//! The `.glb` in `viewer/` is not the download: it is the view's copy
+//! ([`compact`]), quantized, meshopt-compressed and simplified above
+//! [`compact::TRIANGLE_BUDGET`] triangles, 5–15 times smaller than the
+//! full-precision file. `<model-viewer>` decodes `EXT_meshopt_compression`
+//! with the decoder it bundles, once its `meshoptDecoderLocation` script has
+//! loaded: that script is meshoptimizer's own decoder (`meshopt_decoder.js`,
+//! MIT, from npm `meshoptimizer` 1.3.0), shipped beside it.
 //!
 //! To update model-viewer: `npm pack @google/model-viewer@VERSION`, copy
 //! `package/dist/model-viewer-umd.min.js` and `package/LICENSE` here, and run
-//! the browser test (`crates/cli/tests/real_programs.rs`).
+//! the browser test (`crates/cli/tests/real_programs.rs`). To update the
+//! decoder: `npm pack meshoptimizer@VERSION`, copy `meshopt_decoder.cjs` as
+//! `meshopt_decoder.js` and `LICENSE.md`, and keep `tests/gltf/package.json`'s
+//! `meshoptimizer` at the same version.
+
+pub mod compact;
 
 use std::path::Path;
 
@@ -27,9 +41,12 @@ pub const DIR: &str = "viewer";
 const MODEL_VIEWER: &[u8] = include_bytes!("../assets/model-viewer-umd.min.js");
 const MODEL_VIEWER_LICENSE: &[u8] = include_bytes!("../assets/LICENSE-model-viewer.txt");
 const PAGE_SCRIPT: &[u8] = include_bytes!("../assets/asperity-viewer.js");
+const MESHOPT_DECODER: &[u8] = include_bytes!("../assets/meshopt_decoder.js");
+const MESHOPT_LICENSE: &[u8] = include_bytes!("../assets/LICENSE-meshoptimizer.txt");
 
-/// Meshes larger than this get no 3-D view (their `.glb` data would make the
-/// gallery heavy); the demo's largest has about 400 000.
+/// Meshes larger than this get no 3-D view (simplifying them to the view's
+/// budget would cost the demo seconds each); the demo's largest has about
+/// 400 000.
 pub const MAX_TRIANGLES: usize = 1_000_000;
 
 /// Writes the viewer's scripts and licence into `gallery/viewer/`.
@@ -42,6 +59,8 @@ pub fn write_assets(gallery: &Path) -> Result<()> {
         ("model-viewer-umd.min.js", MODEL_VIEWER),
         ("LICENSE-model-viewer.txt", MODEL_VIEWER_LICENSE),
         ("asperity-viewer.js", PAGE_SCRIPT),
+        ("meshopt_decoder.js", MESHOPT_DECODER),
+        ("LICENSE-meshoptimizer.txt", MESHOPT_LICENSE),
     ] {
         let path = dir.join(name);
         asperity_engine::io::write_atomic(&path, |w| {
@@ -52,7 +71,7 @@ pub fn write_assets(gallery: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Writes `gallery/viewer/STEM.js` holding `m` as `.glb`; returns its path
+/// Writes `gallery/viewer/STEM.js` holding the view's copy of `m`; returns its path
 /// relative to the gallery, or `None` for a mesh too large for the page.
 ///
 /// # Errors
@@ -62,7 +81,7 @@ pub fn write_model(gallery: &Path, stem: &str, m: &TriMesh) -> Result<Option<Str
         return Ok(None);
     }
     // what the view shows: geometry, normals, colours, texture (no scalars)
-    let glb = asperity_engine::io::glb::encode(&m.clone().without_scalars())
+    let glb = compact::encode(m, compact::TRIANGLE_BUDGET)
         .map_err(|e| asperity_engine::error::invalid(format!("3-D view of {stem}: {e}")))?;
     let name = format!("{DIR}/{stem}.js");
     let b64 = base64::engine::general_purpose::STANDARD.encode(glb);

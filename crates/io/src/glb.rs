@@ -52,8 +52,8 @@ pub fn srgb_to_linear(c: u8) -> f64 {
     }
 }
 
-/// An sRGB colour with linear alpha as linear 16-bit RGBA.
-fn linear_u16(rgba: [u8; 4]) -> [u16; 4] {
+/// An sRGB colour with linear alpha as linear 16-bit RGBA (glTF's `COLOR_0`).
+pub fn linear_u16(rgba: [u8; 4]) -> [u16; 4] {
     let q = |v: f64| (v * 65535.0).round() as u16;
     [
         q(srgb_to_linear(rgba[0])),
@@ -134,14 +134,15 @@ impl Bin {
     }
 }
 
-/// The vertex attributes of `m` in `bin`: positions, unit normals, linear
-/// colours, UVs (with the power-of-two texture they address) and scalars.
-fn vertex_attributes(bin: &mut Bin, m: &TriMesh) -> (Value, Option<RgbaImage>) {
-    let pos: Vec<[f32; 3]> = m.positions().iter().map(|&p| to_y_up(p)).collect();
-    let mut attributes = json!({"POSITION": bin.floats(&pos, "VEC3", true)});
-    // glTF requires unit normals; degenerate vertices get the up vector.
-    let normals: Vec<[f32; 3]> = m
-        .normals()
+/// The positions of `m` in glTF's y-up frame.
+pub fn y_up_positions(m: &TriMesh) -> Vec<[f32; 3]> {
+    m.positions().iter().map(|&p| to_y_up(p)).collect()
+}
+
+/// The unit normals of `m` in glTF's y-up frame (glTF requires unit normals;
+/// degenerate vertices get the up vector).
+pub fn y_up_unit_normals(m: &TriMesh) -> Vec<[f32; 3]> {
+    m.normals()
         .map(<[_]>::to_vec)
         .unwrap_or_else(|| m.vertex_normals())
         .into_iter()
@@ -153,8 +154,26 @@ fn vertex_attributes(bin: &mut Bin, m: &TriMesh) -> (Value, Option<RgbaImage>) {
                 [0.0, 1.0, 0.0]
             }
         })
+        .collect()
+}
+
+/// The texture of `m` padded to power-of-two sides and the glTF texture
+/// coordinates (top-left origin) that address it, if `m` has both.
+pub fn texture_and_uvs(m: &TriMesh) -> Option<(RgbaImage, Vec<[f32; 2]>)> {
+    let (tex, uv) = (m.texture()?, m.uvs()?);
+    let (image, scale) = power_of_two(tex);
+    let t = uv
+        .iter()
+        .map(|t| [(t[0] * scale[0]) as f32, ((1.0 - t[1]) * scale[1]) as f32])
         .collect();
-    attributes["NORMAL"] = json!(bin.floats(&normals, "VEC3", false));
+    Some((image, t))
+}
+
+/// The vertex attributes of `m` in `bin`: positions, unit normals, linear
+/// colours, UVs (with the power-of-two texture they address) and scalars.
+fn vertex_attributes(bin: &mut Bin, m: &TriMesh) -> (Value, Option<RgbaImage>) {
+    let mut attributes = json!({"POSITION": bin.floats(&y_up_positions(m), "VEC3", true)});
+    attributes["NORMAL"] = json!(bin.floats(&y_up_unit_normals(m), "VEC3", false));
     if let Some(c) = m.colors() {
         let bytes: Vec<u8> = c
             .iter()
@@ -164,18 +183,10 @@ fn vertex_attributes(bin: &mut Bin, m: &TriMesh) -> (Value, Option<RgbaImage>) {
         let acc = json!({"componentType": UNSIGNED_SHORT, "normalized": true, "count": c.len(), "type": "VEC4"});
         attributes["COLOR_0"] = json!(bin.accessor(&bytes, ARRAY_BUFFER, acc));
     }
-    let texture = match (m.texture(), m.uvs()) {
-        (Some(tex), Some(uv)) => {
-            let (image, scale) = power_of_two(tex);
-            let t: Vec<[f32; 2]> = uv
-                .iter()
-                .map(|t| [(t[0] * scale[0]) as f32, ((1.0 - t[1]) * scale[1]) as f32])
-                .collect();
-            attributes["TEXCOORD_0"] = json!(bin.floats(&t, "VEC2", false));
-            Some(image)
-        }
-        _ => None,
-    };
+    let texture = texture_and_uvs(m).map(|(image, t)| {
+        attributes["TEXCOORD_0"] = json!(bin.floats(&t, "VEC2", false));
+        image
+    });
     for a in m.scalars() {
         let vals: Vec<[f32; 1]> = a.values.iter().map(|&v| [v as f32]).collect();
         let name: String = a
@@ -226,7 +237,6 @@ pub(crate) fn write_mesh(
         json!({"componentType": UNSIGNED_INT, "count": 3 * m.n_faces(), "type": "SCALAR"}),
     );
 
-    let mut pbr = json!({"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8});
     let mut doc = json!({
         "asset": {"version": "2.0", "generator": format!("asperity {}", env!("CARGO_PKG_VERSION"))},
         "scene": 0,
@@ -238,9 +248,34 @@ pub(crate) fn write_mesh(
         let value: serde_json::Value = serde_json::from_str(p).map_err(std::io::Error::other)?;
         doc["asset"]["extras"] = json!({ "asperity_params": value });
     }
-    if let Some(tex) = &texture {
-        let png = crate::png_io::encode_rgba(tex).map_err(std::io::Error::other)?;
-        let view = bin.view(&png, None);
+    let image = match &texture {
+        Some(tex) => Some(bin.view(&texture_png(tex)?, None)),
+        None => None,
+    };
+    set_material(&mut doc, image);
+    while !bin.data.len().is_multiple_of(4) {
+        bin.data.push(0);
+    }
+    doc["buffers"] = json!([{"byteLength": bin.data.len()}]);
+    doc["bufferViews"] = json!(bin.views);
+    doc["accessors"] = json!(bin.accessors);
+
+    write_container(w, &doc, &bin.data)
+}
+
+/// The PNG bytes of a texture, as a `.glb` embeds it.
+///
+/// # Errors
+/// The PNG encoder's.
+pub fn texture_png(tex: &RgbaImage) -> std::io::Result<Vec<u8>> {
+    crate::png_io::encode_rgba(tex).map_err(std::io::Error::other)
+}
+
+/// Gives `doc` its one material (matte, two-sided) and, where `image_view`
+/// is the buffer view of a PNG, that image as its base colour texture.
+pub fn set_material(doc: &mut Value, image_view: Option<usize>) {
+    let mut pbr = json!({"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8});
+    if let Some(view) = image_view {
         doc["images"] = json!([{"bufferView": view, "mimeType": "image/png"}]);
         doc["samplers"] =
             json!([{"magFilter": 9729, "minFilter": 9987, "wrapS": 33071, "wrapT": 33071}]);
@@ -249,18 +284,20 @@ pub(crate) fn write_mesh(
     }
     doc["materials"] =
         json!([{"name": "surface", "pbrMetallicRoughness": pbr, "doubleSided": true}]);
-    while !bin.data.len().is_multiple_of(4) {
-        bin.data.push(0);
-    }
-    doc["buffers"] = json!([{"byteLength": bin.data.len()}]);
-    doc["bufferViews"] = json!(bin.views);
-    doc["accessors"] = json!(bin.accessors);
+}
 
-    let mut text = serde_json::to_vec(&doc).map_err(std::io::Error::other)?;
+/// Writes a `.glb` container: the header, `doc` as the JSON chunk and `bin`
+/// (padded to 4 bytes) as the binary chunk.
+///
+/// # Errors
+/// The writer's, or a file over glTF's 4 GiB limit.
+pub fn write_container(w: &mut dyn Write, doc: &Value, bin: &[u8]) -> std::io::Result<()> {
+    let mut text = serde_json::to_vec(doc).map_err(std::io::Error::other)?;
     while !text.len().is_multiple_of(4) {
         text.push(b' ');
     }
-    let total = 12 + 8 + text.len() + 8 + bin.data.len();
+    let pad = bin.len().next_multiple_of(4) - bin.len();
+    let total = 12 + 8 + text.len() + 8 + bin.len() + pad;
     let total = u32::try_from(total)
         .map_err(|_| std::io::Error::other("a .glb file is limited to 4 GiB"))?;
     w.write_all(b"glTF")?;
@@ -269,9 +306,10 @@ pub(crate) fn write_mesh(
     w.write_all(&(text.len() as u32).to_le_bytes())?;
     w.write_all(b"JSON")?;
     w.write_all(&text)?;
-    w.write_all(&(bin.data.len() as u32).to_le_bytes())?;
+    w.write_all(&((bin.len() + pad) as u32).to_le_bytes())?;
     w.write_all(b"BIN\0")?;
-    w.write_all(&bin.data)
+    w.write_all(bin)?;
+    w.write_all(&[0; 3][..pad])
 }
 
 /// The parameters in `asset.extras.asperity_params` of a `.glb` file.
