@@ -3,7 +3,8 @@
 //! (`target/<profile>/deps/lib_asperity.so`) is assembled with the package's
 //! Python files into `target/<profile>/python-pkg`, and the CLI built beside
 //! it (`target/<profile>/asperity`) is what the byte-for-byte checks compare
-//! with. The interpreter and its packages: `asperity_fixtures::python`.
+//! with. The interpreter and its packages: `asperity_fixtures::python`. In CI
+//! the suite runs against the built wheel instead (`ASPERITY_WHEEL_VENV`).
 
 use asperity_fixtures::programs::{BLENDER, require};
 use asperity_fixtures::{python::python, workspace};
@@ -57,6 +58,11 @@ fn assemble(dir: &Path) -> PathBuf {
     site
 }
 
+/// The suite against this build's package, or, where `ASPERITY_WHEEL_VENV`
+/// names a venv, against the wheel installed in it: `.ci/run` builds the wheel
+/// and installs it into a fresh venv, and the suite then runs with no cargo or
+/// rustc on `PATH` and nothing of the checkout's package on `PYTHONPATH`, as a
+/// user who `pip install`s the wheel has it.
 #[test]
 fn python_package_suite() {
     let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
@@ -67,10 +73,25 @@ fn python_package_suite() {
         "{} is missing: run `cargo test --workspace` (the README's command builds the CLI too)",
         cli.display()
     );
-    let site = assemble(&dir);
-    let py = python();
     let root = workspace();
-    let status = Command::new(&py)
+    let mut pytest = match std::env::var_os("ASPERITY_WHEEL_VENV") {
+        Some(venv) => {
+            let venv = root.join(venv);
+            let mut c = Command::new(venv.join("bin/python"));
+            c.env_remove("PYTHONPATH").env(
+                "PATH",
+                format!("{}:/usr/bin:/bin", venv.join("bin").display()),
+            );
+            eprintln!("python/tests against the wheel in {}", venv.display());
+            c
+        }
+        None => {
+            let mut c = Command::new(python());
+            c.env("PYTHONPATH", assemble(&dir));
+            c
+        }
+    };
+    let status = pytest
         .args([
             "-m",
             "pytest",
@@ -80,7 +101,6 @@ fn python_package_suite() {
             "python/tests",
         ])
         .current_dir(&root)
-        .env("PYTHONPATH", &site)
         .env("ASPERITY_CLI", &cli)
         .env("ASPERITY_TEST_OUT", dir.join("python-tests"))
         .status()
