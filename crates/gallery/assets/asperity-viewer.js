@@ -12,21 +12,25 @@
   var base = document.currentScript.src.replace(/[^/]*$/, ""); // the viewer folder
   var viewerReady = null; // callbacks waiting for <model-viewer>, or null once loaded
 
-  // Loads <model-viewer> once; calls done when it is defined.
+  // Loads <model-viewer> once; calls done when it is defined, or failed if
+  // its script cannot be loaded (every press waiting on it is told).
   function withViewer(done, failed) {
     if (window.customElements && customElements.get("model-viewer")) return done();
-    if (viewerReady) return viewerReady.push(done);
-    viewerReady = [done];
+    if (viewerReady) return viewerReady.push([done, failed]);
+    viewerReady = [[done, failed]];
     var script = document.createElement("script");
     script.src = base + "model-viewer-umd.min.js";
-    script.onerror = failed;
+    function settle(ok) {
+      var waiting = viewerReady;
+      viewerReady = null;
+      waiting.forEach(function (w) { w[ok ? 0 : 1](); });
+    }
+    script.onerror = function () { script.remove(); settle(false); };
     script.onload = function () {
       // the element's static setter loads the decoder script; the decoding is
       // done by the copy bundled in <model-viewer> once it has loaded
       customElements.get("model-viewer").meshoptDecoderLocation = base + "meshopt_decoder.js";
-      var waiting = viewerReady;
-      viewerReady = null;
-      waiting.forEach(function (f) { f(); });
+      settle(true);
     };
     document.head.appendChild(script);
   }
