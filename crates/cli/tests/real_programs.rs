@@ -85,6 +85,24 @@ fn npm_package(name: &str, module: &str) -> PathBuf {
     dir
 }
 
+/// The quick demo's model scripts (`viewer/STEM.js`), sorted: every `.js` in
+/// `viewer/` but the viewer's own files.
+fn view_scripts() -> Vec<PathBuf> {
+    let mut views: Vec<PathBuf> = std::fs::read_dir(demo().join("viewer"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "js"))
+        .filter(|p| {
+            let name = p.file_name().unwrap_or_default();
+            !asperity_gallery::viewer::ASSETS
+                .iter()
+                .any(|(a, _)| name == *a)
+        })
+        .collect();
+    views.sort();
+    views
+}
+
 /// The 3-D views' copies (quantized, meshopt-compressed) decoded by
 /// meshoptimizer's own JavaScript decoder are validator-clean, and the largest
 /// meshes were simplified to the view's budget.
@@ -93,21 +111,7 @@ fn npm_package(name: &str, module: &str) -> PathBuf {
 fn every_view_copy_decodes_and_is_validator_clean() {
     let node = require(&NODE);
     let dir = npm_package("gltf", "meshoptimizer");
-    let mut views: Vec<PathBuf> = std::fs::read_dir(demo().join("viewer"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "js"))
-        .filter(|p| {
-            let name = p.file_name().unwrap().to_string_lossy();
-            ![
-                "asperity-viewer.js",
-                "model-viewer-umd.min.js",
-                "meshopt_decoder.js",
-            ]
-            .contains(&name.as_ref())
-        })
-        .collect();
-    views.sort();
+    let views = view_scripts();
     assert!(views.len() >= 40, "{} view copies", views.len());
     let v = Command::new(&node)
         .arg(dir.join("validate_views.mjs"))
@@ -300,24 +304,7 @@ fn gallery_works_in_headless_chromium() {
         out.status.success(),
         "the gallery failed in Chromium (see above)"
     );
-    let models = std::fs::read_dir(demo().join("viewer"))
-        .unwrap()
-        .filter(|e| {
-            let name = e
-                .as_ref()
-                .unwrap()
-                .file_name()
-                .to_string_lossy()
-                .into_owned();
-            name.ends_with(".js")
-                && ![
-                    "asperity-viewer.js",
-                    "model-viewer-umd.min.js",
-                    "meshopt_decoder.js",
-                ]
-                .contains(&name.as_str())
-        })
-        .count();
+    let models = view_scripts().len();
     let painted = stdout
         .lines()
         .filter(|l| l.starts_with("ok   3D view "))

@@ -38,30 +38,43 @@ use base64::Engine as _;
 /// The folder (inside the gallery) holding the viewer and the models.
 pub const DIR: &str = "viewer";
 
-const MODEL_VIEWER: &[u8] = include_bytes!("../assets/model-viewer-umd.min.js");
-const MODEL_VIEWER_LICENSE: &[u8] = include_bytes!("../assets/LICENSE-model-viewer.txt");
-const PAGE_SCRIPT: &[u8] = include_bytes!("../assets/asperity-viewer.js");
-const MESHOPT_DECODER: &[u8] = include_bytes!("../assets/meshopt_decoder.js");
-const MESHOPT_LICENSE: &[u8] = include_bytes!("../assets/LICENSE-meshoptimizer.txt");
+/// The files the viewer needs beside the models, by name in `viewer/`: the
+/// page's script, `<model-viewer>`, meshoptimizer's decoder and their licences.
+pub const ASSETS: [(&str, &[u8]); 5] = [
+    (
+        "model-viewer-umd.min.js",
+        include_bytes!("../assets/model-viewer-umd.min.js"),
+    ),
+    (
+        "LICENSE-model-viewer.txt",
+        include_bytes!("../assets/LICENSE-model-viewer.txt"),
+    ),
+    (
+        "asperity-viewer.js",
+        include_bytes!("../assets/asperity-viewer.js"),
+    ),
+    (
+        "meshopt_decoder.js",
+        include_bytes!("../assets/meshopt_decoder.js"),
+    ),
+    (
+        "LICENSE-meshoptimizer.txt",
+        include_bytes!("../assets/LICENSE-meshoptimizer.txt"),
+    ),
+];
 
-/// Meshes larger than this get no 3-D view (simplifying them to the view's
-/// budget would cost the demo seconds each); the demo's largest has about
-/// 400 000.
+/// Meshes larger than this get no 3-D view (a limit from before the views
+/// were simplified, kept so the demo does not simplify multi-million-triangle
+/// meshes; the demo's largest has about 400 000).
 pub const MAX_TRIANGLES: usize = 1_000_000;
 
-/// Writes the viewer's scripts and licence into `gallery/viewer/`.
+/// Writes the viewer's scripts and licences ([`ASSETS`]) into `gallery/viewer/`.
 ///
 /// # Errors
 /// The writer's.
 pub fn write_assets(gallery: &Path) -> Result<()> {
     let dir = gallery.join(DIR); // made with the gallery folder
-    for (name, bytes) in [
-        ("model-viewer-umd.min.js", MODEL_VIEWER),
-        ("LICENSE-model-viewer.txt", MODEL_VIEWER_LICENSE),
-        ("asperity-viewer.js", PAGE_SCRIPT),
-        ("meshopt_decoder.js", MESHOPT_DECODER),
-        ("LICENSE-meshoptimizer.txt", MESHOPT_LICENSE),
-    ] {
+    for (name, bytes) in ASSETS {
         let path = dir.join(name);
         asperity_engine::io::write_atomic(&path, |w| {
             std::io::Write::write_all(w, bytes)

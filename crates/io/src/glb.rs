@@ -31,11 +31,18 @@ use std::io::Write;
 use asperity_core::{RgbaImage, TriMesh};
 use serde_json::{Value, json};
 
-const ARRAY_BUFFER: u32 = 34962;
-const ELEMENT_ARRAY_BUFFER: u32 = 34963;
-const FLOAT: u32 = 5126;
-const UNSIGNED_SHORT: u32 = 5123;
-const UNSIGNED_INT: u32 = 5125;
+/// glTF's buffer-view targets and accessor component types (the WebGL enums).
+pub const ARRAY_BUFFER: u32 = 34962;
+/// See [`ARRAY_BUFFER`].
+pub const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+/// See [`ARRAY_BUFFER`].
+pub const BYTE: u32 = 5120;
+/// See [`ARRAY_BUFFER`].
+pub const UNSIGNED_SHORT: u32 = 5123;
+/// See [`ARRAY_BUFFER`].
+pub const UNSIGNED_INT: u32 = 5125;
+/// See [`ARRAY_BUFFER`].
+pub const FLOAT: u32 = 5126;
 
 fn to_y_up(p: [f64; 3]) -> [f32; 3] {
     [p[0] as f32, p[2] as f32, -p[1] as f32]

@@ -29,15 +29,11 @@
 //! [`glb`]: asperity_engine::io::glb
 
 use asperity_engine::core::{RgbaImage, TriMesh};
-use asperity_engine::io::glb;
+use asperity_engine::io::glb::{
+    self, ARRAY_BUFFER, BYTE, ELEMENT_ARRAY_BUFFER, UNSIGNED_INT, UNSIGNED_SHORT,
+};
 use meshopt::{SimplifyOptions, VertexDataAdapter};
 use serde_json::{Value, json};
-
-const ARRAY_BUFFER: u32 = 34962;
-const ELEMENT_ARRAY_BUFFER: u32 = 34963;
-const BYTE: u32 = 5120;
-const UNSIGNED_SHORT: u32 = 5123;
-const UNSIGNED_INT: u32 = 5125;
 
 /// Meshes with more triangles are simplified to about this many for the view
 /// (a 400-pixel card shows no more; zoomed in, the downloads have them all).
