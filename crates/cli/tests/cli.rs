@@ -150,6 +150,16 @@ fn convert_height_fields_and_meshes() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("info --json is JSON");
     assert_eq!(v["measurements"]["triangles"], 8);
     assert_eq!(v["measurements"]["euler_characteristic"], 1);
+    // --f32: PLY positions and scalars as float, 16 bytes a vertex fewer
+    // (x, y, z and the height), four header lines a letter shorter
+    let o = asperity(&["convert", "h.ply", "h32.ply", "--f32"], d.path());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (full, single) = (
+        std::fs::read(d.path().join("h.ply")).unwrap(),
+        std::fs::read(d.path().join("h32.ply")).unwrap(),
+    );
+    assert_eq!(full.len() - single.len(), 9 * 16 + 4);
+    assert!(String::from_utf8_lossy(&single).contains("property float height\n"));
     let o = asperity(&["--json", "convert", "h.ply", "-o", "h.stl"], d.path());
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("convert --json is JSON");
     assert_eq!(v["outputs"][0]["bytes"], 84 + 50 * 8);

@@ -259,7 +259,8 @@ pub struct ConvertParams {
     /// Write PLY as ASCII instead of binary.
     #[arg(long)]
     pub ascii: bool,
-    /// Write .npy height fields as float32 instead of float64.
+    /// Write 32-bit floats: .npy height fields as float32, PLY positions and scalars as
+    /// float (instead of 64-bit).
     #[arg(long)]
     pub f32: bool,
     /// Diagonal for height field → mesh.
@@ -370,6 +371,7 @@ impl ConvertParams {
             } else {
                 asperity_io::PlyEncoding::BinaryLittleEndian
             },
+            ply_float32: self.f32,
             npy_dtype: if self.f32 {
                 asperity_io::NpyDtype::Float32
             } else {

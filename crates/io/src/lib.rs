@@ -136,6 +136,9 @@ impl Surface {
 pub struct WriteOptions {
     /// PLY encoding. Default: binary little-endian.
     pub ply_encoding: PlyEncoding,
+    /// PLY positions and named scalars as 32-bit `float` instead of `double`
+    /// (what Blender and MeshLab hold them in; a third smaller). Default: false.
+    pub ply_float32: bool,
     /// `.npy` height-field element type. Default: float64.
     pub npy_dtype: NpyDtype,
     /// Diagonal used when a height field is written to a mesh format.
@@ -155,12 +158,21 @@ impl WriteOptions {
     pub(crate) fn params_text(&self) -> Option<String> {
         self.params.as_ref().map(metadata::params_text)
     }
+
+    /// How PLY files are written.
+    pub(crate) fn ply_format(&self) -> ply::PlyFormat {
+        ply::PlyFormat {
+            encoding: self.ply_encoding,
+            float32: self.ply_float32,
+        }
+    }
 }
 
 impl Default for WriteOptions {
     fn default() -> Self {
         Self {
             ply_encoding: PlyEncoding::BinaryLittleEndian,
+            ply_float32: false,
             npy_dtype: NpyDtype::Float64,
             diagonal: Diagonal::Forward,
             title: "asperity surface".into(),

@@ -30,20 +30,36 @@ pub fn encode_rgba(img: &RgbaImage) -> Result<Vec<u8>, png::EncodingError> {
 }
 
 /// Encodes an RGBA8 image as PNG bytes, with the parameters it was made with
-/// (one line of JSON, the `metadata` module's) in a `tEXt` chunk.
+/// (one line of JSON, the `metadata` module's) in a `tEXt` chunk. An image
+/// whose every pixel is opaque (every render) is stored as RGB: a quarter
+/// fewer bytes to compress, the same picture in every reader.
 pub fn encode_rgba_with(
     img: &RgbaImage,
     params: Option<&str>,
 ) -> Result<Vec<u8>, png::EncodingError> {
+    let pixels = img.pixels();
+    let opaque = pixels.chunks_exact(4).all(|p| p[3] == u8::MAX);
     let mut out = Vec::new();
     let mut enc = png::Encoder::new(&mut out, img.width(), img.height());
-    enc.set_color(png::ColorType::Rgba);
+    enc.set_color(match opaque {
+        true => png::ColorType::Rgb,
+        false => png::ColorType::Rgba,
+    });
     enc.set_depth(png::BitDepth::Eight);
     if let Some(p) = params {
         enc.add_text_chunk(PARAMS_KEY.into(), p.into())?;
     }
     let mut w = enc.write_header()?;
-    w.write_image_data(img.pixels())?;
+    match opaque {
+        true => {
+            let rgb: Vec<u8> = pixels
+                .chunks_exact(4)
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect();
+            w.write_image_data(&rgb)?;
+        }
+        false => w.write_image_data(pixels)?,
+    }
     w.finish()?;
     Ok(out)
 }
@@ -344,6 +360,33 @@ mod tests {
         w.write_image_data(&data).unwrap();
         w.finish().unwrap();
         out
+    }
+
+    /// The colour type and pixels a PNG decodes to.
+    fn decoded(bytes: &[u8]) -> (png::ColorType, Vec<u8>) {
+        let mut reader = png::Decoder::new(Cursor::new(bytes)).read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        buf.truncate(info.buffer_size());
+        (info.color_type, buf)
+    }
+
+    #[test]
+    fn opaque_pictures_are_stored_as_rgb_and_translucent_ones_as_rgba() {
+        let mut img = RgbaImage::filled(3, 2, [10, 20, 30, 255]);
+        img.put(1, 1, [200, 100, 0, 255]);
+        let (color, rgb) = decoded(&encode_rgba(&img).unwrap());
+        assert_eq!(color, png::ColorType::Rgb);
+        let back: Vec<u8> = img
+            .pixels()
+            .chunks_exact(4)
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect();
+        assert_eq!(rgb, back);
+        img.put(2, 0, [1, 2, 3, 128]);
+        let (color, rgba) = decoded(&encode_rgba(&img).unwrap());
+        assert_eq!(color, png::ColorType::Rgba);
+        assert_eq!(rgba, img.pixels());
     }
 
     #[test]

@@ -55,7 +55,7 @@ pub fn write_poly_mesh(
                 &up::mesh_in_file_frame(attrs, up),
                 poly.face_offsets(),
                 poly.face_vertices(),
-                opts.ply_encoding,
+                opts.ply_format(),
                 params,
             )
             .map_err(os)
@@ -96,7 +96,7 @@ pub fn write_mesh(path: &Path, mesh: &TriMesh, opts: &WriteOptions) -> Result<()
     let params = params.as_deref();
     match f {
         Format::Ply => write_atomic(path, |w| {
-            ply::write_mesh(w, &in_file(), opts.ply_encoding, params).map_err(os)
+            ply::write_mesh(w, &in_file(), opts.ply_format(), params).map_err(os)
         }),
         Format::Stl => write_atomic(path, |w| stl::write_mesh(w, &in_file()).map_err(os)),
         Format::Glb => write_atomic(path, |w| glb::write_mesh(w, mesh, params).map_err(os)),
@@ -147,7 +147,7 @@ pub fn write_points(path: &Path, points: &PointSet, opts: &WriteOptions) -> Resu
     let points = &*up::points_in_file_frame(points, up::written_up(f, opts.up));
     match f {
         Format::Ply => write_atomic(path, |w| {
-            ply::write_points(w, points, opts.ply_encoding, opts.params_text().as_deref())
+            ply::write_points(w, points, opts.ply_format(), opts.params_text().as_deref())
                 .map_err(os)
         }),
         Format::Xyz => write_atomic(path, |w| text::write_xyz(w, points).map_err(os)),
@@ -355,7 +355,7 @@ pub fn write_mesh_with_polylines(
     match f {
         Format::Ply => write_atomic(path, |w| {
             let m = up::mesh_in_file_frame(&m, up);
-            ply::write_mesh_edges(w, &m, &edges, opts.ply_encoding, params).map_err(os)
+            ply::write_mesh_edges(w, &m, &edges, opts.ply_format(), params).map_err(os)
         }),
         _ => write_atomic(path, |w| {
             obj::write_mesh(w, &m, None, up, params)

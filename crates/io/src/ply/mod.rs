@@ -33,6 +33,21 @@ pub enum PlyEncoding {
     BinaryLittleEndian,
 }
 
+/// How a PLY file is written: its encoding, and whether positions and
+/// named scalars are `float` rather than `double` (normals and texture
+/// coordinates are always `float`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct PlyFormat {
+    pub(crate) encoding: PlyEncoding,
+    pub(crate) float32: bool,
+}
+
+impl PlyFormat {
+    fn ascii(self) -> bool {
+        self.encoding == PlyEncoding::Ascii
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Scalar {
     I8,

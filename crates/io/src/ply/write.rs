@@ -6,7 +6,7 @@ use std::io::Write;
 
 use asperity_core::{PointSet, TriMesh};
 
-use super::PlyEncoding;
+use super::PlyFormat;
 
 /// A property name safe for a PLY header.
 fn sanitize(name: &str) -> String {
@@ -29,6 +29,7 @@ enum Column<'a> {
     Uv(&'static str, &'a [[f64; 2]], usize),
     U8(&'static str, &'a [[u8; 4]], usize),
     Scalar(String, &'a [f64]),
+    Scalar32(String, &'a [f64]),
     Int(String, &'a [f64]),
 }
 
@@ -49,6 +50,7 @@ impl Column<'_> {
         match self {
             Column::F64(n, ..) => format!("property double {n}"),
             Column::F32(n, ..) | Column::Uv(n, ..) => format!("property float {n}"),
+            Column::Scalar32(n, _) => format!("property float {n}"),
             Column::U8(n, ..) => format!("property uchar {n}"),
             Column::Scalar(n, _) => format!("property double {n}"),
             Column::Int(n, _) => format!("property int {n}"),
@@ -67,6 +69,7 @@ impl Column<'_> {
                 }
             }
             Column::Scalar(_, d) => put_f64(d[i], ascii, out),
+            Column::Scalar32(_, d) => put_f32(d[i] as f32, ascii, out),
             Column::Int(_, d) => {
                 let v = d[i] as i32;
                 if ascii {
@@ -127,13 +130,14 @@ impl Faces<'_> {
 }
 
 /// The columns of the vertex element: position, then normals, colours, UVs
-/// and the named scalars (renamed where they clash with a standard name).
-fn vertex_columns<'a>(v: &VertexData<'a>) -> Vec<Column<'a>> {
-    let mut cols = vec![
-        Column::F64("x", v.positions, 0),
-        Column::F64("y", v.positions, 1),
-        Column::F64("z", v.positions, 2),
-    ];
+/// and the named scalars (renamed where they clash with a standard name);
+/// positions and scalars as `double`, or `float` with `float32`.
+fn vertex_columns<'a>(v: &VertexData<'a>, float32: bool) -> Vec<Column<'a>> {
+    let position = |name, k| match float32 {
+        true => Column::F32(name, v.positions, k),
+        false => Column::F64(name, v.positions, k),
+    };
+    let mut cols = vec![position("x", 0), position("y", 1), position("z", 2)];
     if let Some(n) = v.normals {
         cols.extend([
             Column::F32("nx", n, 0),
@@ -162,6 +166,8 @@ fn vertex_columns<'a>(v: &VertexData<'a>) -> Vec<Column<'a>> {
         }
         if is_integer_column(&n, data) {
             cols.push(Column::Int(n, data));
+        } else if float32 {
+            cols.push(Column::Scalar32(n, data));
         } else {
             cols.push(Column::Scalar(n, data));
         }
@@ -269,11 +275,11 @@ fn write_ply(
     v: &VertexData,
     faces: Option<Faces<'_>>,
     edges: &[[u32; 2]],
-    enc: PlyEncoding,
+    format: PlyFormat,
     params: Option<&str>,
 ) -> std::io::Result<()> {
-    let ascii = enc == PlyEncoding::Ascii;
-    let cols = vertex_columns(v);
+    let ascii = format.ascii();
+    let cols = vertex_columns(v, format.float32);
     let h = header(
         ascii,
         v.positions.len(),
@@ -327,21 +333,28 @@ pub(crate) fn write_poly(
     m: &TriMesh,
     offsets: &[u32],
     verts: &[u32],
-    enc: PlyEncoding,
+    format: PlyFormat,
     params: Option<&str>,
 ) -> std::io::Result<()> {
     let v = mesh_vertex_data(m);
-    write_ply(w, &v, Some(Faces::Poly(offsets, verts)), &[], enc, params)
+    write_ply(
+        w,
+        &v,
+        Some(Faces::Poly(offsets, verts)),
+        &[],
+        format,
+        params,
+    )
 }
 
 /// Writes a triangle mesh with all its per-vertex data.
 pub(crate) fn write_mesh(
     w: &mut dyn Write,
     m: &TriMesh,
-    enc: PlyEncoding,
+    format: PlyFormat,
     params: Option<&str>,
 ) -> std::io::Result<()> {
-    write_mesh_edges(w, m, &[], enc, params)
+    write_mesh_edges(w, m, &[], format, params)
 }
 
 /// Writes a triangle mesh plus an `edge` element (polylines drawn on it).
@@ -349,18 +362,25 @@ pub(crate) fn write_mesh_edges(
     w: &mut dyn Write,
     m: &TriMesh,
     edges: &[[u32; 2]],
-    enc: PlyEncoding,
+    format: PlyFormat,
     params: Option<&str>,
 ) -> std::io::Result<()> {
     let v = mesh_vertex_data(m);
-    write_ply(w, &v, Some(Faces::Tri(m.triangles())), edges, enc, params)
+    write_ply(
+        w,
+        &v,
+        Some(Faces::Tri(m.triangles())),
+        edges,
+        format,
+        params,
+    )
 }
 
 /// Writes a point set (vertices only).
 pub(crate) fn write_points(
     w: &mut dyn Write,
     p: &PointSet,
-    enc: PlyEncoding,
+    format: PlyFormat,
     params: Option<&str>,
 ) -> std::io::Result<()> {
     let v = VertexData {
@@ -374,5 +394,5 @@ pub(crate) fn write_points(
             .map(|a| (a.name.as_str(), a.values.as_slice()))
             .collect(),
     };
-    write_ply(w, &v, None, &[], enc, params)
+    write_ply(w, &v, None, &[], format, params)
 }

@@ -60,6 +60,58 @@ fn ply_keeps_everything_but_the_texture() {
     }
 }
 
+#[test]
+fn float32_ply_holds_positions_and_scalars_rounded_to_f32() {
+    let m = rich_mesh();
+    for enc in [PlyEncoding::BinaryLittleEndian, PlyEncoding::Ascii] {
+        let dir = tempfile::tempdir().unwrap();
+        let (single, double) = (dir.path().join("s.ply"), dir.path().join("d.ply"));
+        let opts = WriteOptions {
+            ply_encoding: enc,
+            ply_float32: true,
+            ..Default::default()
+        };
+        asperity_io::write_mesh(&single, &m, &opts).unwrap();
+        let double_opts = WriteOptions {
+            ply_encoding: enc,
+            ..Default::default()
+        };
+        asperity_io::write_mesh(&double, &m, &double_opts).unwrap();
+        let text = String::from_utf8_lossy(&std::fs::read(&single).unwrap()).into_owned();
+        for property in [
+            "property float x\n",
+            "property float z\n",
+            "property float curvature\n",
+        ] {
+            assert!(text.contains(property), "{enc:?}: {property}");
+        }
+        assert!(!text.contains("double"), "{enc:?}: no double left");
+        let r = asperity_io::read_mesh(&single).unwrap();
+        // the same f32 (ASCII prints the shortest text of the f32, which
+        // reads back as the nearest f64, so both sides are compared as f32)
+        let rounded = |v: &[f64]| v.iter().map(|&x| x as f32).collect::<Vec<_>>();
+        assert_eq!(
+            rounded(&flat3(r.positions())),
+            rounded(&flat3(m.positions())),
+            "{enc:?}"
+        );
+        assert_eq!(
+            rounded(r.scalar("curvature").unwrap()),
+            rounded(m.scalar("curvature").unwrap()),
+            "{enc:?}"
+        );
+        assert_eq!(r.triangles(), m.triangles());
+        assert_eq!(r.colors(), m.colors());
+        if enc == PlyEncoding::BinaryLittleEndian {
+            // x, y, z and one scalar: 16 bytes a vertex fewer, and four
+            // header lines one letter shorter ("float" for "double")
+            let saved = std::fs::metadata(&double).unwrap().len()
+                - std::fs::metadata(&single).unwrap().len();
+            assert_eq!(saved, 16 * m.n_vertices() as u64 + 4);
+        }
+    }
+}
+
 /// Equal geometry up to vertex renumbering (OBJ readers number by first use):
 /// every triangle's corners have the same positions and colours, in order.
 fn assert_same_corners(r: &TriMesh, m: &TriMesh) {
