@@ -173,6 +173,10 @@ pub struct DemoArgs {
     /// Smaller sizes for a fast run (CI uses this).
     #[arg(long)]
     pub quick: bool,
+    /// Write every mesh download whole (by default a mesh above the gallery's triangle
+    /// budget is written reduced, and its card says so).
+    #[arg(long)]
+    pub full_meshes: bool,
     /// Run only these sections (repeatable): foundation, renderer, peridier,
     /// growth, levelset, ifs, surfca, subdiv.
     #[arg(long, value_name = "SECTION")]

@@ -15,6 +15,7 @@ pub fn run(ctx: &Context, a: &DemoArgs) -> anyhow::Result<()> {
         dir: dir.clone(),
         seed: ctx.seed,
         quick: a.quick,
+        full_meshes: a.full_meshes,
         only: a.only.clone(),
         budget: ctx.budget,
         threads: ctx.threads,

@@ -118,11 +118,97 @@ fn demo_images_are_non_empty_and_non_uniform() {
         }
     }
     assert!(pngs >= 10, "{pngs} pictures");
+    assert_light(&g, 25e6, asperity_gallery::downloads::TRIANGLE_BUDGETS.0);
     for section in ["Foundation", "Renderer"] {
         assert!(html.contains(section), "section {section}");
     }
     let svg = std::fs::read_to_string(g.join("plot_rock_curvature.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.contains("<path") || svg.contains("<polyline"));
+}
+
+/// A gallery is at most `limit` bytes with everything in it (#39), and each
+/// of its PLY meshes is within the triangle `budget` or reduced to it as far as
+/// its seams allow, as the report lists and the page says.
+fn assert_light(gallery: &Path, limit: f64, budget: usize) {
+    let mut total = 0;
+    let mut stack = vec![gallery.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let e = e.unwrap();
+            match e.file_type().unwrap().is_dir() {
+                true => stack.push(e.path()),
+                false => total += e.metadata().unwrap().len(),
+            }
+        }
+    }
+    assert!(total as f64 <= limit, "{total} bytes (at most {limit})");
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(gallery.join("report.json")).unwrap()).unwrap();
+    let reduced = report["measurements"]["reduced_downloads"]
+        .as_object()
+        .unwrap();
+    assert!(reduced.len() >= 10, "{} reduced downloads", reduced.len());
+    let html = std::fs::read_to_string(gallery.join("index.html")).unwrap();
+    for e in std::fs::read_dir(gallery).unwrap() {
+        let path = e.unwrap().path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        if !name.ends_with(".ply") {
+            continue;
+        }
+        let Ok(m) = asperity_io::read_mesh(&path) else {
+            continue; // a point set
+        };
+        match reduced.get(&name) {
+            Some(counts) => {
+                let (kept, whole) = (counts[0].as_u64().unwrap(), counts[1].as_u64().unwrap());
+                assert_eq!(m.n_faces() as u64, kept, "{name}");
+                assert!(kept < whole, "{name}: {kept} of {whole}");
+                let said = format!("{name} reduced to {kept} of {whole} triangles");
+                assert!(html.contains(&said), "the page says {said}");
+            }
+            None => assert!(m.n_faces() <= budget, "{name}: {} triangles", m.n_faces()),
+        }
+    }
+}
+
+/// `--full-meshes` writes the downloads whole, and their cards say nothing of
+/// a reduction.
+#[test]
+fn full_meshes_writes_the_downloads_whole() {
+    let d = tempfile::tempdir().unwrap();
+    for (flags, out) in [(&[][..], "reduced"), (&["--full-meshes"][..], "whole")] {
+        let args = [
+            &[
+                "--quiet", "demo", "--quick", "--only", "subdiv", "--out", out,
+            ],
+            flags,
+        ]
+        .concat();
+        let o = asperity(&args, d.path());
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let faces = |out: &str| {
+        asperity_io::read_mesh(&d.path().join(out).join("subdiv_rock.ply"))
+            .unwrap()
+            .n_faces()
+    };
+    let budget = asperity_gallery::downloads::TRIANGLE_BUDGETS.0;
+    assert_eq!(faces("reduced"), budget);
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(d.path().join("reduced/report.json")).unwrap())
+            .unwrap();
+    let counts = &report["measurements"]["reduced_downloads"]["subdiv_rock.ply"];
+    assert_eq!(counts[0], budget);
+    assert_eq!(
+        counts[1],
+        faces("whole"),
+        "the whole mesh, as the reduced run counted it"
+    );
+    assert!(faces("whole") > budget);
+    let html = std::fs::read_to_string(d.path().join("whole/index.html")).unwrap();
+    assert!(!html.contains("reduced to"), "no card says reduced");
+    let report = std::fs::read_to_string(d.path().join("whole/report.json")).unwrap();
+    assert!(!report.contains("reduced_downloads"));
 }
 
 /// The files of a gallery with the level-set flow's step numbers taken out
@@ -153,6 +239,11 @@ fn full_demo_has_every_card_and_every_output_it_reports() {
     assert_eq!(report["warnings"], serde_json::json!([]), "warnings");
     let outputs = report["outputs"].as_array().unwrap();
     assert!(outputs.len() >= 140, "{} outputs", outputs.len());
+    assert_light(
+        &full,
+        250e6,
+        asperity_gallery::downloads::TRIANGLE_BUDGETS.1,
+    );
     let html = std::fs::read_to_string(full.join("index.html")).unwrap();
     for out in outputs {
         // relative to where the command ran

@@ -30,6 +30,7 @@ use asperity_engine::io::{Surface, WriteOptions};
 use asperity_engine::methods::render::{RenderOptions, Shader, render_mesh};
 use asperity_engine::{Report, Result};
 
+pub mod downloads;
 pub mod foundation;
 pub mod growth;
 pub mod ifs;
@@ -50,6 +51,9 @@ pub struct Options {
     pub seed: u64,
     /// Smaller sizes for a fast run.
     pub quick: bool,
+    /// Every mesh download whole (by default a mesh above
+    /// [`downloads::TRIANGLE_BUDGETS`] is written reduced, see [`downloads`]).
+    pub full_meshes: bool,
     /// Only these sections (by [`SECTIONS`] name); empty for all.
     pub only: Vec<String>,
     /// The memory budget of every job.
@@ -68,6 +72,10 @@ pub struct Env {
     pub budget: MemoryBudget,
     /// Smaller sizes.
     pub quick: bool,
+    /// Meshes with more triangles are written reduced ([`downloads`]).
+    pub download_budget: usize,
+    /// Mesh files written reduced: file name → (triangles written, triangles whole).
+    pub reduced: RefCell<BTreeMap<String, (usize, usize)>>,
     /// Outputs and measurements so far.
     pub report: RefCell<Report>,
     /// The 3-D view of each mesh file written (file name → `viewer/STEM.js`).
@@ -79,13 +87,34 @@ impl Env {
     ///
     /// # Errors
     /// The writer's.
+    /// Meshes above [`Self::download_budget`] triangles are written reduced
+    /// ([`downloads`]); PLY files hold 32-bit floats, as Blender and MeshLab
+    /// do.
+    ///
+    /// # Errors
+    /// The writer's.
     pub fn write(&self, name: &str, s: &Surface) -> Result<String> {
         let path = self.dir.join(name);
-        asperity_engine::io::write(&path, s, &WriteOptions::default())?;
-        self.report.borrow_mut().output(&path);
-        if let Surface::Mesh(m) = s {
-            self.model(name, m)?;
+        let opts = WriteOptions {
+            ply_float32: true,
+            ..WriteOptions::default()
+        };
+        match s {
+            Surface::Mesh(m) if m.n_faces() > self.download_budget => {
+                let r = downloads::reduced(m, self.download_budget)?;
+                self.reduced
+                    .borrow_mut()
+                    .insert(name.to_owned(), (r.n_faces(), m.n_faces()));
+                asperity_engine::io::write_mesh(&path, &r, &opts)?;
+                self.model(name, &r)?;
+            }
+            Surface::Mesh(m) => {
+                asperity_engine::io::write_mesh(&path, m, &opts)?;
+                self.model(name, m)?;
+            }
+            _ => asperity_engine::io::write(&path, s, &opts)?,
         }
+        self.report.borrow_mut().output(&path);
         Ok(name.to_owned())
     }
 
@@ -272,8 +301,20 @@ fn check_only(only: &[String]) -> Result<()> {
 /// Writes `index.html` and `report.json` for `sections`; returns the report.
 fn finish(env: Env, mut sections: Vec<Section>, o: &Options) -> Result<Report> {
     let models = env.models.borrow().clone();
+    let reduced = env.reduced.borrow().clone();
     for it in sections.iter_mut().flat_map(|s| s.items.iter_mut()) {
         it.model = it.files.iter().find_map(|f| models.get(f)).cloned();
+        let with_cli = it.facts.iter().any(|(k, _)| k == "CLI");
+        for f in &it.files {
+            if let Some((kept, whole)) = reduced.get(f) {
+                it.facts.push(downloads::fact(f, *kept, *whole, with_cli));
+            }
+        }
+    }
+    if !reduced.is_empty() {
+        let files: BTreeMap<&String, [usize; 2]> =
+            reduced.iter().map(|(f, (k, w))| (f, [*k, *w])).collect();
+        env.measure("reduced_downloads", files);
     }
     if !models.is_empty() {
         viewer::write_assets(&o.dir)?;
@@ -308,6 +349,12 @@ pub fn run(o: &Options, progress: &dyn Progress) -> Result<Report> {
         seed: o.seed,
         budget: o.budget,
         quick: o.quick,
+        download_budget: match (o.full_meshes, o.quick) {
+            (true, _) => usize::MAX,
+            (false, true) => downloads::TRIANGLE_BUDGETS.0,
+            (false, false) => downloads::TRIANGLE_BUDGETS.1,
+        },
+        reduced: RefCell::default(),
         report: RefCell::new(Report::new("demo", o.seed, o.threads)),
         models: RefCell::default(),
     };

@@ -19,9 +19,12 @@
 //! Vertices equal after quantization are merged first (a cell-coloured mesh
 //! repeats each corner once per cell); a mesh still above the budget is
 //! simplified with meshoptimizer's edge collapse, which keeps colour seams and
-//! borders, and then ordered for the vertex cache and fetch. Streams are
-//! encoded with meshoptimizer's vertex codec version 0 and index codec, the
-//! only versions `EXT_meshopt_compression` allows. The encoder is the
+//! leaves open borders where they are (a cell mesh's base triangles meet at
+//! unmatched borders, which would crack), and then ordered for the vertex
+//! cache and fetch. A mesh that is all seams and borders (a cell mesh of a
+//! colour per cell) stays above the budget. Streams are encoded with
+//! meshoptimizer's vertex codec version 0 and index codec, the only versions
+//! `EXT_meshopt_compression` allows. The encoder is the
 //! `meshopt` crate (bindings to meshoptimizer, the format's reference
 //! implementation); the page decodes with the decoder bundled in
 //! `<model-viewer>` (see [`super`]).
@@ -127,7 +130,8 @@ fn optimise(q: &mut Quantized, budget: usize) {
                     &adapter,
                     budget * 3,
                     error,
-                    SimplifyOptions::None,
+                    // unmatched borders stay (see crate::downloads)
+                    SimplifyOptions::LockBorder,
                     None,
                 );
                 if q.indices.len() / 3 <= budget {
