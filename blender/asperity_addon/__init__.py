@@ -8,7 +8,10 @@ Object > asperity: Weather and Regions (gobron-chiba surface CA), Roughen
 
 Every surface comes from asperity's engine through its Python package
 (``engine.py``); the add-on only turns arrays into Blender data (``build.py``).
-Build the installable zip with ``python3 blender/build.py`` (README, "Blender").
+Build the extension for Blender 4.2+ with ``python3 blender/build.py
+--extension`` (the manifest and asperity's wheel, which Blender installs), or
+the legacy zip for Blender 3.x with ``python3 blender/build.py`` (README,
+"Blender"). ``bl_info`` is for 3.x; extensions take ``blender_manifest.toml``.
 """
 
 bl_info = {

@@ -1,9 +1,13 @@
-"""The Blender add-on, installed from its zip and run headless (issue #25).
+"""The Blender add-on, installed from its zip and run headless (issues #25, #39).
 
-Run by crates/cli/tests/real_programs.rs:
+Run by crates/python/tests/pytest.rs, in Debian's Blender 3.4 with the legacy zip:
     blender -b --factory-startup --python-exit-code 1 --python check_addon.py -- ZIP ASPERITY OUT
+and in Blender 4.2 LTS and 5.0 as Python modules (``bpy`` from PyPI) with the extension zip:
+    python check_addon.py ZIP ASPERITY OUT
 
-- installs and enables the add-on from the zip blender/build.py made;
+- installs and enables the add-on from the zip blender/build.py made (an
+  extension, with asperity's wheel, when the zip has a blender_manifest.toml:
+  Blender installs the wheel itself);
 - runs every operator with small parameters: the generators' objects have the
   vertex and face counts of the CLI's files for the same parameters and seed;
   Weather gives a material with an image texture, Regions a material per
@@ -15,10 +19,12 @@ Run by crates/cli/tests/real_programs.rs:
   OUT (a test artefact), with addon_screenshot.png for the README.
 Prints "ok   what" / "FAIL what".
 """
+import importlib
 import json
 import subprocess
 import sys
 import tempfile
+import zipfile
 from pathlib import Path
 
 import bpy
@@ -67,18 +73,28 @@ def same_positions(obj, path):
 
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
-bpy.ops.preferences.addon_install(filepath=str(ZIP), overwrite=True)
-bpy.ops.preferences.addon_enable(module="asperity_addon")
-import asperity_addon  # noqa: E402  (installed just now)
-from asperity_addon import engine, scenes  # noqa: E402
+EXTENSION = "blender_manifest.toml" in zipfile.ZipFile(ZIP).namelist()
+if EXTENSION:
+    # Blender 4.2+: an extension in the user repository, its wheel installed by Blender
+    bpy.ops.extensions.package_install_files(filepath=str(ZIP), repo="user_default", enable_on_install=True)
+    MODULE = "bl_ext.user_default.asperity"
+else:
+    bpy.ops.preferences.addon_install(filepath=str(ZIP), overwrite=True)
+    bpy.ops.preferences.addon_enable(module="asperity_addon")
+    MODULE = "asperity_addon"
+engine = importlib.import_module(f"{MODULE}.engine")  # installed just now
+scenes = importlib.import_module(f"{MODULE}.scenes")
 
-asp = engine.package()  # the engine the add-on's zip carries
+asp = engine.package()  # the engine the add-on's zip carries (or the wheel Blender installed)
 
-check("add-on installed from the zip and enabled", "asperity_addon" in bpy.context.preferences.addons)
+check(f"add-on installed from the zip and enabled (Blender {bpy.app.version_string})",
+      MODULE in bpy.context.preferences.addons)
+if EXTENSION:
+    check("asperity from the extension's wheel", "extensions" in Path(asp.__file__).parts, asp.__file__)
 check("Add > Mesh > Rough Surface registered", hasattr(bpy.types, "VIEW3D_MT_asperity_add"))
 
 # ---- every property that follows an engine parameter has the engine's default (#36)
-from asperity_addon import defaults  # noqa: E402
+defaults = importlib.import_module(f"{MODULE}.defaults")
 
 wrong = []
 for (op, prop), (job, field) in sorted(defaults.FIELDS.items()):
@@ -197,9 +213,14 @@ made["regions"] = ico
 
 bpy.ops.mesh.primitive_cube_add(location=(-3, 0, 0))
 cube = bpy.context.active_object
-for e in cube.data.edges[:4]:
-    e.crease = 1.0
-from asperity_addon import build  # noqa: E402
+if bpy.app.version >= (4, 0, 0):  # creases are an edge attribute since Blender 4.0
+    crease = cube.data.attributes.new("crease_edge", "FLOAT", "EDGE")
+    for i in range(4):
+        crease.data[i].value = 1.0
+else:
+    for e in cube.data.edges[:4]:
+        e.crease = 1.0
+build = importlib.import_module(f"{MODULE}.build")
 
 v, polys, creases = build.object_arrays(cube)
 build.write_ply(TMP / "cube.ply", v, polys)
