@@ -11,8 +11,8 @@
 //! 2. if that is not enough, meshoptimizer's edge collapse (the `meshopt`
 //!    crate, bindings to the reference implementation; the simplifier is not
 //!    the product here) removes vertices, keeping open borders where they are
-//!    and the seams where colours or scalars jump, with the least error of
-//!    [`SIMPLIFY_ERRORS`] that meets the budget.
+//!    and the seams where colours or scalars jump, with the least error (0.2,
+//!    1 or 5 % of the mesh's size) that meets the budget.
 //!
 //! A mesh made of seams alone (every cell its own colour) cannot be reduced
 //! this way; it is written with what the merge left, and the card gives the
