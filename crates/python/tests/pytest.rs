@@ -296,8 +296,11 @@ fn blender_extension_in_bpy() {
         .status()
         .unwrap();
     assert!(built.success(), "blender/build.py --extension failed");
-    // the 4.2 LTS line and the newest bpy CPython 3.11 can install
-    for version in ["4.2.23", "5.0.1"] {
+    let versions = include_str!("../../../tests/blender/bpy-versions.txt");
+    for version in versions
+        .lines()
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+    {
         let py = bpy(version);
         let out = dir.join(format!("blender-{version}"));
         let user = out.join("user-resources"); // extensions go here, not into $HOME
