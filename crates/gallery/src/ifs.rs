@@ -7,7 +7,9 @@
 use asperity_engine::Result;
 use asperity_engine::core::TriMesh;
 use asperity_engine::error::invalid;
-use asperity_engine::ifs::{control_net, figure, orbit_figure, sdcf_for, surface_mesh};
+use asperity_engine::ifs::{
+    control_net, figure, orbit_figure, sdcf_for, surface_mesh, tensor_dcf_for,
+};
 use asperity_engine::methods::ifs::curvature::{curve_report, surface_report};
 use asperity_engine::methods::ifs::sdcf::Start;
 use asperity_engine::methods::ifs::{
@@ -189,16 +191,20 @@ fn takagi_surface(env: &Env, opts: &FamilyOptions, surf: &SurfaceIfs) -> Result<
 
 /// Fig. 4: the attractor with one SDCF of T0⊗T'0 (from the opposite corner),
 /// and the three DCFs it contains: those of T0 and T′0 (green, cyan) along its
-/// edges t = 0 and s = 0, and that of 𝒯00 = T0⊗T′0 (yellow) along its diagonal
-/// s = t — the square surface has λ₁ = λ′₁, so 𝒯00's exponents are
-/// αᵢ + α′ⱼ and its DCF is the SDCF at s = t.
+/// edges t = 0 and s = 0, and that of 𝒯00 = T0⊗T′0 (yellow), computed from
+/// 𝒯00's own spectrum (`asperity_ifs::invariant`): the square surface has
+/// λ₁ = λ′₁, so it lies along the SDCF's diagonal s = t.
 fn sdcf(env: &Env, opts: &FamilyOptions, surf: &SurfaceIfs) -> Result<Item> {
     let starts = (Start::Parameter(1.0), Start::Parameter(1.0));
     let resolution = if env.quick { 32 } else { 64 };
     let sd = sdcf_for(surf, opts, (0, 0), starts, resolution, &env.budget)?;
     let att = surf.attractor_mesh(if env.quick { 5 } else { 6 }, &env.budget)?;
     let both = TriMesh::merge_colored(&[(&att, [200, 200, 200, 255]), (&sd, [40, 90, 220, 255])])?;
-    let lines = dcf_lines(&sd)?;
+    let mut lines = dcf_lines(&sd)?;
+    // 𝒯00's DCF from its own spectrum (λ₁ = λ′₁ twice), not read off the mesh:
+    // it must land on the SDCF's diagonal.
+    let yellow = lines.last_mut().ok_or_else(|| invalid("three DCF lines"))?;
+    yellow.points = tensor_dcf_for(surf, opts, (0, 0), starts, resolution)?;
     let file = env.mesh("ifs_sdcf.ply", &both)?;
     // From below: the SDCF lies under the attractor's cusps, which would
     // hide the DCFs drawn on it.
@@ -225,7 +231,8 @@ fn sdcf(env: &Env, opts: &FamilyOptions, surf: &SurfaceIfs) -> Result<Item> {
             fact("start", "Q = c₁ ⊗ c′₁ (the opposite corner)"),
             fact(
                 "DCF of 𝒯00",
-                "the SDCF at s = t (λ₁ = λ′₁: exponents αᵢ + α′ⱼ)",
+                "from 𝒯00's own spectrum (1, λ₁ twice, …: eigenvalues λᵢλ′ⱼ with multiplicity); \
+                 it lies on the SDCF at s = t because λ₁ = λ′₁",
             ),
             fact(
                 "CLI",

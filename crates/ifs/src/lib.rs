@@ -5,6 +5,7 @@
 //! | Module | What | Paper |
 //! | --- | --- | --- |
 //! | [`spectrum`] | ordered eigen-decomposition, α exponents, Jordan/complex detection | §2.3 |
+//! | [`invariant`] | general spectra: multiplicities, generalised eigenspaces, DCF/SDCF and 𝒦/ℋ of any real-spectrum 𝒯 = T⊗T′ | §2.3, §3.2, §4.1 |
 //! | [`pifs`] | P-IFS validation (barycentric, contractive, C⁰ adjacency), attractors, tensor products | §2.1–2.2, §3.1 |
 //! | [`dcf`] | DCF, its family over the attractor, curve pseudo-curvature | §2.3 |
 //! | [`curvature`] | SDCF fundamental forms, 𝒦/ℋ/κ ranges, the 3×3 table, dyadic transport | §4 |
@@ -25,6 +26,7 @@
 pub mod curvature;
 pub mod dcf;
 mod error;
+pub mod invariant;
 pub mod model;
 pub mod pifs;
 pub mod sdcf;

@@ -11,7 +11,8 @@ use asperity_core::{MemoryBudget, TriMesh};
 
 use crate::dcf::OperatorAnalysis;
 use crate::error::{IfsError, Result, invalid};
-use crate::pifs::{CurveIfs, Pifs, SurfaceIfs, grid_mesh};
+use crate::invariant::Decomposition;
+use crate::pifs::{CurveIfs, Pifs, SurfaceIfs, grid_mesh, project as pifs_project};
 
 /// Which member of the family to draw.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -106,4 +107,34 @@ pub fn sdcf_mesh(
     let bs = dcf_samples(a, q, resolution)?;
     let bt = dcf_samples(b, q2, resolution)?;
     grid_mesh(surface, &bs, &bt, budget, true)
+}
+
+/// The DCF of the tensor operator 𝒯ᵢⱼ itself at Q = q ⊗ q′, from 𝒯ᵢⱼ's own
+/// general spectrum ([`crate::invariant`]: its repeated eigenvalues grouped by
+/// invariant subspace), projected: t = j/samples, j = 0…samples. It lies on the
+/// SDCF — along s = t when λ₁ = λ′₁ (Fig. 4's yellow curve).
+///
+/// # Errors
+/// A spectrum with a complex pair (no DCF); `samples` outside 1..=2²⁰.
+pub fn tensor_dcf_polyline(
+    surface: &SurfaceIfs,
+    (i, j): (usize, usize),
+    (q, q2): (&DVector<f64>, &DVector<f64>),
+    samples: usize,
+) -> Result<Vec<[f64; 3]>> {
+    if !(1..=1 << 20).contains(&samples) {
+        return Err(invalid("samples", format!("{samples} is outside 1..=2^20")));
+    }
+    let d = Decomposition::new(&surface.operator(i, j)).map_err(|reason| IfsError::NoDcf {
+        operator: format!("T{i}⊗T'{j}"),
+        reason,
+    })?;
+    let big_q = q.kronecker(q2);
+    Ok((0..=samples)
+        .map(|k| {
+            // t = 0 is the fixed point; ln 0 would make the Jordan terms NaN.
+            let t = (k as f64 / samples as f64).max(f64::MIN_POSITIVE);
+            pifs_project(surface.control(), d.dcf(&big_q, t).as_slice())
+        })
+        .collect())
 }

@@ -90,14 +90,15 @@ impl Spectrum {
     }
 }
 
-struct Cluster {
-    re: f64,
-    im: f64,
-    members: Vec<(f64, f64)>,
+/// Eigenvalues equal within [`CLUSTER`]: their mean and the computed values.
+pub(crate) struct Cluster {
+    pub(crate) re: f64,
+    pub(crate) im: f64,
+    pub(crate) members: Vec<(f64, f64)>,
 }
 
 impl Cluster {
-    fn spread(&self) -> f64 {
+    pub(crate) fn spread(&self) -> f64 {
         self.members
             .iter()
             .map(|&(r, i)| (r - self.re).hypot(i - self.im))
@@ -111,38 +112,88 @@ pub fn snap(a: f64) -> f64 {
     if (a - r).abs() <= ALPHA_SNAP { r } else { a }
 }
 
-/// Eigenvalues of `t` grouped into clusters of (numerically) equal values.
-fn clusters_of(t: &DMatrix<f64>) -> Result<Vec<Cluster>, String> {
-    let n = t.nrows();
-    let schur = Schur::try_new(t.clone(), f64::EPSILON, 1000 * n.max(1))
-        .ok_or_else(|| "the eigenvalue (Schur) iteration did not converge".to_owned())?;
-    let mut clusters: Vec<Cluster> = Vec::new();
-    for z in schur.complex_eigenvalues().iter() {
-        let (re, im) = (z.re, z.im);
-        let scale = re.hypot(im).max(1.0);
-        match clusters
-            .iter_mut()
-            .find(|c| (c.re - re).hypot(c.im - im) <= CLUSTER * scale)
-        {
-            Some(c) => {
-                c.members.push((re, im));
-                let k = c.members.len() as f64;
-                c.re += (re - c.re) / k;
-                c.im += (im - c.im) / k;
+/// The eigenvalues of `t` from its real Schur form.
+///
+/// nalgebra's Francis iteration deflates when a subdiagonal entry falls below
+/// `eps` times its neighbours; with `eps` = machine epsilon it can fail to meet
+/// that test on operators with exact structure and repeated eigenvalues (the
+/// tensor square of the Takagi w = ¼ curve's T1 is one: nine eigenvalues, five of
+/// them repeated). The eigenvalues of the transpose are the same, and a deflation
+/// threshold of 8ε changes them by rounding only, so those are tried in turn.
+fn schur_eigenvalues(t: &DMatrix<f64>) -> Result<Vec<(f64, f64)>, String> {
+    let iterations = 1000 * t.nrows().max(1);
+    let attempt = |m: DMatrix<f64>, eps: f64| {
+        Schur::try_new(m, eps, iterations).map(|s| {
+            s.complex_eigenvalues()
+                .iter()
+                .map(|z| (z.re, z.im))
+                .collect::<Vec<_>>()
+        })
+    };
+    attempt(t.clone(), f64::EPSILON)
+        .or_else(|| attempt(t.transpose(), f64::EPSILON))
+        .or_else(|| attempt(t.clone(), 8.0 * f64::EPSILON))
+        .ok_or_else(|| "the eigenvalue (Schur) iteration did not converge".to_owned())
+}
+
+/// A Jordan block of size k is split by rounding into k computed eigenvalues about
+/// (ε‖T‖)^{1/k} from the true one (on a circle around it, so their mean stays
+/// accurate). Two clusters are merged within 10·[`JORDAN_EPS`]^{1/k} (relative,
+/// at least [`CLUSTER`]) where k counts the eigenvalues near them, never beyond
+/// [`MERGE_CAP`].
+pub const JORDAN_EPS: f64 = 1e-15;
+
+/// Two clusters further apart than this (relative to max(1, |λ|)) are never merged.
+pub const MERGE_CAP: f64 = 1e-3;
+
+/// Eigenvalues of `t` grouped into clusters of (numerically) equal values,
+/// closest pairs first (see [`JORDAN_EPS`]).
+pub(crate) fn clusters_of(t: &DMatrix<f64>) -> Result<Vec<Cluster>, String> {
+    let values = schur_eigenvalues(t)?;
+    let mut clusters: Vec<Cluster> = values
+        .iter()
+        .map(|&(re, im)| Cluster {
+            re,
+            im,
+            members: vec![(re, im)],
+        })
+        .collect();
+    loop {
+        let mut best: Option<(f64, usize, usize)> = None;
+        for a in 0..clusters.len() {
+            for b in a + 1..clusters.len() {
+                let (ca, cb) = (&clusters[a], &clusters[b]);
+                let d = (ca.re - cb.re).hypot(ca.im - cb.im);
+                let scale = ca.re.hypot(ca.im).max(cb.re.hypot(cb.im)).max(1.0);
+                if d > MERGE_CAP * scale {
+                    continue;
+                }
+                let (mr, mi) = ((ca.re + cb.re) / 2.0, (ca.im + cb.im) / 2.0);
+                let near = values
+                    .iter()
+                    .filter(|&&(r, i)| (r - mr).hypot(i - mi) <= 2.0 * d)
+                    .count()
+                    .max(2) as f64;
+                let tol = (10.0 * JORDAN_EPS.powf(1.0 / near)).clamp(CLUSTER, MERGE_CAP) * scale;
+                if d <= tol && best.is_none_or(|(bd, _, _)| d < bd) {
+                    best = Some((d, a, b));
+                }
             }
-            None => clusters.push(Cluster {
-                re,
-                im,
-                members: vec![(re, im)],
-            }),
         }
+        let Some((_, a, b)) = best else { break };
+        let merged = clusters.remove(b);
+        let c = &mut clusters[a];
+        c.members.extend(merged.members);
+        let k = c.members.len() as f64;
+        c.re = c.members.iter().map(|m| m.0).sum::<f64>() / k;
+        c.im = c.members.iter().map(|m| m.1).sum::<f64>() / k;
     }
     Ok(clusters)
 }
 
 /// The clusters in the order the analysis uses: the fixed-point eigenvalue
 /// (nearest to 1) first, then by decreasing modulus.
-fn order_clusters(mut clusters: Vec<Cluster>) -> Vec<Cluster> {
+pub(crate) fn order_clusters(mut clusters: Vec<Cluster>) -> Vec<Cluster> {
     let first = clusters
         .iter()
         .enumerate()
@@ -357,6 +408,25 @@ mod tests {
             matches!(s.structure, Structure::Diagonalisable { .. }),
             "{s:?}"
         );
+    }
+
+    #[test]
+    fn schur_retries_a_structured_tensor_operator() {
+        // T1 ⊗ T1 of the Takagi w = ¼ curve: the plain Francis iteration cycles.
+        let w = 0.25;
+        let t1 = m(&[&[0.0, 0.0, -w], &[0.5, 1.0, 0.5], &[0.5, 0.0, 0.5 + w]]);
+        let s = spectrum(&t1.kronecker(&t1)).unwrap();
+        let mut got: Vec<f64> = s.values.iter().map(|v| v.re).collect();
+        got.sort_by(f64::total_cmp);
+        let mut want: Vec<f64> = [1.0, 0.5, w]
+            .iter()
+            .flat_map(|a| [1.0, 0.5, w].map(|b| a * b))
+            .collect();
+        want.sort_by(f64::total_cmp);
+        for (g, w) in got.iter().zip(&want) {
+            assert!((g - w).abs() < 1e-9, "{got:?} vs {want:?}");
+        }
+        assert!(matches!(s.structure, Structure::Diagonalisable { .. }));
     }
 
     #[test]

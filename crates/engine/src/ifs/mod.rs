@@ -11,7 +11,7 @@ use asperity_ifs::curvature::{
     curve_report, surface_at, surface_report, vertex_curvature,
 };
 use asperity_ifs::model::{TAKAGI_SHEAR, tensor_square};
-use asperity_ifs::sdcf::{Start, dcf_polyline, sdcf_mesh, start_point};
+use asperity_ifs::sdcf::{Start, dcf_polyline, sdcf_mesh, start_point, tensor_dcf_polyline};
 use asperity_ifs::{
     CurveIfs, DirectionAnalysis, FamilyOptions, Model, ModelFile, PresetParams, SurfaceIfs, preset,
 };
@@ -538,6 +538,27 @@ pub fn sdcf_for(
     let q = start_point(&s.s, a, starts.0)?;
     let q2 = start_point(&s.t, b, starts.1)?;
     Ok(sdcf_mesh(s, (a, &q), (b, &q2), resolution, budget)?)
+}
+
+/// The DCF of the tensor operator 𝒯ᵢⱼ from its own spectrum, from the same
+/// starting points as [`sdcf_for`], as `samples + 1` points.
+///
+/// # Errors
+/// No DCF for a factor (the starting point) or for 𝒯ᵢⱼ; `samples` out of range.
+pub fn tensor_dcf_for(
+    s: &SurfaceIfs,
+    opts: &FamilyOptions,
+    (i, j): (usize, usize),
+    starts: (Start, Start),
+    samples: usize,
+) -> Result<Vec<[f64; 3]>> {
+    let (an_s, an_t) = (
+        DirectionAnalysis::new(&s.s, opts),
+        DirectionAnalysis::new(&s.t, opts),
+    );
+    let q = start_point(&s.s, &an_s.operators[i], starts.0)?;
+    let q2 = start_point(&s.t, &an_t.operators[j], starts.1)?;
+    Ok(tensor_dcf_polyline(s, (i, j), (&q, &q2), samples)?)
 }
 
 /// The pseudo-curvature of every operator of a model and at given points.

@@ -81,3 +81,31 @@ fn the_bicubic_patch_has_four_finite_operators() {
         assert!((g[0].as_f64().unwrap() - g[1].as_f64().unwrap()).abs() < 1e-12);
     }
 }
+
+/// Fig. 4's yellow curve: the DCF of 𝒯00 from 𝒯00's own spectrum (1/√2 and ½
+/// each twice or more) runs along the SDCF's diagonal s = t, vertex for vertex.
+#[test]
+fn the_tensor_dcf_lies_on_the_sdcf_diagonal() {
+    use asperity_engine::core::MemoryBudget;
+    use asperity_engine::ifs::{sdcf_for, tensor_dcf_for};
+    use asperity_engine::methods::ifs::sdcf::Start;
+    use asperity_engine::methods::ifs::{FamilyOptions, Model, PresetParams, preset};
+    let Model::Surface(s) = preset("takagi-landsberg-surface", &PresetParams::default())
+        .unwrap()
+        .build()
+        .unwrap()
+    else {
+        panic!("a surface")
+    };
+    let opts = FamilyOptions::default();
+    let starts = (Start::Parameter(1.0), Start::Parameter(1.0));
+    let res = 16;
+    let mesh = sdcf_for(&s, &opts, (0, 0), starts, res, &MemoryBudget::default()).unwrap();
+    let line = tensor_dcf_for(&s, &opts, (0, 0), starts, res).unwrap();
+    assert_eq!(line.len(), res + 1);
+    for (k, p) in line.iter().enumerate() {
+        let v = mesh.positions()[k * (res + 1) + k];
+        let d = (0..3).map(|c| (p[c] - v[c]).abs()).fold(0.0, f64::max);
+        assert!(d < 1e-12, "t = {k}/{res}: {p:?} vs {v:?}");
+    }
+}
