@@ -26,6 +26,6 @@ pub mod reaction_diffusion;
 pub mod repair;
 pub mod voronoi;
 
-pub use cells::{CellSize, Cells, InFlag, build};
+pub use cells::{CellSize, Cells, InFlag, Pairing, build, build_with};
 pub use engine::{CellRng, Rule, RunOptions, RunStats, View, run};
 pub use voronoi::{VoronoiRule, voronoi};

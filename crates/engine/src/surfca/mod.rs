@@ -15,7 +15,7 @@ use asperity_surfca::engine::{RunOptions, RunStats, run};
 use asperity_surfca::reaction_diffusion::{Chemicals, GrayScott, seeded_state};
 use asperity_surfca::repair::{RepairReport, check, repair};
 use asperity_surfca::voronoi::{PAPER_P, UNLABELLED, VoronoiRule, random_sites, voronoi};
-use asperity_surfca::{CellSize, Cells, Rule, build};
+use asperity_surfca::{CellSize, Cells, Pairing, Rule, build_with};
 use serde_json::json;
 
 use crate::error::{Result, ensure, invalid};
@@ -155,7 +155,7 @@ pub fn check_time(cells: f64, app: &AppKind, time: &TimeBudget) -> Result<()> {
 }
 
 /// Checks `mesh` (after repairing it when `fix`) and covers it with cells of
-/// `size`; `name` names it in messages.
+/// `size`, linked across edges by `pairing`; `name` names it in messages.
 ///
 /// # Errors
 /// A mesh that is not manifold, non-degenerate and consistently oriented (the
@@ -164,7 +164,7 @@ pub fn cover(
     mesh: TriMesh,
     name: &str,
     fix: bool,
-    size: CellSize,
+    (size, pairing): (CellSize, Pairing),
     budget: &MemoryBudget,
 ) -> Result<Covered> {
     let (mesh, repair) = if fix {
@@ -175,7 +175,7 @@ pub fn cover(
     };
     check(&mesh).map_err(|e| invalid(format!("{name}: {e}")))?;
     let t = Instant::now();
-    let cells = build(&mesh, size, budget)?;
+    let cells = build_with(&mesh, size, pairing, budget)?;
     Ok(Covered {
         mesh,
         repair,
@@ -189,13 +189,19 @@ impl Covered {
     pub fn summary(&self) -> String {
         let c = &self.cells;
         format!(
-            "{} cells of side {:.4} on {} triangles ({} COMP-IN, {} PART-IN; pairing redundancy {:.1} %)",
+            "{} cells of side {:.4} on {} triangles ({} COMP-IN, {} PART-IN; {} pairing, redundancy {:.1} %; \
+             the paper's Figure 8 measure {:.1} %)",
             c.len(),
             c.h,
             self.mesh.n_faces(),
             c.stats.comp_in,
             c.stats.part_in,
-            100.0 * c.stats.pairing_redundancy
+            match c.stats.pairing {
+                Pairing::Unfolded => "unfolded",
+                Pairing::Paper => "paper",
+            },
+            100.0 * c.stats.pairing_redundancy,
+            100.0 * c.stats.paper_redundancy
         )
     }
 

@@ -3,9 +3,9 @@
 //! step.
 
 use asperity_core::{MemoryBudget, PointSet, Progress, TimeBudget, TriMesh};
-use asperity_surfca::CellSize;
 use asperity_surfca::corrosion::CorrosionParams;
 use asperity_surfca::reaction_diffusion::GrayScott;
+use asperity_surfca::{CellSize, Pairing};
 use clap::Args;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
@@ -13,6 +13,28 @@ use serde::{Deserialize, Serialize};
 use super::{AppRequest, AppRun, Covered, OutputShape, check_time, cover, run_app, start_progress};
 use crate::error::Result;
 use crate::params::{JobParams, choice};
+
+choice! {
+    /// How cells are linked across triangle edges.
+    pub enum PairingName {
+        /// Each side neighbour's position unfolded across the edge, linked to the cell
+        /// containing it (nearly one-to-one).
+        Unfolded = "unfolded",
+        /// The paper's Figure 7: projected onto the shared edge, linked to the opposite
+        /// edge cell with the nearest projection (many-to-one where the grids differ).
+        Paper = "paper",
+    }
+}
+
+impl PairingName {
+    /// The library's pairing.
+    pub fn pairing(self) -> Pairing {
+        match self {
+            PairingName::Unfolded => Pairing::Unfolded,
+            PairingName::Paper => Pairing::Paper,
+        }
+    }
+}
 
 choice! {
     /// The cellular automaton run on the surface.
@@ -114,6 +136,10 @@ pub struct SurfaceCaParams {
     /// oxide; gray-scott: activator), averaged across cells and triangle edges.
     #[arg(long, value_name = "SCALE", allow_hyphen_values = true)]
     pub displace: Option<f64>,
+    /// How cells are linked across triangle edges: `unfolded` (asperity's) or `paper`
+    /// (Figure 7's projection on the edge).
+    #[arg(long, value_enum, default_value_t = Self::default().pairing)]
+    pub pairing: PairingName,
 }
 
 impl Default for SurfaceCaParams {
@@ -146,6 +172,7 @@ impl Default for SurfaceCaParams {
             maturity: c.maturity,
             cell_mesh: false,
             displace: None,
+            pairing: PairingName::Unfolded,
         }
     }
 }
@@ -244,7 +271,13 @@ pub fn run_job(
     if let Ok(cells) = asperity_surfca::cells::estimated_count(&inputs.mesh, size) {
         check_time(cells, &request.kind(), time)?;
     }
-    let cov = cover(inputs.mesh, &inputs.name, p.repair, size, budget)?;
+    let cov = cover(
+        inputs.mesh,
+        &inputs.name,
+        p.repair,
+        (size, p.pairing.pairing()),
+        budget,
+    )?;
     let app = request.build(&cov, seed)?;
     start_progress(progress, &app);
     let run = run_app(&cov, app, seed, time, |step, color| {

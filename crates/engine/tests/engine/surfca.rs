@@ -10,8 +10,8 @@ use asperity_engine::files::builtin_mesh;
 use asperity_engine::surfca::{
     App, AppRun, Covered, OutputShape, SurfaceCaInputs, SurfaceCaParams, cover, run_app, run_job,
 };
-use asperity_surfca::CellSize;
 use asperity_surfca::corrosion::CorrosionParams;
+use asperity_surfca::{CellSize, Pairing};
 use serde_json::{Value, json};
 
 fn params(v: Value) -> SurfaceCaParams {
@@ -143,7 +143,7 @@ fn covered(name: &str, cells: usize) -> Covered {
         mesh,
         name,
         false,
-        CellSize::Count(cells),
+        (CellSize::Count(cells), Pairing::Unfolded),
         &MemoryBudget::unlimited(),
     )
     .unwrap()

@@ -10,6 +10,8 @@ pub(super) struct Linker<'a> {
     pub(super) near_vertex: &'a std::collections::HashMap<u32, Vec<u32>>,
     pub(super) cells: &'a Cells,
     pub(super) pos: &'a [[f64; 3]],
+    pub(super) pairing: Pairing,
+    pub(super) edge_cells: &'a std::collections::HashMap<(u32, usize), EdgeCells>,
 }
 
 /// Directed links of every cell, with the side links across edges (source
@@ -56,6 +58,18 @@ impl Linker<'_> {
         nearest_in(g, q2, h, &self.cells.centre)
     }
 
+    /// The cell across edge `e` of triangle `t` by the paper's pairing: `q`
+    /// projected onto the shared edge, and the opposite triangle's edge cell with
+    /// the nearest projection. `None` on a boundary.
+    fn across_edge_paper(&self, f: &Frame, t: usize, e: usize, q: V2) -> Option<u32> {
+        let (va, vb) = (f.verts[e], f.verts[(e + 1) % 3]);
+        let other = self
+            .edges
+            .get(&(va.min(vb), va.max(vb)))
+            .and_then(|l| l.iter().find(|(tt, _)| *tt as usize != t))?;
+        nearest_projected(self.edge_cells.get(other)?, edge_parameter(f, e, q))
+    }
+
     /// The cell nearest to `p` (3-D) among those near vertex `v` in the other
     /// triangles around it.
     fn beyond_vertex(&self, v: u32, t: usize, p: [f64; 3]) -> Option<u32> {
@@ -91,7 +105,11 @@ impl Linker<'_> {
             let outside: Vec<usize> = (0..3).filter(|&e| f.edge_inside(q, e) < 0.0).collect();
             match outside.as_slice() {
                 [e] => {
-                    if let Some(n) = self.across_edge(f, t, *e, q) {
+                    let across = match self.pairing {
+                        Pairing::Unfolded => self.across_edge(f, t, *e, q),
+                        Pairing::Paper => self.across_edge_paper(f, t, *e, q),
+                    };
+                    if let Some(n) = across {
                         out.links[c].push((n, k));
                         out.edge_links += 1;
                         if is_side(k) {
