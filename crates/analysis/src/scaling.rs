@@ -272,6 +272,33 @@ pub fn density_dimension(rho: &[f64], d: usize) -> Result<ClusterDimension, Anal
     })
 }
 
+/// D of a cluster grown on a substrate from its shell density about the
+/// substrate, ρ(r) ∝ r^(D − d) with r the shells' volume-equivalent radius and
+/// d the embedding dimension (see `asperity_growth::dla::substrate`), fitted
+/// over `range`.
+///
+/// # Errors
+/// [`AnalysisError::BadInput`] when fewer than 3 shells fall in the range.
+pub fn shell_dimension(
+    radius: &[f64],
+    density: &[f64],
+    d: usize,
+    range: [f64; 2],
+) -> Result<ClusterDimension, AnalysisError> {
+    if range[1] <= range[0] {
+        return Err(AnalysisError::BadInput(format!(
+            "the cluster thins at radius {:.1}, inside the fit's start {:.1} (the seed's radius + 5): \
+             grow more particles",
+            range[1], range[0]
+        )));
+    }
+    let fit = log_fit(radius, density, range)?;
+    Ok(ClusterDimension {
+        d: d as f64 + fit.slope,
+        fit,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -263,7 +263,7 @@ fn edt_1d(f: &[f32], out: &mut [f32], v: &mut [usize], z: &mut [f32]) {
 }
 
 /// Euclidean distance from every cell centre to the nearest occupied one.
-fn distance_transform(dims: [usize; 3], solid: &[bool]) -> Vec<f32> {
+pub(crate) fn distance_transform(dims: [usize; 3], solid: &[bool]) -> Vec<f32> {
     let [nx, ny, nz] = dims;
     let mut d: Vec<f32> = solid
         .iter()

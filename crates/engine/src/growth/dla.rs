@@ -3,7 +3,7 @@
 
 use asperity_analysis::scaling::{
     density_dimension, density_profile, gyration_dimension, mass_radius_dimension,
-    radius_of_gyration,
+    radius_of_gyration, shell_dimension,
 };
 use asperity_core::{HeightField, MemoryBudget, Progress, TimeBudget, TriMesh};
 use asperity_growth::dla::{
@@ -276,7 +276,7 @@ pub fn grow(
     let dimension = if plane {
         plane_dimension(&parts, size, p.dim)
     } else {
-        radial_dimension(&cluster)
+        radial_dimension(&cluster, &params.seed_shape, budget)?
     }
     .within(p.dim);
     Ok(DlaRun {
@@ -311,25 +311,23 @@ fn plane_dimension(parts: &[[f64; 3]], size: [usize; 3], dim: usize) -> Dimensio
 /// D from R_g(n) ∝ n^(1/D) (and the mass–radius relation) of a cluster grown
 /// from a point. Around a seed of many cells (a sphere, a mesh) R_g(n) stays
 /// near the seed's own size, and the law measures the seed, not the deposit
-/// (it gave D = 6.4 on a sphere, 7.5 on a mesh): D is then not reported.
-fn radial_dimension(c: &DlaCluster) -> Dimension {
+/// (it gave D = 6.4 on a sphere, 7.5 on a mesh): D is then measured about the
+/// substrate instead, from the shell density ρ(r) ∝ r^(D−d) by distance from the
+/// seed's surface ([`asperity_growth::dla::substrate`]).
+fn radial_dimension(
+    c: &DlaCluster,
+    seed: &asperity_growth::dla::SeedShape,
+    budget: &MemoryBudget,
+) -> Result<Dimension> {
     let method = "radius of gyration R_g(n) ~ n^(1/D)";
     if c.seeds > 1 {
-        return Dimension {
-            value: None,
-            method,
-            details: json!({"gyration_fit": null, "mass_radius": null}),
-            warning: Some(format!(
-                "the fractal dimension is not reported for a seed of {} cells: R_g(n) ~ n^(1/D) holds for a cluster grown from a point (use ⟨seed_shape=point⟩), or measure a plane deposit's density profile",
-                c.seeds
-            )),
-        };
+        return substrate_dimension(c, seed, budget);
     }
     // A point seed starts the deposition order.
     let all = c.points();
     let g = gyration_dimension(&all);
     let m = mass_radius_dimension(&all, 2.0);
-    Dimension {
+    Ok(Dimension {
         value: g.as_ref().ok().map(|d| d.d),
         method,
         details: json!({
@@ -340,7 +338,61 @@ fn radial_dimension(c: &DlaCluster) -> Dimension {
             .as_ref()
             .err()
             .map(|e| format!("the fractal dimension is not reported: {e}")),
+    })
+}
+
+/// D about the substrate of a cluster grown on a sphere or a mesh: the shell
+/// density by volume-equivalent radius, fitted from the seed's radius + 5
+/// cells to half the particles' R_g about the seed.
+fn substrate_dimension(
+    c: &DlaCluster,
+    seed: &asperity_growth::dla::SeedShape,
+    budget: &MemoryBudget,
+) -> Result<Dimension> {
+    let method = "density about the substrate rho(r) ~ r^(D-d), r volume-equivalent";
+    let Some(profile) = asperity_growth::dla::substrate::shell_profile(c, seed, budget)? else {
+        return Ok(Dimension {
+            value: None,
+            method,
+            details: json!({"substrate": null}),
+            warning: Some(format!(
+                "the fractal dimension is not reported: {} particles on a seed of {} cells are too few (need ≥ 256)",
+                c.particles().len(),
+                c.seeds
+            )),
+        });
+    };
+    let fit = shell_dimension(
+        &profile.radius,
+        &profile.density,
+        profile.dim,
+        profile.fit_range(),
+    );
+    let mut warning = fit
+        .as_ref()
+        .err()
+        .map(|e| format!("the fractal dimension is not reported: {e}"));
+    if profile.clipped && warning.is_none() {
+        warning = Some(format!(
+            "the lattice boundary cut the shells about the seed short; the fit stops at radius {:.1}",
+            profile.thin_radius
+        ));
     }
+    Ok(Dimension {
+        value: fit.as_ref().ok().map(|d| d.d),
+        method,
+        details: json!({
+            "substrate": {
+                "seed_radius": profile.seed_radius,
+                "gyration_about_seed": profile.gyration,
+                "fit_range": profile.fit_range(),
+                "fit": fit.as_ref().ok().map(|d| d.fit),
+                "radius": profile.radius,
+                "density": profile.density,
+            }
+        }),
+        warning,
+    })
 }
 
 impl DlaRun {

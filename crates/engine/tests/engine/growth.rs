@@ -118,19 +118,33 @@ fn dla_from_a_point_measures_a_fractal_dimension() {
     assert!(d > 1.8 && d < 3.0, "D = {d}");
 }
 
-/// Around a ball R_g(n) measures the seed (it gave D = 6.4, #22): no D, and
-/// a warning that says why.
+/// Around a ball R_g(n) measures the seed (it gave D = 6.4, #22): D is measured
+/// about the substrate instead (`asperity_growth::dla::substrate`), with its fit
+/// range; a cluster too small for the window gets no D and a warning that says
+/// why.
 #[test]
-fn dla_around_a_sphere_reports_no_dimension_and_says_why() {
+fn dla_around_a_sphere_measures_d_about_the_substrate() {
     let run = dla(json!({"seed_shape": "sphere", "particles": 2000}));
     assert!(run.dimension.value.is_none());
     let warnings = run.warnings();
     assert!(
         warnings
             .iter()
-            .any(|(_, w)| w.contains("not reported for a seed of")),
+            .any(|(_, w)| w.contains("grow more particles")),
         "{warnings:?}"
     );
+    let run = dla(json!({"seed_shape": "sphere", "seed_radius": 6.0, "particles": 30000}));
+    let d = run.dimension.value.expect("D about the substrate");
+    assert!(d > 1.6 && d < 3.0, "D = {d}");
+    assert!(run.dimension.method.contains("about the substrate"));
+    let sub = &run.dimension.details["substrate"];
+    let range = sub["fit_range"].as_array().unwrap();
+    assert_eq!(
+        range[0].as_f64(),
+        Some(sub["seed_radius"].as_f64().unwrap() + 5.0)
+    );
+    assert!(range[1].as_f64().unwrap() > range[0].as_f64().unwrap());
+    assert!(run.warnings().is_empty(), "{:?}", run.warnings());
 }
 
 /// A 2-D lattice from one size: `dim = 2, size = 64` is 64 × 64 (the rule the

@@ -66,6 +66,7 @@
 //! The cluster is the sequential one, byte for byte, at any thread count.
 
 pub mod speculative;
+pub mod substrate;
 pub mod walk;
 
 use asperity_core::{MemoryBudget, Progress};
@@ -343,6 +344,24 @@ impl DlaCluster {
     pub fn points(&self) -> Vec<[f64; 3]> {
         self.cells.iter().map(|c| c.map(f64::from)).collect()
     }
+}
+
+/// The cells of the solid ball of radius `r` about the cell of `center` (a disc
+/// in the x–z plane when not `three_d`).
+pub(crate) fn ball_cells(center: [f64; 3], r: f64, three_d: bool) -> Vec<[i32; 3]> {
+    let ri = r.ceil() as i32 + 1;
+    let c = center.map(|v| v as i32);
+    let mut v = Vec::new();
+    for dz in -ri..=ri {
+        for dy in if three_d { -ri..=ri } else { 0..=0 } {
+            for dx in -ri..=ri {
+                if ((dx * dx + dy * dy + dz * dz) as f64) <= r * r {
+                    v.push([c[0] + dx, c[1] + dy, c[2] + dz]);
+                }
+            }
+        }
+    }
+    v
 }
 
 /// Cap of the distance maps (4-, 8- and 32-cell blocks), in blocks.

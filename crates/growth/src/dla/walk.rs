@@ -118,21 +118,7 @@ impl Setup<'_> {
             SeedShape::Plane => (0..size[1] as i32)
                 .flat_map(|y| (0..size[0] as i32).map(move |x| [x, y, 0]))
                 .collect(),
-            SeedShape::Sphere(r) => {
-                let ri = r.ceil() as i32 + 1;
-                let c = center.map(|v| v as i32);
-                let mut v = Vec::new();
-                for dz in -ri..=ri {
-                    for dy in if self.three_d { -ri..=ri } else { 0..=0 } {
-                        for dx in -ri..=ri {
-                            if ((dx * dx + dy * dy + dz * dz) as f64) <= r * r {
-                                v.push([c[0] + dx, c[1] + dy, c[2] + dz]);
-                            }
-                        }
-                    }
-                }
-                v
-            }
+            SeedShape::Sphere(r) => super::ball_cells(center, *r, self.three_d),
             SeedShape::Cells(cells) => {
                 if let Some(c) = cells
                     .iter()
