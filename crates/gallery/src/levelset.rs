@@ -230,85 +230,28 @@ fn arches(env: &Env, terrain: &TriMesh) -> Result<Item> {
     ))
 }
 
-/// A stand-in for Fig. 7's scanned bunny (the Stanford scan ships under no
-/// licence a registry package states): a synthetic bunny of five ellipsoids
-/// — body, head, two ears, tail — sampled on the boundary of their union
-/// (`n` samples per ellipsoid before the hidden ones are dropped), with
-/// scanner-like jitter of 0.2 % of its size. It has what the figure needs: a
-/// concave neck and ear gaps that a far offset surface (ε = 17 cells) spans
-/// and the flow must carve back out over 100 and 200 steps.
-fn synthetic_bunny(seed: u64, n: usize) -> Vec<[f64; 3]> {
-    // (centre, semi-axes) of body, head, ears and tail.
-    let parts: [([f64; 3], [f64; 3]); 5] = [
-        ([0.0, 0.0, 0.0], [1.0, 0.7, 0.65]),
-        ([0.85, 0.0, 0.55], [0.42, 0.38, 0.4]),
-        ([0.8, 0.16, 1.15], [0.1, 0.06, 0.38]),
-        ([0.8, -0.16, 1.15], [0.1, 0.06, 0.38]),
-        ([-1.0, 0.0, 0.15], [0.18, 0.18, 0.18]),
-    ];
-    let inside = |q: [f64; 3], (c, r): ([f64; 3], [f64; 3])| {
-        (0..3).map(|a| ((q[a] - c[a]) / r[a]).powi(2)).sum::<f64>() < 1.0
-    };
-    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
-    let mut state = seed ^ 0x2545_f491_4f6c_dd1d;
-    let mut jitter = move || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        ((state >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.008
-    };
-    let mut points = Vec::new();
-    for (k, &(c, r)) in parts.iter().enumerate() {
-        for i in 0..n {
-            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
-            let s = (1.0 - z * z).sqrt();
-            let t = golden * i as f64;
-            let q = [
-                c[0] + r[0] * s * t.cos(),
-                c[1] + r[1] * s * t.sin(),
-                c[2] + r[2] * z,
-            ];
-            let hidden = parts
-                .iter()
-                .enumerate()
-                .any(|(j, &part)| j != k && inside(q, part));
-            if !hidden {
-                points.push(q.map(|x| x + jitter()));
-            }
-        }
-    }
-    points
-}
-
 /// Figure 7 with the synthetic stand-in: the point set, the initial surface
 /// with ε = 17 cells at the paper's resolution (134 cells across the data;
 /// ε and the tube pad it by 23 nodes a side), and the surface after 100 and
-/// 200 steps of the convection flow. Over 200 steps the default arrest
-/// δ = 0.75 × the sample spacing lets the front slip between samples in
-/// places (genus 444 measured: pits); δ = 1.1h (about one sample spacing)
-/// keeps the surface closed (genus 0).
+/// 200 steps of the convection flow, with the default arrest distance (it
+/// grows with the step count to one sample spacing at 200 steps, which keeps
+/// the surface closed; a fixed 0.75 spacings gave genus 444 — see
+/// `asperity_levelset::default_arrest_spacings`).
 fn figure_7(env: &Env) -> Result<Vec<Item>> {
-    let points = synthetic_bunny(env.seed, if env.quick { 6_000 } else { 30_000 });
+    let points = asperity_engine::core::shapes::synthetic_bunny(
+        env.seed,
+        if env.quick { 6_000 } else { 30_000 },
+    );
     let (resolution, steps) = if env.quick {
         (64, [50, 100])
     } else {
         (134, [100, 200])
     };
-    let longest = (0..3)
-        .map(|a| {
-            let (lo, hi) = points.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
-                (lo.min(p[a]), hi.max(p[a]))
-            });
-            hi - lo
-        })
-        .fold(0.0, f64::max);
-    let delta = 1.1 * longest / resolution as f64;
     let params = ReconstructParams {
         sizing: Sizing::Resolution(resolution),
         offset: Some(asperity_engine::methods::levelset::Length::Cells(17.0)),
         iterations: steps[1],
         snapshot_every: Some(steps[0]),
-        point_radius: Some(delta),
         ..Job::Reconstruct.defaults(true).params()
     };
     let mut shots: Vec<(usize, TriMesh)> = Vec::new();
@@ -342,10 +285,15 @@ fn figure_7(env: &Env) -> Result<Vec<Item>> {
             vec![file],
             vec![
                 fact("triangles", mesh.n_faces()),
+                fact("genus", mesh.genus().map_or("—".into(), |g| g.to_string())),
+                fact(
+                    "arrest δ (the default)",
+                    format!("{:.4} = {:.2}h", rec.point_radius, rec.point_radius / rec.grid.spacing),
+                ),
                 fact(
                     "CLI",
                     format!(
-                        "asperity reconstruct pts.ply --paper --resolution {resolution} --offset 17h --point-radius {delta:.5} --iterations {} --save-every {} -o bunny.ply",
+                        "asperity reconstruct pts.ply --paper --resolution {resolution} --offset 17h --iterations {} --save-every {} -o bunny.ply",
                         steps[1], steps[0]
                     ),
                 ),

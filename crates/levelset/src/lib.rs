@@ -55,6 +55,9 @@ pub use evolve::{
 };
 pub use grid::{GridSpec, Sizing};
 pub use marching_cubes::{ExtractOptions, ExtractStats, extract};
-pub use pipeline::{FlowChoice, Length, ReconstructParams, Reconstruction, Timings, reconstruct};
+pub use pipeline::{
+    FlowChoice, Length, ReconstructParams, Reconstruction, Timings, default_arrest_spacings,
+    reconstruct,
+};
 pub use sparse::SparseLevelSet;
 pub use tagging::{TagRule, Tags, tag};

@@ -76,13 +76,24 @@ pub const PIPELINE: Defaults = Defaults {
 ///   (lattice cells 1 apart, h = 0.6: eaten down to the substrate, mean radius
 ///   19.9 against 26.0 with δ); the DLA terrain of Fig. 9 (43 pieces against
 ///   one with δ). Pinning the nodes next to the front during redistancing does
-///   not stop it.
+///   not stop it, and neither does a subcell redistancing that does not move
+///   the zero level (Russo & Smereka 2000: the nodes next to the front relax to
+///   φ/|∇φ|; measured 2026-11-29 on the same sphere, δ = 0, worst/mean distance
+///   at step 30: 13.4h/−5.6h against 13.0h/−7.4h with Sussman's scheme), nor
+///   that plus the front's own speed (d − |φ| ≥ 0, the 1-Lipschitz bound of d at
+///   the front, the time step still from c·d): it reaches 0.35h at step 20 and
+///   is 3.5h inside at step 30. The cause is the model, not the redistancing:
+///   with the unsigned d of Eq. 6 a front that crosses the data anywhere, by
+///   any O(h) error of the scheme at the kink of d, meets a speed that grows
+///   with its depth (a front at depth x moves to x/(1 − Δt)), and nothing
+///   brings it back. δ is therefore kept.
 /// - Without redistancing the front stalls where it must travel far (Fig. 7's
 ///   ε = 17 cells: after 200 steps the synthetic bunny's ears are still not
 ///   carved out), so dropping Eq. 11 is no cure either.
 ///
-/// δ (0.75 × the sample spacing, at least 0.6h) stops the front before the
-/// drift can carry it through, and keeps Eq. 11.
+/// δ (0.75 × the sample spacing up to 60 steps, growing to one spacing at 200
+/// steps, at least 0.6h: `asperity_levelset::default_arrest_spacings`) stops
+/// the front before the drift can carry it through, and keeps Eq. 11.
 pub const RECONSTRUCT_PAPER: Defaults = Defaults {
     sizing: Sizing::Resolution(128),
     offset: Some(Length::Cells(3.0)),

@@ -168,7 +168,8 @@ pub struct LevelSetParams {
     #[arg(long, value_name = "CELLS")]
     pub tolerance: Option<f64>,
     /// Radius δ at which the front stops around each point, in the points' units (default:
-    /// 0.75 × the sample spacing, at least 0.6h; 0 is the paper's model).
+    /// 0.75 × the sample spacing up to 60 steps, growing to 1 × at 200 steps; at least 0.6h; 0
+    /// is the paper's model).
     #[schemars(range(min = 0.0))]
     #[arg(long, value_name = "R")]
     pub point_radius: Option<f64>,
