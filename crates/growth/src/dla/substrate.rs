@@ -70,9 +70,8 @@ pub fn shell_profile(
     seed: &SeedShape,
     budget: &MemoryBudget,
 ) -> Result<Option<ShellProfile>, GrowthError> {
-    let three_d = c.dim == 3;
     let solid = match seed {
-        SeedShape::Sphere(r) => ball_cells(c.center, *r, three_d),
+        SeedShape::Sphere(r) => ball_cells(c.center, *r, c.dim == 3),
         SeedShape::Cells(v) => v.clone(),
         _ => return Ok(None),
     };
@@ -94,79 +93,25 @@ pub fn shell_profile(
         / particles.len() as f64)
         .sqrt();
     let thin_radius = 0.5 * gyration;
-    // The box: the seed's, widened by the thin radius (a shell at distance z
-    // has volume-equivalent radius ≥ z, so every shell the fit uses is inside).
-    let reach = thin_radius.ceil() as i32 + 2;
-    let mut lo = [i32::MAX; 3];
-    let mut hi = [i32::MIN; 3];
-    for p in &solid {
-        for a in 0..3 {
-            lo[a] = lo[a].min(p[a]);
-            hi[a] = hi[a].max(p[a]);
-        }
-    }
-    let mut whole = f64::INFINITY;
-    for a in 0..3 {
-        if a == 1 && !three_d {
-            continue;
-        }
-        let (want_lo, want_hi) = (lo[a] - reach, hi[a] + reach);
-        lo[a] = want_lo.max(0);
-        hi[a] = want_hi.min(c.size[a] as i32 - 1);
-        if lo[a] > want_lo {
-            whole = whole.min(f64::from(p_gap(&solid, a, lo[a], true)));
-        }
-        if hi[a] < want_hi {
-            whole = whole.min(f64::from(p_gap(&solid, a, hi[a], false)));
-        }
-    }
-    let dims: [usize; 3] = std::array::from_fn(|a| (hi[a] - lo[a] + 1) as usize);
-    let cells = dims.iter().product::<usize>();
-    budget.check_elements(cells as u128, 5, "the substrate distance transform")?;
-    let index = |p: [i32; 3]| -> Option<usize> {
-        (0..3).all(|a| p[a] >= lo[a] && p[a] <= hi[a]).then(|| {
-            let q: [usize; 3] = std::array::from_fn(|a| (p[a] - lo[a]) as usize);
-            q[0] + dims[0] * (q[1] + dims[1] * q[2])
-        })
-    };
-    let mut mask = vec![false; cells];
-    for &p in &solid {
-        if let Some(i) = index(p) {
-            mask[i] = true;
-        }
-    }
-    let dist = distance_transform(dims, &mask);
-    let shells = (thin_radius.min(whole).floor() as usize).max(1) + 1;
-    let mut volume = vec![0usize; shells + 1];
-    let mut mass = vec![0usize; shells + 1];
-    let shell_of = |z: f32| -> Option<usize> {
-        let k = f64::from(z).ceil() as usize;
-        (k >= 1 && k <= shells).then_some(k)
-    };
-    for (i, &z) in dist.iter().enumerate() {
-        if !mask[i]
-            && let Some(k) = shell_of(z)
-        {
-            volume[k] += 1;
-        }
-    }
-    for &p in particles {
-        if let Some(i) = index(p)
-            && !mask[i]
-            && let Some(k) = shell_of(dist[i])
-        {
-            mass[k] += 1;
-        }
-    }
+    // A shell at distance z has volume-equivalent radius ≥ z, so every shell
+    // the fit uses lies within the thin radius of the seed.
+    let window = Window::around(&solid, thin_radius.ceil() as i32 + 2, c);
+    budget.check_elements(
+        window.cells() as u128,
+        5,
+        "the substrate distance transform",
+    )?;
+    let shells = (thin_radius.min(window.whole).floor() as usize).max(1) + 1;
+    let (volume, mass) = window.shell_counts(&solid, particles, shells);
     let mut inside = n;
     let (mut radius, mut density) = (Vec::new(), Vec::new());
-    for k in 1..=shells {
-        if volume[k] == 0 {
+    for (v, m) in volume.into_iter().zip(mass).skip(1) {
+        if v == 0 {
             continue;
         }
-        let v = volume[k] as f64;
+        let v = v as f64;
         radius.push(equivalent_radius(inside + 0.5 * v, c.dim));
-        density.push(mass[k] as f64 / v);
+        density.push(m as f64 / v);
         inside += v;
     }
     Ok(Some(ShellProfile {
@@ -176,19 +121,105 @@ pub fn shell_profile(
         thin_radius: thin_radius.min(equivalent_radius(inside, c.dim)),
         radius,
         density,
-        clipped: whole.is_finite(),
+        clipped: window.whole.is_finite(),
     }))
 }
 
-/// The distance along axis `a` from the seed's extreme cells to the box face at
-/// `face` (the lower face when `low`).
-fn p_gap(solid: &[[i32; 3]], a: usize, face: i32, low: bool) -> i32 {
-    let extreme = if low {
-        solid.iter().map(|p| p[a]).min().unwrap_or(face)
-    } else {
-        solid.iter().map(|p| p[a]).max().unwrap_or(face)
-    };
-    (extreme - face).abs()
+/// The box the distance transform covers: the seed's cells widened by a reach,
+/// clipped to the lattice.
+struct Window {
+    lo: [i32; 3],
+    hi: [i32; 3],
+    dims: [usize; 3],
+    /// How far from the seed the box is whole (+∞ when nothing was clipped).
+    whole: f64,
+}
+
+impl Window {
+    fn around(solid: &[[i32; 3]], reach: i32, c: &DlaCluster) -> Self {
+        let mut lo = [i32::MAX; 3];
+        let mut hi = [i32::MIN; 3];
+        for p in solid {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        let mut whole = f64::INFINITY;
+        for a in 0..3 {
+            if a == 1 && c.dim != 3 {
+                continue;
+            }
+            let (seed_lo, seed_hi) = (lo[a], hi[a]);
+            lo[a] = (seed_lo - reach).max(0);
+            hi[a] = (seed_hi + reach).min(c.size[a] as i32 - 1);
+            if lo[a] > seed_lo - reach {
+                whole = whole.min(f64::from(seed_lo - lo[a]));
+            }
+            if hi[a] < seed_hi + reach {
+                whole = whole.min(f64::from(hi[a] - seed_hi));
+            }
+        }
+        let dims = std::array::from_fn(|a| (hi[a] - lo[a] + 1) as usize);
+        Self {
+            lo,
+            hi,
+            dims,
+            whole,
+        }
+    }
+
+    fn cells(&self) -> usize {
+        self.dims.iter().product()
+    }
+
+    fn index(&self, p: [i32; 3]) -> Option<usize> {
+        (0..3)
+            .all(|a| p[a] >= self.lo[a] && p[a] <= self.hi[a])
+            .then(|| {
+                let q: [usize; 3] = std::array::from_fn(|a| (p[a] - self.lo[a]) as usize);
+                q[0] + self.dims[0] * (q[1] + self.dims[1] * q[2])
+            })
+    }
+
+    /// Lattice cells and particles per shell z ∈ (k − 1, k], k = 1..=`shells`
+    /// (index 0 unused), outside the seed's solid.
+    fn shell_counts(
+        &self,
+        solid: &[[i32; 3]],
+        particles: &[[i32; 3]],
+        shells: usize,
+    ) -> (Vec<usize>, Vec<usize>) {
+        let mut mask = vec![false; self.cells()];
+        for &p in solid {
+            if let Some(i) = self.index(p) {
+                mask[i] = true;
+            }
+        }
+        let dist = distance_transform(self.dims, &mask);
+        let shell_of = |z: f32| -> Option<usize> {
+            let k = f64::from(z).ceil() as usize;
+            (k >= 1 && k <= shells).then_some(k)
+        };
+        let mut volume = vec![0usize; shells + 1];
+        let mut mass = vec![0usize; shells + 1];
+        for (i, &z) in dist.iter().enumerate() {
+            if !mask[i]
+                && let Some(k) = shell_of(z)
+            {
+                volume[k] += 1;
+            }
+        }
+        for &p in particles {
+            if let Some(i) = self.index(p)
+                && !mask[i]
+                && let Some(k) = shell_of(dist[i])
+            {
+                mass[k] += 1;
+            }
+        }
+        (volume, mass)
+    }
 }
 
 #[cfg(test)]
