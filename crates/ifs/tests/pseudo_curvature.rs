@@ -2,6 +2,8 @@
 //! analytic curvature of a bicubic patch, the Takagi–Landsberg closed forms, the
 //! Takagi series itself, and the Hutchinson fixed-point property.
 
+mod common;
+
 use asperity_core::vec3::{cross, dot};
 use asperity_ifs::curvature::{curve_at, curve_report, surface_at, surface_report};
 use asperity_ifs::model::{TAKAGI_SHEAR, takagi_grid, takagi_operators};
@@ -9,6 +11,7 @@ use asperity_ifs::{
     CurveClass, CurveIfs, DirectionAnalysis, FamilyOptions, Model, Pifs, PresetParams, SurfaceIfs,
     preset,
 };
+use common::{bezier_derivative, patch_curvature};
 
 fn curve(name: &str, p: PresetParams) -> CurveIfs {
     match preset(name, &p).unwrap().build().unwrap() {
@@ -32,36 +35,6 @@ fn takagi(w: f64) -> CurveIfs {
             ..Default::default()
         },
     )
-}
-
-fn binom(n: usize, k: usize) -> f64 {
-    (0..k).fold(1.0, |a, i| a * (n - i) as f64 / (i + 1) as f64)
-}
-
-fn bernstein(n: usize, i: usize, u: f64) -> f64 {
-    binom(n, i) * u.powi(i as i32) * (1.0 - u).powi((n - i) as i32)
-}
-
-/// B^(r)(u) of a Bézier curve by differencing the control points (independent of the IFS).
-fn bezier_derivative(pts: &[[f64; 3]], r: usize, u: f64) -> [f64; 3] {
-    let mut d: Vec<[f64; 3]> = pts.to_vec();
-    for _ in 0..r {
-        d = d
-            .windows(2)
-            .map(|w| [w[1][0] - w[0][0], w[1][1] - w[0][1], w[1][2] - w[0][2]])
-            .collect();
-    }
-    let n = pts.len() - 1;
-    let m = n - r;
-    let f = (0..r).fold(1.0, |a, k| a * (n - k) as f64);
-    let mut out = [0.0; 3];
-    for (i, p) in d.iter().enumerate() {
-        let b = bernstein(m, i, u) * f;
-        for k in 0..3 {
-            out[k] += b * p[k];
-        }
-    }
-    out
 }
 
 fn classical_curvature(pts: &[[f64; 3]], u: f64) -> f64 {
@@ -283,30 +256,6 @@ fn attractors_are_hutchinson_fixed_points_and_continuous() {
             }
         }
     }
-}
-
-/// Analytic 𝒦 and ℋ of a bicubic Bézier patch at (u, v) from Bernstein derivatives.
-fn patch_curvature(s: &SurfaceIfs, u: f64, v: f64) -> (f64, f64) {
-    let grid = s.control();
-    let der = |ru: usize, rv: usize| -> [f64; 3] {
-        // Derivative rows in v for every u-row, then in u.
-        let rows: Vec<[f64; 3]> = (0..4)
-            .map(|a| bezier_derivative(&grid[a * 4..a * 4 + 4], rv, v))
-            .collect();
-        bezier_derivative(&rows, ru, u)
-    };
-    let (su, sv) = (der(1, 0), der(0, 1));
-    let (suu, suv, svv) = (der(2, 0), der(1, 1), der(0, 2));
-    let nn = cross(su, sv);
-    let len = dot(nn, nn).sqrt();
-    let n = [nn[0] / len, nn[1] / len, nn[2] / len];
-    let (e, f, g) = (dot(su, su), dot(su, sv), dot(sv, sv));
-    let (l, m, nc) = (dot(suu, n), dot(suv, n), dot(svv, n));
-    let det = e * g - f * f;
-    (
-        (l * nc - m * m) / det,
-        (e * nc + g * l - 2.0 * f * m) / (2.0 * det),
-    )
 }
 
 #[test]

@@ -3,7 +3,8 @@
 //! operators repeat eigenvalues (quadratic ⊗ cubic, cubic ⊗ cubic), the orbit of
 //! the operator itself, and the factor-wise DCFs the gallery draws today.
 
-use asperity_core::vec3::{cross, dot};
+mod common;
+
 use asperity_ifs::curvature::sides;
 use asperity_ifs::invariant::{Decomposition, sdcf, sdcf_curvature};
 use asperity_ifs::model::takagi_operators;
@@ -11,6 +12,7 @@ use asperity_ifs::spectrum::{Structure, spectrum};
 use asperity_ifs::{
     DirectionAnalysis, FamilyOptions, Model, Pifs, PresetParams, SurfaceIfs, preset,
 };
+use common::patch_curvature;
 use nalgebra::{DMatrix, DVector};
 
 fn factor(name: &str) -> Pifs {
@@ -57,59 +59,6 @@ fn patch(s: Pifs, t: Pifs) -> SurfaceIfs {
         })
         .collect();
     SurfaceIfs::new(s, t, &grid).unwrap()
-}
-
-fn binom(n: usize, k: usize) -> f64 {
-    (0..k).fold(1.0, |a, i| a * (n - i) as f64 / (i + 1) as f64)
-}
-
-/// r-th derivative of a Bézier curve (forward differences and Bernstein polynomials).
-fn bezier_derivative(pts: &[[f64; 3]], r: usize, u: f64) -> [f64; 3] {
-    let n = pts.len() - 1;
-    if r > n {
-        return [0.0; 3];
-    }
-    let mut d = pts.to_vec();
-    for _ in 0..r {
-        d = d
-            .windows(2)
-            .map(|w| [w[1][0] - w[0][0], w[1][1] - w[0][1], w[1][2] - w[0][2]])
-            .collect();
-    }
-    let k = n - r;
-    let f = (0..r).fold(1.0, |a, j| a * (n - j) as f64);
-    let mut out = [0.0; 3];
-    for (i, p) in d.iter().enumerate() {
-        let b = binom(k, i) * u.powi(i as i32) * (1.0 - u).powi((k - i) as i32) * f;
-        for c in 0..3 {
-            out[c] += b * p[c];
-        }
-    }
-    out
-}
-
-/// Analytic 𝒦 and ℋ of the Bézier patch of `s`'s grid at (u, v).
-fn patch_curvature(s: &SurfaceIfs, u: f64, v: f64) -> (f64, f64) {
-    let grid = s.control();
-    let (n, m) = s.grid_size();
-    let der = |ru: usize, rv: usize| -> [f64; 3] {
-        let rows: Vec<[f64; 3]> = (0..n)
-            .map(|a| bezier_derivative(&grid[a * m..(a + 1) * m], rv, v))
-            .collect();
-        bezier_derivative(&rows, ru, u)
-    };
-    let (su, sv) = (der(1, 0), der(0, 1));
-    let (suu, suv, svv) = (der(2, 0), der(1, 1), der(0, 2));
-    let nn = cross(su, sv);
-    let len = dot(nn, nn).sqrt();
-    let nrm = [nn[0] / len, nn[1] / len, nn[2] / len];
-    let (e, f, g) = (dot(su, su), dot(su, sv), dot(sv, sv));
-    let (l, mm, nc) = (dot(suu, nrm), dot(suv, nrm), dot(svv, nrm));
-    let det = e * g - f * f;
-    (
-        (l * nc - mm * mm) / det,
-        (e * nc + g * l - 2.0 * f * mm) / (2.0 * det),
-    )
 }
 
 #[test]

@@ -16,6 +16,7 @@ use asperity_ifs::{
     CurveIfs, DirectionAnalysis, FamilyOptions, Model, ModelFile, PresetParams, SurfaceIfs, preset,
 };
 use asperity_render::plot::{Drawing, Stroke, drawing_svg};
+use nalgebra::DVector;
 use serde_json::Value;
 
 use crate::error::{Result, ensure, invalid};
@@ -518,6 +519,27 @@ pub fn surface_mesh(
     }
 }
 
+/// Both directions analysed, and the starting points `starts` of 𝒯ᵢⱼ's factors.
+fn factor_starts(
+    s: &SurfaceIfs,
+    opts: &FamilyOptions,
+    (i, j): (usize, usize),
+    starts: (Start, Start),
+) -> Result<(
+    DirectionAnalysis,
+    DirectionAnalysis,
+    DVector<f64>,
+    DVector<f64>,
+)> {
+    let (an_s, an_t) = (
+        DirectionAnalysis::new(&s.s, opts),
+        DirectionAnalysis::new(&s.t, opts),
+    );
+    let q = start_point(&s.s, &an_s.operators[i], starts.0)?;
+    let q2 = start_point(&s.t, &an_t.operators[j], starts.1)?;
+    Ok((an_s, an_t, q, q2))
+}
+
 /// The SDCF mesh of 𝒯ᵢⱼ from the starting points `starts` (one per direction).
 ///
 /// # Errors
@@ -530,13 +552,8 @@ pub fn sdcf_for(
     resolution: usize,
     budget: &MemoryBudget,
 ) -> Result<TriMesh> {
-    let (an_s, an_t) = (
-        DirectionAnalysis::new(&s.s, opts),
-        DirectionAnalysis::new(&s.t, opts),
-    );
+    let (an_s, an_t, q, q2) = factor_starts(s, opts, (i, j), starts)?;
     let (a, b) = (&an_s.operators[i], &an_t.operators[j]);
-    let q = start_point(&s.s, a, starts.0)?;
-    let q2 = start_point(&s.t, b, starts.1)?;
     Ok(sdcf_mesh(s, (a, &q), (b, &q2), resolution, budget)?)
 }
 
@@ -552,12 +569,7 @@ pub fn tensor_dcf_for(
     starts: (Start, Start),
     samples: usize,
 ) -> Result<Vec<[f64; 3]>> {
-    let (an_s, an_t) = (
-        DirectionAnalysis::new(&s.s, opts),
-        DirectionAnalysis::new(&s.t, opts),
-    );
-    let q = start_point(&s.s, &an_s.operators[i], starts.0)?;
-    let q2 = start_point(&s.t, &an_t.operators[j], starts.1)?;
+    let (_, _, q, q2) = factor_starts(s, opts, (i, j), starts)?;
     Ok(tensor_dcf_polyline(s, (i, j), (&q, &q2), samples)?)
 }
 

@@ -196,10 +196,7 @@ impl Covered {
             self.mesh.n_faces(),
             c.stats.comp_in,
             c.stats.part_in,
-            match c.stats.pairing {
-                Pairing::Unfolded => "unfolded",
-                Pairing::Paper => "paper",
-            },
+            c.stats.pairing.name(),
             100.0 * c.stats.pairing_redundancy,
             100.0 * c.stats.paper_redundancy
         )

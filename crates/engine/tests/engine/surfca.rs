@@ -53,6 +53,29 @@ fn voronoi_labels_every_cell_with_one_of_its_sites() {
     assert_eq!(changed.as_array().unwrap().len() as u64, r.stats.steps);
 }
 
+/// The cell structure in the report: asperity's pairing by default, the
+/// paper's Figure 8 measure beside it (counted on the same grids whichever
+/// pairing links them); `pairing = "paper"` links as Figure 7 does and still
+/// labels every cell.
+#[test]
+fn the_report_names_the_pairing_and_the_papers_redundancy() {
+    let (cov, r) = run("sphere", json!({"sites": 5, "cells": 5000}), None).unwrap();
+    let ours = measured(&cov, &r, "cell_structure");
+    assert_eq!(ours["pairing"], "unfolded");
+    let paper_measure = ours["paper_redundancy"].as_f64().unwrap();
+    assert!((0.0..0.3).contains(&paper_measure), "{ours}");
+    let (cov, r) = run(
+        "sphere",
+        json!({"sites": 5, "cells": 5000, "pairing": "paper"}),
+        None,
+    )
+    .unwrap();
+    let paper = measured(&cov, &r, "cell_structure");
+    assert_eq!(paper["pairing"], "paper");
+    assert_eq!(paper["paper_redundancy"].as_f64(), Some(paper_measure));
+    assert!(r.warnings().is_empty(), "{:?}", r.warnings());
+}
+
 /// A coarse grid on the cube's 192 triangles gives cells at a corner more
 /// than eight labelled side neighbours (found by the CLI/Python parity
 /// property test: the rule kept them in an array of eight and panicked).

@@ -39,6 +39,16 @@ pub enum Pairing {
     Paper,
 }
 
+impl Pairing {
+    /// The name reports and the `--pairing` option use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Pairing::Unfolded => "unfolded",
+            Pairing::Paper => "paper",
+        }
+    }
+}
+
 /// Edge cells of one triangle along one edge: (s, cell), sorted by s.
 pub(super) type EdgeCells = Vec<(f64, u32)>;
 
@@ -120,11 +130,16 @@ pub(super) fn all_edge_cells(
     edges: &EdgeMap,
     h: f64,
 ) -> std::collections::HashMap<(u32, usize), EdgeCells> {
-    edges
+    use rayon::prelude::*;
+    let sides: Vec<(u32, usize)> = edges
         .values()
         .filter(|l| l.len() == 2)
         .flatten()
-        .map(|&(t, e)| ((t, e), edge_cells(&frames[t as usize], e, h)))
+        .copied()
+        .collect();
+    sides
+        .into_par_iter()
+        .map(|(t, e)| ((t, e), edge_cells(&frames[t as usize], e, h)))
         .collect()
 }
 
