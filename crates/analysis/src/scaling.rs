@@ -272,31 +272,23 @@ pub fn density_dimension(rho: &[f64], d: usize) -> Result<ClusterDimension, Anal
     })
 }
 
-/// D of a cluster grown on a substrate from its shell density about the
-/// substrate, ρ(r) ∝ r^(D − d) with r the shells' volume-equivalent radius and
-/// d the embedding dimension (see `asperity_growth::dla::substrate`), fitted
-/// over `range`.
+/// D of a deposit from its pair correlation: the mean number of particles
+/// within s of a particle grows as N(s) ∝ s^D (Meakin 1983 measured DLA on
+/// fibres and surfaces this way), fitted over every radius given. Unlike the
+/// shell density it does not depend on the substrate's shape: it counts the
+/// deposit about its own particles, not about the seed.
 ///
 /// # Errors
-/// [`AnalysisError::BadInput`] when fewer than 3 shells fall in the range.
-pub fn shell_dimension(
+/// [`AnalysisError::BadInput`] when fewer than 3 radii have a count.
+pub fn pair_dimension(
     radius: &[f64],
-    density: &[f64],
-    d: usize,
-    range: [f64; 2],
+    neighbours: &[f64],
 ) -> Result<ClusterDimension, AnalysisError> {
-    if range[1] <= range[0] {
-        return Err(AnalysisError::BadInput(format!(
-            "the cluster thins at radius {:.1}, inside the fit's start {:.1} (the seed's radius + 5): \
-             grow more particles",
-            range[1], range[0]
-        )));
-    }
-    let fit = log_fit(radius, density, range)?;
-    Ok(ClusterDimension {
-        d: d as f64 + fit.slope,
-        fit,
-    })
+    let (Some(&first), Some(&last)) = (radius.first(), radius.last()) else {
+        return Err(AnalysisError::BadInput("no pair radii to fit".into()));
+    };
+    let fit = log_fit(radius, neighbours, [first, last])?;
+    Ok(ClusterDimension { d: fit.slope, fit })
 }
 
 #[cfg(test)]

@@ -2,12 +2,13 @@
 //! from any seed, with the cluster's radius of gyration and fractal dimension.
 
 use asperity_analysis::scaling::{
-    density_dimension, density_profile, gyration_dimension, mass_radius_dimension,
-    radius_of_gyration, shell_dimension,
+    ClusterDimension, density_dimension, density_profile, gyration_dimension,
+    mass_radius_dimension, pair_dimension, radius_of_gyration,
 };
 use asperity_core::{HeightField, MemoryBudget, Progress, TimeBudget, TriMesh};
 use asperity_growth::dla::{
     DlaCluster, DlaParams as Simulation, Sides as GrowthSides, dla, dla_with_walkers,
+    substrate::{PairCorrelation, ShellProfile},
 };
 use asperity_growth::seeds::{LatticeFrame, SeedSpec};
 use clap::Args;
@@ -17,7 +18,7 @@ use serde_json::{Value, json};
 
 use crate::error::{EngineError, Result};
 use crate::params::{JobParams, LatticeSize, choice};
-use crate::plots::{NamedPlot, log_log, points};
+use crate::plots::{NamedPlot, fit_line, log_log, points};
 use crate::report::Measurements;
 
 choice! {
@@ -185,6 +186,43 @@ pub struct Dimension {
     pub details: Value,
     /// Why `value` is absent or was withheld, for the user.
     pub warning: Option<String>,
+    /// The pair count and its fit, about a point or a substrate
+    /// ([`asperity_growth::dla::substrate`]).
+    pub pairs: Option<PairFit>,
+}
+
+/// A deposit's pair count N(s) and the fit N ∝ s^D.
+#[derive(Clone, Debug)]
+pub struct PairFit {
+    /// The counts.
+    pub counts: PairCorrelation,
+    /// D and its fit.
+    pub fit: ClusterDimension,
+    /// The window of particles counted about (volume-equivalent radius).
+    pub window: [f64; 2],
+}
+
+impl PairFit {
+    fn of(profile: &ShellProfile) -> Option<Self> {
+        let counts = profile.pairs.clone()?;
+        let fit = pair_dimension(&counts.radius, &counts.neighbours).ok()?;
+        Some(Self {
+            counts,
+            fit,
+            window: profile.fit_range(),
+        })
+    }
+
+    fn details(&self) -> Value {
+        json!({
+            "D": self.fit.d,
+            "fit": self.fit.fit,
+            "centres_from": self.window,
+            "centres": self.counts.centres,
+            "radius": self.counts.radius,
+            "neighbours": self.counts.neighbours,
+        })
+    }
 }
 
 impl Dimension {
@@ -305,6 +343,7 @@ fn plane_dimension(parts: &[[f64; 3]], size: [usize; 3], dim: usize) -> Dimensio
             .as_ref()
             .err()
             .map(|e| format!("the fractal dimension is not reported: {e}")),
+        pairs: None,
     }
 }
 
@@ -312,8 +351,10 @@ fn plane_dimension(parts: &[[f64; 3]], size: [usize; 3], dim: usize) -> Dimensio
 /// from a point. Around a seed of many cells (a sphere, a mesh) R_g(n) stays
 /// near the seed's own size, and the law measures the seed, not the deposit
 /// (it gave D = 6.4 on a sphere, 7.5 on a mesh): D is then measured about the
-/// substrate instead, from the shell density ρ(r) ∝ r^(D−d) by distance from the
-/// seed's surface ([`asperity_growth::dla::substrate`]).
+/// substrate instead, from the deposit's pair correlation N(s) ∝ s^D about the
+/// particles from the seed's radius + 5 cells to where the cluster thins
+/// ([`asperity_growth::dla::substrate`]). A point seed reports the same pair
+/// count beside R_g(n), so the two can be compared like for like.
 fn radial_dimension(
     c: &DlaCluster,
     seed: &asperity_growth::dla::SeedShape,
@@ -327,29 +368,35 @@ fn radial_dimension(
     let all = c.points();
     let g = gyration_dimension(&all);
     let m = mass_radius_dimension(&all, 2.0);
+    let about_the_seed = asperity_growth::dla::substrate::shell_profile(c, seed, budget)?;
+    let pairs = about_the_seed.as_ref().and_then(PairFit::of);
     Ok(Dimension {
         value: g.as_ref().ok().map(|d| d.d),
         method,
         details: json!({
             "gyration_fit": g.as_ref().ok().map(|d| d.fit),
             "mass_radius": m.as_ref().ok().map(|d| json!({"D": d.d, "fit": d.fit})),
+            "pair_correlation": pairs.as_ref().map(PairFit::details),
         }),
         warning: g
             .as_ref()
             .err()
             .map(|e| format!("the fractal dimension is not reported: {e}")),
+        pairs,
     })
 }
 
-/// D about the substrate of a cluster grown on a sphere or a mesh: the shell
-/// density by volume-equivalent radius, fitted from the seed's radius + 5
-/// cells to half the particles' R_g about the seed.
+/// D about the substrate of a cluster grown on a sphere or a mesh: the pair
+/// correlation of the particles from the seed's radius + 5 cells to half the
+/// particles' R_g about the seed. The shell density about the seed is reported
+/// beside it as a profile (its slope mixes the deposit with the seed's
+/// curvature: see `asperity_growth::dla::substrate`).
 fn substrate_dimension(
     c: &DlaCluster,
     seed: &asperity_growth::dla::SeedShape,
     budget: &MemoryBudget,
 ) -> Result<Dimension> {
-    let method = "density about the substrate rho(r) ~ r^(D-d), r volume-equivalent";
+    let method = "pair correlation N(s) ~ s^D of the deposit about the substrate";
     let Some(profile) = asperity_growth::dla::substrate::shell_profile(c, seed, budget)? else {
         return Ok(Dimension {
             value: None,
@@ -360,38 +407,44 @@ fn substrate_dimension(
                 c.particles().len(),
                 c.seeds
             )),
+            pairs: None,
         });
     };
-    let fit = shell_dimension(
-        &profile.radius,
-        &profile.density,
-        profile.dim,
-        profile.fit_range(),
-    );
-    let mut warning = fit
-        .as_ref()
-        .err()
-        .map(|e| format!("the fractal dimension is not reported: {e}"));
+    let [from, to] = profile.fit_range();
+    let pairs = PairFit::of(&profile);
+    let mut warning = match (&pairs, to > from) {
+        (Some(_), _) => None,
+        (None, true) => Some(format!(
+            "the fractal dimension is not reported: the cluster thins at radius {to:.1}, \
+             too close to the seed for pair radii of 4 to {:.1} cells: grow more particles",
+            0.5 * to
+        )),
+        (None, false) => Some(format!(
+            "the fractal dimension is not reported: the cluster thins at radius {to:.1}, \
+             inside the window's start {from:.1} (the seed's radius + 5): grow more particles"
+        )),
+    };
     if profile.clipped && warning.is_none() {
         warning = Some(format!(
-            "the lattice boundary cut the shells about the seed short; the fit stops at radius {:.1}",
+            "the lattice boundary cut the shells about the seed short; the window stops at radius {:.1}",
             profile.thin_radius
         ));
     }
     Ok(Dimension {
-        value: fit.as_ref().ok().map(|d| d.d),
+        value: pairs.as_ref().map(|p| p.fit.d),
         method,
         details: json!({
             "substrate": {
                 "seed_radius": profile.seed_radius,
                 "gyration_about_seed": profile.gyration,
                 "fit_range": profile.fit_range(),
-                "fit": fit.as_ref().ok().map(|d| d.fit),
+                "pair_correlation": pairs.as_ref().map(PairFit::details),
                 "radius": profile.radius,
                 "density": profile.density,
             }
         }),
         warning,
+        pairs,
     })
 }
 
@@ -469,14 +522,15 @@ impl DlaRun {
         let rg = ns
             .map(|n| (n as f64, radius_of_gyration(&all[..n])))
             .collect();
+        // D comes from R_g(n) only about a point.
+        let title = if self.cluster.seeds == 1 && !self.params.seed_shape.is_plane() {
+            format!("DLA radius of gyration, D = {}", self.dimension_text())
+        } else {
+            "DLA radius of gyration (about the seed's centre: it measures the seed)".into()
+        };
         let mut out = vec![NamedPlot {
             name: "gyration.svg",
-            plot: log_log(
-                format!("DLA radius of gyration, D = {}", self.dimension_text()),
-                "particles n",
-                "R_g",
-                vec![points("R_g(n)", rg)],
-            ),
+            plot: log_log(title, "particles n", "R_g", vec![points("R_g(n)", rg)]),
         }];
         if self.params.seed_shape.is_plane() {
             let size = self.params.size;
@@ -493,6 +547,30 @@ impl DlaRun {
                     "height z",
                     "density",
                     vec![points("ρ(z)", data)],
+                ),
+            });
+        }
+        if let Some(p) = &self.dimension.pairs {
+            let data = p
+                .counts
+                .radius
+                .iter()
+                .copied()
+                .zip(p.counts.neighbours.iter().copied())
+                .collect();
+            out.push(NamedPlot {
+                name: "pairs.svg",
+                plot: log_log(
+                    format!(
+                        "DLA pair count about the particles at radius {:.0}–{:.0} (volume-equivalent, about the seed), D = {:.3}",
+                        p.window[0], p.window[1], p.fit.d
+                    ),
+                    "radius s (cells)",
+                    "particles within s",
+                    vec![
+                        points("N(s)", data),
+                        fit_line(format!("N ∝ s^{:.3}", p.fit.d), &p.fit.fit),
+                    ],
                 ),
             });
         }

@@ -110,18 +110,28 @@ fn dla_on_a_plane_keeps_every_particle() {
     assert!(run.cluster.stopped.is_none());
 }
 
-/// 3-D DLA from a point: D ≈ 2.5 (Meakin); 2,000 particles put it above 1.8.
+/// 3-D DLA from a point: D ≈ 2.5 (Meakin) by R_g(n), and the pair count the
+/// substrates report beside it (the same measure as about a sphere, so the two
+/// compare like for like).
 #[test]
 fn dla_from_a_point_measures_a_fractal_dimension() {
-    let run = dla(json!({"particles": 2000}));
+    let run = dla(json!({"particles": 20000}));
     let d = run.dimension.value.expect("a point seed has D");
-    assert!(d > 1.8 && d < 3.0, "D = {d}");
+    assert!(d > 2.2 && d < 2.8, "D = {d}");
+    let pairs = run.dimension.details["pair_correlation"]["D"]
+        .as_f64()
+        .expect("the pair count about a point");
+    assert!((pairs - d).abs() < 0.15, "R_g(n) {d}, pairs {pairs}");
+    // Too few particles for the window: R_g(n) alone.
+    let run = dla(json!({"particles": 2000}));
+    assert!(run.dimension.value.is_some());
+    assert!(run.dimension.details["pair_correlation"].is_null());
 }
 
 /// Around a ball R_g(n) measures the seed (it gave D = 6.4, #22): D is measured
-/// about the substrate instead (`asperity_growth::dla::substrate`), with its fit
-/// range; a cluster too small for the window gets no D and a warning that says
-/// why.
+/// about the substrate instead, from the deposit's pair correlation
+/// (`asperity_growth::dla::substrate`), with its window; a cluster too small
+/// for the window gets no D and a warning that says why.
 #[test]
 fn dla_around_a_sphere_measures_d_about_the_substrate() {
     let run = dla(json!({"seed_shape": "sphere", "particles": 2000}));
@@ -135,9 +145,26 @@ fn dla_around_a_sphere_measures_d_about_the_substrate() {
     );
     let run = dla(json!({"seed_shape": "sphere", "seed_radius": 6.0, "particles": 30000}));
     let d = run.dimension.value.expect("D about the substrate");
-    assert!(d > 1.6 && d < 3.0, "D = {d}");
+    assert!(d > 2.2 && d < 2.8, "D = {d}");
     assert!(run.dimension.method.contains("about the substrate"));
     let sub = &run.dimension.details["substrate"];
+    let pairs = &sub["pair_correlation"];
+    assert_eq!(pairs["D"].as_f64(), Some(d));
+    assert_eq!(pairs["radius"][0].as_f64(), Some(4.0));
+    assert!(pairs["centres"].as_u64().unwrap() > 500, "{pairs}");
+    // The pair count is drawn with its fit; R_g(n)'s plot says it measures the seed.
+    let plots = run.plots();
+    let drawn = plots
+        .iter()
+        .find(|p| p.name == "pairs.svg")
+        .expect("pairs.svg");
+    assert!(
+        drawn.plot.title.contains(&format!("D = {d:.3}")),
+        "{}",
+        drawn.plot.title
+    );
+    assert_eq!(drawn.plot.series.len(), 2);
+    assert!(plots[0].plot.title.contains("measures the seed"));
     let range = sub["fit_range"].as_array().unwrap();
     assert_eq!(
         range[0].as_f64(),
