@@ -90,6 +90,16 @@ pub const PIPELINE: Defaults = Defaults {
 /// - Without redistancing the front stalls where it must travel far (Fig. 7's
 ///   ε = 17 cells: after 200 steps the synthetic bunny's ears are still not
 ///   carved out), so dropping Eq. 11 is no cure either.
+/// - Sampled data have no rest for the front but the samples. A 2-D model
+///   (`docs/experiments/eq6_front_speed.py`, exact redistancing) separates the
+///   two causes: with the front moving at its own exact d (an extension
+///   velocity) and the nodes next to it left alone by the redistancing, a
+///   continuous circle (d = 0 on all of it) holds within 0.012h for 200 steps,
+///   where either fix alone is 4.5–8.3h inside by step 100–200; but the same
+///   circle sampled 0.5h, 1h or 2h apart is 3.7h, 7.9h or 11.5h inside at step
+///   100: between samples d > 0 and the front goes on. Every input here is
+///   sampled, so no scheme faithful to Eq. 6 can drop δ; it could go only for
+///   data whose distance vanishes on a whole surface.
 ///
 /// δ (0.75 × the sample spacing up to 60 steps, growing to one spacing at 200
 /// steps, at least 0.6h: `asperity_levelset::default_arrest_spacings`) stops
