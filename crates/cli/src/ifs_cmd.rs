@@ -7,7 +7,7 @@ use std::time::Instant;
 use asperity_engine::core::TriMesh;
 use asperity_engine::files::{extension, require_mesh_format};
 use asperity_engine::ifs::{CurvatureReport, Loaded, control_net, figure};
-use asperity_engine::methods::ifs::{DirectionAnalysis, preset_names};
+use asperity_engine::methods::ifs::{DirectionAnalysis, SpectrumEntry, preset_names};
 
 use crate::cli::{
     IfsCommand, IfsCurvatureArgs, IfsCurveArgs, IfsDcfArgs, IfsPresetArgs, IfsSdcfArgs,
@@ -206,6 +206,34 @@ fn fmt_range(r: Option<[f64; 2]>) -> String {
     }
 }
 
+/// A tensor operator's spectrum as "1, 0.5 ×2, 0.25 ×3 (2 eigenvectors)".
+fn fmt_spectrum(spectrum: Option<&[SpectrumEntry]>) -> String {
+    let Some(parts) = spectrum else {
+        return "— (not real)".to_owned();
+    };
+    parts
+        .iter()
+        .map(|p| {
+            let mut s = format!("{:.6}", p.value)
+                .trim_end_matches('0')
+                .trim_end_matches('.')
+                .to_owned();
+            if p.multiplicity > 1 {
+                s += &format!(" ×{}", p.multiplicity);
+            }
+            if p.eigenvectors < p.multiplicity {
+                s += &format!(
+                    " (Jordan: {} eigenvector{})",
+                    p.eigenvectors,
+                    if p.eigenvectors == 1 { "" } else { "s" }
+                );
+            }
+            s
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 fn curvature(ctx: &Context, a: &IfsCurvatureArgs) -> anyhow::Result<()> {
     let job = ctx.job_params(a.params.clone(), &a.params_file)?;
     let t = Instant::now();
@@ -282,6 +310,10 @@ fn print_curvature(l: &Loaded, report: &CurvatureReport) -> anyhow::Result<()> {
                     o.class,
                     fmt_range(o.gaussian),
                     fmt_range(o.mean)
+                );
+                outln!(
+                    "         spectrum {}",
+                    fmt_spectrum(o.tensor_spectrum.as_deref())
                 );
             }
             for p in at {

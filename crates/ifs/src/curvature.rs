@@ -490,6 +490,11 @@ pub struct SurfaceOperatorReport {
     pub position: [f64; 3],
     /// Eigenvalues of Tᵢ and of T′ⱼ (those of 𝒯ᵢⱼ are their products).
     pub eigenvalues: [Vec<serde_json::Value>; 2],
+    /// The spectrum of 𝒯ᵢⱼ itself, from its general decomposition
+    /// ([`crate::invariant`]): each distinct eigenvalue with its algebraic and
+    /// geometric multiplicity. `None` when it has no real decomposition
+    /// (complex eigenvalues).
+    pub tensor_spectrum: Option<Vec<SpectrumEntry>>,
     /// α of Tᵢ and α′ of T′ⱼ (one list per direction; null = +∞).
     pub alpha: [Vec<Option<f64>>; 2],
     /// Class from the §4.1 table.
@@ -504,6 +509,36 @@ pub struct SurfaceOperatorReport {
     pub mean: Option<[f64; 2]>,
     /// [[min, max] of κ₁, [min, max] of κ₂].
     pub principal: Option<[[f64; 2]; 2]>,
+}
+
+/// One distinct eigenvalue of an operator and the dimensions of its spaces.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SpectrumEntry {
+    /// λ.
+    pub value: f64,
+    /// Its algebraic multiplicity (the dimension of its generalised eigenspace).
+    pub multiplicity: usize,
+    /// Its geometric multiplicity (the dimension of its eigenspace): below
+    /// `multiplicity` for a Jordan block.
+    pub eigenvectors: usize,
+    /// α = ln|λ| / ln|λ₁| (null for λ = 0).
+    pub alpha: Option<f64>,
+}
+
+/// The general spectrum of `t` ([`crate::invariant::Decomposition`]).
+pub fn spectrum_entries(t: &DMatrix<f64>) -> Option<Vec<SpectrumEntry>> {
+    let d = crate::invariant::Decomposition::new(t).ok()?;
+    Some(
+        d.parts
+            .iter()
+            .map(|p| SpectrumEntry {
+                value: p.value,
+                multiplicity: p.multiplicity,
+                eigenvectors: p.eigenvectors,
+                alpha: p.alpha.is_finite().then_some(p.alpha),
+            })
+            .collect(),
+    )
 }
 
 fn quadrant(
@@ -556,6 +591,7 @@ pub fn surface_report(
                 fixed_point: cs.kronecker(ct).iter().copied().collect(),
                 position: surface.project(cs.as_slice(), ct.as_slice()),
                 eigenvalues: [eigen_json(a), eigen_json(b)],
+                tensor_spectrum: spectrum_entries(&surface.operator(i, j)),
                 alpha: [alphas(a), alphas(b)],
                 class: class.name(),
                 class_s: a.class.name(),

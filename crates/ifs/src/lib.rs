@@ -32,7 +32,7 @@ pub mod pifs;
 pub mod sdcf;
 pub mod spectrum;
 
-pub use curvature::{DirectionAnalysis, SurfaceClass, SurfaceRanges};
+pub use curvature::{DirectionAnalysis, SpectrumEntry, SurfaceClass, SurfaceRanges};
 pub use dcf::{CurveClass, FamilyOptions, OperatorAnalysis};
 pub use error::{Constraint, IfsError, Result};
 pub use model::{Model, ModelFile, PresetParams, preset, preset_names};

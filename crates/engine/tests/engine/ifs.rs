@@ -69,7 +69,8 @@ fn bezier_end_curvature_is_the_closed_form() {
 }
 
 /// The bicubic Bézier patch: four finite operators, each with a single
-/// Gaussian curvature value (its range's two ends equal).
+/// Gaussian curvature value (its range's two ends equal), and each 𝒯ᵢⱼ's own
+/// spectrum in the document: 2^{−k} with multiplicity #{a + b = k : a, b ≤ 3}.
 #[test]
 fn the_bicubic_patch_has_four_finite_operators() {
     let doc = report(preset("bezier-bicubic"));
@@ -79,6 +80,16 @@ fn the_bicubic_patch_has_four_finite_operators() {
         assert_eq!(o["class"], "finite");
         let g = o["gaussian"].as_array().unwrap();
         assert!((g[0].as_f64().unwrap() - g[1].as_f64().unwrap()).abs() < 1e-12);
+        let spectrum = o["tensor_spectrum"].as_array().unwrap();
+        let multiplicities: Vec<u64> = spectrum
+            .iter()
+            .map(|p| p["multiplicity"].as_u64().unwrap())
+            .collect();
+        assert_eq!(multiplicities, [1, 2, 3, 4, 3, 2, 1]);
+        for (k, p) in spectrum.iter().enumerate() {
+            assert!((p["value"].as_f64().unwrap() - 0.5f64.powi(k as i32)).abs() < 1e-9);
+            assert_eq!(p["eigenvectors"], p["multiplicity"]);
+        }
     }
 }
 
