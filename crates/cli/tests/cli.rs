@@ -1205,6 +1205,21 @@ fn ifs_commands_as_documented() {
         v["operators"][0]["class"], "non-diagonalisable",
         "--w reaches the model"
     );
+    // The table names each tensor operator's spectrum, Jordan blocks included.
+    let out = ok(&[
+        "ifs",
+        "curvature",
+        "--preset",
+        "takagi-landsberg-surface",
+        "--w",
+        "0.5",
+    ]);
+    assert!(
+        out.contains(
+            "spectrum 1, 0.5 ×4 (Jordan: 2 eigenvectors), 0.25 ×4 (Jordan: 2 eigenvectors)"
+        ),
+        "{out}"
+    );
 
     // Presets as editable files, edited and moved.
     ok(&["ifs", "preset", "bezier-quadratic", "-o", "q.json"]);
