@@ -49,6 +49,7 @@ use asperity_core::vec3::{cross, dot, norm};
 
 use crate::dcf::{CurveClass, FamilyOptions, Frame, OperatorAnalysis, curve_curvature};
 use crate::error::{Result, invalid};
+use crate::invariant::Decomposition;
 use crate::pifs::{CurveIfs, Pifs, SurfaceIfs, project};
 
 /// Members per direction used for principal-curvature ranges.
@@ -494,7 +495,7 @@ pub struct SurfaceOperatorReport {
     /// ([`crate::invariant`]): each distinct eigenvalue with its algebraic and
     /// geometric multiplicity. `None` when it has no real decomposition
     /// (complex eigenvalues).
-    pub tensor_spectrum: Option<Vec<SpectrumEntry>>,
+    pub tensor_spectrum: Option<Vec<crate::invariant::SpectrumEntry>>,
     /// α of Tᵢ and α′ of T′ⱼ (one list per direction; null = +∞).
     pub alpha: [Vec<Option<f64>>; 2],
     /// Class from the §4.1 table.
@@ -511,34 +512,24 @@ pub struct SurfaceOperatorReport {
     pub principal: Option<[[f64; 2]; 2]>,
 }
 
-/// One distinct eigenvalue of an operator and the dimensions of its spaces.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct SpectrumEntry {
-    /// λ.
-    pub value: f64,
-    /// Its algebraic multiplicity (the dimension of its generalised eigenspace).
-    pub multiplicity: usize,
-    /// Its geometric multiplicity (the dimension of its eigenspace): below
-    /// `multiplicity` for a Jordan block.
-    pub eigenvectors: usize,
-    /// α = ln|λ| / ln|λ₁| (null for λ = 0).
-    pub alpha: Option<f64>,
-}
+/// One quadrant of a surface point for [`sdcf_curvature`]: the factor's
+/// decomposition, the starting point, the transporting word and σ (+1 when the
+/// SDCF leaves towards increasing parameter, −1 otherwise).
+pub type Direction<'a> = (&'a Decomposition, &'a DVector<f64>, &'a DMatrix<f64>, f64);
 
-/// The general spectrum of `t` ([`crate::invariant::Decomposition`]).
-pub fn spectrum_entries(t: &DMatrix<f64>) -> Option<Vec<SpectrumEntry>> {
-    let d = crate::invariant::Decomposition::new(t).ok()?;
-    Some(
-        d.parts
-            .iter()
-            .map(|p| SpectrumEntry {
-                value: p.value,
-                multiplicity: p.multiplicity,
-                eigenvectors: p.eigenvectors,
-                alpha: p.alpha.is_finite().then_some(p.alpha),
-            })
-            .collect(),
-    )
+/// 𝒦, ℋ (and κ₁, κ₂) of one SDCF at its corner, transported by the words, from
+/// the general spectra of its factors. None when a direction's second order is not
+/// finite (see [`Decomposition::second_order_is_finite`]) or the corner is pinched.
+pub fn sdcf_curvature(
+    surface: &SurfaceIfs,
+    (ds, q, ws, sigma_s): Direction,
+    (dt, q2, wt, sigma_t): Direction,
+) -> Option<SurfaceRanges> {
+    if !(ds.second_order_is_finite() && dt.second_order_is_finite()) {
+        return None;
+    }
+    let fs = ContractedFrame::new(surface, &ds.frame(q, ws, sigma_s));
+    surface_curvature(&fs, &dt.frame(q2, wt, sigma_t), true)
 }
 
 fn quadrant(
@@ -591,7 +582,9 @@ pub fn surface_report(
                 fixed_point: cs.kronecker(ct).iter().copied().collect(),
                 position: surface.project(cs.as_slice(), ct.as_slice()),
                 eigenvalues: [eigen_json(a), eigen_json(b)],
-                tensor_spectrum: spectrum_entries(&surface.operator(i, j)),
+                tensor_spectrum: Decomposition::new(&surface.operator(i, j))
+                    .ok()
+                    .map(|d| d.entries()),
                 alpha: [alphas(a), alphas(b)],
                 class: class.name(),
                 class_s: a.class.name(),

@@ -37,12 +37,14 @@
 //! P(a₀⊗b₁), S_st = P(a₁⊗b₁), S_ss = 2P(a₂⊗b₀), S_tt = 2P(a₀⊗b₂). A direction has
 //! a finite second order when no exponent lies in (1, 2) and the α ≤ 2 eigenvalues
 //! have no nilpotent part (a Jordan block there gives log t in the derivatives).
+//! [`Decomposition::frame`] gives those components; `curvature::sdcf_curvature`
+//! turns two of them into 𝒦 and ℋ (it lives there so that this module does not
+//! depend on the curvature module, which reports these spectra).
 
 use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
 
-use crate::curvature::{ContractedFrame, SurfaceRanges, surface_curvature};
 use crate::dcf::Frame;
-use crate::pifs::SurfaceIfs;
 use crate::spectrum::{CLUSTER, clusters_of, order_clusters, snap};
 
 /// One distinct eigenvalue and its generalised eigenspace.
@@ -67,6 +69,20 @@ impl Invariant {
     pub fn is_diagonalisable(&self) -> bool {
         self.eigenvectors == self.multiplicity
     }
+}
+
+/// One distinct eigenvalue of an operator and the dimensions of its spaces.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SpectrumEntry {
+    /// λ.
+    pub value: f64,
+    /// Its algebraic multiplicity (the dimension of its generalised eigenspace).
+    pub multiplicity: usize,
+    /// Its geometric multiplicity (the dimension of its eigenspace): below
+    /// `multiplicity` for a Jordan block.
+    pub eigenvectors: usize,
+    /// α = ln|λ| / ln|λ₁| (null for λ = 0).
+    pub alpha: Option<f64>,
 }
 
 /// The general spectral decomposition T = Σ_c (λ_c Π_c + N_c).
@@ -188,6 +204,19 @@ impl Decomposition {
         Ok(Self { parts })
     }
 
+    /// Each distinct eigenvalue with its multiplicities and α, for reports.
+    pub fn entries(&self) -> Vec<SpectrumEntry> {
+        self.parts
+            .iter()
+            .map(|p| SpectrumEntry {
+                value: p.value,
+                multiplicity: p.multiplicity,
+                eigenvectors: p.eigenvectors,
+                alpha: p.alpha.is_finite().then_some(p.alpha),
+            })
+            .collect()
+    }
+
     /// |λ₁|, the largest modulus after the fixed point's (0 for a 1×1 operator).
     pub fn lambda1(&self) -> f64 {
         self.parts.get(1).map_or(0.0, |p| p.value.abs())
@@ -267,26 +296,6 @@ pub fn sdcf(
     t: f64,
 ) -> DVector<f64> {
     ds.dcf(q, s).kronecker(&dt.dcf(q2, t))
-}
-
-/// One quadrant of a surface point for [`sdcf_curvature`]: the factor's
-/// decomposition, the starting point, the transporting word and σ (+1 when the
-/// SDCF leaves towards increasing parameter, −1 otherwise).
-pub type Direction<'a> = (&'a Decomposition, &'a DVector<f64>, &'a DMatrix<f64>, f64);
-
-/// 𝒦, ℋ (and κ₁, κ₂) of one SDCF at its corner, transported by the words, from
-/// the general spectra of its factors. None when a direction's second order is not
-/// finite (see [`Decomposition::second_order_is_finite`]) or the corner is pinched.
-pub fn sdcf_curvature(
-    surface: &SurfaceIfs,
-    (ds, q, ws, sigma_s): Direction,
-    (dt, q2, wt, sigma_t): Direction,
-) -> Option<SurfaceRanges> {
-    if !(ds.second_order_is_finite() && dt.second_order_is_finite()) {
-        return None;
-    }
-    let fs = ContractedFrame::new(surface, &ds.frame(q, ws, sigma_s));
-    surface_curvature(&fs, &dt.frame(q2, wt, sigma_t), true)
 }
 
 #[cfg(test)]

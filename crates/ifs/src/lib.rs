@@ -32,8 +32,9 @@ pub mod pifs;
 pub mod sdcf;
 pub mod spectrum;
 
-pub use curvature::{DirectionAnalysis, SpectrumEntry, SurfaceClass, SurfaceRanges};
+pub use curvature::{DirectionAnalysis, SurfaceClass, SurfaceRanges};
 pub use dcf::{CurveClass, FamilyOptions, OperatorAnalysis};
 pub use error::{Constraint, IfsError, Result};
+pub use invariant::SpectrumEntry;
 pub use model::{Model, ModelFile, PresetParams, preset, preset_names};
 pub use pifs::{CurveIfs, Pifs, SurfaceIfs};

@@ -5,8 +5,8 @@
 
 mod common;
 
-use asperity_ifs::curvature::sides;
-use asperity_ifs::invariant::{Decomposition, sdcf, sdcf_curvature};
+use asperity_ifs::curvature::{sdcf_curvature, sides};
+use asperity_ifs::invariant::{Decomposition, sdcf};
 use asperity_ifs::model::takagi_operators;
 use asperity_ifs::spectrum::{Structure, spectrum};
 use asperity_ifs::{

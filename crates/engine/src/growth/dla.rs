@@ -368,8 +368,19 @@ fn radial_dimension(
     let all = c.points();
     let g = gyration_dimension(&all);
     let m = mass_radius_dimension(&all, 2.0);
-    let about_the_seed = asperity_growth::dla::substrate::shell_profile(c, seed, budget)?;
-    let pairs = about_the_seed.as_ref().and_then(PairFit::of);
+    // The pair count is a second measure: over the memory budget it is
+    // skipped with a warning, and R_g(n) still gives D.
+    let about_the_seed = asperity_growth::dla::substrate::shell_profile(c, seed, budget);
+    let pairs = about_the_seed
+        .as_ref()
+        .ok()
+        .and_then(Option::as_ref)
+        .and_then(PairFit::of);
+    let warning = match (&g, &about_the_seed) {
+        (Err(e), _) => Some(format!("the fractal dimension is not reported: {e}")),
+        (Ok(_), Err(e)) => Some(format!("the pair count beside R_g(n) is not reported: {e}")),
+        _ => None,
+    };
     Ok(Dimension {
         value: g.as_ref().ok().map(|d| d.d),
         method,
@@ -378,10 +389,7 @@ fn radial_dimension(
             "mass_radius": m.as_ref().ok().map(|d| json!({"D": d.d, "fit": d.fit})),
             "pair_correlation": pairs.as_ref().map(PairFit::details),
         }),
-        warning: g
-            .as_ref()
-            .err()
-            .map(|e| format!("the fractal dimension is not reported: {e}")),
+        warning,
         pairs,
     })
 }
@@ -397,7 +405,20 @@ fn substrate_dimension(
     budget: &MemoryBudget,
 ) -> Result<Dimension> {
     let method = "pair correlation N(s) ~ s^D of the deposit about the substrate";
-    let Some(profile) = asperity_growth::dla::substrate::shell_profile(c, seed, budget)? else {
+    // Over the memory budget the cluster is still delivered, without D.
+    let profile = match asperity_growth::dla::substrate::shell_profile(c, seed, budget) {
+        Ok(p) => p,
+        Err(e) => {
+            return Ok(Dimension {
+                value: None,
+                method,
+                details: json!({"substrate": null}),
+                warning: Some(format!("the fractal dimension is not reported: {e}")),
+                pairs: None,
+            });
+        }
+    };
+    let Some(profile) = profile else {
         return Ok(Dimension {
             value: None,
             method,

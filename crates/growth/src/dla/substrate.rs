@@ -217,7 +217,7 @@ fn pair_correlation(
             let base = grid.index(p).expect("a centre lies inside its own grid") as isize;
             let mut n = [0u64; PAIR_RADII];
             for &(o, k) in &offsets {
-                n[k] += u64::from(grid.occupied[(base + o) as usize]);
+                n[k] += u64::from(grid.is_occupied((base + o) as usize));
             }
             n
         })
@@ -253,7 +253,8 @@ struct Occupancy {
     lo: [i32; 3],
     dims: [usize; 3],
     reach: i32,
-    occupied: Vec<bool>,
+    /// One bit a cell (a cluster of 10⁷ particles spans ~10⁹ cells).
+    occupied: Vec<u64>,
 }
 
 impl Occupancy {
@@ -273,24 +274,25 @@ impl Occupancy {
             lo[a] = min - reach;
             dims[a] = (max - min + 2 * reach + 1) as usize;
         }
-        budget.check_elements(
-            dims.iter().map(|&d| d as u128).product(),
-            1,
-            "the pair count's occupancy grid",
-        )?;
+        let cells: u128 = dims.iter().map(|&d| d as u128).product();
+        budget.check_elements(cells.div_ceil(64), 8, "the pair count's occupancy grid")?;
         let mut grid = Self {
             dim,
             lo,
             dims,
             reach,
-            occupied: vec![false; dims.iter().product()],
+            occupied: vec![0; (cells as usize).div_ceil(64)],
         };
         for &p in particles {
             if let Some(i) = grid.index(p) {
-                grid.occupied[i] = true;
+                grid.occupied[i / 64] |= 1 << (i % 64);
             }
         }
         Ok(grid)
+    }
+
+    fn is_occupied(&self, i: usize) -> bool {
+        self.occupied[i / 64] >> (i % 64) & 1 == 1
     }
 
     fn index(&self, p: [i32; 3]) -> Option<usize> {
