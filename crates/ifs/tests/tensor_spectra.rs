@@ -266,57 +266,48 @@ fn the_dcf_of_a_tensor_operator_is_a_curve_on_its_sdcf() {
 /// times with two eigenvectors, ¼ four times with two.
 #[test]
 fn the_curvature_report_lists_each_tensor_operators_spectrum() {
-    use asperity_ifs::curvature::surface_report;
-    let opts = FamilyOptions::default();
-    let s = patch(factor("bezier-quadratic"), factor("bezier-cubic"));
-    let (an_s, an_t) = (
-        DirectionAnalysis::new(&s.s, &opts),
-        DirectionAnalysis::new(&s.t, &opts),
-    );
-    let report = surface_report(&s, &an_s, &an_t);
-    assert_eq!(report.len(), 4);
-    for op in &report {
-        let spectrum = op.tensor_spectrum.as_ref().expect("a real spectrum");
-        let got: Vec<(f64, usize, usize)> = spectrum
-            .iter()
-            .map(|p| (p.value, p.multiplicity, p.eigenvectors))
-            .collect();
-        let want: Vec<(f64, usize, usize)> = [1, 2, 3, 3, 2, 1]
-            .iter()
-            .enumerate()
-            .map(|(k, &m)| (0.5f64.powi(k as i32), m, m))
-            .collect();
-        assert_eq!(got.len(), want.len(), "{:?}: {got:?}", op.index);
-        for (g, w) in got.iter().zip(&want) {
-            assert!(
-                (g.0 - w.0).abs() < 1e-9 && g.1 == w.1 && g.2 == w.2,
-                "{:?}: {got:?}",
-                op.index
-            );
+    // (λ, algebraic, geometric multiplicity) of every 𝒯ᵢⱼ, and its class.
+    let check = |s: &SurfaceIfs, want: &[(f64, usize, usize)], class: &str| {
+        use asperity_ifs::curvature::surface_report;
+        let opts = FamilyOptions::default();
+        let (an_s, an_t) = (
+            DirectionAnalysis::new(&s.s, &opts),
+            DirectionAnalysis::new(&s.t, &opts),
+        );
+        let report = surface_report(s, &an_s, &an_t);
+        assert_eq!(report.len(), 4);
+        for op in &report {
+            let got: Vec<(f64, usize, usize)> = op
+                .tensor_spectrum
+                .as_ref()
+                .expect("a real spectrum")
+                .iter()
+                .map(|p| (p.value, p.multiplicity, p.eigenvectors))
+                .collect();
+            assert_eq!(got.len(), want.len(), "{:?}: {got:?}", op.index);
+            for (g, w) in got.iter().zip(want) {
+                assert!(
+                    (g.0 - w.0).abs() < 1e-9 && (g.1, g.2) == (w.1, w.2),
+                    "{:?}: {got:?}",
+                    op.index
+                );
+            }
+            assert_eq!(op.class, class);
         }
-        assert_eq!(op.class, "finite");
-    }
-    let s = takagi_surface(0.5);
-    let (an_s, an_t) = (
-        DirectionAnalysis::new(&s.s, &opts),
-        DirectionAnalysis::new(&s.t, &opts),
+    };
+    let bezier: Vec<(f64, usize, usize)> = [1, 2, 3, 3, 2, 1]
+        .iter()
+        .enumerate()
+        .map(|(k, &m)| (0.5f64.powi(k as i32), m, m))
+        .collect();
+    check(
+        &patch(factor("bezier-quadratic"), factor("bezier-cubic")),
+        &bezier,
+        "finite",
     );
-    let report = surface_report(&s, &an_s, &an_t);
-    for op in &report {
-        let spectrum = op.tensor_spectrum.as_ref().expect("a real spectrum");
-        let got: Vec<(f64, usize, usize)> = spectrum
-            .iter()
-            .map(|p| (p.value, p.multiplicity, p.eigenvectors))
-            .collect();
-        let want = [(1.0, 1, 1), (0.5, 4, 2), (0.25, 4, 2)];
-        assert_eq!(got.len(), 3, "{:?}: {got:?}", op.index);
-        for (g, w) in got.iter().zip(&want) {
-            assert!(
-                (g.0 - w.0).abs() < 1e-9 && (g.1, g.2) == (w.1, w.2),
-                "{:?}: {got:?}",
-                op.index
-            );
-        }
-        assert_eq!(op.class, "non-diagonalisable");
-    }
+    check(
+        &takagi_surface(0.5),
+        &[(1.0, 1, 1), (0.5, 4, 2), (0.25, 4, 2)],
+        "non-diagonalisable",
+    );
 }

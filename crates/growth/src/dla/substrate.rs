@@ -40,6 +40,7 @@ use asperity_core::MemoryBudget;
 use super::{DlaCluster, SeedShape, ball_cells};
 use crate::GrowthError;
 use crate::curved::distance_transform;
+use crate::occupancy::Occupancy;
 
 /// Density by volume-equivalent radius around a seed (see the module docs).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -158,7 +159,7 @@ pub fn shell_profile(
             .filter(|&(_, &k)| (from..=to).contains(&shell_radius[k as usize]))
             .map(|(p, _)| *p)
             .collect();
-        profile.pairs = pair_correlation(c.dim, particles, &centres, 0.5 * to, budget)?;
+        profile.pairs = pair_correlation(c, particles, &centres, 0.5 * to, budget)?;
     }
     Ok(Some(profile))
 }
@@ -188,11 +189,11 @@ pub struct PairCorrelation {
 /// `None` when the window holds no centre or `s_max` is under twice
 /// [`PAIR_RADIUS_MIN`].
 ///
-/// Hand-written rather than a k-d tree crate: the particles are cells of a
-/// bounded lattice, so an occupancy grid and a list of the lattice offsets in
-/// the ball answer every fixed-radius count by lookups, with no tree to build.
+/// No k-d tree: the particles are cells of the cluster's lattice, so its
+/// occupancy bits and the list of lattice offsets in the ball answer every
+/// fixed-radius count by lookups.
 fn pair_correlation(
-    dim: usize,
+    c: &DlaCluster,
     particles: &[[i32; 3]],
     centres: &[[i32; 3]],
     s_max: f64,
@@ -209,15 +210,18 @@ fn pair_correlation(
             PAIR_RADIUS_MIN * (s_max / PAIR_RADIUS_MIN).powf(k as f64 / (PAIR_RADII - 1) as f64)
         })
         .collect();
-    let grid = Occupancy::new(dim, &centres, s_max.ceil() as i32 + 1, particles, budget)?;
-    let offsets = grid.ball_offsets(&radius);
+    // Radial seeds grow on a closed lattice (no wrap).
+    let grid = Occupancy::new(c.size, false, budget)?;
+    for &p in particles {
+        grid.set(p);
+    }
+    let offsets = ball_offsets(c.dim, &radius);
     let counts = centres
         .par_iter()
         .map(|&p| {
-            let base = grid.index(p).expect("a centre lies inside its own grid") as isize;
             let mut n = [0u64; PAIR_RADII];
             for &(o, k) in &offsets {
-                n[k] += u64::from(grid.is_occupied((base + o) as usize));
+                n[k] += u64::from(grid.get([p[0] + o[0], p[1] + o[1], p[2] + o[2]]));
             }
             n
         })
@@ -245,86 +249,26 @@ fn pair_correlation(
     }))
 }
 
-/// The particles' cells on a grid covering the centres' box widened by a
-/// reach, so that every offset within the reach from a centre lands inside it.
-struct Occupancy {
-    /// 2 or 3 (a 2-D grid is one cell deep in y).
-    dim: usize,
-    lo: [i32; 3],
-    dims: [usize; 3],
-    reach: i32,
-    /// One bit a cell (a cluster of 10⁷ particles spans ~10⁹ cells).
-    occupied: Vec<u64>,
-}
-
-impl Occupancy {
-    fn new(
-        dim: usize,
-        centres: &[[i32; 3]],
-        reach: i32,
-        particles: &[[i32; 3]],
-        budget: &MemoryBudget,
-    ) -> Result<Self, GrowthError> {
-        let mut lo = [0i32; 3];
-        let mut dims = [1usize; 3];
-        for a in (0..3).filter(|&a| dim == 3 || a != 1) {
-            let (min, max) = centres
-                .iter()
-                .fold((i32::MAX, i32::MIN), |(l, h), p| (l.min(p[a]), h.max(p[a])));
-            lo[a] = min - reach;
-            dims[a] = (max - min + 2 * reach + 1) as usize;
-        }
-        let cells: u128 = dims.iter().map(|&d| d as u128).product();
-        budget.check_elements(cells.div_ceil(64), 8, "the pair count's occupancy grid")?;
-        let mut grid = Self {
-            dim,
-            lo,
-            dims,
-            reach,
-            occupied: vec![0; (cells as usize).div_ceil(64)],
-        };
-        for &p in particles {
-            if let Some(i) = grid.index(p) {
-                grid.occupied[i / 64] |= 1 << (i % 64);
-            }
-        }
-        Ok(grid)
-    }
-
-    fn is_occupied(&self, i: usize) -> bool {
-        self.occupied[i / 64] >> (i % 64) & 1 == 1
-    }
-
-    fn index(&self, p: [i32; 3]) -> Option<usize> {
-        let q: [i64; 3] = std::array::from_fn(|a| i64::from(p[a]) - i64::from(self.lo[a]));
-        (0..3)
-            .all(|a| q[a] >= 0 && q[a] < self.dims[a] as i64)
-            .then(|| q[0] as usize + self.dims[0] * (q[1] as usize + self.dims[1] * q[2] as usize))
-    }
-
-    /// Every lattice offset within the last of `radius` but the centre's own,
-    /// as a step in the grid's index with the first radius that holds it.
-    fn ball_offsets(&self, radius: &[f64]) -> Vec<(isize, usize)> {
-        let s_max = radius[radius.len() - 1];
-        let reach = self.reach;
-        let span = |deep: bool| if deep { -reach..=reach } else { 0..=0 };
-        let [nx, ny, _] = self.dims.map(|d| d as isize);
-        let mut offsets = Vec::new();
-        for dz in span(true) {
-            for dy in span(self.dim == 3) {
-                for dx in span(true) {
-                    let r = f64::from(dx * dx + dy * dy + dz * dz).sqrt();
-                    if r == 0.0 || r > s_max * (1.0 + 1e-12) {
-                        continue;
-                    }
-                    let k = radius.partition_point(|&s| s < r * (1.0 - 1e-12));
-                    let step = dx as isize + nx * (dy as isize + ny * dz as isize);
-                    offsets.push((step, k.min(radius.len() - 1)));
+/// Every lattice offset within the last of `radius` but the cell's own (in the
+/// x–z plane in 2-D), with the first radius that holds it.
+fn ball_offsets(dim: usize, radius: &[f64]) -> Vec<([i32; 3], usize)> {
+    let s_max = radius[radius.len() - 1];
+    let reach = s_max.ceil() as i32;
+    let ys = if dim == 3 { -reach..=reach } else { 0..=0 };
+    let mut offsets = Vec::new();
+    for dz in -reach..=reach {
+        for dy in ys.clone() {
+            for dx in -reach..=reach {
+                let r = f64::from(dx * dx + dy * dy + dz * dz).sqrt();
+                if r == 0.0 || r > s_max * (1.0 + 1e-12) {
+                    continue;
                 }
+                let k = radius.partition_point(|&s| s < r * (1.0 - 1e-12));
+                offsets.push(([dx, dy, dz], k.min(radius.len() - 1)));
             }
         }
-        offsets
     }
+    offsets
 }
 
 /// The box the distance transform covers: the seed's cells widened by a reach,
