@@ -32,6 +32,9 @@ use crate::error::{FResult, FormatError, malformed, unsupported};
 const BIN_HEADER: usize = 64;
 const WAVE_HEADER: usize = 320;
 
+/// The Asylum note's `key: value` lines.
+type Note = Vec<(String, String)>;
+
 /// What a wave holds, as read from its headers.
 struct Wave {
     little: bool,
@@ -41,7 +44,7 @@ struct Wave {
     data_unit: String,
     lateral_unit: String,
     names: Vec<String>,
-    note: Vec<(String, String)>,
+    note: Note,
     /// Images (true) or line scans.
     images: bool,
     channels: usize,
@@ -52,52 +55,64 @@ fn zero_padded(b: &[u8]) -> String {
     b[..end].iter().map(|&c| char::from(c)).collect()
 }
 
-fn wave(bytes: &[u8]) -> FResult<Wave> {
-    let head = bytes.get(..BIN_HEADER + WAVE_HEADER).ok_or_else(|| {
-        FormatError::Malformed("the file is shorter than the IBW headers (truncated?)".into())
-    })?;
-    let little = match (
-        i16::from_le_bytes([head[0], head[1]]),
-        i16::from_be_bytes([head[0], head[1]]),
-    ) {
-        (5, _) => true,
-        (_, 5) => false,
-        (v, _) => return unsupported(format!("Igor binary wave version {v} (version 5 is read)")),
-    };
-    let i32_at = |o: usize| {
-        let b: [u8; 4] = head[o..o + 4].try_into().expect("4 bytes");
-        if little {
-            i32::from_le_bytes(b)
-        } else {
-            i32::from_be_bytes(b)
-        }
-    };
-    let f64_at = |o: usize| {
-        let b: [u8; 8] = head[o..o + 8].try_into().expect("8 bytes");
-        if little {
-            f64::from_le_bytes(b)
-        } else {
-            f64::from_be_bytes(b)
-        }
-    };
-    let size = |o: usize| usize::try_from(i32_at(o)).unwrap_or(0);
-    let (wfm, formula, note_size, data_units) = (size(4), size(8), size(12), size(16));
-    let dim_units: usize = (0..4).map(|k| size(20 + 4 * k)).sum();
-    let labels: [usize; 4] = std::array::from_fn(|k| size(36 + 4 * k));
-    let w = BIN_HEADER;
-    let kind = {
-        let b = [head[w + 16], head[w + 17]];
-        if little {
+/// Numbers in the file's byte order (the version field tells it).
+#[derive(Clone, Copy)]
+struct ByteOrder {
+    little: bool,
+}
+
+impl ByteOrder {
+    fn i16(self, b: &[u8], o: usize) -> i16 {
+        let b = [b[o], b[o + 1]];
+        if self.little {
             i16::from_le_bytes(b)
         } else {
             i16::from_be_bytes(b)
         }
+    }
+
+    fn i32(self, b: &[u8], o: usize) -> i32 {
+        let b: [u8; 4] = b[o..o + 4].try_into().expect("4 bytes");
+        if self.little {
+            i32::from_le_bytes(b)
+        } else {
+            i32::from_be_bytes(b)
+        }
+    }
+
+    fn f64(self, b: &[u8], o: usize) -> f64 {
+        let b: [u8; 8] = b[o..o + 8].try_into().expect("8 bytes");
+        if self.little {
+            f64::from_le_bytes(b)
+        } else {
+            f64::from_be_bytes(b)
+        }
+    }
+
+    /// A size field: negative sizes read as 0.
+    fn size(self, b: &[u8], o: usize) -> usize {
+        usize::try_from(self.i32(b, o)).unwrap_or(0)
+    }
+}
+
+fn wave(bytes: &[u8]) -> FResult<Wave> {
+    let head = bytes.get(..BIN_HEADER + WAVE_HEADER).ok_or_else(|| {
+        FormatError::Malformed("the file is shorter than the IBW headers (truncated?)".into())
+    })?;
+    let order = match (
+        i16::from_le_bytes([head[0], head[1]]),
+        i16::from_be_bytes([head[0], head[1]]),
+    ) {
+        (5, _) => ByteOrder { little: true },
+        (_, 5) => ByteOrder { little: false },
+        (v, _) => return unsupported(format!("Igor binary wave version {v} (version 5 is read)")),
     };
+    let w = BIN_HEADER;
+    let kind = order.i16(head, w + 16);
     if kind & 1 != 0 {
         return unsupported("a wave of complex numbers");
     }
-    let dims: [usize; 4] =
-        std::array::from_fn(|k| usize::try_from(i32_at(w + 68 + 4 * k)).unwrap_or(0));
+    let dims: [usize; 4] = std::array::from_fn(|k| order.size(head, w + 68 + 4 * k));
     if dims[3] != 0 {
         return unsupported("a four-dimensional wave");
     }
@@ -116,11 +131,36 @@ fn wave(bytes: &[u8]) -> FResult<Wave> {
             bytes.len()
         ));
     }
-    let steps = [f64_at(w + 84), f64_at(w + 92)];
-    let data_unit = zero_padded(&head[w + 148..w + 152]);
-    let lateral_unit = zero_padded(&head[w + 152..w + 156]);
-    // The blocks after the wave, in order.
-    let mut at = BIN_HEADER + wfm.max(WAVE_HEADER) + formula;
+    let (images, channels, label_dim) = layout(dims);
+    let (names, note) = trailing_blocks(bytes, order, label_dim, channels)?;
+    Ok(Wave {
+        little: order.little,
+        kind,
+        dims,
+        steps: [order.f64(head, w + 84), order.f64(head, w + 92)],
+        data_unit: zero_padded(&head[w + 148..w + 152]),
+        lateral_unit: zero_padded(&head[w + 152..w + 156]),
+        names,
+        note,
+        images,
+        channels,
+    })
+}
+
+/// The blocks after the wave, whose sizes the binary header gives: the
+/// channels' names (`channels` of them, from the labels of dimension
+/// `label_dim`, `no name (k)` where there are none) and the note's
+/// `key: value` lines.
+fn trailing_blocks(
+    bytes: &[u8],
+    order: ByteOrder,
+    label_dim: usize,
+    channels: usize,
+) -> FResult<(Vec<String>, Note)> {
+    let size = |o: usize| order.size(bytes, o);
+    let (wfm, formula, note_size, data_units) = (size(4), size(8), size(12), size(16));
+    let dim_units: usize = (0..4).map(|k| size(20 + 4 * k)).sum();
+    let labels: [usize; 4] = std::array::from_fn(|k| size(36 + 4 * k));
     let block = |from: usize, n: usize| -> FResult<&[u8]> {
         from.checked_add(n)
             .and_then(|end| bytes.get(from..end))
@@ -130,12 +170,12 @@ fn wave(bytes: &[u8]) -> FResult<Wave> {
                 )
             })
     };
+    let mut at = BIN_HEADER + wfm.max(WAVE_HEADER) + formula;
     let note_text: String = block(at, note_size)?
         .iter()
         .map(|&c| char::from(c))
         .collect();
     at += note_size + data_units + dim_units;
-    let (images, channels, label_dim) = layout(dims);
     let mut names = Vec::new();
     for (k, &n) in labels.iter().enumerate() {
         let b = block(at, n)?;
@@ -156,18 +196,7 @@ fn wave(bytes: &[u8]) -> FResult<Wave> {
         .filter_map(|l| l.split_once(':'))
         .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
         .collect();
-    Ok(Wave {
-        little,
-        kind,
-        dims,
-        steps,
-        data_unit,
-        lateral_unit,
-        names,
-        note,
-        images,
-        channels,
-    })
+    Ok((names, note))
 }
 
 /// Images or line scans, how many channels, and the dimension labelling

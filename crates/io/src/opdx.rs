@@ -95,6 +95,14 @@ impl<'a> Cursor<'a> {
         self.take(n)?;
         Ok((start, n))
     }
+    /// Skips a block of `varlen` bytes, returning a cursor over it.
+    fn sub_block(&mut self) -> FResult<Cursor<'a>> {
+        let (start, n) = self.block()?;
+        Ok(Cursor {
+            bytes: &self.bytes[..start + n],
+            at: start,
+        })
+    }
 }
 
 /// A number item of type `kind` (booleans, integers, floats).
@@ -159,11 +167,7 @@ fn items(
                 Some(Item::Text(String::from_utf8_lossy(c.take(n)?).into_owned()))
             }
             0x13 => {
-                let (start, n) = c.block()?;
-                let mut q = Cursor {
-                    bytes: &c.bytes[..start + n],
-                    at: start,
-                };
+                let mut q = c.sub_block()?;
                 let value = q.f64()?;
                 q.name()?;
                 Some(Item::Quantity(value, q.name()?))
@@ -173,11 +177,7 @@ fn items(
                 None
             }
             0x18 => {
-                let (start, n) = c.block()?;
-                let mut u = Cursor {
-                    bytes: &c.bytes[..start + n],
-                    at: start,
-                };
+                let mut u = c.sub_block()?;
                 u.name()?;
                 let symbol = u.name()?;
                 Some(Item::Quantity(u.f64()?, symbol))
@@ -189,32 +189,14 @@ fn items(
             }
             0x42 => {
                 c.name()?;
-                let (start, n) = c.block()?;
-                let mut l = Cursor {
-                    bytes: &c.bytes[..start + n],
-                    at: start,
-                };
+                let mut l = c.sub_block()?;
                 let mut list = Vec::new();
-                while l.at < start + n {
+                while l.at < l.bytes.len() {
                     list.push(l.name()?);
                 }
                 Some(Item::Texts(list))
             }
-            0x00 | 0x45 => {
-                c.name()?;
-                if kind == 0x00 {
-                    c.u32()?;
-                    c.name()?;
-                }
-                let n = c.varlen()?;
-                let (rows, columns) = (c.u32()? as usize, c.u32()? as usize);
-                let len = n.checked_sub(8).ok_or_else(|| {
-                    FormatError::Malformed("a matrix shorter than its size".into())
-                })?;
-                let start = c.at;
-                c.take(len)?;
-                Some(Item::Matrix(start, len, columns, rows))
-            }
+            0x00 | 0x45 => Some(matrix(c, kind)?),
             k => return malformed(format!("item {path:?} of unknown type 0x{k:02x}")),
         };
         if let Some(item) = item {
@@ -222,6 +204,24 @@ fn items(
         }
     }
     Ok(())
+}
+
+/// A matrix item (0x00 with a type id and name before it, or 0x45): its
+/// rows, columns and f32 data.
+fn matrix(c: &mut Cursor, kind: u8) -> FResult<Item> {
+    c.name()?;
+    if kind == 0x00 {
+        c.u32()?;
+        c.name()?;
+    }
+    let n = c.varlen()?;
+    let (rows, columns) = (c.u32()? as usize, c.u32()? as usize);
+    let len = n
+        .checked_sub(8)
+        .ok_or_else(|| FormatError::Malformed("a matrix shorter than its size".into()))?;
+    let start = c.at;
+    c.take(len)?;
+    Ok(Item::Matrix(start, len, columns, rows))
 }
 
 /// `um`, `µm`, … as a length unit.
