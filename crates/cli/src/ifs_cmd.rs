@@ -206,7 +206,9 @@ fn fmt_range(r: Option<[f64; 2]>) -> String {
     }
 }
 
-/// A tensor operator's spectrum as "1, 0.5 ×2, 0.25 ×3 (2 eigenvectors)".
+/// A tensor operator's spectrum as "1, 0.5 ×4 (Jordan: 2 eigenvectors), 0.25 ×4 (…)",
+/// values to 6 decimals with trailing zeros dropped (exact down to 2⁻⁶, a
+/// bicubic patch's smallest eigenvalue; `--json` has them in full).
 fn fmt_spectrum(spectrum: Option<&[SpectrumEntry]>) -> String {
     let Some(parts) = spectrum else {
         return "— (not real)".to_owned();

@@ -314,7 +314,7 @@ pub fn grow(
     let dimension = if plane {
         plane_dimension(&parts, size, p.dim)
     } else {
-        radial_dimension(&cluster, &params.seed_shape, budget)?
+        radial_dimension(&cluster, &params.seed_shape, budget)
     }
     .within(p.dim);
     Ok(DlaRun {
@@ -359,7 +359,7 @@ fn radial_dimension(
     c: &DlaCluster,
     seed: &asperity_growth::dla::SeedShape,
     budget: &MemoryBudget,
-) -> Result<Dimension> {
+) -> Dimension {
     let method = "radius of gyration R_g(n) ~ n^(1/D)";
     if c.seeds > 1 {
         return substrate_dimension(c, seed, budget);
@@ -381,7 +381,7 @@ fn radial_dimension(
         (Ok(_), Err(e)) => Some(format!("the pair count beside R_g(n) is not reported: {e}")),
         _ => None,
     };
-    Ok(Dimension {
+    Dimension {
         value: g.as_ref().ok().map(|d| d.d),
         method,
         details: json!({
@@ -391,7 +391,7 @@ fn radial_dimension(
         }),
         warning,
         pairs,
-    })
+    }
 }
 
 /// D about the substrate of a cluster grown on a sphere or a mesh: the pair
@@ -403,33 +403,28 @@ fn substrate_dimension(
     c: &DlaCluster,
     seed: &asperity_growth::dla::SeedShape,
     budget: &MemoryBudget,
-) -> Result<Dimension> {
+) -> Dimension {
     let method = "pair correlation N(s) ~ s^D of the deposit about the substrate";
     // Over the memory budget the cluster is still delivered, without D.
     let profile = match asperity_growth::dla::substrate::shell_profile(c, seed, budget) {
-        Ok(p) => p,
-        Err(e) => {
-            return Ok(Dimension {
+        Ok(Some(p)) => p,
+        absent => {
+            let why = match absent {
+                Err(e) => e.to_string(),
+                _ => format!(
+                    "{} particles on a seed of {} cells are too few (need ≥ 256)",
+                    c.particles().len(),
+                    c.seeds
+                ),
+            };
+            return Dimension {
                 value: None,
                 method,
                 details: json!({"substrate": null}),
-                warning: Some(format!("the fractal dimension is not reported: {e}")),
+                warning: Some(format!("the fractal dimension is not reported: {why}")),
                 pairs: None,
-            });
+            };
         }
-    };
-    let Some(profile) = profile else {
-        return Ok(Dimension {
-            value: None,
-            method,
-            details: json!({"substrate": null}),
-            warning: Some(format!(
-                "the fractal dimension is not reported: {} particles on a seed of {} cells are too few (need ≥ 256)",
-                c.particles().len(),
-                c.seeds
-            )),
-            pairs: None,
-        });
     };
     let [from, to] = profile.fit_range();
     let pairs = PairFit::of(&profile);
@@ -451,7 +446,7 @@ fn substrate_dimension(
             profile.thin_radius
         ));
     }
-    Ok(Dimension {
+    Dimension {
         value: pairs.as_ref().map(|p| p.fit.d),
         method,
         details: json!({
@@ -466,7 +461,7 @@ fn substrate_dimension(
         }),
         warning,
         pairs,
-    })
+    }
 }
 
 impl DlaRun {

@@ -385,6 +385,8 @@ struct ShellCounts {
 mod tests {
     use super::*;
     use crate::rng::{fast_rng, unit};
+    use asperity_analysis::psd::log_fit;
+    use asperity_analysis::scaling::pair_dimension;
 
     /// A cluster of `seed` cells then `particles` on an n-cell lattice.
     fn cluster(dim: usize, n: i32, seed: &[[i32; 3]], particles: Vec<[i32; 3]>) -> DlaCluster {
@@ -438,14 +440,8 @@ mod tests {
 
     /// d + the slope of ln ρ on ln r over the fit window.
     fn slope_d(p: &ShellProfile) -> f64 {
-        let [from, to] = p.fit_range();
-        let (r, rho): (Vec<f64>, Vec<f64>) = p
-            .radius
-            .iter()
-            .zip(&p.density)
-            .filter(|&(r, rho)| (from..=to).contains(r) && *rho > 0.0)
-            .unzip();
-        p.dim as f64 + slope(&r, &rho)
+        let fit = log_fit(&p.radius, &p.density, p.fit_range()).unwrap();
+        p.dim as f64 + fit.slope
     }
 
     #[test]
@@ -547,7 +543,7 @@ mod tests {
             assert_eq!(pairs.radius.len(), PAIR_RADII);
             assert!(pairs.radius[0] == PAIR_RADIUS_MIN && pairs.radius[7] > 11.0);
             assert!(pairs.centres >= 40, "{} centres", pairs.centres);
-            let fit = slope(&pairs.radius, &pairs.neighbours);
+            let fit = pair_dimension(&pairs.radius, &pairs.neighbours).unwrap().d;
             assert!(
                 (fit - d).abs() < 0.06,
                 "{dim}-D set of dimension {d}: {fit}"
@@ -556,21 +552,5 @@ mod tests {
         // A budget too small for the occupancy grid is refused, not overrun.
         let c = set(3, 161, &|_, _, z| z == 0);
         assert!(shell_profile(&c, &SeedShape::Point, &MemoryBudget::new(1 << 16)).is_err());
-    }
-
-    /// The least-squares slope of ln N on ln s.
-    fn slope(s: &[f64], n: &[f64]) -> f64 {
-        let k = s.len() as f64;
-        let (mx, my) = s
-            .iter()
-            .zip(n)
-            .fold((0.0, 0.0), |a, (x, y)| (a.0 + x.ln() / k, a.1 + y.ln() / k));
-        let sxy: f64 = s
-            .iter()
-            .zip(n)
-            .map(|(x, y)| (x.ln() - mx) * (y.ln() - my))
-            .sum();
-        let sxx: f64 = s.iter().map(|x| (x.ln() - mx).powi(2)).sum();
-        sxy / sxx
     }
 }
