@@ -149,15 +149,23 @@ def _points(points) -> np.ndarray:
     return points.points if isinstance(points, PointSet) else np.ascontiguousarray(points, dtype=np.float64)
 
 
-_RECONSTRUCTED = ("Returns a :class:`Result` with ``mesh`` (with normals, and a ``mean_curvature`` "
-                  "scalar with ``curvature=True``) and ``measurements`` (grid, timings, topology as "
-                  "the CLI's JSON)")
+_RECONSTRUCTED = ("Returns a :class:`Result` with ``mesh`` (with normals, and ``mean_curvature`` "
+                  "and ``gaussian_curvature`` scalars with ``curvature=True``) and ``measurements`` "
+                  "(the cloud, voids, grid, timings, topology, distance to the points, holes closed "
+                  "as the CLI's JSON)")
+
+
+def _normals(normals) -> Optional[np.ndarray]:
+    return None if normals is None else np.ascontiguousarray(normals, dtype=np.float64)
 
 reconstruct = Job(
     "reconstruct", _asperity.reconstruct, _reconstructed, name="reconstruct",
     summary="A watertight surface around (N, 3) points by the level-set flow "
             "(kim-machiraju-thompson §5): the CLI's ``reconstruct``.",
     leading=[("points", "a :class:`PointSet` or an (N, 3) array.", _points)],
+    inputs=[("normals", None, "(N, 3) normals of the points, used to denoise a sampled "
+                              "surface (e.g. a :class:`PointSet`'s ``normals``).")],
+    convert={"normals": _normals},
     returns=_RECONSTRUCTED + ".",
 ).function()
 

@@ -11,6 +11,7 @@
 //! | [`fractal`] | triangulation and partitioning dimensions | Clarke 1986; variance method |
 //! | [`scaling`] | β (plain, intrinsic width), α, cluster dimensions (R_g, mass–radius) | kim-machiraju-thompson §4 |
 //! | [`synthesis`] | self-affine surfaces by FFT Fourier filtering (`asperity generate fbm`) | kim-machiraju-thompson §2 (fractal methods) |
+//! | [`jets`] | mean and Gaussian curvature of a mesh at a stated scale (osculating jets) | Cazals & Pouget 2005 |
 //! | [`mesh`] | curvature (mean, Gaussian) with the Gauss–Bonnet check, roughness against a Taubin-smoothed copy, box counting | Meyer et al. 2003; Taubin 1995 |
 //!
 //! Plots of these results (PSD with the Hurst fit, H(τ), histograms, W(t)) are
@@ -22,6 +23,7 @@ pub mod correlation;
 pub mod fill;
 pub mod fractal;
 pub mod hurst;
+pub mod jets;
 pub mod level;
 mod lines;
 pub mod mesh;

@@ -19,20 +19,18 @@ fn mesh_output(ctx: &Context) -> anyhow::Result<PathBuf> {
 /// Reconstructs, writes the mesh and the saved steps, and records it all.
 fn surface(
     run: &mut Run,
-    points: &[[f64; 3]],
+    cloud: reconstruct::Cloud,
     a: &LevelSetParams,
     job: Job,
     out: &Path,
 ) -> anyhow::Result<()> {
-    let p = a.settings(job);
     let _purge = crate::memory::PromptPurge::new();
     // Saved steps are written as they come (a long run holds none in memory).
     let mut saved = Vec::new();
     let mut failed = None;
-    let rec = reconstruct::surface(
-        points,
-        &p,
-        a.save_every,
+    let surf = reconstruct::reconstruct_job(
+        cloud,
+        (a, job),
         (&run.ctx.budget, &run.ctx.time),
         &run.ctx.bar(),
         &mut |step, mesh| {
@@ -52,8 +50,8 @@ fn surface(
     // writer waits on the kernel much of the time, the topology keeps the
     // cores busy meanwhile.
     let (written, topology) = std::thread::scope(|s| {
-        let topology = s.spawn(|| rec.mesh.topology());
-        let written = run.mesh(out, &rec.mesh);
+        let topology = s.spawn(|| surf.rec.mesh.topology());
+        let written = run.mesh(out, &surf.rec.mesh);
         let topology = topology
             .join()
             .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
@@ -63,8 +61,12 @@ fn surface(
     for path in &saved {
         run.report.output(path);
     }
-    run.measure(reconstruct::measurements(&rec, points.len(), &topology));
-    run.note(reconstruct::summary(&rec, &topology));
+    run.measure(reconstruct::measurements(
+        &surf,
+        cloud.points.len(),
+        &topology,
+    ));
+    run.note(reconstruct::summary(&surf, &topology));
     Ok(())
 }
 
@@ -83,13 +85,11 @@ pub fn run(ctx: &Context, a: &ReconstructArgs) -> anyhow::Result<()> {
         job.seed,
         job.overridden,
     );
-    surface(
-        &mut run,
-        points.positions(),
-        &job.params,
-        Job::Reconstruct,
-        &out,
-    )?;
+    let cloud = reconstruct::Cloud {
+        points: points.positions(),
+        normals: points.normals(),
+    };
+    surface(&mut run, cloud, &job.params, Job::Reconstruct, &out)?;
     run.finish()
 }
 
@@ -113,7 +113,7 @@ fn pipeline(
     if let Some(pp) = points_out {
         run.points(pp, grown.points.clone(), title)?;
     }
-    surface(&mut run, &grown.points, a, job, out)?;
+    surface(&mut run, grown.points.as_slice().into(), a, job, out)?;
     run.finish()
 }
 

@@ -6,6 +6,7 @@
 //!
 //! | Module | Algorithm | Paper |
 //! | --- | --- | --- |
+//! | [`cloud`] | What a cloud is (a sampled surface or a deposit), its spacing, outliers and noise | §5–6, Fig. 7 |
 //! | [`grid`] | Padded cubic grid around the points, memory estimate | §5.2 |
 //! | [`distance`] | Unsigned distance: Godunov fast sweeping (8 orderings, hyperplane-parallel) or a closest-point wavefront | §5.2, Eqs. 7–9 |
 //! | [`tagging`] | Initial offset surface {d = ε} by region growing from the box | §5.2, Algorithm 1 |
@@ -34,6 +35,7 @@
 //!
 //! [kim-machiraju-thompson]: https://doi.org/10.1007/978-3-662-07443-5 "Kim, Machiraju, Thompson: Modeling Rough Surfaces. In Geometric Modeling for Scientific Visualization, Springer 2004, pp. 123-138"
 
+pub mod cloud;
 mod curvature;
 pub mod distance;
 pub mod evolve;
@@ -56,8 +58,8 @@ pub use evolve::{
 pub use grid::{GridSpec, Sizing};
 pub use marching_cubes::{ExtractOptions, ExtractStats, extract};
 pub use pipeline::{
-    FlowChoice, Length, ReconstructParams, Reconstruction, Timings, default_arrest_spacings,
-    reconstruct,
+    CloudChoice, CloudFacts, FlowChoice, Length, ReconstructParams, Reconstruction, Timings,
+    VoidFacts, default_arrest_spacings, reconstruct, reconstruct_cloud,
 };
 pub use sparse::SparseLevelSet;
 pub use tagging::{TagRule, Tags, tag};

@@ -63,6 +63,10 @@ pub struct ReconstructParams {
     pub tag_rule: TagRule,
     /// Time steps.
     pub iterations: usize,
+    /// Time steps instead when the cloud turns out a sampled surface (`None`:
+    /// `iterations`): Zhao's front travels at most about half a cell a step,
+    /// and slowly where a concavity narrows (between a bunny's ears).
+    pub surface_iterations: Option<usize>,
     /// Space discretisation.
     pub scheme: Scheme,
     /// The flow: the paper's convection (Eq. 6), regularised, or Zhao's.
@@ -86,6 +90,31 @@ pub struct ReconstructParams {
     pub snapshot_every: Option<usize>,
     /// How the flow tube T grows into the redistancing tube N.
     pub neighbourhood: Neighbourhood,
+    /// What the points are: a deposit (the paper's growth models), a sampled
+    /// surface (a scan, a random sample), or measured ([`crate::cloud`]).
+    pub cloud: CloudChoice,
+    /// For a sampled surface: move each point onto the quadric of its
+    /// neighbours first ([`crate::cloud`]).
+    pub denoise: bool,
+    /// For a sampled surface: move the mesh's vertices onto the points'
+    /// quadrics last ([`crate::cloud::project`]).
+    pub project: bool,
+}
+
+/// What the points of [`ReconstructParams`] are.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CloudChoice {
+    /// Occupied cells of a growth simulation (kim-machiraju-thompson Figs.
+    /// 8–11), used as they are: the front stops δ from every point.
+    #[default]
+    Deposit,
+    /// Samples of a surface (the bunny of Fig. 7, a scan, a random sample):
+    /// outliers dropped, noise averaged, the voids behind the gaps held
+    /// ([`crate::sparse::voids`]).
+    Surface,
+    /// Measured: a surface when the points' neighbourhoods are flat
+    /// ([`crate::cloud::SURFACE_FLATNESS`]), else a deposit.
+    Auto,
 }
 
 /// The flow of [`ReconstructParams`] (lengths in cells, as the other settings).
@@ -101,6 +130,21 @@ pub enum FlowChoice {
     },
     /// Zhao's φ_t = ∇d·∇φ (v = −∇d), the flow the paper replaces.
     Zhao,
+    /// By the cloud: Zhao's for a sampled surface, whose front comes to rest
+    /// on the samples and spans the gaps between them (∇d lies along a gap
+    /// there); the paper's convection for a deposit, whose roughness it keeps.
+    Auto,
+}
+
+impl FlowChoice {
+    /// The flow for a cloud that `surface` samples or not.
+    pub fn resolved(self, surface: bool) -> Self {
+        match (self, surface) {
+            (Self::Auto, true) => Self::Zhao,
+            (Self::Auto, false) => Self::Convection,
+            (f, _) => f,
+        }
+    }
 }
 
 impl Default for ReconstructParams {
@@ -113,6 +157,7 @@ impl Default for ReconstructParams {
             distance: DistanceMethod::ClosestPoint,
             tag_rule: TagRule::Paper,
             iterations: 30,
+            surface_iterations: None,
             scheme: Scheme::Eno2,
             flow: FlowChoice::Convection,
             cfl: 0.9,
@@ -123,6 +168,9 @@ impl Default for ReconstructParams {
             extract: ExtractOptions::default(),
             snapshot_every: None,
             neighbourhood: Neighbourhood::Axes,
+            cloud: CloudChoice::Deposit,
+            denoise: true,
+            project: true,
         }
     }
 }
@@ -157,14 +205,20 @@ pub fn default_arrest_spacings(iterations: usize) -> f64 {
 /// Seconds per stage.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Timings {
-    /// Unsigned distance.
+    /// The cloud's analysis: neighbours, outliers, denoising.
+    pub cloud: f64,
+    /// Unsigned distance (every try, for a sampled surface).
     pub distance: f64,
+    /// The voids of a sampled surface.
+    pub voids: f64,
     /// Tagging (Algorithm 1).
     pub tagging: f64,
     /// Signed distance to the tagged front.
     pub initial: f64,
     /// The level-set evolution.
     pub evolution: f64,
+    /// The projection of the vertices onto the points' quadrics.
+    pub projection: f64,
     /// Marching cubes.
     pub extraction: f64,
     /// All of it.
@@ -200,6 +254,64 @@ pub struct Reconstruction {
     /// bricks (the final level set itself is dropped before this returns;
     /// `on_step` sees it during the flow).
     pub bricks: (usize, usize),
+    /// The flow that ran ([`FlowChoice::Auto`] resolved).
+    pub flow: FlowChoice,
+    /// What the cloud was measured or taken to be.
+    pub cloud: CloudFacts,
+    /// For a sampled surface: its voids.
+    pub voids: Option<VoidFacts>,
+    /// For a sampled surface: the vertices' projection onto the points'
+    /// quadrics.
+    pub projection: Option<crate::cloud::Projection>,
+    /// Per vertex, whether it lies on a side of a thin part or an open
+    /// surface (Zhao's flow on a sampled surface; empty when none does).
+    pub thin_vertices: Vec<bool>,
+}
+
+/// What the points were found to be (see [`crate::cloud`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CloudFacts {
+    /// Reconstructed as a sampled surface (else as a deposit).
+    pub surface: bool,
+    /// Whether that was measured ([`CloudChoice::Auto`]) or given.
+    pub measured: bool,
+    /// The median nearest-neighbour distance (when the cloud was analysed).
+    pub spacing: Option<f64>,
+    /// The median surface variation (when analysed).
+    pub flatness: Option<f64>,
+    /// Outliers dropped.
+    pub outliers: usize,
+    /// The median and largest distance a point moved when denoised.
+    pub moved: (f64, f64),
+    /// Points reconstructed (after the outliers went).
+    pub points: usize,
+}
+
+/// The voids of a sampled surface (see [`crate::sparse::voids`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct VoidFacts {
+    /// Enclosed voids found.
+    pub count: usize,
+    /// The depth τ a void must have (world units).
+    pub depth: f64,
+    /// The half-width of the widest gap between a void and the outside (world units).
+    pub widest_gap: f64,
+    /// The distance cap the voids were decided under (world units).
+    pub cap: f64,
+    /// Distance computations: more than one where a cap was too small.
+    pub tries: usize,
+    /// Whether a void deeper than the last cap may remain undecided.
+    pub undecided: bool,
+    /// Nodes near a thin part or an open surface, kept δ inside (Zhao's flow).
+    pub thin_nodes: usize,
+    /// That δ: 0.9h (half the diagonal of a cell, the least at which the
+    /// nodes within δ of a sheet separate its sides at any orientation), or
+    /// 1.1 × the widest gap between random samples ([`widest_random_gap`]) if
+    /// that is more.
+    pub thin_radius: f64,
+    /// The flow holds the void nodes at least this far from the samples
+    /// (the tagging stays out of all of them).
+    pub held_from: f64,
 }
 
 /// A length in world units or in grid cells (multiples of the spacing h).
@@ -300,7 +412,7 @@ impl ReconstructParams {
                 format!("must be in (0, 1], got {}", self.cfl),
             ));
         }
-        if self.iterations > 1_000_000 {
+        if self.iterations.max(self.surface_iterations.unwrap_or(0)) > 1_000_000 {
             return Err(invalid(
                 "iterations",
                 format!("at most 10⁶, got {}", self.iterations),
@@ -352,6 +464,18 @@ fn distance_stage(
     cap: f64,
     (budget, progress): (&MemoryBudget, &dyn Progress),
 ) -> asperity_core::Result<(SparseDistance, Option<f64>)> {
+    distance_and_nearest(points, grid, (method, cap, false), (budget, progress))
+        .map(|(d, s, _)| (d, s))
+}
+
+/// [`distance_stage`], and per node id its nearest point ([`u32::MAX`]
+/// beyond the cap) when `nearest` and the method is the closest point's.
+fn distance_and_nearest(
+    points: &[[f64; 3]],
+    grid: &GridSpec,
+    (method, cap, nearest): (DistanceMethod, f64, bool),
+    (budget, progress): (&MemoryBudget, &dyn Progress),
+) -> asperity_core::Result<(SparseDistance, Option<f64>, Option<Vec<u32>>)> {
     let h = grid.spacing;
     match method {
         DistanceMethod::ClosestPoint => {
@@ -360,11 +484,25 @@ fn distance_stage(
             let (cells, rounds) =
                 crate::sparse::distance::closest_points(points, &bricks, cap, progress);
             // The sample spacing is read off the closest points before they are
-            // unpacked, so no nearest-point array is built.
+            // unpacked, so no nearest-point array is built for it.
             let spacing = sparse_sample_spacing(points, &bricks, &cells, 2.0 * h);
+            let ids = nearest.then(|| {
+                (0..cells.len())
+                    .into_par_iter()
+                    .map(|u| {
+                        let c = cells.load(u);
+                        if c == crate::distance::EMPTY {
+                            u32::MAX
+                        } else {
+                            c as u32
+                        }
+                    })
+                    .collect()
+            });
             Ok((
                 SparseDistance::from_cells(bricks, cells, cap, rounds),
                 spacing,
+                ids,
             ))
         }
         DistanceMethod::Godunov { .. } => {
@@ -379,6 +517,7 @@ fn distance_stage(
             Ok((
                 bricked(&dense.values, grid, dense.cap, dense.sweeps),
                 spacing,
+                None,
             ))
         }
     }
@@ -430,7 +569,7 @@ fn evolve_params(params: &ReconstructParams, h: f64, point_radius: f64) -> Evolv
         iterations: params.iterations,
         scheme: params.scheme,
         flow: match params.flow {
-            FlowChoice::Convection => Flow::Convection,
+            FlowChoice::Convection | FlowChoice::Auto => Flow::Convection,
             FlowChoice::Regularized { weight_cells } => Flow::Regularized {
                 weight: weight_cells * h,
             },
@@ -500,6 +639,147 @@ pub fn reconstruct(
     progress: &dyn Progress,
     on_step: &mut dyn FnMut(&StepStats, &SparseLevelSet),
 ) -> asperity_core::Result<Reconstruction> {
+    reconstruct_cloud(points, None, params, budget, progress, on_step)
+}
+
+/// The points to reconstruct and what they were found to be: for
+/// [`CloudChoice::Deposit`] the points as given; otherwise the cloud's
+/// analysis ([`crate::cloud`]), and for a sampled surface its points cleaned.
+fn cloud_stage(
+    points: &[[f64; 3]],
+    normals: Option<&[[f64; 3]]>,
+    params: &ReconstructParams,
+    progress: &dyn Progress,
+) -> (Option<Vec<[f64; 3]>>, CloudFacts) {
+    let forced = match params.cloud {
+        CloudChoice::Deposit => {
+            let facts = CloudFacts {
+                points: points.len(),
+                ..CloudFacts::default()
+            };
+            return (None, facts);
+        }
+        CloudChoice::Surface => Some(true),
+        CloudChoice::Auto => None,
+    };
+    let normals = normals.filter(|n| n.len() == points.len());
+    let c = crate::cloud::analyze(points, normals, forced, params.denoise, progress);
+    let surface = forced.unwrap_or(c.is_surface());
+    let facts = CloudFacts {
+        surface,
+        measured: forced.is_none(),
+        spacing: Some(c.spacing),
+        flatness: Some(c.flatness),
+        outliers: c.outliers,
+        moved: c.moved,
+        points: c.points.len(),
+    };
+    (surface.then_some(c.points), facts)
+}
+
+/// The radius of the widest empty disc among `n` random points on a surface
+/// whose median nearest-neighbour distance is `spacing`: for a Poisson sample
+/// of density ρ the median is √(ln 2/(πρ)) and the largest empty disc about
+/// √(ln n/(πρ)), so the ratio is √(log₂ n).
+pub fn widest_random_gap(spacing: f64, n: usize) -> f64 {
+    spacing * (n.max(2) as f64).log2().sqrt()
+}
+
+/// Distance tries for the voids of a sampled surface: each after the first
+/// doubles the cap at least.
+const VOID_TRIES: usize = 4;
+
+/// The distance for a sampled surface, with its voids held (see
+/// [`crate::sparse::voids`]): computed again with a larger cap while a void
+/// may be deeper than the cap, up to [`VOID_TRIES`] times.
+fn surface_distance(
+    points: &[[f64; 3]],
+    grid: &GridSpec,
+    (params, cap, spacing, flow): (&ReconstructParams, f64, f64, FlowChoice),
+    (budget, progress, timings): (&MemoryBudget, &dyn Progress, &mut Timings),
+) -> asperity_core::Result<(
+    SparseDistance,
+    Option<f64>,
+    (VoidFacts, crate::sparse::Voids),
+)> {
+    // The thin parts' obstacle δ must close the gaps of the sheet it keeps.
+    fn thin_radius(h: f64, spacing: f64, n: usize) -> f64 {
+        (0.9 * h).max(1.1 * widest_random_gap(spacing, n))
+    }
+    let h = grid.spacing;
+    let depth = (2.0 * spacing).max(2.0 * h);
+    let mut cap = cap.max(depth + 4.0 * h);
+    let mut tries = 0;
+    loop {
+        tries += 1;
+        let t = Instant::now();
+        let zhao = flow == FlowChoice::Zhao;
+        let (mut dist, sample_spacing, nearest) = distance_and_nearest(
+            points,
+            grid,
+            (params.distance, cap, zhao),
+            (budget, progress),
+        )?;
+        timings.distance += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let voids = crate::sparse::label_voids(&dist, depth);
+        let retry = voids.undecided.filter(|_| tries < VOID_TRIES);
+        if let Some(level) = retry {
+            timings.voids += t.elapsed().as_secs_f64();
+            cap = (2.0 * cap).max(level + depth + 4.0 * h);
+            continue;
+        }
+        // Zhao's front comes to rest on the samples, and across the gaps
+        // between them, by itself (∇d lies along a gap), so only the voids'
+        // nodes deeper than every gap are held; and it closes on a thin part
+        // from both sides: its nodes within δ of the samples get the obstacle
+        // of `zhao_rate`. The other flows hold every void node, and their
+        // arrest distance keeps thin parts.
+        let thin_radius = params
+            .point_radius
+            .unwrap_or_else(|| thin_radius(h, spacing, points.len()));
+        let reach = crate::sparse::voids::obstacle_reach(thin_radius, h);
+        let (thin, hold_from) = if zhao {
+            (
+                nearest.as_deref().map(|n| (n, points, reach)),
+                (voids.widest_gap + h).max(1.5 * h).max(reach + h),
+            )
+        } else {
+            (None, 0.0)
+        };
+        // Every void node is marked for the tagging; the flow's are released
+        // after it (`release`).
+        let thin_nodes = crate::sparse::freeze(&mut dist, &voids, thin, 0.0);
+        let thin = if zhao { thin_radius } else { 0.0 };
+        timings.voids += t.elapsed().as_secs_f64();
+        let facts = VoidFacts {
+            count: voids.count,
+            depth,
+            widest_gap: voids.widest_gap,
+            cap,
+            tries,
+            undecided: voids.undecided.is_some(),
+            thin_nodes,
+            thin_radius: thin,
+            held_from: hold_from,
+        };
+        return Ok((dist, sample_spacing, (facts, voids)));
+    }
+}
+
+/// [`reconstruct`] with the points' unit `normals` (from the file, when it had
+/// them; used for a sampled surface's denoising).
+///
+/// # Errors
+/// As [`reconstruct`].
+pub fn reconstruct_cloud(
+    points: &[[f64; 3]],
+    normals: Option<&[[f64; 3]]>,
+    params: &ReconstructParams,
+    budget: &MemoryBudget,
+    progress: &dyn Progress,
+    on_step: &mut dyn FnMut(&StepStats, &SparseLevelSet),
+) -> asperity_core::Result<Reconstruction> {
     params.validate()?;
     if points.len() >= u32::MAX as usize {
         return Err(invalid(
@@ -508,21 +788,50 @@ pub fn reconstruct(
         ));
     }
     let start = Instant::now();
+    let mut timings = Timings::default();
+    let t = Instant::now();
+    let (cleaned, cloud) = cloud_stage(points, normals, params, progress);
+    lap(&mut timings.cloud, t);
+    let points = cleaned.as_deref().unwrap_or(points);
+    let flow = params.flow.resolved(cloud.surface);
+    let iterations = match params.surface_iterations {
+        Some(n) if cloud.surface => n,
+        _ => params.iterations,
+    };
+    let params = &ReconstructParams {
+        flow,
+        iterations,
+        ..*params
+    };
     let offset_of = |h: f64| params.offset.unwrap_or(Length::Cells(3.0)).world(h);
     let grid = grid_for(points, params, budget)?;
     let h = grid.spacing;
     let (eps, gamma) = (offset_of(h), params.tube_cells * h);
-    let mut timings = Timings::default();
-    let t = Instant::now();
     let cap = eps + gamma + 2.0 * h;
-    let (mut dist, sample_spacing) =
-        distance_stage(points, &grid, params.distance, cap, (budget, progress))?;
-    lap(&mut timings.distance, t);
+    let (mut dist, sample_spacing, voids) = if cloud.surface {
+        let spacing = cloud.spacing.unwrap_or(h);
+        let (d, s, v) = surface_distance(
+            points,
+            &grid,
+            (params, cap, spacing, flow),
+            (budget, progress, &mut timings),
+        )?;
+        (d, s, Some(v))
+    } else {
+        let t = Instant::now();
+        let (d, s) = distance_stage(points, &grid, params.distance, cap, (budget, progress))?;
+        lap(&mut timings.distance, t);
+        (d, s, None)
+    };
     let t = Instant::now();
     let mut tags = sparse_tag(&mut dist, eps, params.tag_rule, progress);
     lap(&mut timings.tagging, t);
     let t = Instant::now();
     let mut ls = sparse_initial(&mut dist, &mut tags, eps, gamma, progress);
+    if let Some((facts, labels)) = &voids {
+        crate::sparse::voids::release(&mut dist, labels, facts.held_from);
+    }
+    let voids = voids.map(|(facts, _)| facts);
     lap(&mut timings.initial, t);
     let tagged = (tags.exterior_count, tags.refused);
     drop(tags);
@@ -533,8 +842,11 @@ pub fn reconstruct(
         tube: 0,
     };
     on_step(&initial, &ls);
-    let point_radius = params.point_radius.unwrap_or_else(|| {
-        (default_arrest_spacings(params.iterations) * sample_spacing.unwrap_or(0.0)).max(0.6 * h)
+    let point_radius = params.point_radius.unwrap_or_else(|| match &voids {
+        // Zhao's flow on a sampled surface: δ is the thin parts' obstacle.
+        Some(v) if flow == FlowChoice::Zhao => v.thin_radius,
+        _ => (default_arrest_spacings(params.iterations) * sample_spacing.unwrap_or(0.0))
+            .max(0.6 * h),
     });
     let t = Instant::now();
     let evolution = sparse_evolve(
@@ -546,12 +858,31 @@ pub fn reconstruct(
     );
     lap(&mut timings.evolution, t);
     let distance_sweeps = dist.rounds;
-    drop(dist);
     let t = Instant::now();
-    let (mesh, extraction) = sparse_extract(&ls, &params.extract);
+    let (mut mesh, extraction) = sparse_extract(&ls, &params.extract);
     let bricks = (ls.bricks.slots(), ls.bricks.brick_count());
     drop(ls);
     lap(&mut timings.extraction, t);
+    let t = Instant::now();
+    let thin_vertices = match &voids {
+        Some(v) if v.thin_nodes > 0 => {
+            let reach = crate::sparse::voids::obstacle_reach(v.thin_radius, h);
+            crate::sparse::voids::thin_vertices(&dist, mesh.positions(), reach)
+        }
+        _ => Vec::new(),
+    };
+    drop(dist);
+    // Only Zhao's front rests on the samples: the other flows' stands δ off
+    // them, on the union of δ-balls, and projected it would fold; and so do
+    // the thin parts' sides, δ off their samples.
+    let projection = (cloud.surface && params.project && flow == FlowChoice::Zhao).then(|| {
+        // Within reach of the samples on every side: across the gaps of a
+        // random sample, not across a hole.
+        let spacing = cloud.spacing.unwrap_or(h);
+        let support = (1.2 * widest_random_gap(spacing, points.len())).max(1.5 * h);
+        project_onto(&mut mesh, points, (support + h, h), &thin_vertices)
+    });
+    lap(&mut timings.projection, t);
     lap(&mut timings.total, start);
     Ok(Reconstruction {
         mesh,
@@ -565,7 +896,37 @@ pub fn reconstruct(
         evolution,
         extraction,
         bricks,
+        flow,
+        cloud,
+        voids,
+        projection: projection.flatten(),
+        thin_vertices,
     })
+}
+
+/// The mesh's vertices projected onto the points' local quadrics
+/// ([`crate::cloud::project`]); its normals recomputed.
+fn project_onto(
+    mesh: &mut TriMesh,
+    points: &[[f64; 3]],
+    limits: (f64, f64),
+    skip: &[bool],
+) -> Option<crate::cloud::Projection> {
+    let normals = mesh.vertex_normals();
+    let mut positions = mesh.positions().to_vec();
+    let p = crate::cloud::project(&mut positions, &normals, points, limits, skip);
+    let moved = TriMesh::new(positions, mesh.triangles().to_vec()).ok()?;
+    let scalars: Vec<(String, Vec<f64>)> = mesh
+        .scalars()
+        .iter()
+        .map(|a| (a.name.clone(), a.values.clone()))
+        .collect();
+    let mut out = moved.with_computed_normals();
+    for (name, values) in scalars {
+        out = out.with_scalar(&name, values).ok()?;
+    }
+    *mesh = out;
+    Some(p)
 }
 
 /// The median distance between the nearest points of neighbouring nodes that differ

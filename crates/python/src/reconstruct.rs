@@ -13,22 +13,27 @@ use crate::job::{RunOptions, budget, run};
 
 fn surface<'py>(
     py: Python<'py>,
-    points: Vec<[f64; 3]>,
-    params: asperity_engine::methods::levelset::ReconstructParams,
+    (points, normals): (Vec<[f64; 3]>, Option<Vec<[f64; 3]>>),
+    (params, job): (LevelSetParams, Job),
     opts: &RunOptions,
     out: &Bound<'py, PyDict>,
 ) -> PyResult<()> {
-    let rec = run(py, opts, move |w, time| {
+    let surf = run(py, opts, move |w, time| {
         let n = points.len();
-        let rec = engine::surface(&points, &params, None, (&budget(), time), w, &mut |_, _| {})?;
-        Ok((rec, n))
+        let cloud = engine::Cloud {
+            points: &points,
+            normals: normals.as_deref(),
+        };
+        let surf =
+            engine::reconstruct_job(cloud, (&params, job), (&budget(), time), w, &mut |_, _| {})?;
+        Ok((surf, n))
     })?;
-    let (rec, n) = rec;
-    out.set_item("mesh", mesh_out(py, &rec.mesh)?)?;
-    let topology = rec.mesh.topology();
+    let (surf, n) = surf;
+    out.set_item("mesh", mesh_out(py, &surf.rec.mesh)?)?;
+    let topology = surf.rec.mesh.topology();
     out.set_item(
         "measurements",
-        json(&engine::measurements(&rec, n, &topology))?,
+        json(&engine::measurements(&surf, n, &topology))?,
     )?;
     Ok(())
 }
@@ -37,19 +42,26 @@ fn surface<'py>(
 /// settings of `params` (JSON, the engine's `LevelSetParams`); returns a dict
 /// with `mesh`, `measurements` and `params`.
 #[pyfunction]
-#[pyo3(signature = (params, points, threads, progress))]
+#[pyo3(signature = (params, points, normals, threads, progress))]
 pub fn reconstruct<'py>(
     py: Python<'py>,
     params: &str,
     points: &Bound<'py, PyAny>,
+    normals: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (p, seed): (LevelSetParams, u64) = crate::params::from_json(py, params)?;
     let pts = rows::<3>(points, "points")?;
+    let normals = normals.map(|n| rows::<3>(n, "normals")).transpose()?;
     let out = PyDict::new(py);
-    let settings = p.settings(Job::Reconstruct);
-    surface(py, pts, settings, &RunOptions { threads, progress }, &out)?;
+    surface(
+        py,
+        (pts, normals),
+        (p.clone(), Job::Reconstruct),
+        &RunOptions { threads, progress },
+        &out,
+    )?;
     out.set_item(
         "params",
         crate::params::record(&p.resolved(Job::Reconstruct), seed),
@@ -74,7 +86,13 @@ fn pipeline<'py>(
     )?;
     out.set_item("warnings", crate::spelled_all(grown.warnings))?;
     out.set_item("grown", json(&grown.facts)?)?;
-    surface(py, grown.points, level_set.settings(job), opts, &out)?;
+    surface(
+        py,
+        (grown.points, None),
+        (level_set.clone(), job),
+        opts,
+        &out,
+    )?;
     Ok(out)
 }
 

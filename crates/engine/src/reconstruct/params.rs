@@ -4,8 +4,8 @@
 //! pipeline grows.
 
 use asperity_levelset::{
-    Band, DistanceMethod, ExtractOptions, FlowChoice, Length, Neighbourhood, ReconstructParams,
-    Scheme, Sizing, TagRule,
+    Band, CloudChoice, DistanceMethod, ExtractOptions, FlowChoice, Length, Neighbourhood,
+    ReconstructParams, Scheme, Sizing, TagRule,
 };
 use clap::Args;
 use schemars::JsonSchema;
@@ -35,6 +35,19 @@ choice! {
         Regularized = "regularized",
         /// Zhao's φ_t = ∇d·∇φ (velocity −∇d), which the paper replaces by Eq. 6: ∇d is unstable on rough data.
         Zhao = "zhao",
+    }
+}
+
+choice! {
+    /// What the points are.
+    pub enum CloudName {
+        /// Measured: a sampled surface when the points' neighbourhoods are flat, else a deposit.
+        Auto = "auto",
+        /// Samples of a surface (a scan, a random sample): outliers dropped, noise averaged, the
+        /// inside held behind the gaps and holes between samples.
+        Surface = "surface",
+        /// A growth model's occupied cells, used as they are: the front stops δ from each point.
+        Deposit = "deposit",
     }
 }
 
@@ -160,7 +173,7 @@ pub struct LevelSetParams {
     /// with an h suffix (3h, the paper's "3 grid cells"). Default 3h; pipelines 3 units.
     #[arg(long, value_name = "EPS")]
     pub offset: Option<Offset>,
-    /// Time steps of the flow (default 30; pipelines 60).
+    /// Time steps of the flow (default 30, 200 for a sampled surface; pipelines 60).
     #[arg(long)]
     pub iterations: Option<usize>,
     /// Stop early once the front moves less than this many cells per step.
@@ -176,9 +189,16 @@ pub struct LevelSetParams {
     /// Space discretisation.
     #[arg(long, value_enum, default_value_t = Self::DEFAULT.scheme)]
     pub scheme: SchemeChoice,
-    /// The flow.
-    #[arg(long, value_enum, default_value_t = Self::DEFAULT.flow)]
-    pub flow: FlowName,
+    /// What the points are (reconstruct: auto, measured from the points; pipelines: deposit).
+    #[arg(long, value_enum)]
+    pub cloud: Option<CloudName>,
+    /// Keep a sampled surface's points and the level set's vertices as they are: no denoising
+    /// of the points by local quadric fits, no projection of the vertices onto them.
+    #[arg(long)]
+    pub keep_noise: bool,
+    /// The flow (default: zhao for a sampled surface, convection for a deposit).
+    #[arg(long, value_enum)]
+    pub flow: Option<FlowName>,
     /// Curvature weight λ of the regularized flow, in cells.
     #[schemars(range(min = 0.0))]
     #[arg(long, default_value_t = Self::DEFAULT.curvature_weight)]
@@ -211,9 +231,19 @@ pub struct LevelSetParams {
     /// Update every node every step (the naive scheme, for comparison) instead of the tubes.
     #[arg(long)]
     pub full_grid: bool,
-    /// Store the mean curvature H (Eq. 2) per vertex as `mean_curvature`.
+    /// Store the mean curvature H = (κ₁ + κ₂)/2 and the Gaussian curvature K per vertex as
+    /// `mean_curvature` and `gaussian_curvature`, from quadrics fitted to the mesh within the
+    /// curvature scale.
     #[arg(long)]
     pub curvature: bool,
+    /// The radius of the curvature fits: in the points' units (0.05) or in grid cells (3h).
+    /// Default: 3 sample spacings, at least 3.5h.
+    #[arg(long, value_name = "R")]
+    pub curvature_scale: Option<Offset>,
+    /// Keep a surface open by nature open: remove the triangles that span holes in the data
+    /// (farther than two sample spacings from every point), so a partial scan keeps its boundary.
+    #[arg(long)]
+    pub open: bool,
     /// Drop connected pieces with fewer triangles than this (single-node voids the flow opens
     /// inside a deposit have 8); 0 keeps everything.
     #[arg(long, default_value_t = Self::DEFAULT.min_shell, value_name = "TRIANGLES")]
@@ -236,7 +266,9 @@ impl LevelSetParams {
         tolerance: None,
         point_radius: None,
         scheme: SchemeChoice::Eno2,
-        flow: FlowName::Convection,
+        cloud: None,
+        keep_noise: false,
+        flow: None,
         curvature_weight: 1.0,
         distance: None,
         tube_n: None,
@@ -247,6 +279,8 @@ impl LevelSetParams {
         redistance: 2,
         full_grid: false,
         curvature: false,
+        curvature_scale: None,
+        open: false,
         min_shell: MIN_SHELL_TRIANGLES,
         save_every: None,
     };
@@ -274,17 +308,26 @@ impl LevelSetParams {
                 Tagging::Threshold => TagRule::Threshold,
             },
             iterations: self.iterations.unwrap_or(d.iterations),
+            surface_iterations: Some(self.iterations.unwrap_or(d.surface_iterations)),
             scheme: match self.scheme {
                 SchemeChoice::Eno2 => Scheme::Eno2,
                 SchemeChoice::Upwind => Scheme::Upwind,
             },
             flow: match self.flow {
-                FlowName::Convection => FlowChoice::Convection,
-                FlowName::Regularized => FlowChoice::Regularized {
+                None => FlowChoice::Auto,
+                Some(FlowName::Convection) => FlowChoice::Convection,
+                Some(FlowName::Regularized) => FlowChoice::Regularized {
                     weight_cells: self.curvature_weight,
                 },
-                FlowName::Zhao => FlowChoice::Zhao,
+                Some(FlowName::Zhao) => FlowChoice::Zhao,
             },
+            cloud: self.cloud.map_or(d.cloud, |c| match c {
+                CloudName::Auto => CloudChoice::Auto,
+                CloudName::Surface => CloudChoice::Surface,
+                CloudName::Deposit => CloudChoice::Deposit,
+            }),
+            denoise: !self.keep_noise,
+            project: !self.keep_noise,
             cfl: self.cfl,
             redistance_iterations: self.redistance,
             tolerance: self.tolerance,
@@ -295,7 +338,8 @@ impl LevelSetParams {
             },
             point_radius: self.point_radius.or(d.point_radius),
             extract: ExtractOptions {
-                curvature: self.curvature,
+                // The curvature comes from the mesh (see `reconstruct::surface`).
+                curvature: false,
                 min_shell_triangles: self.min_shell,
             },
             snapshot_every: self.save_every,
@@ -319,7 +363,11 @@ impl LevelSetParams {
             resolution,
             spacing,
             offset: Some(Offset(s.offset.unwrap_or(Length::Cells(3.0)))),
-            iterations: Some(s.iterations),
+            // With the cloud measured, the steps follow what it is found to be.
+            iterations: (s.cloud != CloudChoice::Auto).then(|| match s.cloud {
+                CloudChoice::Surface => s.surface_iterations.unwrap_or(s.iterations),
+                _ => s.iterations,
+            }),
             distance: Some(if s.distance == DistanceMethod::ClosestPoint {
                 DistanceName::ClosestPoint
             } else {
@@ -328,6 +376,11 @@ impl LevelSetParams {
             tube_n: Some(match s.neighbourhood {
                 Neighbourhood::Axes => TubeN::Axes,
                 Neighbourhood::Cube => TubeN::Cube,
+            }),
+            cloud: Some(match s.cloud {
+                CloudChoice::Auto => CloudName::Auto,
+                CloudChoice::Surface => CloudName::Surface,
+                CloudChoice::Deposit => CloudName::Deposit,
             }),
             ..self.clone()
         }

@@ -140,7 +140,8 @@ impl Step<'_> {
     }
 
     /// The cut-off c(φ) of Eq. 10 times d at eight nodes, 0 closer than the
-    /// arrest distance.
+    /// arrest distance (and where d is negative: a held node, see
+    /// [`zhao_rate`]).
     #[inline(always)]
     pub(crate) fn speeds<V: Lanes>(&self, phi: V, d: V) -> V {
         let c = self.cutoff(phi);
@@ -200,6 +201,14 @@ pub(crate) fn lane_bits(n: usize) -> u32 {
 /// Zhao's rate c(φ) ∇d·∇φ at eight nodes: ∇d by central differences of the
 /// distance (1-Lipschitz, so each component is at most 1), ∇φ upwinded for
 /// the velocity v = −∇d: D⁻ where v points along +x, D⁺ where it points back.
+///
+/// The sampled-surface model marks nodes by a negative d (the distance is
+/// |d|; `crate::sparse::voids::freeze`): a marked node beyond δ + 2h from the
+/// samples (δ the arrest distance) lies deep in a void and is held (rate 0);
+/// one nearer lies on a thin part, where φ may rise only to the obstacle
+/// ψ = |d| − δ (the rate is capped at (ψ − φ)/Δt), so the fronts closing on
+/// a thin sheet from both sides stop on the smooth level set {d = δ} and the
+/// sheet keeps an inside.
 #[inline(always)]
 pub(crate) fn zhao_rate<V: Lanes>(
     c: &Step,
@@ -212,10 +221,25 @@ pub(crate) fn zhao_rate<V: Lanes>(
     let mut sum = zero;
     for axis in 0..3 {
         let (dm, dp) = one_sided(c, phi, axis, p0);
-        let g = (d.along(axis, 1) - d.along(axis, -1)) * half_inv_h;
+        let g = (d.along(axis, 1).abs() - d.along(axis, -1).abs()) * half_inv_h;
         sum += g * g.simd_lt(zero).select(dm, dp);
     }
-    c.cutoff(p0) * sum
+    let rate = c.cutoff(p0) * sum;
+    let dc = d.centre();
+    let marked = dc.simd_lt(zero);
+    if marked.to_bitmask() == 0 {
+        return rate;
+    }
+    let near = dc.abs();
+    let arrest = V::splat(c.arrest);
+    // `crate::sparse::voids::obstacle_reach`.
+    let thin = near.simd_lt(V::splat(c.arrest + 2.0 * c.h));
+    let obstacle = if c.dt > 0.0 {
+        rate.fast_min((near - arrest - p0) * V::splat(1.0 / c.dt))
+    } else {
+        rate
+    };
+    marked.select(thin.select(obstacle, zero), rate)
 }
 
 /// One-sided differences (D⁻, D⁺) along `axis` for eight nodes: first order,

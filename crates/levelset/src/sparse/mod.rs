@@ -22,6 +22,7 @@
 //! | [`surface`] | The initial level set: signed distance to the tagged front |
 //! | [`flow`] | The narrow-band convection flow, redistancing and clamping |
 //! | [`extract`] | Marching cubes on the bricks that hold the front |
+//! | [`voids`] | The inside of a sampled surface, behind its gaps: the merge tree of d |
 
 pub mod distance;
 pub mod extract;
@@ -29,6 +30,7 @@ pub mod flow;
 pub mod layout;
 pub mod surface;
 pub mod tagging;
+pub mod voids;
 
 pub use distance::{SparseDistance, sparse_distance};
 pub use extract::sparse_extract;
@@ -36,3 +38,4 @@ pub use flow::sparse_evolve;
 pub use layout::Bricks;
 pub use surface::{SparseLevelSet, sparse_initial};
 pub use tagging::{SparseTags, sparse_tag};
+pub use voids::{Voids, freeze, label_voids};

@@ -620,7 +620,9 @@ pub fn sparse_evolve(
         converged: false,
     };
     for step in 1..=params.iterations {
-        if vmax <= 0.0 || tubes.t.iter().all(is_empty) {
+        // Zhao's speed is ∇d·n, not the arrested c·d that vmax measures.
+        let still = vmax <= 0.0 && params.flow != crate::evolve::Flow::Zhao;
+        if still || tubes.t.iter().all(is_empty) {
             stats.converged = true;
             break;
         }
