@@ -15,8 +15,9 @@
 //!   is within reach of the samples around it. `--open` removes these
 //!   triangles, so a partial scan keeps its boundary; and of the thin closed
 //!   shell the level set wraps around a sheet sampled from one side (a
-//!   terrain patch, a one-sided scan), the far side: the triangles facing
-//!   away from the points' normals, or down (−z) without normals.
+//!   terrain patch, a one-sided scan), the far side and the rim: the
+//!   triangles not in front of the points (along their normals, or +z without
+//!   normals).
 //! * **Specks**: on a sampled surface, pieces with fewer than
 //!   [`SPECK_FRACTION`] of the largest piece's triangles — the front closing
 //!   around a stray point the cloud's outlier tests kept — are dropped.
@@ -111,32 +112,37 @@ fn nearest_points(m: &TriMesh, t: &Tree) -> Vec<(f64, u32)> {
         .collect()
 }
 
-/// The triangles on the far side of a thin part or an open surface: all three
-/// vertices on a thin part's side (`thin`), facing away from the points'
-/// normals (`normals`, where the file had them) or, without, facing down
-/// (−z: a terrain's underside).
+/// The triangles on the far side and around the rim of a thin part or an
+/// open surface: each vertex on a thin part's side (`thin`) and not clearly in
+/// front of its nearest input point (of `input`; the offset within 60° of the
+/// point's normal where the file had normals, else of +z: a terrain's top).
 fn back_of_thin(
     m: &TriMesh,
     thin: &[bool],
-    near: &[(f64, u32)],
+    (input, near): (&[[f64; 3]], &[(f64, u32)]),
     normals: Option<&[[f64; 3]]>,
 ) -> Vec<bool> {
-    let faces = m.face_normals();
+    let p = m.positions();
+    let behind = |v: u32| {
+        let v = v as usize;
+        if !thin.get(v).copied().unwrap_or(false) {
+            return false;
+        }
+        let q = near[v].1 as usize;
+        let Some(s) = input.get(q) else {
+            return false;
+        };
+        let up = normals
+            .and_then(|n| n.get(q).copied())
+            .unwrap_or([0.0, 0.0, 1.0]);
+        let d: [f64; 3] = std::array::from_fn(|a| p[v][a] - s[a]);
+        let along = (0..3).map(|a| d[a] * up[a]).sum::<f64>();
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        along <= 0.5 * len
+    };
     m.triangles()
         .iter()
-        .zip(&faces)
-        .map(|(t, f)| {
-            if !t
-                .iter()
-                .all(|&v| thin.get(v as usize).copied().unwrap_or(false))
-            {
-                return false;
-            }
-            let up = normals
-                .and_then(|n| n.get(near[t[0] as usize].1 as usize).copied())
-                .unwrap_or([0.0, 0.0, 1.0]);
-            f[0] * up[0] + f[1] * up[1] + f[2] * up[2] < 0.0
-        })
+        .map(|t| t.iter().all(|&v| behind(v)))
         .collect()
 }
 
@@ -281,7 +287,7 @@ pub fn finish(
         ..Quality::default()
     };
     if open {
-        let back = back_of_thin(&rec.mesh, &rec.thin_vertices, &near, normals);
+        let back = back_of_thin(&rec.mesh, &rec.thin_vertices, (input, &near), normals);
         let drop: Vec<bool> = span.iter().zip(&back).map(|(a, b)| *a || *b).collect();
         if drop.iter().any(|d| *d) {
             rec.mesh = without(&rec.mesh, &drop)?;

@@ -9,6 +9,7 @@
 
 mod analyze;
 mod ca;
+mod clouds;
 mod files;
 mod growth;
 mod ifs;
