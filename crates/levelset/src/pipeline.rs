@@ -8,6 +8,17 @@
 //! field is computed densely and then laid out in bricks, all of them active.
 //! The result is the dense pipeline's, node for node and triangle for
 //! triangle (each stage is tested against its dense counterpart).
+//!
+//! **Sampled surfaces** ([`CloudChoice`]). The paper reconstructs both the
+//! occupied cells of its growth models and a sampled surface (the bunny of
+//! Fig. 7). For the second kind, measured or given, the pipeline adds what
+//! real clouds need (#52): the cloud's analysis first ([`crate::cloud`]:
+//! outliers, noise), the voids behind the gaps between samples after the
+//! distance ([`crate::sparse::voids`]: computed again under a larger cap while
+//! one may be deeper than the cap), kept out of the tagging and held in the
+//! flow; Zhao's flow by default ([`FlowChoice::Auto`]), with an obstacle that
+//! keeps thin parts and open patches a thin shell; and last the vertices
+//! projected onto the points' quadrics ([`crate::cloud::project`]).
 
 use std::time::Instant;
 

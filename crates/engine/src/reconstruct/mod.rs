@@ -316,7 +316,14 @@ pub fn reconstruct_job(
     let mut rec = surface_of(cloud, &params, a.save_every, budgets, progress, on_snapshot)?;
     let h = rec.grid.spacing;
     let curvature = a.curvature.then(|| a.curvature_scale.map(|s| s.0.world(h)));
-    let quality = quality::finish(&mut rec, (cloud.points, cloud.normals), a.open, curvature)?;
+    // A deposit is closed by nature: `open` is for sampled surfaces.
+    let open = a.open && rec.cloud.surface;
+    let quality = quality::finish(&mut rec, (cloud.points, cloud.normals), open, curvature)?;
+    if rec.mesh.n_faces() == 0 {
+        return Err(invalid(
+            "⟨open⟩ removed every triangle: no part of the surface lies within two sample spacings of the points",
+        ));
+    }
     Ok(Surface { rec, quality })
 }
 

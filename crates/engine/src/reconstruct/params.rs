@@ -240,8 +240,9 @@ pub struct LevelSetParams {
     /// Default: 3 sample spacings, at least 3.5h.
     #[arg(long, value_name = "R")]
     pub curvature_scale: Option<Offset>,
-    /// Keep a surface open by nature open: remove the triangles that span holes in the data
-    /// (farther than two sample spacings from every point), so a partial scan keeps its boundary.
+    /// Keep a sampled surface that is open by nature open: remove the triangles that span holes
+    /// in the data (farther than two sample spacings from every point) and the far side of thin
+    /// sheets, so a partial scan or a terrain patch keeps its boundary (a deposit stays closed).
     #[arg(long)]
     pub open: bool,
     /// Drop connected pieces with fewer triangles than this (single-node voids the flow opens
