@@ -108,7 +108,7 @@ pub fn jet_curvature(m: &TriMesh, scale: f64) -> JetCurvature {
             let reach = near.last().map_or(0.0, |n| n.0.sqrt()).max(1e-300);
             let pts: Vec<[f64; 3]> = near.iter().map(|n| p[n.1 as usize]).collect();
             let n = Vector3::from(normals[v]);
-            if pts.len() < MIN_NEIGHBOURS || !(n.norm() > 0.5) {
+            if pts.len() < MIN_NEIGHBOURS || n.norm().is_nan() || n.norm() <= 0.5 {
                 return None;
             }
             fit(p[v], n.normalize(), &pts, reach)

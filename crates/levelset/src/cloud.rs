@@ -416,7 +416,7 @@ pub fn project(
                 return None;
             }
             let n = Vector3::from(*n);
-            if !(n.norm() > 0.5) {
+            if n.norm().is_nan() || n.norm() <= 0.5 {
                 return None;
             }
             let n = n.normalize();

@@ -411,7 +411,7 @@ pub fn measurements(s: &Surface, points: usize, topology: &Topology) -> Measurem
             }),
         );
     }
-    r.set("quality", &s.quality);
+    r.set("quality", s.quality);
     r
 }
 

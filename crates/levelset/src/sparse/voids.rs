@@ -317,6 +317,10 @@ pub fn thin_vertices(dist: &SparseDistance, positions: &[[f64; 3]], reach: f64) 
         .collect()
 }
 
+/// What [`freeze`] needs to find the thin parts: per node id its nearest
+/// point, the points, and the obstacle's reach.
+pub type Thin<'a> = (&'a [u32], &'a [[f64; 3]], f64);
+
 /// How far from the samples the thin parts' obstacle reaches: δ + 2h, so
 /// that the nodes on both sides of the level set {d = δ} carry it.
 pub fn obstacle_reach(delta: f64, h: f64) -> f64 {
@@ -341,7 +345,7 @@ pub fn obstacle_reach(delta: f64, h: f64) -> f64 {
 pub fn freeze(
     dist: &mut SparseDistance,
     voids: &Voids,
-    thin: Option<(&[u32], &[[f64; 3]], f64)>,
+    thin: Option<Thin>,
     hold_from: f64,
 ) -> usize {
     let b = dist.bricks.clone();
