@@ -660,19 +660,28 @@ fn cloud_stage(
     points: &[[f64; 3]],
     normals: Option<&[[f64; 3]]>,
     params: &ReconstructParams,
-    progress: &dyn Progress,
-) -> (Option<Vec<[f64; 3]>>, CloudFacts) {
+    (budget, progress): (&MemoryBudget, &dyn Progress),
+) -> asperity_core::Result<(Option<Vec<[f64; 3]>>, CloudFacts)> {
     let forced = match params.cloud {
         CloudChoice::Deposit => {
             let facts = CloudFacts {
                 points: points.len(),
                 ..CloudFacts::default()
             };
-            return (None, facts);
+            return Ok((None, facts));
         }
         CloudChoice::Surface => Some(true),
         CloudChoice::Auto => None,
     };
+    budget.check_elements(
+        points.len() as u128,
+        crate::cloud::BYTES_PER_POINT,
+        &format!(
+            "the neighbours of {} points (k = {})",
+            points.len(),
+            crate::cloud::NEIGHBOURS
+        ),
+    )?;
     let normals = normals.filter(|n| n.len() == points.len());
     let c = crate::cloud::analyze(points, normals, forced, params.denoise, progress);
     let surface = forced.unwrap_or(c.is_surface());
@@ -685,7 +694,7 @@ fn cloud_stage(
         moved: c.moved,
         points: c.points.len(),
     };
-    (surface.then_some(c.points), facts)
+    Ok((surface.then_some(c.points), facts))
 }
 
 /// The radius of the widest empty disc among `n` random points on a surface
@@ -801,7 +810,7 @@ pub fn reconstruct_cloud(
     let start = Instant::now();
     let mut timings = Timings::default();
     let t = Instant::now();
-    let (cleaned, cloud) = cloud_stage(points, normals, params, progress);
+    let (cleaned, cloud) = cloud_stage(points, normals, params, (budget, progress))?;
     lap(&mut timings.cloud, t);
     let points = cleaned.as_deref().unwrap_or(points);
     let flow = params.flow.resolved(cloud.surface);
