@@ -302,12 +302,32 @@ pub fn analyze(
     if !surface.unwrap_or(cloud.is_surface()) || hood.k < 11 {
         return cloud;
     }
+    let keep = distance_inliers(&hood, n);
+    if !denoise {
+        cloud.outliers = keep.iter().filter(|k| !**k).count();
+        cloud.points = (0..n).filter(|&i| keep[i]).map(|i| points[i]).collect();
+        return cloud;
+    }
+    let (keep, moved) = denoised(points, normals, &hood, keep, spacing);
+    cloud.outliers = keep.iter().filter(|k| !**k).count();
+    let shifts: Vec<f64> = (0..n).filter(|&i| keep[i]).map(|i| moved[i].1).collect();
+    cloud.moved = (
+        median(shifts.clone()),
+        shifts.iter().fold(0.0, |a: f64, &b| a.max(b)),
+    );
+    cloud.points = (0..n).filter(|&i| keep[i]).map(|i| moved[i].0).collect();
+    cloud
+}
+
+/// Per point, whether it passes the distance tests of the module docs (local
+/// and global).
+fn distance_inliers(hood: &Neighbourhoods, n: usize) -> Vec<bool> {
     let mean: Vec<f64> = (0..n)
         .into_par_iter()
         .map(|i| hood.mean_distance(i))
         .collect();
     let global = median(mean.clone());
-    let keep: Vec<bool> = (0..n)
+    (0..n)
         .into_par_iter()
         .map(|i| {
             let local = median(
@@ -318,19 +338,23 @@ pub fn analyze(
             );
             !(mean[i] > OUTLIER_RATIO * local || mean[i] > GLOBAL_OUTLIER_RATIO * global)
         })
-        .collect();
-    cloud.outliers = keep.iter().filter(|k| !**k).count();
-    if !denoise {
-        cloud.points = (0..n).filter(|&i| keep[i]).map(|i| points[i]).collect();
-        return cloud;
-    }
-    // Two passes: the first's residuals (each point's distance to the quadric
-    // of its neighbours) find the stray points near the surface that the
-    // distance tests pass, the second fits without them.
-    let mut keep = keep;
-    let mut moved = Vec::new();
-    for pass in 0..2 {
-        moved = (0..n)
+        .collect()
+}
+
+/// Each kept point moved onto its neighbours' quadric, with the distance it
+/// moved, in two passes: the first's distances find the stray points near the
+/// surface that the distance tests passed (dropped from `keep`), the second
+/// fits without them.
+fn denoised(
+    points: &[[f64; 3]],
+    normals: Option<&[[f64; 3]]>,
+    hood: &Neighbourhoods,
+    mut keep: Vec<bool>,
+    spacing: f64,
+) -> (Vec<bool>, Vec<([f64; 3], f64)>) {
+    let n = points.len();
+    let fit = |keep: &[bool]| -> Vec<([f64; 3], f64)> {
+        (0..n)
             .into_par_iter()
             .map(|i| {
                 if !keep[i] {
@@ -346,38 +370,30 @@ pub fn analyze(
                 let d = (0..3).map(|a| (to[a] - points[i][a]).powi(2)).sum::<f64>();
                 (to, d.sqrt())
             })
-            .collect();
-        if pass == 1 {
-            break;
-        }
-        let strays: Vec<bool> = (0..n)
-            .into_par_iter()
-            .map(|i| {
-                if !keep[i] {
-                    return false;
-                }
-                let local = median(
-                    hood.items(i)[1..]
-                        .iter()
-                        .filter(|&&j| keep[j as usize])
-                        .map(|&j| moved[j as usize].1)
-                        .collect(),
-                );
-                moved[i].1 > (RESIDUAL_RATIO * 1.4826 * local).max(spacing)
-            })
-            .collect();
-        for (k, s) in keep.iter_mut().zip(&strays) {
-            *k &= !s;
-        }
+            .collect()
+    };
+    let first = fit(&keep);
+    let strays: Vec<bool> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            if !keep[i] {
+                return false;
+            }
+            let local = median(
+                hood.items(i)[1..]
+                    .iter()
+                    .filter(|&&j| keep[j as usize])
+                    .map(|&j| first[j as usize].1)
+                    .collect(),
+            );
+            first[i].1 > (RESIDUAL_RATIO * 1.4826 * local).max(spacing)
+        })
+        .collect();
+    for (k, s) in keep.iter_mut().zip(&strays) {
+        *k &= !s;
     }
-    cloud.outliers = keep.iter().filter(|k| !**k).count();
-    let shifts: Vec<f64> = (0..n).filter(|&i| keep[i]).map(|i| moved[i].1).collect();
-    cloud.moved = (
-        median(shifts.clone()),
-        shifts.iter().fold(0.0, |a: f64, &b| a.max(b)),
-    );
-    cloud.points = (0..n).filter(|&i| keep[i]).map(|i| moved[i].0).collect();
-    cloud
+    let second = fit(&keep);
+    (keep, second)
 }
 
 /// What [`project`] did.

@@ -228,6 +228,7 @@ impl GridSpec {
     }
 
     /// `f` at every node's position, x fastest (for tests).
+
     #[cfg(test)]
     pub(crate) fn sample(&self, f: impl Fn([f64; 3]) -> f64) -> Vec<f32> {
         (0..self.len())
@@ -255,6 +256,54 @@ impl GridSpec {
 /// spacing `h`: `⌈(ε + γ)/h⌉ + 3`.
 pub fn padding_nodes(eps: f64, gamma: f64, h: f64) -> usize {
     ((eps + gamma) / h).ceil() as usize + 3
+}
+
+/// A length in world units or in grid cells (multiples of the spacing h).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Length {
+    /// In the points' units.
+    World(f64),
+    /// In cells of the grid spacing h (the paper gives ε this way: "3 grid cells").
+    Cells(f64),
+}
+
+impl Length {
+    /// The length in world units on a grid of spacing `h`.
+    pub fn world(self, h: f64) -> f64 {
+        match self {
+            Self::World(v) => v,
+            Self::Cells(c) => c * h,
+        }
+    }
+
+    /// The number itself, whatever its unit.
+    pub(crate) fn value(self) -> f64 {
+        match self {
+            Self::World(v) | Self::Cells(v) => v,
+        }
+    }
+
+    /// Parses `3` (world units) or `3h` (cells of h).
+    ///
+    /// # Errors
+    /// A message naming the text, for anything else.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let t = text.trim();
+        let (number, cells) = match t.strip_suffix('h') {
+            Some(n) => (n.trim(), true),
+            None => (t, false),
+        };
+        let v: f64 = number.parse().map_err(|_| {
+            format!(
+                "expected a length like 0.5 (units of the points) or 3h (grid cells), got {text:?}"
+            )
+        })?;
+        Ok(if cells {
+            Self::Cells(v)
+        } else {
+            Self::World(v)
+        })
+    }
 }
 
 #[cfg(test)]

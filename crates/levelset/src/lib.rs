@@ -13,6 +13,7 @@
 //! | [`evolve`](mod@evolve) | Narrow-band convection flow φ_t = d\|∇φ\|, ENO2 + TVD-RK2, cut-off, redistancing, clamping | §5.1–5.2, Eqs. 6, 10–12 |
 //! | [`marching_cubes`] | Watertight, manifold marching cubes with normals (Eq. 1) and mean curvature (Eq. 2) | §6, ref. \[13\] |
 //! | [`pipeline`] | The whole reconstruction, timed per stage | Fig. 5 |
+//! | `sampled` | What the pipeline adds for a sampled surface: the cloud, the voids, the mesh's projection | Fig. 7, #52 |
 //! | [`sparse`] | Every stage on 8³-node bricks near the data and the front: what `reconstruct` runs | §5.2, §6 |
 //!
 //! ```
@@ -47,6 +48,7 @@ pub mod marching_cubes;
 pub mod pipeline;
 #[cfg(feature = "reference")]
 pub mod reference;
+mod sampled;
 pub mod sparse;
 pub mod tagging;
 mod tube;
@@ -58,8 +60,9 @@ pub use evolve::{
 pub use grid::{GridSpec, Sizing};
 pub use marching_cubes::{ExtractOptions, ExtractStats, extract};
 pub use pipeline::{
-    CloudChoice, CloudFacts, FlowChoice, Length, ReconstructParams, Reconstruction, Timings,
-    VoidFacts, default_arrest_spacings, reconstruct, reconstruct_cloud,
+    FlowChoice, Length, ReconstructParams, Reconstruction, Timings, default_arrest_spacings,
+    reconstruct, reconstruct_cloud,
 };
+pub use sampled::{CloudChoice, CloudFacts, VoidFacts, widest_random_gap};
 pub use sparse::SparseLevelSet;
 pub use tagging::{TagRule, Tags, tag};

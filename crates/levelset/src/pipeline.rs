@@ -27,8 +27,10 @@ use rayon::prelude::*;
 
 use crate::distance::{DistanceMethod, closest_points, unsigned_distance};
 use crate::evolve::{Band, EvolveParams, EvolveStats, Flow, Neighbourhood, Scheme, StepStats};
+pub use crate::grid::Length;
 use crate::grid::{GridSpec, Sizing, padding_nodes};
 use crate::marching_cubes::{ExtractOptions, ExtractStats};
+use crate::sampled::{CloudChoice, CloudFacts, VoidFacts};
 use crate::sparse::distance::{bricks_for, sample_spacing as sparse_sample_spacing};
 use crate::sparse::layout::BRICK_NODES;
 use crate::sparse::{
@@ -110,22 +112,6 @@ pub struct ReconstructParams {
     /// For a sampled surface: move the mesh's vertices onto the points'
     /// quadrics last ([`crate::cloud::project`]).
     pub project: bool,
-}
-
-/// What the points of [`ReconstructParams`] are.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum CloudChoice {
-    /// Occupied cells of a growth simulation (kim-machiraju-thompson Figs.
-    /// 8–11), used as they are: the front stops δ from every point.
-    #[default]
-    Deposit,
-    /// Samples of a surface (the bunny of Fig. 7, a scan, a random sample):
-    /// outliers dropped, noise averaged, the voids behind the gaps held
-    /// ([`crate::sparse::voids`]).
-    Surface,
-    /// Measured: a surface when the points' neighbourhoods are flat
-    /// ([`crate::cloud::SURFACE_FLATNESS`]), else a deposit.
-    Auto,
 }
 
 /// The flow of [`ReconstructParams`] (lengths in cells, as the other settings).
@@ -279,100 +265,6 @@ pub struct Reconstruction {
     pub thin_vertices: Vec<bool>,
 }
 
-/// What the points were found to be (see [`crate::cloud`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct CloudFacts {
-    /// Reconstructed as a sampled surface (else as a deposit).
-    pub surface: bool,
-    /// Whether that was measured ([`CloudChoice::Auto`]) or given.
-    pub measured: bool,
-    /// The median nearest-neighbour distance (when the cloud was analysed).
-    pub spacing: Option<f64>,
-    /// The median surface variation (when analysed).
-    pub flatness: Option<f64>,
-    /// Outliers dropped.
-    pub outliers: usize,
-    /// The median and largest distance a point moved when denoised.
-    pub moved: (f64, f64),
-    /// Points reconstructed (after the outliers went).
-    pub points: usize,
-}
-
-/// The voids of a sampled surface (see [`crate::sparse::voids`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct VoidFacts {
-    /// Enclosed voids found.
-    pub count: usize,
-    /// The depth τ a void must have (world units).
-    pub depth: f64,
-    /// The half-width of the widest gap between a void and the outside (world units).
-    pub widest_gap: f64,
-    /// The distance cap the voids were decided under (world units).
-    pub cap: f64,
-    /// Distance computations: more than one where a cap was too small.
-    pub tries: usize,
-    /// Whether a void deeper than the last cap may remain undecided.
-    pub undecided: bool,
-    /// Nodes near a thin part or an open surface, kept δ inside (Zhao's flow).
-    pub thin_nodes: usize,
-    /// That δ: 0.9h (half the diagonal of a cell, the least at which the
-    /// nodes within δ of a sheet separate its sides at any orientation), or
-    /// 1.1 × the widest gap between random samples ([`widest_random_gap`]) if
-    /// that is more.
-    pub thin_radius: f64,
-    /// The flow holds the void nodes at least this far from the samples
-    /// (the tagging stays out of all of them).
-    pub held_from: f64,
-}
-
-/// A length in world units or in grid cells (multiples of the spacing h).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Length {
-    /// In the points' units.
-    World(f64),
-    /// In cells of the grid spacing h (the paper gives ε this way: "3 grid cells").
-    Cells(f64),
-}
-
-impl Length {
-    /// The length in world units on a grid of spacing `h`.
-    pub fn world(self, h: f64) -> f64 {
-        match self {
-            Self::World(v) => v,
-            Self::Cells(c) => c * h,
-        }
-    }
-
-    /// The number itself, whatever its unit.
-    fn value(self) -> f64 {
-        match self {
-            Self::World(v) | Self::Cells(v) => v,
-        }
-    }
-
-    /// Parses `3` (world units) or `3h` (cells of h).
-    ///
-    /// # Errors
-    /// A message naming the text, for anything else.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let t = text.trim();
-        let (number, cells) = match t.strip_suffix('h') {
-            Some(n) => (n.trim(), true),
-            None => (t, false),
-        };
-        let v: f64 = number.parse().map_err(|_| {
-            format!(
-                "expected a length like 0.5 (units of the points) or 3h (grid cells), got {text:?}"
-            )
-        })?;
-        Ok(if cells {
-            Self::Cells(v)
-        } else {
-            Self::World(v)
-        })
-    }
-}
-
 fn invalid(name: &'static str, reason: String) -> CoreError {
     CoreError::InvalidParameter { name, reason }
 }
@@ -481,7 +373,7 @@ fn distance_stage(
 
 /// [`distance_stage`], and per node id its nearest point ([`u32::MAX`]
 /// beyond the cap) when `nearest` and the method is the closest point's.
-fn distance_and_nearest(
+pub(crate) fn distance_and_nearest(
     points: &[[f64; 3]],
     grid: &GridSpec,
     (method, cap, nearest): (DistanceMethod, f64, bool),
@@ -598,7 +490,7 @@ fn evolve_params(params: &ReconstructParams, h: f64, point_radius: f64) -> Evolv
 }
 
 /// Seconds since `t`, stored in `slot`.
-fn lap(slot: &mut f64, t: Instant) {
+pub(crate) fn lap(slot: &mut f64, t: Instant) {
     *slot = t.elapsed().as_secs_f64();
 }
 
@@ -653,138 +545,43 @@ pub fn reconstruct(
     reconstruct_cloud(points, None, params, budget, progress, on_step)
 }
 
-/// The points to reconstruct and what they were found to be: for
-/// [`CloudChoice::Deposit`] the points as given; otherwise the cloud's
-/// analysis ([`crate::cloud`]), and for a sampled surface its points cleaned.
-fn cloud_stage(
-    points: &[[f64; 3]],
-    normals: Option<&[[f64; 3]]>,
-    params: &ReconstructParams,
-    (budget, progress): (&MemoryBudget, &dyn Progress),
-) -> asperity_core::Result<(Option<Vec<[f64; 3]>>, CloudFacts)> {
-    let forced = match params.cloud {
-        CloudChoice::Deposit => {
-            let facts = CloudFacts {
-                points: points.len(),
-                ..CloudFacts::default()
-            };
-            return Ok((None, facts));
-        }
-        CloudChoice::Surface => Some(true),
-        CloudChoice::Auto => None,
-    };
-    budget.check_elements(
-        points.len() as u128,
-        crate::cloud::BYTES_PER_POINT,
-        &format!(
-            "the neighbours of {} points (k = {})",
-            points.len(),
-            crate::cloud::NEIGHBOURS
-        ),
-    )?;
-    let normals = normals.filter(|n| n.len() == points.len());
-    let c = crate::cloud::analyze(points, normals, forced, params.denoise, progress);
-    let surface = forced.unwrap_or(c.is_surface());
-    let facts = CloudFacts {
-        surface,
-        measured: forced.is_none(),
-        spacing: Some(c.spacing),
-        flatness: Some(c.flatness),
-        outliers: c.outliers,
-        moved: c.moved,
-        points: c.points.len(),
-    };
-    Ok((surface.then_some(c.points), facts))
-}
-
-/// The radius of the widest empty disc among `n` random points on a surface
-/// whose median nearest-neighbour distance is `spacing`: for a Poisson sample
-/// of density ρ the median is √(ln 2/(πρ)) and the largest empty disc about
-/// √(ln n/(πρ)), so the ratio is √(log₂ n).
-pub fn widest_random_gap(spacing: f64, n: usize) -> f64 {
-    spacing * (n.max(2) as f64).log2().sqrt()
-}
-
-/// Distance tries for the voids of a sampled surface: each after the first
-/// doubles the cap at least.
-const VOID_TRIES: usize = 4;
-
-/// The distance for a sampled surface, with its voids held (see
-/// [`crate::sparse::voids`]): computed again with a larger cap while a void
-/// may be deeper than the cap, up to [`VOID_TRIES`] times.
-fn surface_distance(
+/// The distance for `cloud`: a sampled surface's with its voids
+/// ([`crate::sampled::surface_distance`]), a deposit's as the paper's.
+#[allow(clippy::type_complexity)] // the stage's three results, named at the call
+fn cloud_distance(
     points: &[[f64; 3]],
     grid: &GridSpec,
-    (params, cap, spacing, flow): (&ReconstructParams, f64, f64, FlowChoice),
+    (params, cap, cloud): (&ReconstructParams, f64, &CloudFacts),
     (budget, progress, timings): (&MemoryBudget, &dyn Progress, &mut Timings),
 ) -> asperity_core::Result<(
     SparseDistance,
     Option<f64>,
-    (VoidFacts, crate::sparse::Voids),
+    Option<(VoidFacts, crate::sparse::Voids)>,
 )> {
-    // The thin parts' obstacle δ must close the gaps of the sheet it keeps.
-    fn thin_radius(h: f64, spacing: f64, n: usize) -> f64 {
-        (0.9 * h).max(1.1 * widest_random_gap(spacing, n))
-    }
     let h = grid.spacing;
-    let depth = (2.0 * spacing).max(2.0 * h);
-    let mut cap = cap.max(depth + 4.0 * h);
-    let mut tries = 0;
-    loop {
-        tries += 1;
-        let t = Instant::now();
-        let zhao = flow == FlowChoice::Zhao;
-        let (mut dist, sample_spacing, nearest) = distance_and_nearest(
+    let flow = params.flow;
+    Ok(if cloud.surface {
+        let spacing = cloud.spacing.unwrap_or(h);
+        let (d, s, v) = crate::sampled::surface_distance(
             points,
-            grid,
-            (params.distance, cap, zhao),
-            (budget, progress),
+            &|cap, nearest| {
+                distance_and_nearest(
+                    points,
+                    grid,
+                    (params.distance, cap, nearest),
+                    (budget, progress),
+                )
+            },
+            (params.point_radius, cap, spacing, flow == FlowChoice::Zhao),
+            (h, &mut timings.distance, &mut timings.voids),
         )?;
-        timings.distance += t.elapsed().as_secs_f64();
+        (d, s, Some(v))
+    } else {
         let t = Instant::now();
-        let voids = crate::sparse::label_voids(&dist, depth);
-        let retry = voids.undecided.filter(|_| tries < VOID_TRIES);
-        if let Some(level) = retry {
-            timings.voids += t.elapsed().as_secs_f64();
-            cap = (2.0 * cap).max(level + depth + 4.0 * h);
-            continue;
-        }
-        // Zhao's front comes to rest on the samples, and across the gaps
-        // between them, by itself (∇d lies along a gap), so only the voids'
-        // nodes deeper than every gap are held; and it closes on a thin part
-        // from both sides: its nodes within δ of the samples get the obstacle
-        // of `zhao_rate`. The other flows hold every void node, and their
-        // arrest distance keeps thin parts.
-        let thin_radius = params
-            .point_radius
-            .unwrap_or_else(|| thin_radius(h, spacing, points.len()));
-        let reach = crate::sparse::voids::obstacle_reach(thin_radius, h);
-        let (thin, hold_from) = if zhao {
-            (
-                nearest.as_deref().map(|n| (n, points, reach)),
-                (voids.widest_gap + h).max(1.5 * h).max(reach + h),
-            )
-        } else {
-            (None, 0.0)
-        };
-        // Every void node is marked for the tagging; the flow's are released
-        // after it (`release`).
-        let thin_nodes = crate::sparse::freeze(&mut dist, &voids, thin, 0.0);
-        let thin = if zhao { thin_radius } else { 0.0 };
-        timings.voids += t.elapsed().as_secs_f64();
-        let facts = VoidFacts {
-            count: voids.count,
-            depth,
-            widest_gap: voids.widest_gap,
-            cap,
-            tries,
-            undecided: voids.undecided.is_some(),
-            thin_nodes,
-            thin_radius: thin,
-            held_from: hold_from,
-        };
-        return Ok((dist, sample_spacing, (facts, voids)));
-    }
+        let (d, s) = distance_stage(points, grid, params.distance, cap, (budget, progress))?;
+        lap(&mut timings.distance, t);
+        (d, s, None)
+    })
 }
 
 /// [`reconstruct`] with the points' unit `normals` (from the file, when it had
@@ -810,7 +607,12 @@ pub fn reconstruct_cloud(
     let start = Instant::now();
     let mut timings = Timings::default();
     let t = Instant::now();
-    let (cleaned, cloud) = cloud_stage(points, normals, params, (budget, progress))?;
+    let (cleaned, cloud) = crate::sampled::cloud_stage(
+        points,
+        normals,
+        (params.cloud, params.denoise),
+        (budget, progress),
+    )?;
     lap(&mut timings.cloud, t);
     let points = cleaned.as_deref().unwrap_or(points);
     let flow = params.flow.resolved(cloud.surface);
@@ -828,21 +630,12 @@ pub fn reconstruct_cloud(
     let h = grid.spacing;
     let (eps, gamma) = (offset_of(h), params.tube_cells * h);
     let cap = eps + gamma + 2.0 * h;
-    let (mut dist, sample_spacing, voids) = if cloud.surface {
-        let spacing = cloud.spacing.unwrap_or(h);
-        let (d, s, v) = surface_distance(
-            points,
-            &grid,
-            (params, cap, spacing, flow),
-            (budget, progress, &mut timings),
-        )?;
-        (d, s, Some(v))
-    } else {
-        let t = Instant::now();
-        let (d, s) = distance_stage(points, &grid, params.distance, cap, (budget, progress))?;
-        lap(&mut timings.distance, t);
-        (d, s, None)
-    };
+    let (mut dist, sample_spacing, voids) = cloud_distance(
+        points,
+        &grid,
+        (params, cap, &cloud),
+        (budget, progress, &mut timings),
+    )?;
     let t = Instant::now();
     let mut tags = sparse_tag(&mut dist, eps, params.tag_rule, progress);
     lap(&mut timings.tagging, t);
@@ -884,24 +677,12 @@ pub fn reconstruct_cloud(
     drop(ls);
     lap(&mut timings.extraction, t);
     let t = Instant::now();
-    let thin_vertices = match &voids {
-        Some(v) if v.thin_nodes > 0 => {
-            let reach = crate::sparse::voids::obstacle_reach(v.thin_radius, h);
-            crate::sparse::voids::thin_vertices(&dist, mesh.positions(), reach)
-        }
-        _ => Vec::new(),
-    };
-    drop(dist);
-    // Only Zhao's front rests on the samples: the other flows' stands δ off
-    // them, on the union of δ-balls, and projected it would fold; and so do
-    // the thin parts' sides, δ off their samples.
-    let projection = (cloud.surface && params.project && flow == FlowChoice::Zhao).then(|| {
-        // Within reach of the samples on every side: across the gaps of a
-        // random sample, not across a hole.
-        let spacing = cloud.spacing.unwrap_or(h);
-        let support = (1.2 * widest_random_gap(spacing, points.len())).max(1.5 * h);
-        project_onto(&mut mesh, points, (support + h, h), &thin_vertices)
-    });
+    let (thin_vertices, projection) = crate::sampled::refine(
+        &mut mesh,
+        dist,
+        (points, &cloud, voids.as_ref()),
+        (params.project && flow == FlowChoice::Zhao, h),
+    );
     lap(&mut timings.projection, t);
     lap(&mut timings.total, start);
     Ok(Reconstruction {
@@ -919,34 +700,9 @@ pub fn reconstruct_cloud(
         flow,
         cloud,
         voids,
-        projection: projection.flatten(),
+        projection,
         thin_vertices,
     })
-}
-
-/// The mesh's vertices projected onto the points' local quadrics
-/// ([`crate::cloud::project`]); its normals recomputed.
-fn project_onto(
-    mesh: &mut TriMesh,
-    points: &[[f64; 3]],
-    limits: (f64, f64),
-    skip: &[bool],
-) -> Option<crate::cloud::Projection> {
-    let normals = mesh.vertex_normals();
-    let mut positions = mesh.positions().to_vec();
-    let p = crate::cloud::project(&mut positions, &normals, points, limits, skip);
-    let moved = TriMesh::new(positions, mesh.triangles().to_vec()).ok()?;
-    let scalars: Vec<(String, Vec<f64>)> = mesh
-        .scalars()
-        .iter()
-        .map(|a| (a.name.clone(), a.values.clone()))
-        .collect();
-    let mut out = moved.with_computed_normals();
-    for (name, values) in scalars {
-        out = out.with_scalar(&name, values).ok()?;
-    }
-    *mesh = out;
-    Some(p)
 }
 
 /// The median distance between the nearest points of neighbouring nodes that differ
