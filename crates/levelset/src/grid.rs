@@ -228,7 +228,6 @@ impl GridSpec {
     }
 
     /// `f` at every node's position, x fastest (for tests).
-
     #[cfg(test)]
     pub(crate) fn sample(&self, f: impl Fn([f64; 3]) -> f64) -> Vec<f32> {
         (0..self.len())
