@@ -486,3 +486,26 @@ fn a_deposit_is_measured_as_one() {
     );
     assert!(s.rec.voids.is_none());
 }
+
+/// The same noisy cloud with outliers gives the same mesh, vertex for vertex,
+/// on one thread and on three (the cloud's analysis, the voids' merge tree and
+/// the projection included).
+#[test]
+fn a_sampled_surface_is_the_same_at_any_thread_count() {
+    let mut rng = ChaCha8Rng::seed_from_u64(61);
+    let mut pts: Vec<[f64; 3]> = cloud(Shape::Torus, 20_000, 62)
+        .into_iter()
+        .map(|p| p.map(|x| x + 0.005 * gaussian(&mut rng)))
+        .collect();
+    pts.extend((0..200).map(|_| std::array::from_fn(|_| rng.random::<f64>() * 2.0 - 1.0)));
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| reconstruct(&pts, json!({"curvature": true, "open": true})))
+    };
+    let (a, b) = (on(1), on(3));
+    assert_eq!(a.rec.mesh, b.rec.mesh);
+    assert_eq!(a.quality, b.quality);
+}
