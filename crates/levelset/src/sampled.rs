@@ -21,7 +21,7 @@ use asperity_core::{MemoryBudget, Progress, TriMesh};
 use crate::cloud::Projection;
 use crate::sparse::SparseDistance;
 
-/// What the points of [`ReconstructParams`] are.
+/// What the points of [`crate::ReconstructParams`] are.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum CloudChoice {
     /// Occupied cells of a growth simulation (kim-machiraju-thompson Figs.
