@@ -4,12 +4,10 @@
 //! the vertex normal (Cazals & Pouget 2005, "Estimating differential
 //! quantities using polynomial fitting of osculating jets", CAGD 22:121–146).
 //!
-//! From the fit's first and second derivatives at the vertex, with the
-//! surface as the graph z = f(x, y): E = 1 + f_x², F = f_x f_y, G = 1 + f_y²,
-//! (L, M, N) = (f_xx, f_xy, f_yy)/√(1 + f_x² + f_y²), and
-//! K = (LN − M²)/(EG − F²), H = −(EN − 2FM + GL)/(2(EG − F²)) — the sign
-//! making H = (κ₁ + κ₂)/2 positive where the surface bends away from its
-//! normal (1/r on a sphere of radius r with outward normals).
+//! H and K come from the fit's first and second derivatives at the vertex
+//! ([`asperity_core::jet::Jet::curvatures`]), H = (κ₁ + κ₂)/2 positive where
+//! the surface bends away from its normal (1/r on a sphere of radius r with
+//! outward normals).
 //!
 //! The cotangent curvatures of [`crate::mesh::curvature`] are those of the
 //! mesh's one-ring: on a reconstruction from a level set, whose triangles are
@@ -20,9 +18,9 @@
 //! scale, from the cubic terms (Cazals & Pouget, Theorem 2).
 
 use asperity_core::TriMesh;
+use asperity_core::jet::Jet;
 use kiddo::SquaredEuclidean;
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
-use nalgebra::{SMatrix, SVector, Vector3};
 use rayon::prelude::*;
 
 /// Per-vertex curvatures at a scale.
@@ -40,45 +38,6 @@ pub struct JetCurvature {
 
 /// Vertices a fit needs at least (six unknowns, and some to spare).
 const MIN_NEIGHBOURS: usize = 10;
-
-/// H and K at a point of the graph of the quadric `c` (its coefficients in
-/// units of the fit's radius `r`).
-fn curvatures(c: &SVector<f64, 6>, r: f64) -> (f64, f64) {
-    let (fx, fy) = (c[1], c[2]);
-    let (fxx, fxy, fyy) = (2.0 * c[3] / r, c[4] / r, 2.0 * c[5] / r);
-    let w = (1.0 + fx * fx + fy * fy).sqrt();
-    let (e, f, g) = (1.0 + fx * fx, fx * fy, 1.0 + fy * fy);
-    let (l, m, n) = (fxx / w, fxy / w, fyy / w);
-    let det = e * g - f * f;
-    (
-        (-(e * n - 2.0 * f * m + g * l)) / (2.0 * det),
-        (l * n - m * m) / det,
-    )
-}
-
-/// The jet fit at `p` with unit normal `n` to `neighbours` (scaled by `r`).
-fn fit(p: [f64; 3], n: Vector3<f64>, neighbours: &[[f64; 3]], r: f64) -> Option<(f64, f64)> {
-    let helper = if n.x.abs() < 0.9 {
-        Vector3::x()
-    } else {
-        Vector3::y()
-    };
-    let e1 = (helper - n * n.dot(&helper)).normalize();
-    let e2 = n.cross(&e1);
-    let p = Vector3::from(p);
-    let mut ata = SMatrix::<f64, 6, 6>::zeros();
-    let mut atb = SVector::<f64, 6>::zeros();
-    for q in neighbours {
-        let d = (Vector3::from(*q) - p) / r;
-        let (x, y, z) = (d.dot(&e1), d.dot(&e2), d.dot(&n));
-        let row = SVector::<f64, 6>::from([1.0, x, y, x * x, x * y, y * y]);
-        ata += row * row.transpose();
-        atb += row * z;
-    }
-    let c = ata.cholesky()?.solve(&atb);
-    let (h, k) = curvatures(&c, r);
-    (h.is_finite() && k.is_finite()).then_some((h, k))
-}
 
 /// H and K of `m` at every vertex from jets fitted within `scale` (where fewer
 /// than ten vertices lie that near, the ten nearest).
@@ -107,11 +66,11 @@ pub fn jet_curvature(m: &TriMesh, scale: f64) -> JetCurvature {
             near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             let reach = near.last().map_or(0.0, |n| n.0.sqrt()).max(1e-300);
             let pts: Vec<[f64; 3]> = near.iter().map(|n| p[n.1 as usize]).collect();
-            let n = Vector3::from(normals[v]);
-            if pts.len() < MIN_NEIGHBOURS || n.norm().is_nan() || n.norm() <= 0.5 {
+            let n = asperity_core::vec3::unit(normals[v])?;
+            if pts.len() < MIN_NEIGHBOURS {
                 return None;
             }
-            fit(p[v], n.normalize(), &pts, reach)
+            Jet::fit(p[v], n, pts, reach).map(|j| j.curvatures())
         })
         .collect();
     let unfitted = fits.iter().filter(|f| f.is_none()).count();

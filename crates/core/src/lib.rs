@@ -18,6 +18,7 @@
 //! | [`wording`] | parameters named in messages, spelled by each front end (`--max-memory`, `max_memory=`) | every error that names a parameter |
 //! | [`shapes`] | built-in meshes (icosphere) | demo, tests |
 //! | [`voxelize`] | Solid voxelisation of a closed mesh | growth substrates |
+//! | [`jet`] | [`jet::Jet`]: the osculating quadric of points about an origin (height, H, K) | reconstruction (denoising, projection), curvature at a scale |
 //! | [`fourier_surface`] | Reference self-affine surface with a known spectrum | demo, analysis tests, benchmarks |
 //!
 //! # Global conventions
@@ -57,6 +58,7 @@ pub mod fourier_surface;
 pub mod grid2;
 pub mod grid3;
 pub mod image;
+pub mod jet;
 pub mod memory;
 pub mod memory_hints;
 pub mod mesh_check;

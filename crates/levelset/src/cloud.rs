@@ -48,9 +48,11 @@
 use std::num::NonZero;
 
 use asperity_core::Progress;
+use asperity_core::jet::Jet;
+use asperity_core::vec3::{add, dist, scale as vscale, unit};
 use kiddo::SquaredEuclidean;
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
-use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use rayon::prelude::*;
 
 /// A k-d tree over points, items the point indices.
@@ -226,46 +228,14 @@ fn jet_projection(
         return None;
     }
     let pts = nb.iter().map(|&j| points[j as usize]);
-    let (_, axes) = frame(pts.clone());
     let n = match normal {
-        Some(n) => {
-            let n = Vector3::from(n);
-            let len = n.norm();
-            if !(len > 0.0 && len.is_finite()) {
-                return None;
-            }
-            n / len
-        }
-        None => axes[0],
+        Some(n) => unit(n)?,
+        None => frame(pts.clone()).1[0].into(),
     };
-    // A tangent basis: the covariance's largest axis made orthogonal to n.
-    let mut e1 = axes[2] - n * n.dot(&axes[2]);
-    if e1.norm() < 1e-9 {
-        e1 = axes[1] - n * n.dot(&axes[1]);
-    }
-    let e1 = e1.normalize();
-    let e2 = n.cross(&e1);
-    let p = Vector3::from(points[i]);
-    let mut ata = SMatrix::<f64, 6, 6>::zeros();
-    let mut atb = SVector::<f64, 6>::zeros();
-    let mut scale = 0.0f64;
-    for q in pts.clone() {
-        let d = Vector3::from(q) - p;
-        scale = scale.max(d.norm());
-    }
-    if scale <= 0.0 {
-        return None;
-    }
-    for q in pts {
-        let d = (Vector3::from(q) - p) / scale;
-        let (x, y, z) = (d.dot(&e1), d.dot(&e2), d.dot(&n));
-        let row = SVector::<f64, 6>::from([1.0, x, y, x * x, x * y, y * y]);
-        ata += row * row.transpose();
-        atb += row * z;
-    }
-    let c = ata.cholesky()?.solve(&atb);
-    let moved = p + n * (c[0] * scale);
-    moved.iter().all(|v| v.is_finite()).then(|| moved.into())
+    let p = points[i];
+    let scale = pts.clone().map(|q| dist(q, p)).fold(0.0, f64::max);
+    let jet = Jet::fit(p, n, pts, scale)?;
+    Some(add(p, vscale(n, jet.height())))
 }
 
 /// Measures `points` (with their `normals`, when the file had them) and, for a
@@ -367,8 +337,7 @@ fn denoised(
                     .filter(|&j| keep[j as usize])
                     .collect();
                 let to = jet_projection(points, i, &nb, normals.map(|v| v[i])).unwrap_or(points[i]);
-                let d = (0..3).map(|a| (to[a] - points[i][a]).powi(2)).sum::<f64>();
-                (to, d.sqrt())
+                (to, dist(to, points[i]))
             })
             .collect()
     };
@@ -437,38 +406,17 @@ pub fn project(
             if near.first().is_none_or(|f| f.0.sqrt() > support) || near.len() < 10 {
                 return None;
             }
-            let n = Vector3::from(*n);
-            if n.norm().is_nan() || n.norm() <= 0.5 {
-                return None;
-            }
-            let n = n.normalize();
-            let helper = if n.x.abs() < 0.9 {
-                Vector3::x()
-            } else {
-                Vector3::y()
-            };
-            let e1 = (helper - n * n.dot(&helper)).normalize();
-            let e2 = n.cross(&e1);
-            let p = Vector3::from(*v);
-            let scale = near.last().map_or(0.0, |l| l.0.sqrt()).max(1e-300);
-            let mut ata = SMatrix::<f64, 6, 6>::zeros();
-            let mut atb = SVector::<f64, 6>::zeros();
-            for &(_, j) in &near {
-                let d = (Vector3::from(points[j as usize]) - p) / scale;
-                let (x, y, z) = (d.dot(&e1), d.dot(&e2), d.dot(&n));
-                let row = SVector::<f64, 6>::from([1.0, x, y, x * x, x * y, y * y]);
-                ata += row * row.transpose();
-                atb += row * z;
-            }
-            let c = ata.cholesky()?.solve(&atb);
-            let shift = c[0] * scale;
-            (shift.is_finite() && shift.abs() <= max_move).then(|| (p + n * shift).into())
+            let n = unit(*n)?;
+            let scale = near.last().map_or(0.0, |l| l.0.sqrt());
+            let neighbours = near.iter().map(|&(_, j)| points[j as usize]);
+            let shift = Jet::fit(*v, n, neighbours, scale)?.height();
+            (shift.abs() <= max_move).then(|| add(*v, vscale(n, shift)))
         })
         .collect();
     let mut shifts = Vec::new();
     for (v, m) in positions.iter_mut().zip(moves) {
         if let Some(m) = m {
-            shifts.push(((0..3).map(|a| (m[a] - v[a]).powi(2)).sum::<f64>()).sqrt());
+            shifts.push(dist(m, *v));
             *v = m;
         }
     }

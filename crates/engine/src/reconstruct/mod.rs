@@ -315,7 +315,15 @@ pub fn reconstruct_job(
     let params = a.settings(job);
     let mut rec = surface_of(cloud, &params, a.save_every, budgets, progress, on_snapshot)?;
     let h = rec.grid.spacing;
-    let curvature = a.curvature.then(|| a.curvature_scale.map(|s| s.0.world(h)));
+    let scale = a.curvature_scale.map(|s| s.0.world(h));
+    if let Some(r) = scale.filter(|&r| a.curvature && r > quality::MAX_CURVATURE_CELLS * h) {
+        return Err(invalid(format!(
+            "⟨curvature_scale⟩ {r} is more than {} cells (h = {h}): each vertex's fit would take some {} of its neighbours",
+            quality::MAX_CURVATURE_CELLS,
+            (std::f64::consts::PI * (r / h).powi(2)).round()
+        )));
+    }
+    let curvature = a.curvature.then_some(scale);
     // A deposit is closed by nature: `open` is for sampled surfaces.
     let open = a.open && rec.cloud.surface;
     let quality = quality::finish(&mut rec, (cloud.points, cloud.normals), open, curvature)?;
@@ -412,6 +420,12 @@ pub fn measurements(s: &Surface, points: usize, topology: &Topology) -> Measurem
         );
     }
     r.set("quality", s.quality);
+    if let Some(p) = &rec.projection {
+        r.set(
+            "projection",
+            json!({"vertices_moved": p.moved, "median": p.shift.0, "max": p.shift.1}),
+        );
+    }
     r
 }
 

@@ -237,7 +237,7 @@ pub struct LevelSetParams {
     #[arg(long)]
     pub curvature: bool,
     /// The radius of the curvature fits: in the points' units (0.05) or in grid cells (3h).
-    /// Default: 3 sample spacings, at least 3.5h.
+    /// Default: 3 sample spacings, at least 3.5h; at most 16h.
     #[arg(long, value_name = "R")]
     pub curvature_scale: Option<Offset>,
     /// Keep a sampled surface that is open by nature open: remove the triangles that span holes
@@ -396,6 +396,15 @@ impl LevelSetParams {
                 self.beta,
                 self.tube
             )));
+        }
+        if let Some(Offset(l)) = self.curvature_scale {
+            let v = l.world(1.0);
+            if !(v.is_finite() && v > 0.0) {
+                return Err(EngineError::Invalid(format!(
+                    "{} must be positive and finite, got {v}",
+                    asperity_core::wording::param("curvature_scale")
+                )));
+            }
         }
         Ok(())
     }

@@ -28,6 +28,7 @@
 use asperity_analysis::jets::jet_curvature;
 use asperity_core::TriMesh;
 use asperity_core::tri_mesh::component_labels;
+use asperity_core::vec3::{cross, norm, sub};
 use asperity_levelset::Reconstruction;
 use asperity_levelset::cloud::{Tree, nearest, tree};
 use rayon::prelude::*;
@@ -86,6 +87,10 @@ pub fn typical_spacing(rec: &Reconstruction) -> f64 {
         .or(rec.sample_spacing)
         .unwrap_or(rec.grid.spacing)
 }
+
+/// The largest curvature scale accepted, in grid cells: the fits' cost grows
+/// with the square of the scale in cells (some 800 vertices a fit at 16).
+pub const MAX_CURVATURE_CELLS: f64 = 16.0;
 
 /// The curvature fits' radius when none is given: three sample spacings, and
 /// at least 3.5h — the mesh's own texture is a fraction of a cell (measured on
@@ -188,16 +193,7 @@ fn holes(m: &TriMesh, dist: &[f64], span: &[bool], support: f64) -> Holes {
             radius[l] = radius[l].max(dist[v as usize]);
         }
         let [a, b, c] = t.map(|v| p[v as usize]);
-        let (u, w) = (
-            [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
-            [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
-        );
-        let x = [
-            u[1] * w[2] - u[2] * w[1],
-            u[2] * w[0] - u[0] * w[2],
-            u[0] * w[1] - u[1] * w[0],
-        ];
-        area += 0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+        area += 0.5 * norm(cross(sub(b, a), sub(c, a)));
     }
     Holes {
         count,

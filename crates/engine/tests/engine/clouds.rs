@@ -384,24 +384,9 @@ fn curvature_is_the_surfaces() {
     let s = reconstruct(&cloud(Shape::Torus, 50_000, 42), json!({"curvature": true}));
     let m = &s.rec.mesh;
     let k = m.scalar("gaussian_curvature").unwrap();
-    let mut area = vec![0.0; m.n_vertices()];
+    // Barycentric vertex areas (the analysis crate's, a third of each triangle).
+    let area = asperity_engine::methods::analysis::mesh::curvature(m).area;
     let p = m.positions();
-    for t in m.triangles() {
-        let [a, b, c] = t.map(|v| p[v as usize]);
-        let (u, w) = (
-            [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
-            [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
-        );
-        let x = [
-            u[1] * w[2] - u[2] * w[1],
-            u[2] * w[0] - u[0] * w[2],
-            u[0] * w[1] - u[1] * w[0],
-        ];
-        let ta = 0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
-        for v in t {
-            area[*v as usize] += ta / 3.0;
-        }
-    }
     let total: f64 = k.iter().zip(&area).map(|(k, a)| k * a).sum();
     let absolute: f64 = k.iter().zip(&area).map(|(k, a)| k.abs() * a).sum();
     assert!(

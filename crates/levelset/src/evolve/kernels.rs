@@ -107,6 +107,12 @@ impl<'a> Step<'a> {
     }
 }
 
+/// Whether the largest speed `vmax` of T says the front has stopped: for the
+/// flows moving at c·d (arrested), not for Zhao's, whose speed is ∇d·n.
+pub(crate) fn stopped(params: &EvolveParams, vmax: f32) -> bool {
+    vmax <= 0.0 && params.flow != Flow::Zhao
+}
+
 /// The time step for the largest speed `vmax` on a grid of spacing `h`: CFL,
 /// and the curvature term's diffusion limit for the regularised flow.
 pub(crate) fn time_step(params: &EvolveParams, h: f64, vmax: f32) -> f64 {

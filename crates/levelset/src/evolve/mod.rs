@@ -476,7 +476,7 @@ fn evolve_in_order(
         converged: false,
     };
     for step in 1..=params.iterations {
-        if vmax <= 0.0 || t.is_empty() {
+        if stopped(params, vmax) || t.is_empty() {
             stats.converged = true;
             break;
         }

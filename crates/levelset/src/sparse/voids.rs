@@ -199,7 +199,7 @@ pub fn label_voids(dist: &SparseDistance, depth: f64) -> Voids {
     forest.peak[total] = f32::INFINITY;
     let mut undecided: Option<f32> = None;
     let mut widest: f32 = 0.0;
-    let mut around = Vec::with_capacity(6);
+    let mut around = Vec::with_capacity(7);
     let elements = inactive
         .map(|bi| (nodes + bi) as u32)
         .chain(order.iter().map(|&k| k as u32));
@@ -224,13 +224,14 @@ pub fn label_voids(dist: &SparseDistance, depth: f64) -> Voids {
         };
         let own = forest.find(up);
         forest.parent[e as usize] = own;
-        let others = around
-            .iter()
-            .copied()
-            .filter(|&n| forest.parent[n as usize] != UNSET)
-            .chain(face.then_some(forest.exterior));
-        let others: Vec<u32> = others.collect();
-        for n in others {
+        // The processed neighbours' components (and the faces'), met at v.
+        if face {
+            around.push(forest.exterior);
+        }
+        for &n in &around {
+            if forest.parent[n as usize] == UNSET {
+                continue;
+            }
             let (r, o) = (forest.find(n), forest.find(own));
             if r == o {
                 continue;

@@ -40,7 +40,7 @@ use super::layout::{
 use super::surface::SparseLevelSet;
 use crate::evolve::{
     Band, Buf, EvolveParams, EvolveStats, LANES, MIN_NODES, Movement, Neighbourhood, Op, Plan,
-    Stencil, Step, StepStats, hi, rate, redistanced, time_step,
+    Stencil, Step, StepStats, hi, rate, redistanced, stopped, time_step,
 };
 use crate::lanes::{Kernel, Lanes, dispatch};
 
@@ -620,9 +620,7 @@ pub fn sparse_evolve(
         converged: false,
     };
     for step in 1..=params.iterations {
-        // Zhao's speed is ∇d·n, not the arrested c·d that vmax measures.
-        let still = vmax <= 0.0 && params.flow != crate::evolve::Flow::Zhao;
-        if still || tubes.t.iter().all(is_empty) {
+        if stopped(params, vmax) || tubes.t.iter().all(is_empty) {
             stats.converged = true;
             break;
         }
