@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Writes the seed inputs of every fuzz target into fuzz/seeds/TARGET/ with the
+# Writes the seed inputs of every fuzzed reader into fuzz/seeds/NAME/ with the
 # asperity binary (small valid files of every flavour each reader accepts).
 # Usage: fuzz/make_seeds.sh [ASPERITY_BINARY]   (default: target/release/asperity)
 set -euo pipefail

@@ -40,3 +40,40 @@ fn every_crash_the_fuzzers_found_is_a_clean_answer_now() {
         root.display()
     );
 }
+
+/// The fuzz binary's table of readers (`fuzz/fuzz_targets/readers.rs`, outside
+/// this workspace): sorted by name (it is binary-searched), one seed folder per
+/// name and no other, and every format asperity reads among its rows.
+#[test]
+fn the_fuzz_binary_reaches_every_reader_from_its_seeds() {
+    let fuzz = asperity_fixtures::workspace().join("fuzz");
+    let source = std::fs::read_to_string(fuzz.join("fuzz_targets/readers.rs")).unwrap();
+    let table = &source[source.find("const READERS").unwrap()..];
+    let table = &table[..table.find("\n];").unwrap()];
+    let names: Vec<&str> = table
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("(\""))
+        .map(|l| &l[..l.find('"').unwrap()])
+        .collect();
+    assert!(names.is_sorted(), "the table is not sorted: {names:?}");
+    let mut seeds: Vec<String> = std::fs::read_dir(fuzz.join("seeds"))
+        .unwrap()
+        .map(|d| d.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    seeds.sort();
+    assert_eq!(names, seeds, "readers against seed folders");
+    for name in &names {
+        let n = std::fs::read_dir(fuzz.join("seeds").join(name)).unwrap().count();
+        assert!(n >= 1, "no seed for {name}");
+    }
+    for info in asperity_io::FORMATS {
+        if info.mesh.can_read() || info.points.can_read() || info.height.can_read() {
+            let row = format!("Format::{:?}", info.format);
+            assert!(
+                table.contains(&format!("{row})")) || table.contains(&format!("{row},")),
+                "{} is read but not fuzzed",
+                info.name
+            );
+        }
+    }
+}

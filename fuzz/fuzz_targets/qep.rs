@@ -1,8 +1,0 @@
-#![no_main]
-//! The Mahr MarWin `.qep` reader (`asperity_io::decode`), as every command reads one.
-
-include!("common.rs");
-
-libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    read_as(asperity_io::Format::Qep, data);
-});
