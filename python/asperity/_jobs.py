@@ -24,7 +24,6 @@ import numpy as np
 
 from . import _asperity
 from ._run import call
-from .types import _Surface
 
 DEFAULT_SEED = _asperity.DEFAULT_SEED
 
@@ -200,8 +199,10 @@ class Job:
                 if isinstance(result, dict):
                     result["params"] = record
                     # the surfaces inside carry it too, into the files they are saved to
+                    # (marked by ``types._Surface``, not imported here: types renders
+                    # through ``_pictures``, a job)
                     for value in result.values():
-                        if isinstance(value, _Surface):
+                        if getattr(type(value), "carries_params", False):
                             value.params = record
                 elif isinstance(result, np.ndarray):
                     result = result.view(ArrayResult)

@@ -34,6 +34,8 @@ class _Surface:
     #: from a file has the record the file keeps (None where it keeps none);
     #: None for surfaces built by hand.
     params: Optional[dict] = None
+    #: A job's result sets ``params`` on the values that carry it (``_jobs``).
+    carries_params = True
 
     def save(self, path, title: Optional[str] = None, up: Optional[str] = None) -> None:
         """Writes the surface to ``path``; the format follows the extension
