@@ -136,11 +136,15 @@ def _task_count():
     return len(os.listdir("/proc/self/task"))
 
 
-def test_keyboard_interrupt_stops_a_long_run_within_a_second():
+def test_keyboard_interrupt_stops_a_long_run():
     # Ctrl-C as an interactive Python has it: a suite started in the
     # background of a non-interactive shell inherits SIGINT ignored, and
     # Python keeps it ignored (the run then went on for minutes). A run that
     # hangs anyway dumps its stacks and exits; lines are flushed as they come.
+    # Bounded by work, not seconds (a busy machine stretches every delay): the
+    # run of 10^7 particles stops with a tenth of them done at most, and its
+    # worker thread ends. The delay is printed; the engine stops at its next
+    # progress report, polled every 0.1 s (BENCHMARKS.md has the figure).
     script = textwrap.dedent("""
         import faulthandler, functools, os, signal, threading, time, asperity
         signal.signal(signal.SIGINT, signal.default_int_handler)
@@ -148,23 +152,27 @@ def test_keyboard_interrupt_stops_a_long_run_within_a_second():
         print = functools.partial(print, flush=True)
         def tasks(): return len(os.listdir('/proc/self/task'))
         before = tasks()
+        seen = [0, 1]
+        def progress(done, total, message): seen[:] = [done, max(total, 1)]
         threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
         t0 = time.time()
         try:
-            asperity.dla(particles=10**7, threads=2)   # minutes of work
+            asperity.dla(particles=10**7, threads=2, progress=progress)   # minutes of work
             print('NOT INTERRUPTED')
         except KeyboardInterrupt:
-            print('interrupted after', round(time.time() - t0 - 1.0, 3))
-        time.sleep(0.5)
+            print('interrupted after', round(time.time() - t0 - 1.0, 3), 's, done', seen[0] / seen[1])
+        while tasks() > before:
+            time.sleep(0.05)
         print('threads left', tasks() - before)
         print('still works', asperity.fbm(size=16).heights.shape)
     """)
     p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
     out = p.stdout
+    print(out)
     assert p.returncode == 0, out + p.stderr
     assert "interrupted after" in out, out
-    delay = float(out.split("interrupted after")[1].split()[0])
-    assert delay < 1.0, out
+    done = float(out.split("done")[1].split()[0])
+    assert done < 0.1, out
     assert "threads left 0" in out, out  # the worker thread stopped, not abandoned
     assert "still works (16, 16)" in out
 
@@ -172,8 +180,8 @@ def test_keyboard_interrupt_stops_a_long_run_within_a_second():
 def test_a_running_call_lets_other_threads_run():
     # With the GIL released, Python code on another thread keeps running for
     # the whole call; with it held, that thread stands still from the call's
-    # start to its end. Counted in the other thread's steps, not in seconds
-    # against a second core (which a loaded machine may not give).
+    # start to its end. Counted in the other thread's steps in each half of
+    # the call, not in seconds (which a loaded machine may stretch).
     kw = dict(size=256, layers=1500, threads=1)
     asperity.rd(size=16, layers=2)
     span = {}
@@ -190,11 +198,10 @@ def test_a_running_call_lets_other_threads_run():
         stamps.append(time.perf_counter())
     worker.join()
     start, end = span["start"], span["end"]
-    inside = [start] + [t for t in stamps if start < t < end] + [end]
-    longest = max(b - a for a, b in zip(inside, inside[1:]))
-    assert end - start > 0.05, f"the call took {end - start:.3f}s: too short to tell"
-    assert longest < 0.5 * (end - start), (
-        f"another thread stood still for {longest:.3f}s of a {end - start:.3f}s call: the GIL is held")
+    middle = 0.5 * (start + end)
+    halves = [sum(start < t < middle for t in stamps), sum(middle <= t < end for t in stamps)]
+    assert min(halves) >= 100, (
+        f"another thread ran {halves} steps in the halves of a {end - start:.3f}s call: the GIL is held")
 
 
 def test_progress_callback_is_called():

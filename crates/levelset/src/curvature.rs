@@ -13,6 +13,7 @@
 //!
 //! [kim-machiraju-thompson]: https://doi.org/10.1007/978-3-662-07443-5 "Kim, Machiraju, Thompson: Modeling Rough Surfaces. In Geometric Modeling for Scientific Visualization, Springer 2004, pp. 123-138"
 
+#[cfg(feature = "reference")]
 /// Read access to φ for the scalar stencils (the curvature term and marching
 /// cubes' curvature attribute).
 pub(crate) trait Phi: Sync {
@@ -20,6 +21,7 @@ pub(crate) trait Phi: Sync {
     fn at(&self, u: usize) -> f64;
 }
 
+#[cfg(feature = "reference")]
 impl Phi for [f32] {
     #[inline]
     fn at(&self, u: usize) -> f64 {
@@ -27,6 +29,7 @@ impl Phi for [f32] {
     }
 }
 
+#[cfg(feature = "reference")]
 /// κ = ∇·(∇φ/|∇φ|) (Eq. 2) and |∇φ| at node `u` by central differences:
 /// κ = (|∇φ|² tr H − ∇φᵀ H ∇φ) / |∇φ|³ with H the Hessian.
 pub(crate) fn curvature_and_gradient<P: Phi + ?Sized>(

@@ -16,6 +16,12 @@
 //! | `sampled` | What the pipeline adds for a sampled surface: the cloud, the voids, the mesh's projection | Fig. 7, #52 |
 //! | [`sparse`] | Every stage on 8³-node bricks near the data and the front: what `reconstruct` runs | §5.2, §6 |
 //!
+//! The dense driver — `evolve::evolve`, `evolve::from_tags`, `tagging::tag` and
+//! the fused sweep over every node — is the reference the sparse path is
+//! checked against, node for node; it is compiled only with the `reference`
+//! feature (the crate's tests and the benchmarks turn it on). The step plan
+//! (`evolve::plan`) and the lane kernels are shared and always built.
+//!
 //! ```
 //! use asperity_core::{MemoryBudget, NoProgress};
 //! use asperity_levelset::{ReconstructParams, Sizing, reconstruct};
@@ -51,11 +57,16 @@ pub mod reference;
 mod sampled;
 pub mod sparse;
 pub mod tagging;
+#[cfg(feature = "reference")]
 mod tube;
 
 pub use distance::{DistanceField, DistanceMethod, unsigned_distance};
+/// The dense driver (every node of the grid): the reference the sparse path is
+/// checked against, for tests and benchmarks.
+#[cfg(feature = "reference")]
+pub use evolve::evolve;
 pub use evolve::{
-    Band, EvolveParams, EvolveStats, Flow, LevelSet, Neighbourhood, Scheme, StepStats, evolve,
+    Band, EvolveParams, EvolveStats, Flow, LevelSet, Neighbourhood, Scheme, StepStats,
 };
 pub use grid::{GridSpec, Sizing};
 pub use marching_cubes::{ExtractOptions, ExtractStats, extract};
@@ -65,4 +76,6 @@ pub use pipeline::{
 };
 pub use sampled::{CloudChoice, CloudFacts, VoidFacts, widest_random_gap};
 pub use sparse::SparseLevelSet;
-pub use tagging::{TagRule, Tags, tag};
+pub use tagging::TagRule;
+#[cfg(feature = "reference")]
+pub use tagging::{Tags, tag};

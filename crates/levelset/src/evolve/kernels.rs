@@ -10,6 +10,7 @@ use super::*;
 /// AVX register, or two SSE registers on a baseline build).
 pub(crate) const LANES: usize = 8;
 
+#[cfg(feature = "reference")]
 /// `s[at .. at + 8]`. In range for every node the flow loads from: a stencil
 /// reaches two nodes along one axis, so the eight loaded from the last node of T
 /// (two nodes from each face) end well before the grid's last row.
@@ -19,6 +20,7 @@ pub(crate) fn load<V: Lanes>(s: &[f32], at: usize) -> V {
     V::new(x)
 }
 
+#[cfg(feature = "reference")]
 /// Writes the first `n` lanes of `v` at `dst[at..]`: one vector store for a
 /// full chunk (a slice copy of variable length would call `memmove`).
 #[inline(always)]
@@ -34,6 +36,7 @@ pub(crate) fn store<V: Lanes>(dst: &mut [f32], at: usize, v: V, n: usize) {
     }
 }
 
+#[cfg(feature = "reference")]
 /// The mask of the first `n` lanes.
 #[inline(always)]
 pub(crate) fn first<V: Lanes>(n: usize) -> V {
@@ -58,7 +61,10 @@ pub(crate) fn eno_pick<V: Lanes>(a: V, b: V) -> V {
 pub(crate) struct Step<'a> {
     /// The speed field d.
     pub(crate) d: &'a [f32],
+    /// The dense grid's node counts and strides (the dense sweep's).
+    #[cfg(feature = "reference")]
     pub(crate) dims: [usize; 3],
+    #[cfg(feature = "reference")]
     pub(crate) strides: [usize; 3],
     pub(crate) h: f32,
     pub(crate) inv_h: f32,
@@ -87,7 +93,9 @@ impl<'a> Step<'a> {
         let beta = params.beta.clamp(0.0, gamma64 * 0.999);
         Step {
             d,
+            #[cfg(feature = "reference")]
             dims: grid.dims,
+            #[cfg(feature = "reference")]
             strides: grid.strides(),
             h: h as f32,
             inv_h: (1.0 / h) as f32,
@@ -168,6 +176,7 @@ pub(crate) trait Stencil<V: Lanes> {
     fn curvature(&self, l: usize, h: f64) -> (f64, f64);
 }
 
+#[cfg(feature = "reference")]
 /// Eight consecutive nodes from `at` of a dense buffer.
 pub(crate) struct Strided<'a> {
     /// The buffer.
@@ -178,6 +187,7 @@ pub(crate) struct Strided<'a> {
     pub strides: [usize; 3],
 }
 
+#[cfg(feature = "reference")]
 impl<V: Lanes> Stencil<V> for Strided<'_> {
     #[inline(always)]
     fn centre(&self) -> V {
@@ -198,6 +208,7 @@ impl<V: Lanes> Stencil<V> for Strided<'_> {
     }
 }
 
+#[cfg(feature = "reference")]
 /// The bits of the first `n` lanes.
 #[inline(always)]
 pub(crate) fn lane_bits(n: usize) -> u32 {

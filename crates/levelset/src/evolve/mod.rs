@@ -82,20 +82,32 @@
 //! sample spacing, at least 0.6h ([`crate::ReconstructParams::point_radius`]).
 //! δ = 0 gives the paper's model exactly, whose only stop is the iteration count.
 
+#[cfg(feature = "reference")]
 use asperity_core::Progress;
+#[cfg(feature = "reference")]
 use rayon::prelude::*;
 
+#[cfg(feature = "reference")]
 use crate::distance::DistanceField;
 use crate::grid::GridSpec;
-use crate::lanes::{Kernel, Lanes, dispatch};
+use crate::lanes::Lanes;
+#[cfg(feature = "reference")]
+use crate::lanes::{Kernel, dispatch};
+#[cfg(feature = "reference")]
 use crate::tagging::Tags;
+#[cfg(feature = "reference")]
 use crate::tube::{Run, RunTube, push_lanes};
+#[cfg(feature = "reference")]
 use asperity_core::memory_hints::prefetch;
 
 mod kernels;
+mod plan;
+#[cfg(feature = "reference")]
 mod sweep;
 
 pub(crate) use kernels::*;
+pub(crate) use plan::*;
+#[cfg(feature = "reference")]
 pub(crate) use sweep::*;
 
 /// A level-set function on the grid: φ < 0 inside, |φ| ≤ γ.
@@ -240,6 +252,7 @@ pub fn cutoff(phi: f64, beta: f64, gamma: f64) -> f64 {
     }
 }
 
+#[cfg(feature = "reference")]
 /// The signed distance to the tagged front (the paper: "we recompute the distance
 /// function for the tagged boundary … negating the distance function at all
 /// interior cells"), clamped to ±γ.
@@ -258,6 +271,7 @@ pub fn from_tags(
     from_tags_reusing(dist, tags, eps, gamma, progress, None)
 }
 
+#[cfg(feature = "reference")]
 /// Whether row (·, j, k) of the exterior flags can hold a crossing: rows with
 /// no exterior node, or exterior along with the rows around them (most of the
 /// grid), hold none.
@@ -275,6 +289,7 @@ fn row_may_cross(grid: &GridSpec, ext: &[bool], j: usize, k: usize) -> bool {
         && (own.contains(&false) || around.iter().flatten().any(|r| r.contains(&false)))
 }
 
+#[cfg(feature = "reference")]
 /// The points where the tagged offset surface {d = ε} crosses the grid edges
 /// from exterior node (i, j, k) to its non-exterior neighbours: d interpolated
 /// linearly to ε along the edge (the midpoint where it does not cross ε).
@@ -337,6 +352,7 @@ pub(crate) fn crossing_point(
     p
 }
 
+#[cfg(feature = "reference")]
 /// Every crossing of the offset surface, plane by plane.
 fn crossings(grid: &GridSpec, d: &[f32], ext: &[bool], eps: f64) -> Vec<[f64; 3]> {
     let [nx, ny, nz] = grid.dims;
@@ -359,6 +375,7 @@ fn crossings(grid: &GridSpec, d: &[f32], ext: &[bool], eps: f64) -> Vec<[f64; 3]
         .collect()
 }
 
+#[cfg(feature = "reference")]
 /// [`from_tags`], with the closest-point cells of an earlier wavefront on this
 /// grid to refill rather than a fresh buffer.
 pub(crate) fn from_tags_reusing(
@@ -413,6 +430,7 @@ pub(crate) fn from_tags_reusing(
 /// The fewest nodes per axis the flow works on.
 pub(crate) const MIN_NODES: usize = 6;
 
+#[cfg(feature = "reference")]
 /// Evolves `ls` by the flow for `params.iterations` steps with the speed `dist`;
 /// `on_step` sees the level set every `params.snapshot_every` steps. Grids with
 /// fewer than six nodes along an axis are left as they are.
@@ -429,11 +447,13 @@ pub fn evolve(
     evolve_in_order(ls, dist, params, progress, on_step, order)
 }
 
+#[cfg(feature = "reference")]
 /// Slabs per thread in a fused step: a few, so that a thread that finishes
 /// early takes over work (this VM's cores run at uneven speeds), and few enough
 /// that the seams stay a small part of the planes.
 const SLABS_PER_THREAD: usize = 2;
 
+#[cfg(feature = "reference")]
 /// [`evolve`] with the passes of each step in `order`.
 fn evolve_in_order(
     ls: &mut LevelSet,

@@ -2,7 +2,7 @@
 //! clamped to ±γ (§5.2: "we recompute the distance function for the tagged
 //! boundary … negating the distance function at all interior cells").
 //!
-//! As in [`crate::evolve::from_tags`]: the front crosses every grid edge from
+//! As in the dense `evolve::from_tags` (feature `reference`): the front crosses every grid edge from
 //! an exterior node to a non-exterior one, where d − ε changes sign along it
 //! (or at its midpoint where the paper's rule stopped the front farther out),
 //! and |φ| is the closest-point distance to these crossings, up to γ. The

@@ -1,6 +1,6 @@
 //! The narrow-band convection flow (§5.1–5.2, Eqs. 6, 10–12) on bricks.
 //!
-//! The same step as [`crate::evolve()`] — TVD-RK2 advance of φ_t = d|∇φ| on the
+//! The same step as the dense `evolve` (feature `reference`) — TVD-RK2 advance of φ_t = d|∇φ| on the
 //! tube T, redistancing by Eq. 11 on N, clamping by Eq. 12, the new T from N
 //! — computed by the same lane kernels, so every node gets the same bits as on
 //! the dense grid (tested). What differs is the storage:
@@ -39,8 +39,8 @@ use super::layout::{
 };
 use super::surface::SparseLevelSet;
 use crate::evolve::{
-    Band, Buf, EvolveParams, EvolveStats, LANES, MIN_NODES, Movement, Neighbourhood, Op, Plan,
-    Stencil, Step, StepStats, hi, rate, redistanced, stopped, time_step,
+    Band, Buf, EvolveParams, EvolveStats, LANES, MIN_NODES, Movement, Neighbourhood, Op, Stencil,
+    Step, StepStats, hi, rate, redistanced, step_ops, stopped, time_step,
 };
 use crate::lanes::{Kernel, Lanes, dispatch};
 
@@ -584,7 +584,7 @@ fn pass(
 /// Evolves `ls` by the flow for `params.iterations` steps with the speed
 /// `dist` (which shares its bricks, and gains the bricks the tube reaches);
 /// `on_step` sees the level set every `params.snapshot_every` steps. The same
-/// result as [`crate::evolve()`] on the dense grid.
+/// result as the dense `evolve` (feature `reference`) on the dense grid.
 pub fn sparse_evolve(
     ls: &mut SparseLevelSet,
     dist: &mut SparseDistance,
@@ -606,8 +606,7 @@ pub fn sparse_evolve(
     );
     // The dense plan's passes; its rebuild runs within the last of them, and
     // its copy of φ into the scratch within the next step's advance.
-    let ops: Vec<Op> = Plan::new(params.redistance_iterations)
-        .ops
+    let ops: Vec<Op> = step_ops(params.redistance_iterations)
         .into_iter()
         .filter(|&op| op != Op::Rebuild)
         .collect();
