@@ -265,7 +265,7 @@ fn dla_plane(env: &Env, stick: f64, tag: &str) -> Result<Item> {
         particles: side * side * 3 / 2,
         stick,
         seed_shape: SeedShape::Plane,
-        launch_gap: 2.0,
+        launch_gap: DlaParams::DEFAULT_LAUNCH_GAP,
         sides: Sides::Periodic,
     };
     let c = dla(&params, env.seed, 0, &env.budget, &NoProgress)?;

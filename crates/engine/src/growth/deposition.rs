@@ -46,16 +46,17 @@ pub struct DepositionJob {
 }
 
 impl DepositionJob {
-    /// The CLI's defaults for `model`.
+    /// The CLI's defaults for `model` (`DepositParams::DEFAULT`'s).
     pub fn new(model: Model) -> Self {
+        let d = super::DepositParams::DEFAULT;
         Self {
             model,
-            size: 256,
-            dim: 2,
-            layers: 100.0,
-            runs: 1,
-            bin: None,
-            samples_per_decade: 10,
+            size: d.size,
+            dim: d.dim,
+            layers: d.layers,
+            runs: d.runs,
+            bin: d.bin,
+            samples_per_decade: d.samples_per_decade,
             fit_window: None,
             alpha_sizes: None,
             keep_points: false,

@@ -112,7 +112,7 @@ impl DlaParams {
         seed_radius: 10.0,
         resolution: 32,
         seed_density: 0.02,
-        launch_gap: 2.0,
+        launch_gap: Simulation::DEFAULT_LAUNCH_GAP,
         sides: Sides::Periodic,
     };
 }

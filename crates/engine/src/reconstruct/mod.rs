@@ -535,7 +535,7 @@ pub fn dla_terrain(
         particles,
         stick: p.stick,
         seed_shape: SeedShape::Plane,
-        launch_gap: 2.0,
+        launch_gap: DlaParams::DEFAULT_LAUNCH_GAP,
         sides: sides.into(),
     };
     let cluster = dla(&params, seed, 0, budget, progress)?;

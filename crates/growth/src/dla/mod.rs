@@ -152,6 +152,11 @@ pub struct DlaParams {
 }
 
 impl DlaParams {
+    /// The launch gap δ every front end starts from, in cells: close enough
+    /// that few walks are wasted far from the cluster, far enough that the
+    /// launch sphere stays outside it.
+    pub const DEFAULT_LAUNCH_GAP: f64 = 2.0;
+
     /// A 3-D point-seeded cluster of `particles` with sticking probability 1 on a
     /// lattice sized for it by [`auto_size`].
     pub fn point(dim: usize, particles: usize) -> Self {
@@ -161,7 +166,7 @@ impl DlaParams {
             particles,
             stick: 1.0,
             seed_shape: SeedShape::Point,
-            launch_gap: 2.0,
+            launch_gap: Self::DEFAULT_LAUNCH_GAP,
             sides: Sides::Periodic,
         }
     }

@@ -63,7 +63,9 @@ fn the_fuzz_binary_reaches_every_reader_from_its_seeds() {
     seeds.sort();
     assert_eq!(names, seeds, "readers against seed folders");
     for name in &names {
-        let n = std::fs::read_dir(fuzz.join("seeds").join(name)).unwrap().count();
+        let n = std::fs::read_dir(fuzz.join("seeds").join(name))
+            .unwrap()
+            .count();
         assert!(n >= 1, "no seed for {name}");
     }
     for info in asperity_io::FORMATS {

@@ -202,8 +202,8 @@ impl EvolveParams {
             iterations: 30,
             scheme: Scheme::Eno2,
             flow: Flow::Convection,
-            cfl: 0.9,
-            beta: 2.0 * h,
+            cfl: CFL,
+            beta: BETA_CELLS * h,
             redistance_iterations: 2,
             tolerance: None,
             band: Band::Narrow,
@@ -216,6 +216,16 @@ impl EvolveParams {
 
 /// The default arrest distance in cells: half a cell.
 pub const ARREST_CELLS: f64 = 0.5;
+
+/// The time step's CFL number (ours: the paper states none).
+pub const CFL: f64 = 0.9;
+
+/// β, where the cut-off c(φ) starts to fall, in cells (the paper's 2h, §5.2,
+/// Eq. 10).
+pub const BETA_CELLS: f64 = 2.0;
+
+/// γ, the tube's half-width and the clamp of φ, in cells (3h, §5.2).
+pub const TUBE_CELLS: f64 = 3.0;
 
 /// What one step did.
 #[derive(Clone, Copy, Debug, PartialEq)]
