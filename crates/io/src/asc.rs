@@ -494,12 +494,7 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Vec<(String, String)>> {
 mod tests {
     use super::*;
 
-    fn err(r: FResult<HeightField>) -> String {
-        match r {
-            Ok(_) => panic!("accepted"),
-            Err(e) => format!("{e:?}"),
-        }
-    }
+    use crate::error::refused as err;
 
     const GWYDDION: &str = "# Channel: Height\n# Width: 3 µm\n# Height: 2000 nm\n# Value units: nm\n\
                             1 2 3\n4 NaN 6\n";

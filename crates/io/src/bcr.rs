@@ -180,12 +180,7 @@ mod tests {
         h
     }
 
-    fn err(r: FResult<HeightField>) -> String {
-        match r {
-            Ok(_) => panic!("accepted"),
-            Err(e) => format!("{e:?}"),
-        }
-    }
+    use crate::error::refused as err;
 
     #[test]
     fn bcrf_in_both_encodings_and_bcrstm_with_its_scale() {

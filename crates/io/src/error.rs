@@ -151,3 +151,13 @@ pub(crate) fn unsupported<T>(msg: impl Into<String>) -> Result<T, FormatError> {
 }
 
 pub(crate) type FResult<T> = Result<T, FormatError>;
+
+/// The message of a refused read, for the readers' tests (`{e:?}` names the
+/// cause); panics if the read was accepted.
+#[cfg(test)]
+pub(crate) fn refused<T>(r: FResult<T>) -> String {
+    match r {
+        Ok(_) => panic!("accepted"),
+        Err(e) => format!("{e:?}"),
+    }
+}

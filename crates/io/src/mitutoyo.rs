@@ -368,12 +368,7 @@ mod tests {
         workbook(&CERTIFICATE, &data)
     }
 
-    fn err(r: FResult<HeightField>) -> String {
-        match r {
-            Ok(_) => panic!("accepted"),
-            Err(e) => format!("{e:?}"),
-        }
-    }
+    use crate::error::refused as err;
 
     #[test]
     fn a_uniform_profile_in_the_first_parameters_unit_with_its_metadata() {

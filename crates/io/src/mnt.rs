@@ -781,12 +781,7 @@ mod tests {
         file.into_inner().into_inner()
     }
 
-    fn err(r: FResult<HeightField>) -> String {
-        match r {
-            Ok(_) => panic!("accepted"),
-            Err(e) => format!("{e:?}"),
-        }
-    }
+    use crate::error::refused as err;
 
     #[test]
     fn counts_times_step_plus_origin_in_the_display_unit_with_the_mask() {

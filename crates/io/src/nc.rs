@@ -114,12 +114,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
 mod tests {
     use super::*;
 
-    fn err(r: FResult<HeightField>) -> String {
-        match r {
-            Ok(_) => panic!("accepted"),
-            Err(e) => format!("{e:?}"),
-        }
-    }
+    use crate::error::refused as err;
 
     #[test]
     fn other_files_and_truncation_are_refused() {

@@ -158,12 +158,7 @@ mod tests {
         b
     }
 
-    fn err(r: FResult<HeightField>) -> String {
-        match r {
-            Ok(_) => panic!("accepted"),
-            Err(e) => format!("{e:?}"),
-        }
-    }
+    use crate::error::refused as err;
 
     #[test]
     fn reads_rows_of_micrometres_with_missing_points() {

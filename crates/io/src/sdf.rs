@@ -310,12 +310,7 @@ pub(crate) fn write_height(
 mod tests {
     use super::*;
 
-    fn err(r: FResult<HeightField>) -> String {
-        match r {
-            Ok(_) => panic!("accepted"),
-            Err(e) => format!("{e:?}"),
-        }
-    }
+    use crate::error::refused as err;
 
     const EXAMPLE: &str = "aISO-1.0\nManufacID = ISOTC213\nCreateDate = 040120100853\n\
         ModDate = 050320101353\nNumPoints = 3\nNumProfiles = 2\nXscale = 1.0E-6\n\

@@ -155,12 +155,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
 mod tests {
     use super::*;
 
-    fn err(r: FResult<HeightField>) -> String {
-        match r {
-            Ok(_) => panic!("accepted"),
-            Err(e) => format!("{e:?}"),
-        }
-    }
+    use crate::error::refused as err;
 
     fn file(bits: u16, units: [&str; 3], values: &[i32]) -> Vec<u8> {
         let mut b = vec![0u8; HEADER];
