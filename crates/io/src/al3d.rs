@@ -15,6 +15,7 @@ use std::collections::HashMap;
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::header_keys::HeaderKeys;
 
 pub(crate) const MAGIC: &[u8] = b"AliconaImaging\0\r\n";
 /// Bytes of a tag: key, value, CR LF.
@@ -57,30 +58,15 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         return malformed("missing the `AliconaImaging` magic");
     }
     let t = tags(bytes)?;
-    let get = |k: &str| {
-        t.get(k)
-            .ok_or_else(|| FormatError::Malformed(format!("the file has no {k} tag")))
-    };
-    let count = |k: &str| -> FResult<usize> {
-        let v = get(k)?;
-        v.parse()
-            .ok()
-            .filter(|&n: &usize| n > 0)
-            .ok_or_else(|| FormatError::Malformed(format!("{k} = {v:?} is not a positive count")))
-    };
-    let real = |k: &str| -> FResult<f64> {
-        let v = get(k)?;
-        v.parse()
-            .map_err(|_| FormatError::Malformed(format!("{k} = {v:?} is not a number")))
-    };
-    let (nx, ny) = (count("Cols")?, count("Rows")?);
-    let (dx, dy) = (real("PixelSizeXMeter")?, real("PixelSizeYMeter")?);
+    let tag = HeaderKeys::tags(&t);
+    let (nx, ny) = (tag.count("Cols")?, tag.count("Rows")?);
+    let (dx, dy) = (tag.real("PixelSizeXMeter")?, tag.real("PixelSizeYMeter")?);
     for (k, v) in [("PixelSizeXMeter", dx), ("PixelSizeYMeter", dy)] {
         if !(v.is_finite() && v > 0.0) {
             return malformed(format!("{k} = {v} is not a positive length"));
         }
     }
-    let offset = count("DepthImageOffset")?;
+    let offset = tag.count("DepthImageOffset")?;
     let invalid = t
         .get("InvalidPixelValue")
         .and_then(|v| v.parse::<f64>().ok());

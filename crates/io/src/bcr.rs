@@ -15,6 +15,7 @@ use std::collections::HashMap;
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::header_keys::HeaderKeys;
 
 const MAGIC: &str = "fileformat = bcr";
 /// The header's size when it does not say.
@@ -84,34 +85,15 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         };
     let (text, _) = header_text(bytes, chars)?;
     let k = keys(&text);
-    let get = |key: &str| {
-        k.get(key)
-            .ok_or_else(|| FormatError::Malformed(format!("the header has no {key}")))
-    };
-    let format = get("fileformat")?.as_str();
+    let header = HeaderKeys::new(&k);
+    let format = header.text("fileformat")?;
     let stm = match format {
         "bcrstm" | "bcrstm_unicode" => true,
         "bcrf" | "bcrf_unicode" => false,
         other => return malformed(format!("unknown fileformat {other:?}")),
     };
-    let count = |key: &str| -> FResult<usize> {
-        let v = get(key)?;
-        v.parse()
-            .ok()
-            .filter(|&n: &usize| n > 0)
-            .ok_or_else(|| FormatError::Malformed(format!("{key} = {v:?} is not a positive count")))
-    };
-    let real = |key: &str, default: Option<f64>| -> FResult<f64> {
-        match (k.get(key), default) {
-            (None, Some(d)) => Ok(d),
-            (None, None) => malformed(format!("the header has no {key}")),
-            (Some(v), _) => v
-                .parse()
-                .map_err(|_| FormatError::Malformed(format!("{key} = {v:?} is not a number"))),
-        }
-    };
-    let (nx, ny) = (count("xpixels")?, count("ypixels")?);
-    let (lx, ly) = (real("xlength", None)?, real("ylength", None)?);
+    let (nx, ny) = (header.count("xpixels")?, header.count("ypixels")?);
+    let (lx, ly) = (header.real("xlength")?, header.real("ylength")?);
     for (key, v) in [("xlength", lx), ("ylength", ly)] {
         if !(v.is_finite() && v > 0.0) {
             return malformed(format!("{key} = {v} is not a positive length"));
@@ -121,8 +103,12 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     if ux != uy {
         return malformed("x and y units differ");
     }
-    let little = real("intelmode", Some(1.0))? != 0.0;
-    let scale = if stm { real("bit2nm", Some(1.0))? } else { 1.0 };
+    let little = header.real_or("intelmode", 1.0)? != 0.0;
+    let scale = if stm {
+        header.real_or("bit2nm", 1.0)?
+    } else {
+        1.0
+    };
     let size = if stm { 2 } else { 4 };
     let start = chars * width;
     let need = nx

@@ -45,6 +45,7 @@ pub mod glb;
 pub mod gsf;
 pub mod gwy;
 pub mod h5;
+mod header_keys;
 pub mod hgt;
 pub mod ibw;
 pub mod jpk;

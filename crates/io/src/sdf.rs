@@ -28,6 +28,7 @@ use std::io::Write;
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::header_keys::HeaderKeys;
 
 const TEXT_MAGIC: &[u8] = b"aISO-1.0";
 const BINARY_MAGIC: &[u8] = b"bISO-1.0";
@@ -125,36 +126,15 @@ fn read_text(bytes: &[u8]) -> FResult<HeightField> {
             .ok_or_else(|| FormatError::Malformed(format!("header line {line:?} has no '='")))?;
         keys.insert(k.trim().to_owned(), v.trim().to_owned());
     }
-    let get = |k: &str| -> FResult<&String> {
-        keys.get(k)
-            .ok_or_else(|| FormatError::Malformed(format!("the header has no {k}")))
-    };
-    let int = |k: &str| -> FResult<usize> {
-        let v = get(k)?;
-        v.parse()
-            .map_err(|_| FormatError::Malformed(format!("{k} = {v:?} is not a whole number")))
-    };
-    let real = |k: &str| -> FResult<f64> {
-        let v = get(k)?;
-        v.parse()
-            .map_err(|_| FormatError::Malformed(format!("{k} = {v:?} is not a number")))
-    };
-    let small = |k: &str| -> FResult<u8> {
-        match keys.get(k) {
-            None => Ok(0),
-            Some(v) => v
-                .parse()
-                .map_err(|_| FormatError::Malformed(format!("{k} = {v:?} is not a small number"))),
-        }
-    };
+    let header = HeaderKeys::new(&keys);
     let h = Header {
-        points: int("NumPoints")?,
-        profiles: int("NumProfiles")?,
-        x_scale: real("Xscale")?,
-        y_scale: real("Yscale")?,
-        z_scale: real("Zscale")?,
-        data_type: small("DataType")?,
-        compression: small("Compression")?,
+        points: header.whole("NumPoints")?,
+        profiles: header.whole("NumProfiles")?,
+        x_scale: header.real("Xscale")?,
+        y_scale: header.real("Yscale")?,
+        z_scale: header.real("Zscale")?,
+        data_type: header.small_or_zero("DataType")?,
+        compression: header.small_or_zero("Compression")?,
     };
     h.check()?;
     // The data must end with its `*` line: without it a cut inside the last

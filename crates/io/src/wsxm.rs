@@ -17,6 +17,7 @@ use std::collections::HashMap;
 use asperity_core::{HeightField, Units};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::header_keys::HeaderKeys;
 use crate::sur::length_unit;
 
 pub(crate) const MAGIC: &[u8] = b"WSxM file copyright";
@@ -59,17 +60,7 @@ struct Layout {
 
 /// The samples' layout from the header's values.
 fn layout(h: &HashMap<String, String>) -> FResult<Layout> {
-    let get = |k: &str| {
-        h.get(k)
-            .ok_or_else(|| FormatError::Malformed(format!("the header has no {k}")))
-    };
-    let count = |k: &str| -> FResult<usize> {
-        let v = get(k)?;
-        v.parse()
-            .ok()
-            .filter(|&n: &usize| n > 0)
-            .ok_or_else(|| FormatError::Malformed(format!("{k} = {v:?} is not a positive count")))
-    };
+    let keys = HeaderKeys::new(h);
     let kind = h
         .get("General Info/Image Data Type")
         .map_or("short", String::as_str);
@@ -83,9 +74,9 @@ fn layout(h: &HashMap<String, String>) -> FResult<Layout> {
             ));
         }
     };
-    let (z_amp, z_unit) = amplitude(get("General Info/Z Amplitude")?)?;
+    let (z_amp, z_unit) = amplitude(keys.text("General Info/Z Amplitude")?)?;
     let (zu, fz) = length_unit(z_unit);
-    let (x_amp, x_unit) = amplitude(get("Control/X Amplitude")?)?;
+    let (x_amp, x_unit) = amplitude(keys.text("Control/X Amplitude")?)?;
     let (y_amp, y_unit) = match h.get("Control/Y Amplitude") {
         Some(v) => amplitude(v)?,
         None => (x_amp, x_unit),
@@ -110,8 +101,8 @@ fn layout(h: &HashMap<String, String>) -> FResult<Layout> {
         _ => 1.0,
     };
     Ok(Layout {
-        nx: count("General Info/Number of columns")?,
-        ny: count("General Info/Number of rows")?,
+        nx: keys.count("General Info/Number of columns")?,
+        ny: keys.count("General Info/Number of rows")?,
         size_of,
         scale: per_unit * fz,
         extent,
