@@ -88,6 +88,7 @@ mod write;
 pub mod wsxm;
 pub mod x3p;
 pub mod xz;
+mod zipped;
 pub mod zmg;
 pub mod zon;
 

@@ -16,34 +16,24 @@
 //! SurfaceTopography's `NMM.py`; checked against it on an archive built to
 //! that layout (no instrument file is public).
 
-use std::io::{Cursor, Read};
-
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
-
-type Archive<'a> = zip::ZipArchive<Cursor<&'a [u8]>>;
+use crate::zipped::{self, Archive};
 
 const DASHES: &str = "------------------------------------------";
 /// A text member larger than this is refused (a line of an NMM scan is a
 /// few hundred kilobytes).
 const TEXT_LIMIT: u64 = 256 << 20;
 
-fn bad(e: impl std::fmt::Display) -> FormatError {
+fn bad(e: String) -> FormatError {
     FormatError::Malformed(format!("not a readable NMM archive: {e}"))
 }
 
 fn text(zip: &mut Archive<'_>, name: &str) -> FResult<String> {
-    let file = zip
-        .by_name(name)
-        .map_err(|_| FormatError::Malformed(format!("the archive has no member {name:?}")))?;
-    let size = file.size().min(TEXT_LIMIT);
-    let mut out = Vec::new();
-    file.take(size)
-        .read_to_end(&mut out)
-        .map_err(|e| bad(format!("{name}: {e}")))?;
+    let out = zipped::required(zip, name, TEXT_LIMIT, bad)?;
     Ok(String::from_utf8_lossy(&out).into_owned())
 }
 
@@ -179,7 +169,7 @@ fn scan(zip: &mut Archive<'_>) -> FResult<Scan> {
 }
 
 fn open(bytes: &[u8]) -> FResult<(Archive<'_>, Scan)> {
-    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(bad)?;
+    let mut zip = zipped::open(bytes, bad)?;
     let s = scan(&mut zip)?;
     Ok((zip, s))
 }
@@ -269,6 +259,7 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
 
 #[cfg(test)]
 mod tests {
+    use std::io::Cursor;
     use std::io::Write;
 
     use super::*;

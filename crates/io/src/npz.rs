@@ -13,34 +13,24 @@
 //! declares for it, and the memory estimate counts those
 //! sizes before anything is inflated.
 
-use std::io::{Cursor, Read};
-
 use asperity_core::HeightField;
 
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
 use crate::npy;
+use crate::zipped::{self, Archive};
 
-fn bad(e: impl std::fmt::Display) -> FormatError {
+fn bad(e: String) -> FormatError {
     FormatError::Malformed(format!("not a readable NumPy archive: {e}"))
 }
 
-type Archive<'a> = zip::ZipArchive<Cursor<&'a [u8]>>;
-
 fn open(bytes: &[u8]) -> FResult<Archive<'_>> {
-    zip::ZipArchive::new(Cursor::new(bytes)).map_err(bad)
+    zipped::open(bytes, bad)
 }
 
 /// Member `k`, inflated to at most its declared size.
 fn member(zip: &mut Archive<'_>, k: usize) -> FResult<(String, Vec<u8>)> {
-    let file = zip.by_index(k).map_err(bad)?;
-    let name = file.name().map_err(bad)?.into_owned();
-    let size = file.size();
-    let mut out = Vec::new();
-    file.take(size)
-        .read_to_end(&mut out)
-        .map_err(|e| bad(format!("member {name:?}: {e}")))?;
-    Ok((name, out))
+    zipped::by_index(zip, k, bad)
 }
 
 /// The archive's two-dimensional arrays: member index and channel name.
@@ -100,6 +90,7 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
 
 #[cfg(test)]
 mod tests {
+    use std::io::Cursor;
     use std::io::Write;
 
     use super::*;

@@ -30,13 +30,13 @@
 //! SurfaceTopography's reader on files built to this layout.
 
 use std::collections::HashMap;
-use std::io::{Cursor, Read};
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
+use crate::zipped;
 
 /// The file's magic.
 pub(crate) const MAGIC: &[u8] = b"OLYMPUSRAWFORMAT";
@@ -461,27 +461,25 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
     Ok(open(bytes)?.2)
 }
 
-fn bad_zip(e: impl std::fmt::Display) -> FormatError {
+fn bad_zip(e: String) -> FormatError {
     FormatError::Malformed(format!("not a readable packed OIR (zip) archive: {e}"))
 }
 
 /// The `.oir` members of a `.poir`, inflated, in the archive's order.
 fn members(bytes: &[u8]) -> FResult<Vec<(String, Vec<u8>)>> {
-    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(bad_zip)?;
+    let mut zip = zipped::open(bytes, bad_zip)?;
     let mut out = Vec::new();
     for k in 0..zip.len() {
-        let file = zip.by_index(k).map_err(bad_zip)?;
-        let name = file.name().map_err(bad_zip)?.into_owned();
-        if !name.to_ascii_lowercase().ends_with(".oir") {
-            continue;
+        let is_oir = match zip.name_for_index(k) {
+            Some(name) => name
+                .map_err(|e| bad_zip(e.to_string()))?
+                .to_ascii_lowercase()
+                .ends_with(".oir"),
+            None => false,
+        };
+        if is_oir {
+            out.push(zipped::by_index(&mut zip, k, bad_zip)?);
         }
-        // The memory estimate counted the sizes the archive declares.
-        let size = file.size();
-        let mut data = Vec::new();
-        file.take(size)
-            .read_to_end(&mut data)
-            .map_err(|e| bad_zip(format!("member {name:?}: {e}")))?;
-        out.push((name, data));
     }
     if out.is_empty() {
         return malformed("the archive holds no .oir file (not a packed OIR)");

@@ -14,30 +14,19 @@
 //! Members are inflated to at most the size the archive's directory
 //! declares, which the memory estimate counts before anything is inflated.
 
-use std::io::{Cursor, Read};
-
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
+use crate::zipped::{self, Archive};
 
-type Archive<'a> = zip::ZipArchive<Cursor<&'a [u8]>>;
-
-fn bad(e: impl std::fmt::Display) -> FormatError {
+fn bad(e: String) -> FormatError {
     FormatError::Malformed(format!("not a readable PLUX archive: {e}"))
 }
 
 fn member(zip: &mut Archive<'_>, name: &str) -> FResult<Vec<u8>> {
-    let file = zip
-        .by_name(name)
-        .map_err(|_| FormatError::Malformed(format!("the archive has no member {name:?}")))?;
-    let size = file.size();
-    let mut out = Vec::new();
-    file.take(size)
-        .read_to_end(&mut out)
-        .map_err(|e| bad(format!("member {name:?}: {e}")))?;
-    Ok(out)
+    zipped::required(zip, name, u64::MAX, bad)
 }
 
 /// What `index.xml` says: grid, pixel size, the layers' members, the
@@ -115,7 +104,7 @@ fn index(zip: &mut Archive<'_>) -> FResult<Index> {
 }
 
 fn open(bytes: &[u8]) -> FResult<(Archive<'_>, Index)> {
-    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(bad)?;
+    let mut zip = zipped::open(bytes, bad)?;
     let index = index(&mut zip)?;
     Ok((zip, index))
 }
@@ -171,6 +160,7 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
 
 #[cfg(test)]
 mod tests {
+    use std::io::Cursor;
     use std::io::Write;
 
     use super::*;

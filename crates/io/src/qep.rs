@@ -16,13 +16,12 @@
 //! Layout from SurfaceTopography's `QEP.py`; checked against it on a file
 //! built to that layout (no instrument file is public).
 
-use std::io::{Cursor, Read};
-
 use asperity_core::{HeightField, LengthUnit};
 
 use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
+use crate::zipped::{self, Archive};
 
 const MAGIC: &[u8] = b"[p3dlin]";
 const MEMBERS: [(&str, &str); 2] = [
@@ -33,8 +32,6 @@ const POINTS_AT: usize = 0x14;
 const STRINGS_AT: usize = 0xC4;
 const DATA_AFTER_TRAJEC: usize = 8 + 41;
 const BYTES_A_POINT: usize = 28;
-
-type Archive<'a> = zip::ZipArchive<Cursor<&'a [u8]>>;
 
 /// A parsed profile: metadata, positions, heights (NaN where invalid).
 struct Profile {
@@ -121,8 +118,9 @@ fn parse(blob: &[u8], name: &str) -> FResult<Profile> {
 }
 
 fn open(bytes: &[u8]) -> FResult<(Archive<'_>, Vec<(&'static str, &'static str)>)> {
-    let zip = zip::ZipArchive::new(Cursor::new(bytes))
-        .map_err(|e| FormatError::Malformed(format!("not a readable QEP archive: {e}")))?;
+    let zip = zipped::open(bytes, |e| {
+        FormatError::Malformed(format!("not a readable QEP archive: {e}"))
+    })?;
     let present: Vec<_> = MEMBERS
         .into_iter()
         .filter(|(m, _)| zip.index_for_name(m).is_some())
@@ -134,14 +132,7 @@ fn open(bytes: &[u8]) -> FResult<(Archive<'_>, Vec<(&'static str, &'static str)>
 }
 
 fn profile(zip: &mut Archive<'_>, member: &str) -> FResult<Profile> {
-    let file = zip
-        .by_name(member)
-        .map_err(|e| FormatError::Malformed(format!("member {member}: {e}")))?;
-    let size = file.size();
-    let mut blob = Vec::new();
-    file.take(size)
-        .read_to_end(&mut blob)
-        .map_err(|e| FormatError::Malformed(format!("member {member}: {e}")))?;
+    let blob = zipped::required(zip, member, u64::MAX, FormatError::Malformed)?;
     parse(&blob, member)
 }
 
@@ -178,6 +169,7 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
 
 #[cfg(test)]
 mod tests {
+    use std::io::Cursor;
     use std::io::Write;
 
     use super::*;

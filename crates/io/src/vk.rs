@@ -19,13 +19,12 @@
 //! SurfaceTopography's `VK.py` and Gwyddion's `keyence.c`; no instrument file
 //! was at hand, so the tests use files built to that layout.
 
-use std::io::{Cursor, Read};
-
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::zipped;
 
 /// The magics of the direct (`VK3_`, `VK4_`) and zipped (`VK6`, `VK7`) files.
 pub(crate) const MAGICS: [&[u8]; 4] = [b"VK3_", b"VK4_", b"VK6", b"VK7"];
@@ -54,20 +53,12 @@ fn stream(bytes: &[u8]) -> FResult<std::borrow::Cow<'_, [u8]>> {
     if !sniff(bytes) {
         return malformed("no VK3_, VK4_, VK6 or VK7 magic: not a Keyence VK file");
     }
-    let bad = |e: zip::result::ZipError| {
+    let mut zip = zipped::open(bytes, |e| {
         FormatError::Malformed(format!(
             "a VK6/VK7 file is a zip archive, this one is not: {e}"
         ))
-    };
-    let mut zip = zip::ZipArchive::new(Cursor::new(bytes)).map_err(bad)?;
-    let file = zip
-        .by_name(MEMBER)
-        .map_err(|_| FormatError::Malformed(format!("the archive has no member {MEMBER:?}")))?;
-    let size = file.size();
-    let mut out = Vec::new();
-    file.take(size)
-        .read_to_end(&mut out)
-        .map_err(|e| FormatError::Malformed(format!("member {MEMBER:?}: {e}")))?;
+    })?;
+    let out = zipped::required(&mut zip, MEMBER, u64::MAX, FormatError::Malformed)?;
     if !(out.starts_with(b"VK4_") || out.starts_with(b"VK3_")) {
         return malformed(format!("member {MEMBER:?} is no VK4 file"));
     }
@@ -199,6 +190,7 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
 
 #[cfg(test)]
 mod tests {
+    use std::io::Cursor;
     use std::io::Write;
 
     use super::*;
