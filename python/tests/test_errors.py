@@ -144,7 +144,7 @@ def test_keyboard_interrupt_stops_a_long_run():
     # Bounded by work, not seconds (a busy machine stretches every delay): the
     # run of 10^7 particles stops with a tenth of them done at most, and its
     # worker thread ends. The delay is printed; the engine stops at its next
-    # progress report, polled every 0.1 s (BENCHMARKS.md has the figure).
+    # progress report, polled every 0.1 s.
     script = textwrap.dedent("""
         import faulthandler, functools, os, signal, threading, time, asperity
         signal.signal(signal.SIGINT, signal.default_int_handler)
