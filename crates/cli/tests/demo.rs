@@ -39,6 +39,7 @@ fn demo_is_byte_identical_across_thread_counts() {
         assert!(o.status.success(), "{}", stderr(&o));
     }
     let g1 = d.path().join("g1");
+    every_command_line_shown_parses(&g1.join("index.html"), d.path());
     let mut names: Vec<_> = std::fs::read_dir(&g1)
         .unwrap()
         .map(|e| e.unwrap().file_name())
@@ -284,4 +285,40 @@ fn full_demo_has_every_card_and_every_output_it_reports() {
         cards(&d.path().join("quick")),
         "the same cards"
     );
+}
+
+/// The gallery shows the command line that makes each card (a "CLI" fact,
+/// typed by hand in `crates/gallery`): each must be one the CLI accepts. With
+/// `--help` appended clap checks every flag and value before it and prints
+/// the help instead of running, so a renamed flag or a value the CLI no longer
+/// takes fails here, not in a reader's terminal.
+fn every_command_line_shown_parses(index: &Path, dir: &Path) {
+    let page = std::fs::read_to_string(index).unwrap();
+    let key = "<tr><td>CLI</td><td>";
+    let lines: BTreeSet<String> = page
+        .split(key)
+        .skip(1)
+        .map(|rest| {
+            rest[..rest.find("</td>").unwrap()]
+                .replace("&amp;", "&")
+                .replace("&lt;", "<")
+                .replace("&gt;", ">")
+                .replace(" …", "")
+        })
+        .collect();
+    assert!(lines.len() >= 20, "the CLI lines: {lines:?}");
+    for line in &lines {
+        assert!(
+            !line.contains(['"', '\'', '&']),
+            "a line to split by spaces: {line}"
+        );
+        let words: Vec<&str> = line.split_whitespace().collect();
+        assert_eq!(words[0], "asperity", "{line}");
+        let o = asperity(&[&words[1..], &["--help"]].concat(), dir);
+        assert!(
+            o.status.success(),
+            "the gallery shows `{line}`, which the CLI refuses: {}",
+            stderr(&o)
+        );
+    }
 }
