@@ -79,3 +79,40 @@ fn the_fuzz_binary_reaches_every_reader_from_its_seeds() {
         }
     }
 }
+
+/// Detection agrees with where each seed is filed: every file format seed in
+/// `fuzz/seeds/NAME/` is told by `Format::of_file` (extension, then content,
+/// as every command tells a file) as a format that the fuzz binary's row
+/// `NAME` reads.
+#[test]
+fn every_seed_is_detected_as_the_format_its_reader_reads() {
+    let fuzz = asperity_fixtures::workspace().join("fuzz");
+    let source = std::fs::read_to_string(fuzz.join("fuzz_targets/readers.rs")).unwrap();
+    let table = &source[source.find("const READERS").unwrap()..];
+    let table = &table[..table.find("\n];").unwrap()];
+    let mut checked = 0;
+    for row in table.split("\n    (\"").skip(1) {
+        let name = &row[..row.find('"').unwrap()];
+        let formats: Vec<&str> = row
+            .split("Format::")
+            .skip(1)
+            .map(|t| &t[..t.find(|c: char| !c.is_alphanumeric()).unwrap()])
+            .collect();
+        if formats.is_empty() {
+            continue; // a parameter text, not a file format
+        }
+        for file in std::fs::read_dir(fuzz.join("seeds").join(name)).unwrap() {
+            let file = file.unwrap().path();
+            let told = asperity_io::Format::of_file(&file)
+                .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+            let told = format!("{told:?}");
+            assert!(
+                formats.contains(&told.as_str()),
+                "{} is told as {told}, but the reader {name} reads {formats:?}",
+                file.display()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 60, "{checked} seeds checked");
+}
