@@ -316,26 +316,7 @@ impl Format {
     /// Whether files of this format can hold several channels (`--channel`
     /// picks one; other formats accept only channel 0).
     pub fn has_channels(self) -> bool {
-        matches!(
-            self,
-            Format::Di
-                | Format::Plu
-                | Format::Nid
-                | Format::Mi
-                | Format::Ibw
-                | Format::Mnt
-                | Format::H5
-                | Format::Mat
-                | Format::Npz
-                | Format::Vk
-                | Format::Mdt
-                | Format::Plux
-                | Format::Jpk
-                | Format::Qep
-                | Format::Nmm
-                | Format::Oir
-                | Format::Poir
-        )
+        crate::codecs::of(self).is_some_and(|c| c.channels.is_some())
     }
 
     /// This format's row of [`FORMATS`].

@@ -34,6 +34,7 @@ pub mod asc;
 pub mod atomic;
 pub mod bcr;
 pub mod channel;
+mod codecs;
 pub mod datx;
 pub mod decimal;
 pub mod di;
@@ -224,8 +225,10 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(open()?).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(open()?).map(pixel_bytes)),
-        f if DECLARES_DECODED.contains(&f) => Some(decoded_bytes(&read_bytes(path)?, f)),
-        _ => None,
+        f => match codecs::of(f).and_then(|c| c.declared) {
+            Some(declared) => Some(declared(&read_bytes(path)?)),
+            None => None,
+        },
     };
     estimate_from(size, decoded).map_err(|e| e.at(path, format.info().name))
 }
@@ -236,8 +239,9 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(cursor()).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(cursor()).map(pixel_bytes)),
-        f if DECLARES_DECODED.contains(&f) => Some(decoded_bytes(bytes, f)),
-        _ => None,
+        f => codecs::of(f)
+            .and_then(|c| c.declared)
+            .map(|declared| declared(bytes)),
     };
     estimate_from(bytes.len() as u64, decoded)
 }
@@ -246,24 +250,6 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
 fn pixel_bytes(pixels: u128) -> u128 {
     pixels.saturating_mul(16 + 8)
 }
-
-/// The formats whose memory estimate is what they declare they decode to
-/// ([`decoded_bytes`]) rather than a multiple of the file's size.
-const DECLARES_DECODED: [Format; 13] = [
-    Format::X3p,
-    Format::Poir,
-    Format::Datx,
-    Format::Mnt,
-    Format::Mitutoyo,
-    Format::H5,
-    Format::Mat,
-    Format::Npz,
-    Format::Vk,
-    Format::Plux,
-    Format::Zon,
-    Format::Qep,
-    Format::Nmm,
-];
 
 /// The bytes a zip archive's members declare once inflated (from its
 /// central directory, before anything is inflated).
@@ -277,25 +263,6 @@ fn zip_declared_bytes(bytes: &[u8]) -> FResult<u128> {
         total = total.saturating_add(u128::from(zip.by_index_raw(k).map_err(bad)?.size()));
     }
     Ok(total)
-}
-
-/// What a compressed container decodes to, from the sizes it declares: the
-/// grid of an x3p, a Mountains document, the largest 2-D HDF5 dataset or
-/// every variable of a MAT file, the images of a VK or ZON file; twice the
-/// inflated members of the zip-based formats (NumPy archives, PLUX, QEP,
-/// NMM, packed OIR, Excel workbooks: each member inflated, then parsed or
-/// converted).
-fn decoded_bytes(bytes: &[u8], format: Format) -> FResult<u128> {
-    match format {
-        Format::X3p => x3p::header_pixels(bytes).map(pixel_bytes),
-        Format::Mnt => mnt::declared_points(bytes).map(pixel_bytes),
-        Format::H5 => h5::declared_points(bytes).map(pixel_bytes),
-        Format::Datx => datx::declared_points(bytes).map(pixel_bytes),
-        Format::Mat => mat::declared_points(bytes).map(pixel_bytes),
-        Format::Vk => vk::declared_points(bytes).map(pixel_bytes),
-        Format::Zon => zon::declared_points(bytes).map(pixel_bytes),
-        _ => zip_declared_bytes(bytes).map(|n| n.saturating_mul(2)),
-    }
 }
 
 /// The larger of the size rule and the decoded bytes a header declares.
@@ -357,36 +324,8 @@ pub type Metadata = Vec<(String, String)>;
 /// [`IoError`] naming the file.
 pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
     let f = Format::of_file(path)?;
-    let read: fn(&[u8]) -> FResult<Metadata> = match f {
-        Format::Di => di::metadata,
-        Format::Nid => nid::metadata,
-        Format::Mi => mi::metadata,
-        Format::Ibw => ibw::metadata,
-        Format::Mnt => mnt::metadata,
-        Format::Asc => asc::metadata,
-        Format::Mitutoyo => mitutoyo::metadata,
-        Format::Nms => nms::metadata,
-        Format::Hgt => hgt::metadata,
-        Format::Vk => vk::metadata,
-        Format::Os3d => os3d::metadata,
-        Format::Zmg => zmg::metadata,
-        Format::Plux => plux::metadata,
-        Format::Zon => zon::metadata,
-        Format::Lext => lext::metadata,
-        Format::Qep => qep::metadata,
-        Format::Nmm => nmm::metadata,
-        Format::Datx => datx::metadata,
-        Format::Oir => oir::metadata,
-        Format::Poir => oir::packed_metadata,
-        // A .datx under another name is read as one.
-        Format::H5 => |b: &[u8]| {
-            if datx::sniff(b) {
-                datx::metadata(b)
-            } else {
-                Ok(Metadata::new())
-            }
-        },
-        _ => return Ok(None),
+    let Some(read) = codecs::of(f).and_then(|c| c.metadata) else {
+        return Ok(None);
     };
     let bytes = read_bytes(path)?;
     read(&bytes)
@@ -401,31 +340,13 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
 /// [`IoError`] naming the file.
 pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
     let f = Format::of_file(path)?;
-    if !f.has_channels() {
+    let Some(list) = codecs::of(f).and_then(|c| c.channels) else {
         return Ok(None);
-    }
+    };
     let bytes = read_bytes(path)?;
-    match f {
-        Format::Di => di::channels(&bytes),
-        Format::Nid => nid::channels(&bytes),
-        Format::Mi => mi::channels(&bytes),
-        Format::Ibw => ibw::channels(&bytes),
-        Format::Mnt => mnt::channels(&bytes),
-        Format::H5 => h5::channels(&bytes),
-        Format::Mat => mat::channels(&bytes),
-        Format::Npz => npz::channels(&bytes),
-        Format::Vk => vk::channels(&bytes),
-        Format::Mdt => mdt::channels(&bytes),
-        Format::Plux => plux::channels(&bytes),
-        Format::Jpk => jpk::channels(&bytes),
-        Format::Qep => qep::channels(&bytes),
-        Format::Nmm => nmm::channels(&bytes),
-        Format::Oir => oir::channels(&bytes),
-        Format::Poir => oir::packed_channels(&bytes),
-        _ => plu::channels(&bytes),
-    }
-    .map(Some)
-    .map_err(|e| e.at(path, f.info().name))
+    list(&bytes)
+        .map(Some)
+        .map_err(|e| e.at(path, f.info().name))
 }
 
 /// Reads whatever `path` holds, deciding by extension and content: PLY with faces,
@@ -490,52 +411,7 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
                 Surface::Height(npy_height(a)?)
             }
         }
-        Format::Png
-        | Format::Exr
-        | Format::Gsf
-        | Format::Csv
-        | Format::Gwy
-        | Format::X3p
-        | Format::Sdf
-        | Format::Sur
-        | Format::Tmd
-        | Format::Bcr
-        | Format::MetroPro
-        | Format::Al3d
-        | Format::Wsxm
-        | Format::Plu
-        | Format::Opd
-        | Format::Frt
-        | Format::Di
-        | Format::Nc
-        | Format::Nid
-        | Format::Mi
-        | Format::Ibw
-        | Format::Park
-        | Format::Hfm
-        | Format::Dektak
-        | Format::CsvLineScan
-        | Format::Nms
-        | Format::Mat
-        | Format::Npz
-        | Format::Hgt
-        | Format::Vk
-        | Format::Mdt
-        | Format::Os3d
-        | Format::Zmg
-        | Format::Plux
-        | Format::Zon
-        | Format::Lext
-        | Format::Jpk
-        | Format::Qep
-        | Format::Nmm
-        | Format::Opdx
-        | Format::Mnt
-        | Format::Mitutoyo
-        | Format::Datx
-        | Format::Oir
-        | Format::Poir
-        | Format::H5 => Surface::Height(read_height_bytes(bytes, f, choice)?),
+        _ => Surface::Height(read_height_bytes(bytes, f, choice)?),
     })
 }
 
@@ -562,59 +438,10 @@ fn npy_height(a: npy::NpyArray) -> FResult<HeightField> {
 }
 
 fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResult<HeightField> {
-    let h = match f {
-        Format::Npy => npy_height(npy::read(bytes)?)?,
-        Format::Png => png_io::read_height(bytes)?,
-        Format::Exr => exr_io::read_height(bytes)?,
-        Format::Gsf => gsf::read_height(bytes)?,
-        Format::Csv => text::read_csv(bytes)?,
-        Format::Gwy => gwy::read_height(bytes)?,
-        Format::X3p => x3p::read_height(bytes)?,
-        Format::Sdf => sdf::read_height(bytes)?,
-        Format::Sur => sur::read_height(bytes)?,
-        Format::Tmd => tmd::read_height(bytes)?,
-        Format::Bcr => bcr::read_height(bytes)?,
-        Format::MetroPro => metropro::read_height(bytes)?,
-        Format::Al3d => al3d::read_height(bytes)?,
-        Format::Wsxm => wsxm::read_height(bytes)?,
-        Format::Plu => plu::read_channel(bytes, choice)?,
-        Format::Nc => nc::read_height(bytes)?,
-        Format::Di => di::read_channel(bytes, choice)?,
-        Format::Frt => frt::read_height(bytes)?,
-        Format::Opd => opd::read_height(bytes)?,
-        Format::Nid => nid::read_channel(bytes, choice)?,
-        Format::Mi => mi::read_channel(bytes, choice)?,
-        Format::Ibw => ibw::read_channel(bytes, choice)?,
-        Format::Park => park::read_height(bytes)?,
-        Format::Hfm => xz::read_hfm(bytes)?,
-        Format::Dektak => xz::read_dektak(bytes)?,
-        Format::CsvLineScan => xz::read_titled_csv(bytes)?,
-        Format::Nms => nms::read_height(bytes)?,
-        Format::Mat => mat::read_channel(bytes, choice)?,
-        Format::Npz => npz::read_channel(bytes, choice)?,
-        Format::Hgt => hgt::read_height(bytes)?,
-        Format::Vk => vk::read_channel(bytes, choice)?,
-        Format::Mdt => mdt::read_channel(bytes, choice)?,
-        Format::Os3d => os3d::read_height(bytes)?,
-        Format::Zmg => zmg::read_height(bytes)?,
-        Format::Plux => plux::read_channel(bytes, choice)?,
-        Format::Zon => zon::read_height(bytes)?,
-        Format::Lext => lext::read_height(bytes)?,
-        Format::Jpk => jpk::read_channel(bytes, choice)?,
-        Format::Qep => qep::read_channel(bytes, choice)?,
-        Format::Nmm => nmm::read_channel(bytes, choice)?,
-        Format::Opdx => opdx::read_height(bytes)?,
-        Format::Mnt => mnt::read_channel(bytes, choice)?,
-        Format::Asc => asc::read_height(bytes)?,
-        Format::Mitutoyo => mitutoyo::read_height(bytes)?,
-        Format::Datx => datx::read_height(bytes)?,
-        Format::Oir => oir::read_channel(bytes, choice)?,
-        Format::Poir => oir::read_packed(bytes, choice)?,
-        // A .datx under another name (SurfaceTopography too tries DATX first).
-        Format::H5 if choice.is_none() && datx::sniff(bytes) => datx::read_height(bytes)?,
-        Format::H5 => h5::read_channel(bytes, choice)?,
-        _ => unreachable!("caller checks the format"),
+    let Some(codec) = codecs::of(f) else {
+        return error::malformed(format!("{} holds no height field", f.info().name));
     };
+    let h = (codec.height)(bytes, choice)?;
     // Missing points (NaN) are carried; ±∞ and a field with no measured
     // point are refused.
     h.validate_measured()?;

@@ -2,7 +2,7 @@
 //! (NumPy `.npz`, Sensofar `.plux`, Keyence VK6/VK7, SIOS NMM, packed Olympus
 //! `.poir`, Mahr `.qep`), as Gwyddion's readers share `gwyzip.h`. A member is
 //! inflated to at most the size its entry declares — the size the memory
-//! estimate (`decoded_bytes` in `lib.rs`) counted before anything was read —
+//! estimate (a row's `declared` in `codecs.rs`) counted before anything was read —
 //! and to at most the reader's own limit, so a lying entry cannot grow past
 //! either.
 
