@@ -4,7 +4,6 @@
 
 use asperity_subdiv::catmull_clark::{Boundary, Creased};
 use asperity_subdiv::compose::{Layer, grow};
-use asperity_subdiv::detail::{Feature, Procedure, Rock};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
 /// As in the `asperity` binary.
@@ -16,18 +15,14 @@ fn synthesis(c: &mut Criterion) {
     let mut g = c.benchmark_group("subdiv");
     g.sample_size(10);
     g.throughput(Throughput::Elements((base.mesh.n_faces() as u64) << 8));
-    for (name, features) in [
-        ("plain-10086-quads-4-levels", Vec::new()),
-        (
-            "rock-10086-quads-4-levels",
-            vec![Feature::global(Procedure::Rock(Rock::fractal(0.02, 0.5)))],
-        ),
+    let plain = Layer {
+        features: Vec::new(),
+        ..Layer::rock()
+    };
+    for (name, layer) in [
+        ("plain-10086-quads-4-levels", plain),
+        ("rock-10086-quads-4-levels", Layer::rock()),
     ] {
-        let layer = Layer {
-            name: "rock".into(),
-            features,
-            edits: Vec::new(),
-        };
         g.bench_function(name, |b| {
             b.iter(|| grow(&base, 4, Boundary::EdgeOnly, &layer, 1).expect("grow"))
         });

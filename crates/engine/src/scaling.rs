@@ -290,14 +290,9 @@ fn ca(s: &Setup, n: u64) -> Result<Workload> {
 fn subdivision(_: &Setup, n: u64) -> Result<Workload> {
     use asperity_subdiv::catmull_clark::{Boundary, Creased};
     use asperity_subdiv::compose::{Layer, grow};
-    use asperity_subdiv::detail::{Feature, Procedure, Rock};
     let base = Creased::smooth(asperity_core::shapes::cube_quads(n as usize));
     let quads = base.mesh.n_faces() as u64;
-    let layer = Layer {
-        name: "rock".into(),
-        features: vec![Feature::global(Procedure::Rock(Rock::fractal(0.02, 0.5)))],
-        edits: Vec::new(),
-    };
+    let layer = Layer::rock();
     Ok(work(
         "subdivision",
         format!("3 levels of a {quads}-quad cube with rock detail"),

@@ -19,7 +19,7 @@ use asperity_core::{CoreError, NoProgress, Progress};
 use rayon::prelude::*;
 
 use crate::catmull_clark::{Boundary, Creased};
-use crate::detail::{Feature, Grower, Seeds, drop_off, nearest_vertex};
+use crate::detail::{Feature, Grower, Procedure, Rock, Seeds, drop_off, nearest_vertex};
 use crate::multires::{LevelInput, Multires, build};
 
 /// Where an edit is centred.
@@ -53,6 +53,19 @@ pub struct Layer {
     pub features: Vec<Feature>,
     /// Edits applied to the summed details.
     pub edits: Vec<Edit>,
+}
+
+impl Layer {
+    /// One layer named "rock" of fractal rock detail over the whole surface
+    /// (amplitude 0.02 of the base's size, halving per level): the workload of
+    /// the subdivision benchmark, `asperity bench` and the thread-scaling series.
+    pub fn rock() -> Self {
+        Self {
+            name: "rock".into(),
+            features: vec![Feature::global(Procedure::Rock(Rock::fractal(0.02, 0.5)))],
+            edits: Vec::new(),
+        }
+    }
 }
 
 /// Breadth-first edge hops from `start` up to `max_hops`: (vertex, hops).

@@ -521,19 +521,16 @@ fn surfca_corrosion(s: &Setup) -> Result<Workload> {
 fn subdivision(s: &Setup, name: &'static str, rock: bool) -> Result<Workload> {
     use asperity_subdiv::catmull_clark::{Boundary, Creased};
     use asperity_subdiv::compose::{Layer, grow};
-    use asperity_subdiv::detail::{Feature, Procedure, Rock};
     let (n, levels) = s.size((41, 4), (8, 2));
     let base = Creased::smooth(asperity_core::shapes::cube_quads(n));
     let quads = (base.mesh.n_faces() as u64) << (2 * levels);
-    let features = if rock {
-        vec![Feature::global(Procedure::Rock(Rock::fractal(0.02, 0.5)))]
-    } else {
-        Vec::new()
-    };
-    let layer = Layer {
-        name: "rock".into(),
-        features,
-        edits: Vec::new(),
+    // The plain refinement: the same layer with no detail.
+    let layer = match rock {
+        true => Layer::rock(),
+        false => Layer {
+            features: Vec::new(),
+            ..Layer::rock()
+        },
     };
     Ok(Workload {
         name,
