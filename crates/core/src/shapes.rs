@@ -2,6 +2,23 @@
 
 use crate::{PolyMesh, TriMesh};
 
+/// The smallest mesh that is not edge-manifold: three triangles on one edge
+/// (a fin). Every reader, checker and command that needs a manifold mesh
+/// must refuse it; the tests share this one.
+pub fn fin() -> TriMesh {
+    TriMesh::new(
+        vec![
+            [0.0; 3],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ],
+        vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
+    )
+    .expect("five vertices, three triangles")
+}
+
 /// `n` points spread evenly over the unit sphere: a Fibonacci lattice (z in
 /// `n` even steps, longitude advanced by the golden angle π(3 − √5)).
 pub fn fibonacci_sphere(n: usize) -> Vec<[f64; 3]> {

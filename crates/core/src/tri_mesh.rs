@@ -853,17 +853,7 @@ mod tests {
         let f = TriMesh::new(m.positions().to_vec(), flipped).unwrap();
         assert!(!f.is_consistently_oriented() && !f.is_watertight());
         // Three triangles on one edge: not edge-manifold.
-        let fin = TriMesh::new(
-            vec![
-                [0.0; 3],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, -1.0, 0.0],
-                [0.0, 0.0, 1.0],
-            ],
-            vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
-        )
-        .unwrap();
+        let fin = crate::shapes::fin();
         assert!(!fin.is_edge_manifold());
         assert_eq!(fin.genus(), None);
         // Two triangles touching at one vertex: a bow-tie, not vertex-manifold.
@@ -926,17 +916,7 @@ mod tests {
         let mut flipped = cube.triangles().to_vec();
         flipped[0].swap(1, 2);
         let flipped = TriMesh::new(cube.positions().to_vec(), flipped).unwrap();
-        let fin = TriMesh::new(
-            vec![
-                [0.0; 3],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, -1.0, 0.0],
-                [0.0, 0.0, 1.0],
-            ],
-            vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
-        )
-        .unwrap();
+        let fin = crate::shapes::fin();
         let torus = crate::shapes::torus(2.0, 1.0, 6, 5);
         let empty = TriMesh::new(vec![[0.0; 3]], vec![]).unwrap();
         // Two cubes sharing one vertex (a vertex with two fans), a triangle

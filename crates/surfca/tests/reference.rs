@@ -697,17 +697,7 @@ fn completeness_check_and_repair() {
     check(&fixed).unwrap();
     assert!(fixed.is_consistently_oriented() && fixed.n_faces() == good.n_faces());
     // A non-manifold edge cannot be repaired.
-    let fin = TriMesh::new(
-        vec![
-            [0.0, 0.0, 0.0],
-            [1.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, -1.0, 0.0],
-            [0.0, 0.0, 1.0],
-        ],
-        vec![[0, 1, 2], [1, 0, 3], [0, 1, 4]],
-    )
-    .unwrap();
+    let fin = asperity_core::shapes::fin();
     assert!(
         check(&fin)
             .unwrap_err()

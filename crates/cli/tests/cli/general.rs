@@ -289,11 +289,7 @@ fn runs_of_years_are_refused_before_any_work() {
     fails(dir, &["--max-time", "soon", "formats"], "not a duration");
     // The surface-CA refusal comes before the cells are built: a mesh the
     // cell builder would refuse (an edge of three triangles) is never reached.
-    std::fs::write(
-        dir.join("fin.obj"),
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
-    )
-    .unwrap();
+    write_fin(&dir.join("fin.obj"));
     fails(
         dir,
         &[

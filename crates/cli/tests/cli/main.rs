@@ -59,3 +59,10 @@ fn assert_clean_failure(o: &Output, needle: &str) {
         assert!(w[0] != w[1], "a cause repeated in: {line}");
     }
 }
+
+/// Writes `asperity_core::shapes::fin` (three triangles on one edge, the
+/// smallest mesh that is not edge-manifold) to `path`.
+fn write_fin(path: &Path) {
+    let fin = asperity_engine::core::shapes::fin();
+    asperity_io::write_mesh(path, &fin, &asperity_io::WriteOptions::default()).unwrap();
+}

@@ -268,11 +268,7 @@ fn subdiv_as_documented() {
         "[[detail]]\ntype = \"rock\"\namplitud = 1\n",
     )
     .unwrap();
-    std::fs::write(
-        dir.join("fin.obj"),
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
-    )
-    .unwrap();
+    write_fin(&dir.join("fin.obj"));
     for (args, needle) in [
         (
             vec!["subdiv", "--detail", "lava", "-o", "x.ply"],
