@@ -69,7 +69,7 @@ pub(crate) fn of(format: Format) -> Option<&'static Codec> {
 /// Twice the inflated members of a zip-based format (each member inflated,
 /// then parsed or converted).
 fn zipped_twice(bytes: &[u8]) -> FResult<u128> {
-    crate::zip_declared_bytes(bytes).map(|n| n.saturating_mul(2))
+    crate::zipped::declared_bytes(bytes).map(|n| n.saturating_mul(2))
 }
 
 /// A `.datx` under another name is read as one (SurfaceTopography too tries

@@ -251,20 +251,6 @@ fn pixel_bytes(pixels: u128) -> u128 {
     pixels.saturating_mul(16 + 8)
 }
 
-/// The bytes a zip archive's members declare once inflated (from its
-/// central directory, before anything is inflated).
-fn zip_declared_bytes(bytes: &[u8]) -> FResult<u128> {
-    let bad = |e: zip::result::ZipError| {
-        FormatError::Malformed(format!("not a readable zip archive: {e}"))
-    };
-    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes)).map_err(bad)?;
-    let mut total = 0u128;
-    for k in 0..zip.len() {
-        total = total.saturating_add(u128::from(zip.by_index_raw(k).map_err(bad)?.size()));
-    }
-    Ok(total)
-}
-
 /// The larger of the size rule and the decoded bytes a header declares.
 fn estimate_from(size: u64, decoded: Option<FResult<u128>>) -> FResult<u64> {
     let by_size = size.saturating_mul(READ_MEMORY_FACTOR);

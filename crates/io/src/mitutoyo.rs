@@ -390,7 +390,7 @@ mod tests {
         assert!(meta.contains(&("Rsk".into(), "-0.144".into())));
         assert!(meta.contains(&("date".into(), "10-Oct-2022".into())));
         assert!(meta.contains(&("cut-off".into(), "0.08mm".into())));
-        assert!(crate::zip_declared_bytes(&file).unwrap() > 1000);
+        assert!(crate::zipped::declared_bytes(&file).unwrap() > 1000);
     }
 
     #[test]

@@ -142,7 +142,7 @@ mod tests {
             assert_eq!((h.dims(), h.row(1)), ([3, 2], &[4.0, 5.0, 6.0][..]));
             let a = read_channel(&f, Some(&Channel::parse("a"))).unwrap();
             assert_eq!(a.data(), &[7.0, 8.0]);
-            assert!(crate::zip_declared_bytes(&f).unwrap() > 48);
+            assert!(crate::zipped::declared_bytes(&f).unwrap() > 48);
         }
     }
 

@@ -19,6 +19,19 @@ pub(crate) fn open(bytes: &[u8], bad: impl Fn(String) -> FormatError) -> FResult
     zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| bad(e.to_string()))
 }
 
+/// The bytes the archive's members declare once inflated (from its central
+/// directory, before anything is inflated): what the memory estimate counts.
+pub(crate) fn declared_bytes(bytes: &[u8]) -> FResult<u128> {
+    let bad = |e: String| FormatError::Malformed(format!("not a readable zip archive: {e}"));
+    let mut zip = open(bytes, bad)?;
+    let mut total = 0u128;
+    for k in 0..zip.len() {
+        let size = zip.by_index_raw(k).map_err(|e| bad(e.to_string()))?.size();
+        total = total.saturating_add(u128::from(size));
+    }
+    Ok(total)
+}
+
 /// `file`'s bytes, at most `declared` and `limit` of them.
 fn inflate(file: impl Read, declared: u64, limit: u64) -> std::io::Result<Vec<u8>> {
     let mut out = Vec::new();
