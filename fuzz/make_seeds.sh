@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 A=$(realpath "${1:-target/release/asperity}")
 S=fuzz/seeds
 rm -rf "$S"
-mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csv_line_scan,nms,mat,npz,hgt,vk,mdt,os3d,datx,oir,zmg,plux,zon,lext,jpk,qep,nmm,opdx,mnt,asc,xlsx,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
+mkdir -p "$S"/{ply,obj,stl,npy,png,exr,gsf,csv,gwy,x3p,sdf,sur,tmd,plu,nid,mi,ibw,park,hfm,dektak,csvlinescan,nms,mat,npz,hgt,vk,mdt,os3d,datx,oir,poir,zmg,plux,zon,lext,jpk,qep,nmm,opdx,mnt,asc,mitutoyo,h5,nc,di,frt,opd,bcr,metropro,al3d,wsxm,xyz,xy,scene_toml,ifs_json,detail_json,profile,alpha_map}
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
 q() { "$A" --quiet "$@"; }
@@ -115,7 +115,7 @@ shutil.copy("crates/io/tests/data/small.h5", f"{s}/h5/small.h5")  # written by h
 shutil.copy("crates/io/tests/data/small.datx", f"{s}/datx/small.datx")  # python/tests/reference/datx_layout.py
 shutil.copy("crates/io/tests/data/small.oir", f"{s}/oir/small.oir")  # python/tests/reference/oir_layout.py
 import zipfile
-with zipfile.ZipFile(f"{s}/oir/small.poir", "w", zipfile.ZIP_DEFLATED) as z:
+with zipfile.ZipFile(f"{s}/poir/small.poir", "w", zipfile.ZIP_DEFLATED) as z:
     z.writestr("manifest.xml", "<manifest/>")
     z.write("crates/io/tests/data/small.oir", "first.oir")
 for name in ["gwyddion-export-german.txt", "xy-5.txt", "matrix-6.txt"]:
@@ -252,7 +252,7 @@ open(f"{s}/hfm/h3.hfm", "wb").write(b"X;Y;valid\r\n[mm];[um];[1/0]\r\n1.0;5;1\r\
 open(f"{s}/dektak/d3.csv", "wb").write(b"Scan Parameters\r\nLength,1.0 um\r\n\r\nScan Data\r\nLateral um,Raw Micrometer,\r\n"
                                       b"0.0,0.5,,\r\n0.5,0.25,,\r\n1.0,0.0,,\r\n")
 for name in ["csv-2.csv", "csv-3.csv"]:  # UTF-16 with an index column; UTF-8
-    shutil.copy(f"tests/data/surfacetopography/{name}", f"{s}/csv_line_scan/{name}")
+    shutil.copy(f"tests/data/surfacetopography/{name}", f"{s}/csvlinescan/{name}")
 nh = bytearray(3468)  # a 3 × 2 µsurf area with one unmeasured point
 struct.pack_into("<IIiidd", nh, 0, 2, 1, 0, 65535, 1.0, 2.0)
 nh[32:41] = b"OM_MS_2.0"

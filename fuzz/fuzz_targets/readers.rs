@@ -1,9 +1,9 @@
 #![no_main]
 //! Every reader of a file a user can hand to asperity, in one fuzz binary.
 //!
-//! An input is `NAME\0BYTES`: `NAME` picks the reader (one row of [`READERS`],
-//! the folder of its seeds in `fuzz/seeds/` and of its corpus in
-//! `fuzz/corpus/`), `BYTES` is the file. One binary instead of one per reader:
+//! An input is `NAME\0BYTES`: `NAME` picks the reader (a format's key, or one
+//! row of [`READERS`]; the folder of its seeds in `fuzz/seeds/` and of its
+//! corpus in `fuzz/corpus/`), `BYTES` is the file. One binary instead of one per reader:
 //! CI links one AddressSanitizer build (~80 MB) instead of 57 (~5 GB), and a
 //! failing input names its reader in its first bytes, so it reproduces alone.
 //! `fuzz/run.sh` runs each reader from its own seeds and corpus; an input whose
@@ -11,85 +11,38 @@
 
 use asperity_io::Format;
 
-/// What is read: a file of a format, or one of the parameter texts.
+/// A reader of one of the parameter texts.
 type Reader = fn(&[u8]);
 
-/// The readers by name, sorted (the fuzz README's table lists what each
-/// covers). The file formats go through `asperity_io::decode` as every command
-/// reads a file, then through the checks `info` makes; the mesh formats also
-/// as polygon meshes (subdivision bases).
+/// The readers of the parameter texts by name, sorted (the fuzz README's
+/// table lists what each covers). Every other name is a format's key
+/// (`Format::key`, the registry in `crates/io/src/lib.rs`): the file goes
+/// through `asperity_io::decode` as every command reads a file, then through
+/// the checks `info` makes; a mesh format's also as a polygon mesh
+/// (subdivision bases).
 const READERS: &[(&str, Reader)] = &[
-    ("al3d", |d| read_as(Format::Al3d, d)),
     ("alpha_map", alpha_map),
-    ("asc", |d| read_as(Format::Asc, d)),
-    ("bcr", |d| read_as(Format::Bcr, d)),
-    ("csv", |d| read_as(Format::Csv, d)),
-    ("csv_line_scan", |d| read_as(Format::CsvLineScan, d)),
-    ("datx", |d| read_as(Format::Datx, d)),
-    ("dektak", |d| read_as(Format::Dektak, d)),
     ("detail_json", detail_json),
-    ("di", |d| read_as(Format::Di, d)),
-    ("exr", |d| read_as(Format::Exr, d)),
-    ("frt", |d| read_as(Format::Frt, d)),
-    ("gsf", |d| read_as(Format::Gsf, d)),
-    ("gwy", |d| read_as(Format::Gwy, d)),
-    ("h5", |d| read_as(Format::H5, d)),
-    ("hfm", |d| read_as(Format::Hfm, d)),
-    ("hgt", |d| read_as(Format::Hgt, d)),
-    ("ibw", |d| read_as(Format::Ibw, d)),
     ("ifs_json", ifs_json),
-    ("jpk", |d| read_as(Format::Jpk, d)),
-    ("lext", |d| read_as(Format::Lext, d)),
-    ("mat", |d| read_as(Format::Mat, d)),
-    ("mdt", |d| read_as(Format::Mdt, d)),
-    ("metropro", |d| read_as(Format::MetroPro, d)),
-    ("mi", |d| read_as(Format::Mi, d)),
-    ("mnt", |d| read_as(Format::Mnt, d)),
-    ("nc", |d| read_as(Format::Nc, d)),
-    ("nid", |d| read_as(Format::Nid, d)),
-    ("nmm", |d| read_as(Format::Nmm, d)),
-    ("nms", |d| read_as(Format::Nms, d)),
-    ("npy", |d| read_as(Format::Npy, d)),
-    ("npz", |d| read_as(Format::Npz, d)),
-    ("obj", |d| read_mesh_as(Format::Obj, d)),
-    // The packed `.poir` is a zip of `.oir`: every input is read as both.
-    ("oir", |d| {
-        read_as(Format::Oir, d);
-        read_as(Format::Poir, d);
-    }),
-    ("opd", |d| read_as(Format::Opd, d)),
-    ("opdx", |d| read_as(Format::Opdx, d)),
-    ("os3d", |d| read_as(Format::Os3d, d)),
-    ("park", |d| read_as(Format::Park, d)),
-    ("plu", |d| read_as(Format::Plu, d)),
-    ("plux", |d| read_as(Format::Plux, d)),
-    ("ply", |d| read_mesh_as(Format::Ply, d)),
-    ("png", |d| read_as(Format::Png, d)),
     ("profile", profile),
-    ("qep", |d| read_as(Format::Qep, d)),
     ("scene_toml", scene_toml),
-    ("sdf", |d| read_as(Format::Sdf, d)),
-    ("stl", |d| read_mesh_as(Format::Stl, d)),
-    ("sur", |d| read_as(Format::Sur, d)),
-    ("tmd", |d| read_as(Format::Tmd, d)),
-    ("vk", |d| read_as(Format::Vk, d)),
-    ("wsxm", |d| read_as(Format::Wsxm, d)),
-    ("x3p", |d| read_as(Format::X3p, d)),
-    ("xlsx", |d| read_as(Format::Mitutoyo, d)),
     ("xy", |d| {
         let _ = asperity_io::decode_xy(std::path::Path::new("fuzzed"), d);
     }),
-    ("xyz", |d| read_as(Format::Xyz, d)),
-    ("zmg", |d| read_as(Format::Zmg, d)),
-    ("zon", |d| read_as(Format::Zon, d)),
 ];
 
 libfuzzer_sys::fuzz_target!(|input: &[u8]| {
     let Some(end) = input.iter().position(|&b| b == 0) else { return };
-    let Ok(k) = READERS.binary_search_by(|(name, _)| name.as_bytes().cmp(&input[..end])) else {
-        return;
-    };
-    (READERS[k].1)(&input[end + 1..]);
+    let (name, data) = (&input[..end], &input[end + 1..]);
+    if let Ok(k) = READERS.binary_search_by(|(reader, _)| reader.as_bytes().cmp(name)) {
+        (READERS[k].1)(data);
+    } else if let Some(format) = std::str::from_utf8(name).ok().and_then(Format::from_key) {
+        if format.info().mesh.can_read() {
+            read_mesh_as(format, data);
+        } else {
+            read_as(format, data);
+        }
+    }
 });
 
 /// The budget a fuzzed read runs under: 256 MiB. libFuzzer's `-malloc_limit_mb`

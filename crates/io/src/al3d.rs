@@ -16,6 +16,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
 use crate::header_keys::HeaderKeys;
+use crate::format::{Access, Codec, Magic, Registration};
 
 pub(crate) const MAGIC: &[u8] = b"AliconaImaging\0\r\n";
 /// Bytes of a tag: key, value, CR LF.
@@ -103,6 +104,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_spacing([dx, dy])?
         .with_units(metres))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Alicona Imaging (.al3d)",
+    extensions: &["al3d"],
+    height: Access::Read,
+    notes: "the depth image: f32 in metres, pixel sizes from the tags; invalid points read as missing",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

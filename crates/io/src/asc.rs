@@ -34,6 +34,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
 use crate::sur::length_unit;
+use crate::format::{Access, Claim, Codec, Registration};
 
 /// Gwyddion's labels in its translations (SurfaceTopography lists the same).
 const CHANNEL: [&str; 8] = [
@@ -489,6 +490,31 @@ fn matrix(header: &Header, table: Table) -> FResult<HeightField> {
 pub(crate) fn metadata(bytes: &[u8]) -> FResult<Vec<(String, String)>> {
     Ok(parse(&decode(bytes))?.0.lines)
 }
+
+
+/// [`read`], with a height field's heights checked (missing points are
+/// carried; ±∞ and a field with no measured point are refused).
+fn read_surface(bytes: &[u8]) -> FResult<crate::Surface> {
+    let s = read(bytes)?;
+    if let crate::Surface::Height(h) = &s {
+        h.validate_measured()?;
+    }
+    Ok(s)
+}
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Plain-text heights (.asc; .txt by content)",
+    extensions: &["asc"],
+    points: Access::Read,
+    height: Access::Read,
+    notes: "a matrix of heights (file rows are grid rows), Gwyddion's text export in any language (Width, Height, Value units), x-length/y-length/pixel size/height conversion factor headers; two columns x z a uniformly sampled profile (non-uniform refused), one column a profile; three columns x y z on a regular grid a height field (absent nodes missing), otherwise points; NaN missing",
+    claim: Some(Claim { extensions: &["txt"], test: sniff }),
+    codec: Some(Codec::new(|b, _| read_height(b)).metadata(metadata)),
+    read: Some(read_surface),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

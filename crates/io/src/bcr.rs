@@ -16,6 +16,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
 use crate::header_keys::HeaderKeys;
+use crate::format::{Access, Codec, Magic, Registration};
 
 const MAGIC: &str = "fileformat = bcr";
 /// The header's size when it does not say.
@@ -149,6 +150,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_spacing([lx / nx as f64, ly / ny as f64])?
         .with_units(Units { xy: ux, z: uz }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "BCR-STM / BCRF (.bcr, .bcrf)",
+    extensions: &["bcr", "bcrf"],
+    height: Access::Read,
+    notes: "Latin-1 or UTF-16 header; int16 (× bit2nm) or f32, either byte order; the header's units (nm by default); void points read as missing",
+    magic: Magic::Test(sniff),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

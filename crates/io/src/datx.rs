@@ -38,8 +38,10 @@ use hdf5_reader::Datatype;
 use hdf5_reader::group::Group;
 use hdf5_reader::{Attribute, Dataset};
 
-use crate::Metadata;
+use crate::channel::Channel;
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
+use crate::{Metadata, h5};
 
 /// How deep the `MetaData` tree and the `/Attributes` groups are followed.
 const MAX_DEPTH: usize = 16;
@@ -425,7 +427,7 @@ fn flatten(t: &Table) -> Metadata {
 }
 
 fn open(bytes: &[u8]) -> FResult<(hdf5_reader::Hdf5File, Metadata)> {
-    if !bytes.starts_with(crate::h5::MAGIC) {
+    if !bytes.starts_with(h5::MAGIC) {
         return malformed("missing the HDF5 signature");
     }
     let file = hdf5_reader::Hdf5File::from_bytes(bytes).map_err(bad)?;
@@ -446,7 +448,7 @@ fn surface_path(meta: &Metadata) -> FResult<String> {
 
 /// Whether an HDF5 file is a `.datx` (it has the root `MetaData` table).
 pub(crate) fn sniff(bytes: &[u8]) -> bool {
-    bytes.starts_with(crate::h5::MAGIC)
+    bytes.starts_with(h5::MAGIC)
         && hdf5_reader::Hdf5File::from_bytes(bytes)
             .and_then(|f| f.dataset("MetaData"))
             .is_ok_and(|d| matches!(d.dtype(), Datatype::Compound { .. }))
@@ -463,7 +465,7 @@ pub(crate) fn declared_points(bytes: &[u8]) -> FResult<u128> {
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let (file, meta) = open(bytes)?;
     let (d, s) = surface(&file, &surface_path(&meta)?)?;
-    let mut values = crate::h5::read_f64(&d)
+    let mut values = h5::read_f64(&d)
         .map_err(|e| FormatError::Malformed(format!("the surface {}: {e}", s.path)))?;
     if values.len() != s.nx * s.ny {
         return malformed(format!(
@@ -580,6 +582,58 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
     }
     Ok(meta)
 }
+
+/// A `.datx` under another name is read as one (SurfaceTopography too tries
+/// DATX first); other files by their chosen channel.
+fn read_channel_or_datx(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
+    if choice.is_none() && sniff(bytes) {
+        read_height(bytes)
+    } else {
+        h5::read_channel(bytes, choice)
+    }
+}
+
+/// A `.datx` file's metadata; none for other HDF5 files.
+fn metadata_or_datx(bytes: &[u8]) -> FResult<crate::Metadata> {
+    if sniff(bytes) {
+        metadata(bytes)
+    } else {
+        Ok(crate::Metadata::new())
+    }
+}
+
+/// The registration of HDF5 files in general: here, not in `h5`, as a
+/// `.datx` under another name is read as one (`h5` is this module's reader
+/// of HDF5, and knows nothing of Zygo's layout).
+pub(crate) const H5: Registration = Registration {
+    name: "HDF5 (.h5, .hdf5)",
+    extensions: &["h5", "hdf5"],
+    height: Access::Read,
+    notes: "every two-dimensional integer or float dataset a channel named by its path (first index x, second y, as SurfaceTopography reads it); no sizes or units in the file: step 1, unitless; a Zygo .datx (the MetaData table) read as one",
+    magic: Magic::Starts(&[h5::MAGIC]),
+    codec: Some(
+        Codec::new(read_channel_or_datx)
+            .channels(h5::channels)
+            .metadata(metadata_or_datx)
+            .declared(|b| h5::declared_points(b).map(crate::pixel_bytes)),
+    ),
+    ..Registration::NONE
+};
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Zygo Mx (.datx)",
+    extensions: &["datx"],
+    height: Access::Read,
+    notes: "HDF5: the surface the MetaData table leads to (Root, Measurement, Surface, Path), rows along y, in its Unit (nm, µm, mm, m; fringes refused), pixel sizes from the X and Y converters (LateralCat in Pixels); No Data and non-finite points read as missing; the MetaData tree, serial number and system type kept as metadata",
+    codec: Some(
+        Codec::new(|b, _| read_height(b))
+            .metadata(metadata)
+            .declared(|b| declared_points(b).map(crate::pixel_bytes)),
+    ),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

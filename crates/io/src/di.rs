@@ -28,6 +28,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::raster::from_last_line;
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// The header's sections in order: lower-case name and lower-case keys.
 type Sections = Vec<(String, Vec<(String, String)>)>;
@@ -374,6 +375,21 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
         .with_spacing([sx / c.nx as f64, sy / c.ny as f64])?
         .with_units(units))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Bruker Nanoscope (.spm, .di, .001)",
+    extensions: &["di", "spm", "001", "002", "003", "004", "005"],
+    height: Access::Read,
+    notes: "version 4.3 and later: the first channel's int16/int32 counts × its Z scale × the soft scale (nm/V), from the last line; sizes from Scan Size; channels that are no height and force curves refused",
+    magic: Magic::Test(sniff),
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .metadata(metadata)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

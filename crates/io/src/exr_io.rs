@@ -15,6 +15,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use exr::prelude::*;
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 
 const GEOMETRY: &str = "asperity.geometry";
 const UNITS: &str = "asperity.units";
@@ -133,3 +134,15 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     }
     Ok(h)
 }
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "OpenEXR, float32",
+    extensions: &["exr"],
+    height: Access::ReadWrite,
+    notes: "channel Y; spacing/origin as header attributes; missing points NaN",
+    magic: Magic::Starts(&[b"\x76\x2f\x31\x01"]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};

@@ -17,6 +17,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::raster::from_last_line;
+use crate::format::{Access, Codec, Magic, Registration};
 
 pub(crate) const MAGIC: &[u8] = b"FRTM_GLIDERV";
 
@@ -145,6 +146,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_spacing([lx / nx as f64, ly / ny as f64])?
         .with_units(metres))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "FRT MicroProf (.frt)",
+    extensions: &["frt"],
+    height: Access::Read,
+    notes: "versions 1.00 and 1.01: the topography's 16/32-bit counts × the height scale in metres, sizes in metres; a count of 1 read as missing",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -30,6 +30,7 @@ use std::io::Write;
 
 use asperity_core::{RgbaImage, TriMesh};
 use serde_json::{Value, json};
+use crate::format::{Access, Registration};
 
 /// glTF's buffer-view targets and accessor component types (the WebGL enums).
 pub const ARRAY_BUFFER: u32 = 34962;
@@ -336,3 +337,13 @@ pub(crate) fn params(bytes: &[u8]) -> crate::error::FResult<Option<serde_json::V
         .filter(|v| v.is_object())
         .cloned())
 }
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "glTF 2.0 binary",
+    extensions: &["glb"],
+    mesh: Access::Write,
+    notes: "y-up (x, z, -y); normals, linear COLOR_0, TEXCOORD_0 + embedded PNG texture (padded to powers of two), scalars as _NAME",
+    ..Registration::NONE
+};

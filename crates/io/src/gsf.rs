@@ -20,6 +20,7 @@ use std::io::Write;
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 
 const MAGIC: &[u8] = b"Gwyddion Simple Field 1.0\n";
 
@@ -164,3 +165,15 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_origin([xo + 0.5 * dx, yo + 0.5 * dy])?
         .with_units(units))
 }
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Gwyddion Simple Field",
+    extensions: &["gsf"],
+    height: Access::ReadWrite,
+    notes: "float32; XReal/XOffset follow Gwyddion's pixel convention; unitless; missing points NaN (Gwyddion masks them)",
+    magic: Magic::Starts(&[b"Gwyddion Simple Field"]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};

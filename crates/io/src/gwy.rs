@@ -28,6 +28,7 @@ use std::io::Write;
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 
 const MAGIC: &[u8] = b"GWYP";
 /// Objects nested deeper than this are refused (Gwyddion's own files nest three
@@ -418,6 +419,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             z: field.unit("si_unit_z"),
         }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Gwyddion native (.gwy)",
+    extensions: &["gwy"],
+    height: Access::ReadWrite,
+    notes: "GwyContainer with one GwyDataField (the first channel is read); f64; base units (metres) or unitless; missing points as the channel's mask",
+    magic: Magic::Starts(&[b"GWYP"]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -14,6 +14,7 @@ use asperity_core::HeightField;
 
 use crate::Metadata;
 use crate::error::{FResult, malformed};
+use crate::format::{Access, Codec, Registration};
 
 const VOID: i16 = -32768;
 
@@ -60,6 +61,18 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
         ),
     ])
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "NASA SRTM elevation tile (.hgt)",
+    extensions: &["hgt"],
+    height: Access::Read,
+    notes: "a square of big-endian int16 heights in metres, rows from the north; voids (-32768) read as missing; the step is an angle (1″ or 3″): read with step 1, unitless, the tile's size and resolution kept as metadata",
+    codec: Some(Codec::new(|b, _| read_height(b)).metadata(metadata)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -28,6 +28,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::format::{Access, Codec, Registration};
 
 const BIN_HEADER: usize = 64;
 const WAVE_HEADER: usize = 320;
@@ -363,6 +364,20 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
         .with_spacing([dx, dy])?
         .with_units(Units { xy, z }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Igor binary wave (.ibw)",
+    extensions: &["ibw"],
+    height: Access::Read,
+    notes: "version 5, as Asylum Research AFMs write it: image stacks as channels (labels, else no name (k)), units from the Asylum note or the wave, lengths in the lateral unit, lines from the last; line scans as profiles; complex and 4-D waves refused",
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .metadata(metadata)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -21,6 +21,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::tiff_dir::{Entry, Tiff, find, raster, text};
+use crate::format::{Access, Codec, Registration};
 
 const GRID_U: u16 = 0x8042;
 const GRID_V: u16 = 0x8043;
@@ -166,6 +167,18 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             z: c.unit,
         }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "JPK image scan (.jpk)",
+    extensions: &["jpk"],
+    height: Access::Read,
+    notes: "the TIFF pages whose default slot is a length, as channels by their names (retrace marked): raw × ScalingMultiply + ScalingOffset, grid lengths from the first page, lines from the last unless reflected",
+    codec: Some(Codec::new(read_channel).channels(channels)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

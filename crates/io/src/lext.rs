@@ -18,6 +18,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use crate::Metadata;
 use crate::error::{FResult, FormatError, malformed};
 use crate::tiff_dir::{Entry, Tiff, find, raster, text};
+use crate::format::{Access, Codec, Registration};
 
 const DESCRIPTION: u16 = 270;
 const EXIF: u16 = 34665;
@@ -129,6 +130,18 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
         .filter_map(|c| Some((c.tag_name().name().to_owned(), c.text()?.trim().to_owned())))
         .collect())
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Olympus LEXT (.lext)",
+    extensions: &["lext"],
+    height: Access::Read,
+    notes: "the TIFF's HEIGHT page (uncompressed) × 1e-12 × per-pixel Z × calibration Z in µm, pixel sizes from the measurement XML and the EXIF calibration; the measurement's HeightInfo kept as metadata",
+    codec: Some(Codec::new(|b, _| read_height(b)).metadata(metadata)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

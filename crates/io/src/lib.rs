@@ -29,69 +29,138 @@
 //! [`mitutoyo`] and [`asc`] (plain-text heights); [`FORMATS`] (and
 //! `asperity formats`) lists every format with what it reads and keeps.
 
-pub mod al3d;
-pub mod asc;
 pub mod atomic;
-pub mod bcr;
 pub mod channel;
-mod codecs;
 pub mod datx;
 pub mod decimal;
-pub mod di;
 mod error;
-pub mod exr_io;
 pub mod format;
-pub mod frt;
-pub mod glb;
-pub mod gsf;
-pub mod gwy;
 pub mod h5;
 mod header_keys;
-pub mod hgt;
-pub mod ibw;
-pub mod jpk;
-pub mod lext;
-pub mod mat;
-pub mod mdt;
 pub mod metadata;
-pub mod metropro;
-pub mod mi;
-pub mod mitutoyo;
-pub mod mnt;
-pub mod nc;
-pub mod nid;
-pub mod nmm;
-pub mod nms;
-pub mod npy;
-pub mod npz;
-pub mod obj;
 pub mod oir;
-pub mod opd;
-pub mod opdx;
-pub mod os3d;
-pub mod park;
-pub mod plu;
-pub mod plux;
-pub mod ply;
-pub mod png_io;
-pub mod qep;
 mod raster;
-pub mod sdf;
 pub mod staging;
-pub mod stl;
-pub mod sur;
 pub mod text;
 mod tiff_dir;
-pub mod tmd;
 pub mod up;
-pub mod vk;
 mod write;
-pub mod wsxm;
-pub mod x3p;
 pub mod xz;
 mod zipped;
-pub mod zmg;
-pub mod zon;
+
+// The registry: every format, one line each, in the order `asperity formats`
+// lists them (see `format::registry`). A line declares the format's module
+// (unless it reads several and is declared above) and its variant of
+// `Format`.
+format::registry! {
+    /// Stanford PLY.
+    Ply => ply,
+    /// Wavefront OBJ.
+    Obj => obj,
+    /// STL.
+    Stl => stl,
+    /// glTF 2.0 binary.
+    Glb => glb,
+    /// XYZ point text.
+    Xyz => text::XYZ,
+    /// NumPy array.
+    Npy => npy,
+    /// PNG image.
+    Png => png_io,
+    /// OpenEXR image.
+    Exr => exr_io,
+    /// Gwyddion Simple Field.
+    Gsf => gsf,
+    /// Comma-separated grid.
+    Csv => text::CSV,
+    /// Gwyddion's native format.
+    Gwy => gwy,
+    /// ISO 25178-72 x3p.
+    X3p => x3p,
+    /// ISO 25178-71 surface data file.
+    Sdf => sdf,
+    /// Digital Surf (MountainsMap) surface.
+    Sur => sur,
+    /// TrueMap surface.
+    Tmd => tmd,
+    /// BCR-STM / BCRF scanning-probe image.
+    Bcr => bcr,
+    /// Zygo MetroPro interferometer data.
+    MetroPro => metropro,
+    /// Alicona Imaging depth image.
+    Al3d => al3d,
+    /// WSxM scanning-probe image.
+    Wsxm => wsxm,
+    /// Sensofar confocal/interferometric topography.
+    Plu => plu,
+    /// NetCDF-3 topographies in SurfaceTopography's layout.
+    Nc => nc,
+    /// Nanosurf easyScan scanning-probe data.
+    Nid => nid,
+    /// Molecular Imaging / Agilent PicoView images.
+    Mi => mi,
+    /// Igor Pro binary waves (Asylum Research AFMs).
+    Ibw => ibw,
+    /// Park Systems AFM TIFF.
+    Park => park,
+    /// `X;Y;valid` line scans (`.hfm`).
+    Hfm => xz::HFM,
+    /// Bruker Dektak profilometer CSV exports (told from a CSV grid by content).
+    Dektak => xz::DEKTAK,
+    /// Line scans as CSV with column titles (`x,z` or `index,x,z`; told
+    /// from a CSV grid by content).
+    CsvLineScan => xz::CSV_LINE_SCAN,
+    /// NanoFocus µsurf confocal microscope data.
+    Nms => nms,
+    /// MATLAB workspace files (version 5 and 7.3).
+    Mat => mat,
+    /// NumPy archives of arrays.
+    Npz => npz,
+    /// NASA SRTM elevation tiles.
+    Hgt => hgt,
+    /// Keyence VK confocal microscope data.
+    Vk => vk,
+    /// NT-MDT scanning-probe data.
+    Mdt => mdt,
+    /// Digital Metrology OmniSurf3D data.
+    Os3d => os3d,
+    /// KLA Zeta optical profiler data.
+    Zmg => zmg,
+    /// Sensofar PLUX archives.
+    Plux => plux,
+    /// Keyence ZON containers.
+    Zon => zon,
+    /// Olympus LEXT confocal microscope data.
+    Lext => lext,
+    /// JPK Instruments AFM image scans.
+    Jpk => jpk,
+    /// Mahr MarWin profile archives.
+    Qep => qep,
+    /// SIOS nanomeasuring machine scans, zipped.
+    Nmm => nmm,
+    /// Bruker Dektak Vision64 data.
+    Opdx => opdx,
+    /// Bruker / Veeco / Digital Instruments Nanoscope scanning-probe data.
+    Di => di,
+    /// FRT MicroProf profilometer data.
+    Frt => frt,
+    /// Wyko (Bruker Vision) interferometer data.
+    Opd => opd,
+    /// Digital Surf MountainsMap documents.
+    Mnt => mnt,
+    /// Height data as plain text (a matrix, Gwyddion's text export, profiles).
+    Asc => asc,
+    /// Mitutoyo SurfTest Excel exports (profiles).
+    Mitutoyo => mitutoyo,
+    /// HDF5 files (every 2-D numeric dataset a channel).
+    H5 => datx::H5,
+    /// Zygo Mx `.datx` files (HDF5 in Zygo's layout).
+    Datx => datx::FORMAT,
+    /// Olympus laser-scanning microscope files.
+    Oir => oir::OIR,
+    /// Packed Olympus files (a zip of `.oir`).
+    Poir => oir::POIR,
+}
 
 use std::path::Path;
 
@@ -101,7 +170,7 @@ pub use atomic::write_atomic;
 pub use channel::{Channel, ChannelInfo};
 pub use error::IoError;
 use error::{FResult, FormatError};
-pub use format::{Access, FORMATS, Format, FormatInfo};
+pub use format::{Access, FormatInfo};
 pub use metadata::read_params;
 pub use npy::NpyDtype;
 pub use ply::PlyEncoding;
@@ -225,7 +294,7 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(open()?).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(open()?).map(pixel_bytes)),
-        f => match codecs::of(f).and_then(|c| c.declared) {
+        f => match f.registration().codec.and_then(|c| c.declared) {
             Some(declared) => Some(declared(&read_bytes(path)?)),
             None => None,
         },
@@ -239,7 +308,9 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(cursor()).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(cursor()).map(pixel_bytes)),
-        f => codecs::of(f)
+        f => f
+            .registration()
+            .codec
             .and_then(|c| c.declared)
             .map(|declared| declared(bytes)),
     };
@@ -310,7 +381,7 @@ pub type Metadata = Vec<(String, String)>;
 /// [`IoError`] naming the file.
 pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
     let f = Format::of_file(path)?;
-    let Some(read) = codecs::of(f).and_then(|c| c.metadata) else {
+    let Some(read) = f.registration().codec.and_then(|c| c.metadata) else {
         return Ok(None);
     };
     let bytes = read_bytes(path)?;
@@ -326,7 +397,7 @@ pub fn instrument_metadata(path: &Path) -> Result<Option<Metadata>, IoError> {
 /// [`IoError`] naming the file.
 pub fn channels(path: &Path) -> Result<Option<Vec<ChannelInfo>>, IoError> {
     let f = Format::of_file(path)?;
-    let Some(list) = codecs::of(f).and_then(|c| c.channels) else {
+    let Some(list) = f.registration().codec.and_then(|c| c.channels) else {
         return Ok(None);
     };
     let bytes = read_bytes(path)?;
@@ -369,36 +440,22 @@ fn surface_from_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FRes
     if !f.has_channels() {
         channel::only(choice)?;
     }
-    Ok(match f {
-        Format::Ply => {
-            let c = ply::parse(bytes)?;
-            if c.has_face_element && !c.faces.is_empty() {
-                Surface::Mesh(ply::read_mesh(bytes)?)
-            } else {
-                Surface::Points(ply::read_points(bytes)?)
-            }
-        }
-        Format::Obj => Surface::Mesh(obj::read_mesh(bytes)?),
-        Format::Stl => Surface::Mesh(stl::read_mesh(bytes)?),
-        Format::Glb => return error::malformed("glTF is write-only in asperity"),
-        Format::Xyz => Surface::Points(text::read_xyz(bytes)?),
-        Format::Asc => match asc::read(bytes)? {
-            Surface::Height(h) => {
-                h.validate_measured()?;
-                Surface::Height(h)
-            }
-            other => other,
-        },
-        Format::Npy => {
-            let a = npy::read(bytes)?;
-            if a.shape.len() == 2 && a.shape[1] == 3 && a.shape[0] != 3 {
-                Surface::Points(npy_points(a)?)
-            } else {
-                Surface::Height(npy_height(a)?)
-            }
-        }
-        _ => Surface::Height(read_height_bytes(bytes, f, choice)?),
-    })
+    match f.registration().read {
+        Some(read) => read(bytes),
+        None if f == Format::Glb => error::malformed("glTF is write-only in asperity"),
+        None => read_height_bytes(bytes, f, choice).map(Surface::Height),
+    }
+}
+
+/// A `.npy` file: a point set for shape `(N, 3)` with N ≠ 3, else a height
+/// field.
+fn npy_surface(bytes: &[u8]) -> FResult<Surface> {
+    let a = npy::read(bytes)?;
+    if a.shape.len() == 2 && a.shape[1] == 3 && a.shape[0] != 3 {
+        Ok(Surface::Points(npy_points(a)?))
+    } else {
+        Ok(Surface::Height(npy_height(a)?))
+    }
 }
 
 fn npy_points(a: npy::NpyArray) -> FResult<PointSet> {
@@ -424,7 +481,7 @@ fn npy_height(a: npy::NpyArray) -> FResult<HeightField> {
 }
 
 fn read_height_bytes(bytes: &[u8], f: Format, choice: Option<&Channel>) -> FResult<HeightField> {
-    let Some(codec) = codecs::of(f) else {
+    let Some(codec) = f.registration().codec else {
         return error::malformed(format!("{} holds no height field", f.info().name));
     };
     let h = (codec.height)(bytes, choice)?;

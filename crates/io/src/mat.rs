@@ -35,6 +35,7 @@ use flate2::read::ZlibDecoder;
 
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// The start of every MAT file's header text.
 pub(crate) const MAGIC: &[u8] = b"MATLAB";
@@ -354,6 +355,21 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
         .collect();
     Ok(HeightField::from_vec([nx, ny], data)?)
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "MATLAB (.mat)",
+    extensions: &["mat"],
+    height: Access::Read,
+    notes: "versions 5 (compressed or not, as scipy.io.savemat writes) and 7.3 (HDF5): every two-dimensional real numeric variable a channel by name, the matrix's rows along x (as SurfaceTopography reads it); no sizes or units in the file: step 1, unitless",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .declared(|b| declared_points(b).map(crate::pixel_bytes))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

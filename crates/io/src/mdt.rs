@@ -25,6 +25,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::raster::from_last_line;
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// The file's magic.
 pub(crate) const MAGIC: &[u8] = b"\x01\xb0\x93\xff";
@@ -241,6 +242,19 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             z: f.unit,
         }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "NT-MDT (.mdt)",
+    extensions: &["mdt"],
+    height: Access::Read,
+    notes: "scanned-data frames whose axes are lengths, as channels named by their signal (Height, DFL…): int16 counts × z step + offset, from the last line, heights in the lateral unit (cm read in m, Å in nm); spectroscopy, text and MDA frames skipped",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(read_channel).channels(channels)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

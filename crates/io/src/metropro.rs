@@ -17,6 +17,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// The magics of header formats 1, 2 and 3.
 pub(crate) const MAGICS: [&[u8]; 3] = [
@@ -110,6 +111,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             z: LengthUnit::M,
         }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Zygo MetroPro (.dat)",
+    extensions: &["dat"],
+    height: Access::Read,
+    notes: "header formats 1-3; phase × S × O × λ / R in metres, pixels from the lateral resolution; invalid phases read as missing",
+    magic: Magic::Starts(&MAGICS),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

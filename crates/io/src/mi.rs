@@ -18,6 +18,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::raster::from_last_line;
+use crate::format::{Access, Codec, Magic, Registration};
 
 pub(crate) const MAGIC: &[u8] = b"fileType";
 const KEY_WIDTH: usize = 14;
@@ -189,6 +190,21 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             z: z.unwrap_or(LengthUnit::None),
         }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Molecular Imaging (.mi)",
+    extensions: &["mi"],
+    height: Access::Read,
+    notes: "PicoView images: every buffer a channel (heights where bufferUnit is a length; the first by default, as SurfaceTopography), int16/int32 × bufferRange / 2^15 or 2^31, from the last line; spectroscopy and text data refused",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .metadata(metadata)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

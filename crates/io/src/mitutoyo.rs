@@ -26,6 +26,7 @@ use calamine::{DataRef, Xlsx};
 
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::sur::length_unit;
+use crate::format::{Access, Codec, Registration};
 
 /// Columns (from 0) of the sheet `DATA`.
 const METRICS: u32 = 0;
@@ -282,6 +283,20 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Vec<(String, String)>> {
     Ok(out)
 }
 
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Mitutoyo SurfTest (.xlsx)",
+    extensions: &["xlsx"],
+    height: Access::Read,
+    notes: "the DATA sheet's positions (E) and heights (F) as a uniformly sampled profile (non-uniform refused), heights in the first roughness parameter's unit, positions in the cut-off's; the tester's roughness parameters, date and cut-off kept as metadata",
+    codec: Some(Codec::new(|b, _| read_height(b))
+        .metadata(metadata)
+        .declared(crate::zipped::declared_twice)),
+    ..Registration::NONE
+};
+
 #[cfg(test)]
 mod tests {
     use std::io::Write;
@@ -427,13 +442,13 @@ mod tests {
         }
     }
 
-    /// The fuzz target's committed seed (`fuzz/seeds/xlsx/profile4.xlsx`) is
+    /// The fuzz target's committed seed (`fuzz/seeds/mitutoyo/profile4.xlsx`) is
     /// the workbook built here, read back. `fuzz/make_seeds.sh` sets
     /// `ASPERITY_WRITE_SEEDS` to write it.
     #[test]
     fn the_fuzz_seed_is_a_workbook_this_reader_reads() {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../fuzz/seeds/xlsx/profile4.xlsx");
+            .join("../../fuzz/seeds/mitutoyo/profile4.xlsx");
         if std::env::var_os("ASPERITY_WRITE_SEEDS").is_some() {
             std::fs::write(&path, profile(["0.0005", "0.001", "0.0015", "0.002"])).unwrap();
         }

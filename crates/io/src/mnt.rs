@@ -40,6 +40,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
 use crate::sur::length_unit;
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// An OLE compound file's signature (MS-CFB §2.2).
 pub(crate) const MAGIC: &[u8] = b"\xd0\xcf\x11\xe0\xa1\xb1\x1a\xe1";
@@ -649,6 +650,22 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Vec<(String, String)>> {
     }
     Ok(out)
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Digital Surf MountainsMap (.mnt)",
+    extensions: &["mnt"],
+    height: Access::Read,
+    notes: "the document's measured surfaces as channels (by name): int32/int16 counts × the height step + origin in the height axis's display unit, steps in the x axis's unit; the mask's unmeasured points read as missing; surface names, axes and the software's version and operators kept as metadata",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .metadata(metadata)
+        .declared(|b| declared_points(b).map(crate::pixel_bytes))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

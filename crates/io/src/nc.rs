@@ -16,6 +16,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use netcdf_reader::{NcAttrValue, NcFile, NcVariable};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 
 fn nc_error(e: netcdf_reader::Error) -> FormatError {
     FormatError::Malformed(format!("not a readable NetCDF-3 file: {e}"))
@@ -109,6 +110,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_spacing(spacing)?
         .with_units(Units { xy, z: xy }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "NetCDF (.nc, SurfaceTopography's layout)",
+    extensions: &["nc"],
+    height: Access::Read,
+    notes: "NetCDF-3 (classic, 64-bit offsets): the variable heights(x, y) or heights(x), sizes from the length of x and y, unit attribute; a mask variable and NaN read as missing",
+    magic: Magic::Starts(&[b"CDF\x01", b"CDF\x02"]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -21,6 +21,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::raster::from_last_line;
+use crate::format::{Access, Codec, Magic, Registration};
 
 pub(crate) const MAGIC: &[u8] = b"[DataSet]\r\n";
 
@@ -239,6 +240,21 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             z: l.unit,
         }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Nanosurf (.nid, .ezd)",
+    extensions: &["nid", "ezd"],
+    height: Access::Read,
+    notes: "the data sets whose values are lengths (channels, as SurfaceTopography lists them): 8/16/32-bit raw × range / 2^bits + minimum, from the last line",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .metadata(metadata)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

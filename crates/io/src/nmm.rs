@@ -22,6 +22,7 @@ use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
 use crate::zipped::{self, Archive};
+use crate::format::{Access, Codec, Registration};
 
 const DASHES: &str = "------------------------------------------";
 /// A text member larger than this is refused (a line of an NMM scan is a
@@ -256,6 +257,21 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
 pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
     Ok(open(bytes)?.1.meta)
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "SIOS nanomeasuring machine (.zip of .dsc/.dat)",
+    extensions: &["zip"],
+    height: Access::Read,
+    notes: "the scan procedure description's field (points, lines, spacing, unit) and each line's -Lz+Az column (m, brought to the field's unit); every scan a channel; the description's keys kept as metadata",
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .metadata(metadata)
+        .declared(crate::zipped::declared_twice)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

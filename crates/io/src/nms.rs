@@ -33,6 +33,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// The version text at offset 32, the format's signature.
 pub(crate) const VERSION: &[u8] = b"OM_MS_2.0";
@@ -147,6 +148,19 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
         .filter(|(_, v)| !v.is_empty())
         .collect())
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "NanoFocus µsurf (.nms)",
+    extensions: &["nms"],
+    height: Access::Read,
+    notes: "OM_MS_2.0 areas: u16 counts mapped onto the header's height range in µm, spacing in nm, points of intensity 0 missing; version, image name and date as metadata; profiles refused",
+    magic: Magic::Test(sniff),
+    codec: Some(Codec::new(|b, _| read_height(b)).metadata(metadata)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -12,6 +12,7 @@
 use std::io::Write;
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 
 const MAGIC: &[u8] = b"\x93NUMPY";
 
@@ -238,6 +239,21 @@ pub(crate) fn write(
     }
     Ok(())
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "NumPy .npy",
+    extensions: &["npy"],
+    points: Access::ReadWrite,
+    height: Access::ReadWrite,
+    notes: "height (ny, nx) <f8 (or <f4), missing points NaN; points (N, 3) <f8; reads any float/int dtype",
+    magic: Magic::Starts(&[b"\x93NUMPY"]),
+    codec: Some(Codec::new(|b, _| crate::npy_height(read(b)?))),
+    read: Some(crate::npy_surface),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -19,6 +19,7 @@ use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
 use crate::npy;
 use crate::zipped::{self, Archive};
+use crate::format::{Access, Codec, Registration};
 
 fn bad(e: String) -> FormatError {
     FormatError::Malformed(format!("not a readable NumPy archive: {e}"))
@@ -87,6 +88,20 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
     };
     Ok(HeightField::from_vec([nx, ny], a.data)?)
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "NumPy archive (.npz)",
+    extensions: &["npz"],
+    height: Access::Read,
+    notes: "numpy.savez / savez_compressed: every two-dimensional array a channel by name, each read as an .npy (shape (ny, nx); SurfaceTopography takes the first index along x); no sizes or units: step 1, unitless",
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .declared(crate::zipped::declared_twice)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -28,6 +28,7 @@ use asperity_core::{PolyMesh, TriMesh};
 use crate::UpAxis;
 use crate::error::{FResult, FormatError};
 use crate::up::{Y_UP_LINE, written_y_up};
+use crate::format::{Access, Registration};
 
 /// Polygon soup read from an OBJ file, with the per-vertex data tobj found.
 struct ObjContents {
@@ -321,6 +322,18 @@ pub(crate) fn write_mtl(w: &mut dyn Write, texture_file: &str) -> std::io::Resul
         "newmtl surface\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\nmap_Kd {texture_file}"
     )
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Wavefront OBJ",
+    extensions: &["obj"],
+    mesh: Access::ReadWrite,
+    notes: "y-up (x, z, -y), read back unchanged; vertex colours (v x y z r g b), UVs, normals; texture as .mtl + .png; no scalars",
+    read: Some(|b| read_mesh(b).map(crate::Surface::Mesh)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -36,6 +36,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 use crate::zipped;
 
 /// The file's magic.
@@ -542,6 +543,38 @@ pub(crate) fn packed_metadata(bytes: &[u8]) -> FResult<Metadata> {
         .map(|(_, (_, _, meta))| meta)
         .unwrap_or_default())
 }
+
+/// The registration of Oir: its row of `asperity formats`, how its files
+/// are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const OIR: Registration = Registration {
+    name: "Olympus OIR (.oir)",
+    extensions: &["oir"],
+    height: Access::Read,
+    notes: "the laser-scanning image's HEIGHT channels by their ids: u8/u16 counts × the pixel length in z × the z calibration, pixel lengths × the x/y calibration, lateral sizes in the z unit; rows along y; the microscope and creation date kept as metadata",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(
+        Codec::new(read_channel)
+            .channels(channels)
+            .metadata(metadata),
+    ),
+    ..Registration::NONE
+};
+
+/// The registration of Poir: its row of `asperity formats`, how its files
+/// are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const POIR: Registration = Registration {
+    name: "Olympus packed OIR (.poir)",
+    extensions: &["poir"],
+    height: Access::Read,
+    notes: "a zip of .oir files: every member's height channels, numbered in order (members without a laser-scanning image skipped)",
+    codec: Some(
+        Codec::new(read_packed)
+            .channels(packed_channels)
+            .metadata(packed_metadata)
+            .declared(crate::zipped::declared_twice),
+    ),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -18,6 +18,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 
 const ENTRY: usize = 24;
 
@@ -149,6 +150,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_spacing([dx, dy])?
         .with_units(units))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Wyko OPD (.opd)",
+    extensions: &["opd"],
+    height: Access::Read,
+    notes: "the first data block: int16 or f32 × wavelength / mult in nm, pixel size and aspect in mm; values at the type's limit read as missing",
+    magic: Magic::Test(|head| head.get(2..11) == Some(b"Directory".as_slice())),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

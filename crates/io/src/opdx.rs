@@ -25,6 +25,7 @@ use std::collections::HashMap;
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::format::{Access, Codec, Magic, Registration};
 
 pub(crate) const MAGIC: &[u8] = b"VCA DATA\x01\x00\x00\x55";
 
@@ -396,6 +397,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_spacing([dx, dy])?
         .with_units(Units { xy: l.xy, z: l.xy }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Bruker Dektak OPDx (.opdx)",
+    extensions: &["opdx"],
+    height: Access::Read,
+    notes: "Vision64 item tree: a surface profile's height channel (f64 × DataScale, step Extent / (n − 1)) as a one-row profile, or the primary 2-D height channel (f32 matrix)",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

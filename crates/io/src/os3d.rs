@@ -13,6 +13,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// The file's magic.
 pub(crate) const MAGIC: &[u8] = b"OmniSurf3D";
@@ -122,6 +123,19 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
         ("Date".to_owned(), h.date),
     ])
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Digital Metrology OmniSurf3D (.os3d)",
+    extensions: &["os3d"],
+    height: Access::Read,
+    notes: "f32 heights and f64 steps in µm; heights below -3e38 read as missing; version, identification and date kept as metadata",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(|b, _| read_height(b)).metadata(metadata)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -19,6 +19,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::raster::from_last_line;
+use crate::format::{Access, Codec, Magic, Registration};
 
 const MAGIC: u32 = 0x0E03_1301;
 const TAG_MAGIC: u16 = 50432;
@@ -183,6 +184,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             z: LengthUnit::Um,
         }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Park Systems AFM TIFF (.tiff)",
+    extensions: &["tiff", "tif"],
+    height: Access::Read,
+    notes: "the first directory's Park tags: int16/int32/f32 data, (raw × scale + offset) × gain in µm, scan size in µm, lines from the last; other TIFFs and line profiles refused",
+    magic: Magic::Test(sniff),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -21,6 +21,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::format::{Access, Codec, Registration};
 
 /// Byte offsets of the header's parts.
 const CALIBRATION: usize = 388;
@@ -137,6 +138,18 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
         .with_spacing([dx, dy])?
         .with_units(um))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Sensofar (.plu, .apx)",
+    extensions: &["plu", "apx"],
+    height: Access::Read,
+    notes: "the first layer's f32 heights in µm, pixel sizes from the calibration; undefined points (1000001) read as missing; profiles refused",
+    codec: Some(Codec::new(read_channel).channels(channels)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -20,6 +20,7 @@ use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
 use crate::zipped::{self, Archive};
+use crate::format::{Access, Codec, Registration};
 
 fn bad(e: String) -> FormatError {
     FormatError::Malformed(format!("not a readable PLUX archive: {e}"))
@@ -157,6 +158,21 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
 pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
     Ok(open(bytes)?.1.meta)
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Sensofar PLUX (.plux)",
+    extensions: &["plux"],
+    height: Access::Read,
+    notes: "the zip's layers as channels: f32 heights in µm, pixel size from index.xml, NaN read as missing; the date and the INFO items (device…) kept as metadata",
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .metadata(metadata)
+        .declared(crate::zipped::declared_twice)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -20,6 +20,7 @@ use std::io::{Cursor, Write};
 use asperity_core::{HeightField, LengthUnit, RgbaImage, Units};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// The `tEXt` keyword of the parameters an image or field was made with.
 pub(crate) const PARAMS_KEY: &str = "asperity:params";
@@ -340,6 +341,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_geometry(g.spacing, g.origin)?
         .with_units(g.units))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "PNG, 16-bit grayscale",
+    extensions: &["png"],
+    height: Access::ReadWrite,
+    notes: "height range and spacing in tEXt chunks (asperity's and Gwyddion's Gwy:: keys); Gwyddion's exports read with their Gwy:: keys; PNGs with neither read as [0, 1]; no missing points",
+    magic: Magic::Starts(&[b"\x89PNG\r\n\x1a\n"]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

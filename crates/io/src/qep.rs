@@ -22,6 +22,7 @@ use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed};
 use crate::zipped::{self, Archive};
+use crate::format::{Access, Codec, Registration};
 
 const MAGIC: &[u8] = b"[p3dlin]";
 const MEMBERS: [(&str, &str); 2] = [
@@ -166,6 +167,21 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
     let (mut zip, present) = open(bytes)?;
     Ok(profile(&mut zip, present[0].0)?.meta)
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Mahr MarWin QEP (.qep)",
+    extensions: &["qep"],
+    height: Access::Read,
+    notes: "the measured and reference [p3dlin] profiles as channels: a uniformly sampled profile in mm (one row), invalid points missing; non-uniform scans refused with their steps; the >Key=Value entries kept as metadata",
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .metadata(metadata)
+        .declared(crate::zipped::declared_twice)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -29,6 +29,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
 use crate::header_keys::HeaderKeys;
+use crate::format::{Access, Codec, Magic, Registration};
 
 const TEXT_MAGIC: &[u8] = b"aISO-1.0";
 const BINARY_MAGIC: &[u8] = b"bISO-1.0";
@@ -285,6 +286,19 @@ pub(crate) fn write_height(
     }
     w.write_all(b"*\n")
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "ISO 25178-71 SDF (.sdf)",
+    extensions: &["sdf"],
+    height: Access::ReadWrite,
+    notes: "text (aISO) and binary (bISO) read, int16/int32/f64; text written, f64 in metres; unmeasured (BAD) points read as missing, a field with missing points not written",
+    magic: Magic::Starts(&[b"aISO-1.0", b"bISO-1.0"]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

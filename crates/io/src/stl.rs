@@ -11,6 +11,7 @@ use std::io::Write;
 use asperity_core::TriMesh;
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Registration};
 
 /// Writes binary STL: 80-byte header, count, then normal + 3 corners + 0u16 per triangle.
 pub(crate) fn write_mesh(w: &mut dyn Write, m: &TriMesh) -> std::io::Result<()> {
@@ -123,6 +124,18 @@ fn read_ascii(bytes: &[u8]) -> FResult<TriMesh> {
     }
     weld(corners)
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "STL (binary; ASCII also read)",
+    extensions: &["stl"],
+    mesh: Access::ReadWrite,
+    notes: "f32 corners, welded on read; geometry only",
+    read: Some(|b| read_mesh(b).map(crate::Surface::Mesh)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

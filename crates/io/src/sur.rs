@@ -25,6 +25,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::format::{Access, Codec, Magic, Registration};
 
 const MAGIC: &[u8] = b"DIGITAL SURF";
 /// Bytes of the header.
@@ -150,6 +151,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_spacing([dx * fx, dy * fy])?
         .with_units(Units { xy, z: uz }))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Digital Surf / MountainsMap (.sur)",
+    extensions: &["sur"],
+    height: Access::Read,
+    notes: "one surface of int16/int32 samples times the header's scale, in the file's units (Å, pm as nm); unmeasured points (zmin − 2) read as missing; series and multi-channel files refused",
+    magic: Magic::Starts(&[b"DIGITAL SURF"]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

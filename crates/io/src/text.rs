@@ -19,6 +19,7 @@ use std::io::Write;
 use asperity_core::{HeightField, LengthUnit, PointSet, Units};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Registration};
 
 fn text(bytes: &[u8]) -> FResult<&str> {
     std::str::from_utf8(bytes).map_err(|_| FormatError::Malformed("not UTF-8 text".into()))
@@ -197,6 +198,28 @@ pub(crate) fn read_xy(bytes: &[u8]) -> FResult<Vec<[f64; 2]>> {
     }
     Ok(pts)
 }
+
+/// The registration of Xyz: its row of `asperity formats`, how its files
+/// are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const XYZ: Registration = Registration {
+    name: "XYZ text",
+    extensions: &["xyz", "txt"],
+    points: Access::ReadWrite,
+    notes: "x y z per line",
+    read: Some(|b| read_xyz(b).map(crate::Surface::Points)),
+    ..Registration::NONE
+};
+
+/// The registration of Csv: its row of `asperity formats`, how its files
+/// are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const CSV: Registration = Registration {
+    name: "CSV grid",
+    extensions: &["csv"],
+    height: Access::ReadWrite,
+    notes: "one row per line, geometry in a # comment line; missing points NaN",
+    codec: Some(Codec::new(|b, _| read_csv(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -10,6 +10,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 
 pub(crate) const MAGIC: &[u8] = b"Binary TrueMap Data File v2.0";
 
@@ -74,6 +75,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_geometry(Some([lx / nx as f64, ly / ny as f64]), Some([x0, y0]))?
         .with_units(mm))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "TrueMap (.tmd)",
+    extensions: &["tmd"],
+    height: Access::Read,
+    notes: "version 2: f32 heights, lengths and offsets in millimetres",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

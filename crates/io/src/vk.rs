@@ -25,6 +25,7 @@ use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::zipped;
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// The magics of the direct (`VK3_`, `VK4_`) and zipped (`VK6`, `VK7`) files.
 pub(crate) const MAGICS: [&[u8]; 4] = [b"VK3_", b"VK4_", b"VK6", b"VK7"];
@@ -187,6 +188,22 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
         ("Height scale (pm)".to_owned(), field(44)?.to_string()),
     ])
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Keyence VK (.vk3, .vk4, .vk6, .vk7)",
+    extensions: &["vk3", "vk4", "vk6", "vk7"],
+    height: Access::Read,
+    notes: "the height images as channels: 8/16/32-bit counts × the height scale, pixel lengths from the measurement conditions (pm, read in nm); .vk6/.vk7 as the .vk4 in their zip; date, lens and scales kept as metadata",
+    magic: Magic::Test(sniff),
+    codec: Some(Codec::new(read_channel)
+        .channels(channels)
+        .metadata(metadata)
+        .declared(|b| declared_points(b).map(crate::pixel_bytes))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

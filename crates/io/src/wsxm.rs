@@ -19,6 +19,7 @@ use asperity_core::{HeightField, Units};
 use crate::error::{FResult, FormatError, malformed};
 use crate::header_keys::HeaderKeys;
 use crate::sur::length_unit;
+use crate::format::{Access, Codec, Magic, Registration};
 
 pub(crate) const MAGIC: &[u8] = b"WSxM file copyright";
 
@@ -168,6 +169,19 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .with_spacing([extent[0] / nx as f64, extent[1] / ny as f64])?
         .with_units(units))
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "WSxM image (.stp, .top, .tom, .cur)",
+    extensions: &["stp", "top", "tom", "cur"],
+    height: Access::Read,
+    notes: "int16 scaled to the Z amplitude, or f32/f64 heights; sizes from the X/Y amplitudes; stored from the last sample; NaN read as missing",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(|b, _| read_height(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -44,6 +44,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 use md5::{Digest, Md5};
 
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Registration};
 
 const MAIN: &str = "main.xml";
 const DATA: &str = "bindata/data.bin";
@@ -421,6 +422,19 @@ fn layout(xml: &str) -> FResult<Layout> {
             .map(str::to_owned),
     })
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "ISO 25178-72 x3p",
+    extensions: &["x3p"],
+    height: Access::ReadWrite,
+    notes: "zip of main.xml + f64 data with MD5 checksums; always metres; surfaces and profiles read (int16/32, f32, f64), not point clouds; missing points NaN (read: NaN or valid.bin)",
+    codec: Some(Codec::new(|b, _| read_height(b))
+        .declared(|b| header_pixels(b).map(crate::pixel_bytes))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

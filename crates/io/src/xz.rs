@@ -27,6 +27,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::format::{Access, Claim, Codec, Magic, Registration};
 
 /// Whether `bytes` start like a Dektak export.
 pub(crate) fn is_dektak(bytes: &[u8]) -> bool {
@@ -246,6 +247,49 @@ pub(crate) fn read_titled_csv(bytes: &[u8]) -> FResult<HeightField> {
         .map_or(1.0, |(a, b)| a / b);
     profile(&x, z.iter().map(|z| z * to).collect(), xu)
 }
+
+/// The registration of Hfm: its row of `asperity formats`, how its files
+/// are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const HFM: Registration = Registration {
+    name: "HFM line scan (.hfm)",
+    extensions: &["hfm"],
+    height: Access::Read,
+    notes: "X;Y;valid rows: a uniformly sampled profile (one row), heights in x's unit, rows marked 0 missing; non-uniform scans refused",
+    magic: Magic::Test(is_hfm),
+    codec: Some(Codec::new(|b, _| read_hfm(b))),
+    ..Registration::NONE
+};
+
+/// The registration of Dektak: its row of `asperity formats`, how its files
+/// are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const DEKTAK: Registration = Registration {
+    name: "Bruker Dektak CSV (.csv, told by content)",
+    extensions: &["csv"],
+    height: Access::Read,
+    notes: "the Scan Data block, units from the column titles: a uniformly sampled profile (one row); non-uniform scans refused with their steps",
+    magic: Magic::Test(is_dektak),
+    claim: Some(Claim {
+        extensions: &["csv"],
+        test: is_dektak,
+    }),
+    codec: Some(Codec::new(|b, _| read_dektak(b))),
+    ..Registration::NONE
+};
+
+/// The registration of CsvLineScan: its row of `asperity formats`, how its files
+/// are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const CSV_LINE_SCAN: Registration = Registration {
+    name: "Line scan CSV (.csv with column titles, told by content)",
+    extensions: &["csv"],
+    height: Access::Read,
+    notes: "a line of titles, then `x,z` or `index,x,z` rows (commas, semicolons or tabs; UTF-8 or UTF-16 with its BOM), units from the titles (`x in µm`): a uniformly sampled profile (one row); non-uniform scans refused with their steps",
+    claim: Some(Claim {
+        extensions: &["csv"],
+        test: is_titled_csv,
+    }),
+    codec: Some(Codec::new(|b, _| read_titled_csv(b))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

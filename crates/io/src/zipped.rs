@@ -19,6 +19,13 @@ pub(crate) fn open(bytes: &[u8], bad: impl Fn(String) -> FormatError) -> FResult
     zip::ZipArchive::new(Cursor::new(bytes)).map_err(|e| bad(e.to_string()))
 }
 
+/// Twice the inflated members of a zip-based format (each member inflated,
+/// then parsed or converted): the memory estimate of npz, PLUX, QEP, NMM,
+/// Mitutoyo workbooks and packed OIR.
+pub(crate) fn declared_twice(bytes: &[u8]) -> FResult<u128> {
+    declared_bytes(bytes).map(|n| n.saturating_mul(2))
+}
+
 /// The bytes the archive's members declare once inflated (from its central
 /// directory, before anything is inflated): what the memory estimate counts.
 pub(crate) fn declared_bytes(bytes: &[u8]) -> FResult<u128> {

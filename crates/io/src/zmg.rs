@@ -13,6 +13,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
 use crate::error::{FResult, FormatError, malformed};
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// The file's magic.
 pub(crate) const MAGIC: &[u8] = b"Zeta-Instruments";
@@ -105,6 +106,19 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
         ),
     ])
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "KLA Zeta (.zmg)",
+    extensions: &["zmg"],
+    height: Access::Read,
+    notes: "u16 counts × the z step, steps in µm; the recipe's name and the comment kept as metadata",
+    magic: Magic::Starts(&[MAGIC]),
+    codec: Some(Codec::new(|b, _| read_height(b)).metadata(metadata)),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -26,6 +26,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
 use crate::error::{FResult, FormatError, malformed, unsupported};
+use crate::format::{Access, Codec, Magic, Registration};
 
 /// The magics of uncompressed and Zstandard-compressed members.
 pub(crate) const MAGICS: [&[u8]; 2] = [b"KPK0", b"KPK1"];
@@ -216,6 +217,21 @@ pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
     }
     Ok(out)
 }
+
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "Keyence ZON (.zon)",
+    extensions: &["zon"],
+    height: Access::Read,
+    notes: "KPK0 and KPK1 (Zstandard members): int32 counts × metres per unit, metres per pixel from the calibration, points the validity mask marks read as missing; device, serial and date kept as metadata",
+    magic: Magic::Starts(&MAGICS),
+    codec: Some(Codec::new(|b, _| read_height(b))
+        .metadata(metadata)
+        .declared(|b| declared_points(b).map(crate::pixel_bytes))),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -544,6 +544,31 @@ pub(crate) fn read_points(bytes: &[u8]) -> FResult<PointSet> {
 mod write;
 
 pub(crate) use write::{write_mesh, write_mesh_edges, write_points, write_poly};
+use crate::format::{Access, Magic, Registration};
+
+
+/// A PLY file: a mesh where it has faces, else a point set.
+fn read_surface(bytes: &[u8]) -> FResult<crate::Surface> {
+    let c = parse(bytes)?;
+    Ok(if c.has_face_element && !c.faces.is_empty() {
+        crate::Surface::Mesh(read_mesh(bytes)?)
+    } else {
+        crate::Surface::Points(read_points(bytes)?)
+    })
+}
+
+/// This format's registration: its row of `asperity formats`, how its
+/// files are told and how they are decoded (the registry in `lib.rs` lists it).
+pub(crate) const FORMAT: Registration = Registration {
+    name: "PLY (binary little-endian or ASCII)",
+    extensions: &["ply"],
+    mesh: Access::ReadWrite,
+    points: Access::ReadWrite,
+    notes: "f64 positions; normals, RGBA colours, UVs (s, t) and named scalars",
+    magic: Magic::Starts(&[b"ply\n", b"ply\r\n"]),
+    read: Some(read_surface),
+    ..Registration::NONE
+};
 
 #[cfg(test)]
 mod tests {

@@ -41,21 +41,29 @@ fn every_crash_the_fuzzers_found_is_a_clean_answer_now() {
     );
 }
 
-/// The fuzz binary's table of readers (`fuzz/fuzz_targets/readers.rs`, outside
-/// this workspace): sorted by name (it is binary-searched), one seed folder per
-/// name and no other, and every format asperity reads among its rows.
+/// The fuzz binary (`fuzz/fuzz_targets/readers.rs`, outside this workspace)
+/// reads a format by its key and the parameter texts by its table (sorted:
+/// it is binary-searched); the seed folders are exactly the readable
+/// formats' keys and the table's names, each with a seed.
 #[test]
 fn the_fuzz_binary_reaches_every_reader_from_its_seeds() {
     let fuzz = asperity_fixtures::workspace().join("fuzz");
     let source = std::fs::read_to_string(fuzz.join("fuzz_targets/readers.rs")).unwrap();
     let table = &source[source.find("const READERS").unwrap()..];
     let table = &table[..table.find("\n];").unwrap()];
-    let names: Vec<&str> = table
+    let texts: Vec<String> = table
         .lines()
         .filter_map(|l| l.trim().strip_prefix("(\""))
-        .map(|l| &l[..l.find('"').unwrap()])
+        .map(|l| l[..l.find('"').unwrap()].to_string())
         .collect();
-    assert!(names.is_sorted(), "the table is not sorted: {names:?}");
+    assert!(texts.is_sorted(), "the table is not sorted: {texts:?}");
+    let mut names: Vec<String> = Format::ALL
+        .iter()
+        .filter(|f| readable(**f))
+        .map(|f| f.key())
+        .chain(texts.iter().cloned())
+        .collect();
+    names.sort();
     let mut seeds: Vec<String> = std::fs::read_dir(fuzz.join("seeds"))
         .unwrap()
         .map(|d| d.unwrap().file_name().to_string_lossy().into_owned())
@@ -68,51 +76,42 @@ fn the_fuzz_binary_reaches_every_reader_from_its_seeds() {
             .count();
         assert!(n >= 1, "no seed for {name}");
     }
-    for info in asperity_io::FORMATS {
-        if info.mesh.can_read() || info.points.can_read() || info.height.can_read() {
-            let row = format!("Format::{:?}", info.format);
-            assert!(
-                table.contains(&format!("{row})")) || table.contains(&format!("{row},")),
-                "{} is read but not fuzzed",
-                info.name
-            );
-        }
+    for text in &texts {
+        assert!(
+            Format::from_key(text).is_none(),
+            "{text} is also a format's key"
+        );
     }
 }
 
-/// Detection agrees with where each seed is filed: every file format seed in
-/// `fuzz/seeds/NAME/` is told by `Format::of_file` (extension, then content,
-/// as every command tells a file) as a format that the fuzz binary's row
-/// `NAME` reads.
+fn readable(f: Format) -> bool {
+    let info = f.info();
+    info.mesh.can_read() || info.points.can_read() || info.height.can_read()
+}
+
+/// Detection agrees with the registry: every seed in `fuzz/seeds/KEY/` is
+/// told by `Format::of_file` (extension, then content, as every command tells
+/// a file) as the format whose key it is filed under, and a format told by
+/// its content (a magic) is told so from some seed's bytes alone.
 #[test]
-fn every_seed_is_detected_as_the_format_its_reader_reads() {
-    let fuzz = asperity_fixtures::workspace().join("fuzz");
-    let source = std::fs::read_to_string(fuzz.join("fuzz_targets/readers.rs")).unwrap();
-    let table = &source[source.find("const READERS").unwrap()..];
-    let table = &table[..table.find("\n];").unwrap()];
+fn every_seed_is_detected_as_the_format_it_is_filed_under() {
+    let seeds = asperity_fixtures::workspace().join("fuzz/seeds");
     let mut checked = 0;
-    for row in table.split("\n    (\"").skip(1) {
-        let name = &row[..row.find('"').unwrap()];
-        let formats: Vec<&str> = row
-            .split("Format::")
-            .skip(1)
-            .map(|t| &t[..t.find(|c: char| !c.is_alphanumeric()).unwrap()])
-            .collect();
-        if formats.is_empty() {
-            continue; // a parameter text, not a file format
-        }
-        for file in std::fs::read_dir(fuzz.join("seeds").join(name)).unwrap() {
+    for &format in Format::ALL.iter().filter(|f| readable(**f)) {
+        let mut by_content = false;
+        for file in std::fs::read_dir(seeds.join(format.key())).unwrap() {
             let file = file.unwrap().path();
-            let told = asperity_io::Format::of_file(&file)
-                .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-            let told = format!("{told:?}");
-            assert!(
-                formats.contains(&told.as_str()),
-                "{} is told as {told}, but the reader {name} reads {formats:?}",
-                file.display()
-            );
+            let told = Format::of_file(&file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+            assert_eq!(told, format, "{}", file.display());
+            let head: Vec<u8> = std::fs::read(&file).unwrap().into_iter().take(64).collect();
+            by_content |= Format::from_content(&head) == Some(format);
             checked += 1;
         }
+        assert_eq!(
+            by_content,
+            format.has_magic(),
+            "{format:?}: told by content from its seeds"
+        );
     }
     assert!(checked >= 60, "{checked} seeds checked");
 }

@@ -5,4 +5,5 @@ mod fuzz_regressions;
 mod independent;
 mod malformed;
 mod python;
+mod registry;
 mod roundtrip;
