@@ -103,6 +103,11 @@ pub struct Units {
 }
 
 impl Units {
+    /// Lengths and heights in one unit (most instruments' files).
+    pub const fn same(unit: LengthUnit) -> Self {
+        Self { xy: unit, z: unit }
+    }
+
     /// Whether both are unitless.
     pub fn is_none(&self) -> bool {
         self.xy == LengthUnit::None && self.z == LengthUnit::None

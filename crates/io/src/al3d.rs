@@ -96,10 +96,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             data.push(if bad { f64::NAN } else { v });
         }
     }
-    let metres = Units {
-        xy: LengthUnit::M,
-        z: LengthUnit::M,
-    };
+    let metres = Units::same(LengthUnit::M);
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_spacing([dx, dy])?
         .with_units(metres))

@@ -14,6 +14,7 @@ use std::collections::HashMap;
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::bytes::{Endian, Fields};
 use crate::error::{FResult, FormatError, malformed};
 use crate::header_keys::HeaderKeys;
 use crate::format::{Access, Codec, Magic, Registration};
@@ -71,19 +72,83 @@ fn unit(keys: &HashMap<String, String>, key: &str) -> FResult<LengthUnit> {
     }
 }
 
+/// The `nx` × `ny` samples after the `header`-byte header: int16 (BCR-STM)
+/// or f32 (BCRF) in either byte order; a void sample (int16 max, f32 NaN or
+/// above 1.7e38) was not measured: a missing point (NaN).
+fn samples(
+    body: &[u8],
+    [nx, ny]: [usize; 2],
+    stm: bool,
+    endian: Endian,
+    header: usize,
+) -> FResult<Vec<f64>> {
+    let size = if stm { 2 } else { 4 };
+    let need = nx
+        .checked_mul(ny)
+        .and_then(|n| n.checked_mul(size))
+        .ok_or_else(|| FormatError::Malformed("xpixels × ypixels is too large".into()))?;
+    if body.len() < need {
+        return malformed(format!(
+            "{nx} × {ny} samples of {size} bytes need {need} bytes after the {header}-byte header, the file has {} (truncated?)",
+            body.len()
+        ));
+    }
+    let f = match endian {
+        Endian::Little => Fields::le(&body[..need]),
+        Endian::Big => Fields::be(&body[..need]),
+    };
+    (0..need / size)
+        .map(|k| {
+            Ok(if stm {
+                match f.i16(2 * k)? {
+                    i16::MAX => f64::NAN,
+                    raw => f64::from(raw),
+                }
+            } else {
+                match f.f32(4 * k)? {
+                    raw if raw.is_nan() || raw > 1.7e38 => f64::NAN,
+                    raw => f64::from(raw),
+                }
+            })
+        })
+        .collect()
+}
+
+/// The header's length in characters (`headersize`, 2048 by default) and
+/// the bytes a character takes.
+fn header_size(bytes: &[u8]) -> FResult<(usize, usize)> {
+    let (probe, width) = header_text(bytes, DEFAULT_HEADER)?;
+    let chars = match keys(&probe).get("headersize") {
+        None => DEFAULT_HEADER,
+        Some(v) => v.parse().ok().filter(|&n: &usize| n > 0).ok_or_else(|| {
+            FormatError::Malformed(format!("headersize = {v:?} is not a size"))
+        })?,
+    };
+    Ok((chars, width))
+}
+
+/// The samples' byte order (`intelmode`) and nanometres per count
+/// (`bit2nm`, BCR-STM's integers only).
+fn encoding(header: &HeaderKeys<'_>, stm: bool) -> FResult<(Endian, f64)> {
+    let endian = if header.real_or("intelmode", 1.0)? != 0.0 {
+        Endian::Little
+    } else {
+        Endian::Big
+    };
+    let scale = if stm {
+        header.real_or("bit2nm", 1.0)?
+    } else {
+        1.0
+    };
+    Ok((endian, scale))
+}
+
 /// Reads a BCR-STM or BCRF file.
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     if !sniff(bytes) {
         return malformed("missing the `fileformat = bcr…` line");
     }
-    let (probe, width) = header_text(bytes, DEFAULT_HEADER)?;
-    let chars =
-        match keys(&probe).get("headersize") {
-            None => DEFAULT_HEADER,
-            Some(v) => v.parse().ok().filter(|&n: &usize| n > 0).ok_or_else(|| {
-                FormatError::Malformed(format!("headersize = {v:?} is not a size"))
-            })?,
-        };
+    let (chars, width) = header_size(bytes)?;
     let (text, _) = header_text(bytes, chars)?;
     let k = keys(&text);
     let header = HeaderKeys::new(&k);
@@ -104,48 +169,10 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     if ux != uy {
         return malformed("x and y units differ");
     }
-    let little = header.real_or("intelmode", 1.0)? != 0.0;
-    let scale = if stm {
-        header.real_or("bit2nm", 1.0)?
-    } else {
-        1.0
-    };
-    let size = if stm { 2 } else { 4 };
-    let start = chars * width;
-    let need = nx
-        .checked_mul(ny)
-        .and_then(|n| n.checked_mul(size))
-        .ok_or_else(|| FormatError::Malformed("xpixels × ypixels is too large".into()))?;
-    let body = bytes.get(start..).unwrap_or(&[]);
-    if body.len() < need {
-        return malformed(format!(
-            "{nx} × {ny} samples of {size} bytes need {need} bytes after the {start}-byte header, the file has {} (truncated?)",
-            body.len()
-        ));
-    }
-    let data: Vec<f64> = body[..need]
-        .chunks_exact(size)
-        .map(|c| {
-            let (v, bad) = if stm {
-                let raw = if little {
-                    i16::from_le_bytes([c[0], c[1]])
-                } else {
-                    i16::from_be_bytes([c[0], c[1]])
-                };
-                (f64::from(raw), raw == i16::MAX)
-            } else {
-                let b = [c[0], c[1], c[2], c[3]];
-                let raw = if little {
-                    f32::from_le_bytes(b)
-                } else {
-                    f32::from_be_bytes(b)
-                };
-                (f64::from(raw), raw.is_nan() || raw > 1.7e38)
-            };
-            // A void point was not measured: a missing point (NaN).
-            if bad { f64::NAN } else { v * scale }
-        })
-        .collect();
+    let (endian, scale) = encoding(&header, stm)?;
+    let body = bytes.get(chars * width..).unwrap_or(&[]);
+    let data = samples(body, [nx, ny], stm, endian, chars * width)?;
+    let data = data.into_iter().map(|v| v * scale).collect();
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_spacing([lx / nx as f64, ly / ny as f64])?
         .with_units(Units { xy: ux, z: uz }))

@@ -17,6 +17,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::raster::from_last_line;
+use crate::bytes::Fields;
 use crate::format::{Access, Codec, Magic, Registration};
 
 pub(crate) const MAGIC: &[u8] = b"FRTM_GLIDERV";
@@ -36,68 +37,58 @@ fn blocks(bytes: &[u8]) -> FResult<Vec<(u16, &[u8])>> {
             ));
         }
     };
-    let mut at = MAGIC.len() + 4;
-    let count = bytes
-        .get(at..at + 2)
-        .map(|b| u16::from_le_bytes([b[0], b[1]]))
-        .ok_or_else(|| {
-            FormatError::Malformed("the file ends before its blocks (truncated?)".into())
-        })?;
-    at += 2;
-    let head = if wide { 10 } else { 6 };
+    let mut c = Fields::le(bytes).cursor(MAGIC.len() + 4);
+    let count = c.u16().map_err(|_| {
+        FormatError::Malformed("the file ends before its blocks (truncated?)".into())
+    })?;
     let mut out = Vec::new();
     for _ in 0..count {
-        let Some(h) = bytes.get(at..at + head) else {
-            break; // the last blocks may be absent, as SurfaceTopography allows
-        };
-        let id = u16::from_le_bytes([h[0], h[1]]);
-        let size = if wide {
-            u64::from_le_bytes(h[2..10].try_into().expect("8 bytes"))
-        } else {
-            u64::from(u32::from_le_bytes(h[2..6].try_into().expect("4 bytes")))
-        };
-        at += head;
+        // The last blocks may be absent, as SurfaceTopography allows.
+        let Ok(id) = c.u16() else { break };
+        let size = if wide { c.u64() } else { c.u32().map(u64::from) };
+        let Ok(size) = size else { break };
         let content = usize::try_from(size)
-            .ok()
-            .and_then(|n| at.checked_add(n))
-            .and_then(|end| bytes.get(at..end))
-            .ok_or_else(|| {
+            .map_err(|_| ())
+            .and_then(|n| c.take(n).map_err(|_| ()))
+            .map_err(|()| {
                 FormatError::Malformed(format!(
                     "block 0x{id:04x} of {size} bytes runs past the file's end (truncated?)"
                 ))
             })?;
-        at += content.len();
         out.push((id, content));
     }
     Ok(out)
 }
 
-/// Reads the topography of an FRT file.
-pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
-    if !bytes.starts_with(MAGIC) {
-        return malformed("missing the `FRTM_GLIDERV` magic");
+/// What the size, extent and scale blocks say: points along x and y, bits
+/// per point and their bytes, the x and y sizes (m), metres per count.
+struct Layout {
+    nx: usize,
+    ny: usize,
+    bits: u32,
+    width: usize,
+    size: [f64; 2],
+    scale: f64,
+}
+
+/// The first block `id` of at least `least` bytes.
+fn block<'a>(blocks: &[(u16, &'a [u8])], id: u16, least: usize) -> FResult<Fields<'a>> {
+    match blocks.iter().find(|(i, _)| *i == id) {
+        Some((_, b)) if b.len() >= least => Ok(Fields::le(b)),
+        Some(_) => malformed(format!("block 0x{id:04x} is shorter than {least} bytes")),
+        None => malformed(format!(
+            "no block 0x{id:04x} (the topography needs 0x0066, 0x0067, 0x006c and 0x000b)"
+        )),
     }
-    let blocks = blocks(bytes)?;
-    let block = |id: u16, least: usize| -> FResult<&[u8]> {
-        match blocks.iter().find(|(i, _)| *i == id) {
-            Some((_, b)) if b.len() >= least => Ok(b),
-            Some(_) => malformed(format!("block 0x{id:04x} is shorter than {least} bytes")),
-            None => malformed(format!(
-                "no block 0x{id:04x} (the topography needs 0x0066, 0x0067, 0x006c and 0x000b)"
-            )),
-        }
-    };
-    let u32_at = |b: &[u8], o: usize| u32::from_le_bytes(b[o..o + 4].try_into().expect("4 bytes"));
-    let f64_at = |b: &[u8], o: usize| f64::from_le_bytes(b[o..o + 8].try_into().expect("8 bytes"));
-    let size = block(0x66, 12)?;
-    let (nx, ny, bits) = (
-        u32_at(size, 0) as usize,
-        u32_at(size, 4) as usize,
-        u32_at(size, 8),
-    );
-    let extent = block(0x67, 16)?;
-    let (lx, ly) = (f64_at(extent, 0), f64_at(extent, 8));
-    let scale = f64_at(block(0x6c, 12)?, 4);
+}
+
+/// The layout from the blocks 0x0066, 0x0067 and 0x006c, checked.
+fn layout(blocks: &[(u16, &[u8])]) -> FResult<Layout> {
+    let size = block(blocks, 0x66, 12)?;
+    let extent = block(blocks, 0x67, 16)?;
+    let (nx, ny, bits) = (size.u32(0)? as usize, size.u32(4)? as usize, size.u32(8)?);
+    let scale = block(blocks, 0x6c, 12)?.f64(4)?;
+    let [lx, ly] = [extent.f64(0)?, extent.f64(8)?];
     if nx == 0 || ny == 0 {
         return malformed(format!("{nx} × {ny} points: no data"));
     }
@@ -114,7 +105,18 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         32 => 4,
         b => return malformed(format!("{b} bits a point (16 and 32 are read)")),
     };
-    let data = block(0x0b, 0)?;
+    let size = [lx, ly];
+    Ok(Layout { nx, ny, bits, width, size, scale })
+}
+
+/// Reads the topography of an FRT file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    if !bytes.starts_with(MAGIC) {
+        return malformed("missing the `FRTM_GLIDERV` magic");
+    }
+    let blocks = blocks(bytes)?;
+    let Layout { nx, ny, bits, width, size: [lx, ly], scale } = layout(&blocks)?;
+    let data = block(&blocks, 0x0b, 0)?.all();
     let need = nx.checked_mul(ny).and_then(|n| n.checked_mul(width));
     if need != Some(data.len()) {
         return malformed(format!(
@@ -123,30 +125,18 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             need.map_or("more than fit in memory".into(), |n| n.to_string())
         ));
     }
-    // Rows stored from the last line up.
+    // Rows stored from the last line up; a count of 1 is a point not measured.
     let heights = from_last_line(data, nx, width)
-        .map(|c| {
-            let count = if width == 2 {
-                i64::from(u16::from_le_bytes([c[0], c[1]]))
-            } else {
-                i64::from(i32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            };
-            if count == 1 {
-                f64::NAN
-            } else {
-                count as f64 * scale
-            }
+        .map(|c| match width {
+            2 => i64::from(u16::from_le_bytes([c[0], c[1]])),
+            _ => i64::from(i32::from_le_bytes([c[0], c[1], c[2], c[3]])),
         })
+        .map(|count| if count == 1 { f64::NAN } else { count as f64 * scale })
         .collect();
-    let metres = Units {
-        xy: LengthUnit::M,
-        z: LengthUnit::M,
-    };
     Ok(HeightField::from_vec([nx, ny], heights)?
         .with_spacing([lx / nx as f64, ly / ny as f64])?
-        .with_units(metres))
+        .with_units(Units::same(LengthUnit::M)))
 }
-
 
 /// This format's registration: its row of `asperity formats`, how its
 /// files are told and how they are decoded (the registry in `lib.rs` lists it).

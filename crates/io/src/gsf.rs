@@ -19,6 +19,7 @@ use std::io::Write;
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::header_keys::HeaderKeys;
 use crate::error::{FResult, FormatError, malformed};
 use crate::format::{Access, Codec, Magic, Registration};
 
@@ -103,25 +104,9 @@ pub(crate) fn header_field(bytes: &[u8], key: &str) -> FResult<Option<String>> {
 
 /// Reads a GSF file.
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
-    let (keys, data_start) = header(bytes)?;
-    let res = |k: &str| -> FResult<usize> {
-        let v = keys
-            .get(k)
-            .ok_or_else(|| FormatError::Malformed(format!("header has no {k}")))?;
-        v.parse()
-            .ok()
-            .filter(|&n| n > 0)
-            .ok_or_else(|| FormatError::Malformed(format!("{k} = {v:?} is not a positive integer")))
-    };
-    let real = |k: &str, default: f64| -> FResult<f64> {
-        match keys.get(k) {
-            None => Ok(default),
-            Some(v) => v
-                .parse()
-                .map_err(|_| FormatError::Malformed(format!("{k} = {v:?} is not a number"))),
-        }
-    };
-    let (nx, ny) = (res("XRes")?, res("YRes")?);
+    let (map, data_start) = header(bytes)?;
+    let keys = HeaderKeys::new(&map);
+    let (nx, ny) = (keys.count("XRes")?, keys.count("YRes")?);
     let need = nx
         .checked_mul(ny)
         .and_then(|n| n.checked_mul(4))
@@ -137,18 +122,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .chunks_exact(4)
         .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64)
         .collect();
-    let (dx, dy) = (
-        real("XReal", nx as f64)? / nx as f64,
-        real("YReal", ny as f64)? / ny as f64,
-    );
-    if !(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0) {
-        return Err(FormatError::Malformed(format!(
-            "XReal and YReal must be positive lengths, got {} and {}",
-            dx * nx as f64,
-            dy * ny as f64
-        )));
-    }
-    let (xo, yo) = (real("XOffset", 0.0)?, real("YOffset", 0.0)?);
+    let (spacing, origin) = geometry(&keys, nx, ny)?;
     // Units other than lengths (V, A…) cannot be represented: the numbers are
     // kept, unitless.
     let unit = |k: &str| {
@@ -161,9 +135,27 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         z: unit("ZUnits"),
     };
     Ok(HeightField::from_vec([nx, ny], data)?
-        .with_spacing([dx.abs(), dy.abs()])?
-        .with_origin([xo + 0.5 * dx, yo + 0.5 * dy])?
+        .with_spacing(spacing)?
+        .with_origin(origin)?
         .with_units(units))
+}
+
+/// The spacings (from XReal and YReal, a pixel's size by default) and the
+/// first sample's centre (the offsets plus half a pixel).
+fn geometry(keys: &HeaderKeys<'_>, nx: usize, ny: usize) -> FResult<([f64; 2], [f64; 2])> {
+    let (dx, dy) = (
+        keys.real_or("XReal", nx as f64)? / nx as f64,
+        keys.real_or("YReal", ny as f64)? / ny as f64,
+    );
+    if !(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0) {
+        return Err(FormatError::Malformed(format!(
+            "XReal and YReal must be positive lengths, got {} and {}",
+            dx * nx as f64,
+            dy * ny as f64
+        )));
+    }
+    let (xo, yo) = (keys.real_or("XOffset", 0.0)?, keys.real_or("YOffset", 0.0)?);
+    Ok(([dx.abs(), dy.abs()], [xo + 0.5 * dx, yo + 0.5 * dy]))
 }
 
 /// This format's registration: its row of `asperity formats`, how its

@@ -27,6 +27,7 @@ use std::io::Write;
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::bytes::Cursor;
 use crate::error::{FResult, FormatError, malformed};
 use crate::format::{Access, Codec, Magic, Registration};
 
@@ -209,42 +210,26 @@ impl<'a> Object<'a> {
     }
 }
 
-/// A bounds-checked reader over the file's bytes.
-struct Reader<'a> {
-    bytes: &'a [u8],
-    at: usize,
-}
+/// A reader of the file's objects (over the shared bounded cursor).
+struct Reader<'a>(Cursor<'a>);
 
 impl<'a> Reader<'a> {
-    fn take(&mut self, n: usize) -> FResult<&'a [u8]> {
-        let end = self.at.checked_add(n).filter(|&e| e <= self.bytes.len());
-        let end =
-            end.ok_or_else(|| FormatError::Malformed("file ends early (truncated)".into()))?;
-        let s = &self.bytes[self.at..end];
-        self.at = end;
-        Ok(s)
+    fn new(bytes: &'a [u8]) -> Self {
+        Reader(Cursor::le(bytes))
     }
     fn cstr(&mut self) -> FResult<&'a str> {
-        let rest = &self.bytes[self.at..];
-        let len = rest.iter().position(|&b| b == 0).ok_or_else(|| {
+        let s = self.0.c_string().map_err(|_| {
             FormatError::Malformed("a name or string has no terminating NUL".into())
         })?;
-        let s = std::str::from_utf8(&rest[..len])
-            .map_err(|_| FormatError::Malformed("a name or string is not UTF-8".into()))?;
-        self.at += len + 1;
-        Ok(s)
-    }
-    fn fixed<const N: usize>(&mut self) -> FResult<[u8; N]> {
-        let mut b = [0u8; N];
-        b.copy_from_slice(self.take(N)?);
-        Ok(b)
+        std::str::from_utf8(s)
+            .map_err(|_| FormatError::Malformed("a name or string is not UTF-8".into()))
     }
     fn u32(&mut self) -> FResult<usize> {
-        Ok(u32::from_le_bytes(self.fixed()?) as usize)
+        Ok(self.0.u32()? as usize)
     }
     fn array(&mut self, item: usize) -> FResult<&'a [u8]> {
         let n = self.u32()?;
-        self.take(n.saturating_mul(item))
+        self.0.take(n.saturating_mul(item))
     }
 
     fn object(&mut self, depth: usize) -> FResult<Object<'a>> {
@@ -253,14 +238,11 @@ impl<'a> Reader<'a> {
         }
         let type_name = self.cstr()?;
         let size = self.u32()?;
-        let mut inner = Reader {
-            bytes: self.take(size)?,
-            at: 0,
-        };
+        let mut inner = Reader::new(self.0.take(size)?);
         let mut components = Vec::new();
-        while inner.at < inner.bytes.len() {
+        while !inner.0.is_done() {
             let name = inner.cstr()?;
-            let kind = inner.take(1)?[0];
+            let kind = inner.0.u8()?;
             components.push((name, inner.value(kind, depth)?));
         }
         Ok(Object {
@@ -272,12 +254,12 @@ impl<'a> Reader<'a> {
     fn value(&mut self, kind: u8, depth: usize) -> FResult<Value<'a>> {
         Ok(match kind {
             b'b' | b'c' => {
-                self.take(1)?;
+                self.0.skip(1)?;
                 Value::Other
             }
-            b'i' => Value::Int(i32::from_le_bytes(self.fixed()?).into()),
-            b'q' => Value::Int(i64::from_le_bytes(self.fixed()?)),
-            b'd' => Value::Double(f64::from_le_bytes(self.fixed()?)),
+            b'i' => Value::Int(self.0.i32()?.into()),
+            b'q' => Value::Int(self.0.i64()?),
+            b'd' => Value::Double(self.0.f64()?),
             b's' => Value::Str(self.cstr()?),
             b'o' => Value::Object(self.object(depth + 1)?),
             b'C' => {
@@ -320,7 +302,7 @@ pub(crate) fn meta_string(bytes: &[u8], key: &str) -> FResult<Option<String>> {
     let Some(body) = bytes.strip_prefix(MAGIC) else {
         return malformed("does not start with GWYP (a .gwy file from Gwyddion 2 does)");
     };
-    let top = Reader { bytes: body, at: 0 }.object(0)?;
+    let top = Reader::new(body).object(0)?;
     let meta = top
         .components
         .iter()
@@ -343,7 +325,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     let Some(body) = bytes.strip_prefix(MAGIC) else {
         return malformed("does not start with GWYP (a .gwy file from Gwyddion 2 does)");
     };
-    let top = Reader { bytes: body, at: 0 }.object(0)?;
+    let top = Reader::new(body).object(0)?;
     if top.type_name != "GwyContainer" {
         return malformed(format!("holds a {}, not a GwyContainer", top.type_name));
     }
@@ -462,10 +444,7 @@ mod tests {
             z: LengthUnit::Nm,
         });
         let back = read_height(&written(&um)).unwrap();
-        let metres = Units {
-            xy: LengthUnit::M,
-            z: LengthUnit::M,
-        };
+        let metres = Units::same(LengthUnit::M);
         assert_eq!(back.units(), metres);
         let expected = um.in_units(metres);
         for (a, b) in back.data().iter().zip(expected.data()) {

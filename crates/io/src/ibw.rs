@@ -282,11 +282,9 @@ pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
         .collect())
 }
 
-/// Reads the channel `choice` names (by default the first height channel).
-pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
-    let w = wave(bytes)?;
-    let list = channels(bytes)?;
-    let c = pick(&list, choice)?;
+/// Every value of the wave (its `per_channel` values a channel, in the
+/// wave's number type and byte order), as f64.
+fn values(bytes: &[u8], w: &Wave, per_channel: usize) -> FResult<Vec<f64>> {
     let size = match w.kind & !0x40 {
         2 | 0x20 => 4,
         4 => 8,
@@ -295,15 +293,6 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
         t => return unsupported(format!("number type 0x{t:x}")),
     };
     let unsigned = w.kind & 0x40 != 0;
-    let (nx, ny) = if w.images {
-        (w.dims[0], w.dims[1])
-    } else {
-        (w.dims[0], 1)
-    };
-    if nx == 0 || ny == 0 {
-        return malformed("an empty wave");
-    }
-    let per_channel = nx * ny;
     let need = per_channel
         .checked_mul(w.channels)
         .and_then(|n| n.checked_mul(size))
@@ -315,31 +304,55 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             FormatError::Malformed("the wave's data run past the file's end (truncated?)".into())
         })?;
     let data = &bytes[BIN_HEADER + WAVE_HEADER..BIN_HEADER + WAVE_HEADER + need];
-    let value = |k: usize| -> f64 {
-        let b = &data[k * size..(k + 1) * size];
-        let mut a = [0u8; 8];
-        a[..size].copy_from_slice(b);
-        if !w.little {
-            a[..size].reverse();
-        }
-        match (w.kind & !0x40, unsigned) {
-            (2, _) => f64::from(f32::from_le_bytes(a[..4].try_into().expect("4"))),
-            (4, _) => f64::from_le_bytes(a),
-            (8, false) => f64::from(a[0] as i8),
-            (0x10, false) => f64::from(i16::from_le_bytes([a[0], a[1]])),
-            (0x20, false) => f64::from(i32::from_le_bytes(a[..4].try_into().expect("4"))),
-            (8, true) => f64::from(a[0]),
-            (0x10, true) => f64::from(u16::from_le_bytes([a[0], a[1]])),
-            _ => f64::from(u32::from_le_bytes(a[..4].try_into().expect("4"))),
-        }
-    };
-    let unit = channel_unit(&w, c);
+    Ok(data
+        .chunks_exact(size)
+        .map(|b| {
+            let mut a = [0u8; 8];
+            a[..size].copy_from_slice(b);
+            if !w.little {
+                a[..size].reverse();
+            }
+            match (w.kind & !0x40, unsigned) {
+                (2, _) => f64::from(f32::from_le_bytes(a[..4].try_into().expect("4"))),
+                (4, _) => f64::from_le_bytes(a),
+                (8, false) => f64::from(a[0] as i8),
+                (0x10, false) => f64::from(i16::from_le_bytes([a[0], a[1]])),
+                (0x20, false) => f64::from(i32::from_le_bytes(a[..4].try_into().expect("4"))),
+                (8, true) => f64::from(a[0]),
+                (0x10, true) => f64::from(u16::from_le_bytes([a[0], a[1]])),
+                _ => f64::from(u32::from_le_bytes(a[..4].try_into().expect("4"))),
+            }
+        })
+        .collect())
+}
+
+/// Channel `c`'s lateral and height units, and the factor that brings its
+/// values to the height unit (heights in the lateral unit where both are
+/// lengths).
+fn units(w: &Wave, c: usize) -> (LengthUnit, LengthUnit, f64) {
     let lateral = length_unit(&w.lateral_unit);
-    let (xy, z, factor) = match (length_unit(&unit), lateral) {
+    match (length_unit(&channel_unit(w, c)), lateral) {
         (Some(z), None) => (z, z, 1.0),
         (Some(z), Some(l)) => (l, l, z.metres().zip(l.metres()).map_or(1.0, |(a, b)| a / b)),
         (None, l) => (l.unwrap_or(LengthUnit::None), LengthUnit::None, 1.0),
+    }
+}
+
+/// Reads the channel `choice` names (by default the first height channel).
+pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
+    let w = wave(bytes)?;
+    let list = channels(bytes)?;
+    let c = pick(&list, choice)?;
+    let (nx, ny) = if w.images {
+        (w.dims[0], w.dims[1])
+    } else {
+        (w.dims[0], 1)
     };
+    if nx == 0 || ny == 0 {
+        return malformed("an empty wave");
+    }
+    let values = values(bytes, &w, nx * ny)?;
+    let (xy, z, factor) = units(&w, c);
     // Images: lines from the last; a line scan's channel is a column.
     let heights = (0..ny)
         .flat_map(|j| {
@@ -352,7 +365,7 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             } else {
                 i + nx * c
             };
-            value(k) * factor
+            values[k] * factor
         })
         .collect();
     let [dx, dy] = w.steps;

@@ -103,10 +103,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         return malformed(format!("pixels of {dx} × {dy} µm"));
     }
     let (w, h, raw) = raster(&tiff, &page)?;
-    let um = Units {
-        xy: LengthUnit::Um,
-        z: LengthUnit::Um,
-    };
+    let um = Units::same(LengthUnit::Um);
     Ok(
         HeightField::from_vec([w, h], raw.into_iter().map(|v| v * dz).collect())?
             .with_spacing([dx, dy])?

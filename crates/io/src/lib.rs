@@ -30,6 +30,7 @@
 //! `asperity formats`) lists every format with what it reads and keeps.
 
 pub mod atomic;
+mod bytes;
 pub mod channel;
 pub mod datx;
 pub mod decimal;

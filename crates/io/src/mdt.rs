@@ -23,6 +23,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::channel::{Channel, ChannelInfo, pick};
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::raster::from_last_line;
 use crate::format::{Access, Codec, Magic, Registration};
@@ -86,41 +87,18 @@ fn signal(adc: u8) -> &'static str {
     NAMES.get(usize::from(adc)).copied().unwrap_or("Unknown")
 }
 
-struct Reader<'a>(&'a [u8]);
-
-impl Reader<'_> {
-    fn get(&self, o: usize, n: usize) -> FResult<&[u8]> {
-        self.0.get(o..o.saturating_add(n)).ok_or_else(|| {
-            FormatError::Malformed(format!("the file ends before byte {} (truncated?)", o + n))
-        })
-    }
-    fn u16(&self, o: usize) -> FResult<u16> {
-        self.get(o, 2).map(|b| u16::from_le_bytes([b[0], b[1]]))
-    }
-    fn i16(&self, o: usize) -> FResult<i16> {
-        self.u16(o).map(|v| v as i16)
-    }
-    fn u32(&self, o: usize) -> FResult<u32> {
-        self.get(o, 4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    }
-    fn f32(&self, o: usize) -> FResult<f64> {
-        self.u32(o).map(|v| f64::from(f32::from_bits(v)))
-    }
-}
-
 /// A scanned frame's body at `at` (after the frame header), if it is a
 /// height-like channel.
-fn scanned(r: &Reader<'_>, at: usize, var_size: usize) -> FResult<Option<Frame>> {
+fn scanned(r: &Fields<'_>, at: usize, var_size: usize) -> FResult<Option<Frame>> {
     if var_size < PARSED_VARS {
         return malformed("a scanned frame's variables are shorter than its scales");
     }
     let axis = |k: usize| -> FResult<(f64, f64, i16)> {
         let o = at + 10 * k;
-        Ok((r.f32(o)?, r.f32(o + 4)?, r.i16(o + 8)?))
+        Ok((r.f32_wide(o)?, r.f32_wide(o + 4)?, r.i16(o + 8)?))
     };
     let ((_, x_step, xu), (_, y_step, _), (z_offset, z_step, zu)) = (axis(0)?, axis(1)?, axis(2)?);
-    let adc = r.get(at + 30, 1)?[0];
+    let adc = r.u8(at + 30)?;
     let mode = at + var_size;
     let (nx, ny, dots) = (
         usize::from(r.u16(mode + 2)?),
@@ -160,7 +138,7 @@ fn frames(bytes: &[u8]) -> FResult<Vec<Frame>> {
     if !bytes.starts_with(MAGIC) {
         return malformed("missing the NT-MDT magic 01 B0 93 FF");
     }
-    let r = Reader(bytes);
+    let r = Fields::le(bytes);
     let last = usize::from(r.u16(12)?);
     let mut at = HEADER;
     let mut out = Vec::new();
@@ -182,7 +160,7 @@ fn frames(bytes: &[u8]) -> FResult<Vec<Frame>> {
             scanned_frames += 1;
             let var_size = usize::from(r.u16(at + 20)?);
             // The frame's body is read within the frame only.
-            let body = Reader(&bytes[..end]);
+            let body = Fields::le(&bytes[..end]);
             if let Some(f) = scanned(&body, at + FRAME_HEADER, var_size)? {
                 out.push(f);
             }

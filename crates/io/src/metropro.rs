@@ -16,6 +16,7 @@
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::format::{Access, Codec, Magic, Registration};
 
@@ -28,8 +29,35 @@ pub(crate) const MAGICS: [&[u8]; 3] = [
 /// Phases at or above this mark invalid points.
 const INVALID: i32 = 2_147_483_640;
 
+/// What the header says of the phase map.
+struct Header {
+    nx: usize,
+    ny: usize,
+    /// Metres per phase count.
+    scale: f64,
+    /// Where the phases start (after the header and the intensity data).
+    start: usize,
+    /// The bytes of intensity data skipped.
+    intensity: usize,
+    /// The pixel size and its unit (metres, or pixels without a calibration).
+    spacing: f64,
+    xy: LengthUnit,
+}
+
 /// Reads a MetroPro file.
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    let h = header(bytes)?;
+    let data = phases(bytes, &h)?;
+    Ok(HeightField::from_vec([h.nx, h.ny], data)?
+        .with_spacing([h.spacing, h.spacing])?
+        .with_units(Units {
+            xy: h.xy,
+            z: LengthUnit::M,
+        }))
+}
+
+/// The header (big-endian, 834 or 4096 bytes by its format), checked.
+fn header(bytes: &[u8]) -> FResult<Header> {
     let format = MAGICS
         .iter()
         .position(|m| bytes.starts_with(m))
@@ -41,77 +69,79 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             bytes.len()
         ))
     })?;
-    let u16_at = |o: usize| usize::from(u16::from_be_bytes([head[o], head[o + 1]]));
-    let i16_at = |o: usize| i16::from_be_bytes([head[o], head[o + 1]]);
-    let u32_at =
-        |o: usize| u32::from_be_bytes(head[o..o + 4].try_into().expect("4 bytes")) as usize;
-    let f32_at = |o: usize| {
-        f64::from(f32::from_be_bytes(
-            head[o..o + 4].try_into().expect("4 bytes"),
-        ))
-    };
-    if u32_at(6) != expected {
+    let f = Fields::be(head);
+    let declared = f.u32(6)? as usize;
+    if declared != expected {
         return unsupported(format!(
-            "a header of {} bytes (header format {} has {expected})",
-            u32_at(6),
+            "a header of {declared} bytes (header format {} has {expected})",
             format + 1
         ));
     }
-    let intensity = 2 * u16_at(56) * u16_at(52) * u16_at(54);
-    let (nx, ny) = (u16_at(68), u16_at(70));
+    let u16_at = |o: usize| f.u16(o).map(usize::from);
+    let intensity = 2 * u16_at(56)? * u16_at(52)? * u16_at(54)?;
+    let (nx, ny) = (u16_at(68)?, u16_at(70)?);
     if nx == 0 || ny == 0 {
         return malformed(format!("{nx} × {ny} phase points: no height data"));
     }
-    let phase_res = match i16_at(218) {
+    let (scale, spacing, xy) = calibration(&f)?;
+    Ok(Header {
+        nx,
+        ny,
+        scale,
+        start: expected + intensity,
+        intensity,
+        spacing,
+        xy,
+    })
+}
+
+/// Metres per phase count (S × O × λ / R, signed), and the pixel size
+/// and its unit.
+fn calibration(f: &Fields<'_>) -> FResult<(f64, f64, LengthUnit)> {
+    let phase_res = match f.i16(218)? {
         0 => 4096.0,
         1 => 32768.0,
         2 => 131072.0,
         r => return malformed(format!("phase resolution {r} is not 0, 1 or 2")),
     };
-    let (s, lambda, o, lateral) = (f32_at(164), f32_at(168), f32_at(176), f32_at(184));
-    let sign = if i16_at(232) != 0 { -1.0 } else { 1.0 };
+    let (s, lambda, o) = (f.f32_wide(164)?, f.f32_wide(168)?, f.f32_wide(176)?);
+    let sign = if f.i16(232)? != 0 { -1.0 } else { 1.0 };
     let scale = sign * s * o * lambda / phase_res;
     if !scale.is_finite() {
         return malformed("the height scale (S × O × λ) is not finite");
     }
-    let start = expected + intensity;
-    let need = 4 * nx * ny;
-    let body = bytes.get(start..).unwrap_or(&[]);
-    if body.len() < need {
-        return malformed(format!(
-            "{nx} × {ny} phases need {need} bytes after the header and {intensity} bytes of intensity, the file has {} (truncated?)",
-            body.len()
-        ));
-    }
-    let phases: Vec<i32> = body[..need]
-        .chunks_exact(4)
-        .map(|c| i32::from_be_bytes([c[0], c[1], c[2], c[3]]))
-        .collect();
-    // An invalid phase is a point not measured: a missing point (NaN).
-    let data = phases
-        .iter()
-        .map(|&p| {
-            if p >= INVALID {
-                f64::NAN
-            } else {
-                f64::from(p) * scale
-            }
-        })
-        .collect();
     // Without a lateral calibration the pixels are the unit.
+    let lateral = f.f32_wide(184)?;
     let (spacing, xy) = if lateral.is_finite() && lateral > 0.0 {
         (lateral, LengthUnit::M)
     } else {
         (1.0, LengthUnit::None)
     };
-    Ok(HeightField::from_vec([nx, ny], data)?
-        .with_spacing([spacing, spacing])?
-        .with_units(Units {
-            xy,
-            z: LengthUnit::M,
-        }))
+    Ok((scale, spacing, xy))
 }
 
+/// The phases × the scale; an invalid phase is a point not measured: a
+/// missing point (NaN).
+fn phases(bytes: &[u8], h: &Header) -> FResult<Vec<f64>> {
+    let need = 4 * h.nx * h.ny;
+    let body = bytes.get(h.start..).unwrap_or(&[]);
+    if body.len() < need {
+        return malformed(format!(
+            "{} × {} phases need {need} bytes after the header and {} bytes of intensity, the file has {} (truncated?)",
+            h.nx,
+            h.ny,
+            h.intensity,
+            body.len()
+        ));
+    }
+    Ok(body[..need]
+        .chunks_exact(4)
+        .map(|c| match i32::from_be_bytes([c[0], c[1], c[2], c[3]]) {
+            p if p >= INVALID => f64::NAN,
+            p => f64::from(p) * h.scale,
+        })
+        .collect())
+}
 
 /// This format's registration: its row of `asperity formats`, how its
 /// files are told and how they are decoded (the registry in `lib.rs` lists it).

@@ -108,9 +108,19 @@ pub(crate) fn channels(bytes: &[u8]) -> FResult<Vec<ChannelInfo>> {
         .collect())
 }
 
-/// Reads the channel `choice` names (by default the first height channel).
-pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
-    let h = header(bytes)?;
+/// An image's grid: points and lengths (m), and its samples' size (2 or 4
+/// bytes) and full-scale count.
+struct Grid {
+    nx: usize,
+    ny: usize,
+    lengths: [f64; 2],
+    size: usize,
+    range: f64,
+}
+
+/// The image's grid from the header, checked (spectroscopy and text data
+/// refused).
+fn grid(h: &Header) -> FResult<Grid> {
     let get = |k: &str| {
         h.keys
             .iter()
@@ -133,10 +143,29 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             .ok_or_else(|| FormatError::Malformed(format!("no number {k}")))
     };
     let (nx, ny) = (number("xPixels")? as usize, number("yPixels")? as usize);
-    let (lx, ly) = (number("xLength")?, number("yLength")?);
+    let lengths = [number("xLength")?, number("yLength")?];
     if nx == 0 || ny == 0 {
         return malformed(format!("{nx} × {ny} pixels: no data"));
     }
+    Ok(Grid {
+        nx,
+        ny,
+        lengths,
+        size,
+        range,
+    })
+}
+
+/// Reads the channel `choice` names (by default the first height channel).
+pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<HeightField> {
+    let h = header(bytes)?;
+    let Grid {
+        nx,
+        ny,
+        lengths: [lx, ly],
+        size,
+        range,
+    } = grid(&h)?;
     let index = pick(&channels(bytes)?, choice)?;
     let (name, buffer_range, unit) = &h.buffers[index];
     let need = nx

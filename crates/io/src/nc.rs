@@ -26,19 +26,10 @@ fn attribute(var: Option<&NcVariable>, name: &str) -> Option<NcAttrValue> {
     var?.attribute(name).map(|a| a.value.clone())
 }
 
-/// Reads the `heights` of a NetCDF file.
-pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
-    if !bytes.starts_with(b"CDF") {
-        return malformed("missing the NetCDF-3 magic `CDF` (NetCDF-4/HDF5 files are not read)");
-    }
-    let file = NcFile::from_bytes(bytes).map_err(nc_error)?;
-    let vars = file.variables().map_err(nc_error)?;
-    let find = |name: &str| vars.iter().find(|v| v.name() == name);
-    let Some(heights) = find("heights") else {
-        return malformed("no variable named `heights` (SurfaceTopography's layout)");
-    };
-    let shape = heights.shape();
-    let (nx, ny) = match shape.as_slice() {
+/// The points along x and y of a `heights` variable of `shape`, checked
+/// against the file's `len` bytes.
+fn dims(shape: &[u64], len: usize) -> FResult<[usize; 2]> {
+    let (nx, ny) = match shape {
         [nx] => (*nx as usize, 1),
         [nx, ny] => (*nx as usize, *ny as usize),
         s => {
@@ -53,44 +44,22 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     }
     // Every value takes a byte at least: a larger shape is a corrupt header
     // (checked before the crate allocates for it).
-    let count = nx.checked_mul(ny).filter(|&n| n <= bytes.len());
-    let Some(count) = count else {
+    if nx.checked_mul(ny).is_none_or(|n| n > len) {
         return malformed(format!(
-            "`heights` of {nx} × {ny} values cannot fit in the file's {} bytes",
-            bytes.len()
-        ));
-    };
-    let values = file.read_variable_as_f64("heights").map_err(nc_error)?;
-    let raw: Vec<f64> = values.iter().copied().collect();
-    if raw.len() != count {
-        return malformed(format!(
-            "`heights` holds {} values, its shape {nx} × {ny}",
-            raw.len()
+            "`heights` of {nx} × {ny} values cannot fit in the file's {len} bytes"
         ));
     }
-    let mask: Option<Vec<f64>> = match find("mask") {
-        Some(m) if m.shape() != shape => return malformed("`mask` and `heights` differ in shape"),
-        Some(_) => Some(
-            file.read_variable_as_f64("mask")
-                .map_err(nc_error)?
-                .iter()
-                .copied()
-                .collect(),
-        ),
-        None => None,
-    };
-    if mask.as_ref().is_some_and(|m| m.len() != raw.len()) {
-        return malformed("`mask` and `heights` differ in size");
-    }
-    // Stored x slowest: row j is heights[:, j].
-    let mut data = Vec::with_capacity(nx * ny);
-    for j in 0..ny {
-        for i in 0..nx {
-            let k = i * ny + j;
-            let masked = mask.as_ref().is_some_and(|m| m[k] != 0.0);
-            data.push(if masked { f64::NAN } else { raw[k] });
-        }
-    }
+    Ok([nx, ny])
+}
+
+/// The spacings (from the `length` of `x` and `y`, else 1) and the lateral
+/// unit (`x`'s, else `heights`'s).
+fn geometry(
+    vars: &[NcVariable],
+    heights: &NcVariable,
+    [nx, ny]: [usize; 2],
+) -> FResult<([f64; 2], LengthUnit)> {
+    let find = |name: &str| vars.iter().find(|v| v.name() == name);
     let unit = attribute(find("x"), "unit")
         .or_else(|| attribute(Some(heights), "unit"))
         .and_then(|v| v.as_string());
@@ -106,9 +75,69 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         Some(u) => LengthUnit::parse(u)
             .map_err(|_| FormatError::Malformed(format!("the unit {u:?} is not a length")))?,
     };
+    Ok((spacing, xy))
+}
+
+/// The `mask` variable's values (non-zero: not measured), if there is one,
+/// checked to match `heights`' shape and size.
+fn mask(
+    file: &NcFile,
+    var: Option<&NcVariable>,
+    shape: &[u64],
+    len: usize,
+) -> FResult<Option<Vec<f64>>> {
+    let Some(var) = var else { return Ok(None) };
+    if var.shape() != shape {
+        return malformed("`mask` and `heights` differ in shape");
+    }
+    let mask: Vec<f64> = file
+        .read_variable_as_f64("mask")
+        .map_err(nc_error)?
+        .iter()
+        .copied()
+        .collect();
+    if mask.len() != len {
+        return malformed("`mask` and `heights` differ in size");
+    }
+    Ok(Some(mask))
+}
+
+/// Reads the `heights` of a NetCDF file.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    if !bytes.starts_with(b"CDF") {
+        return malformed("missing the NetCDF-3 magic `CDF` (NetCDF-4/HDF5 files are not read)");
+    }
+    let file = NcFile::from_bytes(bytes).map_err(nc_error)?;
+    let vars = file.variables().map_err(nc_error)?;
+    let find = |name: &str| vars.iter().find(|v| v.name() == name);
+    let Some(heights) = find("heights") else {
+        return malformed("no variable named `heights` (SurfaceTopography's layout)");
+    };
+    let shape = heights.shape();
+    let [nx, ny] = dims(&shape, bytes.len())?;
+    let count = nx * ny;
+    let values = file.read_variable_as_f64("heights").map_err(nc_error)?;
+    let raw: Vec<f64> = values.iter().copied().collect();
+    if raw.len() != count {
+        return malformed(format!(
+            "`heights` holds {} values, its shape {nx} × {ny}",
+            raw.len()
+        ));
+    }
+    let mask = mask(&file, find("mask"), &shape, raw.len())?;
+    // Stored x slowest: row j is heights[:, j].
+    let mut data = Vec::with_capacity(nx * ny);
+    for j in 0..ny {
+        for i in 0..nx {
+            let k = i * ny + j;
+            let masked = mask.as_ref().is_some_and(|m| m[k] != 0.0);
+            data.push(if masked { f64::NAN } else { raw[k] });
+        }
+    }
+    let (spacing, xy) = geometry(vars, heights, [nx, ny])?;
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_spacing(spacing)?
-        .with_units(Units { xy, z: xy }))
+        .with_units(Units::same(xy)))
 }
 
 

@@ -32,6 +32,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::format::{Access, Codec, Magic, Registration};
 
@@ -45,27 +46,15 @@ pub(crate) fn sniff(bytes: &[u8]) -> bool {
     bytes.get(VERSION_AT..VERSION_AT + VERSION.len()) == Some(VERSION)
 }
 
-fn u32_at(b: &[u8], o: usize) -> u32 {
-    u32::from_le_bytes(b[o..o + 4].try_into().expect("4 bytes"))
-}
-
-fn i32_at(b: &[u8], o: usize) -> i32 {
-    i32::from_le_bytes(b[o..o + 4].try_into().expect("4 bytes"))
-}
-
-fn f64_at(b: &[u8], o: usize) -> f64 {
-    f64::from_le_bytes(b[o..o + 8].try_into().expect("8 bytes"))
-}
-
-/// The NUL-terminated text at `o` (at most `len` bytes).
-fn text_at(b: &[u8], o: usize, len: usize) -> String {
-    let field = &b[o..o + len];
+/// The NUL-terminated text of the `len` bytes at `o`.
+fn text_at(f: &Fields<'_>, o: usize, len: usize) -> FResult<String> {
+    let field = f.bytes(o, len)?;
     let end = field.iter().position(|&c| c == 0).unwrap_or(len);
-    field[..end].iter().map(|&c| char::from(c)).collect()
+    Ok(field[..end].iter().map(|&c| char::from(c)).collect())
 }
 
 /// The header, checked to be one asperity reads.
-fn header(bytes: &[u8]) -> FResult<&[u8]> {
+fn header(bytes: &[u8]) -> FResult<Fields<'_>> {
     let Some(head) = bytes.get(..HEADER) else {
         return malformed(format!(
             "{} bytes: shorter than the {HEADER}-byte header (truncated?)",
@@ -75,21 +64,42 @@ fn header(bytes: &[u8]) -> FResult<&[u8]> {
     if !sniff(head) {
         return malformed("no `OM_MS_2.0` version at byte 32: not a µsurf file");
     }
-    match (u32_at(head, 0), u32_at(head, 4)) {
-        (2, 1) => Ok(head),
+    let f = Fields::le(head);
+    match (f.u32(0)?, f.u32(4)?) {
+        (2, 1) => Ok(f),
         (2, 0) => unsupported("a profile (dimension type 0); asperity reads µsurf areas"),
         (t, 1) => unsupported(format!("data type {t}; asperity reads type 2 (u16 counts)")),
         (t, d) => malformed(format!("data type {t}, dimension type {d}")),
     }
 }
 
-/// Reads an `.nms` height field.
-pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
-    let head = header(bytes)?;
-    let (nx, ny) = (u32_at(head, 1368) as usize, u32_at(head, 1372) as usize);
-    let (dx, dy) = (f64_at(head, 1376), f64_at(head, 1384));
-    let (n_low, n_high) = (i32_at(head, 8), i32_at(head, 12));
-    let (z_low, z_high) = (f64_at(head, 16), f64_at(head, 24));
+/// The grid (points, spacings in nm) and the map of counts to heights (µm):
+/// `z_low + (count − n_low) × scale`.
+struct Layout {
+    nx: usize,
+    ny: usize,
+    spacing: [f64; 2],
+    n_low: f64,
+    z_low: f64,
+    scale: f64,
+}
+
+impl Layout {
+    /// The height of a count (µm), or a missing point where not measured.
+    fn height(&self, count: u16, measured: bool) -> f64 {
+        if measured {
+            self.z_low + (f64::from(count) - self.n_low) * self.scale
+        } else {
+            f64::NAN
+        }
+    }
+}
+
+fn layout(f: &Fields<'_>) -> FResult<Layout> {
+    let (nx, ny) = (f.u32(1368)? as usize, f.u32(1372)? as usize);
+    let (dx, dy) = (f.f64(1376)?, f.f64(1384)?);
+    let (n_low, n_high) = (f.i32(8)?, f.i32(12)?);
+    let (z_low, z_high) = (f.f64(16)?, f.f64(24)?);
     if nx == 0 || ny == 0 {
         return malformed(format!("{nx} × {ny} points: no data"));
     }
@@ -103,11 +113,26 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             "the counts {n_low}…{n_high} cannot map to the heights {z_low}…{z_high} µm"
         ));
     }
+    Ok(Layout {
+        nx,
+        ny,
+        spacing: [dx, dy],
+        n_low: f64::from(n_low),
+        z_low,
+        scale: (z_high - z_low) / (f64::from(n_high) - f64::from(n_low)),
+    })
+}
+
+/// Reads an `.nms` height field.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    let head = header(bytes)?;
+    let layout = layout(&head)?;
+    let (nx, ny, [dx, dy]) = (layout.nx, layout.ny, layout.spacing);
     let points = nx
         .checked_mul(ny)
         .filter(|n| n.checked_mul(3).is_some())
         .ok_or_else(|| FormatError::Malformed(format!("{nx} × {ny} points: too many")))?;
-    let with_intensity = i32_at(head, 1416) > 0;
+    let with_intensity = head.i32(1416)? > 0;
     let need = points * if with_intensity { 3 } else { 2 };
     let body = &bytes[HEADER..];
     if body.len() < need {
@@ -116,37 +141,28 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             body.len()
         ));
     }
-    let scale = (z_high - z_low) / (f64::from(n_high) - f64::from(n_low));
-    let counts = body[..2 * points].chunks_exact(2);
-    let intensity = body[2 * points..].iter().map(|&i| !with_intensity || i > 0);
-    let data = counts
-        .zip(intensity)
-        .map(|(c, measured)| {
-            let count = f64::from(u16::from_le_bytes([c[0], c[1]]));
-            if measured {
-                z_low + (count - f64::from(n_low)) * scale
-            } else {
-                f64::NAN
-            }
-        })
+    let measured = body[2 * points..].iter().map(|&i| !with_intensity || i > 0);
+    let data = body[..2 * points]
+        .chunks_exact(2)
+        .zip(measured)
+        .map(|(c, measured)| layout.height(u16::from_le_bytes([c[0], c[1]]), measured))
         .collect();
-    let um = Units {
-        xy: LengthUnit::Um,
-        z: LengthUnit::Um,
-    };
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_spacing([dx * 1e-3, dy * 1e-3])?
-        .with_units(um))
+        .with_units(Units::same(LengthUnit::Um)))
 }
 
 /// The header's texts: the version, the image's name and the date.
 pub(crate) fn metadata(bytes: &[u8]) -> FResult<Metadata> {
     let head = header(bytes)?;
-    Ok([("Version", 32, 16), ("Image", 52, 64), ("Date", 1076, 20)]
-        .into_iter()
-        .map(|(key, at, len)| (key.to_owned(), text_at(head, at, len)))
-        .filter(|(_, v)| !v.is_empty())
-        .collect())
+    let mut out = Metadata::new();
+    for (key, at, len) in [("Version", 32, 16), ("Image", 52, 64), ("Date", 1076, 20)] {
+        let v = text_at(&head, at, len)?;
+        if !v.is_empty() {
+            out.push((key.to_owned(), v));
+        }
+    }
+    Ok(out)
 }
 
 

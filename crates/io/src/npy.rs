@@ -11,6 +11,7 @@
 
 use std::io::Write;
 
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed};
 use crate::format::{Access, Codec, Magic, Registration};
 
@@ -34,39 +35,72 @@ fn dict_value<'a>(header: &'a str, key: &str) -> FResult<&'a str> {
     Ok(rest.trim_start())
 }
 
+/// An array's element type: byte order, kind (`f`, `i`, `u`, `b`) and size.
+struct Dtype {
+    big: bool,
+    kind: u8,
+    size: usize,
+}
+
 /// Parses an `.npy` file into an f64 array.
 pub(crate) fn read(bytes: &[u8]) -> FResult<NpyArray> {
-    if !bytes.starts_with(MAGIC) || bytes.len() < 10 {
-        return malformed("missing the \\x93NUMPY magic");
-    }
-    let major = bytes[6];
-    let (hlen, start) = match major {
-        1 => (u16::from_le_bytes([bytes[8], bytes[9]]) as usize, 10),
-        2 | 3 => {
-            let Some(b) = bytes.get(8..12) else {
-                return malformed("truncated header");
-            };
-            (u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize, 12)
-        }
-        v => return malformed(format!("unsupported format version {v}")),
-    };
-    let Some(hbytes) = bytes.get(start..start + hlen) else {
-        return malformed("truncated header");
-    };
-    let header = std::str::from_utf8(hbytes)
-        .map_err(|_| FormatError::Malformed("header is not text".into()))?;
+    let (header, body) = split_header(bytes)?;
     let descr = dict_value(header, "descr")?;
     let descr = descr
         .get(1..)
         .and_then(|d| d.split(['\'', '"']).next())
         .unwrap_or("");
     let fortran = dict_value(header, "fortran_order")?.starts_with("True");
-    let shape_txt = dict_value(header, "shape")?;
-    let shape_txt = shape_txt
+    let shape = shape(dict_value(header, "shape")?)?;
+    let dtype = dtype(descr)?;
+    let count = shape
+        .iter()
+        .try_fold(1usize, |a, &d| a.checked_mul(d))
+        .ok_or_else(|| FormatError::Malformed("shape too large".into()))?;
+    let need = count
+        .checked_mul(dtype.size)
+        .ok_or_else(|| FormatError::Malformed("shape too large".into()))?;
+    if body.len() < need {
+        return malformed(format!(
+            "shape {shape:?} of {descr} needs {need} data bytes but the file has {} (truncated)",
+            body.len()
+        ));
+    }
+    let mut data: Vec<f64> = body[..need]
+        .chunks_exact(dtype.size)
+        .map(|chunk| value(&dtype, chunk))
+        .collect();
+    if fortran && shape.len() > 1 {
+        data = fortran_to_c(&data, &shape);
+    }
+    Ok(NpyArray { shape, data })
+}
+
+/// The header's text and the bytes after it.
+fn split_header(bytes: &[u8]) -> FResult<(&str, &[u8])> {
+    if !bytes.starts_with(MAGIC) || bytes.len() < 10 {
+        return malformed("missing the \\x93NUMPY magic");
+    }
+    let f = Fields::le(bytes);
+    let truncated = |_| FormatError::Malformed("truncated header".into());
+    let (hlen, start) = match bytes[6] {
+        1 => (usize::from(f.u16(8).map_err(truncated)?), 10),
+        2 | 3 => (f.u32(8).map_err(truncated)? as usize, 12),
+        v => return malformed(format!("unsupported format version {v}")),
+    };
+    let hbytes = f.bytes(start, hlen).map_err(truncated)?;
+    let header = std::str::from_utf8(hbytes)
+        .map_err(|_| FormatError::Malformed("header is not text".into()))?;
+    Ok((header, &bytes[start + hlen..]))
+}
+
+/// The `shape` tuple's entries.
+fn shape(text: &str) -> FResult<Vec<usize>> {
+    let inner = text
         .strip_prefix('(')
         .and_then(|s| s.split(')').next())
         .ok_or_else(|| FormatError::Malformed("bad shape".into()))?;
-    let shape: Vec<usize> = shape_txt
+    inner
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
@@ -74,16 +108,19 @@ pub(crate) fn read(bytes: &[u8]) -> FResult<NpyArray> {
             s.parse()
                 .map_err(|_| FormatError::Malformed(format!("bad shape entry {s:?}")))
         })
-        .collect::<FResult<_>>()?;
-    let (order, kind, size) = {
-        let b = descr.as_bytes();
-        if b.len() < 3 {
-            return malformed(format!("unsupported dtype {descr:?}"));
-        }
-        // `get`: a non-ASCII descr has no character boundary at byte 2.
-        let size = descr.get(2..).and_then(|t| t.parse::<usize>().ok());
-        (b[0], b[1], size.unwrap_or(0))
-    };
+        .collect()
+}
+
+/// The element type a `descr` names (`<f8`, `>i2`, `|u1`…), if asperity
+/// reads it.
+fn dtype(descr: &str) -> FResult<Dtype> {
+    let b = descr.as_bytes();
+    if b.len() < 3 {
+        return malformed(format!("unsupported dtype {descr:?}"));
+    }
+    // `get`: a non-ASCII descr has no character boundary at byte 2.
+    let size = descr.get(2..).and_then(|t| t.parse::<usize>().ok()).unwrap_or(0);
+    let (order, kind) = (b[0], b[1]);
     let big = match order {
         b'<' | b'|' | b'=' => false,
         b'>' => true,
@@ -98,44 +135,29 @@ pub(crate) fn read(bytes: &[u8]) -> FResult<NpyArray> {
             "dtype {descr:?} is not supported; use float32 or float64 (integer and bool arrays are also read)"
         ));
     }
-    let count = shape
-        .iter()
-        .try_fold(1usize, |a, &d| a.checked_mul(d))
-        .ok_or_else(|| FormatError::Malformed("shape too large".into()))?;
-    let body = &bytes[start + hlen..];
-    let need = count
-        .checked_mul(size)
-        .ok_or_else(|| FormatError::Malformed("shape too large".into()))?;
-    if body.len() < need {
-        return malformed(format!(
-            "shape {shape:?} of {descr} needs {need} data bytes but the file has {} (truncated)",
-            body.len()
-        ));
+    Ok(Dtype { big, kind, size })
+}
+
+/// One element as f64.
+fn value(dtype: &Dtype, chunk: &[u8]) -> f64 {
+    let size = dtype.size;
+    let mut a = [0u8; 8];
+    a[..size].copy_from_slice(chunk);
+    if dtype.big {
+        a[..size].reverse();
     }
-    let mut data = Vec::with_capacity(count);
-    for chunk in body[..need].chunks_exact(size) {
-        let mut a = [0u8; 8];
-        a[..size].copy_from_slice(chunk);
-        if big {
-            a[..size].reverse();
-        }
-        data.push(match (kind, size) {
-            (b'f', 4) => f32::from_le_bytes([a[0], a[1], a[2], a[3]]) as f64,
-            (b'f', _) => f64::from_le_bytes(a),
-            (b'i', 1) => a[0] as i8 as f64,
-            (b'i', 2) => i16::from_le_bytes([a[0], a[1]]) as f64,
-            (b'i', 4) => i32::from_le_bytes([a[0], a[1], a[2], a[3]]) as f64,
-            (b'i', _) => i64::from_le_bytes(a) as f64,
-            (b'u', 1) | (b'b', _) => a[0] as f64,
-            (b'u', 2) => u16::from_le_bytes([a[0], a[1]]) as f64,
-            (b'u', 4) => u32::from_le_bytes([a[0], a[1], a[2], a[3]]) as f64,
-            _ => u64::from_le_bytes(a) as f64,
-        });
+    match (dtype.kind, size) {
+        (b'f', 4) => f32::from_le_bytes([a[0], a[1], a[2], a[3]]) as f64,
+        (b'f', _) => f64::from_le_bytes(a),
+        (b'i', 1) => a[0] as i8 as f64,
+        (b'i', 2) => i16::from_le_bytes([a[0], a[1]]) as f64,
+        (b'i', 4) => i32::from_le_bytes([a[0], a[1], a[2], a[3]]) as f64,
+        (b'i', _) => i64::from_le_bytes(a) as f64,
+        (b'u', 1) | (b'b', _) => a[0] as f64,
+        (b'u', 2) => u16::from_le_bytes([a[0], a[1]]) as f64,
+        (b'u', 4) => u32::from_le_bytes([a[0], a[1], a[2], a[3]]) as f64,
+        _ => u64::from_le_bytes(a) as f64,
     }
-    if fortran && shape.len() > 1 {
-        data = fortran_to_c(&data, &shape);
-    }
-    Ok(NpyArray { shape, data })
 }
 
 fn fortran_to_c(data: &[f64], shape: &[usize]) -> Vec<f64> {

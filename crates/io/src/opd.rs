@@ -17,24 +17,25 @@
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed};
 use crate::format::{Access, Codec, Magic, Registration};
 
 const ENTRY: usize = 24;
 
+/// The directory entry at `at`: a block's name and length.
+fn entry(bytes: &[u8], at: usize) -> FResult<(String, usize)> {
+    let e = bytes.get(at..at + ENTRY).ok_or_else(|| {
+        FormatError::Malformed("the directory ends before its entries (truncated?)".into())
+    })?;
+    let name = e[..16].split(|&b| b == 0).next().unwrap_or_default();
+    let len = Fields::le(e).i32(18)?;
+    Ok((String::from_utf8_lossy(name).into_owned(), len.max(0) as usize))
+}
+
 /// The blocks' names and contents, in order.
 fn blocks(bytes: &[u8]) -> FResult<Vec<(String, &[u8])>> {
-    let entry = |at: usize| -> FResult<(String, usize)> {
-        let e = bytes.get(at..at + ENTRY).ok_or_else(|| {
-            FormatError::Malformed("the directory ends before its entries (truncated?)".into())
-        })?;
-        let name = e[..16].split(|&b| b == 0).next().unwrap_or_default();
-        let len = i32::from_le_bytes(e[18..22].try_into().expect("4 bytes"));
-        Ok((
-            String::from_utf8_lossy(name).into_owned(),
-            len.max(0) as usize,
-        ))
-    };
+    let entry = |at: usize| entry(bytes, at);
     let (name, dir_len) = entry(2)?;
     if name != "Directory" {
         return malformed(format!(
@@ -83,11 +84,46 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     }) else {
         return malformed("no data block (RAW DATA, OPD or Raw)");
     };
+    let (nx, ny, size, raw) = data_block(name, data)?;
+    let scale = height_scale(&blocks)?;
+    let value = |k: usize| -> f64 {
+        let c = &raw[k * size..(k + 1) * size];
+        if size == 2 {
+            match i16::from_le_bytes([c[0], c[1]]) {
+                v if v >= 32766 => f64::NAN,
+                v => f64::from(v) * scale,
+            }
+        } else {
+            match f32::from_le_bytes([c[0], c[1], c[2], c[3]]) {
+                v if !v.is_finite() || v >= 1e38 => f64::NAN,
+                v => f64::from(v) * scale,
+            }
+        }
+    };
+    // Stored x slowest, y fastest and from the last row.
+    let mut heights = Vec::with_capacity(nx * ny);
+    for j in 0..ny {
+        heights.extend((0..nx).map(|i| value(i * ny + (ny - 1 - j))));
+    }
+    let pixel = number(&blocks, "Pixel_size").unwrap_or(1.0);
+    let (dx, dy) = (pixel, pixel * number(&blocks, "Aspect").unwrap_or(1.0));
+    if !(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0) {
+        return malformed(format!("the pixel size {dx} × {dy} mm is not positive"));
+    }
+    let units = Units { xy: LengthUnit::Mm, z: LengthUnit::Nm };
+    Ok(HeightField::from_vec([nx, ny], heights)?
+        .with_spacing([dx, dy])?
+        .with_units(units))
+}
+
+/// A data block's points along x and y, element size, and elements.
+fn data_block<'a>(name: &str, data: &'a [u8]) -> FResult<(usize, usize, usize, &'a [u8])> {
     if data.len() < 6 {
         return malformed(format!("the {name} block has no size"));
     }
-    let u16_at = |o: usize| usize::from(u16::from_le_bytes([data[o], data[o + 1]]));
-    let (nx, ny, size) = (u16_at(0), u16_at(2), u16_at(4));
+    let f = Fields::le(data);
+    let (nx, ny, size) = (f.u16(0)?, f.u16(2)?, f.u16(4)?);
+    let (nx, ny, size) = (usize::from(nx), usize::from(ny), usize::from(size));
     if nx == 0 || ny == 0 {
         return malformed(format!("{nx} × {ny} points: no data"));
     }
@@ -103,54 +139,22 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             data.len() - 6
         ))
     })?;
-    let wavelength = number(&blocks, "Wavelength").ok_or_else(|| {
+    Ok((nx, ny, size, raw))
+}
+
+/// Nanometres per stored unit: the wavelength / mult.
+fn height_scale(blocks: &[(String, &[u8])]) -> FResult<f64> {
+    let wavelength = number(blocks, "Wavelength").ok_or_else(|| {
         FormatError::Malformed("no Wavelength block: the heights have no scale".into())
     })?;
-    let mult = number(&blocks, "Mult").unwrap_or(1.0);
-    let pixel = number(&blocks, "Pixel_size").unwrap_or(1.0);
-    let aspect = number(&blocks, "Aspect").unwrap_or(1.0);
+    let mult = number(blocks, "Mult").unwrap_or(1.0);
     if !(wavelength.is_finite() && wavelength != 0.0 && mult > 0.0) {
         return malformed(format!(
             "the height scale wavelength / mult = {wavelength} / {mult} is not usable"
         ));
     }
-    let scale = wavelength / mult;
-    let value = |k: usize| -> f64 {
-        let c = &raw[k * size..(k + 1) * size];
-        if size == 2 {
-            let v = i16::from_le_bytes([c[0], c[1]]);
-            if v >= 32766 {
-                f64::NAN
-            } else {
-                f64::from(v) * scale
-            }
-        } else {
-            let v = f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
-            if !v.is_finite() || v >= 1e38 {
-                f64::NAN
-            } else {
-                f64::from(v) * scale
-            }
-        }
-    };
-    // Stored x slowest, y fastest and from the last row.
-    let mut heights = Vec::with_capacity(nx * ny);
-    for j in 0..ny {
-        heights.extend((0..nx).map(|i| value(i * ny + (ny - 1 - j))));
-    }
-    let (dx, dy) = (pixel, pixel * aspect);
-    if !(dx.is_finite() && dx > 0.0 && dy.is_finite() && dy > 0.0) {
-        return malformed(format!("the pixel size {dx} × {dy} mm is not positive"));
-    }
-    let units = Units {
-        xy: LengthUnit::Mm,
-        z: LengthUnit::Nm,
-    };
-    Ok(HeightField::from_vec([nx, ny], heights)?
-        .with_spacing([dx, dy])?
-        .with_units(units))
+    Ok(wavelength / mult)
 }
-
 
 /// This format's registration: its row of `asperity formats`, how its
 /// files are told and how they are decoded (the registry in `lib.rs` lists it).

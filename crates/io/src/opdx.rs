@@ -24,6 +24,7 @@ use std::collections::HashMap;
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::bytes::{Cursor, Fields};
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::format::{Access, Codec, Magic, Registration};
 
@@ -43,67 +44,36 @@ enum Item {
     Matrix(usize, usize, usize, usize),
 }
 
-struct Cursor<'a> {
-    bytes: &'a [u8],
-    at: usize,
+/// A text: its length (u32), then the bytes.
+fn name(c: &mut Cursor<'_>) -> FResult<String> {
+    let n = c.u32()? as usize;
+    Ok(String::from_utf8_lossy(c.take(n)?).into_owned())
 }
 
-fn cut() -> FormatError {
-    FormatError::Malformed("the file ends inside an item (truncated?)".into())
+/// A length of 1, 2 or 4 bytes, after a byte giving which.
+fn varlen(c: &mut Cursor<'_>) -> FResult<usize> {
+    match c.u8()? {
+        1 => Ok(usize::from(c.u8()?)),
+        2 => Ok(usize::from(c.u16()?)),
+        4 => Ok(c.u32()? as usize),
+        k => malformed(format!("a length of {k} bytes")),
+    }
 }
 
-impl<'a> Cursor<'a> {
-    fn take(&mut self, n: usize) -> FResult<&'a [u8]> {
-        let b = self
-            .at
-            .checked_add(n)
-            .and_then(|end| self.bytes.get(self.at..end))
-            .ok_or_else(cut)?;
-        self.at += n;
-        Ok(b)
-    }
-    fn u8(&mut self) -> FResult<u8> {
-        Ok(self.take(1)?[0])
-    }
-    fn u32(&mut self) -> FResult<u32> {
-        Ok(u32::from_le_bytes(
-            self.take(4)?.try_into().expect("4 bytes"),
-        ))
-    }
-    fn f64(&mut self) -> FResult<f64> {
-        Ok(f64::from_le_bytes(
-            self.take(8)?.try_into().expect("8 bytes"),
-        ))
-    }
-    fn name(&mut self) -> FResult<String> {
-        let n = self.u32()? as usize;
-        Ok(String::from_utf8_lossy(self.take(n)?).into_owned())
-    }
-    fn varlen(&mut self) -> FResult<usize> {
-        match self.u8()? {
-            1 => Ok(usize::from(self.u8()?)),
-            2 => Ok(usize::from(u16::from_le_bytes(
-                self.take(2)?.try_into().expect("2 bytes"),
-            ))),
-            4 => Ok(self.u32()? as usize),
-            k => malformed(format!("a length of {k} bytes")),
-        }
-    }
-    /// Skips a block of `varlen` bytes, returning (start, length).
-    fn block(&mut self) -> FResult<(usize, usize)> {
-        let n = self.varlen()?;
-        let start = self.at;
-        self.take(n)?;
-        Ok((start, n))
-    }
-    /// Skips a block of `varlen` bytes, returning a cursor over it.
-    fn sub_block(&mut self) -> FResult<Cursor<'a>> {
-        let (start, n) = self.block()?;
-        Ok(Cursor {
-            bytes: &self.bytes[..start + n],
-            at: start,
-        })
-    }
+/// Skips a block of `varlen` bytes, returning (start, length).
+fn block(c: &mut Cursor<'_>) -> FResult<(usize, usize)> {
+    let n = varlen(c)?;
+    let start = c.at();
+    c.skip(n)?;
+    Ok((start, n))
+}
+
+/// Skips a block of `varlen` bytes, returning a cursor over it.
+fn sub_block<'a>(c: &mut Cursor<'a>) -> FResult<Cursor<'a>> {
+    let (start, n) = block(c)?;
+    let mut inner = c.up_to(start + n)?;
+    inner.seek(start);
+    Ok(inner)
 }
 
 /// A number item of type `kind` (booleans, integers, floats).
@@ -138,90 +108,89 @@ fn items(
     if depth > 64 {
         return malformed("containers nested more than 64 deep");
     }
-    while c.at < c.bytes.len() {
-        let path = format!("{prefix}/{}", c.name()?);
+    while !c.is_done() {
+        let path = format!("{prefix}/{}", name(c)?);
         let kind = c.u8()?;
-        let item = match kind {
-            0x7F => return Ok(()),
-            0x7D | 0x46 | 0x47 => {
-                let n = c.varlen()?;
-                let end =
-                    c.at.checked_add(n)
-                        .filter(|&e| e <= c.bytes.len())
-                        .ok_or_else(cut)?;
-                let mut inner = Cursor {
-                    bytes: &c.bytes[..end],
-                    at: c.at,
-                };
-                items(&mut inner, &path, manifest, depth + 1)?;
-                c.at = end;
-                None
-            }
-            0x7C | 0x0E => {
-                c.name()?;
-                c.block()?;
-                None
-            }
-            0x01 | 0x04..=0x07 | 0x0A..=0x0D => Some(Item::Number(number(c, kind)?)),
-            0x12 => {
-                let n = c.varlen()?;
-                Some(Item::Text(String::from_utf8_lossy(c.take(n)?).into_owned()))
-            }
-            0x13 => {
-                let mut q = c.sub_block()?;
-                let value = q.f64()?;
-                q.name()?;
-                Some(Item::Quantity(value, q.name()?))
-            }
-            0x15 => {
-                c.take(9)?;
-                None
-            }
-            0x18 => {
-                let mut u = c.sub_block()?;
-                u.name()?;
-                let symbol = u.name()?;
-                Some(Item::Quantity(u.f64()?, symbol))
-            }
-            0x40 => {
-                c.name()?;
-                let (start, n) = c.block()?;
-                Some(Item::Doubles(start, n))
-            }
-            0x42 => {
-                c.name()?;
-                let mut l = c.sub_block()?;
-                let mut list = Vec::new();
-                while l.at < l.bytes.len() {
-                    list.push(l.name()?);
-                }
-                Some(Item::Texts(list))
-            }
-            0x00 | 0x45 => Some(matrix(c, kind)?),
-            k => return malformed(format!("item {path:?} of unknown type 0x{k:02x}")),
-        };
-        if let Some(item) = item {
+        if kind == 0x7F {
+            return Ok(());
+        }
+        if matches!(kind, 0x7D | 0x46 | 0x47) {
+            // A container: its items, under its path.
+            let n = varlen(c)?;
+            let end = c.at().saturating_add(n);
+            items(&mut c.up_to(end)?, &path, manifest, depth + 1)?;
+            c.seek(end);
+        } else if let Some(item) = item(c, kind, &path)? {
             manifest.insert(path, item);
         }
     }
     Ok(())
 }
 
+/// One item of type `kind` other than a container: its value, if it is one
+/// asperity keeps.
+fn item(c: &mut Cursor, kind: u8, path: &str) -> FResult<Option<Item>> {
+    Ok(match kind {
+        0x7C | 0x0E => {
+            name(c)?;
+            block(c)?;
+            None
+        }
+        0x01 | 0x04..=0x07 | 0x0A..=0x0D => Some(Item::Number(number(c, kind)?)),
+        0x12 => {
+            let n = varlen(c)?;
+            Some(Item::Text(String::from_utf8_lossy(c.take(n)?).into_owned()))
+        }
+        0x13 => {
+            let mut q = sub_block(c)?;
+            let value = q.f64()?;
+            name(&mut q)?;
+            Some(Item::Quantity(value, name(&mut q)?))
+        }
+        0x15 => {
+            c.skip(9)?;
+            None
+        }
+        0x18 => {
+            let mut u = sub_block(c)?;
+            name(&mut u)?;
+            let symbol = name(&mut u)?;
+            Some(Item::Quantity(u.f64()?, symbol))
+        }
+        0x40 => {
+            name(c)?;
+            let (start, n) = block(c)?;
+            Some(Item::Doubles(start, n))
+        }
+        0x42 => {
+            name(c)?;
+            let mut l = sub_block(c)?;
+            let mut list = Vec::new();
+            while !l.is_done() {
+                list.push(name(&mut l)?);
+            }
+            Some(Item::Texts(list))
+        }
+        0x00 | 0x45 => Some(matrix(c, kind)?),
+        k => return malformed(format!("item {path:?} of unknown type 0x{k:02x}")),
+    })
+}
+
 /// A matrix item (0x00 with a type id and name before it, or 0x45): its
 /// rows, columns and f32 data.
 fn matrix(c: &mut Cursor, kind: u8) -> FResult<Item> {
-    c.name()?;
+    name(c)?;
     if kind == 0x00 {
         c.u32()?;
-        c.name()?;
+        name(c)?;
     }
-    let n = c.varlen()?;
+    let n = varlen(c)?;
     let (rows, columns) = (c.u32()? as usize, c.u32()? as usize);
     let len = n
         .checked_sub(8)
         .ok_or_else(|| FormatError::Malformed("a matrix shorter than its size".into()))?;
-    let start = c.at;
-    c.take(len)?;
+    let start = c.at();
+    c.skip(len)?;
     Ok(Item::Matrix(start, len, columns, rows))
 }
 
@@ -351,10 +320,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         return malformed("missing the `VCA DATA` magic");
     }
     let mut items_read = HashMap::new();
-    let mut c = Cursor {
-        bytes,
-        at: MAGIC.len(),
-    };
+    let mut c = Fields::le(bytes).cursor(MAGIC.len());
     items(&mut c, "", &mut items_read, 0)?;
     let m = Manifest(items_read);
     let l = if m.is_profile() {

@@ -12,6 +12,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
+use crate::bytes::{Cursor, Fields};
 use crate::error::{FResult, FormatError, malformed};
 use crate::format::{Access, Codec, Magic, Registration};
 
@@ -30,40 +31,27 @@ struct Header {
     data: usize,
 }
 
-fn bytes_at(b: &[u8], o: usize, n: usize) -> FResult<&[u8]> {
-    b.get(o..o.saturating_add(n)).ok_or_else(|| {
-        FormatError::Malformed(format!(
-            "the file ends inside its header at byte {o} (truncated?)"
-        ))
-    })
+/// A text: its length (i32), then Latin-1 bytes (trailing NULs dropped).
+fn text(c: &mut Cursor<'_>) -> FResult<String> {
+    let n = c.i32()? as u32 as usize;
+    Ok(c.take(n)?
+        .iter()
+        .map(|&ch| char::from(ch))
+        .collect::<String>()
+        .trim_end_matches('\0')
+        .to_owned())
 }
 
 fn header(b: &[u8]) -> FResult<Header> {
     if !b.starts_with(MAGIC) {
         return malformed("missing the `OmniSurf3D` magic");
     }
-    let i32_at = |o: usize| -> FResult<i32> {
-        bytes_at(b, o, 4).map(|w| i32::from_le_bytes([w[0], w[1], w[2], w[3]]))
-    };
-    let f64_at = |o: usize| -> FResult<f64> {
-        bytes_at(b, o, 8).map(|w| f64::from_le_bytes(w.try_into().expect("8 bytes")))
-    };
-    let version = (i32_at(10)?, i32_at(14)?);
-    let mut at = 18;
-    let mut text = || -> FResult<String> {
-        let n = i32_at(at)? as u32 as usize;
-        let t = bytes_at(b, at + 4, n)?;
-        at += 4 + n;
-        Ok(t.iter()
-            .map(|&c| char::from(c))
-            .collect::<String>()
-            .trim_end_matches('\0')
-            .to_owned())
-    };
-    let identification = text()?;
-    let date = text()?;
-    let (nx, ny) = (i32_at(at)?, i32_at(at + 4)?);
-    let step = [f64_at(at + 8)?, f64_at(at + 16)?];
+    let mut c = Fields::le(b).cursor(10);
+    let version = (c.i32()?, c.i32()?);
+    let identification = text(&mut c)?;
+    let date = text(&mut c)?;
+    let (nx, ny) = (c.i32()?, c.i32()?);
+    let step = [c.f64()?, c.f64()?];
     if nx <= 0 || ny <= 0 {
         return malformed(format!("{nx} × {ny} points: no data"));
     }
@@ -77,7 +65,7 @@ fn header(b: &[u8]) -> FResult<Header> {
         nx: nx as usize,
         ny: ny as usize,
         step,
-        data: at + 40,
+        data: c.at() + 16,
     })
 }
 
@@ -89,7 +77,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .checked_mul(h.ny)
         .and_then(|n| n.checked_mul(4))
         .ok_or_else(|| FormatError::Malformed(format!("{} × {} points: too many", h.nx, h.ny)))?;
-    let body = bytes_at(bytes, h.data, need).map_err(|_| {
+    let body = Fields::le(bytes).bytes(h.data, need).map_err(|_| {
         FormatError::Malformed(format!(
             "{} × {} f32 heights need {need} bytes after the header (truncated?)",
             h.nx, h.ny
@@ -102,10 +90,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             if z < INVALID_BELOW { f64::NAN } else { z }
         })
         .collect();
-    let um = Units {
-        xy: LengthUnit::Um,
-        z: LengthUnit::Um,
-    };
+    let um = Units::same(LengthUnit::Um);
     Ok(HeightField::from_vec([h.nx, h.ny], data)?
         .with_spacing(h.step)?
         .with_units(um))

@@ -17,6 +17,7 @@
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::raster::from_last_line;
 use crate::format::{Access, Codec, Magic, Registration};
@@ -37,31 +38,16 @@ fn directory(bytes: &[u8]) -> FResult<Vec<(u16, u16, u32, u32)>> {
     if !sniff(bytes) {
         return malformed("not a little-endian TIFF (Park Systems files are)");
     }
-    let u16_at = |o: usize| {
-        bytes
-            .get(o..o + 2)
-            .map(|b| u16::from_le_bytes([b[0], b[1]]))
-    };
-    let u32_at = |o: usize| {
-        bytes
-            .get(o..o + 4)
-            .map(|b| u32::from_le_bytes(b.try_into().expect("4 bytes")))
-    };
+    let f = Fields::le(bytes);
     let truncated =
-        || FormatError::Malformed("the TIFF directory is cut short (truncated?)".into());
-    let at = u32_at(4).ok_or_else(truncated)? as usize;
-    let n = usize::from(u16_at(at).ok_or_else(truncated)?);
+        |_| FormatError::Malformed("the TIFF directory is cut short (truncated?)".into());
+    let at = f.u32(4).map_err(truncated)? as usize;
+    let mut c = f.cursor(at);
+    let n = usize::from(c.u16().map_err(truncated)?);
     (0..n)
-        .map(|k| {
-            let e = at + 2 + 12 * k;
-            Ok((
-                u16_at(e).ok_or_else(truncated)?,
-                u16_at(e + 2).ok_or_else(truncated)?,
-                u32_at(e + 4).ok_or_else(truncated)?,
-                u32_at(e + 8).ok_or_else(truncated)?,
-            ))
-        })
-        .collect()
+        .map(|_| Ok((c.u16()?, c.u16()?, c.u32()?, c.u32()?)))
+        .collect::<FResult<_>>()
+        .map_err(truncated)
 }
 
 /// The bytes of a tag holding `count` one-byte items (BYTE or UNDEFINED).
@@ -90,8 +76,24 @@ fn utf16(b: &[u8]) -> String {
         .to_string()
 }
 
-/// Reads a Park Systems TIFF.
-pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+/// What the Park header says: points, scan size (µm), the raw data's type
+/// and how a raw value becomes µm.
+struct Header {
+    nx: usize,
+    ny: usize,
+    size: [f64; 2],
+    /// 0: int16, 1: int32, 2: f32.
+    kind: u32,
+    /// (raw × scale + offset) × gain, in the data unit; × `to_um` in µm.
+    gain: f64,
+    scale: f64,
+    offset: f64,
+    to_um: f64,
+}
+
+/// The Park header and data blocks of the first directory, and whether
+/// the file is of version 2 (version 1 and other TIFFs refused).
+fn park_blocks(bytes: &[u8]) -> FResult<(&[u8], &[u8], bool)> {
     let dir = directory(bytes)?;
     let tag = |t: u16| dir.iter().copied().find(|e| e.0 == t);
     if tag(TAG_MAGIC).map(|e| e.3) != Some(MAGIC) {
@@ -105,51 +107,15 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     }
     let missing = |t: u16| FormatError::Malformed(format!("no tag {t}"));
     let head = block(bytes, tag(TAG_HEADER).ok_or_else(|| missing(TAG_HEADER))?)?;
-    let need_head = if version == 0x100_0002 { 352 } else { 284 };
-    if head.len() < need_head {
-        return malformed(format!(
-            "a header of {} bytes (version needs {need_head})",
-            head.len()
-        ));
-    }
-    let u32_at = |o: usize| u32::from_le_bytes(head[o..o + 4].try_into().expect("4 bytes"));
-    let f64_at = |o: usize| f64::from_le_bytes(head[o..o + 8].try_into().expect("8 bytes"));
-    match u32_at(0) {
-        0 | 2 => {}
-        1 => return unsupported("a Park line profile"),
-        t => return malformed(format!("image type {t}")),
-    }
-    let (nx, ny) = (u32_at(100) as usize, u32_at(104) as usize);
-    let (lx, ly) = (f64_at(140), f64_at(148));
-    let (gain, scale, offset) = (f64_at(220), f64_at(228), f64_at(236));
-    let scale = if scale == 0.0 { 1.0 } else { scale };
-    let unit = utf16(&head[244..260]);
-    let kind = if version == 0x100_0002 {
-        u32_at(348)
-    } else {
-        0
-    };
-    let size = match kind {
-        0 => 2,
-        1 | 2 => 4,
-        k => return malformed(format!("data type {k} (0, 1 and 2 are read)")),
-    };
-    if nx == 0 || ny == 0 {
-        return malformed(format!("{nx} × {ny} points: no data"));
-    }
-    let z_unit = if unit.is_empty() {
-        "um".to_string()
-    } else {
-        unit
-    };
-    let z = match z_unit.as_str() {
-        "um" | "µm" => LengthUnit::Um,
-        u => LengthUnit::parse(u)
-            .ok()
-            .filter(|u| *u != LengthUnit::None)
-            .ok_or_else(|| FormatError::Malformed(format!("data unit {u:?} is not a length")))?,
-    };
     let data = block(bytes, tag(TAG_DATA).ok_or_else(|| missing(TAG_DATA))?)?;
+    Ok((head, data, version == 0x100_0002))
+}
+
+/// Reads a Park Systems TIFF.
+pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    let (head, data, version_2) = park_blocks(bytes)?;
+    let h = header(head, version_2)?;
+    let (nx, ny, size) = (h.nx, h.ny, if h.kind == 0 { 2 } else { 4 });
     let need = nx.checked_mul(ny).and_then(|n| n.checked_mul(size));
     let Some(data) = need.and_then(|n| data.get(..n)) else {
         return malformed(format!(
@@ -157,34 +123,74 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             data.len()
         ));
     };
+    // Lateral sizes are µm; heights in the data unit, converted to µm too.
     let heights = from_last_line(data, nx, size)
         .map(|c| {
-            let raw = match kind {
+            let raw = match h.kind {
                 0 => f64::from(i16::from_le_bytes([c[0], c[1]])),
                 1 => f64::from(i32::from_le_bytes([c[0], c[1], c[2], c[3]])),
                 _ => f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
             };
-            (raw * scale + offset) * gain
+            let v = (raw * h.scale + h.offset) * h.gain;
+            if h.to_um == 1.0 { v } else { v * h.to_um }
         })
         .collect();
-    // Lateral sizes are µm; heights in the data unit, converted to µm too.
-    let to_um = z.metres().map_or(1.0, |m| m / 1e-6);
-    let heights: Vec<f64> = if to_um == 1.0 {
-        heights
-    } else {
-        heights.into_iter().map(|v: f64| v * to_um).collect()
-    };
+    let [lx, ly] = h.size;
     if !(lx.is_finite() && lx > 0.0 && ly.is_finite() && ly > 0.0) {
         return malformed(format!("the scan size {lx} × {ly} µm is not positive"));
     }
     Ok(HeightField::from_vec([nx, ny], heights)?
         .with_spacing([lx / nx as f64, ly / ny as f64])?
-        .with_units(Units {
-            xy: LengthUnit::Um,
-            z: LengthUnit::Um,
-        }))
+        .with_units(Units::same(LengthUnit::Um)))
 }
 
+/// The data's unit (µm when the header names none), a length.
+fn data_unit(f: &Fields<'_>) -> FResult<LengthUnit> {
+    match utf16(f.bytes(244, 16)?).as_str() {
+        "" | "um" | "µm" => Ok(LengthUnit::Um),
+        u => LengthUnit::parse(u)
+            .ok()
+            .filter(|u| *u != LengthUnit::None)
+            .ok_or_else(|| FormatError::Malformed(format!("data unit {u:?} is not a length"))),
+    }
+}
+
+/// The Park header block (284 bytes, 352 in version 2), checked.
+fn header(head: &[u8], version_2: bool) -> FResult<Header> {
+    let need_head = if version_2 { 352 } else { 284 };
+    if head.len() < need_head {
+        return malformed(format!(
+            "a header of {} bytes (version needs {need_head})",
+            head.len()
+        ));
+    }
+    let f = Fields::le(head);
+    match f.u32(0)? {
+        0 | 2 => {}
+        1 => return unsupported("a Park line profile"),
+        t => return malformed(format!("image type {t}")),
+    }
+    let (nx, ny) = (f.u32(100)? as usize, f.u32(104)? as usize);
+    let kind = if version_2 { f.u32(348)? } else { 0 };
+    if kind > 2 {
+        return malformed(format!("data type {kind} (0, 1 and 2 are read)"));
+    }
+    if nx == 0 || ny == 0 {
+        return malformed(format!("{nx} × {ny} points: no data"));
+    }
+    let z = data_unit(&f)?;
+    let scale = f.f64(228)?;
+    Ok(Header {
+        nx,
+        ny,
+        size: [f.f64(140)?, f.f64(148)?],
+        kind,
+        gain: f.f64(220)?,
+        scale: if scale == 0.0 { 1.0 } else { scale },
+        offset: f.f64(236)?,
+        to_um: z.metres().map_or(1.0, |m| m / 1e-6),
+    })
+}
 
 /// This format's registration: its row of `asperity formats`, how its
 /// files are told and how they are decoded (the registry in `lib.rs` lists it).

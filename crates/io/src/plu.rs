@@ -20,6 +20,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::channel::{Channel, ChannelInfo, pick};
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::format::{Access, Codec, Registration};
 
@@ -36,16 +37,6 @@ const UNDEFINED: f32 = 1_000_001.0;
 const TOPOGRAPHY: u32 = 3;
 const PROFILE: u32 = 1;
 
-fn u32_at(bytes: &[u8], o: usize) -> u32 {
-    u32::from_le_bytes(bytes[o..o + 4].try_into().expect("4 bytes"))
-}
-
-fn f32_at(bytes: &[u8], o: usize) -> f64 {
-    f64::from(f32::from_le_bytes(
-        bytes[o..o + 4].try_into().expect("4 bytes"),
-    ))
-}
-
 /// The layers: (rows, columns, the offset of their heights), each checked
 /// against the file's length.
 fn layers(bytes: &[u8]) -> FResult<Vec<(usize, usize, usize)>> {
@@ -55,7 +46,7 @@ fn layers(bytes: &[u8]) -> FResult<Vec<(usize, usize, usize)>> {
             bytes.len()
         ));
     };
-    match u32_at(head, CONFIGURATION) {
+    match Fields::le(head).u32(CONFIGURATION)? {
         TOPOGRAPHY => {}
         PROFILE => return unsupported("a Sensofar profile (measurement type 1) is not supported"),
         t => return malformed(format!("measurement type {t} is not a topography (3)")),
@@ -70,7 +61,8 @@ fn layers(bytes: &[u8]) -> FResult<Vec<(usize, usize, usize)>> {
         let dims = bytes.get(at..at + 8).ok_or_else(|| {
             FormatError::Malformed(format!("the file ends before layer {k} (truncated?)"))
         })?;
-        let (ny, nx) = (u32_at(dims, 0) as usize, u32_at(dims, 4) as usize);
+        let dims = Fields::le(dims);
+        let (ny, nx) = (dims.u32(0)? as usize, dims.u32(4)? as usize);
         if nx == 0 || ny == 0 {
             return malformed(format!("layer {k} of {nx} × {ny} points: no data"));
         }
@@ -107,8 +99,8 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
     let layers = layers(bytes)?;
     let (ny, nx, start) = layers[pick(&channels(bytes)?, choice)?];
     let (dx, dy) = (
-        f32_at(bytes, CALIBRATION + 16),
-        f32_at(bytes, CALIBRATION + 20),
+        Fields::le(bytes).f32_wide(CALIBRATION + 16)?,
+        Fields::le(bytes).f32_wide(CALIBRATION + 20)?,
     );
     for (name, v) in [("x", dx), ("y", dy)] {
         if !(v.is_finite() && v > 0.0) {
@@ -130,10 +122,7 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             }
         })
         .collect();
-    let um = Units {
-        xy: LengthUnit::Um,
-        z: LengthUnit::Um,
-    };
+    let um = Units::same(LengthUnit::Um);
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_spacing([dx, dy])?
         .with_units(um))

@@ -145,10 +145,7 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
         .chunks_exact(4)
         .map(|c| f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])))
         .collect();
-    let um = Units {
-        xy: LengthUnit::Um,
-        z: LengthUnit::Um,
-    };
+    let um = Units::same(LengthUnit::Um);
     Ok(HeightField::from_vec([index.nx, index.ny], heights)?
         .with_spacing(index.pixel)?
         .with_units(um))

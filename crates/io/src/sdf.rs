@@ -27,6 +27,7 @@ use std::io::Write;
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed};
 use crate::header_keys::HeaderKeys;
 use crate::format::{Access, Codec, Magic, Registration};
@@ -84,10 +85,7 @@ impl Header {
         let data = values.into_iter().map(|v| v * self.z_scale).collect();
         let h = HeightField::from_vec([self.points, self.profiles], data)?
             .with_spacing([self.x_scale, self.y_scale])?
-            .with_units(Units {
-                xy: LengthUnit::M,
-                z: LengthUnit::M,
-            });
+            .with_units(Units::same(LengthUnit::M));
         Ok(h)
     }
 }
@@ -191,26 +189,31 @@ fn read_binary(bytes: &[u8]) -> FResult<HeightField> {
             bytes.len()
         ))
     })?;
-    let u16_at = |o: usize| u16::from_le_bytes([head[o], head[o + 1]]) as usize;
-    let f64_at = |o: usize| f64::from_le_bytes(head[o..o + 8].try_into().expect("8 bytes"));
+    let f = Fields::le(head);
     // magic 8, ManufacID 10, CreateDate 12, ModDate 12: the numbers from 42.
     let h = Header {
-        points: u16_at(42),
-        profiles: u16_at(44),
-        x_scale: f64_at(46),
-        y_scale: f64_at(54),
-        z_scale: f64_at(62),
-        compression: head[78],
-        data_type: head[79],
+        points: usize::from(f.u16(42)?),
+        profiles: usize::from(f.u16(44)?),
+        x_scale: f.f64(46)?,
+        y_scale: f.f64(54)?,
+        z_scale: f.f64(62)?,
+        compression: f.u8(78)?,
+        data_type: f.u8(79)?,
     };
     h.check()?;
+    let values = binary_values(&bytes[BINARY_HEADER..], &h)?;
+    h.field(values)
+}
+
+/// The samples after a binary header: int16, int32 or f64; the type's
+/// least value (non-finite for f64) a point not measured (NaN).
+fn binary_values(body: &[u8], h: &Header) -> FResult<Vec<f64>> {
     let size = match h.data_type {
         5 => 2,
         6 => 4,
         _ => 8,
     };
     let n = h.points * h.profiles;
-    let body = &bytes[BINARY_HEADER..];
     if body.len() < n * size {
         return malformed(format!(
             "{} × {} samples of {size} bytes need {} bytes after the header, the file has {} (truncated?)",
@@ -220,7 +223,7 @@ fn read_binary(bytes: &[u8]) -> FResult<HeightField> {
             body.len()
         ));
     }
-    let values = body[..n * size]
+    Ok(body[..n * size]
         .chunks_exact(size)
         .map(|c| {
             let (v, bad) = match size {
@@ -239,8 +242,7 @@ fn read_binary(bytes: &[u8]) -> FResult<HeightField> {
             };
             if bad { f64::NAN } else { v }
         })
-        .collect();
-    h.field(values)
+        .collect())
 }
 
 /// The `<AsperityParams>` line of a text SDF's trailer, if any.

@@ -24,6 +24,7 @@
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::format::{Access, Codec, Magic, Registration};
 
@@ -54,8 +55,34 @@ pub(crate) fn length_unit(text: &str) -> (LengthUnit, f64) {
     }
 }
 
+/// What the header says of the surface and its samples.
+struct Header {
+    nx: usize,
+    ny: usize,
+    /// Bytes per sample (2 or 4).
+    size: usize,
+    /// The x and y spacings, in `xy`.
+    spacing: [f64; 2],
+    units: Units,
+    /// Height per stored unit, in `units.z`.
+    scale: f64,
+    /// The stored value of a point not measured, if the file marks them.
+    marker: Option<i64>,
+    /// Where the samples start.
+    start: usize,
+}
+
 /// Reads a Digital Surf file.
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
+    let h = header(bytes)?;
+    let data = samples(bytes, &h)?;
+    Ok(HeightField::from_vec([h.nx, h.ny], data)?
+        .with_spacing(h.spacing)?
+        .with_units(h.units))
+}
+
+/// The 512-byte header, checked.
+fn header(bytes: &[u8]) -> FResult<Header> {
     if !bytes.starts_with(MAGIC) {
         return malformed("missing the `DIGITAL SURF` magic");
     }
@@ -65,37 +92,53 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             bytes.len()
         ))
     })?;
-    let u16_at = |o: usize| u16::from_le_bytes([head[o], head[o + 1]]);
-    let i32_at = |o: usize| i32::from_le_bytes(head[o..o + 4].try_into().expect("4 bytes"));
-    let f32_at = |o: usize| {
-        f64::from(f32::from_le_bytes(
-            head[o..o + 4].try_into().expect("4 bytes"),
-        ))
-    };
-    let objects = u16_at(14);
+    let f = Fields::le(head);
+    let objects = f.u16(14)?;
     if objects > 1 {
         return unsupported(format!(
             "a Digital Surf file of {objects} objects (a series or several channels) is not supported"
         ));
     }
-    let bits = u16_at(98);
-    let size = match bits {
+    let size = match f.u16(98)? {
         16 => 2,
         32 => 4,
         b => return malformed(format!("{b}-bit samples are not supported (16 or 32)")),
     };
-    let (nx, ny) = (i32_at(108), i32_at(112));
+    let [nx, ny] = points(&f)?;
+    let (spacing, units, scale) = geometry(&f)?;
+    // With the special-points flag, zmin − 2 marks a point not measured.
+    let marker = (f.u16(86)? == 1).then_some(i64::from(f.i32(100)?) - 2);
+    let start = HEADER + usize::from(f.u16(334)?) + usize::from(f.u16(336)?);
+    Ok(Header {
+        nx,
+        ny,
+        size,
+        spacing,
+        units,
+        scale,
+        marker,
+        start,
+    })
+}
+
+/// The samples per line and the lines, checked against their product.
+fn points(f: &Fields<'_>) -> FResult<[usize; 2]> {
+    let (nx, ny) = (f.i32(108)?, f.i32(112)?);
     if nx <= 0 || ny <= 0 {
         return malformed(format!("{nx} × {ny} points: no data"));
     }
     let (nx, ny) = (nx as usize, ny as usize);
-    let n = nx * ny;
-    if u32::from_le_bytes(head[116..120].try_into().expect("4 bytes")) as usize != n {
+    if f.u32(116)? as usize != nx * ny {
         return malformed(format!(
             "the point count does not match {nx} × {ny} (corrupt header)"
         ));
     }
-    let (dx, dy, dz) = (f32_at(120), f32_at(124), f32_at(128));
+    Ok([nx, ny])
+}
+
+/// The spacings (in the x unit), the units, and the height per stored unit.
+fn geometry(f: &Fields<'_>) -> FResult<([f64; 2], Units, f64)> {
+    let (dx, dy, dz) = (f.f32_wide(120)?, f.f32_wide(124)?, f.f32_wide(128)?);
     for (name, v) in [("x spacing", dx), ("y spacing", dy)] {
         if !(v.is_finite() && v > 0.0) {
             return malformed(format!("the {name} {v} is not a positive length"));
@@ -104,54 +147,46 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     if !dz.is_finite() {
         return malformed(format!("the height scale {dz} is not finite"));
     }
-    let (ux, fx) = unit(&head[180..196]);
-    let (uy, fy) = unit(&head[196..212]);
-    let (uz, fz) = unit(&head[212..228]);
-    let (xy, fy) = if ux == uy {
-        (ux, fy)
+    let (ux, fx) = unit(f.bytes(180, 16)?);
+    let (uy, fy) = unit(f.bytes(196, 16)?);
+    let (uz, fz) = unit(f.bytes(212, 16)?);
+    // Different x and y units: y in x's unit.
+    let fy = if ux == uy {
+        fy
     } else {
-        // Different x and y units: y in x's unit.
-        (
-            ux,
-            fy * uy.metres().unwrap_or(1.0) / ux.metres().unwrap_or(1.0),
-        )
+        fy * uy.metres().unwrap_or(1.0) / ux.metres().unwrap_or(1.0)
     };
-    let skip = usize::from(u16_at(334)) + usize::from(u16_at(336));
-    let start = HEADER + skip;
-    let body = bytes.get(start..).unwrap_or(&[]);
+    Ok(([dx * fx, dy * fy], Units { xy: ux, z: uz }, dz * fz))
+}
+
+/// The heights: stored values × the scale, the marked ones missing (NaN).
+fn samples(bytes: &[u8], h: &Header) -> FResult<Vec<f64>> {
+    let (n, size) = (h.nx * h.ny, h.size);
+    let body = bytes.get(h.start..).unwrap_or(&[]);
     if body.len() < n * size {
         return malformed(format!(
-            "{nx} × {ny} samples of {size} bytes need {} bytes, the file has {} after its header (truncated?)",
+            "{} × {} samples of {size} bytes need {} bytes, the file has {} after its header (truncated?)",
+            h.nx,
+            h.ny,
             n * size,
             body.len()
         ));
     }
-    let raw: Vec<i32> = body[..n * size]
+    Ok(body[..n * size]
         .chunks_exact(size)
         .map(|c| {
-            if size == 2 {
+            let v = if size == 2 {
                 i32::from(i16::from_le_bytes([c[0], c[1]]))
             } else {
                 i32::from_le_bytes([c[0], c[1], c[2], c[3]])
+            };
+            match h.marker {
+                Some(m) if i64::from(v) == m => f64::NAN,
+                _ => f64::from(v) * h.scale,
             }
         })
-        .collect();
-    // With the special-points flag, zmin − 2 marks a point not measured:
-    // it becomes a missing point (NaN).
-    let marker = (u16_at(86) == 1).then(|| i64::from(i32_at(100)) - 2);
-    let scale = dz * fz;
-    let data = raw
-        .iter()
-        .map(|&v| match marker {
-            Some(m) if i64::from(v) == m => f64::NAN,
-            _ => f64::from(v) * scale,
-        })
-        .collect();
-    Ok(HeightField::from_vec([nx, ny], data)?
-        .with_spacing([dx * fx, dy * fy])?
-        .with_units(Units { xy, z: uz }))
+        .collect())
 }
-
 
 /// This format's registration: its row of `asperity formats`, how its
 /// files are told and how they are decoded (the registry in `lib.rs` lists it).

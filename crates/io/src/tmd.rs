@@ -9,6 +9,7 @@
 
 use asperity_core::{HeightField, LengthUnit, Units};
 
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed};
 use crate::format::{Access, Codec, Magic, Registration};
 
@@ -16,43 +17,8 @@ pub(crate) const MAGIC: &[u8] = b"Binary TrueMap Data File v2.0";
 
 /// Reads a TrueMap file.
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
-    if !bytes.starts_with(MAGIC) {
-        return malformed("missing the `Binary TrueMap Data File v2.0` line");
-    }
-    let nul = |from: usize| {
-        bytes[from..]
-            .iter()
-            .position(|&b| b == 0)
-            .map(|k| from + k + 1)
-            .ok_or_else(|| {
-                FormatError::Malformed("a header line is not NUL-terminated (truncated?)".into())
-            })
-    };
-    let header = nul(nul(MAGIC.len())?)?;
-    let head = bytes.get(header..header + 24).ok_or_else(|| {
-        FormatError::Malformed("the file ends inside its header (truncated?)".into())
-    })?;
-    let u32_at =
-        |o: usize| u32::from_le_bytes(head[o..o + 4].try_into().expect("4 bytes")) as usize;
-    let f32_at = |o: usize| {
-        f64::from(f32::from_le_bytes(
-            head[o..o + 4].try_into().expect("4 bytes"),
-        ))
-    };
-    let (nx, ny) = (u32_at(0), u32_at(4));
-    let (lx, ly, x0, y0) = (f32_at(8), f32_at(12), f32_at(16), f32_at(20));
-    if nx == 0 || ny == 0 {
-        return malformed(format!("{nx} × {ny} points: no data"));
-    }
-    for (name, v) in [("x length", lx), ("y length", ly)] {
-        if !(v.is_finite() && v > 0.0) {
-            return malformed(format!("the {name} {v} is not a positive length"));
-        }
-    }
-    if !(x0.is_finite() && y0.is_finite()) {
-        return malformed("the offsets are not finite");
-    }
-    let body = &bytes[header + 24..];
+    let (header, [nx, ny], [lx, ly, x0, y0]) = header(bytes)?;
+    let body = &bytes[header..];
     let need = nx
         .checked_mul(ny)
         .and_then(|n| n.checked_mul(4))
@@ -67,15 +33,45 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .chunks_exact(4)
         .map(|c| f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])))
         .collect();
-    let mm = Units {
-        xy: LengthUnit::Mm,
-        z: LengthUnit::Mm,
-    };
+    let mm = Units::same(LengthUnit::Mm);
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_geometry(Some([lx / nx as f64, ly / ny as f64]), Some([x0, y0]))?
         .with_units(mm))
 }
 
+/// Where the heights start, the points along x and y, and the lengths and
+/// offsets (x, y lengths; x, y offsets), checked.
+fn header(bytes: &[u8]) -> FResult<(usize, [usize; 2], [f64; 4])> {
+    if !bytes.starts_with(MAGIC) {
+        return malformed("missing the `Binary TrueMap Data File v2.0` line");
+    }
+    // The magic line and the comment, each NUL-terminated.
+    let mut lines = Fields::le(bytes).cursor(MAGIC.len());
+    for _ in 0..2 {
+        lines.c_string().map_err(|_| {
+            FormatError::Malformed("a header line is not NUL-terminated (truncated?)".into())
+        })?;
+    }
+    let start = lines.at();
+    let head = bytes.get(start..start + 24).ok_or_else(|| {
+        FormatError::Malformed("the file ends inside its header (truncated?)".into())
+    })?;
+    let f = Fields::le(head);
+    let (nx, ny) = (f.u32(0)? as usize, f.u32(4)? as usize);
+    let [lx, ly, x0, y0] = [f.f32_wide(8)?, f.f32_wide(12)?, f.f32_wide(16)?, f.f32_wide(20)?];
+    if nx == 0 || ny == 0 {
+        return malformed(format!("{nx} × {ny} points: no data"));
+    }
+    for (name, v) in [("x length", lx), ("y length", ly)] {
+        if !(v.is_finite() && v > 0.0) {
+            return malformed(format!("the {name} {v} is not a positive length"));
+        }
+    }
+    if !(x0.is_finite() && y0.is_finite()) {
+        return malformed("the offsets are not finite");
+    }
+    Ok((start + 24, [nx, ny], [lx, ly, x0, y0]))
+}
 
 /// This format's registration: its row of `asperity formats`, how its
 /// files are told and how they are decoded (the registry in `lib.rs` lists it).

@@ -23,6 +23,7 @@ use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
 use crate::channel::{Channel, ChannelInfo, pick};
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed, unsupported};
 use crate::zipped;
 use crate::format::{Access, Codec, Magic, Registration};
@@ -39,11 +40,7 @@ pub(crate) fn sniff(bytes: &[u8]) -> bool {
 }
 
 fn u32_at(b: &[u8], o: usize) -> FResult<u32> {
-    b.get(o..o + 4)
-        .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]))
-        .ok_or_else(|| {
-            FormatError::Malformed(format!("the file ends before byte {o} (truncated?)"))
-        })
+    Fields::le(b).u32(o)
 }
 
 /// The `.vk3`/`.vk4` stream: the file itself, or a `.vk6`/`.vk7`'s member.
@@ -116,13 +113,23 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
     let list = images(&vk)?;
     let infos = channels(bytes)?;
     let (k, at) = list[pick(&infos, choice)?];
-    let name = CHANNEL_NAMES[k];
     let field = |i: usize| u32_at(&vk, conditions(&vk) + 4 * i);
     let (dx, dy, dz) = (field(42)?, field(43)?, field(44)?);
     if dx == 0 || dy == 0 {
         return malformed(format!("a pixel of {dx} × {dy} pm"));
     }
-    let [w, h, bits, _, size] = [0, 4, 8, 12, 16].map(|o| u32_at(&vk, at + o));
+    // Picometres, read in nanometres (asperity's smallest length unit).
+    let ([w, h], heights) = image(&vk, CHANNEL_NAMES[k], at, f64::from(dz) * 1e-3)?;
+    let nm = Units::same(LengthUnit::Nm);
+    Ok(HeightField::from_vec([w, h], heights)?
+        .with_spacing([f64::from(dx) * 1e-3, f64::from(dy) * 1e-3])?
+        .with_units(nm))
+}
+
+/// The image `name` whose header is at `at`: its width and height, and its
+/// counts × `scale`.
+fn image(vk: &[u8], name: &str, at: usize, scale: f64) -> FResult<([usize; 2], Vec<f64>)> {
+    let [w, h, bits, _, size] = [0, 4, 8, 12, 16].map(|o| u32_at(vk, at + o));
     let (w, h, bits, size) = (w? as usize, h? as usize, bits?, size? as usize);
     if !matches!(bits, 8 | 16 | 32) {
         return unsupported(format!(
@@ -144,8 +151,6 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             "{name}: {size} bytes at {start} run past the file's end (truncated?)"
         ))
     })?;
-    // Picometres, read in nanometres (asperity's smallest length unit).
-    let scale = f64::from(dz) * 1e-3;
     let heights = data
         .chunks_exact(bytes_per)
         .take(n)
@@ -158,13 +163,7 @@ pub(crate) fn read_channel(bytes: &[u8], choice: Option<&Channel>) -> FResult<He
             f64::from(count) * scale
         })
         .collect();
-    let nm = Units {
-        xy: LengthUnit::Nm,
-        z: LengthUnit::Nm,
-    };
-    Ok(HeightField::from_vec([w, h], heights)?
-        .with_spacing([f64::from(dx) * 1e-3, f64::from(dy) * 1e-3])?
-        .with_units(nm))
+    Ok(([w, h], heights))
 }
 
 /// The date, lens and scales of the measurement conditions.

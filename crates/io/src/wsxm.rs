@@ -111,6 +111,29 @@ fn layout(h: &HashMap<String, String>) -> FResult<Layout> {
     })
 }
 
+/// The `nx` × `ny` samples of `size_of` bytes (int16, f32 or f64) after
+/// the `header`-byte header.
+fn samples(body: &[u8], [nx, ny]: [usize; 2], size_of: usize, header: usize) -> FResult<Vec<f64>> {
+    let need = nx
+        .checked_mul(ny)
+        .and_then(|n| n.checked_mul(size_of))
+        .ok_or_else(|| FormatError::Malformed("rows × columns is too large".into()))?;
+    if body.len() < need {
+        return malformed(format!(
+            "{nx} × {ny} samples of {size_of} bytes need {need} bytes after the {header}-byte header, the file has {} (truncated?)",
+            body.len()
+        ));
+    }
+    Ok(body[..need]
+        .chunks_exact(size_of)
+        .map(|c| match size_of {
+            2 => f64::from(i16::from_le_bytes([c[0], c[1]])),
+            4 => f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+            _ => f64::from_le_bytes(c.try_into().expect("8 bytes")),
+        })
+        .collect())
+}
+
 /// Reads a WSxM image.
 pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     if !bytes.starts_with(MAGIC) {
@@ -139,28 +162,10 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         extent,
         units,
     } = layout(&header(&head))?;
-    let need = nx
-        .checked_mul(ny)
-        .and_then(|n| n.checked_mul(size_of))
-        .ok_or_else(|| FormatError::Malformed("rows × columns is too large".into()))?;
-    let body = bytes.get(size..).unwrap_or(&[]);
-    if body.len() < need {
-        return malformed(format!(
-            "{nx} × {ny} samples of {size_of} bytes need {need} bytes after the {size}-byte header, the file has {} (truncated?)",
-            body.len()
-        ));
+    let mut data = samples(bytes.get(size..).unwrap_or(&[]), [nx, ny], size_of, size)?;
+    for v in &mut data {
+        *v *= scale;
     }
-    let mut data: Vec<f64> = body[..need]
-        .chunks_exact(size_of)
-        .map(|c| {
-            scale
-                * match size_of {
-                    2 => f64::from(i16::from_le_bytes([c[0], c[1]])),
-                    4 => f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])),
-                    _ => f64::from_le_bytes(c.try_into().expect("8 bytes")),
-                }
-        })
-        .collect();
     // Stored from the last sample.
     data.reverse();
     // A NaN sample was not measured (a missing point); ±∞ is refused by the

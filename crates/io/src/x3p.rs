@@ -284,10 +284,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
     Ok(HeightField::from_vec([l.nx, l.ny], data)?
         .with_spacing([l.x.increment, l.y.increment])?
         .with_origin([l.x.offset, l.y.offset])?
-        .with_units(Units {
-            xy: LengthUnit::M,
-            z: LengthUnit::M,
-        }))
+        .with_units(Units::same(LengthUnit::M)))
 }
 
 /// The first child element of `node` named `name` (namespaces ignored: the

@@ -12,6 +12,7 @@
 use asperity_core::{HeightField, LengthUnit, Units};
 
 use crate::Metadata;
+use crate::bytes::Fields;
 use crate::error::{FResult, FormatError, malformed};
 use crate::format::{Access, Codec, Magic, Registration};
 
@@ -36,17 +37,17 @@ fn header(b: &[u8]) -> FResult<Header> {
             "shorter than the {HEADER}-byte header (truncated?)"
         ));
     };
-    let u32_at = |o: usize| u32::from_le_bytes([h[o], h[o + 1], h[o + 2], h[o + 3]]);
-    let f32_at = |o: usize| f64::from(f32::from_bits(u32_at(o)));
-    let (nx, ny) = (u32_at(85) as usize, u32_at(89) as usize);
-    let step = [f32_at(97), f32_at(101), f32_at(105)];
+    let f = Fields::le(h);
+    let (nx, ny) = (f.u32(85)? as usize, f.u32(89)? as usize);
+    let step = [f.f32_wide(97)?, f.f32_wide(101)?, f.f32_wide(105)?];
     if nx == 0 || ny == 0 {
         return malformed(format!("{nx} × {ny} points: no data"));
     }
     if !(step[..2].iter().all(|s| s.is_finite() && *s > 0.0) && step[2].is_finite()) {
         return malformed(format!("the steps {step:?} are not lengths"));
     }
-    let recipe = h[131..199]
+    let recipe = f
+        .bytes(131, 68)?
         .iter()
         .take_while(|&&c| c != 0)
         .map(|&c| char::from(c))
@@ -55,7 +56,7 @@ fn header(b: &[u8]) -> FResult<Header> {
         nx,
         ny,
         step,
-        comment: u32_at(117) as usize,
+        comment: f.u32(117)? as usize,
         recipe,
     })
 }
@@ -82,10 +83,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
         .chunks_exact(2)
         .map(|c| f64::from(u16::from_le_bytes([c[0], c[1]])) * h.step[2])
         .collect();
-    let um = Units {
-        xy: LengthUnit::Um,
-        z: LengthUnit::Um,
-    };
+    let um = Units::same(LengthUnit::Um);
     Ok(HeightField::from_vec([h.nx, h.ny], data)?
         .with_spacing([h.step[0], h.step[1]])?
         .with_units(um))

@@ -190,10 +190,7 @@ pub(crate) fn read_height(bytes: &[u8]) -> FResult<HeightField> {
             }
         })
         .collect();
-    let m = Units {
-        xy: LengthUnit::M,
-        z: LengthUnit::M,
-    };
+    let m = Units::same(LengthUnit::M);
     Ok(HeightField::from_vec([nx, ny], data)?
         .with_spacing([per_pixel, per_pixel])?
         .with_units(m))
