@@ -2,8 +2,12 @@
 //!
 //! Run `cargo bench -p asperity-benches`; CI runs each benchmark once with
 //! `cargo test -p asperity-benches --benches`. Record results in `BENCHMARKS.md`.
-//! The same workloads run from the binary with `asperity bench`
-//! (`asperity_engine::workloads`).
+//! The same workloads run from the binary with `asperity bench`: the harness
+//! ([`workloads`], and [`scaling`] for `--scaling`) lives here, beside the
+//! criterion benchmarks, and the CLI calls it.
+
+pub mod scaling;
+pub mod workloads;
 
 use asperity_core::fourier_surface::{benchmark_mesh, benchmark_surface};
 use asperity_core::{HeightField, MemoryBudget, TriMesh};

@@ -1,4 +1,4 @@
-//! `asperity bench`: the workloads the issues name (`asperity_engine::workloads`),
+//! `asperity bench`: the workloads the issues name (`asperity_benches::workloads`),
 //! timed end to end. Each builds its input once (untimed), runs once to warm
 //! up, then `--repeat` timed runs; the minimum and median are reported with
 //! throughput. With `--threads-scaling`, each at 1, 2, 4, … threads (a rayon
@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use asperity_engine::workloads::{Scratch, workloads};
+use asperity_benches::workloads::{Scratch, workloads};
 use serde_json::{Value, json};
 
 use crate::cli::BenchArgs;
@@ -14,7 +14,7 @@ use crate::context::{Context, Run};
 
 /// Times one workload: (median, min, runs).
 fn time(
-    w: &mut asperity_engine::workloads::Workload,
+    w: &mut asperity_benches::workloads::Workload,
     repeat: u32,
 ) -> anyhow::Result<(f64, f64, usize)> {
     let repeat = if w.once { 1 } else { repeat };
@@ -42,7 +42,7 @@ fn thread_counts(max: usize) -> Vec<usize> {
 /// the speed-up over one thread and the efficiency.
 fn threads_scaling(
     ctx: &Context,
-    w: &mut asperity_engine::workloads::Workload,
+    w: &mut asperity_benches::workloads::Workload,
     repeat: u32,
 ) -> anyhow::Result<Value> {
     let mut rows = Vec::new();
@@ -146,8 +146,8 @@ pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
 /// times the work (the best of three; of one when a run takes over 10 s) and prints
 /// `{"elements", "seconds", "peak_bytes"}` as one JSON line.
 fn scaling_point(ctx: &Context, method: &str, n: u64, quick: bool) -> anyhow::Result<()> {
-    let series = asperity_engine::scaling::series(method)?;
-    let setup = asperity_engine::workloads::Setup {
+    let series = asperity_benches::scaling::series(method)?;
+    let setup = asperity_benches::workloads::Setup {
         quick,
         budget: ctx.budget,
         scratch: Scratch::new(),

@@ -1,5 +1,5 @@
 //! `asperity bench --scaling METHOD`: the doubling series of
-//! `asperity_engine::scaling`, each point run by this binary in a fresh process
+//! `asperity_benches::scaling`, each point run by this binary in a fresh process
 //! (`--scaling-point`) so its peak memory is its own, then the log–log slopes
 //! of time and memory against the elements, beside the expected exponent.
 //! Prints a Markdown table (as BENCHMARKS.md records it) or, with `--json`, the
@@ -7,8 +7,8 @@
 
 use std::process::Command;
 
+use asperity_benches::scaling::{SERIES, Series, loglog_slope, series};
 use asperity_engine::core::Progress;
-use asperity_engine::scaling::{SERIES, Series, loglog_slope, series};
 use serde_json::{Value, json};
 
 use crate::context::{Context, Run};

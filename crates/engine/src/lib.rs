@@ -18,7 +18,6 @@
 //! | [`synthesis`] | self-affine (fBm) test surfaces (`generate fbm`) | — |
 //! | [`render`] | turntable views and surface bounds | gobron-chiba light model |
 //! | [`estimate`] | run-time estimates of the long jobs, checked before they start | — |
-//! | [`workloads`] | the benchmark workloads the issues name | — |
 //! | [`jobs`] | every job by name: its description and schema for the front ends | — |
 //! | [`params`] | every job's parameters: schema, validation, records (`params`), parsing | — |
 //! | [`report`] | what a job wrote and measured | — |
@@ -40,11 +39,9 @@ pub mod plots;
 pub mod reconstruct;
 pub mod render;
 pub mod report;
-pub mod scaling;
 pub mod subdiv;
 pub mod surfca;
 pub mod synthesis;
-pub mod workloads;
 
 pub use error::{EngineError, ErrorKind, Result};
 

@@ -12,7 +12,7 @@ use asperity_growth::{DepositionParams, Lattice, Model, deposit_ensemble};
 use asperity_io::Surface;
 use asperity_render::{RenderOptions, render_mesh};
 
-use crate::error::{Result, invalid};
+use asperity_engine::error::{Result, invalid};
 
 mod levelset;
 
@@ -307,10 +307,10 @@ fn analyze_2048(s: &Setup) -> Result<Workload> {
         target_s: None,
         once: false,
         job: Box::new(move || {
-            crate::analyze::analyze(
+            asperity_engine::analyze::analyze(
                 &surface,
                 "bench",
-                &crate::analyze::AnalyzeOptions::default(),
+                &asperity_engine::analyze::AnalyzeOptions::default(),
             )
             .map(|_| ())
         }),

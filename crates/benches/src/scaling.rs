@@ -12,8 +12,8 @@ use asperity_growth::dla::{DlaParams, dla};
 use asperity_growth::{DepositionParams, Lattice, Model, deposit};
 use asperity_render::{RenderOptions, render_mesh};
 
-use crate::error::{Result, invalid};
 use crate::workloads::{Setup, Workload};
+use asperity_engine::error::{Result, invalid};
 
 /// One method's series.
 pub struct Series {
@@ -375,10 +375,10 @@ fn analysis(s: &Setup, n: u64) -> Result<Workload> {
         (n * n) as u64,
         "samples",
         Box::new(move || {
-            crate::analyze::analyze(
+            asperity_engine::analyze::analyze(
                 &surface,
                 "scaling",
-                &crate::analyze::AnalyzeOptions::default(),
+                &asperity_engine::analyze::AnalyzeOptions::default(),
             )
             .map(|_| ())
         }),

@@ -67,13 +67,13 @@ fn levelset_plane(
     } else {
         (lattice, particles, res)
     };
-    let job = crate::growth::dla::DlaParams {
-        size: Some(crate::params::LatticeSize::new(&lattice)?),
+    let job = asperity_engine::growth::dla::DlaParams {
+        size: Some(asperity_engine::params::LatticeSize::new(&lattice)?),
         particles,
-        seed_shape: crate::growth::dla::SeedShape::Plane,
+        seed_shape: asperity_engine::growth::dla::SeedShape::Plane,
         ..Default::default()
     };
-    let grown = crate::growth::dla::grow(
+    let grown = asperity_engine::growth::dla::grow(
         &job,
         Default::default(),
         7,
