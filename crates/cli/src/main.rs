@@ -81,7 +81,7 @@ fn main() -> ExitCode {
     if !quiet {
         for p in asperity_engine::io::stale_temporaries() {
             eprintln!(
-                "warning: {} was left by an interrupted run (it was not used; delete it)",
+                "note: removed {}, left by a run that was killed",
                 p.display()
             );
         }

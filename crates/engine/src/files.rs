@@ -144,6 +144,7 @@ pub fn load_mesh(spec: &str, budget: &MemoryBudget) -> Result<TriMesh> {
 /// # Errors
 /// [`IoError::Os`] naming the file.
 pub fn read_text(path: &Path) -> Result<String> {
+    asperity_io::staging::note_input(path);
     Ok(std::fs::read_to_string(path).map_err(|e| IoError::os(path, e))?)
 }
 

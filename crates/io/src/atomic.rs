@@ -35,6 +35,7 @@ where
     } else {
         path
     };
+    crate::staging::refuse_input(path)?;
     // A FIFO, a device or a socket is written in place, never replaced by a
     // regular file (there is nothing to keep atomic about a stream).
     if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
@@ -55,7 +56,7 @@ where
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    crate::staging::note_leftovers(dir, &name);
+    crate::staging::remove_leftovers(dir);
     let prefix = format!(".{name}.");
     let mut builder = tempfile::Builder::new();
     builder.prefix(&prefix).suffix(".tmp");

@@ -54,6 +54,19 @@ pub enum IoError {
         /// What was asked for ("a height field", …).
         kind: &'static str,
     },
+    /// An output is a file the command read (by its name, a symlink or a
+    /// hard link): writing it would replace the input.
+    #[error(
+        "{}: is the input {} (the same file): write the output elsewhere",
+        path.display(),
+        input.display()
+    )]
+    OutputIsInput {
+        /// The output asked for.
+        path: PathBuf,
+        /// The input it is.
+        input: PathBuf,
+    },
     /// The channel asked for is not in the file (its channels are named).
     #[error("{}: {message}", path.display())]
     NoChannel {

@@ -256,6 +256,7 @@ impl Default for WriteOptions {
 }
 
 fn read_bytes(path: &Path) -> Result<Vec<u8>, IoError> {
+    staging::note_input(path);
     std::fs::read(path).map_err(|e| IoError::os(path, e))
 }
 

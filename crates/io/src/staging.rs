@@ -7,10 +7,17 @@
 //! way therefore leaves every existing file as it was, whichever output failed.
 //!
 //! Every temporary file alive in the process is registered, so a signal handler
-//! can delete them with [`exit_removing_temporaries`] (a
-//! SIGKILL cannot be caught: its leftovers keep the `.tmp` name, are never
-//! reused, since each temporary name is random, and are reported by
-//! [`stale_temporaries`] when a later run writes the same output).
+//! can delete them with [`exit_removing_temporaries`]. A SIGKILL (or a power
+//! cut) cannot be caught: its temporaries stay. Each temporary is held under
+//! an exclusive advisory lock (`flock`) by the process writing it, until it is
+//! renamed or deleted; the operating system drops the lock when the process
+//! dies. The first write of a later run into a folder removes the
+//! temporaries of ours there whose lock it can take — those of dead runs —
+//! and leaves those of live ones (another asperity writing there now); it
+//! lists what it removed in [`stale_temporaries`]. On a filesystem without
+//! advisory locks every lock succeeds: a leftover there is removed as stale,
+//! and so would be a live run's, so do not run two commands into one such
+//! folder at once.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
@@ -28,11 +35,59 @@ static STAGED: Mutex<Option<Vec<Staged>>> = Mutex::new(None);
 /// uncommitted transaction removes the ones it left empty.
 static MADE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
-/// Names that look like our temporaries, per folder, as found at the first
-/// write into it (before this process made any there).
-static FOLDERS: Mutex<Vec<(PathBuf, Vec<String>)>> = Mutex::new(Vec::new());
-/// Leftover temporaries found beside this process's outputs.
+/// The folders this process has written into (their leftovers removed at
+/// the first write).
+static FOLDERS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// Leftover temporaries of dead runs removed beside this process's outputs.
 static STALE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// The files read while a transaction is open, by device and inode: an
+/// output that is one of them (by its name, a symlink or a hard link) is
+/// refused rather than renamed over the input.
+static INPUTS: Mutex<Vec<(PathBuf, FileId)>> = Mutex::new(Vec::new());
+
+/// A file's identity: device and inode (Unix); elsewhere its canonical path.
+#[cfg(unix)]
+type FileId = (u64, u64);
+#[cfg(not(unix))]
+type FileId = PathBuf;
+
+#[cfg(unix)]
+fn file_id(path: &Path) -> Option<FileId> {
+    use std::os::unix::fs::MetadataExt;
+    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
+}
+
+#[cfg(not(unix))]
+fn file_id(path: &Path) -> Option<FileId> {
+    std::fs::canonicalize(path).ok()
+}
+
+/// Notes that the command read `path` (every reader of this crate does; a
+/// front end reading a file itself calls this too), so that an output over
+/// it is refused. Outside a transaction (a library call, Python) nothing is
+/// noted.
+pub fn note_input(path: &Path) {
+    if lock(&STAGED).is_none() {
+        return;
+    }
+    if let Some(id) = file_id(path) {
+        lock(&INPUTS).push((path.to_path_buf(), id));
+    }
+}
+
+/// Refuses to write `path` when it is a file the command read.
+pub(crate) fn refuse_input(path: &Path) -> Result<(), IoError> {
+    let Some(id) = file_id(path) else {
+        return Ok(());
+    };
+    match lock(&INPUTS).iter().find(|(_, i)| *i == id) {
+        Some((input, _)) => Err(IoError::OutputIsInput {
+            path: path.to_path_buf(),
+            input: input.clone(),
+        }),
+        None => Ok(()),
+    }
+}
 
 /// Whether `name` has the shape of a temporary file of ours: `.NAME.XXXXXX.tmp`.
 fn is_temporary_name(name: &str) -> bool {
@@ -44,46 +99,38 @@ fn is_temporary_name(name: &str) -> bool {
     })
 }
 
-/// Notes the temporaries a killed run (SIGKILL, a power cut) left for the
-/// target `name` in `dir`. They are never reused or overwritten — every
-/// temporary gets a fresh random name — but they are found and reported by
-/// [`stale_temporaries`], so a front end can say where they are.
-pub(crate) fn note_leftovers(dir: &Path, name: &str) {
+/// Removes, at this process's first write into `dir`, the temporaries of
+/// ours there that no live process holds (see the module docs).
+pub(crate) fn remove_leftovers(dir: &Path) {
     let mut folders = lock(&FOLDERS);
-    let listed = match folders.iter().position(|(d, _)| d == dir) {
-        Some(i) => &folders[i].1,
-        None => {
-            let names = std::fs::read_dir(dir)
-                .map(|rd| {
-                    rd.filter_map(|e| e.ok())
-                        .map(|e| e.file_name().to_string_lossy().into_owned())
-                        .filter(|n| is_temporary_name(n))
-                        .collect()
-                })
-                .unwrap_or_default();
-            folders.push((dir.to_path_buf(), names));
-            &folders.last().expect("just pushed").1
-        }
+    if folders.iter().any(|d| d == dir) {
+        return;
+    }
+    folders.push(dir.to_path_buf());
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
     };
-    let prefix = format!(".{name}.");
     let mut stale = lock(&STALE);
-    for n in listed
-        .iter()
-        .filter(|n| n.starts_with(&prefix) && n.len() == prefix.len() + 10)
-    {
-        let p = if dir == Path::new(".") {
-            PathBuf::from(n)
+    for entry in entries.filter_map(Result::ok) {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if !is_temporary_name(&name) {
+            continue;
+        }
+        let path = if dir == Path::new(".") {
+            PathBuf::from(&name)
         } else {
-            dir.join(n)
+            dir.join(&name)
         };
-        if !stale.contains(&p) {
-            stale.push(p);
+        // A live writer holds its lock: taking it means the writer is gone.
+        let dead = std::fs::File::open(&path).is_ok_and(|f| f.try_lock().is_ok());
+        if dead && std::fs::remove_file(&path).is_ok() && !stale.contains(&path) {
+            stale.push(path);
         }
     }
 }
 
-/// Temporary files left beside this process's outputs by an earlier run that
-/// was killed before it could clean up (they are not this process's own).
+/// Temporary files left beside this process's outputs by earlier runs that
+/// were killed before they could clean up, which this process removed.
 pub fn stale_temporaries() -> Vec<PathBuf> {
     lock(&STALE).clone()
 }
@@ -93,8 +140,14 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
-/// A registered temporary file: known to [`exit_removing_temporaries`] until dropped.
-pub(crate) struct Live(PathBuf);
+/// A registered temporary file: known to [`exit_removing_temporaries`] until
+/// dropped, and locked (through its own handle) so that no later run takes it
+/// for a dead one's.
+pub(crate) struct Live {
+    path: PathBuf,
+    /// The handle that holds the lock (none where the filesystem has no locks).
+    _held: Option<std::fs::File>,
+}
 
 impl Live {
     /// Creates a temporary file with `builder` in `dir` and registers it, both
@@ -107,7 +160,14 @@ impl Live {
         let mut live = lock(&LIVE);
         let (file, path) = builder.tempfile_in(dir)?.into_parts();
         live.push(path.to_path_buf());
-        let registration = Self(path.to_path_buf());
+        // The lock belongs to the open file, which this handle keeps open
+        // after the writer's own handle is closed. A filesystem without
+        // locks writes unlocked.
+        let held = file.try_clone().ok().filter(|h| h.try_lock().is_ok());
+        let registration = Self {
+            path: path.to_path_buf(),
+            _held: held,
+        };
         Ok((file, path, registration))
     }
 }
@@ -115,7 +175,7 @@ impl Live {
 impl Drop for Live {
     fn drop(&mut self) {
         let mut live = lock(&LIVE);
-        if let Some(i) = live.iter().rposition(|p| *p == self.0) {
+        if let Some(i) = live.iter().rposition(|p| *p == self.path) {
             live.swap_remove(i);
         }
     }
@@ -199,6 +259,7 @@ impl Transaction {
     pub fn begin() -> Self {
         *lock(&STAGED) = Some(Vec::new());
         lock(&MADE).clear();
+        lock(&INPUTS).clear();
         Self(())
     }
 
@@ -209,6 +270,7 @@ impl Transaction {
     /// deleted.
     pub fn commit(self) -> Result<(), IoError> {
         lock(&MADE).clear();
+        lock(&INPUTS).clear();
         let staged = lock(&STAGED).take().unwrap_or_default();
         for (tmp, path, live) in staged {
             tmp.persist(&path)
@@ -225,6 +287,7 @@ impl Drop for Transaction {
         // target as it was.
         let staged = lock(&STAGED).take();
         drop(staged);
+        lock(&INPUTS).clear();
         // Then the folders made for them, where now empty (remove_dir refuses
         // a folder with anything in it).
         for dir in std::mem::take(&mut *lock(&MADE)) {
@@ -253,15 +316,28 @@ mod tests {
     }
 
     #[test]
-    fn a_killed_run_s_leftover_is_reported_and_kept() {
+    fn a_dead_run_s_leftovers_are_removed_and_a_live_one_s_kept() {
         let dir = tempfile::tempdir().unwrap();
         let leftover = dir.path().join(".out.npy.Xy12Zw.tmp");
         std::fs::write(&leftover, b"half").unwrap();
-        std::fs::write(dir.path().join(".other.npy.Xy12Zw.tmp"), b"x").unwrap();
+        let other = dir.path().join(".other.npy.Ab34Cd.tmp");
+        std::fs::write(&other, b"x").unwrap();
+        // A live writer's temporary: locked through an open handle.
+        let live = dir.path().join(".live.npy.Ef56Gh.tmp");
+        std::fs::write(&live, b"being written").unwrap();
+        let holder = std::fs::File::open(&live).unwrap();
+        holder.lock().unwrap();
+        let not_ours = dir.path().join(".keep.tmp");
+        std::fs::write(&not_ours, b"someone else's").unwrap();
         crate::write_atomic::<IoError>(&dir.path().join("out.npy"), |_| Ok(())).unwrap();
         let stale = stale_temporaries();
-        assert!(stale.contains(&leftover), "{stale:?}");
-        assert!(!stale.iter().any(|p| p.ends_with(".other.npy.Xy12Zw.tmp")));
-        assert_eq!(std::fs::read(&leftover).unwrap(), b"half");
+        for gone in [&leftover, &other] {
+            assert!(!gone.exists(), "{} left", gone.display());
+            assert!(stale.contains(gone), "{stale:?}");
+        }
+        assert_eq!(std::fs::read(&live).unwrap(), b"being written");
+        assert!(!stale.contains(&live));
+        assert_eq!(std::fs::read(&not_ours).unwrap(), b"someone else's");
+        drop(holder);
     }
 }

@@ -90,4 +90,49 @@ fn outputs_are_committed_together_links_followed_and_fifos_kept() {
     write_text(&plots.join("p.svg"), "<svg/>").unwrap();
     tx.commit().unwrap();
     assert_eq!(names(&plots), vec!["p.svg"]);
+
+    an_output_that_is_an_input_is_refused(d.path());
+}
+
+/// Inside a transaction (a command), an output that is a file the command
+/// read — by its name, a symlink to it or a hard link — is refused naming
+/// both, and the input is left byte for byte; outside one (a library call)
+/// nothing is noted. Run from the test above: a transaction is process-wide.
+fn an_output_that_is_an_input_is_refused(dir: &Path) {
+    let input = dir.join("in.xyz");
+    std::fs::write(&input, "0 0 0\n1 0 0\n0 1 1\n").unwrap();
+    let before = std::fs::read(&input).unwrap();
+    let refused = |out: &Path| {
+        let s = asperity_io::read(&input).unwrap();
+        let asperity_io::Surface::Points(p) = s else {
+            panic!("points")
+        };
+        let e = asperity_io::write_points(out, &p, &Default::default()).unwrap_err();
+        let m = e.to_string();
+        assert!(m.contains("is the input") && m.contains("in.xyz"), "{m}");
+        assert_eq!(std::fs::read(&input).unwrap(), before);
+    };
+    let tx = Transaction::begin();
+    refused(&input);
+    #[cfg(unix)]
+    {
+        let link = dir.join("link.xyz");
+        std::os::unix::fs::symlink("in.xyz", &link).unwrap();
+        refused(&link);
+        let hard = dir.join("hard.xyz");
+        std::fs::hard_link(&input, &hard).unwrap();
+        refused(&hard);
+    }
+    // Another file is written as usual.
+    let other = dir.join("other.xyz");
+    let s = asperity_io::read(&input).unwrap();
+    let asperity_io::Surface::Points(p) = s else {
+        panic!("points")
+    };
+    asperity_io::write_points(&other, &p, &Default::default()).unwrap();
+    tx.commit().unwrap();
+    assert!(other.exists());
+    // Outside a transaction the caller decides.
+    asperity_io::read(&input).unwrap();
+    asperity_io::write_points(&input, &p, &Default::default()).unwrap();
 }

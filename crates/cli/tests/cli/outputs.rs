@@ -88,20 +88,61 @@ fn outputs_land_together_and_interruptions_leave_nothing() {
     assert!(left.is_empty(), "left behind: {left:?}");
 }
 
+/// Runs killed (SIGKILL) at seeded moments of their write leave at most
+/// their temporaries and never a half output; the next run that writes into
+/// the folder removes them and says so (#54). An output that is the command's
+/// input is refused and the input kept.
 #[test]
-fn a_killed_run_s_temporary_is_named_and_left_alone() {
+#[cfg(unix)]
+fn killed_runs_leave_nothing_after_the_next_write_and_inputs_are_never_outputs() {
     let d = tempfile::tempdir().unwrap();
     let dir = d.path();
-    let leftover = dir.join(".h.npy.Ab12Cd.tmp");
-    std::fs::write(&leftover, "half a file").unwrap();
-    let o = asperity(&["generate", "fbm", "--size", "16", "-o", "h.npy"], dir);
+    let mut seed = 54u64;
+    for _ in 0..12 {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
+            .args(["generate", "fbm", "--size", "2048", "-o", "h.npy"])
+            .current_dir(dir)
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        std::thread::sleep(std::time::Duration::from_millis(seed >> 54));
+        let _ = child.kill();
+        let _ = child.wait();
+        if dir.join("h.npy").exists() {
+            // Whatever landed is whole.
+            let o = asperity(&["info", "h.npy"], dir);
+            assert!(o.status.success(), "{}", stderr(&o));
+        }
+    }
+    // One more, as a killed run leaves it (no process holds it).
+    std::fs::write(dir.join(".h.npy.Ab12Cd.tmp"), "half a file").unwrap();
+    let o = asperity(&["generate", "fbm", "--size", "16", "-o", "small.npy"], dir);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("warning: .h.npy.Ab12Cd.tmp was left by an interrupted run"),
+        stderr(&o).contains("note: removed .h.npy.Ab12Cd.tmp, left by a run that was killed"),
         "{}",
         stderr(&o)
     );
-    assert_eq!(std::fs::read_to_string(&leftover).unwrap(), "half a file");
+    let left: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+
+    let before = std::fs::read(dir.join("small.npy")).unwrap();
+    std::os::unix::fs::symlink("small.npy", dir.join("link.npy")).unwrap();
+    for out in ["small.npy", "link.npy"] {
+        fails(
+            dir,
+            &["convert", "small.npy", out],
+            "is the input small.npy (the same file): write the output elsewhere",
+        );
+        assert_eq!(std::fs::read(dir.join("small.npy")).unwrap(), before);
+    }
 }
 
 #[test]

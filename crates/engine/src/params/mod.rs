@@ -346,16 +346,22 @@ pub fn read_file(path: &std::path::Path) -> Result<Value> {
             ))
         });
     }
-    let len = std::fs::metadata(path)
-        .map_err(|e| asperity_io::IoError::os(path, e))?
-        .len();
-    if len > MAX_PARAMS_FILE {
+    // Read at most one byte past the limit: a special file (`/dev/zero`, a
+    // pipe) reports no size, so the size on disk cannot be trusted.
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| {
+            std::io::Read::read_to_end(&mut std::io::Read::take(f, MAX_PARAMS_FILE + 1), &mut bytes)
+        })
+        .map_err(|e| asperity_io::IoError::os(path, e))?;
+    if bytes.len() as u64 > MAX_PARAMS_FILE {
         return Err(EngineError::Invalid(format!(
-            "{} holds {len} bytes: too large for parameters",
+            "{} holds more than {MAX_PARAMS_FILE} bytes: too large for parameters",
             path.display()
         )));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| asperity_io::IoError::os(path, e))?;
+    let text = String::from_utf8(bytes)
+        .map_err(|_| EngineError::Invalid(format!("{} is not UTF-8 text", path.display())))?;
     let value: Value = serde_json::from_str(&text)
         .map_err(|e| EngineError::Invalid(format!("{} is not JSON: {e}", path.display())))?;
     let value = match value.get("params") {

@@ -104,3 +104,19 @@ fn bad_runs_are_refused_naming_the_parameter() {
         assert!(e.contains(needle), "{v}: {e}");
     }
 }
+
+/// A run no machine finishes within the time limit is refused before any
+/// step, naming the estimate (#54: a billion steps of a 64² grid under 60 s).
+#[test]
+fn a_run_over_the_time_limit_is_refused_with_its_estimate() {
+    let p = params(json!({"rule": 450, "steps": 1_000_000_000u64, "size": [64, 64]}));
+    let m = MemoryBudget::unlimited();
+    let t = TimeBudget::new(std::time::Duration::from_secs(60), 2);
+    // (Were it not refused, the run would take minutes: the refusal comes
+    // from the estimate, before any step.)
+    let e = run_job(&p, false, 7, (&m, &t), &NoProgress)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("the CA evolution would take at least"), "{e}");
+    assert!(e.contains("6.554e13 cell updates"), "{e}");
+}

@@ -147,3 +147,121 @@ fn choices_parse_and_print_their_names() {
     );
     assert_eq!(serde_json::to_value(SeedShape::Image).unwrap(), "image");
 }
+
+/// A parameters file is read up to its limit, whatever its size on disk
+/// says: a special file that never ends (`/dev/zero` reports no size) is
+/// refused after 16 MiB, a real file over the limit too, both naming it.
+#[test]
+fn a_parameters_file_is_read_no_further_than_its_limit() {
+    let message = |p: &std::path::Path| read_file(p).unwrap_err().to_string();
+    let zero = std::path::Path::new("/dev/zero");
+    if zero.exists() {
+        let m = message(zero);
+        assert!(
+            m.contains("/dev/zero holds more than 16777216 bytes"),
+            "{m}"
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let big = dir.path().join("big.json");
+    std::fs::write(&big, vec![b' '; (16 << 20) + 1]).unwrap();
+    assert!(message(&big).contains("big.json holds more than"));
+    let ok = dir.path().join("ok.json");
+    std::fs::write(&ok, br#"{"particles": 5}"#).unwrap();
+    assert_eq!(read_file(&ok).unwrap()["particles"], 5);
+}
+
+/// Every numeric parameter of every job has both bounds in the schema that
+/// the CLI, Python and Blender show and `validate` enforces (#54): a value
+/// past them is refused before any work, naming the parameter and the bound.
+/// Not there yet: the parameters still without both are counted, and the
+/// count may only fall (`UNBOUNDED`), so a new parameter without a bound fails
+/// here, naming it.
+#[test]
+fn every_numeric_parameter_has_both_bounds() {
+    fn resolve<'a>(
+        root: &'a serde_json::Value,
+        node: &'a serde_json::Value,
+    ) -> &'a serde_json::Value {
+        match node.get("$ref").and_then(|r| r.as_str()) {
+            Some(r) => r
+                .strip_prefix("#/")
+                .map(|p| p.split('/').fold(root, |n, k| &n[k]))
+                .unwrap_or(node),
+            None => node,
+        }
+    }
+    fn numeric_leaves<'a>(
+        root: &'a serde_json::Value,
+        node: &'a serde_json::Value,
+        out: &mut Vec<&'a serde_json::Value>,
+    ) {
+        let node = resolve(root, node);
+        for key in ["anyOf", "oneOf", "allOf"] {
+            for b in node
+                .get(key)
+                .and_then(|b| b.as_array())
+                .into_iter()
+                .flatten()
+            {
+                numeric_leaves(root, b, out);
+            }
+        }
+        if let Some(items) = node.get("items") {
+            numeric_leaves(root, items, out);
+        }
+        for b in node
+            .get("prefixItems")
+            .and_then(|b| b.as_array())
+            .into_iter()
+            .flatten()
+        {
+            numeric_leaves(root, b, out);
+        }
+        let ty = node.get("type");
+        let numeric = |t: &serde_json::Value| t == "number" || t == "integer";
+        let is_numeric = match ty {
+            Some(serde_json::Value::Array(ts)) => ts.iter().any(numeric),
+            Some(t) => numeric(t),
+            None => false,
+        };
+        if is_numeric {
+            out.push(node);
+        }
+    }
+    let mut missing = Vec::new();
+    let mut count = 0;
+    for job in asperity_engine::jobs::jobs() {
+        let schema = (job.schema)();
+        let props = schema["properties"]
+            .as_object()
+            .cloned()
+            .unwrap_or_default();
+        for (name, field) in &props {
+            let mut leaves = Vec::new();
+            numeric_leaves(&schema, field, &mut leaves);
+            for leaf in leaves {
+                count += 1;
+                let low = leaf.get("minimum").or(leaf.get("exclusiveMinimum"));
+                let high = leaf.get("maximum").or(leaf.get("exclusiveMaximum"));
+                if low.is_none() || high.is_none() {
+                    missing.push(format!(
+                        "{} {name}: {}{}",
+                        job.name,
+                        if low.is_none() { "no minimum " } else { "" },
+                        if high.is_none() { "no maximum" } else { "" }
+                    ));
+                }
+            }
+        }
+    }
+    // Lower this as bounds are added; #54 is done at 0.
+    const UNBOUNDED: usize = 137;
+    assert!(count >= 180, "{count} numeric parameters");
+    assert!(
+        missing.len() <= UNBOUNDED,
+        "{} of {count} without both bounds (at most {UNBOUNDED}):\n{}",
+        missing.len(),
+        missing.join("\n")
+    );
+}
