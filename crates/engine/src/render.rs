@@ -239,6 +239,7 @@ pub struct RenderParams {
     #[arg(long)]
     pub patina: bool,
     /// Vertical exaggeration of height fields.
+    #[schemars(range(min = -1e6, max = 1e6))]
     #[arg(long, default_value_t = Self::default().z_scale)]
     pub z_scale: f64,
     /// Background: gradient, white, black, or a colour #RRGGBB.

@@ -18,7 +18,7 @@ use crate::params::JobParams;
 #[serde(default)]
 pub struct FbmParams {
     /// Samples per side N (an N×N field).
-    #[schemars(range(min = 2))]
+    #[schemars(range(min = 2, max = 1_048_576))]
     #[arg(long, default_value_t = Self::DEFAULT.size)]
     pub size: usize,
     /// Hurst exponent H in (0, 1] (fractal dimension 3 − H).
@@ -26,11 +26,11 @@ pub struct FbmParams {
     #[arg(long, default_value_t = Self::DEFAULT.hurst)]
     pub hurst: f64,
     /// Root-mean-square height.
-    #[schemars(range(min = 0.0))]
+    #[schemars(range(min = 0.0, max = 1e12))]
     #[arg(long, default_value_t = Self::DEFAULT.rms)]
     pub rms: f64,
     /// Sample spacing (the field is periodic with period N × spacing).
-    #[schemars(extend("exclusiveMinimum" = 0.0))]
+    #[schemars(range(max = 1e12), extend("exclusiveMinimum" = 0.0))]
     #[arg(long, default_value_t = Self::DEFAULT.spacing)]
     pub spacing: f64,
 }

@@ -155,7 +155,7 @@ pub struct AnalyzeParams {
     #[arg(long, default_value_t = Self::default().window)]
     pub window: String,
     /// Log-spaced bins of the radially averaged PSD.
-    #[schemars(range(min = 2))]
+    #[schemars(range(min = 2, max = 1_000_000))]
     #[arg(long, default_value_t = Self::default().bins)]
     pub bins: usize,
     /// Hurst fit window QMIN,QMAX in rad/length (default: picked from the PSD, leaving out a

@@ -139,6 +139,7 @@ pub struct CaRunParams {
     #[allow(missing_docs)]
     pub family: RuleFamily,
     /// Number of steps T. Required.
+    #[schemars(range(min = 0, max = 1_000_000_000_000u64))]
     #[arg(long)]
     pub steps: Option<usize>,
     /// Initial grid: seed (one cell), random:DENSITY (or random:DENSITY@SEED), or a file (.npy
@@ -155,6 +156,7 @@ pub struct CaRunParams {
     #[arg(long)]
     pub no_step0: bool,
     /// Weight step t by R^t (geometric decay).
+    #[schemars(range(min = -1e3, max = 1e3))]
     #[arg(long, value_name = "R", conflicts_with = "weights")]
     pub decay: Option<f64>,
     /// Explicit weight of each step 0…T (T + 1 values).
@@ -275,6 +277,7 @@ pub struct CaGalleryParams {
     #[arg(long, value_delimiter = ',', default_values_t = Self::default().inits)]
     pub inits: Vec<String>,
     /// Steps per run.
+    #[schemars(range(min = 0, max = 1_000_000_000_000u64))]
     #[arg(long, default_value_t = Self::default().steps)]
     pub steps: usize,
     /// Cyclic grid size WxH of every run.

@@ -73,7 +73,7 @@ pub struct DlaParams {
     #[arg(long, default_value_t = Self::DEFAULT.dim)]
     pub dim: usize,
     /// Particles to deposit (seeds not counted).
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 10_000_000_000u64))]
     #[arg(long, default_value_t = Self::DEFAULT.particles)]
     pub particles: usize,
     /// Sticking probability p in (0, 1]: 1 dendritic, small p moss-like.
@@ -81,7 +81,7 @@ pub struct DlaParams {
     #[arg(long, default_value_t = Self::DEFAULT.stick)]
     pub stick: f64,
     /// Radius of the sphere seed, in cells.
-    #[schemars(range(min = 0.5))]
+    #[schemars(range(min = 0.5, max = 1e6))]
     #[arg(long, default_value_t = Self::DEFAULT.seed_radius)]
     pub seed_radius: f64,
     /// Cells along the seed mesh's longest axis.
@@ -93,7 +93,7 @@ pub struct DlaParams {
     #[arg(long, default_value_t = Self::DEFAULT.seed_density)]
     pub seed_density: f64,
     /// Gap δ between the cluster and the launch sphere or plane, in cells.
-    #[schemars(range(min = 1.0))]
+    #[schemars(range(min = 1.0, max = 1e4))]
     #[arg(long, default_value_t = Self::DEFAULT.launch_gap)]
     pub launch_gap: f64,
     /// Plane and image seeds: the lattice's x and y sides.

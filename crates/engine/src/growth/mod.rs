@@ -43,7 +43,7 @@ choice! {
 #[serde(default)]
 pub struct DepositParams {
     /// Columns per side L of the flat substrate.
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 16_777_216))]
     #[arg(long, default_value_t = Self::DEFAULT.size)]
     pub size: usize,
     /// Substrate dimension d: 1 (a row of L columns) or 2 (L×L).
@@ -51,19 +51,19 @@ pub struct DepositParams {
     #[arg(long, default_value_t = Self::DEFAULT.dim)]
     pub dim: usize,
     /// Monolayers T to deposit (depositions = T × columns).
-    #[schemars(extend("exclusiveMinimum" = 0.0))]
+    #[schemars(range(max = 1e12), extend("exclusiveMinimum" = 0.0))]
     #[arg(long, default_value_t = Self::DEFAULT.layers)]
     pub layers: f64,
     /// Independent runs averaged for W(t) (in parallel; each reproducible from the seed).
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 1_000_000))]
     #[arg(long, default_value_t = Self::DEFAULT.runs)]
     pub runs: usize,
     /// Max-height binning side ε for a coarse-grained width, in columns (must divide L); BD needs it.
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 16_777_216))]
     #[arg(long, value_name = "EPS")]
     pub bin: Option<usize>,
     /// Width samples per decade of time.
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 1_000))]
     #[arg(long, default_value_t = Self::DEFAULT.samples_per_decade)]
     pub samples_per_decade: usize,
     /// Fit window of β in monolayers, TMIN,TMAX (default: 10 to T, or 1 to T when T < 100).
@@ -76,7 +76,7 @@ pub struct DepositParams {
     #[arg(long, value_enum, default_value_t = Self::DEFAULT.substrate)]
     pub substrate: SubstrateShape,
     /// Radius of the sphere substrate, in cells.
-    #[schemars(range(min = 1.0))]
+    #[schemars(range(min = 1.0, max = 1e6))]
     #[arg(long, default_value_t = Self::DEFAULT.radius)]
     pub radius: f64,
     /// Cells along the mesh substrate's longest axis.
@@ -130,7 +130,7 @@ pub struct RdsrParams {
     #[allow(missing_docs)]
     pub deposit: DepositParams,
     /// Relaxation radius in columns (1 is Family's nearest-neighbour rule).
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 1_000_000))]
     #[arg(long, default_value_t = Self::DEFAULT.relax)]
     pub relax: u32,
 }

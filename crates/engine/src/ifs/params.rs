@@ -43,14 +43,16 @@ pub struct IfsModelParams {
     #[arg(skip)]
     pub model: Option<String>,
     /// Takagi–Landsberg roughness w, |w| < 1 (takagi presets; default 1/√2 ≈ 0.7071).
+    #[schemars(range(min = -1.0, max = 1.0))]
     #[arg(long, allow_hyphen_values = true)]
     pub w: Option<f64>,
     /// Degree of the `bezier` preset (default 3).
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 64))]
     #[arg(long)]
     pub degree: Option<usize>,
     /// Height scale of the surface presets (default 0.25 for takagi-landsberg-surface, 0.5
     /// otherwise; a squared curve 0.25).
+    #[schemars(range(min = -1e6, max = 1e6))]
     #[arg(long, allow_hyphen_values = true)]
     pub height: Option<f64>,
     /// Replace the control points: JSON (a list of points, or N rows of M points) or CSV (x,y
@@ -241,16 +243,18 @@ pub struct IfsDcfParams {
     #[arg(long, default_value_t = Self::DEFAULT.operator)]
     pub operator: usize,
     /// Starting point as an attractor parameter (default: the other operator's fixed point).
+    #[schemars(range(min = -1e6, max = 1e6))]
     #[arg(long, conflicts_with = "bound")]
     pub start: Option<f64>,
     /// Start from the lower- or upper-bound member of the family instead.
     #[arg(long, value_enum)]
     pub bound: Option<Bound>,
     /// Samples along t ∈ [0, 1].
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 100_000_000))]
     #[arg(long, default_value_t = Self::DEFAULT.samples)]
     pub samples: usize,
     /// Family members drawn in an .svg figure.
+    #[schemars(range(min = 0, max = 10_000))]
     #[arg(long, default_value_t = Self::DEFAULT.family)]
     pub family: usize,
 }
@@ -312,6 +316,7 @@ pub struct IfsSdcfParams {
     #[arg(long, default_value_t = Self::DEFAULT.operator, value_name = "I,J")]
     pub operator: Numbers<2>,
     /// Starting point S,T as attractor parameters (default: the opposite corner).
+    #[schemars(range(min = -1e6, max = 1e6))]
     #[arg(long, conflicts_with = "bound", value_name = "S,T")]
     pub start: Option<Numbers<2>>,
     /// Start from the lower- or upper-bound members of both families instead.

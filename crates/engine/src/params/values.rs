@@ -37,7 +37,7 @@ impl<const N: usize> JsonSchema for Numbers<N> {
     fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
         schemars::json_schema!({
             "type": "array",
-            "items": {"type": "number"},
+            "items": {"type": "number", "minimum": -MAX_COORDINATE, "maximum": MAX_COORDINATE},
             "minItems": N,
             "maxItems": N,
         })
@@ -65,11 +65,24 @@ impl<const N: usize> std::fmt::Display for Numbers<N> {
     }
 }
 
+/// The largest magnitude of a coordinate or number given as a list
+/// ([`Numbers`]: a camera's eye and target, a light's direction, an operator).
+pub const MAX_COORDINATE: f64 = 1e12;
+
+/// The most cells or pixels along one side of a size ([`Size2`],
+/// [`LatticeSize`]); the memory and time estimates bound their products.
+pub const MAX_SIDE: usize = 1 << 20;
+
 /// A size in cells or pixels, `WxH` on the command line, `[W, H]` in JSON.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, JsonSchema)]
 #[serde(from = "[usize; 2]", into = "[usize; 2]")]
-#[schemars(with = "[usize; 2]")]
+#[schemars(with = "[Side; 2]")]
 pub struct Size2(pub [usize; 2]);
+
+/// One side of a size, for the schemas: 1 to [`MAX_SIDE`].
+#[derive(JsonSchema)]
+#[allow(dead_code)]
+struct Side(#[schemars(range(min = 1, max = MAX_SIDE))] usize);
 
 impl From<[usize; 2]> for Size2 {
     fn from(v: [usize; 2]) -> Self {
@@ -176,9 +189,9 @@ pub struct LatticeSize(Vec<usize>);
 #[serde(untagged)]
 enum SizeForm {
     /// One number N.
-    One(#[schemars(range(min = 1))] usize),
+    One(#[schemars(range(min = 1, max = MAX_SIDE))] usize),
     /// One to three numbers.
-    Many(#[schemars(length(min = 1, max = 3))] Vec<usize>),
+    Many(#[schemars(length(min = 1, max = 3))] Vec<Side>),
 }
 
 impl<'de> serde::Deserialize<'de> for LatticeSize {

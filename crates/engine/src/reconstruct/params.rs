@@ -162,11 +162,11 @@ pub struct LevelSetParams {
     pub paper: bool,
     /// Cells along the longest axis of the points' bounding box (default 128; pipelines: from
     /// the spacing).
-    #[schemars(range(min = 2))]
+    #[schemars(range(min = 2, max = 16_384))]
     #[arg(long, conflicts_with = "spacing")]
     pub resolution: Option<usize>,
     /// Grid spacing h in the points' units, instead of the resolution (pipelines: 0.7).
-    #[schemars(extend("exclusiveMinimum" = 0.0))]
+    #[schemars(range(max = 1e12), extend("exclusiveMinimum" = 0.0))]
     #[arg(long)]
     pub spacing: Option<f64>,
     /// Offset ε of the initial surface from the points: in their units (0.5) or in grid cells
@@ -174,16 +174,17 @@ pub struct LevelSetParams {
     #[arg(long, value_name = "EPS")]
     pub offset: Option<Offset>,
     /// Time steps of the flow (default 30, 200 for a sampled surface; pipelines 60).
+    #[schemars(range(min = 0, max = 1_000_000))]
     #[arg(long)]
     pub iterations: Option<usize>,
     /// Stop early once the front moves less than this many cells per step.
-    #[schemars(range(min = 0.0))]
+    #[schemars(range(min = 0.0, max = 1e6))]
     #[arg(long, value_name = "CELLS")]
     pub tolerance: Option<f64>,
     /// Radius δ at which the front stops around each point, in the points' units (default:
     /// 0.75 × the sample spacing up to 60 steps, growing to 1 × at 200 steps; at least 0.6h; 0
     /// is the paper's model).
-    #[schemars(range(min = 0.0))]
+    #[schemars(range(min = 0.0, max = 1e12))]
     #[arg(long, value_name = "R")]
     pub point_radius: Option<f64>,
     /// Space discretisation.
@@ -200,7 +201,7 @@ pub struct LevelSetParams {
     #[arg(long, value_enum)]
     pub flow: Option<FlowName>,
     /// Curvature weight λ of the regularized flow, in cells.
-    #[schemars(range(min = 0.0))]
+    #[schemars(range(min = 0.0, max = 1e6))]
     #[arg(long, default_value_t = Self::DEFAULT.curvature_weight)]
     pub curvature_weight: f64,
     /// Unsigned-distance method (default closest-point; paper: godunov).
@@ -214,11 +215,11 @@ pub struct LevelSetParams {
     #[arg(long, value_enum, default_value_t = Self::DEFAULT.tagging)]
     pub tagging: Tagging,
     /// Tube half-width γ, in cells.
-    #[schemars(extend("exclusiveMinimum" = 0.0))]
+    #[schemars(range(max = 1e4), extend("exclusiveMinimum" = 0.0))]
     #[arg(long, default_value_t = Self::DEFAULT.tube)]
     pub tube: f64,
     /// Full-speed half-width β of the cut-off, in cells (below the tube's γ).
-    #[schemars(extend("exclusiveMinimum" = 0.0))]
+    #[schemars(range(max = 1e4), extend("exclusiveMinimum" = 0.0))]
     #[arg(long, default_value_t = Self::DEFAULT.beta)]
     pub beta: f64,
     /// CFL number of the time step.
@@ -226,6 +227,7 @@ pub struct LevelSetParams {
     #[arg(long, default_value_t = Self::DEFAULT.cfl)]
     pub cfl: f64,
     /// Redistancing iterations per step (Eq. 11).
+    #[schemars(range(min = 0, max = 1_000))]
     #[arg(long, default_value_t = Self::DEFAULT.redistance)]
     pub redistance: usize,
     /// Update every node every step (the naive scheme, for comparison) instead of the tubes.
@@ -247,11 +249,12 @@ pub struct LevelSetParams {
     pub open: bool,
     /// Drop connected pieces with fewer triangles than this (single-node voids the flow opens
     /// inside a deposit have 8); 0 keeps everything.
+    #[schemars(range(min = 0, max = 1_000_000_000_000u64))]
     #[arg(long, default_value_t = Self::DEFAULT.min_shell, value_name = "TRIANGLES")]
     pub min_shell: usize,
     /// Also give the surface every K steps (and the initial one); the CLI writes them as
     /// OUT_stepNNNN.EXT.
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 1_000_000_000))]
     #[arg(long, value_name = "K")]
     pub save_every: Option<usize>,
 }
@@ -435,7 +438,7 @@ pub struct DlaTerrainParams {
     pub size: LatticeSize,
     /// DLA particles released from above the plane (default 6000, below the lattice top; paper:
     /// 2500, a deposit about 20 cells high as the paper's 49-node grid height implies).
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 10_000_000_000u64))]
     #[arg(long)]
     pub particles: Option<usize>,
     /// Sticking probability p in (0, 1].
@@ -500,15 +503,15 @@ impl JobParams for DlaTerrainParams {
 #[serde(default)]
 pub struct RdsrSphereParams {
     /// Radius of the substrate ball, in cells.
-    #[schemars(range(min = 1.0))]
+    #[schemars(range(min = 1.0, max = 1e6))]
     #[arg(long, default_value_t = Self::DEFAULT.radius)]
     pub radius: f64,
     /// Monolayers deposited.
-    #[schemars(extend("exclusiveMinimum" = 0.0))]
+    #[schemars(range(max = 1e12), extend("exclusiveMinimum" = 0.0))]
     #[arg(long, default_value_t = Self::DEFAULT.layers)]
     pub layers: f64,
     /// RDSR relaxation radius, in cells.
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 1_000_000))]
     #[arg(long, default_value_t = Self::DEFAULT.relax)]
     pub relax: u32,
     #[serde(flatten)]

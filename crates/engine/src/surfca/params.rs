@@ -60,15 +60,15 @@ pub struct SurfaceCaParams {
     #[arg(long)]
     pub repair: bool,
     /// Approximate number of cells (their side h = √(area / cells)).
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 1_000_000_000))]
     #[arg(long, default_value_t = Self::default().cells, conflicts_with = "cell_size")]
     pub cells: usize,
     /// Cell side h in mesh units (instead of the count).
-    #[schemars(extend("exclusiveMinimum" = 0.0))]
+    #[schemars(range(max = 1e12), extend("exclusiveMinimum" = 0.0))]
     #[arg(long)]
     pub cell_size: Option<f64>,
     /// Voronoi: number of random sites (area-weighted).
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 1_000_000_000))]
     #[arg(long, default_value_t = Self::default().sites)]
     pub sites: usize,
     /// Voronoi: probability that a corner neighbour passes its label (default √2/2 − ½, the
@@ -77,30 +77,35 @@ pub struct SurfaceCaParams {
     #[arg(long)]
     pub diagonal_p: Option<f64>,
     /// Voronoi: step limit (it stops earlier when no cell changes).
+    #[schemars(range(min = 0, max = 1_000_000_000_000u64))]
     #[arg(long, default_value_t = Self::default().max_steps)]
     pub max_steps: u64,
     /// Corrosion and Gray–Scott: steps to run.
+    #[schemars(range(min = 0, max = 1_000_000_000_000u64))]
     #[arg(long, default_value_t = Self::default().steps)]
     pub steps: u64,
     /// Gray–Scott: feed rate F.
-    #[schemars(range(min = 0.0))]
+    #[schemars(range(min = 0.0, max = 1.0))]
     #[arg(long, default_value_t = Self::default().feed)]
     pub feed: f32,
     /// Gray–Scott: kill rate k.
-    #[schemars(range(min = 0.0))]
+    #[schemars(range(min = 0.0, max = 1.0))]
     #[arg(long, default_value_t = Self::default().kill)]
     pub kill: f32,
     /// Gray–Scott: number of seeded patches.
-    #[schemars(range(min = 1))]
+    #[schemars(range(min = 1, max = 1_000_000))]
     #[arg(long, default_value_t = Self::default().patches)]
     pub patches: usize,
     /// Corrosion: metal lost per corroded step (k1).
+    #[schemars(range(min = -1e6, max = 1e6))]
     #[arg(long, default_value_t = Self::default().k1)]
     pub k1: f32,
     /// Corrosion: oxide gained per corroded step (k2).
+    #[schemars(range(min = -1e6, max = 1e6))]
     #[arg(long, default_value_t = Self::default().k2)]
     pub k2: f32,
     /// Corrosion: oxide cap (k3).
+    #[schemars(range(min = -1e6, max = 1e6))]
     #[arg(long, default_value_t = Self::default().k3)]
     pub k3: f32,
     /// Corrosion: probability per step that a metal cell becomes a new seed.
@@ -108,6 +113,7 @@ pub struct SurfaceCaParams {
     #[arg(long, default_value_t = Self::default().seed_rate)]
     pub seed_rate: f64,
     /// Corrosion: most seeds over the run.
+    #[schemars(range(min = 0, max = 1_000_000_000_000u64))]
     #[arg(long, default_value_t = Self::default().max_seeds)]
     pub max_seeds: usize,
     /// Corrosion: share of strong (resistant) cells.
@@ -115,7 +121,7 @@ pub struct SurfaceCaParams {
     #[arg(long, default_value_t = Self::default().strong_fraction)]
     pub strong_fraction: f64,
     /// Corrosion: strong cells from a value-noise field of this feature size (mesh units).
-    #[schemars(extend("exclusiveMinimum" = 0.0))]
+    #[schemars(range(max = 1e12), extend("exclusiveMinimum" = 0.0))]
     #[arg(long, value_name = "SCALE")]
     pub strong_noise: Option<f64>,
     /// Corrosion: most neighbours one corroded cell attacks per step (1–7).
@@ -123,9 +129,11 @@ pub struct SurfaceCaParams {
     #[arg(long, default_value_t = Self::default().max_attacked)]
     pub max_attacked: u32,
     /// Corrosion: attack strength of a mature corroded cell (defence: 0.35 weak, 0.8 strong).
+    #[schemars(range(min = -1e6, max = 1e6))]
     #[arg(long, default_value_t = Self::default().attack)]
     pub attack: f64,
     /// Corrosion: age (steps) at which a corroded cell attacks at full strength.
+    #[schemars(range(min = 0, max = 1_000_000_000))]
     #[arg(long, default_value_t = Self::default().maturity)]
     pub maturity: u32,
     /// The cells as their own mesh with vertex colours, even where a format takes the original
@@ -134,6 +142,7 @@ pub struct SurfaceCaParams {
     pub cell_mesh: bool,
     /// Displace the cell mesh along the normal by SCALE × the per-cell thickness (corrosion:
     /// oxide; gray-scott: activator), averaged across cells and triangle edges.
+    #[schemars(range(min = -1e6, max = 1e6))]
     #[arg(long, value_name = "SCALE", allow_hyphen_values = true)]
     pub displace: Option<f64>,
     /// How cells are linked across triangle edges: `unfolded` (asperity's) or `paper`
