@@ -136,7 +136,7 @@ fn ca_commands() {
             "-o",
             "x.npy",
         ],
-        "zero side",
+        "--size must be in [1, 1048576], got 0",
     );
     fails(
         d.path(),

@@ -225,7 +225,9 @@ fn runs_of_years_are_refused_before_any_work() {
     std::fs::write(dir.join("h.npy"), "precious").unwrap();
     fails(
         dir,
-        &["growth", "rdsr", "--runs", "1000000000", "-o", "h.npy"],
+        &[
+            "growth", "rdsr", "--runs", "1000000", "--layers", "1000000", "-o", "h.npy",
+        ],
         "the deposition would take at least",
     );
     // Without a time limit, the ensemble's memory is estimated before any run.
@@ -235,15 +237,15 @@ fn runs_of_years_are_refused_before_any_work() {
             "growth",
             "rdsr",
             "--runs",
-            "1000000000",
+            "1000000",
             "--max-memory",
-            "1G",
+            "100M",
             "--max-time",
             "none",
             "-o",
             "h.npy",
         ],
-        "width series of 1000000000 runs",
+        "width series of 1000000 runs",
     );
     fails(
         dir,
@@ -253,9 +255,9 @@ fn runs_of_years_are_refused_before_any_work() {
             "--app",
             "corrosion",
             "--cells",
-            "2000",
+            "1000000",
             "--steps",
-            "18446744073709551615",
+            "1000000000000",
             "-o",
             "c.ply",
         ],
@@ -298,9 +300,9 @@ fn runs_of_years_are_refused_before_any_work() {
             "--app",
             "corrosion",
             "--cells",
-            "2000",
+            "1000000",
             "--steps",
-            "18446744073709551615",
+            "1000000000000",
             "-o",
             "c.ply",
         ],

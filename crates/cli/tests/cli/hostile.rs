@@ -105,14 +105,20 @@ fn hostile_inputs_are_refused_cleanly() {
         fails(dir, &all, "would need about");
     }
     // n² overflowed before the budget check (a panic) or wrapped to a small
-    // number (a hang).
+    // number (a hang): now past the size's bound; the largest size allowed is
+    // refused by the memory estimate.
     for size in ["4294967296", "18446744073709551615"] {
         fails(
             dir,
             &["generate", "fbm", "--size", size, "-o", "f.npy"],
-            "would need about",
+            "--size must be in [2, 1048576]",
         );
     }
+    fails(
+        dir,
+        &["generate", "fbm", "--size", "1048576", "-o", "f.npy"],
+        "would need about",
+    );
     // A welded STL triangle that repeats a corner, as a subdivision base.
     std::fs::write(
         dir.join("deg.stl"),
@@ -226,7 +232,7 @@ fn hostile_inputs_are_refused_cleanly() {
             "-o",
             "g.npy",
         ],
-        "at least 1",
+        "--samples-per-decade must be in [1, 1000], got 0",
     );
     fails(
         dir,

@@ -45,7 +45,7 @@ fn render_command() {
     fails(
         d.path(),
         &["render", "h.csv", "-o", "v.png", "--size", "0x10"],
-        "invalid",
+        "--size must be in [1, 1048576], got 0",
     );
     fails(
         d.path(),
