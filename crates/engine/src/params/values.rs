@@ -79,8 +79,10 @@ pub const MAX_SIDE: usize = 1 << 20;
 #[schemars(with = "[Side; 2]")]
 pub struct Size2(pub [usize; 2]);
 
-/// One side of a size, for the schemas: 1 to [`MAX_SIDE`].
+/// One side of a size, for the schemas: 1 to [`MAX_SIDE`] (inlined, so a
+/// size's items read as integers).
 #[derive(JsonSchema)]
+#[schemars(inline)]
 #[allow(dead_code)]
 struct Side(#[schemars(range(min = 1, max = MAX_SIDE))] usize);
 

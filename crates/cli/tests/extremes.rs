@@ -1,0 +1,340 @@
+//! Every numeric parameter of every job at its extremes (#54), generated from
+//! the engine's schema (`asperity_engine::jobs`), not from a hand list: each
+//! scalar number or count at 0, −1, its type's largest value, 1e18, NaN and
+//! ±∞, alone (the others at the small job below), under `--max-time 5s
+//! --max-memory 1G`. Each run ends on its own with a clean refusal (exit 2,
+//! one `error:` line) or a success; a panic, an abort, a signal or a run past
+//! the watchdog fails the test, naming the command. A new parameter is
+//! covered by construction; a new job needs its row in [`SMALL_JOBS`] (the
+//! test says so).
+//!
+//! Not covered yet: the list-valued parameters (sizes `WxH`, points,
+//! windows, weights), which the schema also bounds.
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+use asperity_engine::jobs::jobs;
+
+/// Each job's command at a small size, with its inputs (made by [`inputs`]).
+const SMALL_JOBS: &[(&str, &[&str])] = &[
+    (
+        "growth rd",
+        &[
+            "growth", "rd", "--size", "16", "--layers", "5", "-o", "o.npy",
+        ],
+    ),
+    (
+        "growth rdsr",
+        &[
+            "growth", "rdsr", "--size", "16", "--layers", "5", "-o", "o.npy",
+        ],
+    ),
+    (
+        "growth bd",
+        &[
+            "growth", "bd", "--size", "16", "--layers", "5", "--bin", "4", "-o", "o.npy",
+        ],
+    ),
+    (
+        "growth dla",
+        &["growth", "dla", "--particles", "50", "-o", "o.ply"],
+    ),
+    (
+        "reconstruct",
+        &[
+            "reconstruct",
+            "p.xyz",
+            "--resolution",
+            "16",
+            "--iterations",
+            "3",
+            "-o",
+            "o.ply",
+        ],
+    ),
+    (
+        "generate dla-terrain",
+        &[
+            "generate",
+            "dla-terrain",
+            "--size",
+            "16x16x8",
+            "--particles",
+            "50",
+            "--resolution",
+            "16",
+            "--iterations",
+            "3",
+            "-o",
+            "o.ply",
+        ],
+    ),
+    (
+        "generate rdsr-sphere",
+        &[
+            "generate",
+            "rdsr-sphere",
+            "--radius",
+            "4",
+            "--layers",
+            "2",
+            "--resolution",
+            "16",
+            "--iterations",
+            "3",
+            "-o",
+            "o.ply",
+        ],
+    ),
+    (
+        "ca run",
+        &[
+            "ca", "run", "--rule", "450", "--steps", "3", "--size", "8x8", "-o", "o.npy",
+        ],
+    ),
+    ("ca rule", &["ca", "rule", "450"]),
+    (
+        "ca gallery",
+        &[
+            "ca", "gallery", "--rules", "450", "--steps", "3", "--size", "8x8", "-o", "o.png",
+        ],
+    ),
+    ("facet", &["facet", "h.npy", "-o", "o.ply"]),
+    (
+        "interpolate",
+        &["interpolate", "h.npy", "--points", "p.csv"],
+    ),
+    (
+        "surface-ca",
+        &[
+            "surface-ca",
+            "builtin:cube",
+            "--cells",
+            "200",
+            "--steps",
+            "3",
+            "--max-steps",
+            "3",
+            "-o",
+            "o.ply",
+        ],
+    ),
+    (
+        "subdiv",
+        &["subdiv", "--base", "cube", "--levels", "1", "-o", "o.ply"],
+    ),
+    (
+        "ifs preset",
+        &["ifs", "preset", "takagi-landsberg", "-o", "o.json"],
+    ),
+    (
+        "ifs curve",
+        &[
+            "ifs",
+            "curve",
+            "--preset",
+            "takagi-landsberg",
+            "-o",
+            "o.svg",
+        ],
+    ),
+    (
+        "ifs surface",
+        &[
+            "ifs",
+            "surface",
+            "--preset",
+            "takagi-landsberg",
+            "-o",
+            "o.ply",
+        ],
+    ),
+    (
+        "ifs dcf",
+        &["ifs", "dcf", "--preset", "takagi-landsberg", "-o", "o.svg"],
+    ),
+    (
+        "ifs sdcf",
+        &[
+            "ifs",
+            "sdcf",
+            "--preset",
+            "takagi-landsberg-surface",
+            "-o",
+            "o.ply",
+        ],
+    ),
+    (
+        "ifs curvature",
+        &["ifs", "curvature", "--preset", "takagi-landsberg"],
+    ),
+    ("analyze", &["analyze", "h.npy"]),
+    (
+        "generate fbm",
+        &["generate", "fbm", "--size", "16", "-o", "o.npy"],
+    ),
+    (
+        "render",
+        &["render", "h.npy", "--size", "32x32", "-o", "o.png"],
+    ),
+    ("convert", &["convert", "h.npy", "o.ply"]),
+    ("info", &["info", "h.npy"]),
+];
+
+/// The extremes of a scalar parameter of JSON type `ty`.
+fn extremes(ty: &str) -> [&'static str; 7] {
+    let largest = if ty == "integer" {
+        "18446744073709551615"
+    } else {
+        "1.7976931348623157e308"
+    };
+    ["0", "-1", largest, "1e18", "NaN", "inf", "-inf"]
+}
+
+/// The small inputs the jobs read: a height field, points on a sphere and
+/// x,y points to interpolate at.
+fn inputs(dir: &Path) {
+    let o = asperity(dir, &["generate", "fbm", "--size", "16", "-o", "h.npy"]);
+    assert!(o.0 == Some(0), "{}", o.1);
+    let mut xyz = String::new();
+    for k in 0..300 {
+        let z = 1.0 - 2.0 * (k as f64 + 0.5) / 300.0;
+        let (r, phi) = ((1.0 - z * z).sqrt(), k as f64 * 2.399_963);
+        xyz += &format!("{} {} {}\n", r * phi.cos(), r * phi.sin(), z);
+    }
+    std::fs::write(dir.join("p.xyz"), xyz).unwrap();
+    std::fs::write(dir.join("p.csv"), "1,1\n2.5,3\n").unwrap();
+}
+
+/// Runs asperity in `dir` with a watchdog: the exit code (None: killed by a
+/// signal, or by the watchdog) and stderr.
+fn asperity(dir: &Path, args: &[&str]) -> (Option<i32>, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
+        .args(["--quiet", "--max-time", "5s", "--max-memory", "1G"])
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    // A hang is what this catches: far past the 5 s budget, whatever the
+    // machine's load.
+    let watchdog = Duration::from_secs(120);
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            let mut err = String::new();
+            std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+            return (status.code(), err);
+        }
+        if started.elapsed() > watchdog {
+            let _ = child.kill();
+            let _ = child.wait();
+            return (None, format!("still running after {watchdog:?}"));
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// `base` without the flag `flag` and its value (the one being varied).
+fn without(base: &[&str], flag: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut skip = false;
+    for a in base {
+        if skip {
+            skip = false;
+        } else if *a == flag {
+            skip = true;
+        } else {
+            out.push((*a).to_string());
+        }
+    }
+    out
+}
+
+#[test]
+fn every_numeric_parameter_at_its_extremes_is_refused_or_run_within_budget() {
+    let d = tempfile::tempdir().unwrap();
+    inputs(d.path());
+    let mut cases: Vec<Vec<String>> = Vec::new();
+    for job in jobs() {
+        let base = SMALL_JOBS
+            .iter()
+            .find(|(name, _)| *name == job.name)
+            .unwrap_or_else(|| panic!("the job {:?} needs a row in SMALL_JOBS", job.name))
+            .1;
+        let described = (job.describe)();
+        for field in described["fields"].as_array().unwrap() {
+            let ty = field["type"].as_str().unwrap_or("");
+            if ty != "integer" && ty != "number" {
+                continue;
+            }
+            let flag = format!("--{}", field["name"].as_str().unwrap().replace('_', "-"));
+            for value in extremes(ty) {
+                let mut args = without(base, &flag);
+                args.push(format!("{flag}={value}"));
+                cases.push(args);
+            }
+        }
+    }
+    assert!(cases.len() >= 700, "{} cases", cases.len());
+    let next = AtomicUsize::new(0);
+    let (ran, refused) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    let failures = Mutex::new(Vec::new());
+    let threads = std::thread::available_parallelism().map_or(2, |n| n.get().min(4));
+    std::thread::scope(|s| {
+        for t in 0..threads {
+            let (cases, next, failures) = (&cases, &next, &failures);
+            let (ran, refused) = (&ran, &refused);
+            let dir = d.path().join(format!("t{t}"));
+            std::fs::create_dir(&dir).unwrap();
+            for f in ["h.npy", "p.xyz", "p.csv"] {
+                std::fs::copy(d.path().join(f), dir.join(f)).unwrap();
+            }
+            s.spawn(move || {
+                loop {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(args) = cases.get(k) else { break };
+                    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+                    let (code, err) = asperity(&dir, &args);
+                    let clean = match code {
+                        Some(0) => {
+                            ran.fetch_add(1, Ordering::Relaxed);
+                            true
+                        }
+                        Some(2) => {
+                            refused.fetch_add(1, Ordering::Relaxed);
+                            err.lines().filter(|l| l.starts_with("error:")).count() == 1
+                        }
+                        _ => false,
+                    };
+                    if !clean {
+                        let last: Vec<&str> = err.lines().rev().take(3).collect();
+                        failures.lock().unwrap().push(format!(
+                            "asperity {}: exit {code:?}: {}",
+                            args.join(" "),
+                            last.join(" | ")
+                        ));
+                    }
+                }
+            });
+        }
+    });
+    let failures = failures.into_inner().unwrap();
+    let (ran, refused) = (ran.into_inner(), refused.into_inner());
+    println!("{} cases: {ran} ran, {refused} refused", cases.len());
+    // Both outcomes occur: values inside the bounds (a tolerance of 0, no
+    // redistancing) run; the others are refused.
+    assert!(ran >= 10 && refused >= 600, "{ran} ran, {refused} refused");
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases ended badly:\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n")
+    );
+}
