@@ -268,7 +268,10 @@ pub struct ConvertParams {
     #[arg(long, value_enum, default_value_t = Self::default().diagonal)]
     pub diagonal: DiagonalName,
     /// Set the height-field spacing before writing: DX, or DX,DY.
-    #[schemars(length(min = 1, max = 2))]
+    #[schemars(
+        with = "Option<Vec<crate::params::NonNegative>>",
+        length(min = 1, max = 2)
+    )]
     #[arg(long, value_name = "DX[,DY]", value_delimiter = ',')]
     pub spacing: Option<Vec<f64>>,
     /// Meshes: drop degenerate triangles, orient them consistently and split vertices where

@@ -53,8 +53,9 @@ pub struct RuleCode(pub String);
 #[allow(dead_code)]
 #[serde(untagged)]
 enum RuleForm {
-    /// A Wolfram code.
-    Code(u64),
+    /// A Wolfram code (any 64-bit number; the family's rule space bounds it
+    /// further).
+    Code(#[schemars(range(min = 0, max = u64::MAX))] u64),
     /// A code or a B/S string.
     Text(String),
 }
@@ -166,6 +167,7 @@ pub struct CaRunParams {
         value_name = "W0,W1,…",
         allow_negative_numbers = true
     )]
+    #[schemars(with = "Option<Vec<crate::params::Finite>>")]
     pub weights: Option<Vec<f64>>,
     /// Height of each state (k values; default 0, 1, …).
     #[arg(
@@ -174,6 +176,7 @@ pub struct CaRunParams {
         value_name = "V0,V1,…",
         allow_negative_numbers = true
     )]
+    #[schemars(with = "Option<Vec<crate::params::Finite>>")]
     pub values: Option<Vec<f64>>,
 }
 

@@ -70,6 +70,7 @@ pub struct DepositParams {
     #[arg(long, value_name = "TMIN,TMAX")]
     pub fit_window: Option<Window>,
     /// Also measure α: the saturated widths of these sizes L (at least 3), each run to 2·L^z monolayers.
+    #[schemars(with = "Option<Vec<crate::params::Side>>")]
     #[arg(long, value_delimiter = ',', value_name = "L1,L2,...")]
     pub alpha_sizes: Option<Vec<usize>>,
     /// Substrate shape.

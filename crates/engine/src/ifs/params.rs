@@ -316,7 +316,6 @@ pub struct IfsSdcfParams {
     #[arg(long, default_value_t = Self::DEFAULT.operator, value_name = "I,J")]
     pub operator: Numbers<2>,
     /// Starting point S,T as attractor parameters (default: the opposite corner).
-    #[schemars(range(min = -1e6, max = 1e6))]
     #[arg(long, conflicts_with = "bound", value_name = "S,T")]
     pub start: Option<Numbers<2>>,
     /// Start from the lower- or upper-bound members of both families instead.

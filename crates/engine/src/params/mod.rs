@@ -34,7 +34,8 @@ mod describe;
 mod values;
 
 pub use describe::describe;
-pub use values::{LatticeSize, Numbers, Size2, Window};
+pub(crate) use values::{Finite, NonNegative, Side};
+pub use values::{LatticeSize, MAX_COORDINATE, MAX_SIDE, Numbers, Size2, Window};
 
 /// The version of the parameter records (`params.schema_version`); raised
 /// when a field changes meaning, so an old record is refused, not misread.

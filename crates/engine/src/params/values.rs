@@ -73,6 +73,21 @@ pub const MAX_COORDINATE: f64 = 1e12;
 /// [`LatticeSize`]); the memory and time estimates bound their products.
 pub const MAX_SIDE: usize = 1 << 20;
 
+/// A number in a list (weights, heights of states), for the schemas: finite,
+/// of magnitude at most [`MAX_COORDINATE`].
+#[derive(JsonSchema)]
+#[schemars(inline)]
+#[allow(dead_code)]
+pub(crate) struct Finite(#[schemars(range(min = -MAX_COORDINATE, max = MAX_COORDINATE))] f64);
+
+/// A length or a time in a list (spacings, a fit window's ends), for the
+/// schemas: 0 to [`MAX_COORDINATE`] (a window's ends are further checked
+/// by [`Window::check`], a spacing by the job).
+#[derive(JsonSchema)]
+#[schemars(inline)]
+#[allow(dead_code)]
+pub(crate) struct NonNegative(#[schemars(range(min = 0.0, max = MAX_COORDINATE))] f64);
+
 /// A size in cells or pixels, `WxH` on the command line, `[W, H]` in JSON.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, JsonSchema)]
 #[serde(from = "[usize; 2]", into = "[usize; 2]")]
@@ -84,7 +99,7 @@ pub struct Size2(pub [usize; 2]);
 #[derive(JsonSchema)]
 #[schemars(inline)]
 #[allow(dead_code)]
-struct Side(#[schemars(range(min = 1, max = MAX_SIDE))] usize);
+pub(crate) struct Side(#[schemars(range(min = 1, max = MAX_SIDE))] usize);
 
 impl From<[usize; 2]> for Size2 {
     fn from(v: [usize; 2]) -> Self {
@@ -119,7 +134,7 @@ impl std::fmt::Display for Size2 {
 /// line `A,B`; in JSON `[A, B]`.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize, JsonSchema)]
 #[serde(from = "[f64; 2]", into = "[f64; 2]")]
-#[schemars(with = "[f64; 2]")]
+#[schemars(with = "[NonNegative; 2]")]
 pub struct Window(pub [f64; 2]);
 
 impl From<[f64; 2]> for Window {

@@ -92,7 +92,7 @@ pub struct Offset(pub Length);
 #[serde(untagged)]
 enum OffsetForm {
     /// In the points' units.
-    World(f64),
+    World(#[schemars(range(min = -1e12, max = 1e12))] f64),
     /// In grid cells: a number followed by h, e.g. "3h".
     Cells(String),
 }
