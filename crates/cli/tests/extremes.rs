@@ -8,8 +8,9 @@
 //! covered by construction; a new job needs its row in [`SMALL_JOBS`] (the
 //! test says so).
 //!
-//! Not covered yet: the list-valued parameters (sizes `WxH`, points,
-//! windows, weights), which the schema also bounds.
+//! List-valued parameters (sizes `WxH`, points, windows, weights) are tried
+//! with every item at one extreme. Not checked yet: that a run's outputs are
+//! finite, and its peak memory.
 
 use std::path::Path;
 use std::process::{Command, Stdio};
@@ -195,6 +196,35 @@ fn extremes(ty: &str) -> [&'static str; 7] {
     ["0", "-1", largest, "1e18", "NaN", "inf", "-inf"]
 }
 
+/// The values a field is tried at: a scalar number's extremes; a list of
+/// numbers (a size `WxH`, a point `X,Y,Z`, a window `A,B`, weights) with
+/// every item at one extreme, written both ways a list is given (`,` and
+/// `x`); nothing for other fields.
+fn values(field: &serde_json::Value) -> Vec<String> {
+    fn scalar(t: &serde_json::Value) -> Option<&str> {
+        t.as_str().filter(|t| *t == "integer" || *t == "number")
+    }
+    if let Some(ty) = scalar(&field["type"]) {
+        return extremes(ty).iter().map(|v| v.to_string()).collect();
+    }
+    let items = &field["items"];
+    let Some(ty) = scalar(&items["type"]) else {
+        return Vec::new();
+    };
+    let n = field["minItems"]
+        .as_u64()
+        .or(items["minItems"].as_u64())
+        .unwrap_or(2)
+        .max(1) as usize;
+    let mut out = Vec::new();
+    for v in extremes(ty) {
+        for sep in [",", "x"] {
+            out.push(vec![v; n].join(sep));
+        }
+    }
+    out
+}
+
 /// The small inputs the jobs read: a height field, points on a sphere and
 /// x,y points to interpolate at.
 fn inputs(dir: &Path) {
@@ -269,12 +299,8 @@ fn every_numeric_parameter_at_its_extremes_is_refused_or_run_within_budget() {
             .1;
         let described = (job.describe)();
         for field in described["fields"].as_array().unwrap() {
-            let ty = field["type"].as_str().unwrap_or("");
-            if ty != "integer" && ty != "number" {
-                continue;
-            }
             let flag = format!("--{}", field["name"].as_str().unwrap().replace('_', "-"));
-            for value in extremes(ty) {
+            for value in values(field) {
                 let mut args = without(base, &flag);
                 args.push(format!("{flag}={value}"));
                 cases.push(args);
