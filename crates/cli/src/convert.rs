@@ -62,6 +62,8 @@ pub fn run(ctx: &Context, a: &ConvertArgs) -> anyhow::Result<()> {
             s.kind()
         );
     }
+    // An output that is the input is refused before any warning about it.
+    asperity_engine::io::staging::refuse_input(&out)?;
     for lost in asperity_engine::io::lost_data(&s, out_format) {
         run.warn("warning", format!("{} loses {lost}", out.display()));
     }

@@ -75,8 +75,12 @@ pub fn note_input(path: &Path) {
     }
 }
 
-/// Refuses to write `path` when it is a file the command read.
-pub(crate) fn refuse_input(path: &Path) -> Result<(), IoError> {
+/// Refuses to write `path` when it is a file the command read (every writer
+/// checks; a front end may ask first, before it warns about the output).
+///
+/// # Errors
+/// [`IoError::OutputIsInput`] naming both.
+pub fn refuse_input(path: &Path) -> Result<(), IoError> {
     let Some(id) = file_id(path) else {
         return Ok(());
     };
