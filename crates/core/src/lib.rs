@@ -64,6 +64,7 @@ pub mod memory_hints;
 pub mod mesh_check;
 pub mod point_set;
 pub mod poly_mesh;
+pub mod polygon;
 pub mod progress;
 pub mod rng;
 pub mod shapes;

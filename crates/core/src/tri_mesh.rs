@@ -138,8 +138,8 @@ impl TriMesh {
         })
     }
 
-    /// A mesh from polygons, each fan-triangulated from its first corner (exact for
-    /// convex polygons). Unlike [`crate::PolyMesh::new`], repeated corners are
+    /// A mesh from polygons: a convex polygon fanned from its first corner, a
+    /// non-convex one ear-clipped in its plane ([`crate::polygon`]). Unlike [`crate::PolyMesh::new`], repeated corners are
     /// allowed (they give degenerate triangles, as files sometimes contain).
     ///
     /// # Errors
@@ -157,7 +157,7 @@ impl TriMesh {
                     corners: face.len(),
                 });
             }
-            triangles.extend((1..face.len() - 1).map(|k| [face[0], face[k], face[k + 1]]));
+            triangles.extend(crate::polygon::triangulate_face(&positions, face));
         }
         Self::new(positions, triangles)
     }

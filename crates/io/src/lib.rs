@@ -508,7 +508,8 @@ pub fn read_height(path: &Path) -> Result<HeightField, IoError> {
     read_height_bytes(&bytes, f, None).map_err(|e| e.at(path, f.info().name))
 }
 
-/// Reads a triangle mesh (`.ply`, `.obj`, `.stl`); polygons are fan-triangulated.
+/// Reads a triangle mesh (`.ply`, `.obj`, `.stl`); polygons are triangulated
+/// (fanned where convex, ear-clipped where not: `asperity_core::polygon`).
 ///
 /// # Errors
 /// [`IoError`].

@@ -6,7 +6,7 @@
 //! place for named scalars: they are dropped (the CLI warns).
 //!
 //! Read: all objects and groups merged into one mesh, polygons kept for
-//! [`crate::read_poly_mesh`] or fan-triangulated for [`crate::read_mesh`]; corners with different
+//! [`crate::read_poly_mesh`] or triangulated for [`crate::read_mesh`] (fanned where convex, ear-clipped where not); corners with different
 //! `v/vt/vn` combinations become separate vertices (tobj's `single_index`).
 //!
 //! **Up axis:** OBJ's ecosystem is y-up (Blender's and MeshLab's importers
@@ -174,7 +174,7 @@ fn parse_as_written(bytes: &[u8]) -> FResult<ObjContents> {
     })
 }
 
-/// Reads a triangle mesh (polygons fan-triangulated).
+/// Reads a triangle mesh (polygons fanned where convex, ear-clipped where not).
 pub(crate) fn read_mesh(bytes: &[u8]) -> FResult<TriMesh> {
     let c = parse(bytes)?;
     let mut m = TriMesh::from_polygons(c.positions, &c.faces)?;

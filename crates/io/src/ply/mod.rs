@@ -17,7 +17,7 @@
 //!
 //! Faces are `element face` with `property list uchar uint vertex_indices`
 //! (`vertex_index` is also read). Polygons with more than three corners are kept
-//! by [`crate::read_poly_mesh`] and fan-triangulated by [`crate::read_mesh`]. A file without faces
+//! by [`crate::read_poly_mesh`] and triangulated by [`crate::read_mesh`] (fanned where convex, ear-clipped where not). A file without faces
 //! is a point set.
 
 use asperity_core::{CoreError, PointSet, PolyMesh, TriMesh};
@@ -507,7 +507,7 @@ fn apply_vertex_data(mut mesh: TriMesh, c: Contents) -> Result<TriMesh, CoreErro
     Ok(mesh)
 }
 
-/// Reads a triangle mesh; polygons are fan-triangulated.
+/// Reads a triangle mesh; polygons are triangulated (fanned where convex, ear-clipped where not).
 pub(crate) fn read_mesh(bytes: &[u8]) -> FResult<TriMesh> {
     let mut c = parse(bytes)?;
     if c.faces.is_empty() {

@@ -4,6 +4,7 @@ mod fixtures;
 mod fuzz_regressions;
 mod independent;
 mod malformed;
+mod polygons;
 mod python;
 mod registry;
 mod roundtrip;
