@@ -39,12 +39,29 @@ pub struct JetCurvature {
 /// Vertices a fit needs at least (six unknowns, and some to spare).
 const MIN_NEIGHBOURS: usize = 10;
 
-/// H and K of `m` at every vertex from jets fitted within `scale` (where fewer
-/// than ten vertices lie that near, the ten nearest).
+/// H and K of `m` at every vertex from jets fitted to the mesh's vertices
+/// within `scale` (where fewer than ten vertices lie that near, the ten
+/// nearest).
 pub fn jet_curvature(m: &TriMesh, scale: f64) -> JetCurvature {
+    jet_curvature_of_samples(m, m.positions(), scale)
+}
+
+/// H and K at every vertex of `m` of the surface that `samples` sample:
+/// jets fitted to the samples within `scale` of the vertex (the ten nearest
+/// where fewer lie that near), about the vertex, in the frame of the first
+/// fit's own normal (the mesh's vertex normal starts it).
+///
+/// A reconstruction that stands off its points (the level-set flows that
+/// arrest δ from the samples) has a surface dimpled between them at the
+/// scale of the sample spacing: jets fitted to its vertices measure the
+/// dimples. Fitted to the points, the quadric is the sampled surface's
+/// (the moving-least-squares surface of Levin 2003), and the curvature is
+/// its curvature at the point nearest the vertex along the normal.
+pub fn jet_curvature_of_samples(m: &TriMesh, samples: &[[f64; 3]], scale: f64) -> JetCurvature {
     let p = m.positions();
     let normals = m.vertex_normals();
-    let tree: ImmutableKdTree<f64, u32, 3, 32> = ImmutableKdTree::new_from_slice(p);
+    let fitted_to_vertices = std::ptr::eq(p, samples);
+    let tree: ImmutableKdTree<f64, u32, 3, 32> = ImmutableKdTree::new_from_slice(samples);
     let r2 = scale * scale;
     let fits: Vec<Option<(f64, f64)>> = (0..p.len())
         .into_par_iter()
@@ -65,11 +82,17 @@ pub fn jet_curvature(m: &TriMesh, scale: f64) -> JetCurvature {
             // A fixed order: the sums do not depend on the tree's visiting order.
             near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
             let reach = near.last().map_or(0.0, |n| n.0.sqrt()).max(1e-300);
-            let pts: Vec<[f64; 3]> = near.iter().map(|n| p[n.1 as usize]).collect();
+            let pts: Vec<[f64; 3]> = near.iter().map(|n| samples[n.1 as usize]).collect();
             let n = asperity_core::vec3::unit(normals[v])?;
             if pts.len() < MIN_NEIGHBOURS {
                 return None;
             }
+            let jet = Jet::fit(p[v], n, pts.iter().copied(), reach)?;
+            if fitted_to_vertices {
+                return Some(jet.curvatures());
+            }
+            // The samples' own normal, not the dimpled mesh's.
+            let n = asperity_core::vec3::unit(jet.normal())?;
             Jet::fit(p[v], n, pts, reach).map(|j| j.curvatures())
         })
         .collect();
@@ -123,6 +146,64 @@ mod tests {
                 assert!((k * r * r - 1.0).abs() < 0.02, "K = {k} at scale {scale}");
             }
         }
+    }
+
+    /// A mesh dimpled at a small scale (a sphere of radius 1.03 whose radius
+    /// ripples by ±0.01 every few degrees, like a front standing off its
+    /// samples) measured against random samples of the unit sphere: the
+    /// samples' H = 1 and K = 1, where the mesh's own jets measure the ripples.
+    #[test]
+    fn samples_give_their_surface_s_curvature_on_a_dimpled_mesh() {
+        use rand::{Rng, SeedableRng};
+        let smooth = sphere(1.0, 120);
+        let rippled: Vec<[f64; 3]> = smooth
+            .positions()
+            .iter()
+            .map(|p| {
+                let bump = 0.01 * (60.0 * p[0]).sin() * (60.0 * p[1]).sin() * (60.0 * p[2]).cos();
+                p.map(|x| x * (1.03 + bump))
+            })
+            .collect();
+        let m = TriMesh::new(rippled, smooth.triangles().to_vec()).unwrap();
+        let seed: u64 = rand::random();
+        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        let samples: Vec<[f64; 3]> = (0..40_000)
+            .map(|_| {
+                loop {
+                    let v: [f64; 3] = std::array::from_fn(|_| rng.random::<f64>() * 2.0 - 1.0);
+                    let r = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+                    if r > 0.1 && r <= 1.0 {
+                        break v.map(|x| x / r);
+                    }
+                }
+            })
+            .collect();
+        let median = |mut v: Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        };
+        let c = jet_curvature_of_samples(&m, &samples, 0.1);
+        assert_eq!(c.unfitted, 0);
+        let within = c.mean.iter().filter(|h| (*h - 1.0).abs() < 0.1).count();
+        assert!(
+            within as f64 >= 0.95 * c.mean.len() as f64,
+            "seed {seed}: {within}"
+        );
+        let (h, k) = (median(c.mean), median(c.gaussian));
+        assert!(
+            (h - 1.0).abs() < 0.02 && (k - 1.0).abs() < 0.04,
+            "seed {seed}: {h} {k}"
+        );
+        let own = jet_curvature(&m, 0.1);
+        let off = own
+            .mean
+            .iter()
+            .filter(|h| (*h - 1.0 / 1.03).abs() > 0.1)
+            .count();
+        assert!(
+            off as f64 > 0.2 * own.mean.len() as f64,
+            "the ripples: {off}"
+        );
     }
 
     /// A saddle z = (x² − y²)/2 at its centre: H = 0, K = −1.

@@ -15,6 +15,8 @@ use nalgebra::{SMatrix, SVector, Vector3};
 pub struct Jet {
     c: SVector<f64, 6>,
     scale: f64,
+    /// The frame: tangent axes and normal.
+    frame: [Vector3<f64>; 3],
 }
 
 impl Jet {
@@ -50,12 +52,24 @@ impl Jet {
             atb += row * z;
         }
         let c = ata.cholesky()?.solve(&atb);
-        c.iter().all(|v| v.is_finite()).then_some(Self { c, scale })
+        c.iter().all(|v| v.is_finite()).then_some(Self {
+            c,
+            scale,
+            frame: [e1, e2, n],
+        })
     }
 
     /// The quadric's height over the origin along the normal (world units).
     pub fn height(&self) -> f64 {
         self.c[0] * self.scale
+    }
+
+    /// The unit normal of the quadric's graph at the origin, on the side of
+    /// the frame's normal: (−f_x, −f_y, 1)/√(1 + f_x² + f_y²) in the frame.
+    pub fn normal(&self) -> [f64; 3] {
+        let [e1, e2, n] = &self.frame;
+        let v = (n - e1 * self.c[1] - e2 * self.c[2]).normalize();
+        [v.x, v.y, v.z]
     }
 
     /// The mean curvature H = (κ₁ + κ₂)/2 and the Gaussian curvature K of the
@@ -99,5 +113,29 @@ mod tests {
         let (h, k) = j.curvatures();
         assert!((h + 2.0).abs() < 1e-9 && (k - 3.0).abs() < 1e-9, "{h} {k}");
         assert!(Jet::fit([0.0; 3], [0.0, 0.0, 1.0], [[0.0; 3]; 3], 1.0).is_none());
+    }
+
+    /// The plane z = 0.3x − 0.4y fitted in the frame of +z: its normal is
+    /// (−0.3, 0.4, 1)/√1.25, and in the frame of that normal the fit has no
+    /// slope (the same normal again).
+    #[test]
+    fn the_normal_is_the_graph_s() {
+        let pts: Vec<[f64; 3]> = (0..49)
+            .map(|k| {
+                let (x, y) = ((k % 7) as f64 * 0.1 - 0.3, (k / 7) as f64 * 0.1 - 0.3);
+                [x, y, 0.3 * x - 0.4 * y]
+            })
+            .collect();
+        let j = Jet::fit([0.0; 3], [0.0, 0.0, 1.0], pts.iter().copied(), 0.4).unwrap();
+        let l = 1.25f64.sqrt();
+        let want = [-0.3 / l, 0.4 / l, 1.0 / l];
+        let got = j.normal();
+        for k in 0..3 {
+            assert!((got[k] - want[k]).abs() < 1e-12, "{got:?}");
+        }
+        let again = Jet::fit([0.0; 3], got, pts, 0.4).unwrap().normal();
+        for k in 0..3 {
+            assert!((again[k] - want[k]).abs() < 1e-12, "{again:?}");
+        }
     }
 }

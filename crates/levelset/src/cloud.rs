@@ -209,6 +209,20 @@ fn frame(pts: impl Iterator<Item = [f64; 3]> + Clone) -> ([f64; 3], [Vector3<f64
     )
 }
 
+/// The unoriented normal of the `points` at `at`: the least eigenvector of
+/// the covariance of its `k` nearest (Hoppe et al. 1992, "Surface
+/// reconstruction from unorganized points"). Unlike a jet's, it needs no
+/// frame to start from: it holds where the sheet lies along a guess.
+pub fn pca_normal(tree: &Tree, points: &[[f64; 3]], at: &[f64; 3], k: usize) -> Option<[f64; 3]> {
+    let hood = nearest(tree, at, k);
+    if hood.len() < 3 {
+        return None;
+    }
+    let (_, axes) = frame(hood.iter().map(|&(_, j)| points[j as usize]));
+    let n = axes[0];
+    n.iter().all(|c| c.is_finite()).then(|| [n.x, n.y, n.z])
+}
+
 /// The surface variation λ₀/(λ₀ + λ₁ + λ₂) of eigenvalues `l` (ascending).
 fn variation(l: [f64; 3]) -> f64 {
     let s = l[0] + l[1] + l[2];

@@ -51,6 +51,7 @@ pub mod faults;
 pub mod grid;
 mod lanes;
 pub mod marching_cubes;
+pub mod orient;
 pub mod pipeline;
 #[cfg(feature = "reference")]
 pub mod reference;
@@ -74,7 +75,7 @@ pub use pipeline::{
     FlowChoice, Length, ReconstructParams, Reconstruction, Timings, default_arrest_spacings,
     reconstruct, reconstruct_cloud,
 };
-pub use sampled::{CloudChoice, CloudFacts, VoidFacts, widest_random_gap};
+pub use sampled::{CloudChoice, CloudFacts, VoidFacts, project_onto, widest_random_gap};
 pub use sparse::SparseLevelSet;
 pub use tagging::TagRule;
 #[cfg(feature = "reference")]

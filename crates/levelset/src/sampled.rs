@@ -244,8 +244,10 @@ pub(crate) fn refine(
 }
 
 /// The mesh's vertices projected onto the points' local quadrics
-/// ([`crate::cloud::project`]); its normals recomputed.
-fn project_onto(
+/// ([`crate::cloud::project`]: within `limits` = (support, largest move),
+/// the vertices flagged in `skip` left); its normals recomputed, its
+/// scalars kept.
+pub fn project_onto(
     mesh: &mut TriMesh,
     points: &[[f64; 3]],
     limits: (f64, f64),

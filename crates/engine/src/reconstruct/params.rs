@@ -234,8 +234,9 @@ pub struct LevelSetParams {
     #[arg(long)]
     pub full_grid: bool,
     /// Store the mean curvature H = (κ₁ + κ₂)/2 and the Gaussian curvature K per vertex as
-    /// `mean_curvature` and `gaussian_curvature`, from quadrics fitted to the mesh within the
-    /// curvature scale.
+    /// `mean_curvature` and `gaussian_curvature`, from quadrics fitted within the curvature
+    /// scale to the input points about each vertex (a sampled surface, every flow) or to the
+    /// mesh (a deposit).
     #[arg(long)]
     pub curvature: bool,
     /// The radius of the curvature fits: in the points' units (0.05) or in grid cells (3h).

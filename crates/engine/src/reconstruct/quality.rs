@@ -13,24 +13,32 @@
 //!   radius (the largest vertex distance in it). t is two sample spacings
 //!   (median nearest-neighbour distance), at least 1.5h; below it the surface
 //!   is within reach of the samples around it. `--open` removes these
-//!   triangles, so a partial scan keeps its boundary; and of the thin closed
+//!   triangles, so a partial scan keeps its boundary. Of the thin closed
 //!   shell the level set wraps around a sheet sampled from one side (a
-//!   terrain patch, a one-sided scan), the far side and the rim: the
-//!   triangles not in front of the points (along their normals, or +z without
-//!   normals).
+//!   terrain patch, a one-sided range scan) it first removes the far side and
+//!   the rim (the vertices not in front of their points along the points'
+//!   normals: the file's, else oriented by Hoppe's spanning tree to point up
+//!   in sum, `asperity_levelset::orient`), then projects the near side, δ in
+//!   front of the points, onto them (the points' quadrics, as the flow's own
+//!   vertices are), and only then looks for holes.
 //! * **Specks**: on a sampled surface, pieces with fewer than
 //!   [`SPECK_FRACTION`] of the largest piece's triangles — the front closing
 //!   around a stray point the cloud's outlier tests kept — are dropped.
 //! * **Curvature**: mean and Gaussian curvature from jets fitted within the
 //!   curvature scale (`asperity_analysis::jets`), by default three sample
-//!   spacings and at least 3.5h ([`default_curvature_scale`]).
+//!   spacings and at least 3.5h ([`default_curvature_scale`]): on a sampled
+//!   surface, jets fitted to the input points about each vertex (the same for
+//!   every flow: the convection and regularised fronts stand δ off the points,
+//!   dimpled between them, and their vertices' own jets measure the dimples);
+//!   on a deposit, jets fitted to the mesh's vertices.
 
-use asperity_analysis::jets::jet_curvature;
+use asperity_analysis::jets::{jet_curvature, jet_curvature_of_samples};
 use asperity_core::TriMesh;
 use asperity_core::tri_mesh::component_labels;
-use asperity_core::vec3::{cross, norm, sub};
-use asperity_levelset::Reconstruction;
+use asperity_core::vec3::{cross, dot, norm, sub, unit};
 use asperity_levelset::cloud::{Tree, nearest, tree};
+use asperity_levelset::orient::oriented_normals;
+use asperity_levelset::{Reconstruction, project_onto};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -76,6 +84,9 @@ pub struct Quality {
     /// With `--open`: the triangles removed from the far side of thin parts
     /// and open surfaces (the level set wraps a sheet in a thin closed shell).
     pub thin_sides_removed: usize,
+    /// With `--open`: the vertices of the sheet's near side moved onto the
+    /// points' quadrics (the shell stands δ off a sheet's points).
+    pub sheet_vertices_projected: usize,
 }
 
 /// The typical spacing of the points reconstructed: the cloud's median
@@ -105,8 +116,11 @@ fn vertex_distances(m: &TriMesh, t: &Tree) -> Vec<f64> {
     nearest_points(m, t).into_iter().map(|n| n.0).collect()
 }
 
+/// A vertex's distance to its nearest input point, and the point's index.
+type NearestPoint = (f64, u32);
+
 /// Per vertex of `m`, the distance to the nearest of the points in `t` and its index.
-fn nearest_points(m: &TriMesh, t: &Tree) -> Vec<(f64, u32)> {
+fn nearest_points(m: &TriMesh, t: &Tree) -> Vec<NearestPoint> {
     m.positions()
         .par_iter()
         .map(|p| {
@@ -118,36 +132,50 @@ fn nearest_points(m: &TriMesh, t: &Tree) -> Vec<(f64, u32)> {
 }
 
 /// The triangles on the far side and around the rim of a thin part or an
-/// open surface: each vertex on a thin part's side (`thin`) and not clearly in
-/// front of its nearest input point (of `input`; the offset within 60° of the
-/// point's normal where the file had normals, else of +z: a terrain's top).
+/// open surface. The level set wraps a sheet sampled from one side (a range
+/// scan, a terrain patch) in a thin closed shell δ off its points: two sides,
+/// where the offset from a vertex to its nearest point lies along the sheet's
+/// normal, one way or the other, joined at the rim, where it lies along the
+/// sheet. With the points' normals consistently oriented (the file's, else
+/// [`oriented_normals`] pointing up in sum, +z: a terrain's top, a scan's
+/// upper side), the far side is where the offset points against the normal
+/// and the rim where it is within 60° of the sheet. Each side is the sheet
+/// once projected onto its points, so on a sheet standing on edge either
+/// serves. A triangle with a vertex on the far side or the rim is dropped.
 fn back_of_thin(
     m: &TriMesh,
     thin: &[bool],
-    (input, near): (&[[f64; 3]], &[(f64, u32)]),
+    (input, near, t): (&[[f64; 3]], &[NearestPoint], &Tree),
     normals: Option<&[[f64; 3]]>,
 ) -> Vec<bool> {
-    let p = m.positions();
-    let behind = |v: u32| {
-        let v = v as usize;
-        if !thin.get(v).copied().unwrap_or(false) {
-            return false;
+    if !thin.iter().any(|t| *t) {
+        return vec![false; m.n_faces()];
+    }
+    let oriented;
+    let normals = match normals {
+        Some(n) => n,
+        None => {
+            oriented = oriented_normals(input, t, [0.0, 0.0, 1.0]);
+            &oriented
         }
-        let q = near[v].1 as usize;
-        let Some(s) = input.get(q) else {
-            return false;
-        };
-        let up = normals
-            .and_then(|n| n.get(q).copied())
-            .unwrap_or([0.0, 0.0, 1.0]);
-        let d: [f64; 3] = std::array::from_fn(|a| p[v][a] - s[a]);
-        let along = (0..3).map(|a| d[a] * up[a]).sum::<f64>();
-        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        along <= 0.5 * len
     };
+    let p = m.positions();
+    let behind: Vec<bool> = (0..p.len())
+        .into_par_iter()
+        .map(|v| {
+            if !thin.get(v).copied().unwrap_or(false) {
+                return false;
+            }
+            let q = near[v].1 as usize;
+            let (Some(s), Some(n)) = (input.get(q), normals.get(q)) else {
+                return false;
+            };
+            unit(sub(p[v], *s)).is_none_or(|o| dot(o, *n) < 0.5)
+        })
+        .collect();
     m.triangles()
         .iter()
-        .map(|t| t.iter().all(|&v| behind(v)))
+        .map(|t| t.iter().any(|&v| behind[v as usize]))
         .collect()
 }
 
@@ -236,6 +264,11 @@ fn drop_specks(rec: &mut Reconstruction) -> Result<()> {
 
 /// `m` without the triangles flagged in `drop` (and the vertices only they used).
 fn without(m: &TriMesh, drop: &[bool]) -> Result<TriMesh> {
+    Ok(without_mapped(m, drop)?.0)
+}
+
+/// As [`without`], with each kept vertex's index in `m`.
+fn without_mapped(m: &TriMesh, drop: &[bool]) -> Result<(TriMesh, Vec<u32>)> {
     let mut map = vec![u32::MAX; m.n_vertices()];
     let mut origin = Vec::new();
     let mut tris = Vec::new();
@@ -251,7 +284,8 @@ fn without(m: &TriMesh, drop: &[bool]) -> Result<TriMesh> {
             map[v as usize]
         }));
     }
-    Ok(m.with_vertices_from(&origin, tris)?)
+    let kept = m.with_vertices_from(&origin, tris)?;
+    Ok((kept, origin))
 }
 
 /// Measures `rec` against the `input` points it came from; with `open`,
@@ -283,20 +317,44 @@ pub fn finish(
         ..Quality::default()
     };
     if open {
-        let back = back_of_thin(&rec.mesh, &rec.thin_vertices, (input, &near), normals);
-        let drop: Vec<bool> = span.iter().zip(&back).map(|(a, b)| *a || *b).collect();
-        if drop.iter().any(|d| *d) {
-            rec.mesh = without(&rec.mesh, &drop)?;
+        let back = back_of_thin(&rec.mesh, &rec.thin_vertices, (input, &near, &t), normals);
+        quality.thin_sides_removed = back.iter().filter(|b| **b).count();
+        if quality.thin_sides_removed > 0 {
+            // The sheet's near side, δ in front of its points, onto them.
+            let (front, origin) = without_mapped(&rec.mesh, &back)?;
+            let thin: Vec<bool> = origin
+                .iter()
+                .map(|&v| rec.thin_vertices.get(v as usize).copied().unwrap_or(false))
+                .collect();
+            let reach = rec.voids.as_ref().map_or(0.0, |v| v.thin_radius) + h;
+            let skip: Vec<bool> = thin.iter().map(|t| !t).collect();
+            rec.mesh = front;
+            if let Some(p) = project_onto(&mut rec.mesh, input, (reach + h, reach), &skip) {
+                quality.sheet_vertices_projected = p.moved;
+            }
+        }
+        let dist = vertex_distances(&rec.mesh, &t);
+        let span = spanning(&rec.mesh, &dist, support);
+        holes = self::holes(&rec.mesh, &dist, &span, support);
+        if span.iter().any(|d| *d) {
+            rec.mesh = without(&rec.mesh, &span)?;
             holes.removed = holes.count > 0;
-            quality.thin_sides_removed = back.iter().filter(|b| **b).count();
-            let kept: Vec<f64> = vertex_distances(&rec.mesh, &t);
-            quality.distance_to_points = summary(&kept, h);
+        }
+        if quality.thin_sides_removed > 0 || holes.removed {
+            quality.distance_to_points = summary(&vertex_distances(&rec.mesh, &t), h);
         }
     }
     quality.holes = holes;
     if let Some(scale) = curvature {
         let scale = scale.unwrap_or_else(|| default_curvature_scale(spacing, h));
-        let c = jet_curvature(&rec.mesh, scale);
+        // A sampled surface's curvature is the points' (every flow: the
+        // convection and regularised fronts stand δ off them, dimpled
+        // between samples); a deposit's is its surface's.
+        let c = if rec.cloud.surface {
+            jet_curvature_of_samples(&rec.mesh, input, scale)
+        } else {
+            jet_curvature(&rec.mesh, scale)
+        };
         let mesh = std::mem::replace(&mut rec.mesh, TriMesh::new(Vec::new(), Vec::new())?);
         rec.mesh = mesh
             .with_scalar("mean_curvature", c.mean)?
