@@ -17,12 +17,16 @@
 //!   points (the minimiser of the discrete Dirichlet energy), so a hole adds
 //!   no roughness of its own. The system is symmetric positive definite
 //!   (every hole touches a measured point, the grid being connected) and is
-//!   solved by conjugate gradients with a Jacobi preconditioner, matrix-free.
-//!   Written here: the solve is forty lines and a sparse-matrix crate would
-//!   bring assembly and a factorisation the holes do not need.
+//!   solved by conjugate gradients preconditioned by an aggregation multigrid
+//!   V-cycle ([`crate::multigrid`]), matrix-free: a few tens of iterations whatever
+//!   the holes' size (a Jacobi preconditioner needed 2,570 on
+//!   SurfaceTopography's `sur-3.sur`, 89 % of 512² missing: 4.5 s, now a
+//!   fraction of a second).
 //! - [`Fill::Mean`]: every missing height is the mean of the measured ones.
 
 use asperity_core::HeightField;
+
+use crate::multigrid::{Hierarchy, Level};
 
 use crate::AnalysisError;
 
@@ -95,81 +99,64 @@ pub fn fill_missing(h: &HeightField, how: Fill) -> Result<(HeightField, Filled),
     Ok((out, report))
 }
 
-/// The Laplace system over the missing points: for each, its neighbours that
-/// are missing too (index into the unknowns, weight), its diagonal and the
-/// right-hand side from its measured neighbours.
-struct Laplace {
-    links: Vec<[(u32, f64); 4]>,
-    diagonal: Vec<f64>,
-    rhs: Vec<f64>,
-}
-
-impl Laplace {
-    fn new(h: &HeightField, missing: &[usize]) -> Self {
-        let [nx, ny] = h.dims();
-        let [dx, dy] = h.spacing();
-        let (wx, wy) = (1.0 / (dx * dx), 1.0 / (dy * dy));
-        let mut unknown = vec![u32::MAX; h.len()];
-        for (n, &k) in missing.iter().enumerate() {
-            unknown[k] = n as u32;
-        }
-        let mut links = vec![[(u32::MAX, 0.0); 4]; missing.len()];
-        let mut diagonal = vec![0.0; missing.len()];
-        let mut rhs = vec![0.0; missing.len()];
-        for (n, &k) in missing.iter().enumerate() {
-            let (i, j) = (k % nx, k / nx);
-            let neighbours = [
-                (i > 0).then(|| (k - 1, wx)),
-                (i + 1 < nx).then(|| (k + 1, wx)),
-                (j > 0).then(|| (k - nx, wy)),
-                (j + 1 < ny).then(|| (k + nx, wy)),
-            ];
-            for (slot, (m, w)) in neighbours.into_iter().flatten().enumerate() {
-                diagonal[n] += w;
-                match unknown[m] {
-                    u32::MAX => rhs[n] += w * h.data()[m],
-                    u => links[n][slot] = (u, w),
-                }
-            }
-        }
-        Self {
-            links,
-            diagonal,
-            rhs,
-        }
-    }
-
-    /// `A x` into `out`.
-    fn apply(&self, x: &[f64], out: &mut [f64]) {
-        for (n, o) in out.iter_mut().enumerate() {
-            let off: f64 = self.links[n]
-                .iter()
-                .filter(|(u, _)| *u != u32::MAX)
-                .map(|&(u, w)| w * x[u as usize])
-                .sum();
-            *o = self.diagonal[n] * x[n] - off;
-        }
-    }
-}
-
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// Preconditioned conjugate gradients (Jacobi), started from the measured
-/// mean.
+/// Conjugate gradients on the Laplace system over the grid (a vector holds
+/// every node, 0 at the measured ones), started from the measured mean and
+/// preconditioned by a multigrid V-cycle ([`crate::multigrid`]; by the
+/// diagonal should its coarsest level not factorise).
 fn harmonic(out: &mut HeightField, missing: &[usize]) -> Result<Filled, AnalysisError> {
-    let system = Laplace::new(out, missing);
+    let [nx, ny] = out.dims();
+    let [dx, dy] = out.spacing();
+    let (wx, wy) = (1.0 / (dx * dx), 1.0 / (dy * dy));
+    let mut unknown = vec![false; nx * ny];
+    missing.iter().for_each(|&k| unknown[k] = true);
+    let heights = out.data();
+    // The measured neighbours' heights, on the right-hand side.
+    let rhs: Vec<f64> = (0..nx * ny)
+        .map(|k| {
+            if !unknown[k] {
+                return 0.0;
+            }
+            let (i, j) = (k % nx, k / nx);
+            [
+                (i > 0).then(|| (k - 1, wx)),
+                (i + 1 < nx).then(|| (k + 1, wx)),
+                (j > 0).then(|| (k - nx, wy)),
+                (j + 1 < ny).then(|| (k + nx, wy)),
+            ]
+            .into_iter()
+            .flatten()
+            .filter(|&(m, _)| !unknown[m])
+            .map(|(m, w)| w * heights[m])
+            .sum()
+        })
+        .collect();
+    let level = Level::grid(nx, ny, &unknown, (wx, wy));
+    let diagonal = level.diagonal().to_vec();
+    let hierarchy = Hierarchy::new(level.clone());
+    let precondition = |r: &[f64]| -> Vec<f64> {
+        match &hierarchy {
+            Some(h) => h.precondition(r),
+            None => r
+                .iter()
+                .zip(&diagonal)
+                .map(|(r, d)| if *d > 0.0 { r / d } else { 0.0 })
+                .collect(),
+        }
+    };
     let values = out.measured_values();
     let mean = values.iter().sum::<f64>() / values.len() as f64;
-    let n = missing.len();
-    let mut x = vec![mean; n];
-    let mut ax = vec![0.0; n];
-    system.apply(&x, &mut ax);
-    let mut r: Vec<f64> = system.rhs.iter().zip(&ax).map(|(b, a)| b - a).collect();
-    let norm_b = dot(&system.rhs, &system.rhs).sqrt().max(f64::MIN_POSITIVE);
-    let precondition =
-        |r: &[f64]| -> Vec<f64> { r.iter().zip(&system.diagonal).map(|(r, d)| r / d).collect() };
+    let mut x: Vec<f64> = unknown
+        .iter()
+        .map(|&u| if u { mean } else { 0.0 })
+        .collect();
+    let mut ax = vec![0.0; nx * ny];
+    level.apply(&x, &mut ax);
+    let mut r: Vec<f64> = rhs.iter().zip(&ax).map(|(b, a)| b - a).collect();
+    let norm_b = dot(&rhs, &rhs).sqrt().max(f64::MIN_POSITIVE);
     let mut z = precondition(&r);
     let mut p = z.clone();
     let mut rz = dot(&r, &z);
@@ -177,9 +164,9 @@ fn harmonic(out: &mut HeightField, missing: &[usize]) -> Result<Filled, Analysis
     let mut residual = dot(&r, &r).sqrt() / norm_b;
     // CG reaches the exact solution in at most n steps in exact arithmetic;
     // rounding can ask for a few more.
-    let limit = 2 * n + 100;
+    let limit = 2 * missing.len() + 100;
     while residual > TOLERANCE && iterations < limit {
-        system.apply(&p, &mut ax);
+        level.apply(&p, &mut ax);
         let alpha = rz / dot(&p, &ax);
         x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
         r.iter_mut().zip(&ax).for_each(|(r, a)| *r -= alpha * a);
@@ -191,14 +178,15 @@ fn harmonic(out: &mut HeightField, missing: &[usize]) -> Result<Filled, Analysis
         iterations += 1;
         residual = dot(&r, &r).sqrt() / norm_b;
     }
+    let n = missing.len();
     if residual.is_nan() || residual > TOLERANCE * 1e3 {
         return Err(AnalysisError::BadInput(format!(
             "filling {n} missing points did not converge (relative residual {residual:.1e} \
              after {iterations} iterations)"
         )));
     }
-    for (&k, v) in missing.iter().zip(x) {
-        out.data_mut()[k] = v;
+    for &k in missing {
+        out.data_mut()[k] = x[k];
     }
     Ok(Filled {
         missing: n,
@@ -224,7 +212,7 @@ mod tests {
             .unwrap()
     }
 
-    fn punch(h: &HeightField, hole: impl Fn(usize, usize) -> bool) -> HeightField {
+    fn punch(h: &HeightField, mut hole: impl FnMut(usize, usize) -> bool) -> HeightField {
         let mut out = h.clone();
         let nx = h.nx();
         for k in 0..h.len() {
@@ -250,6 +238,57 @@ mod tests {
         let scale = truth.data().iter().fold(0.0f64, |m, v| m.max(v.abs()));
         for (k, (a, b)) in filled.data().iter().zip(truth.data()).enumerate() {
             assert!((a - b).abs() <= 1e-9 * scale, "point {k}: {a} against {b}");
+        }
+    }
+
+    /// Any fraction missing inside the field, scattered or in one block, on
+    /// fields of odd and even sides and of one row or column: the harmonic
+    /// surface comes back (a plane on a single row or column, harmonic in
+    /// one dimension; holes off the edge, where the fill's no-flux condition
+    /// is not the surface's), in a few tens of multigrid-preconditioned
+    /// iterations (the Jacobi preconditioner took thousands on large holes).
+    #[test]
+    fn any_fraction_missing_is_filled_in_few_iterations() {
+        use rand::{Rng, SeedableRng};
+        let seed: u64 = rand::random();
+        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        for (nx, ny) in [(257, 190), (64, 64), (300, 1), (1, 120)] {
+            for fraction in [0.01f64, 0.3, 0.9, 0.995] {
+                let truth = if nx > 1 && ny > 1 {
+                    harmonic_surface(nx, ny, 0.5, 0.7)
+                } else {
+                    let plane = (0..nx * ny).map(|k| 3.0 + 0.25 * k as f64).collect();
+                    HeightField::from_vec([nx, ny], plane).unwrap()
+                };
+                let block = rng.random::<bool>();
+                let (ci, cj) = (nx as f64 / 2.0, ny as f64 / 2.0);
+                let holed = punch(&truth, |i, j| {
+                    let inside =
+                        (nx == 1 || i > 0 && i + 1 < nx) && (ny == 1 || j > 0 && j + 1 < ny);
+                    let (di, dj) = ((i as f64 - ci).abs(), (j as f64 - cj).abs());
+                    inside
+                        && if block {
+                            di < fraction * ci && dj < fraction * cj
+                        } else {
+                            rng.random::<f64>() < fraction
+                        }
+                });
+                if holed.missing_count() == 0 {
+                    continue;
+                }
+                let (filled, report) = fill_missing(&holed, Fill::Harmonic).unwrap();
+                assert!(
+                    report.iterations <= 80,
+                    "seed {seed}, {nx}×{ny}, {fraction}: {report:?}"
+                );
+                let scale = truth.data().iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                for (a, b) in filled.data().iter().zip(truth.data()) {
+                    assert!(
+                        (a - b).abs() <= 1e-8 * scale,
+                        "seed {seed}, {nx}×{ny}, {fraction}: {a} against {b}"
+                    );
+                }
+            }
         }
     }
 

@@ -28,6 +28,7 @@ pub mod level;
 mod lines;
 pub mod mesh;
 pub mod model;
+pub mod multigrid;
 pub mod psd;
 pub mod scaling;
 pub mod spectrum;

@@ -10,6 +10,8 @@
 
 use asperity_core::TriMesh;
 use asperity_core::vec3::{cross, dot, sub};
+use rayon::prelude::*;
+use rustc_hash::FxHashSet;
 use serde::Serialize;
 
 /// Per-vertex curvatures and the Gauss–Bonnet sums.
@@ -193,34 +195,39 @@ pub fn smoothed_roughness(m: &TriMesh, iterations: usize) -> Roughness {
     }
 }
 
-/// Calls `mark` on points covering the triangle at spacing `step`: its corners,
-/// and those of the pieces that longest-edge bisection leaves once every edge is
-/// shorter than `step`. A long thin triangle costs about its length over `step`
-/// (a grid over its two long edges would cost the square of that).
+/// Calls `mark` on points covering the triangle so that every point of it
+/// lies within `step` of one: along segments from the corner opposite the
+/// shortest edge to points spread along that edge (at most `step` apart at
+/// the edge), each segment sampled at most `step` apart. A triangle costs
+/// about (1 + shortest/step)(longest/step) points: a long thin one about its
+/// length over `step`, like its area over step² for a fat one.
 fn sample_triangle(tri: [[f64; 3]; 3], step: f64, mark: &mut impl FnMut([f64; 3])) {
-    let len2 = |u: [f64; 3], v: [f64; 3]| dot(sub(u, v), sub(u, v));
-    let mut stack = vec![tri];
-    while let Some([a, b, c]) = stack.pop() {
-        let edges = [len2(a, b), len2(b, c), len2(c, a)];
-        let (k, &longest) = edges
-            .iter()
-            .enumerate()
-            .max_by(|x, y| x.1.total_cmp(y.1))
-            .expect("three edges");
-        if longest.is_nan() || longest <= step * step {
-            // Every point of the piece is within `step` of its corners: the
-            // corners cover the boxes (four times smaller than the finest box).
-            for p in [a, b, c] {
-                mark(p);
-            }
-            continue;
-        }
-        // Split the longest edge (from corner k to corner k + 1) at its midpoint.
-        let [p, q, r] = [[a, b, c][k], [a, b, c][(k + 1) % 3], [a, b, c][(k + 2) % 3]];
-        let mid = [0, 1, 2].map(|x| 0.5 * (p[x] + q[x]));
-        stack.push([p, mid, r]);
-        stack.push([mid, q, r]);
+    let len = |u: [f64; 3], v: [f64; 3]| dot(sub(u, v), sub(u, v)).sqrt();
+    let edges = [
+        len(tri[1], tri[2]),
+        len(tri[2], tri[0]),
+        len(tri[0], tri[1]),
+    ];
+    if !edges.iter().all(|e| e.is_finite()) || step.is_nan() || step <= 0.0 {
+        tri.into_iter().for_each(&mut *mark);
+        return;
     }
+    let k = (0..3)
+        .min_by(|&x, &y| edges[x].total_cmp(&edges[y]))
+        .expect("three edges");
+    let [apex, p, q] = [tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]];
+    let lerp = |u: [f64; 3], v: [f64; 3], s: f64| [0, 1, 2].map(|x| u[x] + s * (v[x] - u[x]));
+    // Segments to the base's points at (i + ½)/m: at most step/2 across.
+    let m = (edges[k] / step).ceil().max(1.0) as usize;
+    for i in 0..m {
+        let base = lerp(p, q, (i as f64 + 0.5) / m as f64);
+        let n = (len(apex, base) / step).ceil().max(1.0) as usize;
+        for j in 0..=n {
+            mark(lerp(apex, base, j as f64 / n as f64));
+        }
+    }
+    mark(p);
+    mark(q);
 }
 
 /// Box-counting dimension of the surface: points sampled on every triangle at a
@@ -246,17 +253,37 @@ pub fn box_counting(m: &TriMesh) -> Result<crate::fractal::Dimension, crate::Ana
     // (memory follows the boxes, not the samples). The sizes halve from one to
     // the next on one grid origin, so a coarser box is a finest key halved.
     let finest = sizes[sizes.len() - 1];
-    let mut occupied = std::collections::HashSet::<[i64; 3]>::new();
-    for t in m.triangles() {
-        sample_triangle(t.map(|v| m.positions()[v as usize]), step, &mut |p| {
-            occupied.insert([0, 1, 2].map(|x| ((p[x] - b.min[x]) / finest).floor() as i64));
+    // Per chunk of triangles on every core, then merged: a set's union does
+    // not depend on the order, so neither do the counts. Consecutive samples
+    // mostly fall in the box before (four to a box along a segment): only a
+    // new box is looked up.
+    let occupied: FxHashSet<[i64; 3]> = m
+        .triangles()
+        .par_chunks(256)
+        .map(|chunk| {
+            let mut boxes = FxHashSet::default();
+            let mut last = [i64::MIN; 3];
+            for t in chunk {
+                sample_triangle(t.map(|v| m.positions()[v as usize]), step, &mut |p| {
+                    let key = [0, 1, 2].map(|x| ((p[x] - b.min[x]) / finest).floor() as i64);
+                    if key != last {
+                        boxes.insert(key);
+                        last = key;
+                    }
+                });
+            }
+            boxes
+        })
+        .reduce(FxHashSet::default, |a, b| {
+            let (mut big, small) = if a.len() >= b.len() { (a, b) } else { (b, a) };
+            big.extend(small);
+            big
         });
-    }
     let levels = sizes.len();
     let counts: Vec<f64> = (0..levels)
         .map(|i| {
             let shift = (levels - 1 - i) as u32;
-            let coarse: std::collections::HashSet<[i64; 3]> =
+            let coarse: FxHashSet<[i64; 3]> =
                 occupied.iter().map(|k| k.map(|v| v >> shift)).collect();
             coarse.len() as f64
         })
