@@ -379,6 +379,7 @@ fn analysis(s: &Setup, n: u64) -> Result<Workload> {
                 &surface,
                 "scaling",
                 &asperity_engine::analyze::AnalyzeOptions::default(),
+                &asperity_core::MemoryBudget::unlimited(),
             )
             .map(|_| ())
         }),

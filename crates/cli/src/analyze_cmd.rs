@@ -16,7 +16,7 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
     let s = ctx.load(&a.input)?;
     let opts = job.params.options(a.plot.is_some());
     let name = a.input.display().to_string();
-    let r = analyze_surface(&s, &name, &opts)?;
+    let r = analyze_surface(&s, &name, &opts, &ctx.budget)?;
     for w in &r.warnings {
         run.warn("warning", w.clone());
     }

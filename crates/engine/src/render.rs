@@ -367,6 +367,23 @@ impl RenderParams {
     }
 }
 
+/// Bytes the renderer holds for the scene beside its frame buffers (which
+/// it checks itself): a height field's mesh (a vertex per sample, two
+/// triangles per cell) or the mesh given, with its normals, shading and the
+/// per-triangle screen data — some 80 bytes a vertex and 40 a triangle
+/// (measured: a 2048² height field peaks at 909 MiB above the process at
+/// rest, 263 of them frame buffers; `crates/benches/scripts/estimate_honesty.py`).
+pub fn scene_bytes(surface: &Surface) -> u64 {
+    let (vertices, triangles) = match surface {
+        Surface::Height(h) => (h.len() as u64, 2 * h.len() as u64),
+        Surface::Mesh(m) => (m.n_vertices() as u64, m.n_faces() as u64),
+        Surface::Points(p) => (p.len() as u64, 0),
+    };
+    vertices
+        .saturating_mul(80)
+        .saturating_add(triangles.saturating_mul(40))
+}
+
 /// The picture `render` makes of `surface` (`frames` > 1: frame `k` of a
 /// turntable around it): a map or hillshade of a height field, or a 3-D view.
 /// The whole run's time is checked against `time` before the first frame.
@@ -399,6 +416,7 @@ pub fn render_job(
     }
     let mut opts = p.options(surface, budget);
     if k == 0 {
+        budget.check(scene_bytes(surface), "the scene to render")?;
         let pixels =
             f64::from(opts.width) * f64::from(opts.height) * f64::from(opts.supersample).powi(2);
         crate::estimate::check(

@@ -25,7 +25,7 @@ pub fn analyze<'py>(
     let s = surface_in(surface)?;
     let opts = p.options(false);
     let r = run(py, &RunOptions::quiet(threads), move |_, _| {
-        analyze_surface(&s, &name, &opts)
+        analyze_surface(&s, &name, &opts, &budget())
     })?;
     let out = PyDict::new(py);
     out.set_item("measurements", json(&r.facts)?)?;

@@ -311,6 +311,7 @@ fn analyze_2048(s: &Setup) -> Result<Workload> {
                 &surface,
                 "bench",
                 &asperity_engine::analyze::AnalyzeOptions::default(),
+                &asperity_core::MemoryBudget::unlimited(),
             )
             .map(|_| ())
         }),

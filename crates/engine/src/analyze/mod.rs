@@ -8,7 +8,7 @@ use asperity_analysis::window::{self, Window};
 use asperity_analysis::{
     AnalysisError, areal, correlation, fill, fractal, hurst, level, mesh, psd, scaling,
 };
-use asperity_core::{HeightField, PointSet, TriMesh};
+use asperity_core::{HeightField, MemoryBudget, PointSet, TriMesh};
 use asperity_io::Surface;
 use asperity_render::plot::{Series, Style, histogram_plot};
 use serde_json::{Value, json};
@@ -37,12 +37,32 @@ pub struct Analysis {
 /// # Errors
 /// [`crate::EngineError::Invalid`] for an unknown levelling, a bad fit window or
 /// too few points; the analysis' own refusals.
-pub fn analyze(s: &Surface, name: &str, o: &AnalyzeOptions) -> Result<Analysis> {
+pub fn analyze(
+    s: &Surface,
+    name: &str,
+    o: &AnalyzeOptions,
+    budget: &MemoryBudget,
+) -> Result<Analysis> {
     match s {
-        Surface::Height(h) => height(h, o),
+        Surface::Height(h) => {
+            budget.check(height_bytes(h), format!("analysing {name}"))?;
+            height(h, o)
+        }
         Surface::Mesh(m) => mesh_report(m, o.plots),
         Surface::Points(p) => point_report(p, name),
     }
+}
+
+/// Bytes an analysis of `h` allocates at its peak: some nine grids of its
+/// size (the levelled and windowed copies, the spectrum, the correlation and
+/// scale-dependent estimators' work), and twenty more where points are
+/// missing (the harmonic fill's conjugate-gradient vectors and multigrid
+/// levels). Measured peak RSS over this, less the process's 20 MiB at rest
+/// (`crates/benches/scripts/estimate_honesty.py`): 1.2–1.5 at 512²–2048²,
+/// 1.0 with half the points missing.
+pub fn height_bytes(h: &HeightField) -> u64 {
+    let per_point = if h.has_missing() { 72 + 160 } else { 72 };
+    h.len() as u64 * per_point
 }
 
 /// A dimension whose standard error exceeds this is reported as unreliable

@@ -13,7 +13,7 @@ use serde_json::{Value, json};
 
 fn report(s: &Surface, v: Value) -> (Value, Vec<String>) {
     let p: AnalyzeParams = serde_json::from_value(v).expect("valid parameters");
-    let a = analyze(s, "test", &p.options(false)).unwrap();
+    let a = analyze(s, "test", &p.options(false), &MemoryBudget::unlimited()).unwrap();
     (serde_json::to_value(&a.facts).unwrap(), a.warnings)
 }
 
@@ -193,7 +193,13 @@ fn missing_points_are_left_out_of_the_heights_and_filled_for_the_spectrum() {
         "H {h_holed} with holes, {h_full} without"
     );
     let p: AnalyzeParams = serde_json::from_value(json!({"fill": "refuse"})).unwrap();
-    let e = analyze(&holed, "test", &p.options(false)).unwrap_err();
+    let e = analyze(
+        &holed,
+        "test",
+        &p.options(false),
+        &MemoryBudget::unlimited(),
+    )
+    .unwrap_err();
     assert!(
         e.to_string()
             .contains(&format!("{missing} of {} points", h.len())),
@@ -222,4 +228,32 @@ fn missing_points_are_left_out_of_the_heights_and_filled_for_the_spectrum() {
     );
     assert_eq!(p["kind"], "profile");
     assert!(p["profile_x"]["Rq"].is_number());
+}
+
+/// The analysis is estimated before it starts: a 512² field (some 19 MB, 80
+/// more with missing points) is refused under an 8 MB budget, naming it.
+#[test]
+fn an_analysis_over_the_budget_is_refused_first() {
+    let h = HeightField::from_vec([512, 512], vec![0.5; 512 * 512]).unwrap();
+    let budget = MemoryBudget::new(8 << 20);
+    let p = AnalyzeParams::default();
+    let e = analyze(
+        &Surface::Height(h.clone()),
+        "f.npy",
+        &p.options(false),
+        &budget,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("analysing f.npy"), "{e}");
+    assert!(
+        asperity_engine::analyze::height_bytes(&h) > 8 << 20,
+        "the estimate"
+    );
+    let mut holed = h.clone();
+    holed.data_mut()[1000] = f64::NAN;
+    let full = asperity_engine::analyze::height_bytes(&holed);
+    assert!(
+        full > 3 * asperity_engine::analyze::height_bytes(&h),
+        "{full}"
+    );
 }

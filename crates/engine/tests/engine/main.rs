@@ -15,6 +15,7 @@ mod growth;
 mod ifs;
 mod params;
 mod reconstruct;
+mod render;
 mod subdiv;
 mod subdiv_examples;
 mod surfca;
