@@ -157,6 +157,8 @@ format::registry! {
     H5 => datx::H5,
     /// Zygo Mx `.datx` files (HDF5 in Zygo's layout).
     Datx => datx::FORMAT,
+    /// Point Cloud Library point clouds.
+    Pcd => pcd,
     /// Olympus laser-scanning microscope files.
     Oir => oir::OIR,
     /// Packed Olympus files (a zip of `.oir`).
@@ -296,7 +298,7 @@ pub fn read_estimate(path: &Path) -> Result<u64, IoError> {
     let decoded = match format {
         Format::Png => Some(png_io::header_pixels(open()?).map(pixel_bytes)),
         Format::Exr => Some(exr_io::header_pixels(open()?).map(pixel_bytes)),
-        f => match f.registration().codec.and_then(|c| c.declared) {
+        f => match f.registration().declared_size() {
             Some(declared) => Some(declared(&read_bytes(path)?)),
             None => None,
         },
@@ -312,8 +314,7 @@ fn estimate_bytes(bytes: &[u8], format: Format) -> FResult<u64> {
         Format::Exr => Some(exr_io::header_pixels(cursor()).map(pixel_bytes)),
         f => f
             .registration()
-            .codec
-            .and_then(|c| c.declared)
+            .declared_size()
             .map(|declared| declared(bytes)),
     };
     estimate_from(bytes.len() as u64, decoded)

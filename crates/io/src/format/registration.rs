@@ -113,6 +113,9 @@ pub(crate) struct Registration {
     pub(crate) read: Option<Read>,
     /// Set for every format that reads height fields.
     pub(crate) codec: Option<Codec>,
+    /// Set for the compressed point formats: what a file declares it
+    /// decodes to (the height formats declare theirs in their codec).
+    pub(crate) declared: Option<Declared>,
 }
 
 impl Registration {
@@ -128,7 +131,13 @@ impl Registration {
         claim: None,
         read: None,
         codec: None,
+        declared: None,
     };
+
+    /// What a file of this format declares it decodes to, where it says.
+    pub(crate) fn declared_size(&self) -> Option<Declared> {
+        self.codec.and_then(|c| c.declared).or(self.declared)
+    }
 
     /// The row of the format table.
     pub(crate) const fn info(&self, format: Format) -> FormatInfo {

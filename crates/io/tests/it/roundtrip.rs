@@ -470,3 +470,19 @@ fn unknown_extensions_are_read_by_their_content() {
     let e = asperity_io::read_height(&text).unwrap_err().to_string();
     assert!(e.contains("unknown file type"), "{e}");
 }
+
+/// PCL's compressed scan (`tests/data/scans/pcl-milk.pcd`, LZF) read by our
+/// PCD reader gives, point for point, the positions a separate Python LZF
+/// decoder wrote to `pcl-milk.ply` (see that folder's README).
+#[test]
+fn pcd_is_read_as_an_independent_decoder_read_it() {
+    let dir = std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/data/scans"
+    ));
+    let pcd = asperity_io::read_points(&dir.join("pcl-milk.pcd")).unwrap();
+    let ply = asperity_io::read_points(&dir.join("pcl-milk.ply")).unwrap();
+    assert_eq!(pcd.len(), 12_575);
+    assert_eq!(pcd.positions(), ply.positions());
+    assert!(pcd.colors().is_some());
+}
