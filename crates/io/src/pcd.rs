@@ -328,6 +328,13 @@ fn decompress(data: &[u8], points: usize, record: usize) -> FResult<Vec<u8>> {
             points as u128 * record as u128
         ));
     }
+    // A control byte and a length byte make at most 264 bytes: a stream
+    // cannot decode to more than 88 times its size.
+    if size as u128 > 88 * packed as u128 + 64 {
+        return malformed(format!(
+            "the compressed data declares {size} bytes from {packed}: LZF cannot expand that far"
+        ));
+    }
     let stream = data
         .get(8..8 + packed)
         .ok_or_else(|| FormatError::Malformed(format!("the compressed data ({packed} bytes) is cut short")))?;
@@ -437,6 +444,10 @@ mod tests {
             (b"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 1\nDATA lzma\n", "is not ascii"),
             (b"FIELDS x y z\nSIZE 3 4 4\nTYPE F F F\nPOINTS 1\nDATA ascii\n0 0 0\n", "not a PCD number"),
             (b"VERSION .7\nFIELDS x y z\n", "no DATA line"),
+            (
+                b"FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nPOINTS 100000000\nDATA binary_compressed\n\x04\0\0\0\0\x8c\x86\x47\0\0\0\0",
+                "cannot expand that far",
+            ),
         ] {
             let e = format!("{:?}", read(bytes).unwrap_err());
             assert!(e.contains(says), "{e} (wanted {says})");
