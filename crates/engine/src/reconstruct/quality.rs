@@ -256,18 +256,28 @@ fn drop_specks(rec: &mut Reconstruction) -> Result<()> {
         .collect();
     let dropped = (0..count).filter(|&l| !keep(l as u32)).count();
     if dropped > 0 {
-        rec.mesh = without(m, &drop)?;
+        let (kept, origin) = without_mapped(m, &drop)?;
+        rec.mesh = kept;
+        rec.thin_vertices = remapped(&rec.thin_vertices, &origin);
         rec.extraction.shells_removed += dropped;
     }
     Ok(())
 }
 
-/// `m` without the triangles flagged in `drop` (and the vertices only they used).
-fn without(m: &TriMesh, drop: &[bool]) -> Result<TriMesh> {
-    Ok(without_mapped(m, drop)?.0)
+/// Per-vertex flags carried to the vertices `origin` kept (empty stays
+/// empty: no vertex flagged).
+fn remapped(flags: &[bool], origin: &[u32]) -> Vec<bool> {
+    if flags.is_empty() {
+        return Vec::new();
+    }
+    origin
+        .iter()
+        .map(|&v| flags.get(v as usize).copied().unwrap_or(false))
+        .collect()
 }
 
-/// As [`without`], with each kept vertex's index in `m`.
+/// `m` without the triangles flagged in `drop` (and the vertices only they
+/// used), with each kept vertex's index in `m`.
 fn without_mapped(m: &TriMesh, drop: &[bool]) -> Result<(TriMesh, Vec<u32>)> {
     let mut map = vec![u32::MAX; m.n_vertices()];
     let mut origin = Vec::new();
@@ -322,12 +332,9 @@ pub fn finish(
         if quality.thin_sides_removed > 0 {
             // The sheet's near side, δ in front of its points, onto them.
             let (front, origin) = without_mapped(&rec.mesh, &back)?;
-            let thin: Vec<bool> = origin
-                .iter()
-                .map(|&v| rec.thin_vertices.get(v as usize).copied().unwrap_or(false))
-                .collect();
+            rec.thin_vertices = remapped(&rec.thin_vertices, &origin);
             let reach = rec.voids.as_ref().map_or(0.0, |v| v.thin_radius) + h;
-            let skip: Vec<bool> = thin.iter().map(|t| !t).collect();
+            let skip: Vec<bool> = rec.thin_vertices.iter().map(|t| !t).collect();
             rec.mesh = front;
             if let Some(p) = project_onto(&mut rec.mesh, input, (reach + h, reach), &skip) {
                 quality.sheet_vertices_projected = p.moved;
@@ -337,7 +344,9 @@ pub fn finish(
         let span = spanning(&rec.mesh, &dist, support);
         holes = self::holes(&rec.mesh, &dist, &span, support);
         if span.iter().any(|d| *d) {
-            rec.mesh = without(&rec.mesh, &span)?;
+            let (kept, origin) = without_mapped(&rec.mesh, &span)?;
+            rec.mesh = kept;
+            rec.thin_vertices = remapped(&rec.thin_vertices, &origin);
             holes.removed = holes.count > 0;
         }
         if quality.thin_sides_removed > 0 || holes.removed {
