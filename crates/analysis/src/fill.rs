@@ -105,8 +105,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 /// Conjugate gradients on the Laplace system over the grid (a vector holds
 /// every node, 0 at the measured ones), started from the measured mean and
-/// preconditioned by a multigrid V-cycle ([`crate::multigrid`]; by the
-/// diagonal should its coarsest level not factorise).
+/// preconditioned by a multigrid V-cycle ([`crate::multigrid`]).
 fn harmonic(out: &mut HeightField, missing: &[usize]) -> Result<Filled, AnalysisError> {
     let [nx, ny] = out.dims();
     let [dx, dy] = out.spacing();
@@ -134,19 +133,9 @@ fn harmonic(out: &mut HeightField, missing: &[usize]) -> Result<Filled, Analysis
             .sum()
         })
         .collect();
-    let level = Level::grid(nx, ny, &unknown, (wx, wy));
-    let diagonal = level.diagonal().to_vec();
-    let hierarchy = Hierarchy::new(level.clone());
-    let precondition = |r: &[f64]| -> Vec<f64> {
-        match &hierarchy {
-            Some(h) => h.precondition(r),
-            None => r
-                .iter()
-                .zip(&diagonal)
-                .map(|(r, d)| if *d > 0.0 { r / d } else { 0.0 })
-                .collect(),
-        }
-    };
+    let hierarchy = Hierarchy::new(Level::grid(nx, ny, &unknown, (wx, wy)));
+    let level = hierarchy.finest();
+    let precondition = |r: &[f64]| hierarchy.precondition(r);
     let values = out.measured_values();
     let mean = values.iter().sum::<f64>() / values.len() as f64;
     let mut x: Vec<f64> = unknown

@@ -252,18 +252,18 @@ pub struct Hierarchy {
 
 impl Hierarchy {
     /// Coarsens `finest` until a level has at most a few hundred unknowns.
-    /// `None` if the coarsest operator is not positive definite (a set of
-    /// unknowns touching no fixed node).
-    pub fn new(finest: Level) -> Option<Self> {
+    /// Should the coarsest operator not factorise (a set of unknowns touching
+    /// no fixed node), the coarsest level is solved by its diagonal.
+    pub fn new(finest: Level) -> Self {
         let mut levels = vec![finest];
-        while levels
+        while let Some(l) = levels
             .last()
-            .is_some_and(|l| l.unknowns() > COARSEST && l.nx * l.ny > 4)
+            .filter(|l| l.unknowns() > COARSEST && l.nx * l.ny > 4)
         {
-            let next = levels.last()?.coarsen();
+            let next = l.coarsen();
             levels.push(next);
         }
-        let last = levels.last()?;
+        let last = &levels[levels.len() - 1];
         let nodes: Vec<usize> = (0..last.diagonal.len())
             .filter(|&k| last.diagonal[k] != 0.0)
             .collect();
@@ -281,9 +281,9 @@ impl Hierarchy {
                     a[(r, c)] = column[m];
                 }
             }
-            Some((nodes, a.cholesky()?))
+            a.cholesky().map(|factor| (nodes, factor))
         };
-        Some(Self { levels, coarsest })
+        Self { levels, coarsest }
     }
 
     /// The finest level.
@@ -314,7 +314,12 @@ impl Hierarchy {
     }
 
     fn solve_coarsest(&self, b: &[f64]) -> Vec<f64> {
-        let mut x = vec![0.0; b.len()];
+        let last = &self.levels[self.levels.len() - 1];
+        let mut x: Vec<f64> = b
+            .iter()
+            .zip(&last.diagonal)
+            .map(|(b, d)| if *d > 0.0 { b / d } else { 0.0 })
+            .collect();
         if let Some((nodes, factor)) = &self.coarsest {
             let rhs = DVector::from_iterator(nodes.len(), nodes.iter().map(|&k| b[k]));
             let solution = factor.solve(&rhs);
