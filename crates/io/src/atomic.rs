@@ -1,9 +1,10 @@
 //! Atomic file writes: temp file in the target's directory, then rename.
 //!
 //! A crash, a full disk or an error in the middle of a write leaves the target
-//! untouched: either the old file (if any) or the complete new one. The temporary
-//! file (`.NAME.XXXXXX.tmp` beside the target) is removed on failure, and by the
-//! OS-independent drop guard of `tempfile` if the process unwinds.
+//! untouched: either the old file (if any) or the complete new one. The file
+//! being written is anonymous where the system allows, else a temporary
+//! `.NAME.XXXXXX.tmp` beside the target, removed on failure and by the drop
+//! guard of `tempfile` if the process unwinds ([`crate::staging`]).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -52,29 +53,17 @@ where
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
     crate::staging::remove_leftovers(dir);
-    let prefix = format!(".{name}.");
-    let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
-    // tempfile creates 0600 files; outputs should get the usual 0666 & !umask.
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let (file, tmp_path, live) =
-        crate::staging::Live::create(&builder, dir).map_err(|e| IoError::Os {
-            path: dir.to_path_buf(),
-            source: folder_error(dir, &e),
-        })?;
+    let (file, blank) = crate::staging::create(path).map_err(|e| IoError::Os {
+        path: dir.to_path_buf(),
+        source: folder_error(dir, &e),
+    })?;
     let mut w = BufWriter::with_capacity(1 << 20, file);
     fill(&mut w)?;
     w.flush().map_err(os)?;
     let file = w.into_inner().map_err(|e| os(e.into_error()))?;
     file.sync_all().map_err(os)?;
-    drop(file);
-    crate::staging::persist_or_stage(tmp_path, path, live)?;
+    crate::staging::persist_or_stage(file, blank, path)?;
     Ok(())
 }
 

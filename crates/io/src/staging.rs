@@ -1,15 +1,32 @@
 //! All-or-nothing outputs and clean interruption.
 //!
 //! While a [`Transaction`] is open, every write of this crate ([`crate::atomic`])
-//! leaves its complete temporary file (`.NAME.XXXXXX.tmp` beside the target) in
-//! place instead of renaming it; [`Transaction::commit`] renames them all, and
-//! dropping the transaction uncommitted deletes them. A command that fails half
-//! way therefore leaves every existing file as it was, whichever output failed.
+//! keeps its complete staged file instead of renaming it into place;
+//! [`Transaction::commit`] renames them all, and dropping the transaction
+//! uncommitted deletes them. A command that fails half way therefore leaves
+//! every existing file as it was, whichever output failed.
 //!
-//! Every temporary file alive in the process is registered, so a signal handler
-//! can delete them with [`exit_removing_temporaries`]. A SIGKILL (or a power
-//! cut) cannot be caught: its temporaries stay. Each temporary is held under
-//! an exclusive advisory lock (`flock`) by the process writing it, until it is
+//! **Where a write is staged.** On Linux a write goes to an *anonymous* file
+//! in the target's folder (`O_TMPFILE`): it has no name until it is complete
+//! and committed, when it is linked in (`linkat` through `/proc/self/fd`) —
+//! straight to the target's name when that is new, else to a temporary name
+//! that is at once renamed over the target. A process killed in any other
+//! moment, even by SIGKILL or a power cut, leaves nothing behind: the kernel
+//! frees an unlinked file with its last handle. Only the two system calls
+//! between the link and the rename of a *replaced* output leave a named
+//! temporary if the process dies between them. A transaction holds at most
+//! [`ANONYMOUS_STAGED`] anonymous files open; later outputs of the same
+//! command (frames of a long turntable) are given temporary names at once.
+//!
+//! Elsewhere — another system, a filesystem without `O_TMPFILE` (it is tried
+//! and the write falls back), or `ASPERITY_STAGING=named` in the environment
+//! (how the tests exercise this path) — a write goes to a named temporary,
+//! `.NAME.XXXXXX.tmp` beside the target.
+//!
+//! Every named temporary alive in the process is registered, so a signal
+//! handler can delete them with [`exit_removing_temporaries`]. A SIGKILL
+//! cannot be caught: its named temporaries stay. Each is held under an
+//! exclusive advisory lock (`flock`) by the process writing it, until it is
 //! renamed or deleted; the operating system drops the lock when the process
 //! dies. The first write of a later run into a folder removes the
 //! temporaries of ours there whose lock it can take — those of dead runs —
@@ -19,6 +36,7 @@
 //! and so would be a live run's, so do not run two commands into one such
 //! folder at once.
 
+use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
 
@@ -26,9 +44,21 @@ use tempfile::TempPath;
 
 use crate::IoError;
 
-/// A temporary file waiting for its rename, and the registration that lets a
-/// signal handler find it.
-type Staged = (TempPath, PathBuf, Live);
+/// A complete output waiting for its commit, and its target.
+type Staged = (Pending, PathBuf);
+
+/// The most anonymous files one transaction keeps open (each is an open
+/// file handle; the usual limit is 1024 a process).
+pub const ANONYMOUS_STAGED: usize = 256;
+
+/// Where a finished output waits for its rename.
+pub(crate) enum Pending {
+    /// A named temporary beside the target, locked and registered.
+    Named(TempPath, Live),
+    /// An anonymous file in the target's folder (Linux `O_TMPFILE`), locked.
+    #[cfg(target_os = "linux")]
+    Anonymous(std::fs::File),
+}
 
 static STAGED: Mutex<Option<Vec<Staged>>> = Mutex::new(None);
 /// Folders made for outputs while a transaction is open, deepest first: an
@@ -150,19 +180,42 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 pub(crate) struct Live {
     path: PathBuf,
     /// The handle that holds the lock (none where the filesystem has no locks).
-    _held: Option<std::fs::File>,
+    _held: Option<File>,
+}
+
+/// The builder of our temporary names, `.NAME.XXXXXX.tmp`, for `prefix`
+/// `.NAME.`.
+fn builder(prefix: &str) -> tempfile::Builder<'_, 'static> {
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(prefix).suffix(".tmp");
+    // tempfile creates 0600 files; outputs should get the usual 0666 & !umask.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    builder
+}
+
+/// The folder of `path` (`.` for a bare name) and the prefix of its
+/// temporaries.
+fn folder_and_prefix(path: &Path) -> (&Path, String) {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    (dir, format!(".{name}."))
 }
 
 impl Live {
-    /// Creates a temporary file with `builder` in `dir` and registers it, both
-    /// under the registry's lock, so [`exit_removing_temporaries`] never misses a
-    /// file created while it runs.
-    pub(crate) fn create(
-        builder: &tempfile::Builder<'_, '_>,
-        dir: &Path,
-    ) -> std::io::Result<(std::fs::File, TempPath, Self)> {
+    /// Creates a named temporary file for `path` in its folder and registers
+    /// it, both under the registry's lock, so [`exit_removing_temporaries`]
+    /// never misses a file created while it runs.
+    fn create(path: &Path) -> std::io::Result<(File, TempPath, Self)> {
+        let (dir, prefix) = folder_and_prefix(path);
         let mut live = lock(&LIVE);
-        let (file, path) = builder.tempfile_in(dir)?.into_parts();
+        let (file, path) = builder(&prefix).tempfile_in(dir)?.into_parts();
         live.push(path.to_path_buf());
         // The lock belongs to the open file, which this handle keeps open
         // after the writer's own handle is closed. A filesystem without
@@ -185,29 +238,189 @@ impl Drop for Live {
     }
 }
 
-/// Renames `tmp` over `path` now, or stages it when a transaction is open.
-pub(crate) fn persist_or_stage(tmp: TempPath, path: &Path, live: Live) -> Result<(), IoError> {
-    if let Some(staged) = lock(&STAGED).as_mut() {
-        staged.push((tmp, path.to_path_buf(), live));
-        return Ok(());
+/// A blank file an output is written into, and how it will be named.
+pub(crate) enum Blank {
+    Named(TempPath, Live),
+    #[cfg(target_os = "linux")]
+    Anonymous,
+}
+
+/// Creates the file the output `path` is written into: anonymous where the
+/// system allows, else a named temporary beside it (see the module docs).
+pub(crate) fn create(path: &Path) -> std::io::Result<(File, Blank)> {
+    #[cfg(target_os = "linux")]
+    if let Some(file) = anonymous::create(folder_and_prefix(path).0) {
+        return Ok((file, Blank::Anonymous));
     }
-    tmp.persist(path).map_err(|e| IoError::os(path, e.error))?;
-    drop(live);
+    let (file, tmp, live) = Live::create(path)?;
+    Ok((file, Blank::Named(tmp, live)))
+}
+
+/// Puts the complete, synced `file` (made by [`create`]) at `path` now, or
+/// stages it when a transaction is open.
+pub(crate) fn persist_or_stage(file: File, blank: Blank, path: &Path) -> Result<(), IoError> {
+    let pending = match blank {
+        Blank::Named(tmp, live) => {
+            drop(file);
+            Pending::Named(tmp, live)
+        }
+        #[cfg(target_os = "linux")]
+        Blank::Anonymous => Pending::Anonymous(file),
+    };
+    let mut staged = lock(&STAGED);
+    let Some(staged) = staged.as_mut() else {
+        drop(staged);
+        return pending.commit(path);
+    };
+    #[cfg(target_os = "linux")]
+    let pending = match pending {
+        Pending::Anonymous(file) if anonymous::count(staged) >= ANONYMOUS_STAGED => {
+            let (tmp, live) = anonymous::name(file, path).map_err(|e| IoError::os(path, e))?;
+            Pending::Named(tmp, live)
+        }
+        other => other,
+    };
+    staged.push((pending, path.to_path_buf()));
     Ok(())
 }
 
-/// The size of what was last written to `path`: its staged temporary file while
+impl Pending {
+    /// Gives the staged file the name `path`, replacing what was there.
+    fn commit(self, path: &Path) -> Result<(), IoError> {
+        match self {
+            Self::Named(tmp, live) => {
+                tmp.persist(path).map_err(|e| IoError::os(path, e.error))?;
+                drop(live);
+                Ok(())
+            }
+            #[cfg(target_os = "linux")]
+            Self::Anonymous(file) => anonymous::link(file, path).map_err(|e| IoError::os(path, e)),
+        }
+    }
+
+    fn len(&self) -> Option<u64> {
+        match self {
+            Self::Named(tmp, _) => std::fs::metadata(tmp).ok().map(|m| m.len()),
+            #[cfg(target_os = "linux")]
+            Self::Anonymous(file) => file.metadata().ok().map(|m| m.len()),
+        }
+    }
+}
+
+/// Anonymous staging: `O_TMPFILE` files named by `linkat` once complete.
+/// Written here because no crate offers it with a fallback (`tempfile`
+/// always names its files); `rustix` makes the system calls.
+#[cfg(target_os = "linux")]
+mod anonymous {
+    use std::fs::File;
+    use std::io::{Seek, Write};
+    use std::os::fd::AsRawFd;
+    use std::path::Path;
+
+    use rustix::fs::{AtFlags, CWD, Mode, OFlags};
+    use tempfile::TempPath;
+
+    use super::{LIVE, Live, Pending, Staged, builder, folder_and_prefix, lock};
+
+    /// Whether writes may be anonymous: not when `ASPERITY_STAGING=named`.
+    fn allowed() -> bool {
+        static ALLOWED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+        *ALLOWED.get_or_init(|| std::env::var_os("ASPERITY_STAGING").is_none_or(|v| v != "named"))
+    }
+
+    /// An anonymous file in `dir`, locked; none where the filesystem (or the
+    /// kernel, before 3.11) has no `O_TMPFILE`.
+    pub(super) fn create(dir: &Path) -> Option<File> {
+        if !allowed() {
+            return None;
+        }
+        let flags = OFlags::TMPFILE | OFlags::RDWR | OFlags::CLOEXEC;
+        let fd = rustix::fs::openat(CWD, dir, flags, Mode::from_raw_mode(0o666)).ok()?;
+        let file = File::from(fd);
+        // Locked so that, once linked under a temporary name, no other run
+        // takes it for a dead one's; a filesystem without locks goes unlocked.
+        let _ = file.try_lock();
+        Some(file)
+    }
+
+    pub(super) fn count(staged: &[Staged]) -> usize {
+        staged
+            .iter()
+            .filter(|(p, _)| matches!(p, Pending::Anonymous(_)))
+            .count()
+    }
+
+    /// Links `file` at `to` (which must not exist).
+    fn link_at(file: &File, to: &Path) -> std::io::Result<()> {
+        let open = format!("/proc/self/fd/{}", file.as_raw_fd());
+        rustix::fs::linkat(CWD, open.as_str(), CWD, to, AtFlags::SYMLINK_FOLLOW)
+            .map_err(std::io::Error::from)
+    }
+
+    /// Names `file` `path`: linked there when `path` is new, else linked under
+    /// a temporary name and renamed over it.
+    pub(super) fn link(file: File, path: &Path) -> std::io::Result<()> {
+        match link_at(&file, path) {
+            Ok(()) => return Ok(()),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            // No /proc: `name` copies.
+            Err(_) => {}
+        }
+        let (tmp, live) = name(file, path)?;
+        tmp.persist(path).map_err(|e| e.error)?;
+        drop(live);
+        Ok(())
+    }
+
+    /// Gives `file` a registered temporary name beside `path`; the file
+    /// keeps its lock. Where it cannot be linked (no `/proc`), its bytes are
+    /// copied into a named temporary.
+    pub(super) fn name(mut file: File, path: &Path) -> std::io::Result<(TempPath, Live)> {
+        let (dir, prefix) = folder_and_prefix(path);
+        let linked = {
+            let mut live = lock(&LIVE);
+            let linked = builder(&prefix).make_in(dir, |to| link_at(&file, to));
+            if let Ok(named) = &linked {
+                live.push(named.path().to_path_buf());
+            }
+            linked
+        };
+        if let Ok(named) = linked {
+            let tmp = named.into_temp_path();
+            let registration = Live {
+                path: tmp.to_path_buf(),
+                _held: Some(file),
+            };
+            return Ok((tmp, registration));
+        }
+        let (mut copy, tmp, live) = Live::create(path)?;
+        file.rewind()?;
+        std::io::copy(&mut file, &mut copy)?;
+        copy.flush()?;
+        copy.sync_all()?;
+        Ok((tmp, live))
+    }
+}
+
+/// Whether a write into the folder `dir` is staged anonymously (Linux
+/// `O_TMPFILE` on a filesystem that has it, and `ASPERITY_STAGING` not
+/// `named`): then a killed run leaves nothing there (see the module docs).
+pub fn stages_anonymously(dir: &Path) -> bool {
+    #[cfg(target_os = "linux")]
+    return anonymous::create(dir).is_some();
+    #[cfg(not(target_os = "linux"))]
+    return false;
+}
+
+/// The size of what was last written to `path`: its staged file while
 /// a transaction is open, else the file on disk.
 pub fn written_len(path: &Path) -> Option<u64> {
-    let staged = lock(&STAGED).as_ref().and_then(|s| {
-        s.iter()
-            .rev()
-            .find(|(_, p, _)| p == path)
-            .map(|(t, _, _)| t.to_path_buf())
-    });
-    std::fs::metadata(staged.as_deref().unwrap_or(path))
-        .ok()
-        .map(|m| m.len())
+    if let Some(staged) = lock(&STAGED).as_ref()
+        && let Some((pending, _)) = staged.iter().rev().find(|(_, p)| p == path)
+    {
+        return pending.len();
+    }
+    std::fs::metadata(path).ok().map(|m| m.len())
 }
 
 /// Deletes every temporary file this process has open or staged, then exits
@@ -276,10 +489,8 @@ impl Transaction {
         lock(&MADE).clear();
         lock(&INPUTS).clear();
         let staged = lock(&STAGED).take().unwrap_or_default();
-        for (tmp, path, live) in staged {
-            tmp.persist(&path)
-                .map_err(|e| IoError::os(&path, e.error))?;
-            drop(live);
+        for (pending, path) in staged {
+            pending.commit(&path)?;
         }
         Ok(())
     }
@@ -287,8 +498,8 @@ impl Transaction {
 
 impl Drop for Transaction {
     fn drop(&mut self) {
-        // Uncommitted: deleting the temporaries (TempPath's drop) leaves every
-        // target as it was.
+        // Uncommitted: deleting the temporaries (TempPath's drop) and closing
+        // the anonymous files leaves every target as it was.
         let staged = lock(&STAGED).take();
         drop(staged);
         lock(&INPUTS).clear();

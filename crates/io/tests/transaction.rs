@@ -31,6 +31,14 @@ fn outputs_are_committed_together_links_followed_and_fifos_kept() {
         Some(5),
         "the staged size, not the old file's"
     );
+    let anonymous = asperity_io::staging::stages_anonymously(d.path());
+    if anonymous {
+        // Staged anonymously: nothing in the folder has a name yet.
+        assert_eq!(names(d.path()), vec!["a.txt"]);
+    } else {
+        eprintln!("skipped: anonymous staging (no O_TMPFILE here); named staging tested");
+        assert_eq!(names(d.path()).len(), 3, "{:?}", names(d.path()));
+    }
     drop(tx);
     assert_eq!(names(d.path()), vec!["a.txt"]);
     assert_eq!(std::fs::read_to_string(&a).unwrap(), "old a");
@@ -92,6 +100,50 @@ fn outputs_are_committed_together_links_followed_and_fifos_kept() {
     assert_eq!(names(&plots), vec!["p.svg"]);
 
     an_output_that_is_an_input_is_refused(d.path());
+    if anonymous {
+        more_outputs_than_open_files(&d.path().join("frames"));
+    }
+}
+
+/// Beyond [`asperity_io::staging::ANONYMOUS_STAGED`] anonymous files a
+/// transaction names the later ones at once (a long turntable would run out
+/// of file handles), and commits every one.
+fn more_outputs_than_open_files(dir: &Path) {
+    use asperity_io::staging::ANONYMOUS_STAGED;
+    std::fs::create_dir(dir).unwrap();
+    let path = |i: usize| dir.join(format!("f{i:04}.txt"));
+    let tx = Transaction::begin();
+    for i in 0..ANONYMOUS_STAGED + 3 {
+        write_text(&path(i), &format!("frame {i}")).unwrap();
+    }
+    let staged = names(dir);
+    assert_eq!(staged.len(), 3, "{staged:?}");
+    assert!(
+        staged
+            .iter()
+            .all(|n| n.starts_with(".f02") && n.ends_with(".tmp"))
+    );
+    // The written size is known either way.
+    assert_eq!(asperity_io::staging::written_len(&path(0)), Some(7));
+    assert_eq!(
+        asperity_io::staging::written_len(&path(ANONYMOUS_STAGED + 2)),
+        Some(9)
+    );
+    tx.commit().unwrap();
+    let all = names(dir);
+    assert_eq!(all.len(), ANONYMOUS_STAGED + 3, "{:?}", &all[..5]);
+    for i in [
+        0,
+        1,
+        ANONYMOUS_STAGED - 1,
+        ANONYMOUS_STAGED,
+        ANONYMOUS_STAGED + 2,
+    ] {
+        assert_eq!(
+            std::fs::read_to_string(path(i)).unwrap(),
+            format!("frame {i}")
+        );
+    }
 }
 
 /// Inside a transaction (a command), an output that is a file the command

@@ -11,6 +11,7 @@ mod general;
 mod growth;
 mod hostile;
 mod ifs;
+mod kills;
 mod outputs;
 mod render;
 mod subdiv;

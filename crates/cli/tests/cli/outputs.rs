@@ -64,15 +64,8 @@ fn outputs_land_together_and_interruptions_leave_nothing() {
         .current_dir(dir)
         .spawn()
         .unwrap();
-    // Wait until frames are being written (their temporaries appear).
-    let start = std::time::Instant::now();
-    while !std::fs::read_dir(dir)
-        .unwrap()
-        .any(|e| e.unwrap().file_name().to_string_lossy().ends_with(".tmp"))
-    {
-        assert!(start.elapsed().as_secs() < 60, "no frame was started");
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
+    // Wait until frames are being written.
+    super::kills::wait_for_a_write(&child, dir);
     let killed = Command::new("kill")
         .args(["-TERM", &child.id().to_string()])
         .status()
@@ -86,68 +79,6 @@ fn outputs_land_together_and_interruptions_leave_nothing() {
         .filter(|n| n.ends_with(".tmp") || n.starts_with("t_"))
         .collect();
     assert!(left.is_empty(), "left behind: {left:?}");
-}
-
-/// Runs killed (SIGKILL) at seeded moments of their write leave at most
-/// their temporaries and never a half output; the next run that writes into
-/// the folder removes them and says so (#54). An output that is the command's
-/// input is refused and the input kept.
-#[test]
-#[cfg(unix)]
-fn killed_runs_leave_nothing_after_the_next_write_and_inputs_are_never_outputs() {
-    let d = tempfile::tempdir().unwrap();
-    let dir = d.path();
-    let mut seed = 54u64;
-    for _ in 0..12 {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_asperity"))
-            .args(["generate", "fbm", "--size", "2048", "-o", "h.npy"])
-            .current_dir(dir)
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .unwrap();
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        std::thread::sleep(std::time::Duration::from_millis(seed >> 54));
-        let _ = child.kill();
-        let _ = child.wait();
-        if dir.join("h.npy").exists() {
-            // Whatever landed is whole.
-            let o = asperity(&["info", "h.npy"], dir);
-            assert!(o.status.success(), "{}", stderr(&o));
-        }
-    }
-    // One more, as a killed run leaves it (no process holds it).
-    std::fs::write(dir.join(".h.npy.Ab12Cd.tmp"), "half a file").unwrap();
-    let o = asperity(&["generate", "fbm", "--size", "16", "-o", "small.npy"], dir);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("note: removed .h.npy.Ab12Cd.tmp, left by a run that was killed"),
-        "{}",
-        stderr(&o)
-    );
-    let left: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".tmp"))
-        .collect();
-    assert!(left.is_empty(), "left behind: {left:?}");
-
-    let before = std::fs::read(dir.join("small.npy")).unwrap();
-    std::os::unix::fs::symlink("small.npy", dir.join("link.npy")).unwrap();
-    for out in ["small.npy", "link.npy"] {
-        let o = asperity(&["convert", "small.npy", out], dir);
-        assert_clean_failure(
-            &o,
-            "is the input small.npy (the same file): write the output elsewhere",
-        );
-        assert!(
-            !stderr(&o).contains("loses"),
-            "warned first: {}",
-            stderr(&o)
-        );
-        assert_eq!(std::fs::read(dir.join("small.npy")).unwrap(), before);
-    }
 }
 
 #[test]
