@@ -50,8 +50,17 @@ def _jsonable(value: Any) -> Any:
 
 
 def to_json(fields: Dict[str, Any]) -> str:
-    """Keyword arguments as the engine's JSON (tuples as lists, numpy scalars as numbers)."""
-    return json.dumps(fields, default=_jsonable)
+    """Keyword arguments as the engine's JSON (tuples as lists, numpy scalars as numbers).
+    NaN and ±inf are refused naming the keyword, as the engine refuses them from a flag."""
+    try:
+        return json.dumps(fields, default=_jsonable, allow_nan=False)
+    except ValueError:
+        for name, value in fields.items():
+            try:
+                json.dumps(value, default=_jsonable, allow_nan=False)
+            except ValueError:
+                raise ValueError(f"{name} must be a finite number, got {value!r}") from None
+        raise
 
 
 _JSON_TYPES = {"integer": "int", "number": "float", "string": "str", "boolean": "bool", "array": "list"}

@@ -74,6 +74,15 @@ def test_bad_arguments_raise(expected, call):
     assert str(e.value), "the exception says why"
 
 
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf"), np.float64("nan")])
+def test_a_number_that_is_not_finite_is_refused_naming_it(value):
+    """NaN and ±inf reach no job (an optional one would read as unset in JSON)."""
+    with pytest.raises(ValueError, match="rms must be a finite number"):
+        asperity.fbm(size=16, rms=value)
+    with pytest.raises(ValueError, match="tolerance must be a finite number"):
+        asperity.reconstruct(PTS, tolerance=value)
+
+
 def test_at_least_twenty_cases():
     assert len(CASES) >= 20
 

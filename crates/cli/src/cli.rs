@@ -77,6 +77,10 @@ pub struct Global {
     /// No progress bars or informational messages (errors still print).
     #[arg(short, long, global = true)]
     pub quiet: bool,
+    /// How long work shows progress: auto (a bar on a terminal), lines (plain lines on
+    /// stderr, for logs), none.
+    #[arg(long, global = true, value_name = "HOW", value_enum, default_value_t)]
+    pub progress: crate::progress::ProgressMode,
     /// Refuse allocations estimated above this size, e.g. 512M, 4G (default: the least of half of
     /// RAM and the headroom under the memory cgroup and ulimit -v/-d; --json says which).
     #[arg(long, global = true, value_name = "SIZE", value_parser = parse_memory)]

@@ -24,6 +24,8 @@ pub struct Context {
     pub output: Option<PathBuf>,
     pub json: bool,
     pub quiet: bool,
+    /// `--progress`.
+    pub progress: crate::progress::ProgressMode,
     pub budget: MemoryBudget,
     pub time: TimeBudget,
     pub threads: usize,
@@ -80,6 +82,7 @@ impl Context {
             output: g.output.clone(),
             json: g.json,
             quiet: g.quiet,
+            progress: g.progress,
             budget: g.max_memory.map(MemoryBudget::new).unwrap_or_default(),
             threads,
             units: (g.xy_unit, g.z_unit),
@@ -96,7 +99,23 @@ impl Context {
     /// The parameters of a job: `flags` as parsed (the engine's defaults
     /// where none was given), or, with `--params FILE`, the file's values with
     /// the flags given on the command line over them.
+    ///
+    /// The result is validated against the job's schema (bounds, finite
+    /// numbers, the job's own checks) before any work starts.
     pub fn job_params<P: JobParams>(
+        &self,
+        flags: P,
+        file: &ParamsFile,
+    ) -> anyhow::Result<Resolved<P>> {
+        // Before the flags go through JSON, where NaN would read as unset.
+        asperity_engine::params::refuse_not_finite(&flags)?;
+        let resolved = self.resolve_params(flags, file)?;
+        asperity_engine::params::validate(&resolved.params)?;
+        Ok(resolved)
+    }
+
+    /// The flags over a `--params` file (see [`Self::job_params`]).
+    fn resolve_params<P: JobParams>(
         &self,
         flags: P,
         file: &ParamsFile,
@@ -186,9 +205,10 @@ impl Context {
             .with_context(|| format!("no output file: give -o {example}"))
     }
 
-    /// A progress bar (hidden with `--quiet`, `--json` or off a terminal).
+    /// Progress as `--progress` asks (a bar hidden with `--quiet`, `--json`
+    /// or off a terminal).
     pub fn bar(&self) -> Bar {
-        Bar::new(self.quiet || self.json)
+        Bar::new(self.progress, self.quiet || self.json)
     }
 
     /// Reads any file under the memory budget; a height field gets the units

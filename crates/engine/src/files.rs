@@ -269,7 +269,7 @@ pub struct ConvertParams {
     pub diagonal: DiagonalName,
     /// Set the height-field spacing before writing: DX, or DX,DY.
     #[schemars(
-        with = "Option<Vec<crate::params::NonNegative>>",
+        with = "Option<Vec<crate::params::Positive>>",
         length(min = 1, max = 2)
     )]
     #[arg(long, value_name = "DX[,DY]", value_delimiter = ',')]

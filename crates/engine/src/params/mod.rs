@@ -34,7 +34,7 @@ mod describe;
 mod values;
 
 pub use describe::describe;
-pub(crate) use values::{Finite, NonNegative, Side};
+pub(crate) use values::{Finite, Positive, Side};
 pub use values::{LatticeSize, MAX_COORDINATE, MAX_SIDE, Numbers, Size2, Window};
 
 /// The version of the parameter records (`params.schema_version`); raised
@@ -81,6 +81,7 @@ pub fn schema<P: JobParams>() -> Value {
 /// # Errors
 /// [`EngineError::Invalid`] naming the first parameter out of range.
 pub fn validate<P: JobParams>(p: &P) -> Result<()> {
+    refuse_not_finite(p)?;
     let schema = schema::<P>();
     let value = serde_json::to_value(p).map_err(|e| EngineError::Invalid(e.to_string()))?;
     let (Some(props), Value::Object(values)) = (schema.get("properties"), &value) else {
@@ -92,6 +93,45 @@ pub fn validate<P: JobParams>(p: &P) -> Result<()> {
         }
     }
     p.check()
+}
+
+/// Refuses parameters that hold NaN or ±∞ anywhere (every number of every
+/// job is finite), naming the first such field; before `p` goes through
+/// JSON, which would write them as null.
+///
+/// # Errors
+/// [`EngineError::Invalid`] naming the parameter.
+pub fn refuse_not_finite<P: Serialize>(p: &P) -> Result<()> {
+    match first_not_finite(p) {
+        Some(name) => Err(EngineError::Invalid(format!(
+            "{} must be a finite number",
+            param(&name)
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The first field of `p` that holds NaN or ±∞ anywhere in it. serde_json
+/// writes them as null, which an optional field cannot tell from unset; a
+/// CBOR value tree keeps them.
+fn first_not_finite<P: Serialize>(p: &P) -> Option<String> {
+    use ciborium::Value as V;
+    fn finite(v: &V) -> bool {
+        match v {
+            V::Float(x) => x.is_finite(),
+            V::Array(items) => items.iter().all(finite),
+            V::Map(entries) => entries.iter().all(|(_, v)| finite(v)),
+            V::Tag(_, v) => finite(v),
+            _ => true,
+        }
+    }
+    let V::Map(fields) = V::serialized(p).ok()? else {
+        return None;
+    };
+    fields.iter().find_map(|(k, v)| {
+        let name = k.as_text()?;
+        (!finite(v)).then(|| name.to_owned())
+    })
 }
 
 /// `v` against the (sub)schema `node` of `root`: numbers within their

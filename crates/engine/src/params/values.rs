@@ -80,13 +80,20 @@ pub const MAX_SIDE: usize = 1 << 20;
 #[allow(dead_code)]
 pub(crate) struct Finite(#[schemars(range(min = -MAX_COORDINATE, max = MAX_COORDINATE))] f64);
 
-/// A length or a time in a list (spacings, a fit window's ends), for the
-/// schemas: 0 to [`MAX_COORDINATE`] (a window's ends are further checked
-/// by [`Window::check`], a spacing by the job).
+/// A length or a time in a list (a fit window's ends), for the schemas: 0
+/// to [`MAX_COORDINATE`] (further checked by [`Window::check`]).
 #[derive(JsonSchema)]
 #[schemars(inline)]
 #[allow(dead_code)]
 pub(crate) struct NonNegative(#[schemars(range(min = 0.0, max = MAX_COORDINATE))] f64);
+
+/// A positive number up to [`MAX_COORDINATE`] (a spacing), for the schemas.
+#[derive(JsonSchema)]
+#[schemars(inline)]
+#[allow(dead_code)]
+pub(crate) struct Positive(
+    #[schemars(range(max = MAX_COORDINATE), extend("exclusiveMinimum" = 0.0))] f64,
+);
 
 /// A size in cells or pixels, `WxH` on the command line, `[W, H]` in JSON.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, JsonSchema)]

@@ -188,6 +188,17 @@ impl Default for SurfaceCaParams {
 
 impl JobParams for SurfaceCaParams {
     const JOB: &'static str = "surface-ca";
+
+    /// `displace` needs an application with a per-cell thickness (refused
+    /// here, before the mesh is covered and the automaton run).
+    fn check(&self) -> crate::error::Result<()> {
+        if self.displace.is_some() && self.app == AppName::Voronoi {
+            return Err(crate::error::invalid(
+                "⟨displace⟩ needs a per-cell thickness (corrosion: oxide; gray-scott: activator)",
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl SurfaceCaParams {
