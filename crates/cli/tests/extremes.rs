@@ -6,7 +6,8 @@
 //! - refused before work starts: exit 2, one `error:` line, no progress line
 //!   (`--progress lines` prints one when a stage starts) and no more memory
 //!   than the process at rest ([`REFUSAL_EXTRA_KIB`]); or
-//! - run within the budgets, its outputs finite (every height, vertex and
+//! - run within the budgets (its peak memory under `--max-memory` beyond the
+//!   process at rest), its outputs finite (every height, vertex and
 //!   point of the `o.*` files read back, no `null` in JSON, no `NaN`/`inf`
 //!   in SVG or on stdout).
 //!
@@ -465,9 +466,15 @@ fn every_numeric_parameter_at_its_extremes_is_refused_or_run_within_budget() {
                     let clean = match code {
                         Some(0) => {
                             ran.fetch_add(1, Ordering::Relaxed);
-                            let bad = not_finite(&dir, &ended.stdout);
+                            let mut bad = not_finite(&dir, &ended.stdout);
+                            if ended.peak_kib > at_rest.max(own_peak_kib()) + (1 << 20) {
+                                bad.push(format!(
+                                    "peak {} MiB over --max-memory 1G",
+                                    ended.peak_kib >> 10
+                                ));
+                            }
                             bad.is_empty() || {
-                                let note = format!("outputs not finite: {}", bad.join(", "));
+                                let note = format!("outside its budget: {}", bad.join(", "));
                                 failures
                                     .lock()
                                     .unwrap()
