@@ -333,9 +333,9 @@ pub struct Concurrency {
     pub mean_in_flight: f64,
     /// Share of the particles whose walk was done again.
     pub redone_fraction: f64,
-    /// Seconds the walkers spent waiting for the ledger's lock, summed over them.
-    pub ledger_wait_s: f64,
-    /// Seconds the walkers spent waiting to be within the window, summed over them.
+    /// Seconds the walkers spent waiting to be within the window (spinning
+    /// briefly, then asleep), summed over them: the only wait there is (a
+    /// walker never waits for another's commit).
     pub window_wait_s: f64,
 }
 

@@ -23,7 +23,7 @@
 //! window ahead of it, and every claimed particle is owned by a thread that
 //! finishes it (no thread waits on a walk nobody runs).
 
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering, fence};
 use std::sync::{Mutex, MutexGuard};
 use std::time::Instant;
 
@@ -38,23 +38,32 @@ use super::walk::{CellBox, Ending, Lattice, Setup, Walker};
 pub(super) const WINDOW_PER_THREAD: usize = 4;
 
 /// The window adapts to the walks redone: every `ADAPT_EVERY` commits it
-/// shrinks by a quarter (to no less than one walk a thread) when more than
+/// shrinks by a quarter (to no less than two walks) when more than
 /// `REDO_HIGH` of them were walked again, and grows by a quarter of the
 /// threads when fewer than `REDO_LOW` were. A walk started k commits ahead
 /// is redone with a chance about proportional to k (10⁶ particles, 16
 /// walkers on 2 cores with the fixed window of 64: 53 in flight, 9.1 %
-/// redone; with 2 walkers and 8: 2.5 in flight, 0.4 %).
+/// redone; with 2 walkers and 8: 2.5 in flight, 0.4 %). More walkers than
+/// cores need a window below one walk a walker: walkers that leave their
+/// walk to the committer start their next one on an older cluster (2·10⁵
+/// particles, 16 walkers on 2 cores: 6.6 % redone with the floor at 16,
+/// 2.8 % at 2).
 const ADAPT_EVERY: usize = 512;
 const REDO_HIGH: f64 = 0.025;
 const REDO_LOW: f64 = 0.01;
 
-/// Sets the run's stop flag when a worker unwinds.
-struct StopOnUnwind<'a>(&'a AtomicBool);
+/// Spins a walker makes while waiting for the window before it sleeps (a
+/// commit is usually microseconds away; a sleep and a wake cost a few).
+const SPINS_BEFORE_SLEEP: u32 = 200;
 
-impl Drop for StopOnUnwind<'_> {
+/// Stops the run when a worker unwinds.
+struct StopOnUnwind<'a, 'g>(&'a Growth<'g>);
+
+impl Drop for StopOnUnwind<'_, '_> {
     fn drop(&mut self) {
         if std::thread::panicking() {
-            self.0.store(true, Ordering::Relaxed);
+            self.0.stop.store(true, Ordering::Relaxed);
+            self.0.wake_sleepers();
         }
     }
 }
@@ -81,15 +90,12 @@ pub(super) struct Ledger {
     pub rewalks: u64,
     /// Particles committed.
     committed: usize,
-    /// Finished walks by particle index modulo the window.
-    pending: Vec<Option<Outcome>>,
     stop: bool,
     /// Σ over commits of the walks in flight then.
     in_flight_sum: u64,
     /// Walks redone since the window last adapted.
     recent_redos: usize,
-    /// Nanoseconds waited for the lock and for the window, over all walkers.
-    lock_wait_ns: u64,
+    /// Nanoseconds waited for the window, over all walkers.
     window_wait_ns: u64,
 }
 
@@ -102,11 +108,9 @@ impl Ledger {
             stats: WalkStats::default(),
             rewalks: 0,
             committed: 0,
-            pending: Vec::new(),
             stop: false,
             in_flight_sum: 0,
             recent_redos: 0,
-            lock_wait_ns: 0,
             window_wait_ns: 0,
         }
     }
@@ -122,7 +126,6 @@ impl Ledger {
                 self.in_flight_sum as f64 / n
             },
             redone_fraction: self.rewalks as f64 / n,
-            ledger_wait_s: self.lock_wait_ns as f64 * 1e-9,
             window_wait_s: self.window_wait_ns as f64 * 1e-9,
         }
     }
@@ -148,9 +151,19 @@ pub(super) struct Growth<'a> {
     committed: AtomicUsize,
     stop: AtomicBool,
     ledger: Mutex<Ledger>,
-    /// Nanoseconds waited for the lock and for the window (added to the
-    /// ledger at the end).
-    lock_wait_ns: AtomicU64,
+    /// Finished walks by particle index modulo the window, waiting for
+    /// their commit. Outside the ledger, so that a walker leaves its walk
+    /// without waiting for the thread that is committing (see `commit_due`).
+    pending: Vec<Mutex<Option<Outcome>>>,
+    /// Walkers asleep until the window reaches their particle (or the run
+    /// stops): how many, and each one's particle and thread, woken one by
+    /// one as the window reaches it. Waiting blocks instead of spinning or
+    /// yielding: on a busy machine a yield handed the core to the other
+    /// program for its whole slice (#55); and only the walker whose turn
+    /// came is woken, not all of them.
+    sleepers: AtomicUsize,
+    asleep: Mutex<Vec<(usize, std::thread::Thread)>>,
+    /// Nanoseconds waited for the window (added to the ledger at the end).
     window_wait_ns: AtomicU64,
 }
 
@@ -175,18 +188,17 @@ impl<'a> Growth<'a> {
             committed: AtomicUsize::new(0),
             stop: AtomicBool::new(false),
             ledger: Mutex::new(ledger),
-            lock_wait_ns: AtomicU64::new(0),
+            pending: Vec::new(),
+            sleepers: AtomicUsize::new(0),
+            asleep: Mutex::new(Vec::new()),
             window_wait_ns: AtomicU64::new(0),
         }
     }
 
-    /// The ledger, the wait for it counted.
-    fn lock(&self) -> MutexGuard<'_, Ledger> {
-        let t = Instant::now();
-        let guard = self.ledger.lock().unwrap_or_else(|e| e.into_inner());
-        self.lock_wait_ns
-            .fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
-        guard
+    /// The finished walk of particle `k`, if it is there.
+    fn slot(&self, k: usize) -> MutexGuard<'_, Option<Outcome>> {
+        let slot = &self.pending[k % self.window];
+        slot.lock().unwrap_or_else(|e| e.into_inner())
     }
 
     /// Grows all particles with `threads` walkers (1: the plain loop) and
@@ -199,7 +211,7 @@ impl<'a> Growth<'a> {
             self.window = WINDOW_PER_THREAD * threads;
             self.threads = threads;
             self.limit = AtomicUsize::new(2 * threads);
-            self.ledger_mut().pending = (0..self.window).map(|_| None).collect();
+            self.pending = (0..self.window).map(|_| Mutex::new(None)).collect();
             let this = &self;
             let spawn = || {
                 rayon::scope(|s| {
@@ -219,18 +231,10 @@ impl<'a> Growth<'a> {
             }
         }
         self.progress.finish();
-        let (lock, window) = (
-            self.lock_wait_ns.load(Ordering::Relaxed),
-            self.window_wait_ns.load(Ordering::Relaxed),
-        );
+        let window = self.window_wait_ns.load(Ordering::Relaxed);
         let mut ledger = self.ledger.into_inner().unwrap_or_else(|e| e.into_inner());
-        ledger.lock_wait_ns = lock;
         ledger.window_wait_ns = window;
         ledger
-    }
-
-    fn ledger_mut(&mut self) -> &mut Ledger {
-        self.ledger.get_mut().unwrap_or_else(|e| e.into_inner())
     }
 
     fn sequential(&self) {
@@ -250,7 +254,7 @@ impl<'a> Growth<'a> {
     fn worker(&self) {
         // A panic here (a progress reporter cancelling the run unwinds through
         // `advance`) stops the other threads too; the scope re-raises it.
-        let _stop_on_unwind = StopOnUnwind(&self.stop);
+        let _stop_on_unwind = StopOnUnwind(self);
         let mut walker = Walker::new(self.setup, self.lat, self.streams);
         loop {
             let j = self.next.fetch_add(1, Ordering::Relaxed);
@@ -268,15 +272,34 @@ impl<'a> Growth<'a> {
                 reach: walker.reach.to_bits(),
                 reads: std::mem::take(&mut walker.reads),
             };
-            let mut ledger = self.lock();
-            if ledger.stop || self.stop.load(Ordering::Relaxed) {
+            *self.slot(j) = Some(outcome);
+            self.commit_due(&mut walker);
+            if self.stop.load(Ordering::Relaxed) {
                 return;
             }
-            let slot = j % self.window;
-            ledger.pending[slot] = Some(outcome);
+        }
+    }
+
+    /// Commits the finished walks that are due, in order, unless another
+    /// thread is committing: that one commits them, this one walks on.
+    /// Nobody waits for the ledger (#55: one walker blocked on the other's
+    /// commit for a sleep and a wake, a fifth of its time).
+    ///
+    /// No walk is left behind: a walker leaves its walk, then tries the
+    /// ledger; the committer releases the ledger, then looks again at the
+    /// next slot. With a sequentially consistent fence on each side, either
+    /// the walker finds the ledger free or the committer finds the walk.
+    fn commit_due(&self, walker: &mut Walker<'_>) {
+        loop {
+            fence(Ordering::SeqCst);
+            let mut ledger = match self.ledger.try_lock() {
+                Ok(guard) => guard,
+                Err(std::sync::TryLockError::Poisoned(e)) => e.into_inner(),
+                Err(std::sync::TryLockError::WouldBlock) => return,
+            };
             while !(ledger.stop || self.stop.load(Ordering::Relaxed)) {
                 let k = ledger.committed;
-                let Some(done) = ledger.pending[k % self.window].take() else {
+                let Some(done) = self.slot(k).take() else {
                     break;
                 };
                 let (cell, stats) = if self.still_valid(&ledger, &done) {
@@ -290,32 +313,70 @@ impl<'a> Growth<'a> {
                 walker.reads = done.reads;
                 self.commit(&mut ledger, cell, stats);
             }
+            let next = ledger.committed;
+            drop(ledger);
+            fence(Ordering::SeqCst);
+            if self.stop.load(Ordering::Relaxed) || self.slot(next).is_none() {
+                return;
+            }
         }
     }
 
-    /// Waits until particle `j` is within the window of the committed ones;
-    /// false when the run stopped meanwhile.
+    /// Waits until particle `j` is within the window of the committed ones:
+    /// a few spins, then asleep until a commit moves the window; false when
+    /// the run stopped meanwhile.
     fn wait_for_window(&self, j: usize) -> bool {
-        let ahead = || self.committed.load(Ordering::Acquire) + self.limit.load(Ordering::Relaxed);
+        let ahead = || self.committed.load(Ordering::SeqCst) + self.limit.load(Ordering::SeqCst);
+        let stopped = || self.stop.load(Ordering::SeqCst);
         if j < ahead() {
-            return !self.stop.load(Ordering::Relaxed);
+            return !stopped();
         }
         let t = Instant::now();
-        let mut spins = 0u32;
-        while j >= ahead() {
-            if self.stop.load(Ordering::Relaxed) {
-                return false;
+        for _ in 0..SPINS_BEFORE_SLEEP {
+            if j < ahead() || stopped() {
+                break;
             }
-            spins += 1;
-            if spins < 64 {
-                std::hint::spin_loop();
-            } else {
-                std::thread::yield_now();
+            std::hint::spin_loop();
+        }
+        if j >= ahead() && !stopped() {
+            // Registered before the last look: a commit after that look
+            // finds this walker and wakes it (see `wake_sleepers`); a wake
+            // before the park makes the park return at once.
+            self.sleepers.fetch_add(1, Ordering::SeqCst);
+            self.sleeping().push((j, std::thread::current()));
+            while j >= ahead() && !stopped() {
+                std::thread::park();
             }
+            let mut asleep = self.sleeping();
+            if let Some(i) = asleep.iter().position(|(k, _)| *k == j) {
+                asleep.swap_remove(i);
+            }
+            drop(asleep);
+            self.sleepers.fetch_sub(1, Ordering::SeqCst);
         }
         self.window_wait_ns
             .fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
-        !self.stop.load(Ordering::Relaxed)
+        !stopped()
+    }
+
+    fn sleeping(&self) -> MutexGuard<'_, Vec<(usize, std::thread::Thread)>> {
+        self.asleep.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Wakes the walkers asleep whose particle the window now reaches (all
+    /// of them once the run stopped), if any.
+    fn wake_sleepers(&self) {
+        fence(Ordering::SeqCst);
+        if self.sleepers.load(Ordering::SeqCst) == 0 {
+            return;
+        }
+        let ahead = self.committed.load(Ordering::SeqCst) + self.limit.load(Ordering::SeqCst);
+        let stopped = self.stop.load(Ordering::SeqCst);
+        for (j, thread) in self.sleeping().iter() {
+            if *j < ahead || stopped {
+                thread.unpark();
+            }
+        }
     }
 
     /// Whether a walk read what it would have read on the committed cluster:
@@ -362,17 +423,18 @@ impl<'a> Growth<'a> {
             self.adapt(ledger);
         }
         // Release: a walk that reads this count sees the lattice with the cell.
-        self.committed.store(k + 1, Ordering::Release);
+        self.committed.store(k + 1, Ordering::SeqCst);
+        self.wake_sleepers();
     }
 
     /// Narrows the window when too many walks were redone, widens it when few
-    /// were (see `ADAPT_EVERY`); between one walk a thread and the slots.
+    /// were (see `ADAPT_EVERY`); between two walks and the slots.
     fn adapt(&self, ledger: &mut Ledger) {
         let rate = ledger.recent_redos as f64 / ADAPT_EVERY as f64;
         ledger.recent_redos = 0;
         let limit = self.limit.load(Ordering::Relaxed);
         let new = if rate > REDO_HIGH {
-            (limit * 3 / 4).max(self.threads)
+            (limit * 3 / 4).max(2)
         } else if rate < REDO_LOW {
             (limit + (self.threads / 4).max(1)).min(self.window)
         } else {
