@@ -410,6 +410,8 @@ impl<'a> Growth<'a> {
         ledger.committed = k + 1;
         if k % 1024 == 1023 {
             self.progress.advance(1024);
+        } else if k + 1 == self.particles {
+            self.progress.advance(((k + 1) % 1024) as u64);
         }
         if self
             .setup
