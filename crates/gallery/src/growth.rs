@@ -5,7 +5,8 @@
 //! (Figure 8).
 
 use asperity_engine::Result;
-use asperity_engine::core::{NoProgress, PointSet, RgbaImage};
+use asperity_engine::core::{NoProgress, PointSet, RgbaImage, TimeBudget};
+use asperity_engine::growth::dla::{self as dla_job, SeedInputs};
 use asperity_engine::io::Surface;
 use asperity_engine::methods::analysis::scaling::{
     density_dimension, density_profile, growth_exponent, gyration_dimension,
@@ -13,7 +14,7 @@ use asperity_engine::methods::analysis::scaling::{
 use asperity_engine::methods::growth::curved::{
     CurvedDeposit, CurvedParams, CurvedSubstrate, deposit_curved,
 };
-use asperity_engine::methods::growth::dla::{DlaParams, SeedShape, Sides, dla};
+use asperity_engine::methods::growth::dla::DlaCluster;
 use asperity_engine::methods::growth::{
     DepositionParams, Lattice, Model, WidthSeries, deposit_ensemble,
 };
@@ -21,6 +22,7 @@ use asperity_engine::methods::render::plot::{Plot, Series, Style, plot_svg};
 use asperity_engine::methods::render::{
     ColorMap, RenderOptions, Shader, render_height, render_points,
 };
+use asperity_engine::params::{LatticeSize, command_line};
 
 use crate::{Env, Item, Section, fact};
 
@@ -67,6 +69,20 @@ pub fn rdsr_sphere(radius: f64, layers: f64, env: &Env) -> Result<CurvedDeposit>
         &env.budget,
         &NoProgress,
     )?)
+}
+
+/// DLA as `asperity growth dla` runs it with `p` (the engine's job), and
+/// that command line.
+fn grow_dla(env: &Env, p: &dla_job::DlaParams) -> Result<(DlaCluster, String)> {
+    let run = dla_job::grow(
+        p,
+        SeedInputs::default(),
+        env.seed,
+        &env.budget,
+        &TimeBudget::unlimited(),
+        &NoProgress,
+    )?;
+    Ok((run.cluster, command_line(p, env.seed, Some("pts.ply"))?))
 }
 
 /// Points coloured by a per-point value in [0, 1] (deposition order, height).
@@ -174,8 +190,14 @@ fn width_item(env: &Env, series: &[(&str, WidthSeries)]) -> Result<Item> {
 /// coloured by deposition order.
 fn dla_2d(env: &Env) -> Result<Item> {
     let n = if env.quick { 3_000 } else { 20_000 };
-    let params = DlaParams::point(2, n);
-    let c = dla(&params, env.seed, 0, &env.budget, &NoProgress)?;
+    let (c, cli) = grow_dla(
+        env,
+        &dla_job::DlaParams {
+            dim: 2,
+            particles: n,
+            ..dla_job::DlaParams::DEFAULT
+        },
+    )?;
     // A 2-D lattice is the x–z plane (one cell thick in y); the picture is
     // the cluster's bounding box with a margin.
     let margin = 8;
@@ -215,10 +237,7 @@ fn dla_2d(env: &Env) -> Result<Item> {
             ),
             fact("picture", format!("{w}×{h} cells, one pixel each")),
             fact("colour", "deposition order (magma)"),
-            fact(
-                "CLI",
-                format!("asperity growth dla --dim 2 --particles {n} -o pts.ply"),
-            ),
+            fact("CLI", cli),
         ],
     ))
 }
@@ -226,12 +245,12 @@ fn dla_2d(env: &Env) -> Result<Item> {
 /// Figure 4: a DLA cluster from a point seed.
 fn dla_point(env: &Env) -> Result<Item> {
     let n = if env.quick { 5_000 } else { 30_000 };
-    let c = dla(
-        &DlaParams::point(3, n),
-        env.seed,
-        0,
-        &env.budget,
-        &NoProgress,
+    let (c, cli) = grow_dla(
+        env,
+        &dla_job::DlaParams {
+            particles: n,
+            ..dla_job::DlaParams::DEFAULT
+        },
     )?;
     let pts = c.points();
     let d = gyration_dimension(&pts).map(|d| d.d).unwrap_or(f64::NAN);
@@ -248,10 +267,7 @@ fn dla_point(env: &Env) -> Result<Item> {
                 format!("{d:.3} (3-D DLA ≈ 2.5)"),
             ),
             fact("colour", "deposition order"),
-            fact(
-                "CLI",
-                format!("asperity growth dla --particles {n} -o pts.ply"),
-            ),
+            fact("CLI", cli),
         ],
     ))
 }
@@ -259,16 +275,16 @@ fn dla_point(env: &Env) -> Result<Item> {
 /// Figures 9–11: a DLA terrain on the bottom plane, moss-like with small p.
 fn dla_plane(env: &Env, stick: f64, tag: &str) -> Result<Item> {
     let side = if env.quick { 48 } else { 96 };
-    let params = DlaParams {
-        dim: 3,
-        size: [side, side, 2 * side],
-        particles: side * side * 3 / 2,
-        stick,
-        seed_shape: SeedShape::Plane,
-        launch_gap: DlaParams::DEFAULT_LAUNCH_GAP,
-        sides: Sides::Periodic,
-    };
-    let c = dla(&params, env.seed, 0, &env.budget, &NoProgress)?;
+    let (c, cli) = grow_dla(
+        env,
+        &dla_job::DlaParams {
+            seed_shape: dla_job::SeedShape::Plane,
+            size: Some(LatticeSize::new(&[side, side, 2 * side])?),
+            particles: side * side * 3 / 2,
+            stick,
+            ..dla_job::DlaParams::DEFAULT
+        },
+    )?;
     let parts: Vec<[f64; 3]> = c.particles().iter().map(|p| p.map(f64::from)).collect();
     let rho = density_profile(&parts, (side * side) as f64);
     let dd = density_dimension(&rho, 3)
@@ -288,13 +304,7 @@ fn dla_plane(env: &Env, stick: f64, tag: &str) -> Result<Item> {
             ),
             fact("particles", c.particles().len()),
             fact("D from ρ(z) ∝ z^(D−3)", dd),
-            fact(
-                "CLI",
-                format!(
-                    "asperity growth dla --seed-shape plane --size {side}x{side}x{} --stick {stick} -o pts.ply",
-                    2 * side
-                ),
-            ),
+            fact("CLI", cli),
         ],
     ))
 }

@@ -30,9 +30,11 @@ use serde_json::{Map, Value, json};
 
 use crate::error::{EngineError, Result};
 
+mod command_line;
 mod describe;
 mod values;
 
+pub use command_line::command_line;
 pub use describe::describe;
 pub(crate) use values::{Finite, Positive, Side};
 pub use values::{LatticeSize, MAX_COORDINATE, MAX_SIDE, Numbers, Size2, Window};

@@ -266,3 +266,142 @@ fn every_numeric_parameter_has_both_bounds() {
         missing.join("\n")
     );
 }
+
+/// The command line of a job's parameters, parsed by the CLI's own argument
+/// definitions, gives the parameters back: for the defaults and for each
+/// field set in turn to every choice, `true`, or a bound or a value inside
+/// its range (as the schema describes them), where the job accepts it.
+fn command_lines_round_trip<P>() -> usize
+where
+    P: asperity_engine::params::JobParams + clap::Args + clap::FromArgMatches + PartialEq,
+{
+    command_lines_round_trip_from::<P>(json!({}))
+}
+
+/// As [`command_lines_round_trip`], with `required` (the fields a job has no
+/// default for) set in every variant.
+fn command_lines_round_trip_from<P>(required: serde_json::Value) -> usize
+where
+    P: asperity_engine::params::JobParams + clap::Args + clap::FromArgMatches + PartialEq,
+{
+    use asperity_engine::params::{command_line, describe, parse};
+    let described = describe::<P>();
+    let mut defaults = serde_json::to_value(P::default()).unwrap();
+    for (k, v) in required.as_object().unwrap() {
+        defaults[k] = v.clone();
+    }
+    let mut variants = vec![defaults.clone()];
+    for field in described["fields"].as_array().unwrap() {
+        let name = field["name"].as_str().unwrap();
+        let mut values: Vec<serde_json::Value> = Vec::new();
+        if let Some(choices) = field["choices"].as_array() {
+            values.extend(choices.iter().map(|c| c["name"].clone()));
+        }
+        if field["type"] == "boolean" {
+            values.push(json!(true));
+        }
+        if field["type"] == "integer" || field["type"] == "number" {
+            for bound in ["minimum", "maximum"] {
+                if let Some(b) = field[bound].as_f64().filter(|b| b.abs() <= 1e6) {
+                    values.push(if field["type"] == "integer" {
+                        json!(b as i64)
+                    } else {
+                        json!(b)
+                    });
+                }
+            }
+            values.push(if field["type"] == "integer" {
+                json!(3)
+            } else {
+                json!(0.375)
+            });
+        }
+        for v in values {
+            let mut variant = defaults.clone();
+            variant[name] = v;
+            variants.push(variant);
+        }
+    }
+    let mut checked = 0;
+    for variant in variants {
+        let Ok(parsed) = parse::<P>(&variant) else {
+            continue;
+        };
+        let p = parsed.params;
+        let Ok(line) = command_line(&p, 11, Some("out.ply")) else {
+            continue;
+        };
+        let words: Vec<&str> = line.split(' ').collect();
+        assert_eq!(
+            words[..2].join(" "),
+            format!("asperity {}", P::JOB.split(' ').next().unwrap())
+        );
+        // The job's words, then its arguments; -o and --seed are the CLI's own.
+        let job_words = P::JOB.split(' ').count();
+        let args: Vec<&str> = words[1 + job_words..]
+            .iter()
+            .copied()
+            .take_while(|w| *w != "--seed" && *w != "-o")
+            .collect();
+        let mut cmd = P::augment_args(clap::Command::new("job").no_binary_name(true));
+        // Arguments of the CLI's own that a job's flags name (subdiv's
+        // scene file and frames conflict with some).
+        for id in ["scene", "frames"] {
+            if cmd.get_arguments().all(|a| a.get_id() != id) {
+                cmd = cmd.arg(clap::Arg::new(id).long(id));
+            }
+        }
+        let matches = cmd
+            .try_get_matches_from(args.iter().map(|w| w.trim_matches('\'')))
+            .unwrap_or_else(|e| panic!("{line}: {e}"));
+        let back = P::from_arg_matches(&matches).unwrap_or_else(|e| panic!("{line}: {e}"));
+        assert!(back == p, "{line} gives other parameters");
+        assert!(line.contains("--seed 11") == P::SEEDED, "{line}");
+        assert!(line.ends_with("-o out.ply"), "{line}");
+        checked += 1;
+    }
+    checked
+}
+
+#[test]
+fn every_job_s_command_line_gives_its_parameters_back() {
+    use asperity_engine::{
+        analyze, ca, files, growth, ifs, reconstruct, render, subdiv, surfca, synthesis,
+    };
+    let counts = [
+        command_lines_round_trip::<growth::RdParams>(),
+        command_lines_round_trip::<growth::RdsrParams>(),
+        command_lines_round_trip::<growth::BdParams>(),
+        command_lines_round_trip::<growth::dla::DlaParams>(),
+        command_lines_round_trip::<reconstruct::LevelSetParams>(),
+        command_lines_round_trip::<reconstruct::DlaTerrainParams>(),
+        command_lines_round_trip::<reconstruct::RdsrSphereParams>(),
+        command_lines_round_trip_from::<ca::CaRunParams>(json!({"rule": 450})),
+        command_lines_round_trip_from::<ca::CaRuleParams>(json!({"rule": 450})),
+        command_lines_round_trip::<ca::CaGalleryParams>(),
+        command_lines_round_trip::<ca::FacetParams>(),
+        command_lines_round_trip::<ca::InterpolateParams>(),
+        command_lines_round_trip::<surfca::SurfaceCaParams>(),
+        command_lines_round_trip::<subdiv::SubdivParams>(),
+        command_lines_round_trip::<ifs::IfsPresetParams>(),
+        command_lines_round_trip::<ifs::IfsCurveParams>(),
+        command_lines_round_trip::<ifs::IfsSurfaceParams>(),
+        command_lines_round_trip::<ifs::IfsDcfParams>(),
+        command_lines_round_trip::<ifs::IfsSdcfParams>(),
+        command_lines_round_trip::<ifs::IfsCurvatureParams>(),
+        command_lines_round_trip::<analyze::AnalyzeParams>(),
+        command_lines_round_trip::<synthesis::FbmParams>(),
+        command_lines_round_trip::<render::RenderParams>(),
+        command_lines_round_trip::<files::ConvertParams>(),
+        command_lines_round_trip::<files::InfoParams>(),
+    ];
+    assert_eq!(
+        counts.len(),
+        asperity_engine::jobs::jobs().len(),
+        "a job is missing here"
+    );
+    let total: usize = counts.iter().sum();
+    println!("{total} command lines parsed back ({counts:?})");
+    assert!(counts.iter().all(|&n| n >= 1), "{counts:?}");
+    assert!(total >= 300, "{total}");
+}
