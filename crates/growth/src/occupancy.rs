@@ -195,6 +195,33 @@ impl Occupancy {
         (w, b as u32)
     }
 
+    /// Calls `f` with every occupied cell of the box `lo..=hi`, clipped to
+    /// the lattice and not wrapped, block by block: an empty block costs one
+    /// load, an occupied one a step per occupied cell.
+    pub fn for_each_in_box(&self, lo: [i32; 3], hi: [i32; 3], mut f: impl FnMut([i32; 3])) {
+        let lo = [0, 1, 2].map(|a| lo[a].max(0));
+        let hi = [0, 1, 2].map(|a| hi[a].min(self.dims[a] - 1));
+        if (0..3).any(|a| lo[a] > hi[a]) {
+            return;
+        }
+        for bz in lo[2] >> 2..=hi[2] >> 2 {
+            for by in lo[1] >> 2..=hi[1] >> 2 {
+                for bx in lo[0] >> 2..=hi[0] >> 2 {
+                    let index = self.tiling.index([bx, by, bz].map(|b| b as usize));
+                    let mut word = self.words[index].load(Relaxed);
+                    while word != 0 {
+                        let b = word.trailing_zeros() as i32;
+                        word &= word - 1;
+                        let p = [4 * bx + (b & 3), 4 * by + (b >> 2 & 3), 4 * bz + (b >> 4)];
+                        if (0..3).all(|a| lo[a] <= p[a] && p[a] <= hi[a]) {
+                            f(p);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// Whether cell `p` is occupied (false outside the lattice).
     #[inline(always)]
     pub fn get(&self, p: [i32; 3]) -> bool {
