@@ -7,22 +7,21 @@
 use asperity_engine::Result;
 use asperity_engine::core::{NoProgress, PointSet, RgbaImage, TimeBudget};
 use asperity_engine::growth::dla::{self as dla_job, SeedInputs};
+use asperity_engine::growth::{
+    self as growth_job, BdParams, DepositJob, DepositParams, RdParams, RdsrParams, SubstrateShape,
+};
 use asperity_engine::io::Surface;
 use asperity_engine::methods::analysis::scaling::{
     density_dimension, density_profile, growth_exponent, gyration_dimension,
 };
-use asperity_engine::methods::growth::curved::{
-    CurvedDeposit, CurvedParams, CurvedSubstrate, deposit_curved,
-};
+use asperity_engine::methods::growth::curved::CurvedDeposit;
 use asperity_engine::methods::growth::dla::DlaCluster;
-use asperity_engine::methods::growth::{
-    DepositionParams, Lattice, Model, WidthSeries, deposit_ensemble,
-};
+use asperity_engine::methods::growth::{Deposit, WidthSeries};
 use asperity_engine::methods::render::plot::{Plot, Series, Style, plot_svg};
 use asperity_engine::methods::render::{
     ColorMap, RenderOptions, Shader, render_height, render_points,
 };
-use asperity_engine::params::{LatticeSize, command_line};
+use asperity_engine::params::{CliJob, LatticeSize, command_line};
 
 use crate::{Env, Item, Section, fact};
 
@@ -50,25 +49,56 @@ pub fn section(env: &Env) -> Result<Section> {
 }
 
 /// An RDSR (Family) deposit of `layers` monolayers on a ball of `radius` cells
-/// (kim-machiraju-thompson Fig. 8), shared by the growth and reconstruction
-/// sections.
+/// (kim-machiraju-thompson Fig. 8) as `asperity growth rdsr --substrate
+/// sphere` makes it, and that command line; shared by the growth and
+/// reconstruction sections.
 ///
 /// # Errors
 /// The simulator's.
-pub fn rdsr_sphere(radius: f64, layers: f64, env: &Env) -> Result<CurvedDeposit> {
-    let params = CurvedParams {
-        model: Model::Rdsr { radius: 1 },
-        substrate: CurvedSubstrate::Sphere(radius),
-        layers,
-        samples_per_decade: 5,
+pub fn rdsr_sphere(radius: f64, layers: f64, env: &Env) -> Result<(CurvedDeposit, String)> {
+    let p = RdsrParams {
+        deposit: DepositParams {
+            substrate: SubstrateShape::Sphere,
+            radius,
+            layers,
+            samples_per_decade: 5,
+            ..DepositParams::DEFAULT
+        },
+        ..RdsrParams::DEFAULT
     };
-    Ok(deposit_curved(
-        &params,
+    let deposited = growth_job::deposit(
+        &p,
+        None,
+        false,
         env.seed,
-        0,
-        &env.budget,
+        (&env.budget, &TimeBudget::unlimited()),
         &NoProgress,
-    )?)
+    )?;
+    let growth_job::Deposited::Curved(_, run) = deposited else {
+        unreachable!("a sphere substrate gives a curved deposit")
+    };
+    Ok((run.deposit, command_line(&p, env.seed, Some("pts.ply"))?))
+}
+
+/// A flat deposit as `asperity growth rd|rdsr|bd` runs it with `p` (the
+/// engine's job): the first run's deposit and W(t), and the command line.
+fn deposit_job<P: DepositJob + CliJob>(
+    env: &Env,
+    p: &P,
+) -> Result<((Deposit, WidthSeries), String)> {
+    let deposited = growth_job::deposit(
+        p,
+        None,
+        false,
+        env.seed,
+        (&env.budget, &TimeBudget::unlimited()),
+        &NoProgress,
+    )?;
+    let growth_job::Deposited::Flat(_, run) = deposited else {
+        unreachable!("a flat substrate gives a flat deposit")
+    };
+    let cli = command_line(p, env.seed, Some("h.npy"))?;
+    Ok(((run.deposit, run.series), cli))
 }
 
 /// DLA as `asperity growth dla` runs it with `p` (the engine's job), and
@@ -117,13 +147,41 @@ fn deposition(env: &Env) -> Result<Vec<Item>> {
     let l = if env.quick { 64 } else { 128 };
     let mut items = Vec::new();
     let mut width_series = Vec::new();
-    for (model, name) in [
-        (Model::Rd, "rd"),
-        (Model::Rdsr { radius: 1 }, "rdsr"),
-        (Model::Bd, "bd"),
+    let deposit = DepositParams {
+        size: l,
+        ..DepositParams::DEFAULT
+    };
+    for (name, run) in [
+        (
+            "rd",
+            deposit_job(
+                env,
+                &RdParams {
+                    deposit: deposit.clone(),
+                },
+            )?,
+        ),
+        (
+            "rdsr",
+            deposit_job(
+                env,
+                &RdsrParams {
+                    deposit: deposit.clone(),
+                    ..RdsrParams::DEFAULT
+                },
+            )?,
+        ),
+        (
+            "bd",
+            deposit_job(
+                env,
+                &BdParams {
+                    deposit: deposit.clone(),
+                },
+            )?,
+        ),
     ] {
-        let p = DepositionParams::new(model, Lattice::new(l, 2)?, 100.0);
-        let (d, s) = deposit_ensemble(&p, env.seed, 1, &env.budget, &NoProgress)?;
+        let ((d, s), cli) = run;
         let h = d.height_field();
         let file = env.write(&format!("growth_{name}.npy"), &Surface::Height(h.clone()))?;
         let opts = RenderOptions {
@@ -132,14 +190,21 @@ fn deposition(env: &Env) -> Result<Vec<Item>> {
             ..env.view()
         };
         let pic = env.picture(&format!("growth_{name}.png"), &render_height(&h, &opts)?)?;
-        items.push(height_item(name, l, &s, pic, file));
+        items.push(height_item(name, l, &s, pic, file, cli));
         width_series.push((name, s));
     }
     items.push(width_item(env, &width_series)?);
     Ok(items)
 }
 
-fn height_item(name: &str, l: usize, s: &WidthSeries, pic: String, file: String) -> Item {
+fn height_item(
+    name: &str,
+    l: usize,
+    s: &WidthSeries,
+    pic: String,
+    file: String,
+    cli: String,
+) -> Item {
     let beta = growth_exponent(&s.t, &s.width(), [1.0, 100.0])
         .map(|f| f.exponent)
         .unwrap_or(f64::NAN);
@@ -153,10 +218,7 @@ fn height_item(name: &str, l: usize, s: &WidthSeries, pic: String, file: String)
                 format!("{:.3}", s.w2.last().copied().unwrap_or(0.0).sqrt()),
             ),
             fact("β (log–log, t ∈ [1, 100])", format!("{beta:.3}")),
-            fact(
-                "CLI",
-                format!("asperity growth {name} --size {l} --layers 100 -o h.npy"),
-            ),
+            fact("CLI", cli),
         ],
     )
 }
@@ -312,7 +374,7 @@ fn dla_plane(env: &Env, stick: f64, tag: &str) -> Result<Item> {
 /// Figure 8: RDSR on a sphere, coloured by height above the substrate.
 fn sphere(env: &Env) -> Result<Item> {
     let (radius, layers) = if env.quick { (12.0, 6.0) } else { (24.0, 12.0) };
-    let d = rdsr_sphere(radius, layers, env)?;
+    let (d, cli) = rdsr_sphere(radius, layers, env)?;
     let c0 = (d.size[0] / 2) as f64;
     let rmax = radius + d.thickness;
     let height = |p: &[f64; 3]| {
@@ -328,12 +390,7 @@ fn sphere(env: &Env) -> Result<Item> {
         vec![
             fact("particles", d.cells.len() - d.seeds),
             fact("thickness", format!("{:.1} cells", d.thickness)),
-            fact(
-                "CLI",
-                format!(
-                    "asperity growth rdsr --substrate sphere --radius {radius} --layers {layers} -o pts.ply"
-                ),
-            ),
+            fact("CLI", cli),
         ],
     ))
 }

@@ -73,7 +73,7 @@ struct Case {
 /// another seed, the paper's 115 × 115 × 75).
 fn cases(env: &Env) -> Result<Vec<Case>> {
     let (radius, layers) = if env.quick { (10.0, 5.0) } else { (20.0, 10.0) };
-    let sphere = rdsr_sphere(radius, layers, env)?.points();
+    let sphere = rdsr_sphere(radius, layers, env)?.0.points();
     let side = if env.quick { 32 } else { 64 };
     let scale = (side * side) as f64 / (64.0 * 64.0);
     let fig9 = (PAPER_TERRAIN_PARTICLES as f64 * scale) as usize;

@@ -13,6 +13,12 @@ use serde_json::Value;
 use super::{DEFAULT_SEED, JobParams, field_names};
 use crate::error::{EngineError, Result};
 
+/// A job's parameters with the CLI's flags for them (every job's: the
+/// engine derives clap's `Args` on each), for front ends that do not use clap.
+pub trait CliJob: JobParams + Args {}
+
+impl<P: JobParams + Args> CliJob for P {}
+
 /// `asperity JOB ARGS… [--seed S] [-o OUTPUT]`: the flags of the fields of
 /// `p` that differ from the job's defaults, its positional inputs, and the
 /// seed when it is not the default one (seeded jobs only).
@@ -20,7 +26,7 @@ use crate::error::{EngineError, Result};
 /// # Errors
 /// [`EngineError::Invalid`] for a value the command line cannot say (an
 /// unset option whose default is set, a switch turned off).
-pub fn command_line<P: JobParams + Args>(p: &P, seed: u64, output: Option<&str>) -> Result<String> {
+pub fn command_line<P: CliJob>(p: &P, seed: u64, output: Option<&str>) -> Result<String> {
     let values = as_object(p)?;
     let defaults = as_object(&P::default())?;
     let cmd = P::augment_args(Command::new("asperity"));

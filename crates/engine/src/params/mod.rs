@@ -34,7 +34,7 @@ mod command_line;
 mod describe;
 mod values;
 
-pub use command_line::command_line;
+pub use command_line::{CliJob, command_line};
 pub use describe::describe;
 pub(crate) use values::{Finite, Positive, Side};
 pub use values::{LatticeSize, MAX_COORDINATE, MAX_SIDE, Numbers, Size2, Window};
