@@ -2,7 +2,8 @@
 //! timed end to end. Each builds its input once (untimed), runs once to warm
 //! up, then `--repeat` timed runs; the minimum and median are reported with
 //! throughput. With `--threads-scaling`, each at 1, 2, 4, … threads (a rayon
-//! pool of that size), with the speed-up and the parallel efficiency.
+//! pool of that size), with the speed-up and the parallel efficiency. With
+//! `--background-load`, on a machine kept busy by loops at a lower priority.
 
 use std::time::Instant;
 
@@ -82,6 +83,15 @@ pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
         };
     }
     let mut run = Run::new(ctx, "bench");
+    let load = a.background_load.then(BackgroundLoad::start).transpose()?;
+    if let Some(l) = &load {
+        run.note(format!(
+            "under a background load: {} CPU-bound loops at nice 10",
+            l.0.len()
+        ));
+        run.report
+            .measure("background_load", json!({"loops": l.0.len(), "nice": 10}));
+    }
     let scratch = Scratch::new();
     let mut results: Vec<Value> = Vec::new();
     for (name, make) in workloads(a.quick, ctx.budget, &scratch) {
@@ -140,6 +150,43 @@ pub fn run(ctx: &Context, a: &BenchArgs) -> anyhow::Result<()> {
         json!({"threads": ctx.threads, "os": std::env::consts::OS, "arch": std::env::consts::ARCH}),
     );
     run.finish()
+}
+
+/// CPU-bound loops at nice 10, one a core of the machine, killed when
+/// dropped: what a workstation or a shared node runs beside a job.
+struct BackgroundLoad(Vec<std::process::Child>);
+
+impl BackgroundLoad {
+    fn start() -> anyhow::Result<Self> {
+        anyhow::ensure!(
+            cfg!(unix),
+            "--background-load needs a Unix system (nice, sh)"
+        );
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let mut load = Self(Vec::with_capacity(cores));
+        for _ in 0..cores {
+            let child = std::process::Command::new("nice")
+                .args(["-n", "10", "sh", "-c", "while :; do :; done"])
+                .stdin(std::process::Stdio::null())
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .spawn();
+            match child {
+                Ok(c) => load.0.push(c),
+                Err(e) => anyhow::bail!("--background-load: starting `nice -n 10 sh`: {e}"),
+            }
+        }
+        Ok(load)
+    }
+}
+
+impl Drop for BackgroundLoad {
+    fn drop(&mut self) {
+        for c in &mut self.0 {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    }
 }
 
 /// One point of a scaling series, in this (fresh) process: builds the input,

@@ -563,6 +563,10 @@ pub struct BenchArgs {
     /// speed-up over one thread and the parallel efficiency (speed-up / threads).
     #[arg(long, conflicts_with = "scaling")]
     pub threads_scaling: bool,
+    /// Time the workloads on a busy machine: a CPU-bound loop at nice 10 on every core
+    /// (another user's job, a build) runs beside them, stopped when the bench ends. Unix.
+    #[arg(long, conflicts_with = "scaling")]
+    pub background_load: bool,
 }
 
 /// `asperity info`

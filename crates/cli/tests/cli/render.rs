@@ -117,6 +117,49 @@ fn bench_runs_every_workload() {
         assert!(m["time_slope"].as_f64().is_some(), "{m}");
     }
     fails(d.path(), &["bench", "--scaling", "nope"], "no such method");
+    // --background-load: DLA's walkers timed at 1 and 2 threads on a busy
+    // machine; the loops are gone when the bench ends.
+    #[cfg(unix)]
+    {
+        let loops = || {
+            let ps = std::process::Command::new("ps")
+                .args(["-eo", "args"])
+                .output();
+            ps.map_or(0, |o| {
+                String::from_utf8_lossy(&o.stdout)
+                    .lines()
+                    .filter(|l| l.starts_with("sh -c while :; do :; done"))
+                    .count()
+            })
+        };
+        let before = loops();
+        let o = asperity(
+            &[
+                "--json",
+                "--threads",
+                "2",
+                "bench",
+                "--threads-scaling",
+                "--background-load",
+                "--quick",
+                "--repeat",
+                "1",
+                "growth/dla-point",
+            ],
+            d.path(),
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        assert_eq!(v["measurements"]["background_load"]["loops"], cores);
+        let w = v["measurements"]["workloads"].as_array().unwrap();
+        assert!(
+            !w.is_empty()
+                && w.iter()
+                    .all(|w| w["threads_scaling"].as_array().unwrap().len() == 2)
+        );
+        assert_eq!(loops(), before, "the background loops were left running");
+    }
     // --threads-scaling: 1, 2, 4 threads up to --threads, the speed-up over one.
     let o = asperity(
         &[
