@@ -51,7 +51,7 @@ use std::process::ExitCode;
 use clap::{CommandFactory, FromArgMatches};
 
 fn main() -> ExitCode {
-    let matches = cli::Cli::command().get_matches();
+    let matches = negative_numbers(cli::Cli::command()).get_matches();
     let mut args = cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     let explicit = given_on_the_command_line(&matches);
     // `-o -`: the command writes into a private folder; the file goes to
@@ -102,6 +102,16 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// Every option that takes a value reads a negative number as its value
+/// (`--k1 -0.5`, not only `--k1=-0.5`), in every subcommand.
+fn negative_numbers(cmd: clap::Command) -> clap::Command {
+    cmd.mut_args(|a| {
+        let takes = a.get_action().takes_values();
+        a.allow_negative_numbers(takes)
+    })
+    .mut_subcommands(negative_numbers)
 }
 
 /// The error and its causes on one line, each cause once: a cause whose text

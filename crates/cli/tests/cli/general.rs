@@ -48,6 +48,27 @@ fn bad_arguments_are_clear_errors() {
         "error: missing.ply: No such file or directory",
     );
     fails(d.path(), &["convert", "a.ply"], "no output file");
+    // A negative number is an option's value, not an unknown flag: it
+    // reaches the parameter's bound.
+    fails(
+        d.path(),
+        &["generate", "fbm", "--spacing", "-1", "-o", "f.npy"],
+        "--spacing must be in (0, 1000000000000], got -1",
+    );
+    fails(
+        d.path(),
+        &[
+            "surface-ca",
+            "builtin:cube",
+            "--app",
+            "corrosion",
+            "--k1",
+            "-0.5",
+            "-o",
+            "v.ply",
+        ],
+        "--k1 must be in [0, 1000000], got -0.5",
+    );
 }
 
 #[test]

@@ -97,15 +97,15 @@ pub struct SurfaceCaParams {
     #[arg(long, default_value_t = Self::default().patches)]
     pub patches: usize,
     /// Corrosion: metal lost per corroded step (k1).
-    #[schemars(range(min = -1e6, max = 1e6))]
+    #[schemars(range(min = 0.0, max = 1e6))]
     #[arg(long, default_value_t = Self::default().k1)]
     pub k1: f32,
     /// Corrosion: oxide gained per corroded step (k2).
-    #[schemars(range(min = -1e6, max = 1e6))]
+    #[schemars(range(min = 0.0, max = 1e6))]
     #[arg(long, default_value_t = Self::default().k2)]
     pub k2: f32,
     /// Corrosion: oxide cap (k3).
-    #[schemars(range(min = -1e6, max = 1e6))]
+    #[schemars(range(min = 0.0, max = 1e6))]
     #[arg(long, default_value_t = Self::default().k3)]
     pub k3: f32,
     /// Corrosion: probability per step that a metal cell becomes a new seed.
@@ -129,7 +129,7 @@ pub struct SurfaceCaParams {
     #[arg(long, default_value_t = Self::default().max_attacked)]
     pub max_attacked: u32,
     /// Corrosion: attack strength of a mature corroded cell (defence: 0.35 weak, 0.8 strong).
-    #[schemars(range(min = -1e6, max = 1e6))]
+    #[schemars(range(min = 0.0, max = 1e6))]
     #[arg(long, default_value_t = Self::default().attack)]
     pub attack: f64,
     /// Corrosion: age (steps) at which a corroded cell attacks at full strength.
