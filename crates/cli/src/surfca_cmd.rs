@@ -28,9 +28,10 @@ fn statistics(run: &mut Run, a: &SurfaceCaArgs, r: &AppRun, n: usize) -> anyhow:
 }
 
 pub fn run(ctx: &Context, a: &SurfaceCaArgs) -> anyhow::Result<()> {
+    // The parameters first, as every command checks them.
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
     let out = ctx.output("FILE (e.g. -o voronoi.glb)")?;
     require_mesh_format(&out, ".glb, .ply or .obj")?;
-    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
     let p = &job.params;
     let mut run = Run::new(ctx, "surface-ca");
     run.params(p, job.seed, job.overridden.clone());

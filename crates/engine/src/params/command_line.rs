@@ -90,7 +90,11 @@ fn as_object<P: serde::Serialize>(p: &P) -> Result<serde_json::Map<String, Value
 fn word(value: &Value, delimiter: Option<char>, name: &str) -> Result<String> {
     Ok(match value {
         Value::String(s) => quoted(s),
-        Value::Number(n) => n.to_string(),
+        // A whole float as an integer (`6`, not JSON's `6.0`): clap reads either.
+        Value::Number(n) => match n.as_f64() {
+            Some(x) if n.is_f64() && x.fract() == 0.0 && x.abs() < 1e15 => format!("{x:.0}"),
+            _ => n.to_string(),
+        },
         Value::Bool(b) => b.to_string(),
         Value::Array(items) => {
             let items = items
