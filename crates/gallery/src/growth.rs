@@ -6,6 +6,7 @@
 
 use asperity_engine::Result;
 use asperity_engine::core::{NoProgress, PointSet, RgbaImage, TimeBudget};
+use asperity_engine::error::invalid;
 use asperity_engine::growth::dla::{self as dla_job, SeedInputs};
 use asperity_engine::growth::{
     self as growth_job, BdParams, DepositJob, DepositParams, RdParams, RdsrParams, SubstrateShape,
@@ -66,18 +67,22 @@ pub fn rdsr_sphere(radius: f64, layers: f64, env: &Env) -> Result<(CurvedDeposit
         },
         ..RdsrParams::DEFAULT
     };
-    let deposited = growth_job::deposit(
-        &p,
+    let growth_job::Deposited::Curved(_, run) = deposited(env, &p)? else {
+        return Err(invalid("a sphere substrate gave a flat deposit"));
+    };
+    Ok((run.deposit, command_line(&p, env.seed, Some("pts.ply"))?))
+}
+
+/// The engine's deposition job `p`, run as the CLI runs it.
+fn deposited<P: DepositJob>(env: &Env, p: &P) -> Result<growth_job::Deposited> {
+    growth_job::deposit(
+        p,
         None,
         false,
         env.seed,
         (&env.budget, &TimeBudget::unlimited()),
         &NoProgress,
-    )?;
-    let growth_job::Deposited::Curved(_, run) = deposited else {
-        unreachable!("a sphere substrate gives a curved deposit")
-    };
-    Ok((run.deposit, command_line(&p, env.seed, Some("pts.ply"))?))
+    )
 }
 
 /// A flat deposit as `asperity growth rd|rdsr|bd` runs it with `p` (the
@@ -86,16 +91,8 @@ fn deposit_job<P: DepositJob + CliJob>(
     env: &Env,
     p: &P,
 ) -> Result<((Deposit, WidthSeries), String)> {
-    let deposited = growth_job::deposit(
-        p,
-        None,
-        false,
-        env.seed,
-        (&env.budget, &TimeBudget::unlimited()),
-        &NoProgress,
-    )?;
-    let growth_job::Deposited::Flat(_, run) = deposited else {
-        unreachable!("a flat substrate gives a flat deposit")
+    let growth_job::Deposited::Flat(_, run) = deposited(env, p)? else {
+        return Err(invalid("a flat substrate gave a curved deposit"));
     };
     let cli = command_line(p, env.seed, Some("h.npy"))?;
     Ok(((run.deposit, run.series), cli))
