@@ -78,6 +78,67 @@ pub fn spatial_from_spectrum(s: &PowerSpectrum) -> Result<Spatial, AnalysisError
     let r = acf_from_spectrum(s)?;
     let [nx, ny] = s.dims;
     let [dx, dy] = s.spacing;
+    let half = 0.5 * (nx as f64 * dx).min(ny as f64 * dy);
+    Ok(decay_lengths(&r, s.dims, s.spacing, half))
+}
+
+/// Sal and Str of a field that does not wrap around (measured data, crops):
+/// the ACF is the linear (non-circular) one, each lag's sum divided by the
+/// number of overlapping pairs, (nx − |τx|)(ny − |τy|) — the unbiased
+/// estimator of ISO 25178-2's integral over the overlap of the field with its
+/// shifted copy (surfalize's). It is computed by FFT of the field padded with
+/// zeros by half its size and a little more (to a fast FFT length), so no lag
+/// the search reads (at most half the field) wraps. A circular ACF on such
+/// data would join opposite edges and shorten Sal.
+///
+/// # Errors
+/// [`AnalysisError::BadInput`] for NaN or constant fields.
+pub fn spatial_open(h: &HeightField) -> Result<Spatial, AnalysisError> {
+    let (r, padded) = linear_acf(h)?;
+    let [nx, ny] = h.dims();
+    let [dx, dy] = h.spacing();
+    let half = 0.5 * (nx as f64 * dx).min(ny as f64 * dy);
+    Ok(decay_lengths(&r, padded, h.spacing(), half))
+}
+
+/// The normalised unbiased linear ACF of `h` (see [`spatial_open`]) on the
+/// padded grid of lags it returns (lags up to half the field in each
+/// direction are exact; negative lags wrap).
+fn linear_acf(h: &HeightField) -> Result<(Vec<f64>, [usize; 2]), AnalysisError> {
+    h.validate()?;
+    let [nx, ny] = h.dims();
+    let pad = |n: usize| crate::spectrum::smooth_len(n + n / 2 + 2);
+    let [px, py] = [pad(nx), pad(ny)];
+    let mean = h.mean();
+    let mut padded = vec![0.0; px * py];
+    for j in 0..ny {
+        for (i, z) in h.row(j).iter().enumerate() {
+            padded[j * px + i] = z - mean;
+        }
+    }
+    let hp = HeightField::from_vec([px, py], padded)?.with_spacing(h.spacing())?;
+    let mut r = acf_from_spectrum(&PowerSpectrum::of(&hp, None))?;
+    // each lag's sum over its overlapping pairs; lags past the field have none
+    let pairs = |lag: usize, p: usize, n: usize| {
+        let lag = lag.min(p - lag);
+        n.saturating_sub(lag) as f64
+    };
+    for (k, v) in r.iter_mut().enumerate() {
+        let (i, j) = (k % px, k / px);
+        let overlap = pairs(i, px, nx) * pairs(j, py, ny);
+        *v = if overlap > 0.0 {
+            *v * (nx * ny) as f64 / overlap
+        } else {
+            0.0
+        };
+    }
+    Ok((r, [px, py]))
+}
+
+/// The shortest and longest distances, over 360 directions, at which the
+/// normalised ACF `r` (lags on a `dims` grid, negative lags wrapped) first
+/// falls to s = 0.2, searched out to `half`.
+fn decay_lengths(r: &[f64], [nx, ny]: [usize; 2], [dx, dy]: [f64; 2], half: f64) -> Spatial {
     let at = |x: f64, y: f64| {
         // Bilinear lookup of the periodic ACF at lag (x, y) in samples.
         let (fx, fy) = (x.floor(), y.floor());
@@ -88,7 +149,6 @@ pub fn spatial_from_spectrum(s: &PowerSpectrum) -> Result<Spatial, AnalysisError
         (g(fx, fy) * (1.0 - tx) + g(fx + 1.0, fy) * tx) * (1.0 - ty)
             + (g(fx, fy + 1.0) * (1.0 - tx) + g(fx + 1.0, fy + 1.0) * tx) * ty
     };
-    let half = 0.5 * (nx as f64 * dx).min(ny as f64 * dy);
     let step = 0.25 * dx.min(dy);
     let mut capped = false;
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
@@ -117,11 +177,11 @@ pub fn spatial_from_spectrum(s: &PowerSpectrum) -> Result<Spatial, AnalysisError
         lo = lo.min(d);
         hi = hi.max(d);
     }
-    Ok(Spatial {
+    Spatial {
         Sal: lo,
         Str: lo / hi,
         capped,
-    })
+    }
 }
 
 /// Height–height correlation along x: (lag in length units, H(τ)) at every lag

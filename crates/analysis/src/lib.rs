@@ -7,7 +7,9 @@
 //! | [`spectrum`] | the half spectrum of a real field (real-to-complex 2-D FFT), shared by the PSD and the ACF | Hermitian symmetry |
 //! | [`psd`] | 2-D PSD, radially averaged log-binned 1-D PSD, Hurst exponent | SurfaceTopography conventions |
 //! | [`correlation`] | ACF, HHCF, Sal, Str | ISO 25178-2 |
+//! | [`filter`] | Gaussian filters: areal and profile, regression of degree 0–2, robust; the scale-limited (S-L) surface | ISO 16610-21, -28, -31, -61, -71; ISO 25178-2 §3.1 |
 //! | [`fill`] | missing points filled (harmonic: the discrete Laplace equation; or the mean) | SurfaceTopography `interpolate_undefined_data` |
+//! | [`functional`] | the areal material ratio curve: Smr(c), Smc(mr), Sxp, Vm/Vv family, Sk, Spk, Svk, Smr1, Smr2 | ISO 25178-2 §4.5, Annex B; ISO 13565-2 |
 //! | [`fractal`] | triangulation and partitioning dimensions | Clarke 1986; variance method |
 //! | [`scaling`] | β (plain, intrinsic width), α, cluster dimensions (R_g, mass–radius) | kim-machiraju-thompson §4 |
 //! | [`synthesis`] | self-affine surfaces by FFT Fourier filtering (`asperity generate fbm`) | kim-machiraju-thompson §2 (fractal methods) |
@@ -21,7 +23,9 @@
 pub mod areal;
 pub mod correlation;
 pub mod fill;
+pub mod filter;
 pub mod fractal;
+pub mod functional;
 pub mod hurst;
 pub mod jets;
 pub mod level;

@@ -164,6 +164,22 @@ fn columns(data: &mut [Complex<f64>], width: usize, ny: usize, fft: &Arc<dyn Fft
         });
 }
 
+/// The smallest length ≥ `n` whose only prime factors are 2, 3 and 5: an FFT
+/// length that pads no more than needed and stays fast.
+pub(crate) fn smooth_len(n: usize) -> usize {
+    (n.max(1)..)
+        .find(|&m| {
+            let mut m = m;
+            for p in [2, 3, 5] {
+                while m % p == 0 {
+                    m /= p;
+                }
+            }
+            m == 1
+        })
+        .unwrap_or(n)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
