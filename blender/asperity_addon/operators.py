@@ -412,7 +412,7 @@ class ASPERITY_OT_roughen(_OnMesh, AsperityOperator, bpy.types.Operator):
 
 
 class ASPERITY_OT_analyze(_OnMesh, AsperityOperator, bpy.types.Operator):
-    """Roughness of the surface: Sa, Sq and the Hurst exponent of a height-field object, curvature statistics of any mesh (shown in the sidebar's asperity tab)"""
+    """Roughness of the surface: Sa, Sq, the core height Sk with Spk and Svk, and the Hurst exponent of a height-field object, curvature statistics of any mesh (shown in the sidebar's asperity tab)"""
 
     bl_idname = "object.asperity_analyze"
     bl_label = "Analyze"
@@ -442,7 +442,8 @@ class ASPERITY_OT_analyze(_OnMesh, AsperityOperator, bpy.types.Operator):
         facts = {}
         if h is not None:
             hurst = h.get("hurst") or {}
-            facts.update(Sa=h.get("Sa"), Sq=h.get("Sq"), Hurst=hurst.get("H") if isinstance(hurst, dict) else hurst)
+            facts.update(Sa=h.get("Sa"), Sq=h.get("Sq"), Sk=h.get("Sk"), Spk=h.get("Spk"), Svk=h.get("Svk"),
+                         Hurst=hurst.get("H") if isinstance(hurst, dict) else hurst)
         curv = m.get("curvature") or {}
         for kind in ("mean", "gaussian"):
             stats = curv.get(kind) or {}

@@ -417,6 +417,30 @@ analyze = Job(
 ).function()
 
 
+def _filtered(d: dict) -> Result:
+    def part(name):
+        return HeightField._from(d[name], name) if d[name] is not None else None
+
+    return Result(surface=part("surface"), form=part("form"), waviness=part("waviness"),
+                  noise=part("noise"), measurements=_parse(d["measurements"]),
+                  warnings=d["warnings"])
+
+
+filter_surface = Job(
+    "filter", _asperity.filter_surface, _filtered, name="filter_surface",
+    summary="The scale-limited surface of a height field or profile by the Gaussian filters of "
+            "ISO 16610 (S-filter λs, L-filter λc, robust or linear), after the F-operator: the "
+            "CLI's ``filter``.",
+    leading=[("surface", "a :class:`HeightField` (or a 2-D array: heights with unit spacing).",
+              _surface)],
+    returns="Returns a :class:`Result` with ``surface`` (the scale-limited surface), ``form``, "
+            "``waviness`` and ``noise`` (what the F-operator, L-filter and S-filter removed; "
+            "None without that filter; the four add up to the input), ``measurements`` and "
+            "``warnings``.",
+    progress=False,
+).function()
+
+
 def psd(surface: Union[HeightField, np.ndarray], **options) -> Tuple[np.ndarray, np.ndarray]:
     """The radially averaged power spectral density of a height field as
     (q, C(q)) arrays (the ``psd`` of :func:`analyze`)."""

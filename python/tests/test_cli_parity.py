@@ -221,6 +221,32 @@ def test_analysis_and_fbm(cli, tmp):
         strip_timing(cli("analyze", tmp / "m.ply")["measurements"])
 
 
+def test_iso_filters_and_functional_parameters(cli, tmp):
+    # the S-L surface (ISO 16610) and the material-ratio family (ISO 25178-2) the same both ways
+    h = asperity.fbm(size=128, hurst=0.8, seed=12)
+    h.save(tmp / "f.npy")
+    rep = cli("analyze", tmp / "f.npy", "--periodic", "no", "--lambda-s", 4, "--lambda-c", 32,
+              "--robust", "--filter-degree", 2, "--hurst", "psd")
+    mine = asperity.analyze(h, periodic="no", lambda_s=4, lambda_c=32, robust=True,
+                            filter_degree=2, hurst="psd")
+    assert mine.pop("warnings") == rep["warnings"]
+    assert mine.pop("params") == rep["params"]
+    assert strip_timing(mine) == strip_timing(rep["measurements"])
+    assert mine["filter"]["surface"] == "S-L surface" and mine["filter"]["robust_iterations"] >= 1
+    assert 0 < mine["Smr1"] < mine["Smr2"] < 100
+    # the filtered surface and what was removed, as files and as arrays
+    cli("filter", tmp / "f.npy", tmp / "cs.npy", "--waviness", tmp / "cw.npy", "--form", tmp / "cf.npy",
+        "--lambda-s", 4, "--lambda-c", 32, "--periodic", "no")
+    r = asperity.filter_surface(h, lambda_s=4, lambda_c=32, periodic="no")
+    r.surface.save(tmp / "ps.npy")
+    r.waviness.save(tmp / "pw.npy")
+    r.form.save(tmp / "pf.npy")
+    for part in "swf":
+        same_bytes(tmp / f"c{part}.npy", tmp / f"p{part}.npy")
+    whole = r.surface.heights + r.waviness.heights + r.noise.heights + r.form.heights
+    assert np.abs(whole - h.heights).max() < 1e-12
+
+
 def test_render_and_load_save(cli, tmp):
     asperity.subdiv(base="cube", levels=2, detail=["rock"]).mesh.save(tmp / "m.ply")
     cli("render", tmp / "m.ply", "--size", "96x64", "-o", tmp / "c.png")

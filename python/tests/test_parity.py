@@ -133,7 +133,10 @@ JOBS = {
         "seed_rate": _between(0, 0.01), "strong_noise": _maybe(0.7, _between(0.2, 1.0)),
         "maturity": _ints(1, 60), "displace": _maybe(0.7, _between(-0.05, 0.05))}),
     "analyze": (["analyze"], "analyze", ["heights_file"], "report", {
-        "bins": _ints(2, 60), "fit_window": _maybe(0.6, lambda rng, d: [0.2, float(rng.uniform(0.5, 3))])}),
+        "bins": _ints(2, 60), "fit_window": _maybe(0.6, lambda rng, d: [0.2, float(rng.uniform(0.5, 3))]),
+        "lambda_s": _maybe(0.6, _between(1, 5)), "lambda_c": _maybe(0.5, _between(4, 20))}),
+    "filter": (["filter"], "filter_surface", ["heights_file"], "npy", {
+        "lambda_s": _maybe(0.5, _between(1, 5)), "lambda_c": _maybe(0.3, _between(4, 20))}),
     "render": (["render"], "render", ["mesh_file"], "png", {
         "size": lambda rng, d: [int(rng.integers(8, 65)), int(rng.integers(8, 49))],
         "eye": _maybe(0.8, lambda rng, d: [float(v) for v in rng.uniform(-3, 3, 3)]),

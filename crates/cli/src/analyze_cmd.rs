@@ -1,9 +1,10 @@
 //! `asperity analyze` and `asperity generate fbm`.
 
 use asperity_engine::analyze::analyze as analyze_surface;
+use asperity_engine::core::Progress;
 use serde_json::Value;
 
-use crate::cli::{AnalyzeArgs, FbmArgs};
+use crate::cli::{AnalyzeArgs, FbmArgs, FilterArgs};
 use crate::context::{Context, Run};
 
 pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
@@ -40,6 +41,85 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
     }
     outln!("{name}");
     text_report(&r.facts.0)
+}
+
+pub fn filter(ctx: &Context, a: &FilterArgs) -> anyhow::Result<()> {
+    use anyhow::Context as _;
+    let out = a
+        .out_file
+        .clone()
+        .or_else(|| ctx.output.clone())
+        .context("no output file: give OUTPUT or -o PATH")?;
+    let mut run = Run::new(ctx, "filter");
+    let job = ctx.job_params(a.params.clone(), &a.params_file)?;
+    asperity_engine::params::validate(&job.params)?;
+    run.params(&job.params, job.seed, job.overridden.clone());
+    for path in [
+        Some(&out),
+        a.waviness.as_ref(),
+        a.noise.as_ref(),
+        a.form.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        asperity_engine::io::Format::from_path(path)?;
+        asperity_engine::io::staging::refuse_input(path)?;
+    }
+    let bar = ctx.bar();
+    bar.start(2, "filtering");
+    let h = match ctx.load(&a.input)? {
+        asperity_engine::io::Surface::Height(h) => h,
+        s => anyhow::bail!(
+            "{}: filter takes a height field or profile, not {}",
+            a.input.display(),
+            s.kind()
+        ),
+    };
+    bar.advance(1);
+    let f = asperity_engine::analyze::filter(&h, &job.params, &ctx.budget)?;
+    bar.finish();
+    for w in &f.warnings {
+        run.warn("warning", w.clone());
+    }
+    let stem = a
+        .input
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let surface_name = f
+        .facts
+        .get("filter")
+        .and_then(|v| v["surface"].as_str())
+        .unwrap_or("surface");
+    run.height(&out, &f.surface, format!("{stem}: {surface_name}"))?;
+    let parts = [
+        (
+            &a.waviness,
+            f.waviness.as_ref(),
+            "waviness",
+            "L-filter (--lambda-c)",
+        ),
+        (&a.noise, f.noise.as_ref(), "noise", "S-filter (--lambda-s)"),
+        (&a.form, Some(&f.form), "form", "F-operator"),
+    ];
+    for (path, part, name, what) in parts {
+        match (path, part) {
+            (Some(path), Some(part)) => run.height(path, part, format!("{stem}: {name}"))?,
+            (Some(path), None) => anyhow::bail!(
+                "--{name} {}: nothing to write without an {what}",
+                path.display()
+            ),
+            _ => {}
+        }
+    }
+    run.note(format!("wrote {} ({surface_name})", out.display()));
+    if ctx.json {
+        run.report.measure("file", a.input.display().to_string());
+        run.measure(f.facts);
+        return run.finish();
+    }
+    text_report(&f.facts.0)
 }
 
 /// Six significant digits, or the JSON text for anything but a number.
@@ -112,6 +192,31 @@ fn text_report(facts: &serde_json::Map<String, Value>) -> anyhow::Result<()> {
     for (k, v) in facts {
         match k.as_str() {
             "periodic" | "levelling" | "window" | "hurst_estimates" | "fractal_dimension" => {}
+            "filter" => outln!(
+                "  {k:22} {}: λs {}, λc {}, {} of degree {}{}",
+                v["surface"].as_str().unwrap_or("?"),
+                if v["lambda_s"].is_null() {
+                    "none".into()
+                } else {
+                    short(&v["lambda_s"])
+                },
+                if v["lambda_c"].is_null() {
+                    "none".into()
+                } else {
+                    short(&v["lambda_c"])
+                },
+                v["L_filter"].as_str().unwrap_or("no L-filter"),
+                short(&v["degree"]),
+                v["robust_iterations"]
+                    .as_u64()
+                    .map_or(String::new(), |n| format!(", {n} iterations")),
+            ),
+            "material_ratio" => outln!(
+                "  {k:22} equivalent line {} → {} (40 % window from {} %; the curve: see --json, --plot)",
+                short(&v["equivalent_line"]["at_0"]),
+                short(&v["equivalent_line"]["at_100"]),
+                short(&v["equivalent_line"]["window_start"]),
+            ),
             "psd" | "scale_dependent" => outln!(
                 "  {k:22} {} scales (see --json, --plot)",
                 v.get("q")

@@ -147,6 +147,9 @@ pub enum Command {
     Interpolate(InterpolateArgs),
     /// Roughness numbers of a height field or mesh (ISO 25178, PSD, Hurst, curvature).
     Analyze(AnalyzeArgs),
+    /// The scale-limited surface of a height field or profile (ISO 16610 Gaussian filters)
+    /// and what the filters removed.
+    Filter(FilterArgs),
     /// Discrete surface growth (kim-machiraju-thompson §4): RD, RDSR, ballistic deposition, DLA.
     #[command(subcommand)]
     Growth(GrowthCommand),
@@ -298,6 +301,29 @@ pub struct AnalyzeArgs {
     /// fields); curvature histograms (meshes).
     #[arg(long, value_name = "DIR")]
     pub plot: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    pub params_file: ParamsFile,
+}
+
+/// `asperity filter`
+#[derive(Args, Debug)]
+pub struct FilterArgs {
+    /// Height-field or profile file.
+    pub input: PathBuf,
+    /// Output file for the scale-limited surface (or -o); its extension picks the format.
+    #[arg(value_name = "OUTPUT")]
+    pub out_file: Option<PathBuf>,
+    /// Also write what the L-filter removed (the waviness) to FILE.
+    #[arg(long, value_name = "FILE")]
+    pub waviness: Option<PathBuf>,
+    /// Also write what the S-filter removed (the short-wavelength noise) to FILE.
+    #[arg(long, value_name = "FILE")]
+    pub noise: Option<PathBuf>,
+    /// Also write what the F-operator removed (the form) to FILE.
+    #[arg(long, value_name = "FILE")]
+    pub form: Option<PathBuf>,
+    #[command(flatten)]
+    pub params: asperity_engine::analyze::FilterParams,
     #[command(flatten)]
     pub params_file: ParamsFile,
 }
@@ -720,6 +746,10 @@ mod tests {
         }
         match parsed(&["analyze", "f.npy"]) {
             C::Analyze(a) => check("analyze", a.params == analyze::AnalyzeParams::default()),
+            c => panic!("{c:?}"),
+        }
+        match parsed(&["filter", "f.npy", "g.npy"]) {
+            C::Filter(a) => check("filter", a.params == analyze::FilterParams::default()),
             c => panic!("{c:?}"),
         }
         match parsed(&["render", "m.ply"]) {

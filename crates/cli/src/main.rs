@@ -154,6 +154,7 @@ fn run(args: cli::Cli, explicit: std::collections::BTreeSet<String>) -> anyhow::
         cli::Command::Formats => convert::formats(&ctx),
         cli::Command::Bench(a) => bench_cmd::run(&ctx, &a),
         cli::Command::Analyze(a) => analyze_cmd::analyze(&ctx, &a),
+        cli::Command::Filter(a) => analyze_cmd::filter(&ctx, &a),
         cli::Command::Generate(cli::GenerateCommand::Fbm(a)) => analyze_cmd::fbm(&ctx, &a),
         cli::Command::Generate(cli::GenerateCommand::DlaTerrain(a)) => {
             reconstruct_cmd::dla_terrain(&ctx, &a)

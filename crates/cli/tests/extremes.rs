@@ -179,6 +179,7 @@ const SMALL_JOBS: &[(&str, &[&str])] = &[
         &["ifs", "curvature", "--preset", "takagi-landsberg"],
     ),
     ("analyze", &["analyze", "h.npy"]),
+    ("filter", &["filter", "h.npy", "o.npy", "--lambda-c", "6"]),
     (
         "generate fbm",
         &["generate", "fbm", "--size", "16", "-o", "o.npy"],

@@ -58,6 +58,7 @@ pub fn jobs() -> Vec<JobEntry> {
         JobEntry::of::<crate::ifs::IfsSdcfParams>(),
         JobEntry::of::<crate::ifs::IfsCurvatureParams>(),
         JobEntry::of::<crate::analyze::AnalyzeParams>(),
+        JobEntry::of::<crate::analyze::FilterParams>(),
         JobEntry::of::<crate::synthesis::FbmParams>(),
         JobEntry::of::<crate::render::RenderParams>(),
         JobEntry::of::<crate::files::ConvertParams>(),

@@ -1,7 +1,7 @@
 //! `asperity.analyze` and `asperity.fbm`: roughness reports
 //! (`asperity_engine::analyze`) and self-affine test surfaces.
 
-use asperity_engine::analyze::{AnalyzeParams, analyze as analyze_surface};
+use asperity_engine::analyze::{AnalyzeParams, FilterParams, analyze as analyze_surface};
 use asperity_engine::synthesis::FbmParams;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -30,6 +30,38 @@ pub fn analyze<'py>(
     let out = PyDict::new(py);
     out.set_item("measurements", json(&r.facts)?)?;
     out.set_item("warnings", crate::spelled_all(r.warnings))?;
+    out.set_item("params", crate::params::record(&p, seed))?;
+    Ok(out)
+}
+
+/// The `filter` of a height field with the parameters of `params` (JSON):
+/// a dict with `surface`, `form`, `waviness` and `noise` (height-field dicts,
+/// the last two `None` without their filter), `measurements` (JSON text, the
+/// CLI's keys), `warnings` and `params`.
+#[pyfunction]
+#[pyo3(signature = (params, surface, threads))]
+pub fn filter_surface<'py>(
+    py: Python<'py>,
+    params: &str,
+    surface: &Bound<'py, PyAny>,
+    threads: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (p, seed): (FilterParams, u64) = crate::params::from_json(py, params)?;
+    let h = crate::convert::height_in(surface)?;
+    let job = p.clone();
+    let f = run(py, &RunOptions::quiet(threads), move |_, _| {
+        asperity_engine::analyze::filter(&h, &job, &budget())
+    })?;
+    let out = PyDict::new(py);
+    out.set_item("surface", height_out(py, f.surface)?)?;
+    out.set_item("form", height_out(py, f.form)?)?;
+    out.set_item(
+        "waviness",
+        f.waviness.map(|w| height_out(py, w)).transpose()?,
+    )?;
+    out.set_item("noise", f.noise.map(|n| height_out(py, n)).transpose()?)?;
+    out.set_item("measurements", json(&f.facts)?)?;
+    out.set_item("warnings", crate::spelled_all(f.warnings))?;
     out.set_item("params", crate::params::record(&p, seed))?;
     Ok(out)
 }

@@ -55,6 +55,7 @@ fn _asperity(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(reconstruct::dla_terrain, m)?)?;
     m.add_function(wrap_pyfunction!(reconstruct::rdsr_sphere, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::analyze, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::filter_surface, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::fbm, m)?)?;
     m.add_function(wrap_pyfunction!(io::load, m)?)?;
     m.add_function(wrap_pyfunction!(io::save, m)?)?;

@@ -17,9 +17,15 @@ use crate::error::{Result, ensure, invalid};
 use crate::plots::{NamedPlot, log_log, points};
 use crate::report::Measurements;
 
+mod filter_job;
+mod iso;
 mod params;
 
-pub use params::{AnalyzeOptions, AnalyzeParams, FillChoice, HurstChoice, Level, Periodic};
+pub use filter_job::{FilterParams, Filtered, filter, filter_bytes as filter_job_bytes};
+pub use iso::filter_bytes;
+pub use params::{
+    AnalyzeOptions, AnalyzeParams, FillChoice, Filters, HurstChoice, Level, Nesting, Periodic,
+};
 
 /// A report and its plots.
 #[derive(Clone, Debug, Default)]
@@ -45,7 +51,8 @@ pub fn analyze(
 ) -> Result<Analysis> {
     match s {
         Surface::Height(h) => {
-            budget.check(height_bytes(h), format!("analysing {name}"))?;
+            let filters = filter_bytes(&o.filters, h.len(), h.has_missing());
+            budget.check(height_bytes(h) + filters, format!("analysing {name}"))?;
             height(h, o)
         }
         Surface::Mesh(m) => mesh_report(m, o.plots),
@@ -55,13 +62,15 @@ pub fn analyze(
 
 /// Bytes an analysis of `h` allocates at its peak: some nine grids of its
 /// size (the levelled and windowed copies, the spectrum, the correlation and
-/// scale-dependent estimators' work), and twenty more where points are
+/// scale-dependent estimators' work, the material ratio curve's sorted
+/// heights, the ACF of non-periodic data padded to four times the field),
+/// and twenty more where points are
 /// missing (the harmonic fill's conjugate-gradient vectors and multigrid
 /// levels). Measured peak RSS over this, less the process's 20 MiB at rest
 /// (`crates/benches/scripts/estimate_honesty.py`): 1.2–1.5 at 512²–2048²,
 /// 1.0 with half the points missing.
 pub fn height_bytes(h: &HeightField) -> u64 {
-    let per_point = if h.has_missing() { 72 + 160 } else { 72 };
+    let per_point = if h.has_missing() { 176 + 160 } else { 176 };
     h.len() as u64 * per_point
 }
 
@@ -210,7 +219,7 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     if lo == hi {
         return Ok(constant(h, lo));
     }
-    let p = prepare(h, o)?;
+    let (p, filtered, filter_warnings) = iso::prepare_filtered(h, o)?;
     let lv = &p.levelled;
     let profile = h.ny() == 1;
     let w = (p.window != Window::None).then(|| {
@@ -228,6 +237,9 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     let (facts, spectrum) =
         rayon::join(|| parameters(h, &p), || PowerSpectrum::of(lv, w.as_deref()));
     let (mut facts, r) = (facts?, psd::radial_from_spectrum(&spectrum, o.bins)?);
+    if let Some(f) = filtered {
+        facts.set("filter", f);
+    }
     // Estimates that need more data than a field may have: null and a warning,
     // never a refusal of everything else.
     let psd_fit = psd::hurst(&r, o.fit_window);
@@ -250,7 +262,7 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
                     // Without a window the PSD's spectrum is the ACF's too.
                     (!profile).then(|| match w {
                         None => correlation::spatial_from_spectrum(&spectrum),
-                        Some(_) => correlation::spatial(lv),
+                        Some(_) => correlation::spatial_open(lv),
                     })
                 },
                 || hurst::scale_dependent(lv, p.periodic),
@@ -258,6 +270,7 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
         },
     );
     let (estimates, mut warnings) = estimates;
+    warnings.extend(filter_warnings);
     facts.set("hurst", hu.map(|hu| hu.hurst));
     facts.set("hurst_estimates", estimates);
     let psd_dimension = hu.map(|hu| {
@@ -320,15 +333,25 @@ fn holed(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     let level_how = level_how.unwrap_or(level::Level::Plane);
     let periodic = o.periodic.unwrap_or(false);
     let levelled = level::level(h, level_how)?;
+    let mut filter_warnings = Vec::new();
+    let stage = iso::scale_limited(levelled, periodic, &o.filters, &mut filter_warnings)?;
+    let (levelled, filtered) = (stage.surface, stage.facts);
     let heights = areal::measured_heights(&levelled)?;
+    let functional = iso::functional_facts(&levelled)?;
     let (filled, report) = fill::fill_missing(&levelled, how)?;
     let inner = AnalyzeOptions {
         level: "none".into(),
         periodic: Some(periodic),
+        filters: Filters::NONE,
         ..o.clone()
     };
     let mut a = height(&filled, &inner)?;
+    a.warnings.extend(filter_warnings);
     let profile = h.ny() == 1;
+    iso::set_functional(&mut a.facts, &functional, profile);
+    if let Some(f) = filtered {
+        a.facts.set("filter", f);
+    }
     let prefix = if profile { "R" } else { "S" };
     let values = [
         ("a", heights.Sa),
@@ -459,6 +482,7 @@ fn parameters(h: &HeightField, p: &Prepared) -> Result<Measurements> {
         f.set("profile_y", areal::profile(lv, true, p.periodic).ok());
         f
     };
+    iso::set_functional(&mut facts, &iso::functional_facts(lv)?, h.ny() == 1);
     facts.set("size", h.dims());
     facts.set("spacing", h.spacing());
     facts.set("units", units_json(h));
@@ -584,7 +608,12 @@ fn height_plots(
     hu: Option<&psd::Hurst>,
     scale: &hurst::ScaleDependent,
 ) -> Result<Vec<NamedPlot>> {
-    let mut out = vec![psd_plot(r, hu), scale_plot(scale)];
+    let curve = asperity_analysis::functional::MaterialRatioCurve::of(lv)?;
+    let mut out = vec![
+        psd_plot(r, hu),
+        scale_plot(scale),
+        iso::material_ratio_plot(&curve, lv.ny() == 1),
+    ];
     if let Ok(hh) = correlation::hhcf_x(lv) {
         out.push(NamedPlot {
             name: "hhcf.png",

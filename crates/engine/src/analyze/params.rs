@@ -82,6 +82,18 @@ impl FillChoice {
     }
 }
 
+choice! {
+    /// Nesting indices (filter cut-offs) that are not given.
+    pub enum Nesting {
+        /// No filter where none is given: the primary surface (after the F-operator).
+        Given = "given",
+        /// ISO 25178-3's defaults for those not given: λc the largest of the series (…, 1, 2, 2.5,
+        /// 5, 8, 10, …) at most a fifth of the shorter side, λs the smallest at least three
+        /// sampling intervals.
+        Iso = "iso",
+    }
+}
+
 /// Whether data are periodic: decided from the data (`auto`), or given
 /// (`yes`/`no`; in JSON also `true`/`false`/`null`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, JsonSchema, clap::ValueEnum)]
@@ -172,6 +184,10 @@ pub struct AnalyzeParams {
     /// field with its holes filled this way (the report's `missing` says how many).
     #[arg(long, value_enum, default_value_t = Self::default().fill)]
     pub fill: FillChoice,
+    #[serde(flatten)]
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub filters: Filters,
 }
 
 impl Default for AnalyzeParams {
@@ -184,6 +200,7 @@ impl Default for AnalyzeParams {
             fit_window: None,
             hurst: HurstChoice::All,
             fill: FillChoice::Harmonic,
+            filters: Filters::DEFAULT,
         }
     }
 }
@@ -196,7 +213,7 @@ impl JobParams for AnalyzeParams {
         if let Some(w) = &self.fit_window {
             w.check("fit_window", "QMIN,QMAX")?;
         }
-        Ok(())
+        self.filters.check()
     }
 }
 
@@ -211,8 +228,97 @@ impl AnalyzeParams {
             window: self.window.clone(),
             estimators: self.hurst.which(),
             fill: self.fill.fill(),
+            filters: self.filters,
             plots,
         }
+    }
+}
+
+/// The S- and L-filters (ISO 16610; see `asperity_analysis::filter`): one
+/// definition for `analyze` and `filter`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, JsonSchema, Args)]
+#[serde(default)]
+pub struct Filters {
+    /// S-filter nesting index λs, in the data's length unit: the Gaussian filter of ISO 16610-61
+    /// (ISO 16610-21 on a profile) removes wavelengths shorter than λs after the F-operator.
+    #[schemars(range(max = 1e12), extend("exclusiveMinimum" = 0.0))]
+    #[arg(long, value_name = "LENGTH")]
+    pub lambda_s: Option<f64>,
+    /// L-filter nesting index λc, in the data's length unit: the Gaussian filter removes
+    /// wavelengths longer than λc (the waviness), leaving the S-L surface every parameter is
+    /// computed on.
+    #[schemars(range(max = 1e12), extend("exclusiveMinimum" = 0.0))]
+    #[arg(long, value_name = "LENGTH")]
+    pub lambda_c: Option<f64>,
+    /// Nesting indices not given: none (given), or ISO 25178-3's defaults from the data's extent
+    /// and spacing (iso).
+    #[arg(long, value_enum, default_value_t = Self::DEFAULT.nesting)]
+    pub nesting: Nesting,
+    /// Degree of the L-filter's Gaussian regression: 1 is ISO 16610-61's filter inside and keeps
+    /// planes to the border; 0 renormalises the kernel at the border; 2 is the second-order
+    /// regression filter (keeps quadratic forms everywhere).
+    #[schemars(range(min = 0, max = 2))]
+    #[arg(long, default_value_t = Self::DEFAULT.filter_degree)]
+    pub filter_degree: usize,
+    /// Robust L-filter (ISO 16610-71, Tukey's biweight): deep valleys and spikes do not pull the
+    /// waviness towards them.
+    #[arg(long)]
+    pub robust: bool,
+}
+
+impl Default for Filters {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+impl Filters {
+    /// No filter at all: the defaults.
+    pub const DEFAULT: Self = Self {
+        lambda_s: None,
+        lambda_c: None,
+        nesting: Nesting::Given,
+        filter_degree: asperity_analysis::filter::DEFAULT_ORDER,
+        robust: false,
+    };
+
+    /// No filter at all.
+    pub const NONE: Self = Self::DEFAULT;
+
+    /// Whether ISO 25178-3's defaults fill in the indices not given.
+    pub fn iso_defaults(&self) -> bool {
+        self.nesting == Nesting::Iso
+    }
+
+    /// Whether any filter runs.
+    pub fn any(&self) -> bool {
+        self.iso_defaults() || self.lambda_s.is_some() || self.lambda_c.is_some()
+    }
+
+    /// Refuses λs not below λc and a robust filter without an L-filter.
+    ///
+    /// # Errors
+    /// [`crate::EngineError::Invalid`] naming the parameters.
+    pub fn check(&self) -> Result<()> {
+        use asperity_core::wording::param;
+        if let (Some(s), Some(c)) = (self.lambda_s, self.lambda_c)
+            && s >= c
+        {
+            return Err(crate::error::invalid(format!(
+                "{} ({s}) must be below {} ({c})",
+                param("lambda_s"),
+                param("lambda_c")
+            )));
+        }
+        if self.robust && self.lambda_c.is_none() && !self.iso_defaults() {
+            return Err(crate::error::invalid(format!(
+                "{} filters the L-filter: give {} or {}",
+                param("robust"),
+                param("lambda_c"),
+                asperity_core::wording::param_value("nesting", "iso")
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -239,6 +345,8 @@ pub struct AnalyzeOptions {
     /// How missing points are filled (harmonic by default); `None` refuses
     /// a field with missing points.
     pub fill: Option<asperity_analysis::fill::Fill>,
+    /// The S- and L-filters (none by default).
+    pub filters: Filters,
     /// Also make the plots.
     pub plots: bool,
 }

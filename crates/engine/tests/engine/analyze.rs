@@ -252,8 +252,74 @@ fn an_analysis_over_the_budget_is_refused_first() {
     let mut holed = h.clone();
     holed.data_mut()[1000] = f64::NAN;
     let full = asperity_engine::analyze::height_bytes(&holed);
-    assert!(
-        full > 3 * asperity_engine::analyze::height_bytes(&h),
-        "{full}"
+    // the fill's twenty grids come on top (160 bytes a point)
+    let plain = asperity_engine::analyze::height_bytes(&h);
+    assert!(full >= plain + 160 * h.len() as u64, "{full} vs {plain}");
+}
+
+/// Two sinusoids on a periodic grid, one far below λc and one far above:
+/// the S-L surface keeps (1 − T) of each, T = exp(−π(αλc/λ)²) the
+/// transmission of ISO 16610-61, so its Sq is known in closed form.
+#[test]
+fn the_l_filter_removes_the_waviness_as_the_standard_transmits_it() {
+    let (n, lambda_c) = (256usize, 32.0);
+    let (short, long) = (16.0, 128.0);
+    let (a_short, a_long) = (0.3, 2.0);
+    let data = (0..n * n)
+        .map(|k| {
+            let (x, y) = ((k % n) as f64, (k / n) as f64);
+            a_short * (2.0 * std::f64::consts::PI * x / short).sin()
+                + a_long * (2.0 * std::f64::consts::PI * y / long).cos()
+        })
+        .collect();
+    let h = Surface::Height(HeightField::from_vec([n, n], data).unwrap());
+    let (m, _) = report(
+        &h,
+        json!({"level": "mean", "periodic": "yes", "lambda_c": lambda_c, "hurst": "psd"}),
     );
+    let t = |l: f64| {
+        let alpha = asperity_engine::methods::analysis::filter::ALPHA;
+        (-std::f64::consts::PI * (alpha * lambda_c / l).powi(2)).exp()
+    };
+    let want = ((a_short * (1.0 - t(short))).powi(2) / 2.0
+        + (a_long * (1.0 - t(long))).powi(2) / 2.0)
+        .sqrt();
+    let sq = m["Sq"].as_f64().unwrap();
+    assert!(
+        (sq / want - 1.0).abs() < 1e-3,
+        "Sq {sq}, closed form {want}"
+    );
+    assert_eq!(m["filter"]["surface"], "F-L surface");
+    assert_eq!(m["filter"]["lambda_c"], lambda_c);
+    // the functional family comes with every height report, ordered as it must be
+    for k in [
+        "Sk", "Spk", "Svk", "Smr1", "Smr2", "Sxp", "Vmp", "Vmc", "Vvc", "Vvv",
+    ] {
+        assert!(m[k].as_f64().is_some_and(f64::is_finite), "{k}: {}", m[k]);
+    }
+    assert!(m["Smr1"].as_f64() < m["Smr2"].as_f64());
+}
+
+/// `nesting: iso` picks ISO 25178-3's series values from the extent and
+/// spacing; λs not below λc and a robust filter without an L-filter are refused.
+#[test]
+fn nesting_indices_default_from_the_series_and_bad_ones_are_refused() {
+    let (m, _) = report(&fbm_surface(), json!({"nesting": "iso", "hurst": "psd"}));
+    // 256 samples of spacing 1 (a side of 255): λc ≤ 51 → 50, λs ≥ 3 → 5
+    assert_eq!(m["filter"]["surface"], "S-L surface");
+    assert_eq!(m["filter"]["lambda_c"], 50.0, "{}", m["filter"]);
+    assert_eq!(m["filter"]["lambda_s"], 5.0, "{}", m["filter"]);
+    for bad in [
+        json!({"lambda_s": 0.5, "lambda_c": 0.1}),
+        json!({"robust": true}),
+        json!({"filter_degree": 3}),
+        json!({"lambda_c": -1.0}),
+    ] {
+        let p = serde_json::from_value::<AnalyzeParams>(bad.clone());
+        let refused = match p {
+            Err(_) => true,
+            Ok(p) => asperity_engine::params::validate(&p).is_err(),
+        };
+        assert!(refused, "{bad} accepted");
+    }
 }

@@ -390,6 +390,7 @@ fn every_job_s_command_line_gives_its_parameters_back() {
         command_lines_round_trip::<ifs::IfsSdcfParams>(),
         command_lines_round_trip::<ifs::IfsCurvatureParams>(),
         command_lines_round_trip::<analyze::AnalyzeParams>(),
+        command_lines_round_trip_from::<analyze::FilterParams>(json!({"lambda_c": 8.0})),
         command_lines_round_trip::<synthesis::FbmParams>(),
         command_lines_round_trip::<render::RenderParams>(),
         command_lines_round_trip::<files::ConvertParams>(),
