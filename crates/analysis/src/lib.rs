@@ -13,6 +13,7 @@
 //! | [`fractal`] | triangulation and partitioning dimensions | Clarke 1986; variance method |
 //! | [`scaling`] | β (plain, intrinsic width), α, cluster dimensions (R_g, mass–radius) | kim-machiraju-thompson §4 |
 //! | [`synthesis`] | self-affine surfaces by FFT Fourier filtering (`asperity generate fbm`) | kim-machiraju-thompson §2 (fractal methods) |
+//! | [`texture`] | the texture direction Std from the angular amplitude spectrum | ISO 25178-2 §4.3.4 |
 //! | [`jets`] | mean and Gaussian curvature of a mesh at a stated scale (osculating jets) | Cazals & Pouget 2005 |
 //! | [`mesh`] | curvature (mean, Gaussian) with the Gauss–Bonnet check, roughness against a Taubin-smoothed copy, box counting | Meyer et al. 2003; Taubin 1995 |
 //!
@@ -38,6 +39,7 @@ pub mod scaling;
 pub mod spectrum;
 pub mod statistics;
 pub mod synthesis;
+pub mod texture;
 pub mod window;
 
 use asperity_core::CoreError;

@@ -300,6 +300,8 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
         facts.set("Sal", sp.as_ref().map(|s| s.Sal));
         facts.set("Str", sp.as_ref().map(|s| s.Str));
         facts.set("Str_capped", sp.as_ref().map(|s| s.capped));
+        let direction = asperity_analysis::texture::texture_direction(&spectrum);
+        facts.set("Std", direction.map(|t| t.Std));
     }
     facts.set("scale_dependent", &scale);
     facts.set("psd", psd_json(&r, p.window, profile));
