@@ -37,14 +37,18 @@ Documented exceptions:
 4. The spatial parameters where they are undefined: Str where either program
    finds that the ACF does not decay to 0.2 within the field in some direction
    (asperity's `Str_capped`, surfalize's warning: the value is then a bound),
-   and Std where the surface has no lay (Str > 0.5: the angular spectrum's
-   maximum is then a draw of the noise). Not compared in those cases. Std is
+   and Std where the surface has no strong lay (Str ≥ 0.2): the angular
+   spectrum's maximum is then a draw of the noise, and the axes' bins, which
+   hold whole lines of the lowest modes, win (a crop of an fBm with Str 0.31:
+   asperity 90°, surfalize 0°). Not compared in those cases. Std is
    compared as an angle to 10 % of the half turn, with the axes' convention
    flipped (surfalize's y runs up the rows).
 5. The functional family (Sk, Spk, Svk, Smr1, Smr2, Sxp, Vmp, Vmc, Vvc, Vvv) is
    compared to 1e-6 with ISO's construction on surfalize's own curve evaluated
    exactly (numpy, `exact_functional`), and to surfalize's values to 1e-2 for
-   Sk, Smr1, Smr2 and Sxp (the others printed). surfalize samples the curve in
+   Sk and Sxp (the others' distance printed: on a lay, whose arcsine height
+   distribution leaves the secant's gradient flat over tens of %, surfalize's
+   Smr1 moves by up to 0.3 % points). surfalize samples the curve in
    10,000 classes: its secant search moves along a flat gradient (nms-1.nms:
    its window starts at 30.47 %, the exact curve's at 30.75 %, gradients equal
    to 7e-6), and it stops each area at the class before the line, a bias that
@@ -60,6 +64,7 @@ Prints one line per surface and the worst errors; exits 1 after the first
 surface with a failed check.
 """
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -96,7 +101,7 @@ def analyze(path):
     return json.loads(out.stdout)["measurements"]
 
 
-OWN_CHECKED = ("Sk", "Smr1", "Smr2", "Sxp")
+OWN_CHECKED = ("Sk", "Sxp")
 OWN_TOL = 1e-2
 FUNCTIONAL = ("Sk", "Spk", "Svk", "Smr1", "Smr2", "Sxp", "Vmp", "Vmc", "Vvc", "Vvv")
 
@@ -164,7 +169,7 @@ def skipped(ours):
         skip.add("Smr2")
     if ours.get("Str_capped"):
         skip.add("Str")
-    if ours.get("Str") is None or ours["Str"] > 0.5:
+    if ours.get("Str") is None or ours["Str"] >= 0.2:
         skip.add("Std")
     return skip
 
@@ -201,9 +206,9 @@ def compare(case, ours, reference_values, scale):
             failed.append(f"{k}: {a!r} vs surfalize {b!r} ({err:.2e} > {tol:g})")
         if k in own:
             err = abs(a - own[k]) / max(abs(own[k]), 1e-3 * scale)
+            if err >= worst.get(k + " vs surfalize's classes", (0.0, ""))[0]:
+                worst[k + " vs surfalize's classes"] = (err, case)
             if k in OWN_CHECKED:
-                if err >= worst.get(k + " vs surfalize's classes", (0.0, ""))[0]:
-                    worst[k + " vs surfalize's classes"] = (err, case)
                 if err > OWN_TOL:
                     failed.append(f"{k}: {a!r} vs surfalize's own {own[k]!r} ({err:.2e} > {OWN_TOL:g})")
     print(f"{case}: {'ok' if not failed else 'FAILED'}")
@@ -238,7 +243,8 @@ def battery(rng):
 
 
 def main():
-    seed = int(np.random.SeedSequence().entropy % 2**32)
+    # a fresh draw each run; ISO_SEED=N repeats one
+    seed = int(os.environ.get("ISO_SEED", np.random.SeedSequence().entropy % 2**32))
     print(f"seed {seed}")
     rng = np.random.default_rng(seed)
     ok = True
