@@ -269,6 +269,15 @@ impl<T> Grid2<T> {
         let nx = self.dims[0];
         &mut self.data[j * nx..(j + 1) * nx]
     }
+    /// A grid of the same geometry holding `data` (row-major, as [`Grid2::data`]).
+    ///
+    /// # Errors
+    /// [`crate::CoreError`] when `data` does not hold one sample per point.
+    pub fn with_data<U>(&self, data: Vec<U>) -> crate::Result<Grid2<U>> {
+        let mut grid = Grid2::from_vec(self.dims, data)?;
+        (grid.spacing, grid.origin, grid.units) = (self.spacing, self.origin, self.units);
+        Ok(grid)
+    }
     /// A grid of the same geometry with `f` applied to every sample.
     pub fn map<U>(&self, f: impl FnMut(&T) -> U) -> Grid2<U> {
         Grid2 {

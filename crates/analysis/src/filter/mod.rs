@@ -106,13 +106,6 @@ fn measured(h: &HeightField) -> (Vec<f64>, Option<Vec<f64>>) {
     (z, Some(w))
 }
 
-fn with_data(h: &HeightField, data: Vec<f64>) -> Result<HeightField, AnalysisError> {
-    Ok(HeightField::from_vec(h.dims(), data)?
-        .with_spacing(h.spacing())?
-        .with_origin(h.origin())?
-        .with_units(h.units()))
-}
-
 /// The Gaussian mean surface of `h` at cut-off `cutoff` (in the field's
 /// length unit): the low-pass part, which keeps wavelengths longer than the
 /// cut-off (ISO 16610-61; a profile: ISO 16610-21). `order` is the regression
@@ -132,7 +125,7 @@ pub fn gaussian(
     check(h, cutoff, order)?;
     let (z, w) = measured(h);
     let mean = regression(h, cutoff, order, periodic).mean_surface(&z, w.as_deref());
-    with_data(h, mean)
+    Ok(h.with_data(mean)?)
 }
 
 /// [`gaussian`] made robust against outliers (deep valleys, spikes) by
@@ -169,7 +162,7 @@ pub fn robust_gaussian(
             break;
         }
     }
-    Ok((with_data(h, mean)?, iterations))
+    Ok((h.with_data(mean)?, iterations))
 }
 
 /// The rms and the mean of `f(v)` over the points of weight > 0 (NaN values
@@ -276,8 +269,8 @@ pub fn scale_limited(h: &HeightField, spec: &Specification) -> Result<ScaleLimit
     let mut noise = None;
     if let Some(s) = spec.lambda_s {
         let mean = gaussian(&surface, s, DEFAULT_ORDER, spec.periodic)?;
-        let mean = with_data(h, keep_missing(h, mean.into_data()))?;
-        noise = Some(with_data(h, difference(&surface, &mean))?);
+        let mean = h.with_data(keep_missing(h, mean.into_data()))?;
+        noise = Some(h.with_data(difference(&surface, &mean))?);
         surface = mean;
     }
     let mut waviness = None;
@@ -289,7 +282,7 @@ pub fn scale_limited(h: &HeightField, spec: &Specification) -> Result<ScaleLimit
             (gaussian(&surface, c, spec.order, spec.periodic)?, 1)
         };
         iterations = n;
-        let rough = with_data(h, keep_missing(h, difference(&surface, &mean)))?;
+        let rough = h.with_data(keep_missing(h, difference(&surface, &mean)))?;
         waviness = Some(mean);
         surface = rough;
     }
@@ -311,8 +304,8 @@ fn keep_missing(from: &HeightField, mut data: Vec<f64>) -> Vec<f64> {
     data
 }
 
-/// a − b, point by point.
-fn difference(a: &HeightField, b: &HeightField) -> Vec<f64> {
+/// a − b, point by point (the same grid).
+pub fn difference(a: &HeightField, b: &HeightField) -> Vec<f64> {
     a.data()
         .par_iter()
         .zip(b.data())

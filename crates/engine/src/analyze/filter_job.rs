@@ -4,7 +4,7 @@
 //! `asperity_analysis::filter`) — with the surface and every removed
 //! component as height fields: form + waviness + noise + surface = input.
 
-use asperity_analysis::{areal, level};
+use asperity_analysis::{areal, filter, level};
 use asperity_core::{HeightField, MemoryBudget};
 use clap::Args;
 use schemars::JsonSchema;
@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::json;
 
 use super::params::{AnalyzeOptions, Filters, Level, Nesting, Periodic};
-use super::{iso, parse_options, prepare};
+use super::{iso, level_holed, prepare};
 use crate::error::Result;
 use crate::params::JobParams;
 use crate::report::Measurements;
@@ -83,16 +83,14 @@ fn form_removed(
         ..AnalyzeOptions::default()
     };
     if h.has_missing() {
-        // measured data with holes: not periodic unless said, a plane unless said
-        let how = parse_options(&o)?.0.unwrap_or(level::Level::Plane);
-        let periodic = o.periodic.unwrap_or(false);
+        let (levelled, how, periodic) = level_holed(h, &o)?;
         let source = if o.periodic.is_some() {
             "option"
         } else {
             "missing points"
         };
         let mode = json!({"value": periodic, "source": source, "edge_ratio": null});
-        Ok((level::level(h, how)?, periodic, how, mode))
+        Ok((levelled, periodic, how, mode))
     } else {
         let p = prepare(h, &o)?;
         let mode = json!({"value": p.periodic, "source": p.source, "edge_ratio": p.ratio});
@@ -116,14 +114,7 @@ pub fn filter(h: &HeightField, p: &FilterParams, budget: &MemoryBudget) -> Resul
     h.validate_measured()?;
     budget.check(filter_bytes(h, p), "filtering")?;
     let (levelled, periodic, how, mode) = form_removed(h, p)?;
-    let difference = |a: &HeightField, b: &HeightField| -> Result<HeightField> {
-        let data = a.data().iter().zip(b.data()).map(|(a, b)| a - b).collect();
-        Ok(HeightField::from_vec(a.dims(), data)?
-            .with_spacing(a.spacing())?
-            .with_origin(a.origin())?
-            .with_units(a.units()))
-    };
-    let form = difference(h, &levelled)?;
+    let form = h.with_data(filter::difference(h, &levelled))?;
     let mut warnings = Vec::new();
     let filters = if p.filters.any() {
         p.filters

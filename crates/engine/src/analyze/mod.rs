@@ -317,6 +317,15 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     })
 }
 
+/// The F-operator on a field with missing points: levelled over its measured
+/// points, a plane unless asked otherwise, and not periodic unless said
+/// (measured data are not periodic). The levelled field, the levelling and
+/// the periodicity.
+fn level_holed(h: &HeightField, o: &AnalyzeOptions) -> Result<(HeightField, level::Level, bool)> {
+    let how = parse_options(o)?.0.unwrap_or(level::Level::Plane);
+    Ok((level::level(h, how)?, how, o.periodic.unwrap_or(false)))
+}
+
 /// The report on a field with missing points: levelled over its measured
 /// points (a plane unless asked otherwise: measured data are not periodic),
 /// its height parameters over the measured points alone, everything else on
@@ -331,10 +340,7 @@ fn holed(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
         }
         .into());
     };
-    let (level_how, _) = parse_options(o)?;
-    let level_how = level_how.unwrap_or(level::Level::Plane);
-    let periodic = o.periodic.unwrap_or(false);
-    let levelled = level::level(h, level_how)?;
+    let (levelled, level_how, periodic) = level_holed(h, o)?;
     let mut filter_warnings = Vec::new();
     let stage = iso::scale_limited(levelled, periodic, &o.filters, &mut filter_warnings)?;
     let (levelled, filtered) = (stage.surface, stage.facts);

@@ -323,3 +323,63 @@ fn nesting_indices_default_from_the_series_and_bad_ones_are_refused() {
         assert!(refused, "{bad} accepted");
     }
 }
+
+/// `filter` splits a tilted field with holes into form, waviness, noise and
+/// the scale-limited surface, which add up to the input at every measured
+/// point (missing points stay missing in each part); the form is the plane
+/// the field was tilted by, to rounding.
+#[test]
+fn the_filters_parts_add_up_to_the_input() {
+    use asperity_engine::analyze::{FilterParams, filter};
+    let Surface::Height(rough) = fbm_surface() else {
+        unreachable!()
+    };
+    let (a, b, c) = (0.03, -0.02, 1.5);
+    let mut data = rough.data().to_vec();
+    for (k, z) in data.iter_mut().enumerate() {
+        let (i, j) = ((k % 256) as f64, (k / 256) as f64);
+        *z += a * i + b * j + c;
+        if (k * 7919) % 97 == 0 {
+            *z = f64::NAN;
+        }
+    }
+    let h = rough.with_data(data).unwrap();
+    let p: FilterParams =
+        serde_json::from_value(json!({"lambda_s": 4.0, "lambda_c": 40.0})).unwrap();
+    let f = filter(&h, &p, &MemoryBudget::unlimited()).unwrap();
+    let (w, s) = (
+        f.waviness.expect("an L-filter"),
+        f.noise.expect("an S-filter"),
+    );
+    let mut measured = 0;
+    for k in 0..h.len() {
+        let parts = [
+            f.form.data()[k],
+            w.data()[k],
+            s.data()[k],
+            f.surface.data()[k],
+        ];
+        if h.data()[k].is_nan() {
+            assert!(
+                f.surface.data()[k].is_nan(),
+                "point {k} filled in the surface"
+            );
+            continue;
+        }
+        measured += 1;
+        let sum: f64 = parts.iter().sum();
+        assert!(
+            (sum - h.data()[k]).abs() < 1e-12,
+            "point {k}: {parts:?} sum {sum} vs {}",
+            h.data()[k]
+        );
+    }
+    assert!(measured > 60_000 && measured < h.len());
+    // the levelled plane is the tilt plus the fBm's own (small) best plane
+    let slope = (f.form.data()[2] - f.form.data()[1]) - a;
+    assert!(slope.abs() < 2e-3, "form slope off by {slope}");
+    assert_eq!(
+        serde_json::to_value(&f.facts).unwrap()["filter"]["surface"],
+        "S-L surface"
+    );
+}
