@@ -412,7 +412,7 @@ class ASPERITY_OT_roughen(_OnMesh, AsperityOperator, bpy.types.Operator):
 
 
 class ASPERITY_OT_analyze(_OnMesh, AsperityOperator, bpy.types.Operator):
-    """Roughness of the surface: Sa, Sq, the core height Sk with Spk and Svk, and the Hurst exponent of a height-field object, curvature statistics of any mesh (shown in the sidebar's asperity tab)"""
+    """Roughness of the surface: Sa, Sq, the core height Sk with Spk and Svk, the peak density Spd and ten-point height S10z, and the Hurst exponent of a height-field object, curvature statistics of any mesh (shown in the sidebar's asperity tab)"""
 
     bl_idname = "object.asperity_analyze"
     bl_label = "Analyze"
@@ -443,6 +443,7 @@ class ASPERITY_OT_analyze(_OnMesh, AsperityOperator, bpy.types.Operator):
         if h is not None:
             hurst = h.get("hurst") or {}
             facts.update(Sa=h.get("Sa"), Sq=h.get("Sq"), Sk=h.get("Sk"), Spk=h.get("Spk"), Svk=h.get("Svk"),
+                         Spd=h.get("Spd"), S10z=h.get("S10z"),
                          Hurst=hurst.get("H") if isinstance(hurst, dict) else hurst)
         curv = m.get("curvature") or {}
         for kind in ("mean", "gaussian"):

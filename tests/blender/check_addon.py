@@ -12,7 +12,7 @@ and in Blender 4.2 LTS and 5.0 as Python modules (``bpy`` from PyPI) with the ex
   vertex and face counts of the CLI's files for the same parameters and seed;
   Weather gives a material with an image texture, Regions a material per
   region on the faces, Roughen the CLI's subdivision of the same base (edge
-  creases included), Analyze the CLI's Sa, Sq, Sk, Spk, Svk and Hurst;
+  creases included), Analyze the CLI's Sa, Sq, Sk, Spk, Svk, Spd, S10z and Hurst;
 - a run stopped half-way (time_limit, the same path as Esc) leaves no object
   and no mesh behind;
 - renders each result with Cycles at a few samples: not blank. Pictures go to
@@ -242,7 +242,8 @@ if fbm:
     theirs = json.loads(cli("analyze", "--json", TMP / "fbm.gsf"))["measurements"]
     hurst = theirs["hurst"]["H"] if isinstance(theirs["hurst"], dict) else theirs["hurst"]
     for key, want in (("Sa", theirs["Sa"]), ("Sq", theirs["Sq"]), ("Sk", theirs["Sk"]), ("Spk", theirs["Spk"]),
-                      ("Svk", theirs["Svk"]), ("Hurst", hurst)):
+                      ("Svk", theirs["Svk"]), ("Spd", theirs["Spd"]), ("S10z", theirs["S10z"]),
+                      ("Hurst", hurst)):
         got = ours.get(key)
         check(f"Analyze: {key} as the CLI's", got is not None and abs(got - want) <= 1e-5 * abs(want),
               f"{got} vs {want}")

@@ -29,6 +29,7 @@ use serde::Serialize;
 
 use crate::AnalysisError;
 use crate::lines::{LINES_PER_TASK, fold_lines, fold_range};
+use crate::profile_elements;
 
 /// Areal parameters of a levelled height field.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -76,6 +77,11 @@ pub struct Profile {
     /// profile, else over its n − 1 steps, as SurfaceTopography's
     /// `rms_slope_from_profile`).
     pub Rdq: f64,
+    /// Mean width of the profile elements (ISO 21920-2; see
+    /// [`crate::profile_elements`]), over the profiles that have one.
+    pub Rsm: Option<f64>,
+    /// Mean height of the profile elements, likewise.
+    pub Rc: Option<f64>,
 }
 
 /// Σ|z|, Σz², Σz³, Σz⁴, max and min of `z`.
@@ -265,8 +271,11 @@ pub fn profile(h: &HeightField, along_y: bool, periodic: bool) -> Result<Profile
     let parts = fold_lines(
         h,
         along_y,
-        || ([0.0f64; 8], 0.0),
-        |(acc, counted), p| {
+        || ([0.0f64; 8], 0.0, [0.0f64; 3]),
+        |(acc, counted, elements), p| {
+            if let Some((rsm, rc)) = profile_elements::mean_width_and_height(p, step) {
+                *elements = [elements[0] + rsm, elements[1] + rc, elements[2] + 1.0];
+            }
             let mean = p.iter().sum::<f64>() / p.len() as f64;
             let centred: Vec<f64> = p.iter().map(|v| v - mean).collect();
             let (ra, rq, rp, rv, rsk, rku) = moments(moment_sums(&centred), centred.len());
@@ -283,10 +292,15 @@ pub fn profile(h: &HeightField, along_y: bool, periodic: bool) -> Result<Profile
             *counted += 1.0;
         },
     );
-    let (acc, counted) = parts.iter().fold(([0.0f64; 8], 0.0), |(mut t, c), (p, n)| {
-        t.iter_mut().zip(p).for_each(|(t, p)| *t += p);
-        (t, c + n)
-    });
+    let (acc, counted, elements) = parts.iter().fold(
+        ([0.0f64; 8], 0.0, [0.0f64; 3]),
+        |(mut t, c, mut e), (p, n, pe)| {
+            t.iter_mut().zip(p).for_each(|(t, p)| *t += p);
+            e.iter_mut().zip(pe).for_each(|(e, p)| *e += p);
+            (t, c + n, e)
+        },
+    );
+    let with_elements = (elements[2] > 0.0).then_some(elements[2]);
     if counted == 0.0 {
         return Err(AnalysisError::BadInput("every profile is flat".into()));
     }
@@ -300,6 +314,8 @@ pub fn profile(h: &HeightField, along_y: bool, periodic: bool) -> Result<Profile
         Rsk: rsk,
         Rku: rku,
         Rdq: rdq,
+        Rsm: with_elements.map(|n| elements[0] / n),
+        Rc: with_elements.map(|n| elements[1] / n),
     })
 }
 

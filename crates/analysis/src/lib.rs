@@ -5,8 +5,10 @@
 //! | [`level`] | levelling: mean, least-squares plane, quadratic | ISO 25178-2 (F-operator) |
 //! | [`areal`] | Sa, Sq, Sp, Sv, Sz, Ssk, Sku, Sdq, Sdr; profile Ra, Rq, … | ISO 25178-2, ISO 4287 |
 //! | [`spectrum`] | the half spectrum of a real field (real-to-complex 2-D FFT), shared by the PSD and the ACF | Hermitian symmetry |
+//! | [`profile_elements`] | Rsm, Rc: mean width and height of profile elements, with ISO's height and width discrimination | ISO 21920-2; ISO 4287 |
 //! | [`psd`] | 2-D PSD, radially averaged log-binned 1-D PSD, Hurst exponent | SurfaceTopography conventions |
 //! | [`correlation`] | ACF, HHCF, Sal, Str | ISO 25178-2 |
+//! | [`feature`] | watershed segmentation with Wolf pruning; Spd, Svd, Spc, Svc, S5p, S5v, S10z, Sha, Sda, Shv, Sdv | ISO 25178-2:2021 clause 5; Scott 2004 |
 //! | [`filter`] | Gaussian filters: areal and profile, regression of degree 0–2, robust; the scale-limited (S-L) surface | ISO 16610-21, -28, -31, -61, -71; ISO 25178-2 §3.1 |
 //! | [`fill`] | missing points filled (harmonic: the discrete Laplace equation; or the mean) | SurfaceTopography `interpolate_undefined_data` |
 //! | [`functional`] | the areal material ratio curve: Smr(c), Smc(mr), Sxp, Vm/Vv family, Sk, Spk, Svk, Smr1, Smr2 | ISO 25178-2 §4.5, Annex B; ISO 13565-2 |
@@ -23,6 +25,7 @@
 
 pub mod areal;
 pub mod correlation;
+pub mod feature;
 pub mod fill;
 pub mod filter;
 pub mod fractal;
@@ -34,6 +37,7 @@ mod lines;
 pub mod mesh;
 pub mod model;
 pub mod multigrid;
+pub mod profile_elements;
 pub mod psd;
 pub mod scaling;
 pub mod spectrum;

@@ -5,7 +5,8 @@ A 4096² non-periodic fBm (asperity's `generate fbm`, cropped from 4097²) is
 filtered with an S-filter (λs = 5 samples) and an L-filter (λc = 250 samples),
 and every parameter both programs compute is taken from the S-L surface:
 Sa, Sq, Sp, Sv, Sz, Ssk, Sku, Sdq, Sdr, Sal, Str, Sk, Spk, Svk, Smr1, Smr2,
-Sxp, Vmp, Vmc, Vvc, Vvv. asperity's time is the whole process
+Sxp, Vmp, Vmc, Vvc, Vvv and the feature parameters Spd, Svd, Spc, Svc, S5p,
+S5v, S10z (watershed and Wolf pruning at 5 % of Sz). asperity's time is the whole process
 (`analyze --hurst psd`, which also computes the PSD, its Hurst fit, the
 profiles and the scale-dependent statistics); surfalize's is its load from
 .npy, `filter('bandpass', λs, λc)` and the parameters, in one Python process.
@@ -28,7 +29,8 @@ BIN = sys.argv[1] if len(sys.argv) > 1 else str(REPO / "target/release/asperity"
 N = int(sys.argv[2]) if len(sys.argv) > 2 else 4096
 LAMBDA_S, LAMBDA_C = 5.0, 250.0
 PARAMETERS = ("Sa", "Sq", "Sp", "Sv", "Sz", "Ssk", "Sku", "Sdq", "Sdr", "Sal", "Str", "Sk", "Spk",
-              "Svk", "Smr1", "Smr2", "Sxp", "Vmp", "Vmc", "Vvc", "Vvv")
+              "Svk", "Smr1", "Smr2", "Sxp", "Vmp", "Vmc", "Vvc", "Vvv",
+              "Spd", "Svd", "Spc", "Svc", "S5p", "S5v", "S10z")
 
 
 def main():

@@ -26,8 +26,16 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
             run.note("no plots for point sets (growth commands plot R_g(n) and ρ(z) with --plot)");
         }
         run.plots(dir, &r.plots, (900, 640))?;
-        for p in &r.plots {
-            run.note(format!("plot written to {}", dir.join(p.name).display()));
+        for i in &r.images {
+            run.png(&dir.join(i.name), &i.image)?;
+        }
+        let names = r
+            .plots
+            .iter()
+            .map(|p| p.name)
+            .chain(r.images.iter().map(|i| i.name));
+        for name in names {
+            run.note(format!("plot written to {}", dir.join(name).display()));
         }
     }
     if ctx.json {

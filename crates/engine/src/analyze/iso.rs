@@ -7,6 +7,7 @@
 
 use asperity_analysis::filter::{self, Specification};
 use asperity_analysis::functional::{Functional, MaterialRatioCurve};
+use asperity_analysis::profile_elements;
 use asperity_core::HeightField;
 use asperity_render::plot::{Plot, Series, Style};
 use serde_json::{Value, json};
@@ -166,7 +167,7 @@ pub(super) fn set_functional(facts: &mut Measurements, functional: &Value, profi
 
 /// The functional parameters of the measured points of `lv`, named for an
 /// areal field (Sk, Vmp, …), with the sampled curve in `material_ratio`.
-pub(super) fn functional_facts(lv: &HeightField) -> Result<Value> {
+pub(super) fn functional_facts(lv: &HeightField, o: &AnalyzeOptions) -> Result<Value> {
     let curve = MaterialRatioCurve::of(lv)?;
     let f = Functional::of(&curve);
     let mut v =
@@ -180,6 +181,31 @@ pub(super) fn functional_facts(lv: &HeightField) -> Result<Value> {
         "Smc": {"2.5": curve.height_at(2.5), "10": curve.height_at(10.0), "50": curve.height_at(50.0), "80": curve.height_at(80.0)},
         "convention": "Smc(mr): the (1 − mr/100) quantile of the heights, linear between order statistics; Sk by the 40 % secant of least gradient (ISO 13565-2, ISO 25178-2 Annex B.1)",
     });
+    // Smr(c) and Smc(mr) at the user's values (ISO 25178-2 §4.5.1–4.5.2); on
+    // a profile the material length of ISO 21920-2 (the profile drawn
+    // straight between samples), which counts each step's length above c
+    let profile = (lv.ny() == 1).then(|| lv.data());
+    let periodic = o.periodic == Some(true);
+    let ratio = |c: f64| match profile {
+        Some(z) => profile_elements::material_length_ratio(z, c, periodic),
+        None => curve.ratio_at(c),
+    };
+    let height = |mr: f64| match profile {
+        Some(z) => profile_elements::height_at_length_ratio(z, mr, periodic),
+        None => curve.height_at(mr),
+    };
+    if let Some(cs) = &o.material_ratio_at {
+        v["Smr_at"] = cs
+            .iter()
+            .map(|&c| json!({"c": c, "mr_percent": ratio(c)}))
+            .collect();
+    }
+    if let Some(mrs) = &o.height_at_ratio {
+        v["Smc_at"] = mrs
+            .iter()
+            .map(|&mr| json!({"mr_percent": mr, "c": height(mr)}))
+            .collect();
+    }
     if let Some(map) = v.as_object_mut() {
         for key in ["line_top", "line_bottom", "window_start"] {
             map.remove(key);

@@ -5,10 +5,8 @@
 
 use asperity_analysis::spectrum::PowerSpectrum;
 use asperity_analysis::window::{self, Window};
-use asperity_analysis::{
-    AnalysisError, areal, correlation, fill, fractal, hurst, level, mesh, psd, scaling,
-};
-use asperity_core::{HeightField, MemoryBudget, PointSet, TriMesh};
+use asperity_analysis::{AnalysisError, areal, correlation, fill, fractal, hurst, level, psd};
+use asperity_core::{HeightField, MemoryBudget};
 use asperity_io::Surface;
 use asperity_render::plot::{Series, Style, histogram_plot};
 use serde_json::{Value, json};
@@ -17,10 +15,14 @@ use crate::error::{Result, ensure, invalid};
 use crate::plots::{NamedPlot, log_log, points};
 use crate::report::Measurements;
 
+mod features;
+mod mesh_report;
+use mesh_report::{mesh_report, point_report};
 mod filter_job;
 mod iso;
 mod params;
 
+pub use features::NamedImage;
 pub use filter_job::{FilterParams, Filtered, filter, filter_bytes as filter_job_bytes};
 pub use iso::filter_bytes;
 pub use params::{
@@ -34,6 +36,8 @@ pub struct Analysis {
     pub facts: Measurements,
     /// PNG plots to write (empty unless asked for; none for point sets).
     pub plots: Vec<NamedPlot>,
+    /// Pictures to write with the plots (the feature segmentation's maps).
+    pub images: Vec<NamedImage>,
     /// The quantities that could not be estimated (their value is `null`) and why.
     pub warnings: Vec<String>,
 }
@@ -234,9 +238,21 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     // The parameters and the spectrum at once, then every estimate that
     // needs the spectrum's fit range beside the ones that do not: each part
     // on its own, so the report is the same whatever the thread count.
-    let (facts, spectrum) =
-        rayon::join(|| parameters(h, &p), || PowerSpectrum::of(lv, w.as_deref()));
-    let (mut facts, r) = (facts?, psd::radial_from_spectrum(&spectrum, o.bins)?);
+    let ((facts, motifs), spectrum) = rayon::join(
+        || {
+            rayon::join(
+                || parameters(h, &p, o),
+                || features::segment(lv, p.periodic, o),
+            )
+        },
+        || PowerSpectrum::of(lv, w.as_deref()),
+    );
+    let (mut facts, r, motifs) = (
+        facts?,
+        psd::radial_from_spectrum(&spectrum, o.bins)?,
+        motifs?,
+    );
+    let images = set_features(&mut facts, lv, motifs.as_ref(), o)?;
     if let Some(f) = filtered {
         facts.set("filter", f);
     }
@@ -313,7 +329,30 @@ fn height(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     Ok(Analysis {
         facts,
         plots,
+        images,
         warnings,
+    })
+}
+
+/// The feature parameters into the report, and their maps when plots are asked for.
+fn set_features(
+    facts: &mut Measurements,
+    lv: &HeightField,
+    motifs: Option<&asperity_analysis::feature::Features>,
+    o: &AnalyzeOptions,
+) -> Result<Vec<NamedImage>> {
+    let Some(f) = motifs else {
+        return Ok(Vec::new());
+    };
+    if let Value::Object(map) = features::facts(f, o)? {
+        for (k, v) in map {
+            facts.set(&k, v);
+        }
+    }
+    Ok(if o.plots {
+        features::maps(lv, f)
+    } else {
+        Vec::new()
     })
 }
 
@@ -345,7 +384,7 @@ fn holed(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     let stage = iso::scale_limited(levelled, periodic, &o.filters, &mut filter_warnings)?;
     let (levelled, filtered) = (stage.surface, stage.facts);
     let heights = areal::measured_heights(&levelled)?;
-    let functional = iso::functional_facts(&levelled)?;
+    let functional = iso::functional_facts(&levelled, o)?;
     let (filled, report) = fill::fill_missing(&levelled, how)?;
     let inner = AnalyzeOptions {
         level: "none".into(),
@@ -357,6 +396,9 @@ fn holed(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     a.warnings.extend(filter_warnings);
     let profile = h.ny() == 1;
     iso::set_functional(&mut a.facts, &functional, profile);
+    // motifs end at missing points: segmented on the field with its holes
+    let motifs = features::segment(&levelled, periodic, o)?;
+    a.images = set_features(&mut a.facts, &levelled, motifs.as_ref(), o)?;
     if let Some(f) = filtered {
         a.facts.set("filter", f);
     }
@@ -465,6 +507,7 @@ fn constant(h: &HeightField, c: f64) -> Analysis {
     facts.set("fractal_dimension", Value::Null);
     Analysis {
         facts,
+        images: Vec::new(),
         plots: Vec::new(),
         warnings: vec![format!(
             "the height field is constant (z = {c}): its height, slope and area parameters are 0; skewness, kurtosis, the spectrum, Hurst exponents and dimensions are undefined (null)"
@@ -474,7 +517,7 @@ fn constant(h: &HeightField, c: f64) -> Analysis {
 
 /// The mode (periodicity, levelling, window) and the ISO 25178 / ISO 4287
 /// parameters of the levelled field.
-fn parameters(h: &HeightField, p: &Prepared) -> Result<Measurements> {
+fn parameters(h: &HeightField, p: &Prepared, o: &AnalyzeOptions) -> Result<Measurements> {
     let lv = &p.levelled;
     let mut facts = if h.ny() == 1 {
         let mut f = Measurements::from_value(json!({"kind": "profile"}));
@@ -490,7 +533,7 @@ fn parameters(h: &HeightField, p: &Prepared) -> Result<Measurements> {
         f.set("profile_y", areal::profile(lv, true, p.periodic).ok());
         f
     };
-    iso::set_functional(&mut facts, &iso::functional_facts(lv)?, h.ny() == 1);
+    iso::set_functional(&mut facts, &iso::functional_facts(lv, o)?, h.ny() == 1);
     facts.set("size", h.dims());
     facts.set("spacing", h.spacing());
     facts.set("units", units_json(h));
@@ -638,135 +681,6 @@ fn height_plots(
         plot: histogram_plot(lv.data(), 60, "Height distribution (levelled)", "z")?,
     });
     Ok(out)
-}
-
-/// The finite values between the 1st and 99th percentiles (curvature on rough or
-/// fractal meshes has tails that would squash a histogram into one bin).
-fn central(values: &[f64]) -> Vec<f64> {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.len() < 100 {
-        return v;
-    }
-    v.sort_by(f64::total_cmp);
-    let (lo, hi) = (v[v.len() / 100], v[v.len() - 1 - v.len() / 100]);
-    v.retain(|&x| x >= lo && x <= hi);
-    v
-}
-
-fn curvature_plots(c: &mesh::Curvature) -> Result<Vec<NamedPlot>> {
-    let mut out = Vec::new();
-    for (name, values, title, x) in [
-        (
-            "curvature_mean.png",
-            &c.mean,
-            "Mean curvature per vertex (central 98 %)",
-            "H",
-        ),
-        (
-            "curvature_gaussian.png",
-            &c.gaussian,
-            "Gaussian curvature per vertex (central 98 %)",
-            "K",
-        ),
-    ] {
-        let plot = histogram_plot(&central(values), 60, title, x)?;
-        out.push(NamedPlot { name, plot });
-    }
-    Ok(out)
-}
-
-/// The report on a mesh: topology, curvature, roughness, box-counting dimension.
-fn mesh_report(m: &TriMesh, plots: bool) -> Result<Analysis> {
-    let c = mesh::curvature(m);
-    let mut warnings = Vec::new();
-    let box_counting = match mesh::box_counting(m) {
-        Ok(d) => {
-            if is_graph_over_a_plane(m) {
-                warnings.push(format!(
-                    "box counting gives this sheet's covering dimension (D = {:.3}); for a rough surface over a plane it equals 3 − H only at boxes smaller than the height steps — analyse the height field itself (asperity analyze FILE.npy) for H and D = 3 − H",
-                    d.d
-                ));
-            }
-            json!({"D": d.d, "fit_range": d.fit.range, "r2": d.fit.r2})
-        }
-        Err(e) => {
-            warnings.push(format!(
-                "fractal dimension (box counting) not estimated: {e}"
-            ));
-            Value::Null
-        }
-    };
-    let topology = m.topology();
-    let watertight = topology.is_watertight();
-    let facts = Measurements::from_value(json!({
-        "kind": "mesh",
-        "vertices": m.n_vertices(),
-        "triangles": m.n_faces(),
-        "area": m.area(),
-        "volume": if watertight { Some(m.signed_volume()) } else { None },
-        "euler_characteristic": topology.euler_characteristic,
-        "genus": topology.genus,
-        "boundary_loops": topology.boundary_loops,
-        "manifold": topology.is_manifold(),
-        "watertight": watertight,
-        "curvature": {
-            "mean": mesh::stats(&c.mean, &c.area),
-            "gaussian": mesh::stats(&c.gaussian, &c.area),
-            "total_gaussian": c.total_gaussian,
-            "gauss_bonnet_2pi_chi": 2.0 * std::f64::consts::PI * topology.euler_characteristic as f64,
-        },
-        "roughness_vs_smoothed": mesh::smoothed_roughness(m, 10),
-        "fractal_dimension": {"box_counting": box_counting},
-    }));
-    Ok(Analysis {
-        facts,
-        warnings,
-        plots: if plots {
-            curvature_plots(&c)?
-        } else {
-            Vec::new()
-        },
-    })
-}
-
-/// Whether `m` is an open sheet whose faces all face one side of their mean
-/// normal: the surface of a height field (where box counting is not 3 − H).
-fn is_graph_over_a_plane(m: &TriMesh) -> bool {
-    let normals = m.face_normals();
-    let mean = normals
-        .iter()
-        .fold([0.0; 3], |a, n| [a[0] + n[0], a[1] + n[1], a[2] + n[2]]);
-    !m.boundary_loops().is_empty()
-        && normals
-            .iter()
-            .all(|n| n[0] * mean[0] + n[1] * mean[1] + n[2] * mean[2] > 0.0)
-}
-
-/// The report on a point set (a growth cluster): R_g and two fractal dimensions.
-fn point_report(p: &PointSet, name: &str) -> Result<Analysis> {
-    ensure(p.len() >= 256, || {
-        format!(
-            "{name}: {} points are too few for cluster dimensions (need ≥ 256)",
-            p.len()
-        )
-    })?;
-    let rg = scaling::radius_of_gyration(p.positions());
-    let g = scaling::gyration_dimension(p.positions())?;
-    let m = scaling::mass_radius_dimension(p.positions(), 0.05 * rg)?;
-    let facts = Measurements::from_value(json!({
-        "kind": "point set",
-        "points": p.len(),
-        "radius_of_gyration": rg,
-        "fractal_dimension": {
-            "gyration": {"D": g.d, "r2": g.fit.r2, "note": "R_g of the first n points in file order (deposition order)"},
-            "mass_radius": {"D": m.d, "fit_range": m.fit.range, "r2": m.fit.r2},
-        },
-    }));
-    Ok(Analysis {
-        facts,
-        plots: Vec::new(),
-        warnings: Vec::new(),
-    })
 }
 
 /// A height field's units as the reports give them: `{"xy": "µm", "z": "nm"}`

@@ -188,6 +188,26 @@ pub struct AnalyzeParams {
     #[command(flatten)]
     #[allow(missing_docs)]
     pub filters: Filters,
+    /// Wolf pruning threshold of the feature parameters (Spd, S5p, Sha, …), in % of Sz: hills and
+    /// dales whose height above (depth below) their lowest saddle is less are merged into their
+    /// neighbour (ISO 25178-3's default 5).
+    #[schemars(range(min = 0.0, max = 100.0))]
+    #[arg(long, value_name = "PERCENT", default_value_t = Self::default().pruning)]
+    pub pruning: f64,
+    /// Count the motifs that touch the field's edge or a missing point in the feature parameters
+    /// (ISO leaves these incomplete motifs out).
+    #[arg(long)]
+    pub incomplete_motifs: bool,
+    /// Heights c (in the data's height unit, from the mean plane of the levelled, filtered
+    /// surface) at which to give the material ratio Smr(c) (Rmr(c) on a profile), in %.
+    #[schemars(with = "Option<crate::params::Heights>")]
+    #[arg(long, value_delimiter = ',', value_name = "C1,C2,...")]
+    pub material_ratio_at: Option<Vec<f64>>,
+    /// Material ratios mr in % (0 … 100) at which to give the height Smc(mr) (Rmc(mr) on a
+    /// profile).
+    #[schemars(with = "Option<crate::params::Percents>")]
+    #[arg(long, value_delimiter = ',', value_name = "MR1,MR2,...")]
+    pub height_at_ratio: Option<Vec<f64>>,
 }
 
 impl Default for AnalyzeParams {
@@ -201,6 +221,10 @@ impl Default for AnalyzeParams {
             hurst: HurstChoice::All,
             fill: FillChoice::Harmonic,
             filters: Filters::DEFAULT,
+            pruning: asperity_analysis::feature::DEFAULT_PRUNING_PERCENT,
+            incomplete_motifs: false,
+            material_ratio_at: None,
+            height_at_ratio: None,
         }
     }
 }
@@ -229,6 +253,10 @@ impl AnalyzeParams {
             estimators: self.hurst.which(),
             fill: self.fill.fill(),
             filters: self.filters,
+            pruning: self.pruning,
+            incomplete_motifs: self.incomplete_motifs,
+            material_ratio_at: self.material_ratio_at.clone(),
+            height_at_ratio: self.height_at_ratio.clone(),
             plots,
         }
     }
@@ -347,6 +375,14 @@ pub struct AnalyzeOptions {
     pub fill: Option<asperity_analysis::fill::Fill>,
     /// The S- and L-filters (none by default).
     pub filters: Filters,
+    /// Wolf pruning of the feature parameters, in % of Sz (5 by default).
+    pub pruning: f64,
+    /// Whether motifs touching the edge or a missing point count (no by default).
+    pub incomplete_motifs: bool,
+    /// Heights at which to give Smr(c).
+    pub material_ratio_at: Option<Vec<f64>>,
+    /// Material ratios (%) at which to give Smc(mr).
+    pub height_at_ratio: Option<Vec<f64>>,
     /// Also make the plots.
     pub plots: bool,
 }

@@ -36,7 +36,7 @@ mod values;
 
 pub use command_line::{CliJob, command_line};
 pub use describe::describe;
-pub(crate) use values::{Finite, Positive, Side};
+pub(crate) use values::{Finite, Heights, Percents, Positive, Side};
 pub use values::{LatticeSize, MAX_COORDINATE, MAX_SIDE, Numbers, Size2, Window};
 
 /// The version of the parameter records (`params.schema_version`); raised

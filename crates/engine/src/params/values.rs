@@ -80,6 +80,25 @@ pub const MAX_SIDE: usize = 1 << 20;
 #[allow(dead_code)]
 pub(crate) struct Finite(#[schemars(range(min = -MAX_COORDINATE, max = MAX_COORDINATE))] f64);
 
+/// A list of up to 1,000 user values (heights at which a curve is read),
+/// for the schemas.
+#[derive(JsonSchema)]
+#[schemars(inline)]
+#[allow(dead_code)]
+pub(crate) struct Heights(#[schemars(length(min = 1, max = 1000))] Vec<Finite>);
+
+/// A percentage, 0 to 100, for the schemas.
+#[derive(JsonSchema)]
+#[schemars(inline)]
+#[allow(dead_code)]
+pub(crate) struct Percent(#[schemars(range(min = 0.0, max = 100.0))] f64);
+
+/// A list of up to 1,000 percentages, for the schemas.
+#[derive(JsonSchema)]
+#[schemars(inline)]
+#[allow(dead_code)]
+pub(crate) struct Percents(#[schemars(length(min = 1, max = 1000))] Vec<Percent>);
+
 /// A length or a time in a list (a fit window's ends), for the schemas: 0
 /// to [`MAX_COORDINATE`] (further checked by [`Window::check`]).
 #[derive(JsonSchema)]

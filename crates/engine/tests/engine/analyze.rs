@@ -383,3 +383,83 @@ fn the_filters_parts_add_up_to_the_input() {
         "S-L surface"
     );
 }
+
+/// The feature parameters reach the report with how they were found: on a
+/// periodic egg crate two peaks per period cell, peaks at its amplitude; with
+/// plots, the hill and dale maps; a pruning beyond 100 % is refused.
+#[test]
+fn the_report_carries_the_feature_parameters_and_their_maps() {
+    let (n, period) = (128usize, 32.0);
+    let k = 2.0 * std::f64::consts::PI / period;
+    let data = (0..n * n)
+        .map(|p| 0.5 * (k * (p % n) as f64).cos() * (k * (p / n) as f64).cos())
+        .collect();
+    let s = Surface::Height(HeightField::from_vec([n, n], data).unwrap());
+    let p: AnalyzeParams =
+        serde_json::from_value(json!({"periodic": "yes", "level": "mean", "hurst": "psd"}))
+            .unwrap();
+    let a = analyze(&s, "test", &p.options(true), &MemoryBudget::unlimited()).unwrap();
+    let m = serde_json::to_value(&a.facts).unwrap();
+    assert_eq!(m["Spd"], 2.0 / (period * period), "{}", m["features"]);
+    assert!(
+        (m["S5p"].as_f64().unwrap() - 0.5).abs() < 1e-12,
+        "{} {}",
+        m["S5p"],
+        m["levelling"]
+    );
+    assert_eq!(m["features"]["hills"]["counted"], 32);
+    assert_eq!(m["features"]["pruning_percent_of_Sz"], 5.0);
+    let names: Vec<_> = a.images.iter().map(|i| i.name).collect();
+    assert_eq!(names, ["hills.png", "dales.png"]);
+    assert!(a.images[0].image.width() >= 512);
+    let bad: AnalyzeParams = serde_json::from_value(json!({"pruning": 101.0})).unwrap();
+    assert!(asperity_engine::params::validate(&bad).is_err());
+}
+
+/// A sinusoidal profile over 19 whole periods (its samples at every phase of
+/// the period, none twice): Rsm is its wavelength, Rc twice its amplitude,
+/// and Rmr(c) the fraction of a period above c, 50 % − 100 % · asin(c/A)/π;
+/// Rmc(mr) its inverse.
+#[test]
+fn a_sinusoidal_profile_gives_rsm_and_rmr_in_closed_form() {
+    let (n, a, dx) = (200_000usize, 1.3, 0.01);
+    let lambda = n as f64 / 19.0;
+    let data = (0..n)
+        .map(|i| a * (std::f64::consts::TAU * (i as f64 + 0.27) / lambda).sin())
+        .collect();
+    let h = HeightField::from_vec([n, 1], data)
+        .unwrap()
+        .with_spacing([dx, dx])
+        .unwrap();
+    let cs = [0.0, 0.5 * a, -0.3 * a, 0.9 * a];
+    let (m, _) = report(
+        &Surface::Height(h),
+        json!({"level": "mean", "periodic": "yes", "hurst": "psd",
+               "material_ratio_at": cs, "height_at_ratio": [10.0, 50.0]}),
+    );
+    let p = &m["profile_x"];
+    let rsm = p["Rsm"].as_f64().unwrap();
+    assert!((rsm - lambda * dx).abs() < 1e-6 * lambda * dx, "Rsm {rsm}");
+    assert!(
+        (p["Rc"].as_f64().unwrap() - 2.0 * a).abs() < 1e-4 * a,
+        "Rc {}",
+        p["Rc"]
+    );
+    for (k, c) in cs.iter().enumerate() {
+        let want = 50.0 - 100.0 * (c / a).asin() / std::f64::consts::PI;
+        let got = p["Rmr_at"][k]["mr_percent"].as_f64().unwrap();
+        assert_eq!(p["Rmr_at"][k]["c"], *c);
+        // to 1e-6 of the evaluation length (the chords' error: ~1e-8)
+        assert!(
+            (got - want).abs() < 1e-4,
+            "Rmr({c}) = {got} %, not {want} %"
+        );
+    }
+    let c10 = p["Rmc_at"][0]["c"].as_f64().unwrap();
+    let want = a * (std::f64::consts::PI * (0.5 - 0.1)).sin();
+    assert!(
+        (c10 - want).abs() < 1e-6 * a,
+        "Rmc(10 %) = {c10}, not {want}"
+    );
+    assert!(p["Rmc_at"][1]["c"].as_f64().unwrap().abs() < 1e-9);
+}
