@@ -264,7 +264,7 @@ fn full_demo_has_every_card_and_every_output_it_reports() {
         }
     }
     let sections = report["measurements"]["sections"].as_array().unwrap();
-    assert_eq!(sections.len(), 8, "{sections:?}");
+    assert_eq!(sections.len(), 9, "{sections:?}");
     for key in [
         "peridier",
         "kim-machiraju-thompson §4",

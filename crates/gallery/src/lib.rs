@@ -15,6 +15,7 @@
 //! | [`ifs`] | projected-IFS curves and surfaces, Figures 1, 2, 4 | poull-gentil |
 //! | [`surfca`] | surface Voronoi, corrosion, Gray–Scott | gobron-chiba |
 //! | [`subdiv`] | multiresolution surfaces, Figures 3–12 | velho-perlin |
+//! | [`metrology`] | ISO 16610 filters, material ratio curve, feature segmentation | — (ISO 25178-2, ISO 16610) |
 //!
 //! Sections write their files through [`Env`], which records them for the page
 //! and the report. Wall-clock timings go to `report.json` only, so the page is
@@ -35,6 +36,7 @@ pub mod foundation;
 pub mod growth;
 pub mod ifs;
 pub mod levelset;
+pub mod metrology;
 pub mod page;
 pub mod peridier;
 pub mod renderer;
@@ -282,6 +284,7 @@ pub const SECTIONS: &[(&str, SectionFn)] = &[
     ("ifs", ifs::section),
     ("surfca", surfca::section),
     ("subdiv", subdiv::section),
+    ("metrology", metrology::section),
 ];
 
 /// Refuses section names the gallery does not have.

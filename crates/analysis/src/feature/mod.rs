@@ -27,7 +27,7 @@ use asperity_core::HeightField;
 use serde::Serialize;
 
 use crate::AnalysisError;
-pub use watershed::{Motif, NO_MOTIF, Segmentation};
+pub use watershed::{Heights, Motif, NO_MOTIF, Segmentation};
 
 /// ISO 25178-3's default Wolf pruning threshold: 5 % of Sz.
 pub const DEFAULT_PRUNING_PERCENT: f64 = 5.0;
@@ -138,13 +138,12 @@ pub fn features(h: &HeightField, o: &FeatureOptions) -> Result<Features, Analysi
             (a.min(*z), b.max(*z))
         });
     let threshold = o.pruning_percent / 100.0 * (hi - lo);
-    let up: Vec<f64> = h.data().iter().map(|z| z - mean).collect();
-    let down: Vec<f64> = up.iter().map(|z| -z).collect();
+    let z = h.data();
     let (hills, dales) = rayon::join(
-        || watershed::dales(h, &down, o.periodic, threshold),
-        || watershed::dales(h, &up, o.periodic, threshold),
+        || watershed::dales(h, Heights::hills(z), o.periodic, threshold),
+        || watershed::dales(h, Heights::dales(z), o.periodic, threshold),
     );
-    let parameters = parameters(h, &up, &hills, &dales, o, threshold);
+    let parameters = parameters(h, mean, &hills, &dales, o, threshold);
     Ok(Features {
         parameters,
         hills,
@@ -162,7 +161,7 @@ fn counted<'a>(s: &'a Segmentation, o: &FeatureOptions) -> Vec<&'a Motif> {
 
 fn parameters(
     h: &HeightField,
-    up: &[f64],
+    mean_plane: f64,
     hills: &Segmentation,
     dales: &Segmentation,
     o: &FeatureOptions,
@@ -182,16 +181,17 @@ fn parameters(
         v.truncate(5);
         mean(v)
     };
+    let z = h.data();
     let curvature = |m: &[&Motif]| {
         mean(
             m.iter()
-                .filter_map(|m| mean_curvature(h, up, m.critical, o.periodic))
+                .filter_map(|m| mean_curvature(h, z, m.critical, o.periodic))
                 .collect(),
         )
     };
     let (five_peaks, five_pits) = (
-        five(peaks.iter().map(|m| up[m.critical]).collect()),
-        five(pits.iter().map(|m| -up[m.critical]).collect()),
+        five(peaks.iter().map(|m| z[m.critical] - mean_plane).collect()),
+        five(pits.iter().map(|m| mean_plane - z[m.critical]).collect()),
     );
     let cell = dx * dy;
     FeatureParameters {

@@ -87,6 +87,32 @@ pub struct Segmentation {
     pub unpruned: usize,
 }
 
+/// The heights segmented, read with a sign (−1: the hills of the field,
+/// segmented as the dales of its negation) without a negated copy.
+#[derive(Clone, Copy)]
+pub struct Heights<'a> {
+    z: &'a [f64],
+    sign: f64,
+}
+
+impl<'a> Heights<'a> {
+    /// The dales of `z` (row-major; NaN for missing points).
+    pub fn dales(z: &'a [f64]) -> Self {
+        Self { z, sign: 1.0 }
+    }
+    /// The hills of `z`: the dales of −z.
+    pub fn hills(z: &'a [f64]) -> Self {
+        Self { z, sign: -1.0 }
+    }
+    #[inline]
+    fn at(&self, p: usize) -> f64 {
+        self.sign * self.z[p]
+    }
+    fn len(&self) -> usize {
+        self.z.len()
+    }
+}
+
 /// The geometry the segmentation walks: dimensions, periodicity and the
 /// distance of each neighbour.
 struct Lattice {
@@ -127,10 +153,10 @@ impl Lattice {
     }
 }
 
-/// Segments `z` (row-major over `h`'s grid; NaN for missing points) into
+/// Segments `z` (over `h`'s grid) into
 /// dales and prunes those shallower than `threshold` (Wolf pruning). The
 /// field has fewer than 2³² points (indices are held as `u32`).
-pub fn dales(h: &HeightField, z: &[f64], periodic: bool, threshold: f64) -> Segmentation {
+pub fn dales(h: &HeightField, z: Heights, periodic: bool, threshold: f64) -> Segmentation {
     let lattice = Lattice::new(h, periodic);
     let down = descent(&lattice, z);
     let (basin, pits) = basins(&lattice, z, &down);
@@ -141,23 +167,38 @@ pub fn dales(h: &HeightField, z: &[f64], periodic: bool, threshold: f64) -> Segm
 }
 
 /// Per point, the neighbour it drains to (itself for a pit or a missing point).
-fn descent(l: &Lattice, z: &[f64]) -> Vec<u32> {
+fn descent(l: &Lattice, z: Heights) -> Vec<u32> {
+    let nx = l.nx;
+    let inverse = l.distance.map(|d| 1.0 / d);
+    // inside the field the neighbours are fixed offsets (the edges, and a
+    // field that wraps, go through `Lattice::neighbour`)
+    let offsets = NEIGHBOURS.map(|(a, b)| b * nx as isize + a);
     let mut down = vec![0u32; z.len()];
-    down.par_chunks_mut(l.nx).enumerate().for_each(|(j, row)| {
+    down.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+        let inner_row = j > 0 && j + 1 < l.ny;
         for (i, d) in row.iter_mut().enumerate() {
-            let p = j * l.nx + i;
+            let p = j * nx + i;
             *d = p as u32;
-            if z[p].is_nan() {
+            let here = z.at(p);
+            if here.is_nan() {
                 continue;
             }
             let mut steepest = 0.0;
-            for k in 0..8 {
-                let Some(q) = l.neighbour(i, j, k) else {
-                    continue;
-                };
-                let slope = (z[p] - z[q]) / l.distance[k];
+            let mut consider = |k: usize, q: usize| {
+                let slope = (here - z.at(q)) * inverse[k];
                 if slope > steepest {
                     (steepest, *d) = (slope, q as u32);
+                }
+            };
+            if inner_row && i > 0 && i + 1 < nx {
+                for (k, o) in offsets.iter().enumerate() {
+                    consider(k, p.wrapping_add_signed(*o));
+                }
+            } else {
+                for k in 0..8 {
+                    if let Some(q) = l.neighbour(i, j, k) {
+                        consider(k, q);
+                    }
                 }
             }
         }
@@ -174,17 +215,17 @@ struct Pit {
 
 /// Per point its dale (the pit its descent reaches; [`NO_MOTIF`] for a missing
 /// point), and the pits, numbered in the order of their first point.
-fn basins(l: &Lattice, z: &[f64], down: &[u32]) -> (Vec<u32>, Vec<Pit>) {
+fn basins(l: &Lattice, z: Heights, down: &[u32]) -> (Vec<u32>, Vec<Pit>) {
     let mut basin = vec![NO_MOTIF; z.len()];
     let mut pits = Vec::new();
     let mut queue = Vec::new();
     for p in 0..z.len() {
-        if down[p] as usize != p || z[p].is_nan() || basin[p] != NO_MOTIF {
+        if down[p] as usize != p || z.at(p).is_nan() || basin[p] != NO_MOTIF {
             continue;
         }
         // a new pit: every neighbouring pit point at its height joins it
         let label = pits.len() as u32;
-        pits.push(Pit { at: p, z: z[p] });
+        pits.push(Pit { at: p, z: z.at(p) });
         basin[p] = label;
         queue.push(p);
         while let Some(q) = queue.pop() {
@@ -192,7 +233,7 @@ fn basins(l: &Lattice, z: &[f64], down: &[u32]) -> (Vec<u32>, Vec<Pit>) {
                 let Some(r) = l.neighbour(q % l.nx, q / l.nx, k) else {
                     continue;
                 };
-                if down[r] as usize == r && basin[r] == NO_MOTIF && z[r] == z[q] {
+                if down[r] as usize == r && basin[r] == NO_MOTIF && z.at(r) == z.at(q) {
                     basin[r] = label;
                     queue.push(r);
                 }
@@ -202,7 +243,7 @@ fn basins(l: &Lattice, z: &[f64], down: &[u32]) -> (Vec<u32>, Vec<Pit>) {
     let mut path = Vec::new();
     for p in 0..z.len() {
         let mut q = p;
-        while basin[q] == NO_MOTIF && !z[q].is_nan() {
+        while basin[q] == NO_MOTIF && !z.at(q).is_nan() {
             path.push(q);
             q = down[q] as usize;
         }
@@ -249,7 +290,7 @@ struct Graph {
 }
 
 impl Graph {
-    fn new(l: &Lattice, z: &[f64], basin: &[u32], pits: &[Pit]) -> Self {
+    fn new(l: &Lattice, z: Heights, basin: &[u32], pits: &[Pit]) -> Self {
         let n = pits.len();
         // the pairs come sorted by (lower, higher) label, so each dale's
         // neighbours arrive in increasing order and the maps are bulk-built
@@ -358,7 +399,7 @@ impl Graph {
         d
     }
 
-    fn into_segmentation(self, z: &[f64], basin: Vec<u32>, unpruned: usize) -> Segmentation {
+    fn into_segmentation(self, z: Heights, basin: Vec<u32>, unpruned: usize) -> Segmentation {
         let n = self.pits.len();
         let mut index = vec![NO_MOTIF; n];
         let mut motifs = Vec::new();
@@ -377,16 +418,13 @@ impl Graph {
                 });
             }
         }
-        let labels: Vec<u32> = basin
-            .par_iter()
-            .map(|&b| {
-                if b == NO_MOTIF {
-                    b
-                } else {
-                    index[roots[b as usize] as usize]
-                }
-            })
-            .collect();
+        // each point's dale becomes its motif, in place
+        let mut labels = basin;
+        labels.par_iter_mut().for_each(|b| {
+            if *b != NO_MOTIF {
+                *b = index[roots[*b as usize] as usize];
+            }
+        });
         fill_volumes(&mut motifs, &labels, z);
         Segmentation {
             labels,
@@ -398,10 +436,11 @@ impl Graph {
 
 /// Each motif's points and the water it holds up to its saddle (up to its
 /// highest point for a motif without a saddle).
-fn fill_volumes(motifs: &mut [Motif], labels: &[u32], z: &[f64]) {
+fn fill_volumes(motifs: &mut [Motif], labels: &[u32], z: Heights) {
     let mut top: Vec<f64> = motifs.iter().map(|m| m.saddle).collect();
     let unbounded: Vec<bool> = top.iter().map(|t| !t.is_finite()).collect();
-    for (&m, &h) in labels.iter().zip(z) {
+    for (p, &m) in labels.iter().enumerate() {
+        let h = z.at(p);
         if m != NO_MOTIF {
             motifs[m as usize].points += 1;
             if unbounded[m as usize] {
@@ -410,7 +449,8 @@ fn fill_volumes(motifs: &mut [Motif], labels: &[u32], z: &[f64]) {
             }
         }
     }
-    for (&m, &h) in labels.iter().zip(z) {
+    for (p, &m) in labels.iter().enumerate() {
+        let h = z.at(p);
         if m != NO_MOTIF {
             motifs[m as usize].volume += (top[m as usize] - h).max(0.0);
         }
@@ -419,12 +459,12 @@ fn fill_volumes(motifs: &mut [Motif], labels: &[u32], z: &[f64]) {
 
 /// Every pair of neighbouring points in different dales, once per pair of
 /// dales, as (lower label, higher label, lowest pour height), sorted.
-fn borders(l: &Lattice, z: &[f64], basin: &[u32]) -> Vec<(u32, u32, f64)> {
+fn borders(l: &Lattice, z: Heights, basin: &[u32]) -> Vec<(u32, u32, f64)> {
     // each unordered pair of points once: the neighbours after the point in NEIGHBOURS' order
     const FORWARD: [usize; 4] = [4, 5, 6, 7];
-    let mut pairs: Vec<(u32, u32, f64)> = (0..l.ny)
+    let rows: Vec<Vec<(u32, u32, f64)>> = (0..l.ny)
         .into_par_iter()
-        .flat_map_iter(|j| {
+        .map(|j| {
             let mut out = Vec::new();
             for i in 0..l.nx {
                 let p = j * l.nx + i;
@@ -438,7 +478,7 @@ fn borders(l: &Lattice, z: &[f64], basin: &[u32]) -> Vec<(u32, u32, f64)> {
                     };
                     let b = basin[q];
                     if b != a && b != NO_MOTIF {
-                        out.push((a.min(b), a.max(b), z[p].max(z[q])));
+                        out.push((a.min(b), a.max(b), z.at(p).max(z.at(q))));
                     }
                 }
             }
@@ -453,13 +493,18 @@ fn borders(l: &Lattice, z: &[f64], basin: &[u32]) -> Vec<(u32, u32, f64)> {
             out
         })
         .collect();
+    // one allocation of the exact size (growing one would fault its pages in again and again)
+    let mut pairs = Vec::with_capacity(rows.iter().map(Vec::len).sum());
+    for row in rows {
+        pairs.extend(row);
+    }
     sort_pairs(&mut pairs);
     pairs
 }
 
 /// Per dale, whether it touches the edge of a field that does not wrap or a
 /// missing point.
-fn incomplete(l: &Lattice, z: &[f64], basin: &[u32], dales: usize) -> Vec<bool> {
+fn incomplete(l: &Lattice, z: Heights, basin: &[u32], dales: usize) -> Vec<bool> {
     let mut out = vec![false; dales];
     let mut mark = |p: usize| {
         if basin[p] != NO_MOTIF {
@@ -476,7 +521,7 @@ fn incomplete(l: &Lattice, z: &[f64], basin: &[u32], dales: usize) -> Vec<bool> 
             mark(j * l.nx + l.nx - 1);
         }
     }
-    for p in (0..z.len()).filter(|&p| z[p].is_nan()) {
+    for p in (0..z.len()).filter(|&p| z.at(p).is_nan()) {
         for k in 0..8 {
             if let Some(q) = l.neighbour(p % l.nx, p / l.nx, k) {
                 mark(q);

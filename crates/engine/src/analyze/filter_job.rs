@@ -98,7 +98,7 @@ fn form_removed(
     }
 }
 
-/// Bytes [`filter`] holds at its peak over `h`: the filters' fields and the
+/// Bytes [`filter()`] holds at its peak over `h`: the filters' fields and the
 /// four parts.
 pub fn filter_bytes(h: &HeightField, p: &FilterParams) -> u64 {
     iso::filter_bytes(&p.filters, h.len(), h.has_missing()) + 4 * 8 * h.len() as u64
