@@ -185,7 +185,7 @@ fn blender_addon() {
         .env_remove("ASPERITY_PYTHONPATH")
         .output()
         .unwrap();
-    assert_checks(&run, run.status.success(), 66, "the add-on");
+    assert_checks(&run, run.status.success(), 68, "the add-on");
     assert!(out.join("addon_screenshot.png").exists());
 }
 
@@ -317,6 +317,6 @@ fn blender_extension_in_bpy() {
             .output()
             .unwrap();
         let what = format!("the extension in bpy {version}");
-        assert_checks(&run, run.status.success(), 67, &what);
+        assert_checks(&run, run.status.success(), 69, &what);
     }
 }
