@@ -61,8 +61,8 @@ pub fn mean_width_and_height(z: &[f64], step: f64) -> Option<(f64, f64)> {
     Some((width, heights / elements as f64))
 }
 
-/// The parts of `z` between its crossings of 0 (a sample at exactly 0 belongs
-/// to the part before it).
+/// The parts of `z` between its crossings of 0 (a sample at exactly 0 counts
+/// as below the mean line).
 fn parts(z: &[f64]) -> Vec<Part> {
     let sign = |v: f64| if v > 0.0 { 1.0 } else { -1.0 };
     let mut out = vec![Part {

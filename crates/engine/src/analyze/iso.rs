@@ -167,7 +167,11 @@ pub(super) fn set_functional(facts: &mut Measurements, functional: &Value, profi
 
 /// The functional parameters of the measured points of `lv`, named for an
 /// areal field (Sk, Vmp, …), with the sampled curve in `material_ratio`.
-pub(super) fn functional_facts(lv: &HeightField, o: &AnalyzeOptions) -> Result<Value> {
+pub(super) fn functional_facts(
+    lv: &HeightField,
+    periodic: bool,
+    o: &AnalyzeOptions,
+) -> Result<Value> {
     let curve = MaterialRatioCurve::of(lv)?;
     let f = Functional::of(&curve);
     let mut v =
@@ -185,7 +189,6 @@ pub(super) fn functional_facts(lv: &HeightField, o: &AnalyzeOptions) -> Result<V
     // a profile the material length of ISO 21920-2 (the profile drawn
     // straight between samples), which counts each step's length above c
     let profile = (lv.ny() == 1).then(|| lv.data());
-    let periodic = o.periodic == Some(true);
     let ratio = |c: f64| match profile {
         Some(z) => profile_elements::material_length_ratio(z, c, periodic),
         None => curve.ratio_at(c),

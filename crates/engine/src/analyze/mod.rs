@@ -384,7 +384,7 @@ fn holed(h: &HeightField, o: &AnalyzeOptions) -> Result<Analysis> {
     let stage = iso::scale_limited(levelled, periodic, &o.filters, &mut filter_warnings)?;
     let (levelled, filtered) = (stage.surface, stage.facts);
     let heights = areal::measured_heights(&levelled)?;
-    let functional = iso::functional_facts(&levelled, o)?;
+    let functional = iso::functional_facts(&levelled, periodic, o)?;
     let (filled, report) = fill::fill_missing(&levelled, how)?;
     let inner = AnalyzeOptions {
         level: "none".into(),
@@ -533,7 +533,11 @@ fn parameters(h: &HeightField, p: &Prepared, o: &AnalyzeOptions) -> Result<Measu
         f.set("profile_y", areal::profile(lv, true, p.periodic).ok());
         f
     };
-    iso::set_functional(&mut facts, &iso::functional_facts(lv, o)?, h.ny() == 1);
+    iso::set_functional(
+        &mut facts,
+        &iso::functional_facts(lv, p.periodic, o)?,
+        h.ny() == 1,
+    );
     facts.set("size", h.dims());
     facts.set("spacing", h.spacing());
     facts.set("units", units_json(h));
