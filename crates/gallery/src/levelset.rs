@@ -93,7 +93,8 @@ fn cases(env: &Env) -> Result<Vec<Case>> {
     };
     let dla_cli = |particles: usize, seed: u64| {
         format!(
-            "asperity generate dla-terrain --paper --size {side}x{side}x{side} --particles {particles} --seed {seed} -o terrain.glb"
+            "asperity generate dla-terrain --paper --size {side}x{side}x{side} --particles {particles} --seed {seed}{} -o terrain.glb",
+            quick_flags(env)
         )
     };
     Ok(vec![
@@ -102,7 +103,8 @@ fn cases(env: &Env) -> Result<Vec<Case>> {
             title: format!("Figure 8: RDSR on a sphere (radius {radius}, {layers} monolayers)"),
             points: sphere,
             cli: format!(
-                "asperity generate rdsr-sphere --paper --radius {radius} --layers {layers} -o sphere.glb"
+                "asperity generate rdsr-sphere --paper --radius {radius} --layers {layers}{} -o sphere.glb",
+                quick_flags(env)
             ),
         },
         Case {
@@ -125,10 +127,30 @@ fn cases(env: &Env) -> Result<Vec<Case>> {
 /// Front movement per step: (step, cells).
 type Movement = Vec<(f64, f64)>;
 
-/// The pipelines' paper settings (`asperity generate … --paper`): 96 cells
-/// along the lattice, ε = 3h, 30 steps, Godunov distance, the 3 × 3 × 3 tube N.
-fn pipeline_params() -> ReconstructParams {
-    Job::DlaTerrain.defaults(true).params()
+/// The pipelines' paper settings (`asperity generate … --paper`): h = 0.7
+/// lattice units, ε = 3h, 30 steps, Godunov distance, the 3 × 3 × 3 tube N.
+/// The quick gallery (the tests' run) takes h = 1 ([`QUICK_SPACING`]), a third
+/// of the nodes.
+fn pipeline_params(env: &Env) -> ReconstructParams {
+    let paper = Job::DlaTerrain.defaults(true).params();
+    match env.quick {
+        true => ReconstructParams {
+            sizing: Sizing::Spacing(QUICK_SPACING),
+            ..paper
+        },
+        false => paper,
+    }
+}
+
+/// The quick gallery's grid spacing for the pipelines, in lattice units.
+const QUICK_SPACING: f64 = 1.0;
+
+/// What the quick gallery adds to a pipeline's command line.
+fn quick_flags(env: &Env) -> String {
+    match env.quick {
+        true => format!(" --spacing {QUICK_SPACING}"),
+        false => String::new(),
+    }
 }
 
 /// The card of the initial surface by tagging.
@@ -155,7 +177,7 @@ fn initial_item(env: &Env, case: &Case, initial: &TriMesh, grid: &GridSpec) -> R
 /// The pipeline's defaults (`asperity generate …`): the initial surface and the
 /// converged one as cards, and the front movement per step.
 fn pipeline(env: &Env, case: &Case) -> Result<(Item, Item, Movement, TriMesh)> {
-    let params = pipeline_params();
+    let params = pipeline_params(env);
     let mut initial = None;
     let rec = reconstruct(
         &case.points,
@@ -348,7 +370,7 @@ fn largest_piece_within(mesh: &TriMesh, xs: [f64; 2], ys: [f64; 2]) -> Result<Tr
 fn zhao_contrast(env: &Env, case: &Case) -> Result<Item> {
     let params = ReconstructParams {
         flow: FlowChoice::Zhao,
-        ..pipeline_params()
+        ..pipeline_params(env)
     };
     let rec = reconstruct(
         &case.points,
