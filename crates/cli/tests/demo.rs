@@ -97,7 +97,7 @@ fn identical_across_thread_counts(d: &Path) {
 fn pictures_are_real(g: &Path) {
     let html = std::fs::read_to_string(g.join("index.html")).unwrap();
     let mut pngs = 0;
-    for e in std::fs::read_dir(&g).unwrap() {
+    for e in std::fs::read_dir(g).unwrap() {
         let p = e.unwrap().path();
         let name = p.file_name().unwrap().to_string_lossy().into_owned();
         if p.extension().is_some_and(|x| x == "png")
@@ -127,7 +127,7 @@ fn pictures_are_real(g: &Path) {
         }
     }
     assert!(pngs >= 10, "{pngs} pictures");
-    assert_light(&g, 25e6, asperity_gallery::downloads::TRIANGLE_BUDGETS.0);
+    assert_light(g, 25e6, asperity_gallery::downloads::TRIANGLE_BUDGETS.0);
     for section in ["Foundation", "Renderer"] {
         assert!(html.contains(section), "section {section}");
     }
