@@ -11,6 +11,8 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
     // The run (and its clock) starts first, so elapsed_s counts the reading
     // and the analysis.
     let mut run = Run::new(ctx, "analyze");
+    // field-sized buffers come and go: keep their pages (crate::memory)
+    let _keep = crate::memory::PurgeDelay::never();
     let job = ctx.job_params(a.params.clone(), &a.params_file)?;
     asperity_engine::params::validate(&job.params)?;
     run.params(&job.params, job.seed, job.overridden.clone());
@@ -53,6 +55,7 @@ pub fn analyze(ctx: &Context, a: &AnalyzeArgs) -> anyhow::Result<()> {
 
 pub fn filter(ctx: &Context, a: &FilterArgs) -> anyhow::Result<()> {
     use anyhow::Context as _;
+    let _keep = crate::memory::PurgeDelay::never();
     let out = a
         .out_file
         .clone()

@@ -24,7 +24,7 @@ fn surface(
     job: Job,
     out: &Path,
 ) -> anyhow::Result<()> {
-    let _purge = crate::memory::PromptPurge::new();
+    let _purge = crate::memory::PurgeDelay::prompt();
     // Saved steps are written as they come (a long run holds none in memory).
     let mut saved = Vec::new();
     let mut failed = None;
@@ -77,7 +77,7 @@ pub fn run(ctx: &Context, a: &ReconstructArgs) -> anyhow::Result<()> {
     asperity_engine::params::validate(&job.params)?;
     // From the reading on: the reader's buffers go back before the stages
     // allocate theirs.
-    let _purge = crate::memory::PromptPurge::new();
+    let _purge = crate::memory::PurgeDelay::prompt();
     let points = ctx.load_points(&a.input)?;
     let mut run = Run::new(ctx, "reconstruct");
     run.params(
