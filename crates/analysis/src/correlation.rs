@@ -13,6 +13,7 @@
 //!   samples; for a self-affine surface H(τ) ∝ τ^(2H).
 
 use asperity_core::HeightField;
+use rayon::prelude::*;
 use rustfft::num_complex::Complex;
 
 use crate::spectrum::{self, PowerSpectrum};
@@ -111,27 +112,43 @@ fn linear_acf(h: &HeightField) -> Result<(Vec<f64>, [usize; 2]), AnalysisError> 
     let [px, py] = [pad(nx), pad(ny)];
     let mean = h.mean();
     let mut padded = vec![0.0; px * py];
-    for j in 0..ny {
-        for (i, z) in h.row(j).iter().enumerate() {
-            padded[j * px + i] = z - mean;
-        }
+    padded
+        .par_chunks_mut(px)
+        .take(ny)
+        .enumerate()
+        .for_each(|(j, line)| {
+            for (p, z) in line.iter_mut().zip(h.row(j)) {
+                *p = z - mean;
+            }
+        });
+    // Wiener–Khinchin as in `acf_from_spectrum`, in place: |Z|², its inverse.
+    let mut power = spectrum::forward(&padded, None, px, py);
+    drop(padded);
+    power
+        .par_iter_mut()
+        .for_each(|c| *c = Complex::new(c.norm_sqr(), 0.0));
+    power[0] = Complex::new(0.0, 0.0);
+    let mut r = spectrum::inverse(power, px, py);
+    let r0 = r[0];
+    if r0.abs() < 1e-300 {
+        return Err(AnalysisError::BadInput(
+            "the height field is constant: its autocorrelation is undefined".into(),
+        ));
     }
-    let hp = HeightField::from_vec([px, py], padded)?.with_spacing(h.spacing())?;
-    let mut r = acf_from_spectrum(&PowerSpectrum::of(&hp, None))?;
     // each lag's sum over its overlapping pairs; lags past the field have none
     let pairs = |lag: usize, p: usize, n: usize| {
         let lag = lag.min(p - lag);
         n.saturating_sub(lag) as f64
     };
-    for (k, v) in r.iter_mut().enumerate() {
+    r.par_iter_mut().enumerate().for_each(|(k, v)| {
         let (i, j) = (k % px, k / px);
         let overlap = pairs(i, px, nx) * pairs(j, py, ny);
         *v = if overlap > 0.0 {
-            *v * (nx * ny) as f64 / overlap
+            *v / r0 * (nx * ny) as f64 / overlap
         } else {
             0.0
         };
-    }
+    });
     Ok((r, [px, py]))
 }
 
