@@ -209,6 +209,14 @@ pub(super) fn functional_facts(
             .map(|&mr| json!({"mr_percent": mr, "c": height(mr)}))
             .collect();
     }
+    // Rdc (ISO 21920-2, ISO 4287's Rδc): the height between two material
+    // length ratios, at RDC_RATIOS; any other pair is the difference of two
+    // Rmc values (`--height-at-ratio`)
+    if profile.is_some() {
+        let [mr1, mr2] = RDC_RATIOS;
+        v["Sdc"] = json!(height(mr1) - height(mr2));
+        v["Sdc_mr_percent"] = json!(RDC_RATIOS);
+    }
     if let Some(map) = v.as_object_mut() {
         for key in ["line_top", "line_bottom", "window_start"] {
             map.remove(key);
@@ -216,6 +224,11 @@ pub(super) fn functional_facts(
     }
     Ok(v)
 }
+
+/// The material length ratios (%) between which a profile's Rdc is taken: the
+/// pair instrument software reports by default (no copy of the standard's own
+/// default was at hand; the report states the pair).
+pub(super) const RDC_RATIOS: [f64; 2] = [20.0, 80.0];
 
 /// The areal names as a profile's (ISO 21920-2 / ISO 13565-2): Sk → Rk,
 /// Smr1 → Rmr1; the volume parameters and Sxp have no profile form here.

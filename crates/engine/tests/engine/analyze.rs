@@ -462,4 +462,9 @@ fn a_sinusoidal_profile_gives_rsm_and_rmr_in_closed_form() {
         "Rmc(10 %) = {c10}, not {want}"
     );
     assert!(p["Rmc_at"][1]["c"].as_f64().unwrap().abs() < 1e-9);
+    // Rdc(20 %, 80 %) = A (cos 0.2π − cos 0.8π) = 2A cos 0.2π
+    let rdc = p["Rdc"].as_f64().unwrap();
+    let want = 2.0 * a * (0.2 * std::f64::consts::PI).cos();
+    assert!((rdc - want).abs() < 1e-6 * a, "Rdc = {rdc}, not {want}");
+    assert_eq!(p["Rdc_mr_percent"], json!([20.0, 80.0]));
 }
