@@ -37,8 +37,23 @@ pub fn acf(h: &HeightField) -> Result<Vec<f64>, AnalysisError> {
 /// [`AnalysisError::BadInput`] for a constant field.
 pub fn acf_from_spectrum(s: &PowerSpectrum) -> Result<Vec<f64>, AnalysisError> {
     let [nx, ny] = s.dims;
-    // Wiener–Khinchin: the autocorrelation is the inverse transform of |Z|².
-    let mut power: Vec<Complex<f64>> = s.power.iter().map(|&p| Complex::new(p, 0.0)).collect();
+    let power = s.power.par_iter().map(|&p| Complex::new(p, 0.0)).collect();
+    let (mut r, r0) = wiener_khinchin(power, nx, ny)?;
+    r.par_iter_mut().for_each(|c| *c /= r0);
+    Ok(r)
+}
+
+/// The autocorrelation sums of an `nx × ny` grid from its power `|Z|²` (as
+/// complex numbers, the half spectrum), the zero mode left out, by the
+/// Wiener–Khinchin theorem: the inverse transform and its value at lag 0.
+///
+/// # Errors
+/// [`AnalysisError::BadInput`] for a constant field (no power off the mean).
+fn wiener_khinchin(
+    mut power: Vec<Complex<f64>>,
+    nx: usize,
+    ny: usize,
+) -> Result<(Vec<f64>, f64), AnalysisError> {
     power[0] = Complex::new(0.0, 0.0);
     let r = spectrum::inverse(power, nx, ny);
     let r0 = r[0];
@@ -47,7 +62,7 @@ pub fn acf_from_spectrum(s: &PowerSpectrum) -> Result<Vec<f64>, AnalysisError> {
             "the height field is constant: its autocorrelation is undefined".into(),
         ));
     }
-    Ok(r.iter().map(|c| c / r0).collect())
+    Ok((r, r0))
 }
 
 /// Sal and Str.
@@ -121,20 +136,13 @@ fn linear_acf(h: &HeightField) -> Result<(Vec<f64>, [usize; 2]), AnalysisError> 
                 *p = z - mean;
             }
         });
-    // Wiener–Khinchin as in `acf_from_spectrum`, in place: |Z|², its inverse.
+    // |Z|² in place of Z (no power-spectrum struct and no second copy)
     let mut power = spectrum::forward(&padded, None, px, py);
     drop(padded);
     power
         .par_iter_mut()
         .for_each(|c| *c = Complex::new(c.norm_sqr(), 0.0));
-    power[0] = Complex::new(0.0, 0.0);
-    let mut r = spectrum::inverse(power, px, py);
-    let r0 = r[0];
-    if r0.abs() < 1e-300 {
-        return Err(AnalysisError::BadInput(
-            "the height field is constant: its autocorrelation is undefined".into(),
-        ));
-    }
+    let (mut r, r0) = wiener_khinchin(power, px, py)?;
     // each lag's sum over its overlapping pairs; lags past the field have none
     let pairs = |lag: usize, p: usize, n: usize| {
         let lag = lag.min(p - lag);

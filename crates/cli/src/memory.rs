@@ -58,7 +58,7 @@ impl PurgeDelay {
 
 impl Drop for PurgeDelay {
     fn drop(&mut self) {
-        // SAFETY: as in `new`.
+        // SAFETY: as in `set`.
         #[allow(unsafe_code)]
         unsafe {
             mi_option_set(PURGE_DELAY, self.before);

@@ -145,16 +145,18 @@ impl LineFilter {
             true => half..self.n - half,
             false => 0..0,
         };
-        let body = &mut out[inner.clone()];
-        body.fill(0.0);
-        for (e, k) in taps.iter().enumerate().filter(|_| !inner.is_empty()) {
-            // inner.start = half, so the points' first sample is x[e]
-            for (o, v) in body.iter_mut().zip(&x[e..]) {
-                *o += k * v;
+        if !inner.is_empty() {
+            let body = &mut out[inner.clone()];
+            body.fill(0.0);
+            for (e, k) in taps.iter().enumerate() {
+                // inner.start = half, so the points' first sample is x[e]
+                for (o, v) in body.iter_mut().zip(&x[e..]) {
+                    *o += k * v;
+                }
             }
         }
         let half = half as isize;
-        for i in (0..self.n).filter(|i| !inner.contains(i)) {
+        for i in (0..inner.start).chain(inner.end..self.n) {
             let i_ = i as isize;
             let mut s = 0.0;
             for d in -half..=half {

@@ -211,7 +211,8 @@ pub(super) fn functional_facts(
     }
     // Rdc (ISO 21920-2, ISO 4287's Rδc): the height between two material
     // length ratios, at RDC_RATIOS; any other pair is the difference of two
-    // Rmc values (`--height-at-ratio`)
+    // Rmc values (`--height-at-ratio`). Named the areal way here, as every
+    // key of this map; `as_profile` makes it Rdc.
     if profile.is_some() {
         let [mr1, mr2] = RDC_RATIOS;
         v["Sdc"] = json!(height(mr1) - height(mr2));

@@ -468,3 +468,40 @@ fn a_sinusoidal_profile_gives_rsm_and_rmr_in_closed_form() {
     assert!((rdc - want).abs() < 1e-6 * a, "Rdc = {rdc}, not {want}");
     assert_eq!(p["Rdc_mr_percent"], json!([20.0, 80.0]));
 }
+
+/// Rdc on a profile no one here tuned it on: a triangle wave of amplitude,
+/// period, phase and length drawn per run, its corners on samples, so the
+/// profile drawn straight between samples is the wave itself. Its material
+/// length is linear in c, Rmr(c) = (A − c)/2A, so Rmc(mr) = A(1 − mr/50) and
+/// Rdc(20 %, 80 %) = 1.2 A exactly (to the bisection's rounding).
+#[test]
+fn a_random_triangle_wave_gives_rdc_in_closed_form() {
+    use rand::{Rng, SeedableRng};
+    let seed: u64 = rand::random();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let a: f64 = rng.random_range(0.01..100.0);
+    let quarter = rng.random_range(2..40usize);
+    let period = 4 * quarter;
+    let n = period * rng.random_range(3..30usize);
+    let phase = rng.random_range(0..period);
+    let offset: f64 = rng.random_range(-50.0..50.0);
+    let data = (0..n)
+        .map(|i| {
+            // from −A at t = 0 up to A at half a period and down again
+            let t = (i + phase) % period;
+            let up = t.min(period - t) as f64 / (period / 2) as f64;
+            offset + a * (2.0 * up - 1.0)
+        })
+        .collect();
+    let h = HeightField::from_vec([n, 1], data).unwrap();
+    let (m, _) = report(
+        &Surface::Height(h),
+        json!({"level": "mean", "periodic": "yes", "hurst": "psd"}),
+    );
+    let rdc = m["profile_x"]["Rdc"].as_f64().unwrap();
+    assert!(
+        (rdc - 1.2 * a).abs() < 1e-9 * a,
+        "seed {seed}: A {a}, period {period}, n {n}: Rdc {rdc}, not {}",
+        1.2 * a
+    );
+}
